@@ -1,0 +1,27 @@
+# Every dependency comes from a Debian package installed by scripts/install-deps.
+find_package(PkgConfig REQUIRED)
+find_package(Threads REQUIRED)
+find_package(glm REQUIRED)
+find_package(OpenCV 4.6 REQUIRED COMPONENTS core imgproc imgcodecs videoio video calib3d
+             aruco tracking optflow ximgproc)
+find_package(embree 3 REQUIRED)
+find_package(TBB REQUIRED)
+find_package(spdlog REQUIRED)
+find_package(fmt REQUIRED)
+find_package(yaml-cpp REQUIRED)
+find_package(CLI11 REQUIRED)
+find_package(nlohmann_json 3 REQUIRED)
+find_package(OpenEXR REQUIRED)
+find_package(GTest REQUIRED)
+find_package(benchmark REQUIRED)
+pkg_check_modules(SYSTEMD REQUIRED IMPORTED_TARGET libsystemd)
+pkg_check_modules(ARAVIS REQUIRED IMPORTED_TARGET aravis-0.8)
+pkg_check_modules(EGL REQUIRED IMPORTED_TARGET egl)
+pkg_check_modules(GL REQUIRED IMPORTED_TARGET opengl)
+pkg_check_modules(GLFW REQUIRED IMPORTED_TARGET glfw3)
+
+# tinygltf ships a header-only library without a CMake package in Debian.
+find_path(TINYGLTF_INCLUDE_DIR tiny_gltf.h REQUIRED)
+add_library(holo_tinygltf INTERFACE)
+target_include_directories(holo_tinygltf SYSTEM INTERFACE ${TINYGLTF_INCLUDE_DIR} /usr/include/stb)
+target_link_libraries(holo_tinygltf INTERFACE nlohmann_json::nlohmann_json)

@@ -1,0 +1,42 @@
+# Warnings for every target of the project; -Werror when HOLO_WERROR is on (CI).
+function(holo_set_warnings target)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow
+                                           -Wnon-virtual-dtor -Wcast-align -Wunused)
+  if(HOLO_WERROR)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+endfunction()
+
+# holo_module(NAME SOURCES ... DEPS ...): a module library holo_NAME with its public
+# headers under NAME/include/holo/NAME and an alias holo::NAME.
+function(holo_module name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS;PRIVATE_DEPS" ${ARGN})
+  add_library(holo_${name} STATIC ${ARG_SOURCES})
+  add_library(holo::${name} ALIAS holo_${name})
+  target_include_directories(holo_${name} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
+  target_link_libraries(holo_${name} PUBLIC ${ARG_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
+  holo_set_warnings(holo_${name})
+endfunction()
+
+# holo_test(NAME SOURCES ... DEPS ...): one GoogleTest executable registered with ctest.
+# Tests run from the source root so they can find ../shared/data as the README says.
+function(holo_test name)
+  cmake_parse_arguments(ARG "" "TIMEOUT" "SOURCES;DEPS;LABELS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main GTest::gmock)
+  holo_set_warnings(${name})
+  if(NOT ARG_TIMEOUT)
+    set(ARG_TIMEOUT 600)
+  endif()
+  gtest_discover_tests(${name} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}
+                       PROPERTIES TIMEOUT ${ARG_TIMEOUT} LABELS "${ARG_LABELS}"
+                       DISCOVERY_TIMEOUT 60)
+endfunction()
+
+# holo_benchmark(NAME SOURCES ... DEPS ...): a Google Benchmark executable (not run by ctest).
+function(holo_benchmark name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_DEPS} benchmark::benchmark benchmark::benchmark_main)
+  holo_set_warnings(${name})
+endfunction()

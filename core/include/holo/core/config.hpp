@@ -1,0 +1,54 @@
+// YAML configuration with errors that name the file and the field. A ConfigNode remembers its
+// file and its dotted path ("cameras[2].pose.position"), so every failed conversion says where.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+#include <yaml-cpp/yaml.h>
+
+#include "holo/core/error.hpp"
+#include "holo/core/math.hpp"
+
+namespace holo {
+
+class ConfigNode {
+public:
+  // Parses a file; a syntax error throws InputError with the line and column.
+  static ConfigNode loadFile(const std::filesystem::path& path);
+  // Parses text (embedded defaults); `origin` stands in for the file name in errors.
+  static ConfigNode parse(const std::string& text, const std::string& origin);
+
+  bool has(const std::string& key) const;
+  ConfigNode operator[](const std::string& key) const;  // throws when missing
+  ConfigNode operator[](std::size_t index) const;       // throws when out of range
+  std::optional<ConfigNode> find(const std::string& key) const;
+  std::size_t size() const;  // sequence length, or 0
+  bool isSequence() const { return node_.IsSequence(); }
+  bool isMap() const { return node_.IsMap(); }
+  std::vector<std::string> keys() const;
+
+  template <class T>
+  T as() const;  // string, bool, int, float, double, vec2, vec3 (a 3-element list)
+  template <class T>
+  T get(const std::string& key, const T& fallback) const {
+    return has(key) ? (*this)[key].as<T>() : fallback;
+  }
+  // A float that must lie in [lo, hi]; the error names the range.
+  float getInRange(const std::string& key, float fallback, float lo, float hi) const;
+
+  const std::string& file() const { return file_; }
+  const std::string& path() const { return path_; }
+  [[noreturn]] void fail(const std::string& expected, const std::string& got = {}) const;
+  const YAML::Node& yaml() const { return node_; }
+
+private:
+  ConfigNode(YAML::Node node, std::string file, std::string path)
+      : node_(std::move(node)), file_(std::move(file)), path_(std::move(path)) {}
+  YAML::Node node_;
+  std::string file_;
+  std::string path_;
+};
+
+}  // namespace holo

@@ -1,0 +1,55 @@
+// Triangle meshes in an Embree 3 scene, for rays. One Embree device per process with one error
+// callback (errors are logged and counted under "Embree/Errors"). Meshes are copied in, so the
+// caller's meshes may go away. Thread-safe for queries after commit(); not for edits.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <embree3/rtcore.h>
+
+#include "holo/core/mesh.hpp"
+
+namespace holo {
+
+struct RayHit {
+  float t = 0;                 // distance along the (unit) ray direction
+  std::uint32_t geometry = RTC_INVALID_GEOMETRY_ID;  // id returned by addMesh
+  std::uint32_t primitive = 0;
+  vec2 barycentric{0};         // Embree's (u, v): p = (1-u-v) p0 + u p1 + v p2
+  vec3 geometric_normal{0};    // unit, facing against the ray
+  bool hit() const { return geometry != RTC_INVALID_GEOMETRY_ID; }
+};
+
+class RayScene {
+public:
+  RayScene();
+  ~RayScene();
+  RayScene(const RayScene&) = delete;
+  RayScene& operator=(const RayScene&) = delete;
+
+  // Adds a copy of the mesh and returns its geometry id (0, 1, 2, ... in call order).
+  std::uint32_t addMesh(const TriangleMesh& mesh);
+  // Replaces the vertex positions of a mesh (same count); call commit() afterwards.
+  void updatePositions(std::uint32_t geometry, const std::vector<vec3>& positions);
+  void commit();
+
+  RayHit intersect(const Ray& ray, float tmin = 0.0f, float tmax = 1e30f) const;
+  bool occluded(const Ray& ray, float tmin = 0.0f, float tmax = 1e30f) const;
+
+  const TriangleMesh& mesh(std::uint32_t geometry) const { return meshes_.at(geometry); }
+  std::size_t meshCount() const { return meshes_.size(); }
+  // Interpolated unit shading normal at a hit (geometric normal when the mesh has none), turned
+  // to the side the ray came from.
+  vec3 shadingNormal(const RayHit& hit, const vec3& ray_direction) const;
+  vec2 uv(const RayHit& hit) const;  // (0,0) when the mesh has no uvs
+  vec3 position(const Ray& ray, const RayHit& hit) const { return ray.origin + hit.t * ray.direction; }
+
+private:
+  RTCScene scene_ = nullptr;
+  std::deque<TriangleMesh> meshes_;  // deque: stable addresses for Embree's shared buffers
+  std::vector<RTCGeometry> geometries_;
+};
+
+RTCDevice embreeDevice();
+
+}  // namespace holo

@@ -1,0 +1,135 @@
+#include "holo/core/hdr_io.hpp"
+
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <algorithm>
+#include <opencv2/imgcodecs.hpp>
+
+#include "holo/core/error.hpp"
+#include "holo/core/files.hpp"
+#include "holo/core/log.hpp"
+
+namespace holo {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string lowerExtension(const fs::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+cv::Mat readExr(const fs::path& path) {
+  Imf::InputFile file(path.c_str());
+  const auto& header = file.header();
+  const auto window = header.dataWindow();
+  const int width = window.max.x - window.min.x + 1;
+  const int height = window.max.y - window.min.y + 1;
+  const auto& channels = header.channels();
+  const bool rgb = channels.findChannel("R") && channels.findChannel("G") && channels.findChannel("B");
+  const bool grey = channels.findChannel("Y") != nullptr;
+  if (!rgb && !grey) throw InputError(path.string(), "channels", "R, G and B (or Y) channels");
+
+  cv::Mat bgr(height, width, CV_32FC3, cv::Scalar::all(0));
+  auto* base = reinterpret_cast<char*>(bgr.ptr<float>()) -
+               (static_cast<std::ptrdiff_t>(window.min.x) + static_cast<std::ptrdiff_t>(window.min.y) * width) *
+                   static_cast<std::ptrdiff_t>(sizeof(float) * 3);
+  const std::size_t xs = sizeof(float) * 3, ys = xs * static_cast<std::size_t>(width);
+  Imf::FrameBuffer frame;
+  if (rgb) {
+    frame.insert("B", Imf::Slice(Imf::FLOAT, base, xs, ys));
+    frame.insert("G", Imf::Slice(Imf::FLOAT, base + sizeof(float), xs, ys));
+    frame.insert("R", Imf::Slice(Imf::FLOAT, base + 2 * sizeof(float), xs, ys));
+  } else {
+    frame.insert("Y", Imf::Slice(Imf::FLOAT, base, xs, ys));
+  }
+  file.setFrameBuffer(frame);
+  file.readPixels(window.min.y, window.max.y);
+  if (!rgb) {
+    bgr.forEach<cv::Vec3f>([](cv::Vec3f& p, const int*) { p[1] = p[2] = p[0]; });
+  }
+  return bgr;
+}
+
+void writeExr(const fs::path& path, const cv::Mat& bgr) {
+  Imf::Header header(bgr.cols, bgr.rows);
+  header.compression() = Imf::ZIP_COMPRESSION;
+  for (const char* name : {"R", "G", "B"}) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+  cv::Mat contiguous = bgr.isContinuous() ? bgr : bgr.clone();
+  auto* base = const_cast<char*>(reinterpret_cast<const char*>(contiguous.ptr<float>()));
+  const std::size_t xs = sizeof(float) * 3, ys = xs * static_cast<std::size_t>(bgr.cols);
+  Imf::FrameBuffer frame;
+  frame.insert("B", Imf::Slice(Imf::FLOAT, base, xs, ys));
+  frame.insert("G", Imf::Slice(Imf::FLOAT, base + sizeof(float), xs, ys));
+  frame.insert("R", Imf::Slice(Imf::FLOAT, base + 2 * sizeof(float), xs, ys));
+  Imf::OutputFile file(path.c_str(), header);
+  file.setFrameBuffer(frame);
+  file.writePixels(bgr.rows);
+}
+
+}  // namespace
+
+HdrImage loadHdr(const fs::path& path) {
+  if (!fs::exists(path)) throw InputError(path.string(), "", "an existing HDR panorama file", "no such file");
+  const std::string ext = lowerExtension(path);
+  HdrImage out;
+  try {
+    if (ext == ".exr") {
+      out.pixels = readExr(path);
+    } else if (ext == ".hdr" || ext == ".pic") {
+      out.pixels = cv::imread(path.string(), cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR);
+      if (out.pixels.empty()) throw InputError(path.string(), "", "a Radiance RGBE (.hdr) image", "unreadable");
+      out.pixels.convertTo(out.pixels, CV_32FC3);
+    } else {
+      throw InputError(path.string(), "extension", ".hdr or .exr", ext.empty() ? "none" : ext);
+    }
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(path.string(), "", "a readable HDR image", e.what());
+  }
+  if (out.pixels.channels() != 3) throw InputError(path.string(), "channels", "3 colour channels");
+  out.repaired = sanitizeRadiance(out.pixels);
+  if (out.repaired.total() > 0)
+    HOLO_LOG_WARN("{}: clamped {} NaN, {} Inf and {} negative values", path.string(), out.repaired.nan,
+                  out.repaired.inf, out.repaired.negative);
+  return out;
+}
+
+void saveHdr(const fs::path& path, const cv::Mat& bgr32f) {
+  CV_Assert(bgr32f.type() == CV_32FC3);
+  const std::string ext = lowerExtension(path);
+  writeAtomically(path, [&](const fs::path& tmp) {
+    if (ext == ".exr") {
+      writeExr(tmp, bgr32f);
+    } else if (ext == ".hdr") {
+      // OpenCV picks the encoder from the extension, so the temporary keeps ".hdr" at the end.
+      if (!cv::imwrite(tmp.string(), bgr32f)) throw Error("could not write " + path.string());
+    } else {
+      throw InputError(path.string(), "extension", ".exr or .hdr", ext);
+    }
+  });
+}
+
+LuminanceStats luminanceStats(const cv::Mat& bgr32f) {
+  LuminanceStats s;
+  if (bgr32f.empty()) return s;
+  s.min = 1e30f;
+  double sum = 0;
+  for (int y = 0; y < bgr32f.rows; ++y)
+    for (int x = 0; x < bgr32f.cols; ++x) {
+      const float l = luminance(rgbAt(bgr32f, x, y));
+      s.min = std::min(s.min, l);
+      s.max = std::max(s.max, l);
+      sum += l;
+    }
+  s.mean = static_cast<float>(sum / static_cast<double>(bgr32f.total()));
+  return s;
+}
+
+}  // namespace holo

@@ -1,0 +1,118 @@
+// The simulated museum: a hall, a virtual relic on the pyramid, visitors walking around it,
+// four depth cameras on the sides of the base and a panorama of the hall. Used by the default
+// demo, the simulated camera source and every regression test.
+//
+// Light model (why the numbers agree across renderers): everything real (hall, furniture,
+// visitors and what they carry) is a diffuse emitter whose radiance is its Material::emission
+// (lighting baked in), so a camera, the panorama and the path tracer all see the same radiance
+// for the same surface; only the relic (virtual, seen by no camera) has a BRDF. A camera pixel is
+// linearToSrgb8(exposure * radiance). Units: metres, seconds, linear radiance.
+//
+// Frames: world = pyramid frame (DESIGN.md). The base top is y = 0, the floor y = -kBaseHeight.
+// Face f in 0..3 is the side facing +Z, +X, -Z, -X (azimuth f * 90 degrees); camera f sits on
+// that side of the base and looks outward. Time t = frame / fps. Everything is seeded:
+// the same SceneDescription gives bit-identical output.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "holo/core/camera_model.hpp"
+#include "holo/core/mesh.hpp"
+#include "holo/core/rgbd_frame.hpp"
+
+namespace holo::sim {
+
+inline constexpr float kBaseHeight = 1.0f;   // floor to base top, metres
+inline constexpr int kFaceCount = 4;
+
+struct SensorNoise {
+  // Depth noise standard deviation sigma(z) = sigma_0 + k_z2 * z^2 (metres), Kinect/ZED-like.
+  float sigma_0 = 0.001f;
+  float k_z2 = 0.0025f;
+  float grazing_dropout_deg = 78.0f;  // beyond this angle between ray and normal, no depth
+  float edge_dropout = 0.5f;          // probability of dropping a pixel on a depth edge
+  float flying_pixel = 0.3f;          // probability an edge pixel takes a mixed depth
+  float random_dropout = 0.01f;       // probability any pixel has no depth
+  float color_sigma = 2.0f;           // colour noise, 8-bit steps
+  bool enabled = true;
+};
+
+struct CameraSettings {
+  int width = 640;
+  int height = 360;
+  float hfov_deg = 110.0f;
+  float vfov_deg = 70.0f;
+  float min_range = 0.2f;
+  float max_range = 20.0f;
+  float fps = 30.0f;
+  float exposure = 1.0f;
+};
+
+struct SceneDescription {
+  std::string name;             // built-in name or file stem
+  std::string source;           // file it came from, or "built-in"
+  std::string hall = "gallery"; // room | gallery | atrium
+  std::string relic = "vase";   // vase | kettle | tripod | sphere, or a glTF path
+  bool fit_relic = true;        // scale and centre the relic on the pedestal
+  // Overrides of the relic's material; negative means "keep the model's".
+  float relic_roughness = -1.0f;
+  float relic_metallic = -1.0f;
+  int visitors = 3;
+  std::uint64_t seed = 1;
+  CameraSettings camera;
+  SensorNoise noise;
+  vec3 panorama_position{0.0f, 0.35f, 0.0f};
+};
+
+// A built-in name ("museum", "room", "gallery", "atrium", "empty", ...) or a YAML file. Throws
+// InputError naming the file and field for a bad file or an unknown name (listing the names).
+SceneDescription loadScene(const std::string& name_or_file);
+std::vector<std::string> builtinSceneNames();
+std::vector<std::string> builtinRelicNames();
+
+// One simulated camera frame and what a perfect sensor would have given.
+struct SimulatedFrame {
+  RgbdFrame frame;          // noisy, as the sensor delivers it
+  cv::Mat true_depth;       // CV_32FC1, metres, 0 where nothing is within range
+  cv::Mat foreground;       // CV_8UC1, 255 where the pixel sees a visitor or what they carry
+};
+
+class Museum {
+public:
+  explicit Museum(SceneDescription description);
+  ~Museum();
+  Museum(Museum&&) noexcept;
+  Museum& operator=(Museum&&) noexcept;
+
+  const SceneDescription& description() const;
+  int cameraCount() const { return kFaceCount; }
+  const CameraModel& camera(int index) const;
+  float frameTime(int frame) const;
+
+  // The relic in the world frame (standing on the base top, centred on the Y axis).
+  const Model& relic() const;
+  // The static hall: walls, floor, furniture, the pyramid base (emissive materials).
+  const Model& hall() const;
+  // Visitors and what they carry, posed at this frame (emissive materials).
+  Model visitors(int frame) const;
+  // Head centre of every visitor at this frame (world, metres), in visitor order.
+  std::vector<vec3> visitorHeads(int frame) const;
+
+  // Renders camera `index` at `frame` with Embree. `with_visitors = false` gives the empty hall.
+  SimulatedFrame renderCamera(int index, int frame, bool with_visitors = true) const;
+  // The background frame gamma_s of a camera: the empty hall, with sensor noise.
+  RgbdFrame backgroundFrame(int index) const;
+  // Equirectangular linear HDR (CV_32FC3 BGR) of the empty hall seen from panorama_position;
+  // the pixel/direction mapping is reflect's equirect convention (see holo/sim/panorama.hpp).
+  cv::Mat renderPanorama(int width, int height) const;
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace holo::sim

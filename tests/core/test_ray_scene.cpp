@@ -1,0 +1,74 @@
+#include <gtest/gtest.h>
+
+#include "holo/core/ray_scene.hpp"
+
+namespace holo {
+namespace {
+
+TriangleMesh quad(float z) {
+  TriangleMesh m;
+  m.positions = {{-1, -1, z}, {1, -1, z}, {1, 1, z}, {-1, 1, z}};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  return m;
+}
+
+TEST(RayScene, HitsNearestMeshAndReportsIt) {
+  RayScene scene;
+  const auto far_id = scene.addMesh(quad(5));
+  const auto near_id = scene.addMesh(quad(2));
+  scene.commit();
+  const RayHit hit = scene.intersect({{0.2f, 0.1f, 0}, {0, 0, 1}});
+  ASSERT_TRUE(hit.hit());
+  EXPECT_EQ(hit.geometry, near_id);
+  EXPECT_NEAR(hit.t, 2.0f, 1e-5f);
+  EXPECT_NEAR(hit.geometric_normal.z, -1.0f, 1e-6f);  // faces the ray
+  EXPECT_FALSE(scene.intersect({{0.2f, 0.1f, 0}, {0, 0, -1}}).hit());
+  EXPECT_TRUE(scene.occluded({{0, 0, 0}, {0, 0, 1}}, 0.0f, 3.0f));
+  EXPECT_FALSE(scene.occluded({{0, 0, 0}, {0, 0, 1}}, 0.0f, 1.5f));
+  const RayHit from_between = scene.intersect({{0, 0, 3}, {0, 0, 1}});
+  EXPECT_EQ(from_between.geometry, far_id);
+}
+
+TEST(RayScene, DegenerateTrianglesAreNeverHitAndAxisRaysWork) {
+  TriangleMesh m = quad(1);
+  m.positions.push_back({0, 0, 0.5f});
+  m.triangles.push_back({4, 4, 4});  // a point
+  m.triangles.push_back({0, 4, 0});  // a line
+  RayScene scene;
+  scene.addMesh(m);
+  scene.commit();
+  for (const vec3 dir : {vec3(1, 0, 0), vec3(-1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1), vec3(-0.0f, 0.0f, 1)}) {
+    const RayHit hit = scene.intersect({{0, 0, 0}, dir});
+    if (hit.hit()) {
+      EXPECT_NEAR(hit.t, 1.0f, 1e-5f);
+      EXPECT_TRUE(isFinite(hit.geometric_normal));
+    }
+  }
+  EXPECT_TRUE(scene.intersect({{0, 0, 0}, {0, 0, 1}}).hit());
+}
+
+TEST(RayScene, UpdatedPositionsMoveTheMesh) {
+  RayScene scene;
+  const auto id = scene.addMesh(quad(2));
+  scene.commit();
+  std::vector<vec3> moved = scene.mesh(id).positions;
+  for (auto& p : moved) p.z = 4;
+  scene.updatePositions(id, moved);
+  scene.commit();
+  EXPECT_NEAR(scene.intersect({{0, 0, 0}, {0, 0, 1}}).t, 4.0f, 1e-5f);
+}
+
+TEST(RayScene, ShadingNormalInterpolatesAndFacesRay) {
+  TriangleMesh m = quad(2);
+  m.computeNormals();
+  RayScene scene;
+  scene.addMesh(m);
+  scene.commit();
+  const Ray ray{{0.3f, 0.3f, 0}, {0, 0, 1}};
+  const RayHit hit = scene.intersect(ray);
+  const vec3 n = scene.shadingNormal(hit, ray.direction);
+  EXPECT_NEAR(n.z, -1.0f, 1e-6f);
+}
+
+}  // namespace
+}  // namespace holo
