@@ -1,5 +1,6 @@
 // Subcommands of the `holopyramid` program. Each app/cmd_*.cpp file registers its subcommand
-// with a static HOLO_REGISTER_COMMAND; main() builds the CLI11 tree from the registry. A
+// with a static HOLO_REGISTER_COMMAND; main() builds the CLI11 tree from the registry (a name
+// with a space, "eval depth", lands under the group "eval"). A
 // command's run function returns the process exit code; InputError and Error thrown from it are
 // reported as one line on stderr with exit code 2 and 1.
 #pragma once

@@ -34,8 +34,22 @@ int main(int argc, char** argv) {
   cli.add_flag("--stats", print_stats, "Print the statistics counters at exit");
 
   std::function<int()> run;
+  // A name with a space ("eval depth") is a subcommand of a group ("eval"), made on first use.
+  std::map<std::string, CLI::App*> groups;
   for (auto& [name, command] : app::registry()) {
-    CLI::App* sub = cli.add_subcommand(name, command.description);
+    CLI::App* parent = &cli;
+    std::string leaf = name;
+    if (const auto space = name.find(' '); space != std::string::npos) {
+      const std::string group = name.substr(0, space);
+      leaf = name.substr(space + 1);
+      auto& g = groups[group];
+      if (!g) {
+        g = cli.add_subcommand(group, "Group of subcommands: " + group);
+        g->require_subcommand(1);
+      }
+      parent = g;
+    }
+    CLI::App* sub = parent->add_subcommand(leaf, command.description);
     auto runner = std::make_shared<std::function<int()>>(command.setup(*sub));
     sub->callback([runner, &run] { run = *runner; });
   }
