@@ -1,0 +1,172 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <random>
+
+#include "holo/capture/recorder.hpp"
+#include "holo/capture/recording_source.hpp"
+#include "holo/core/error.hpp"
+#include "shared_data.hpp"
+
+using namespace holo;
+using namespace holo::capture;
+
+namespace {
+
+RgbdFrame randomFrame(int camera, std::uint64_t seq, std::mt19937& rng) {
+  RgbdFrame f;
+  f.camera_id = camera;
+  f.sequence = seq;
+  f.device_time = std::chrono::milliseconds(1000 + 33 * static_cast<int>(seq));
+  f.color = cv::Mat(48, 64, CV_8UC3);
+  cv::randu(f.color, 0, 256);
+  f.depth = cv::Mat(48, 64, CV_32FC1);
+  std::uniform_real_distribution<float> metres(0.2f, 20.0f);
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 64; ++x) f.depth.at<float>(y, x) = metres(rng);
+  f.depth.at<float>(0, 0) = 0.0f;                                     // invalid stays invalid
+  f.depth.at<float>(0, 1) = std::numeric_limits<float>::quiet_NaN();  // NaN -> invalid
+  f.depth.at<float>(0, 2) = 100.0f;                                   // beyond 65.5 m -> clipped
+  return f;
+}
+
+CameraModel testCamera(float x) {
+  Intrinsics K = Intrinsics::fromFov(64, 48, 1.9f, 1.2f);
+  K.distortion = {0.1f, -0.02f, 0.001f, 0.0f, 0.003f};
+  mat4 T(1.0f);
+  T[3] = vec4(x, 0.5f, -1.25f, 1.0f);
+  return CameraModel(K, T);
+}
+
+}  // namespace
+
+TEST(Recording, RoundTripIsBitExactInColourAndWithinOneStepInDepth) {
+  const auto dir = test::scratchDir("recording_round_trip");
+  std::mt19937 rng(7);
+  std::vector<RgbdFrame> written;
+  {
+    Recorder rec(dir, {{"left", "SN-1", testCamera(1.0f)}, {"right", "SN-2", testCamera(-1.0f)}}, 1000.0, 2);
+    for (std::uint64_t s = 0; s < 3; ++s)
+      for (int cam = 0; cam < 2; ++cam) {
+        written.push_back(randomFrame(cam, s, rng));
+        rec.write(written.back());
+      }
+    EXPECT_EQ(rec.framesWritten(), 6);
+    EXPECT_EQ(rec.depthClipped(), 6);  // one 100 m pixel per frame
+  }
+  ASSERT_TRUE(isRecordingFolder(dir));
+  const Recording recording = readRecording(dir);
+  EXPECT_EQ(recording.layout, "holopyramid");
+  ASSERT_EQ(recording.cameras.size(), 2u);
+  EXPECT_EQ(recording.cameras[1].name, "right");
+  EXPECT_EQ(recording.cameras[1].serial, "SN-2");
+  ASSERT_TRUE(recording.cameras[0].model.has_value());
+  const CameraModel& m = *recording.cameras[0].model;
+  const CameraModel ref = testCamera(1.0f);
+  EXPECT_FLOAT_EQ(m.intrinsics().fx, ref.intrinsics().fx);
+  EXPECT_FLOAT_EQ(m.intrinsics().cy, ref.intrinsics().cy);
+  EXPECT_FLOAT_EQ(m.intrinsics().distortion[4], 0.003f);
+  EXPECT_FLOAT_EQ(m.position().x, 1.0f);
+  EXPECT_FLOAT_EQ(m.position().z, -1.25f);
+
+  for (int cam = 0; cam < 2; ++cam) {
+    RecordingSource source(recording.cameras[static_cast<std::size_t>(cam)]);
+    source.open();
+    source.start();
+    for (std::uint64_t s = 0; s < 3; ++s) {
+      const GrabResult r = source.grab(std::chrono::milliseconds(100));
+      ASSERT_EQ(r.status, GrabStatus::Ok) << r.message;
+      const RgbdFrame& orig = written[s * 2 + static_cast<std::size_t>(cam)];
+      EXPECT_EQ(r.frame.sequence, s);
+      EXPECT_EQ(r.frame.device_time, orig.device_time);
+      EXPECT_EQ(cv::norm(r.frame.color, orig.color, cv::NORM_INF), 0.0);
+      EXPECT_FLOAT_EQ(r.frame.depth.at<float>(0, 0), 0.0f);
+      EXPECT_FLOAT_EQ(r.frame.depth.at<float>(0, 1), 0.0f);
+      EXPECT_FLOAT_EQ(r.frame.depth.at<float>(0, 2), 0.0f);
+      double worst = 0;
+      for (int y = 1; y < 48; ++y)
+        for (int x = 0; x < 64; ++x)
+          worst =
+              std::max(worst, std::abs(double(r.frame.depth.at<float>(y, x)) - orig.depth.at<float>(y, x)));
+      EXPECT_LE(worst, 0.5 / 1000.0 + 1e-5);  // half a quantisation step (+ float rounding at 20 m)
+      EXPECT_GT(worst, 0.0);                  // and it really was quantised
+    }
+    EXPECT_EQ(source.grab(std::chrono::milliseconds(10)).status, GrabStatus::EndOfStream);
+  }
+}
+
+TEST(Recording, RefusesToOverwriteARecording) {
+  const auto dir = test::scratchDir("recording_no_overwrite");
+  { Recorder rec(dir, {{"a", "", std::nullopt}}); }
+  EXPECT_THROW(Recorder(dir, {{"a", "", std::nullopt}}), InputError);
+}
+
+TEST(Recording, ReadsTheRealTumFrame) {
+  HOLO_REQUIRE_SHARED_DATA("rgbd/tum/depth.png");
+  const auto dir = test::sharedData("rgbd/tum");
+  const Recording recording = readRecording(dir);
+  EXPECT_EQ(recording.layout, "single-frame");
+  ASSERT_EQ(recording.cameras.size(), 1u);
+  const RecordedCamera& cam = recording.cameras[0];
+  EXPECT_DOUBLE_EQ(cam.depth_scale, 5000.0);
+  ASSERT_TRUE(cam.model.has_value());
+  EXPECT_FLOAT_EQ(cam.model->intrinsics().fx, 525.0f);
+  EXPECT_FLOAT_EQ(cam.model->intrinsics().cx, 319.5f);
+  EXPECT_FLOAT_EQ(cam.model->intrinsics().cy, 239.5f);
+  RecordingSource source(cam);
+  const RgbdFrame f = source.load(0);
+  EXPECT_EQ(f.color.cols, 640);
+  EXPECT_EQ(f.color.rows, 480);
+  ASSERT_EQ(f.depth.type(), CV_32FC1);
+  // An office desk seen by a Kinect: most pixels valid, nearest surface beyond 0.3 m, the far wall
+  // under 10 m (the PNG's 16-bit range at 5000 units/m ends at 13.1 m).
+  const cv::Mat valid = f.depth > 0;
+  const double valid_fraction = cv::countNonZero(valid) / double(f.depth.total());
+  EXPECT_GT(valid_fraction, 0.5);
+  double lo = 0, hi = 0;
+  cv::minMaxLoc(f.depth, nullptr, &hi);
+  cv::minMaxLoc(f.depth, &lo, nullptr, nullptr, nullptr, valid);
+  EXPECT_GT(lo, 0.3);
+  EXPECT_LT(hi, 10.0);
+  const double mean_depth = cv::mean(f.depth, valid)[0];
+  EXPECT_GT(mean_depth, 0.5);
+  EXPECT_LT(mean_depth, 4.0);
+}
+
+TEST(Recording, MalformedFoldersNameTheProblem) {
+  const auto dir = test::scratchDir("recording_malformed");
+  try {
+    readRecording(dir);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("color.png + depth.png"), std::string::npos) << e.what();
+  }
+  std::ofstream(dir / "rgb.txt") << "# comment\n1.0 rgb/a.png\n";
+  std::ofstream(dir / "depth.txt") << "1.0\n";  // missing file column
+  try {
+    readRecording(dir);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("depth.txt"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("line 1"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Recording, TumSequenceAssociatesNearestTimestamps) {
+  const auto dir = test::scratchDir("recording_tum_sequence");
+  std::filesystem::create_directories(dir / "rgb");
+  std::filesystem::create_directories(dir / "depth");
+  std::ofstream(dir / "rgb.txt") << "# rgb\n10.000 rgb/a.png\n10.033 rgb/b.png\n10.500 rgb/c.png\n";
+  std::ofstream(dir / "depth.txt") << "# depth\n10.005 depth/a.png\n10.030 depth/b.png\n";
+  const Recording r = readRecording(dir);
+  EXPECT_EQ(r.layout, "tum-sequence");
+  ASSERT_EQ(r.cameras[0].frames.size(), 2u);  // c has no depth within 20 ms
+  EXPECT_EQ(r.cameras[0].frames[0].depth.filename(), "a.png");
+  EXPECT_EQ(r.cameras[0].frames[1].depth.filename(), "b.png");
+  // Missing image files lose a frame, not the replay.
+  RecordingSource source(r.cameras[0]);
+  source.open();
+  source.start();
+  EXPECT_EQ(source.grab(std::chrono::milliseconds(10)).status, GrabStatus::Failed);
+}
