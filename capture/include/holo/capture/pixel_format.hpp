@@ -1,0 +1,52 @@
+// Raw camera buffers -> the project's images. Colour comes out CV_8UC3 BGR (sRGB as the camera
+// delivered it), depth CV_32FC1 metres with 0 = invalid. Names follow GenICam PFNC for Aravis
+// (Mono8, BayerRG8, Coord3D_C16...) and V4L2 FourCCs for UVC devices (YUYV, MJPG, Z16).
+//
+// Bayer names give the colour of the first two pixels of the first row (PFNC); OpenCV names its
+// codes by the second row, so BayerRG8 is demosaiced with cv::COLOR_BayerBG2BGR (see the table in
+// pixel_format.cpp; the test builds each mosaic from a known colour to pin this down).
+#pragma once
+
+#include <cstddef>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+namespace holo::capture {
+
+enum class PixelFormat {
+  Mono8,
+  Mono16,
+  RGB8,
+  BGR8,
+  BayerRG8,
+  BayerGR8,
+  BayerGB8,
+  BayerBG8,
+  YUYV,        // V4L2 YUYV 4:2:2 (Y0 U Y1 V), 2 bytes per pixel
+  MJPEG,       // V4L2 MJPG: one JPEG image per buffer, variable size
+  Z16,         // V4L2 Z16: little-endian uint16 depth units
+  Coord3D_C16  // GenICam 3D: uint16 Z in depth units
+};
+
+// Throws holo::InputError (field "pixel_format") naming the accepted names.
+PixelFormat pixelFormatFromName(const std::string& name);
+std::string toString(PixelFormat format);
+std::vector<std::string> pixelFormatNames();
+bool isDepthFormat(PixelFormat format);  // Z16, Coord3D_C16 (Mono16 can be either, by config)
+
+struct RawImage {
+  const void* data = nullptr;
+  std::size_t size = 0;  // bytes available
+  int width = 0;
+  int height = 0;
+  std::size_t stride = 0;  // bytes per row; 0 = packed
+};
+
+// Throws holo::Error when the buffer is too small for width x height or cannot be decoded
+// (a truncated JPEG); the caller counts the frame as failed.
+cv::Mat convertToColor(PixelFormat format, const RawImage& raw);
+// Mono16, Z16 and Coord3D_C16: units / units_per_metre; 0 stays 0 (invalid).
+cv::Mat convertToDepth(PixelFormat format, const RawImage& raw, double units_per_metre);
+
+}  // namespace holo::capture
