@@ -248,13 +248,18 @@ std::string AravisSource::serial() const {
 
 void AravisSource::open() {
   stop();
-  if (!config_.color.serial.empty()) {
-    color_ = std::make_unique<AravisDevice>(config_.color, false);
-    color_->open();
-  }
-  if (!config_.depth.serial.empty()) {
-    depth_ = std::make_unique<AravisDevice>(config_.depth, true);
-    depth_->open();
+  try {
+    if (!config_.color.serial.empty()) {
+      color_ = std::make_unique<AravisDevice>(config_.color, false);
+      color_->open();
+    }
+    if (!config_.depth.serial.empty()) {
+      depth_ = std::make_unique<AravisDevice>(config_.depth, true);
+      depth_->open();
+    }
+  } catch (...) {
+    stop();  // a half-opened source reports Disconnected, never grabs from a dead handle
+    throw;
   }
 }
 
