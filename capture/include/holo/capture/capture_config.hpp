@@ -1,0 +1,68 @@
+// The `capture:` section of the project's YAML configuration: which camera is which pyramid
+// face, through which backend, with which formats and depth scales. Example:
+//
+//   capture:
+//     calibration_dir: calibration        # camera_SERIAL.yml files (calib module)
+//     grab_timeout_ms: 200                # capture thread settings, all optional
+//     silence_timeout_ms: 2000
+//     max_backoff_ms: 5000
+//     cameras:
+//       - face: 0                         # 0..3: the side facing +Z, +X, -Z, -X
+//         backend: aravis                 # aravis | v4l2 | recording
+//         color: {serial: "GV-0001", pixel_format: BayerRG8, width: 640, height: 360, frame_rate: 30}
+//         depth: {serial: "GV-0002", pixel_format: Coord3D_C16, depth_scale: 1000}
+//       - face: 1
+//         backend: v4l2
+//         color: {device: "serial:843112071234", pixel_format: YUYV, width: 640, height: 480}
+//         depth: {device: "serial:843112071234-depth", pixel_format: Z16, depth_scale: 1000}
+//       - face: 2
+//         backend: recording
+//         path: recordings/hall-monday    # a recording folder (recording.hpp)
+//         camera: 2                       # which of its cameras; default = face
+//
+// depth_scale is in raw units per metre (1000 = millimetres). Every error is a holo::InputError
+// naming the file and the dotted field ("capture.cameras[1].color.pixel_format").
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "holo/capture/aravis_source.hpp"
+#include "holo/capture/camera_source.hpp"
+#include "holo/capture/capture_thread.hpp"
+#include "holo/capture/v4l2_source.hpp"
+#include "holo/core/config.hpp"
+
+namespace holo::capture {
+
+enum class Backend { Aravis, V4l2, Recording };
+const char* toString(Backend backend);
+
+struct CameraEntry {
+  int face = 0;  // 0..3, unique within the configuration
+  Backend backend = Backend::Aravis;
+  std::string name;  // "face0" unless given
+  AravisCameraConfig aravis;
+  V4l2CameraConfig v4l2;
+  std::filesystem::path recording;  // Backend::Recording: the folder, relative to the config file
+  int recording_camera = 0;         // which camera of the recording
+};
+
+struct CaptureConfig {
+  std::filesystem::path calibration_dir = "calibration";  // relative paths: to the config file
+  CaptureOptions options;                                 // camera_id is set per camera by makeCaptureOptions
+  std::vector<CameraEntry> cameras;                       // sorted by face
+};
+
+// Parses a `capture` node (the section itself, not the whole file).
+CaptureConfig parseCaptureConfig(const ConfigNode& capture);
+// Loads FILE and parses its `capture` section (required).
+CaptureConfig loadCaptureConfig(const std::filesystem::path& file);
+
+// The source for one entry (not opened). A recording is read here: InputError when it is not one.
+std::unique_ptr<CameraSource> makeSource(const CameraEntry& entry);
+CaptureOptions makeCaptureOptions(const CaptureConfig& config, const CameraEntry& entry);
+
+}  // namespace holo::capture

@@ -1,0 +1,239 @@
+#include "holo/capture/capture_config.hpp"
+
+#include <algorithm>
+#include <set>
+
+#include "holo/capture/recording_source.hpp"
+#include "holo/core/error.hpp"
+
+namespace holo::capture {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string join(const std::vector<std::string>& items) {
+  std::string out;
+  for (const auto& s : items) out += (out.empty() ? "" : ", ") + s;
+  return out;
+}
+
+// A misspelt key would otherwise be ignored silently and the default used.
+void rejectUnknownKeys(const ConfigNode& node, const std::vector<std::string>& known) {
+  if (!node.isMap()) node.fail("a map");
+  for (const auto& key : node.keys())
+    if (std::find(known.begin(), known.end(), key) == known.end())
+      node[key].fail("one of the fields " + join(known), "an unknown field '" + key + "'");
+}
+
+// Relative paths in a configuration file are relative to the file, so it can be moved along
+// with its recordings and calibration.
+fs::path resolvePath(const ConfigNode& node, const fs::path& value) {
+  if (value.is_absolute()) return value;
+  std::error_code ec;
+  const fs::path file(node.file());
+  if (!node.file().empty() && fs::is_regular_file(file, ec)) return file.parent_path() / value;
+  return value;
+}
+
+int positive(const ConfigNode& node, const std::string& key, int fallback) {
+  if (!node.has(key)) return fallback;
+  const int value = node[key].as<int>();
+  if (value < 0) node[key].fail("a number >= 0");
+  return value;
+}
+
+double rate(const ConfigNode& node, const std::string& key) {
+  if (!node.has(key)) return 0.0;
+  const double value = node[key].as<double>();
+  if (value < 0 || value > 1000) node[key].fail("a frame rate in Hz between 0 (keep) and 1000");
+  return value;
+}
+
+double depthScale(const ConfigNode& node) {
+  if (!node.has("depth_scale")) return 1000.0;
+  const double value = node["depth_scale"].as<double>();
+  if (!(value > 0)) node["depth_scale"].fail("a positive number of raw units per metre (1000 = millimetres)");
+  return value;
+}
+
+PixelFormat pixelFormat(const ConfigNode& node, bool depth, const std::vector<PixelFormat>& allowed) {
+  const ConfigNode field = node["pixel_format"];
+  std::vector<std::string> names;
+  for (PixelFormat f : allowed) names.push_back(toString(f));
+  const std::string expected = std::string(depth ? "a depth format: " : "a colour format: ") + join(names);
+  PixelFormat format{};
+  try {
+    format = pixelFormatFromName(field.as<std::string>());
+  } catch (const InputError&) {
+    field.fail(expected);
+  }
+  if (std::find(allowed.begin(), allowed.end(), format) == allowed.end()) field.fail(expected);
+  return format;
+}
+
+const std::vector<PixelFormat> kAravisColour{
+    PixelFormat::Mono8,    PixelFormat::Mono16,   PixelFormat::RGB8,     PixelFormat::BGR8,
+    PixelFormat::BayerRG8, PixelFormat::BayerGR8, PixelFormat::BayerGB8, PixelFormat::BayerBG8};
+const std::vector<PixelFormat> kAravisDepth{PixelFormat::Mono16, PixelFormat::Coord3D_C16};
+const std::vector<PixelFormat> kV4l2Colour{PixelFormat::YUYV, PixelFormat::MJPEG};
+const std::vector<PixelFormat> kV4l2Depth{PixelFormat::Z16};
+
+AravisStreamConfig parseAravisStream(const ConfigNode& node, bool depth) {
+  rejectUnknownKeys(node, {"serial", "pixel_format", "width", "height", "frame_rate", "depth_scale",
+                           "buffers", "packet_socket"});
+  AravisStreamConfig s;
+  s.serial = node["serial"].as<std::string>();
+  if (s.serial.empty()) node["serial"].fail("the camera's serial number (see `holopyramid devices`)");
+  if (node.has("pixel_format"))
+    s.pixel_format = toString(pixelFormat(node, depth, depth ? kAravisDepth : kAravisColour));
+  s.width = positive(node, "width", 0);
+  s.height = positive(node, "height", 0);
+  if ((s.width == 0) != (s.height == 0)) node.fail("width and height together (or neither)");
+  s.frame_rate = rate(node, "frame_rate");
+  s.depth_scale = depthScale(node);
+  s.buffers = positive(node, "buffers", s.buffers);
+  if (node.has("packet_socket")) {
+    const std::string mode = node["packet_socket"].as<std::string>();
+    if (mode == "auto")
+      s.packet_socket = AravisStreamConfig::PacketSocket::Auto;
+    else if (mode == "on")
+      s.packet_socket = AravisStreamConfig::PacketSocket::On;
+    else if (mode == "off")
+      s.packet_socket = AravisStreamConfig::PacketSocket::Off;
+    else
+      node["packet_socket"].fail("auto, on or off");
+  }
+  return s;
+}
+
+V4l2StreamConfig parseV4l2Stream(const ConfigNode& node, bool depth) {
+  rejectUnknownKeys(node,
+                    {"device", "pixel_format", "width", "height", "frame_rate", "depth_scale", "buffers"});
+  V4l2StreamConfig s;
+  s.device = node["device"].as<std::string>();
+  if (s.device.empty()) node["device"].fail("/dev/videoN, bus:BUS_INFO or serial:SERIAL");
+  if (node.has("pixel_format"))
+    s.pixel_format = toString(pixelFormat(node, depth, depth ? kV4l2Depth : kV4l2Colour));
+  s.width = positive(node, "width", 0);
+  s.height = positive(node, "height", 0);
+  if ((s.width == 0) != (s.height == 0)) node.fail("width and height together (or neither)");
+  s.frame_rate = rate(node, "frame_rate");
+  s.depth_scale = depthScale(node);
+  s.buffers = positive(node, "buffers", s.buffers);
+  return s;
+}
+
+CameraEntry parseCamera(const ConfigNode& node) {
+  rejectUnknownKeys(node, {"face", "backend", "name", "color", "depth", "path", "camera"});
+  CameraEntry e;
+  e.face = node["face"].as<int>();
+  if (e.face < 0 || e.face > 3) node["face"].fail("0, 1, 2 or 3 (the side facing +Z, +X, -Z, -X)");
+  e.name = node.get<std::string>("name", "face" + std::to_string(e.face));
+  const std::string backend = node["backend"].as<std::string>();
+  if (backend == "aravis") {
+    e.backend = Backend::Aravis;
+    e.aravis.name = e.name;
+    if (node.has("color")) e.aravis.color = parseAravisStream(node["color"], false);
+    if (node.has("depth")) e.aravis.depth = parseAravisStream(node["depth"], true);
+  } else if (backend == "v4l2") {
+    e.backend = Backend::V4l2;
+    e.v4l2.name = e.name;
+    if (node.has("color")) e.v4l2.color = parseV4l2Stream(node["color"], false);
+    if (node.has("depth")) e.v4l2.depth = parseV4l2Stream(node["depth"], true);
+  } else if (backend == "recording") {
+    e.backend = Backend::Recording;
+    e.recording = resolvePath(node, node["path"].as<std::string>());
+    e.recording_camera = node.get<int>("camera", e.face);
+    if (e.recording_camera < 0) node["camera"].fail("a camera index >= 0");
+  } else {
+    node["backend"].fail("aravis, v4l2 or recording");
+  }
+  if (e.backend != Backend::Recording && !node.has("color") && !node.has("depth"))
+    node.fail("a color stream, a depth stream or both");
+  if (e.backend == Backend::Recording && (node.has("color") || node.has("depth")))
+    node.fail("no color/depth streams for a recording (it has its own)");
+  return e;
+}
+
+std::chrono::milliseconds millis(const ConfigNode& node, const std::string& key,
+                                 std::chrono::milliseconds fallback) {
+  if (!node.has(key)) return fallback;
+  const int value = node[key].as<int>();
+  if (value <= 0 || value > 600000) node[key].fail("milliseconds between 1 and 600000");
+  return std::chrono::milliseconds(value);
+}
+
+}  // namespace
+
+const char* toString(Backend backend) {
+  switch (backend) {
+    case Backend::Aravis:
+      return "aravis";
+    case Backend::V4l2:
+      return "v4l2";
+    case Backend::Recording:
+      return "recording";
+  }
+  return "unknown";
+}
+
+CaptureConfig parseCaptureConfig(const ConfigNode& capture) {
+  rejectUnknownKeys(capture, {"calibration_dir", "grab_timeout_ms", "silence_timeout_ms",
+                              "initial_backoff_ms", "max_backoff_ms", "cameras"});
+  CaptureConfig config;
+  if (capture.has("calibration_dir"))
+    config.calibration_dir = resolvePath(capture, capture["calibration_dir"].as<std::string>());
+  else
+    config.calibration_dir = resolvePath(capture, config.calibration_dir);
+  config.options.grab_timeout = millis(capture, "grab_timeout_ms", config.options.grab_timeout);
+  config.options.silence_timeout = millis(capture, "silence_timeout_ms", config.options.silence_timeout);
+  config.options.initial_backoff = millis(capture, "initial_backoff_ms", config.options.initial_backoff);
+  config.options.max_backoff = millis(capture, "max_backoff_ms", config.options.max_backoff);
+  if (config.options.max_backoff < config.options.initial_backoff)
+    capture["max_backoff_ms"].fail("at least initial_backoff_ms");
+
+  const ConfigNode cameras = capture["cameras"];
+  if (!cameras.isSequence() || cameras.size() == 0 || cameras.size() > 4)
+    cameras.fail("a list of 1 to 4 cameras");
+  std::set<int> faces;
+  for (std::size_t i = 0; i < cameras.size(); ++i) {
+    CameraEntry e = parseCamera(cameras[i]);
+    if (!faces.insert(e.face).second)
+      cameras[i]["face"].fail("a face no other camera has", "face " + std::to_string(e.face) + " again");
+    config.cameras.push_back(std::move(e));
+  }
+  std::sort(config.cameras.begin(), config.cameras.end(),
+            [](const CameraEntry& a, const CameraEntry& b) { return a.face < b.face; });
+  return config;
+}
+
+CaptureConfig loadCaptureConfig(const fs::path& file) {
+  return parseCaptureConfig(ConfigNode::loadFile(file)["capture"]);
+}
+
+std::unique_ptr<CameraSource> makeSource(const CameraEntry& entry) {
+  switch (entry.backend) {
+    case Backend::Aravis:
+      return std::make_unique<AravisSource>(entry.aravis);
+    case Backend::V4l2:
+      return std::make_unique<V4l2Source>(entry.v4l2);
+    case Backend::Recording: {
+      Recording recording = readRecording(entry.recording);
+      for (auto& camera : recording.cameras)
+        if (camera.id == entry.recording_camera) return std::make_unique<RecordingSource>(std::move(camera));
+      throw InputError(entry.recording.string(), "camera",
+                       "a camera of the recording (it has " + std::to_string(recording.cameras.size()) + ")",
+                       std::to_string(entry.recording_camera));
+    }
+  }
+  throw Error("unknown capture backend");
+}
+
+CaptureOptions makeCaptureOptions(const CaptureConfig& config, const CameraEntry& entry) {
+  CaptureOptions options = config.options;
+  options.camera_id = entry.face;
+  return options;
+}
+
+}  // namespace holo::capture

@@ -1,0 +1,115 @@
+// The capture section of the configuration: what it accepts, and errors naming file and field.
+#include <gtest/gtest.h>
+
+#include "holo/capture/capture_config.hpp"
+#include "holo/core/error.hpp"
+
+using namespace holo;
+using namespace holo::capture;
+
+namespace {
+
+CaptureConfig parse(const std::string& text) {
+  return parseCaptureConfig(ConfigNode::parse(text, "holo.yaml")["capture"]);
+}
+
+std::string errorOf(const std::string& text) {
+  try {
+    parse(text);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+}  // namespace
+
+TEST(CaptureConfig, ParsesFacesBackendsFormatsAndScales) {
+  const CaptureConfig c = parse(R"(
+capture:
+  grab_timeout_ms: 150
+  max_backoff_ms: 3000
+  cameras:
+    - face: 2
+      backend: v4l2
+      color: {device: "serial:843112071234", pixel_format: YUYV, width: 640, height: 480, frame_rate: 30}
+      depth: {device: "/dev/video4", pixel_format: Z16, depth_scale: 4000}
+    - face: 0
+      backend: aravis
+      name: north
+      color: {serial: GV-0001, pixel_format: BayerRG8, width: 640, height: 360}
+      depth: {serial: GV-0002, pixel_format: Coord3D_C16, depth_scale: 1000, packet_socket: off}
+)");
+  ASSERT_EQ(c.cameras.size(), 2u);
+  EXPECT_EQ(c.options.grab_timeout.count(), 150);
+  EXPECT_EQ(c.options.max_backoff.count(), 3000);
+  const CameraEntry& north = c.cameras[0];  // sorted by face
+  EXPECT_EQ(north.face, 0);
+  EXPECT_EQ(north.backend, Backend::Aravis);
+  EXPECT_EQ(north.name, "north");
+  EXPECT_EQ(north.aravis.color.serial, "GV-0001");
+  EXPECT_EQ(north.aravis.color.pixel_format, "BayerRG8");
+  EXPECT_EQ(north.aravis.color.width, 640);
+  EXPECT_EQ(north.aravis.depth.pixel_format, "Coord3D_C16");
+  EXPECT_EQ(north.aravis.depth.packet_socket, AravisStreamConfig::PacketSocket::Off);
+  const CameraEntry& south = c.cameras[1];
+  EXPECT_EQ(south.face, 2);
+  EXPECT_EQ(south.name, "face2");
+  EXPECT_EQ(south.backend, Backend::V4l2);
+  EXPECT_EQ(south.v4l2.color.device, "serial:843112071234");
+  EXPECT_EQ(south.v4l2.color.pixel_format, "YUYV");
+  EXPECT_DOUBLE_EQ(south.v4l2.color.frame_rate, 30.0);
+  EXPECT_DOUBLE_EQ(south.v4l2.depth.depth_scale, 4000.0);
+  EXPECT_EQ(makeCaptureOptions(c, south).camera_id, 2);
+  // Sources are built without opening anything.
+  EXPECT_EQ(makeSource(north)->name(), "north");
+  EXPECT_EQ(makeSource(south)->serial(), "serial:843112071234");
+}
+
+TEST(CaptureConfig, ErrorsNameTheFileAndTheField) {
+  const std::string face =
+      errorOf("capture:\n  cameras:\n    - {face: 5, backend: aravis, color: {serial: A}}\n");
+  EXPECT_TRUE(contains(face, "holo.yaml")) << face;
+  EXPECT_TRUE(contains(face, "capture.cameras[0].face")) << face;
+
+  const std::string twice = errorOf(
+      "capture:\n  cameras:\n    - {face: 1, backend: aravis, color: {serial: A}}\n"
+      "    - {face: 1, backend: aravis, color: {serial: B}}\n");
+  EXPECT_TRUE(contains(twice, "capture.cameras[1].face")) << twice;
+
+  const std::string format = errorOf(
+      "capture:\n  cameras:\n    - {face: 0, backend: v4l2, depth: {device: /dev/video2, pixel_format: "
+      "YUYV}}\n");
+  EXPECT_TRUE(contains(format, "capture.cameras[0].depth.pixel_format")) << format;
+  EXPECT_TRUE(contains(format, "Z16")) << format;
+
+  const std::string scale = errorOf(
+      "capture:\n  cameras:\n    - {face: 0, backend: aravis, depth: {serial: D, depth_scale: -1}}\n");
+  EXPECT_TRUE(contains(scale, "capture.cameras[0].depth.depth_scale")) << scale;
+
+  const std::string typo =
+      errorOf("capture:\n  cameras:\n    - {face: 0, backend: aravis, colour: {serial: A}}\n");
+  EXPECT_TRUE(contains(typo, "colour")) << typo;
+
+  const std::string backend = errorOf("capture:\n  cameras:\n    - {face: 0, backend: gige}\n");
+  EXPECT_TRUE(contains(backend, "capture.cameras[0].backend")) << backend;
+  EXPECT_TRUE(contains(backend, "aravis, v4l2 or recording")) << backend;
+
+  const std::string no_stream = errorOf("capture:\n  cameras:\n    - {face: 0, backend: aravis}\n");
+  EXPECT_TRUE(contains(no_stream, "capture.cameras[0]")) << no_stream;
+
+  EXPECT_TRUE(contains(errorOf("capture:\n  cameras: []\n"), "1 to 4 cameras"));
+  EXPECT_TRUE(contains(errorOf("capture: {}\n"), "capture.cameras"));
+}
+
+TEST(CaptureConfig, RecordingBackendThatIsNoRecordingFailsWhenTheSourceIsMade) {
+  const CaptureConfig c =
+      parse("capture:\n  cameras:\n    - {face: 3, backend: recording, path: /nonexistent/rec}\n");
+  ASSERT_EQ(c.cameras.size(), 1u);
+  EXPECT_EQ(c.cameras[0].recording_camera, 3);
+  EXPECT_THROW(makeSource(c.cameras[0]), InputError);
+}
