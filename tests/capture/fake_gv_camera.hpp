@@ -10,9 +10,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <thread>
 #include <vector>
 
 extern char** environ;
@@ -54,6 +56,25 @@ inline int runAndWait(const std::vector<std::string>& args) {
   if (pid < 0) return -1;
   int status = 0;
   ::waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// Runs a program with output to `log`, killing it when it outlives `limit`; returns its exit
+// code, or -1 when it could not start, died from a signal or was killed.
+inline int runWithTimeout(const std::vector<std::string>& args, const std::string& log,
+                          std::chrono::milliseconds limit) {
+  const pid_t pid = spawn(args, log);
+  if (pid < 0) return -1;
+  const auto end = std::chrono::steady_clock::now() + limit;
+  int status = 0;
+  while (::waitpid(pid, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() > end) {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, &status, 0);
+      return -1;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 

@@ -2,7 +2,10 @@
 // network namespace this test creates. Skips (with the reason) where namespaces are not allowed.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <memory>
+#include <sstream>
 #include <thread>
 
 #include "fake_gv_camera.hpp"
@@ -227,4 +230,41 @@ TEST_F(FakeAravis, KilledCameraIsMarkedDisconnectedOthersContinueAndItResumes) {
   EXPECT_TRUE(victim.health().connected);
   EXPECT_GE(victim.health().reconnects, 1);
   for (int i : {0, 1, 3}) EXPECT_EQ(threads_[static_cast<std::size_t>(i)]->health().disconnects, 0);
+}
+
+TEST_F(FakeAravis, DevicesCommandListsTheFakeCamerasWithSerialsFormatsAndCalibration) {
+  for (int i = 0; i < 2; ++i) startCamera(i);
+  const auto dir = std::filesystem::temp_directory_path() / ("holo-devices-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir / "calib");
+  std::ofstream(dir / "calib" / ("camera_" + serial(1) + ".yml")) << "%YAML:1.0\n";
+  const std::string log = (dir / "out.txt").string();
+  // The program runs inside the namespace too, as a separate process; a fresh camera may need a
+  // moment to answer discovery, so try a few times.
+  std::string out;
+  for (int attempt = 0; attempt < 5; ++attempt) {
+    std::filesystem::remove(log);
+    const int rc = test::runWithTimeout({"ip", "netns", "exec", netns_->name(), HOLO_CLI, "devices", "-v",
+                                         "--calib-dir", (dir / "calib").string(), "--dev-dir", dir.string()},
+                                        log, 20s);
+    ASSERT_EQ(rc, 0) << "holopyramid devices failed or hung";
+    std::ifstream in(log);
+    out.assign(std::istreambuf_iterator<char>(in), {});
+    if (out.find(serial(0)) != std::string::npos && out.find(serial(1)) != std::string::npos) break;
+  }
+  std::vector<std::string> lines;
+  std::istringstream stream(out);
+  for (std::string line; std::getline(stream, line);)
+    if (line.rfind("aravis\t", 0) == 0) lines.push_back(line);
+  ASSERT_EQ(lines.size(), 2u) << out;
+  for (int i = 0; i < 2; ++i) {
+    const auto line = std::find_if(lines.begin(), lines.end(), [&](const std::string& l) {
+      return l.find("serial " + serial(i)) != std::string::npos;
+    });
+    ASSERT_NE(line, lines.end()) << out;
+    EXPECT_NE(line->find(address(i)), std::string::npos) << *line;
+    EXPECT_NE(line->find("BayerRG8"), std::string::npos) << *line;
+    EXPECT_NE(line->find(i == 1 ? "calibration yes" : "calibration no"), std::string::npos) << *line;
+  }
+  EXPECT_NE(out.find("    Width = "), std::string::npos) << "-v lists features:\n" << out;
+  std::filesystem::remove_all(dir);
 }
