@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <memory>
 #include <sstream>
 #include <thread>
@@ -192,6 +193,8 @@ TEST_F(FakeAravis, FivePercentPacketLossKeepsFramesComingAndIsCounted) {
       << "completed " << t.health().frames_completed << ", incomplete " << t.health().frames_incomplete
       << ", resends " << t.health().resends;
   const CameraHealth h = t.health();
+  std::cout << "5% loss: completed " << h.frames_completed << ", incomplete " << h.frames_incomplete << ", resends "
+            << h.resends << ", timed out " << h.frames_timed_out << "\n";
   EXPECT_TRUE(h.connected);
   EXPECT_EQ(h.disconnects, 0);
   // Only complete buffers became frames: the newest one has every pixel of the region.
