@@ -4,8 +4,10 @@
 #include <iostream>
 
 #include "command.hpp"
+#include "holo/capture/recording.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/hdr_io.hpp"
+#include "info_recording.hpp"
 
 namespace holo::app {
 namespace {
@@ -26,10 +28,12 @@ int describeHdr(const std::filesystem::path& path) {
 }
 
 int describe(const std::filesystem::path& path) {
+  if (capture::isRecordingFolder(path)) return describeRecording(path, std::cout);
   std::string ext = path.extension().string();
   for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (ext == ".hdr" || ext == ".exr") return describeHdr(path);
-  throw InputError(path.string(), "", "an HDR panorama (.hdr, .exr)", "unknown kind of file");
+  throw InputError(path.string(), "", "an HDR panorama (.hdr, .exr) or a recording folder",
+                   "unknown kind of file");
 }
 
 }  // namespace
