@@ -108,6 +108,27 @@ struct AravisDevice {
       arv_camera_set_pixel_format_from_string(camera, config.pixel_format.c_str(), &error);
       check(error, who + ": setting PixelFormat " + config.pixel_format);
     }
+    if (config.width > 0 && config.height > 0) {
+      arv_camera_set_region(camera, 0, 0, config.width, config.height, &error);
+      check(error,
+            who + ": setting region " + std::to_string(config.width) + "x" + std::to_string(config.height));
+    }
+    if (config.frame_rate > 0) {
+      arv_camera_set_frame_rate(camera, config.frame_rate, &error);
+      check(error, who + ": setting AcquisitionFrameRate");
+    }
+    for (const auto& [feature, value] : config.features) {
+      ArvGcNode* node = arv_device_get_feature(arv_camera_get_device(camera), feature.c_str());
+      if (!node || !ARV_IS_GC_FEATURE_NODE(node))
+        throw InputError(who, "features." + feature,
+                         "a GenICam feature of this camera (see `holopyramid devices -v`)",
+                         "no such feature");
+      arv_gc_feature_node_set_value_from_string(ARV_GC_FEATURE_NODE(node), value.c_str(), &error);
+      if (error)
+        throw InputError(who, "features." + feature, "a value the camera accepts",
+                         value + " (" + takeError(error) + ")");
+    }
+    // Read back last: a feature may have changed the format.
     const char* current = arv_camera_get_pixel_format_as_string(camera, &error);
     check(error, who + ": reading PixelFormat");
     try {
@@ -121,15 +142,6 @@ struct AravisDevice {
     if (is_depth && format != PixelFormat::Mono16 && format != PixelFormat::Coord3D_C16)
       throw InputError(who, "depth.pixel_format", "Mono16 or Coord3D_C16 for a depth stream",
                        toString(format));
-    if (config.width > 0 && config.height > 0) {
-      arv_camera_set_region(camera, 0, 0, config.width, config.height, &error);
-      check(error,
-            who + ": setting region " + std::to_string(config.width) + "x" + std::to_string(config.height));
-    }
-    if (config.frame_rate > 0) {
-      arv_camera_set_frame_rate(camera, config.frame_rate, &error);
-      check(error, who + ": setting AcquisitionFrameRate");
-    }
     if (arv_camera_is_gv_device(camera)) {
       const bool loopback = address.rfind("127.", 0) == 0;
       const bool disable = config.packet_socket == AravisStreamConfig::PacketSocket::Off ||

@@ -81,7 +81,7 @@ const std::vector<PixelFormat> kV4l2Depth{PixelFormat::Z16};
 
 AravisStreamConfig parseAravisStream(const ConfigNode& node, bool depth) {
   rejectUnknownKeys(node, {"serial", "pixel_format", "width", "height", "frame_rate", "depth_scale",
-                           "buffers", "packet_socket"});
+                           "buffers", "packet_socket", "features"});
   AravisStreamConfig s;
   s.serial = node["serial"].as<std::string>();
   if (s.serial.empty()) node["serial"].fail("the camera's serial number (see `holopyramid devices`)");
@@ -103,6 +103,11 @@ AravisStreamConfig parseAravisStream(const ConfigNode& node, bool depth) {
       s.packet_socket = AravisStreamConfig::PacketSocket::Off;
     else
       node["packet_socket"].fail("auto, on or off");
+  }
+  if (node.has("features")) {
+    const ConfigNode features = node["features"];
+    if (!features.isMap()) features.fail("a map of GenICam feature names to values");
+    for (const auto& name : features.keys()) s.features.emplace_back(name, features[name].as<std::string>());
   }
   return s;
 }

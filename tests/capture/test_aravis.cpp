@@ -193,8 +193,8 @@ TEST_F(FakeAravis, FivePercentPacketLossKeepsFramesComingAndIsCounted) {
       << "completed " << t.health().frames_completed << ", incomplete " << t.health().frames_incomplete
       << ", resends " << t.health().resends;
   const CameraHealth h = t.health();
-  std::cout << "5% loss: completed " << h.frames_completed << ", incomplete " << h.frames_incomplete << ", resends "
-            << h.resends << ", timed out " << h.frames_timed_out << "\n";
+  std::cout << "5% loss: completed " << h.frames_completed << ", incomplete " << h.frames_incomplete
+            << ", resends " << h.resends << ", timed out " << h.frames_timed_out << "\n";
   EXPECT_TRUE(h.connected);
   EXPECT_EQ(h.disconnects, 0);
   // Only complete buffers became frames: the newest one has every pixel of the region.
@@ -270,4 +270,38 @@ TEST_F(FakeAravis, DevicesCommandListsTheFakeCamerasWithSerialsFormatsAndCalibra
   }
   EXPECT_NE(out.find("    Width = "), std::string::npos) << "-v lists features:\n" << out;
   std::filesystem::remove_all(dir);
+}
+
+TEST_F(FakeAravis, GenicamFeaturesAreSetByNameAndUnknownOnesAreNamed) {
+  startCamera(0);
+  AravisCameraConfig config = colourCamera(serial(0), "Mono8");
+  config.color.width = 0;  // the region comes from the features instead
+  config.color.height = 0;
+  config.color.features = {{"Width", "200"}, {"Height", "100"}, {"ExposureTimeAbs", "20000"}};
+  startCapture(0, config);
+  std::optional<RgbdFrame> f;
+  ASSERT_TRUE(waitFor([&] { return (f = mailboxes_[0]->take()).has_value(); }, 8000ms));
+  EXPECT_EQ(f->color.size(), cv::Size(200, 100));
+  threads_.clear();  // release the camera before opening it again below
+
+  AravisCameraConfig wrong = colourCamera(serial(0), "Mono8");
+  wrong.color.features = {{"NoSuchFeature", "1"}};
+  AravisSource source(wrong);
+  try {
+    ASSERT_TRUE(waitFor(
+        [&] {
+          try {
+            source.open();
+            return true;
+          } catch (const InputError&) {
+            throw;
+          } catch (const Error&) {
+            return false;  // not discovered yet
+          }
+        },
+        5000ms));
+    FAIL() << "an unknown feature was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("features.NoSuchFeature"), std::string::npos) << e.what();
+  }
 }

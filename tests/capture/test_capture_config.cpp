@@ -42,7 +42,8 @@ capture:
       backend: aravis
       name: north
       color: {serial: GV-0001, pixel_format: BayerRG8, width: 640, height: 360}
-      depth: {serial: GV-0002, pixel_format: Coord3D_C16, depth_scale: 1000, packet_socket: off}
+      depth: {serial: GV-0002, pixel_format: Coord3D_C16, depth_scale: 1000, packet_socket: off,
+              features: {ExposureTime: 8000, GainAuto: "Off"}}
 )");
   ASSERT_EQ(c.cameras.size(), 2u);
   EXPECT_EQ(c.options.grab_timeout.count(), 150);
@@ -56,6 +57,9 @@ capture:
   EXPECT_EQ(north.aravis.color.width, 640);
   EXPECT_EQ(north.aravis.depth.pixel_format, "Coord3D_C16");
   EXPECT_EQ(north.aravis.depth.packet_socket, AravisStreamConfig::PacketSocket::Off);
+  using Feature = std::pair<std::string, std::string>;
+  EXPECT_EQ(north.aravis.depth.features,
+            (std::vector<Feature>{{"ExposureTime", "8000"}, {"GainAuto", "Off"}}));
   const CameraEntry& south = c.cameras[1];
   EXPECT_EQ(south.face, 2);
   EXPECT_EQ(south.name, "face2");

@@ -15,6 +15,7 @@
 
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "holo/capture/camera_source.hpp"
@@ -29,6 +30,10 @@ struct AravisStreamConfig {
   double frame_rate = 0;      // Hz; 0 keeps the device's current rate
   double depth_scale = 1000;  // depth stream: units per metre (1000 = millimetres)
   int buffers = 8;            // buffer pool size
+  // Further GenICam features set in this order after the format, region and rate, by name and
+  // value as text ("ExposureTime" = "8000", "GainAuto" = "Off"). An unknown feature or a
+  // rejected value is an InputError naming the feature.
+  std::vector<std::pair<std::string, std::string>> features;
   // GigE Vision on loopback cannot use the packet socket; "auto" disables it for 127.x cameras.
   enum class PacketSocket { Auto, On, Off } packet_socket = PacketSocket::Auto;
 };
