@@ -137,10 +137,19 @@ std::vector<std::string> relicNames() {
 }
 
 Model makeRelic(const std::string& name, const std::string& origin) {
-  if (name == "vase") return vase();
-  if (name == "kettle") return kettle();
-  if (name == "tripod") return tripod();
-  if (name == "sphere") return sphere();
+  Model relic;
+  if (name == "vase")
+    relic = vase();
+  else if (name == "kettle")
+    relic = kettle();
+  else if (name == "tripod")
+    relic = tripod();
+  else if (name == "sphere")
+    relic = sphere();
+  if (!relic.meshes.empty()) {
+    fitOnPedestal(relic);  // exact size and placement, whatever the profiles above add up to
+    return relic;
+  }
   throw InputError(origin, "relic", "one of vase, kettle, tripod, sphere or a .gltf/.glb path", name);
 }
 

@@ -1,5 +1,5 @@
-// Procedural relics: vase (surface of revolution), kettle (body, spout and handle: non-convex),
-// tripod vessel (bowl, three legs, two handles) and a sphere. Each is about 0.28 m tall,
+// Procedural relics (fitted with fitOnPedestal): vase (surface of revolution), kettle (body, spout and
+// handle: non-convex), tripod vessel (bowl, three legs, two handles) and a sphere. Each is about 0.28 m tall,
 // standing on y = 0 and centred on the Y axis (the pyramid frame), with a metal material from
 // mirror (sphere, roughness 0) to rough (tripod, roughness 0.6).
 #pragma once
