@@ -12,7 +12,10 @@ const holo::sim::Museum& museum() {
 
 void BM_RenderCamera(benchmark::State& state) {
   int frame = 0;
-  for (auto _ : state) benchmark::DoNotOptimize(museum().renderCamera(frame++ % 4, frame));
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(museum().renderCamera(frame % 4, frame));
+    ++frame;
+  }
   state.SetLabel("640x360, one camera, visitors + noise");
 }
 BENCHMARK(BM_RenderCamera)->Unit(benchmark::kMillisecond)->UseRealTime();
