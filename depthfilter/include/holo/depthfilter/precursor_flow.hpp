@@ -1,0 +1,35 @@
+// Optical flow lambda_i of one camera (paper Sec. 3.2) with OpenCV's DIS optical flow. The flow is
+// computed backwards, from the current frame to the previous one, so that every current pixel px
+// directly indexes its precursor px_pre = px + lambda_i(px) in the previous frame (the pixel that
+// showed the same real content). Units: pixels. Output CV_32FC2, finite everywhere.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <opencv2/video/tracking.hpp>
+
+namespace holo::depthfilter {
+
+struct PrecursorFlowConfig {
+  // cv::DISOpticalFlow::PRESET_ULTRAFAST, PRESET_FAST or PRESET_MEDIUM. FAST is the default: on
+  // the synthetic moving-disc sequence of the tests it has sub-pixel end-point error on the
+  // moving object at a fraction of MEDIUM's cost (docs/depthfilter.md, "Optical flow preset").
+  int preset = cv::DISOpticalFlow::PRESET_FAST;
+};
+
+class PrecursorFlow {
+ public:
+  explicit PrecursorFlow(PrecursorFlowConfig config = {});
+
+  // Flow from `current` to `previous` (both CV_8UC3 BGR of one size): previous(px + flow(px))
+  // shows what current(px) shows. Zero flow when `previous` is empty (the first frame).
+  cv::Mat compute(const cv::Mat& current_bgr, const cv::Mat& previous_bgr);
+
+ private:
+  cv::Ptr<cv::DISOpticalFlow> dis_;
+};
+
+// Confidence alpha of Equation 1: the RGB distance between a pixel and its precursor, in 8-bit
+// sRGB steps, in [0, sqrt(3) * 255]. Smaller means a more reliable precursor.
+float precursorConfidence(const cv::Vec3b& pixel, const cv::Vec3b& precursor);
+
+}  // namespace holo::depthfilter
