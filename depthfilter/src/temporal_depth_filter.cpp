@@ -155,12 +155,13 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
         output.at<float>(y, x) = d;
         continue;
       }
+      // A pixel without a measurement gets no pair and is filled by the push from the current
+      // frame's neighbours; carrying d_pre instead would freeze a hole at a stale depth
+      // (docs/depthfilter.md, "Holes").
       Pair& pair = base.at(x, y);
       if (has_pre && d > 0.0f && diff <= config_.surfaceTolerance(d_pre)) {
         const float p_diff = pdf_depth_diff_.cdf(diff);                        // line 19
         pair = {(1.0f - p_diff) * d + p_diff * d_pre, pdf_alpha_.cdf(alpha)};  // lines 18-21
-      } else if (has_pre && d == 0.0f) {
-        pair = {d_pre, pdf_alpha_.cdf(alpha)};  // no measurement: |d| is maximal, d_hat = d_pre
       } else if (d > 0.0f) {
         pair = {d, 1.0f};  // no usable precursor: the measurement, least confident
       }

@@ -85,6 +85,7 @@ struct SyntheticScene {
         if (r2 <= 1.0f) {
           out.true_depth.at<float>(y, x) = disc_z - disc_bulge * std::sqrt(1.0f - r2);
           out.true_mask.at<std::uint8_t>(y, x) = out.disc_mask.at<std::uint8_t>(y, x) = 255;
+          out.box_mask.at<std::uint8_t>(y, x) = 0;  // the disc passes in front of the box
           // Texture attached to the disc (moves with it): stripes and a radial ramp.
           const int stripe = (int(std::floor(dx / 5.0f)) + int(std::floor(dy / 7.0f))) & 1;
           colour.at<cv::Vec3b>(y, x) = cv::Vec3b(static_cast<std::uint8_t>(stripe ? 220 : 40),

@@ -26,7 +26,7 @@
 namespace holo::depthfilter {
 
 struct TemporalDepthFilterConfig {
-  int levels = 4;                            // l_max: pyramid levels including full resolution (>= 1)
+  int levels = 6;  // l_max, levels including full resolution (>= 1); fills holes up to ~2^(l_max-1) px
   int learning_frames = 30;                  // C: frames that only learn the PDFs (1 s at 30 fps)
   std::int64_t min_learning_samples = 1000;  // learning also lasts until each PDF has this many
   int pdf_bins = 256;                        // discrete values of each PDF
