@@ -1,0 +1,99 @@
+// Evaluation of the temporal depth filter against its baselines on sequences with known truth
+// (paper Sec. 4.1.3, Table 2; issue 3 "Evaluation command"). Every method sees the same
+// foreground mask (ForegroundMasker) and the same precursor flow; frames are scored once our
+// filter has finished learning its PDFs. Metrics per method, over one or more camera streams:
+//   temporal_mse_cm2  the paper's MSE' (Equation 2): mean over consecutive frame pairs of the mean
+//                     squared depth change (cm^2) over pixels with an output depth in both frames;
+//   depth_rmse_cm     RMS error against the true depth over the output pixels that truly are
+//                     foreground (a filter that freezes or smears depth loses here);
+//   hole_fill_ratio   share of pixels foreground in both truth and mask that get a depth;
+//   ghost_ratio       share of output pixels where the truth has no foreground (trails);
+//   ms_per_frame      wall time of the method's depth filtering alone, per frame.
+#pragma once
+
+#include <array>
+#include <span>
+#include <string>
+
+#include "holo/core/rgbd_frame.hpp"
+#include "holo/depthfilter/depth_baselines.hpp"
+#include "holo/depthfilter/foreground_mask.hpp"
+#include "holo/depthfilter/precursor_flow.hpp"
+#include "holo/depthfilter/temporal_depth_filter.hpp"
+
+namespace holo::depthfilter {
+
+enum class DepthMethod { Ours = 0, Raw, Median, Taa };
+inline constexpr std::array<DepthMethod, 4> kDepthMethods{DepthMethod::Ours, DepthMethod::Raw,
+                                                          DepthMethod::Median, DepthMethod::Taa};
+const char* depthMethodName(DepthMethod method);  // "ours", "raw", "median", "taa"
+
+struct GroundTruthFrame {
+  RgbdFrame frame;          // as the sensor delivers it
+  cv::Mat true_depth;       // CV_32FC1 metres
+  cv::Mat true_foreground;  // CV_8UC1, non-zero = truly foreground
+};
+
+struct DepthMethodMetrics {
+  double temporal_mse_cm2 = 0.0;
+  double depth_rmse_cm = 0.0;
+  double hole_fill_ratio = 0.0;
+  double ghost_ratio = 0.0;
+  double ms_per_frame = 0.0;
+  long scored_frames = 0;
+};
+
+struct DepthEvaluationConfig {
+  ForegroundMaskConfig mask;
+  PrecursorFlowConfig flow;
+  TemporalDepthFilterConfig filter;
+  int median_window = 5;
+  float taa_blend = 0.1f;
+};
+
+// One camera stream. Not thread-safe; use one per camera.
+class DepthFilterEvaluation {
+ public:
+  explicit DepthFilterEvaluation(DepthEvaluationConfig config = {});
+
+  void learnBackground(const RgbdFrame& background);
+  // Runs every method on the frame and scores it once our filter has stopped learning.
+  void addFrame(const GroundTruthFrame& frame);
+
+  DepthMethodMetrics metrics(DepthMethod method) const;
+  // Metrics over several camera streams (sums pooled, not averages of averages).
+  static DepthMethodMetrics combined(std::span<const DepthFilterEvaluation> streams, DepthMethod method);
+
+  const cv::Mat& lastOutput(DepthMethod method) const { return methods_[std::size_t(method)].last_output; }
+  const cv::Mat& lastMask() const { return last_mask_; }
+  bool learning() const { return ours_.learning(); }
+
+ private:
+  struct Sums {
+    double temporal_sum = 0.0;  // sum over pairs of that pair's mean squared change
+    long temporal_pairs = 0;
+    double error_sq_sum = 0.0;
+    long error_n = 0;
+    long fill_hits = 0, fill_n = 0;
+    long ghosts = 0, outputs = 0;
+    double seconds = 0.0;
+    long frames = 0;
+  };
+  struct MethodState {
+    Sums sums;
+    cv::Mat last_output;
+    bool last_scored = false;
+  };
+  static DepthMethodMetrics toMetrics(const Sums& sums);
+
+  ForegroundMasker masker_;
+  PrecursorFlow flow_;
+  TemporalDepthFilter ours_;
+  TemporalMedianDepthFilter median_;
+  TaaDepthFilter taa_;
+  cv::Mat previous_color_;
+  cv::Mat last_mask_;
+  std::array<MethodState, 4> methods_;
+};
+
+}  // namespace holo::depthfilter

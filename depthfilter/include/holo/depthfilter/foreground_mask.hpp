@@ -1,0 +1,64 @@
+// Foreground mask phi_i of one camera (paper Sec. 3.2): OpenCV's MOG2 on colour, combined with a
+// per-pixel background depth. Both models are learned from the background frames gamma_s and
+// updated live only where the pixel is judged background, so a visitor who stands still stays
+// foreground while the depth says they stand in front of the hall.
+//
+// Decision per pixel (depth in metres, margin(z) = depth_margin_m + depth_margin_z2 * z^2):
+//   * static foreground (the pyramid's own pixels, from the configuration): always foreground;
+//   * current and background depth valid: foreground iff depth < background - margin; colour is
+//     ignored there, so a shadow, a reflection or a global brightness change on a surface at the
+//     background's depth never counts, and a visitor whose colour matches the wall still does;
+//   * otherwise (no depth here or no background depth learned): MOG2's colour decision, with
+//     MOG2's shadow label counted as background.
+// The result is cleaned by a morphological opening and closing. Output: CV_8UC1, 255 = foreground.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <opencv2/video/background_segm.hpp>
+
+#include "holo/core/rgbd_frame.hpp"
+
+namespace holo::depthfilter {
+
+struct ForegroundMaskConfig {
+  int mog2_history = 500;                  // frames MOG2 remembers
+  double mog2_var_threshold = 16.0;        // squared Mahalanobis distance for "matches the model"
+  bool detect_shadows = true;              // MOG2 labels shadows 127; they count as background
+  double learning_rate_background = -1.0;  // while learning gamma_s (-1: MOG2's automatic 1/n)
+  double learning_rate_live = 0.001;       // live update; ~1000 frames to absorb a change
+  float depth_margin_m = 0.04f;            // constant part of the "clearly in front" margin, metres
+  float depth_margin_z2 = 0.0075f;         // grows with z^2 like depth-sensor noise, 1/metres
+  float background_depth_rate = 0.02f;     // live exponential update of background depth
+  int open_radius = 1;                     // pixels; removes isolated noise
+  int close_radius = 2;                    // pixels; closes small gaps inside a visitor
+  cv::Mat static_foreground;               // optional CV_8UC1, non-zero = pyramid pixel, never background
+};
+
+class ForegroundMasker {
+ public:
+  explicit ForegroundMasker(ForegroundMaskConfig config = {});
+
+  // Adds one background frame gamma_s (no visitors). Depth 0/NaN/Inf pixels are ignored.
+  // Throws holo::Error when the frame's size differs from earlier frames.
+  void learnBackground(const RgbdFrame& frame);
+  int backgroundFrames() const { return background_frames_; }
+
+  // Foreground mask of a live frame, and the live update of both background models.
+  // Works before any background frame (then everything new to MOG2 is foreground).
+  cv::Mat apply(const RgbdFrame& frame);
+
+  // Per-pixel background depth (CV_32FC1, 0 = unknown).
+  const cv::Mat& backgroundDepth() const { return background_depth_; }
+  const ForegroundMaskConfig& config() const { return config_; }
+
+ private:
+  void checkSize(const RgbdFrame& frame);
+
+  ForegroundMaskConfig config_;
+  cv::Ptr<cv::BackgroundSubtractorMOG2> mog2_;
+  cv::Mat background_depth_;        // CV_32FC1, running mean of valid background depth
+  cv::Mat background_depth_count_;  // CV_32FC1, samples in the mean while learning
+  int background_frames_ = 0;
+};
+
+}  // namespace holo::depthfilter

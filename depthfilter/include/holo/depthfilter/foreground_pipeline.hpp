@@ -1,0 +1,70 @@
+// The foreground point cloud of all cameras, every frame (paper Sec. 3.2, DESIGN.md step 2): per
+// camera, in parallel (oneTBB), the foreground mask phi_i, the precursor flow lambda_i, the
+// pull-push temporal depth filter and the border expansion; then every filtered foreground pixel
+// is back-projected into the world (pyramid) frame with that camera's CameraModel, its sRGB colour
+// linearised and divided by the exposure, its source (camera, pixel) kept.
+//
+// A camera whose frame is missing (empty RgbdFrame) contributes nothing this frame and its
+// filter forgets its history (counted as "Depthfilter/Missing camera frames").
+// Invariant: every point of the cloud is finite, weight in (0, 1], pixel inside its camera.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "holo/core/camera_model.hpp"
+#include "holo/core/rgbd_frame.hpp"
+#include "holo/depthfilter/border_expansion.hpp"
+#include "holo/depthfilter/foreground_cloud.hpp"
+#include "holo/depthfilter/foreground_mask.hpp"
+#include "holo/depthfilter/precursor_flow.hpp"
+#include "holo/depthfilter/temporal_depth_filter.hpp"
+
+namespace holo::depthfilter {
+
+struct ForegroundPipelineConfig {
+  ForegroundMaskConfig mask;
+  std::vector<cv::Mat> static_foreground;  // per camera (may be shorter or hold empty Mats)
+  PrecursorFlowConfig flow;
+  TemporalDepthFilterConfig filter;
+  BorderExpansionConfig border;
+  float exposure = 1.0f;  // radiance = srgbToLinear(colour) / exposure (the camera's exposure)
+  bool parallel = true;   // cameras in parallel with oneTBB
+};
+
+// What one camera produced in the last frame (for the reflection stage's pyramids and for tests).
+struct CameraForeground {
+  cv::Mat mask;          // CV_8UC1, 255 = foreground
+  cv::Mat flow;          // CV_32FC2, current -> previous
+  cv::Mat depth;         // CV_32FC1 filtered foreground depth, 0 elsewhere
+  BorderLayer border;    // expanded border
+  bool present = false;  // false when the camera's frame was missing
+};
+
+class ForegroundPipeline {
+ public:
+  // One CameraModel per camera; frames are matched to cameras by their index in the span.
+  // Throws holo::Error when `cameras` is empty or exposure is not positive.
+  explicit ForegroundPipeline(std::vector<CameraModel> cameras, ForegroundPipelineConfig config = {});
+  ~ForegroundPipeline();
+  ForegroundPipeline(ForegroundPipeline&&) noexcept;
+  ForegroundPipeline& operator=(ForegroundPipeline&&) noexcept;
+
+  // Background frames gamma_s, one per camera (empty frames are skipped).
+  void learnBackground(std::span<const RgbdFrame> frames);
+  // One live frame per camera -> the foreground cloud. Throws holo::Error when the span's size
+  // differs from the number of cameras or a frame's size differs from its camera's.
+  ForegroundCloud process(std::span<const RgbdFrame> frames);
+
+  std::size_t cameraCount() const;
+  const CameraForeground& lastResult(std::size_t camera) const;
+  const TemporalDepthFilter& filter(std::size_t camera) const;
+
+ private:
+  struct CameraStage;
+  std::vector<CameraModel> cameras_;
+  ForegroundPipelineConfig config_;
+  std::vector<CameraStage> stages_;
+};
+
+}  // namespace holo::depthfilter

@@ -1,0 +1,36 @@
+// Optical flow lambda_i of one camera (paper Sec. 3.2) with OpenCV's DIS optical flow. The flow is
+// computed backwards, from the current frame to the previous one, so that every current pixel px
+// directly indexes its precursor px_pre = px + lambda_i(px) in the previous frame (the pixel that
+// showed the same real content). Units: pixels. Output CV_32FC2, finite everywhere.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <opencv2/video/tracking.hpp>
+
+namespace holo::depthfilter {
+
+struct PrecursorFlowConfig {
+  // cv::DISOpticalFlow::PRESET_ULTRAFAST, PRESET_FAST or PRESET_MEDIUM. ULTRAFAST by measurement
+  // (docs/depthfilter.md, "Optical flow preset"): on the moving-disc sequence its end-point error
+  // is 0.20 px (FAST 0.34, MEDIUM 0.03) at 2.4 ms per 640x360 frame (FAST 4.2, MEDIUM 22.5), and
+  // precursors are rounded to whole pixels, so MEDIUM's accuracy buys nothing.
+  int preset = cv::DISOpticalFlow::PRESET_ULTRAFAST;
+};
+
+class PrecursorFlow {
+ public:
+  explicit PrecursorFlow(PrecursorFlowConfig config = {});
+
+  // Flow from `current` to `previous` (both CV_8UC3 BGR of one size): previous(px + flow(px))
+  // shows what current(px) shows. Zero flow when `previous` is empty (the first frame).
+  cv::Mat compute(const cv::Mat& current_bgr, const cv::Mat& previous_bgr);
+
+ private:
+  cv::Ptr<cv::DISOpticalFlow> dis_;
+};
+
+// Confidence alpha of Equation 1: the RGB distance between a pixel and its precursor, in 8-bit
+// sRGB steps, in [0, sqrt(3) * 255]. Smaller means a more reliable precursor.
+float precursorConfidence(const cv::Vec3b& pixel, const cv::Vec3b& precursor);
+
+}  // namespace holo::depthfilter

@@ -1,0 +1,83 @@
+// The pull-push temporal depth filter of one camera (paper Sec. 3.2, Algorithm 1). It fills and
+// filters the depth of the foreground pixels of the current frame gamma_i using the previous
+// frame's filtered depth gamma_{i-1}, reached through the optical flow lambda_i.
+//
+// Per foreground pixel px with precursor px_pre = px + lambda_i(px):
+//   alpha = |rgb(px) - rgb(px_pre)| (Equation 1), |d| = |px.d - px_pre.d|,
+//   during the first C frames: only PDF_alpha and PDF_|d| learn, the frame passes unfiltered;
+//   afterwards: d_hat = (1 - P_|d|) px.d + P_|d| px_pre.d with confidence c = P_alpha,
+//   where P_x = P(X <= x) of the learned distribution (smaller c = more reliable).
+// Pull: level l+1 holds, per 2x2 block of level l, the average of the block's pairs whose
+// confidence is within `min_confidence_tolerance` of the block's minimum. Push: from the top
+// level down, a pixel without a pair takes its parent's; a pixel with one is blended with its
+// parent by their reliabilities (1 - c) unless their depths differ by more than the
+// same-surface tolerance (a depth edge, kept sharp). Only foreground pixels (phi_i) receive output.
+// The choices where the paper is silent are listed, with reasons, in docs/depthfilter.md.
+//
+// Units: metres; depth 0 = invalid. Invariant: the output is CV_32FC1, finite, 0 outside phi_i,
+// and every foreground value is either 0 (nothing within reach to fill from) or positive.
+#pragma once
+
+#include <cstdint>
+#include <opencv2/core.hpp>
+
+#include "holo/depthfilter/empirical_cdf.hpp"
+
+namespace holo::depthfilter {
+
+struct TemporalDepthFilterConfig {
+  int levels = 6;  // l_max, levels including full resolution (>= 1); fills holes up to ~2^(l_max-1) px
+  int learning_frames = 30;                  // C: frames that only learn the PDFs (1 s at 30 fps)
+  std::int64_t min_learning_samples = 1000;  // learning also lasts until each PDF has this many
+  int pdf_bins = 256;                        // discrete values of each PDF
+  float alpha_max = 441.68f;                 // PDF_alpha domain: the largest RGB distance, sqrt(3) * 255
+  float depth_diff_max_m = 0.5f;             // PDF_|d| domain; larger differences count as the maximum
+  float min_confidence_tolerance = 0.05f;    // pull: pairs this close to the block minimum average
+  // Same-surface tolerance T(z) = surface_tolerance_m + surface_tolerance_z2 * z^2 (metres, like
+  // depth noise). A precursor farther than T in depth shows another surface (occlusion, fast
+  // motion in depth) and is not used, so the filter cannot freeze a surface that moves; in the
+  // push, a parent farther than T is across a depth edge and not blended, so edges stay sharp.
+  float surface_tolerance_m = 0.03f;
+  float surface_tolerance_z2 = 0.0075f;  // 1/metres
+
+  float surfaceTolerance(float depth_m) const {
+    return surface_tolerance_m + surface_tolerance_z2 * depth_m * depth_m;
+  }
+};
+
+// Inputs of one frame of one camera. Colour CV_8UC3 BGR, depth CV_32FC1 metres (0/NaN/Inf =
+// invalid), mask CV_8UC1 (non-zero = foreground), flow CV_32FC2 current -> previous.
+struct DepthFilterInput {
+  cv::Mat color;
+  cv::Mat depth;
+  cv::Mat mask;
+  cv::Mat flow;
+};
+
+class TemporalDepthFilter {
+ public:
+  explicit TemporalDepthFilter(TemporalDepthFilterConfig config = {});
+
+  // Filters one frame and remembers it (with its output depth) as gamma_{i-1} for the next.
+  // Throws holo::Error on mismatched image types or sizes.
+  cv::Mat apply(const DepthFilterInput& input);
+  // Forgets the previous frame (a camera dropped out); the learned PDFs stay.
+  void resetHistory();
+
+  bool learning() const;
+  std::int64_t frame() const { return frame_; }
+  const EmpiricalCdf& confidencePdf() const { return pdf_alpha_; }
+  const EmpiricalCdf& depthDifferencePdf() const { return pdf_depth_diff_; }
+  const TemporalDepthFilterConfig& config() const { return config_; }
+
+ private:
+  TemporalDepthFilterConfig config_;
+  EmpiricalCdf pdf_alpha_;
+  EmpiricalCdf pdf_depth_diff_;
+  std::int64_t frame_ = 0;  // frames seen, i - 1
+  cv::Mat previous_color_;
+  cv::Mat previous_depth_;  // filtered output of the previous frame
+  cv::Mat previous_mask_;
+};
+
+}  // namespace holo::depthfilter

@@ -1,0 +1,96 @@
+#include "holo/depthfilter/border_expansion.hpp"
+
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "holo/core/error.hpp"
+
+namespace holo::depthfilter {
+
+namespace {
+
+bool validDepth(float d) {
+  return std::isfinite(d) && d > 0.0f;
+}
+
+cv::Mat blurredMask(const cv::Mat& mask, int levels) {
+  cv::Mat level;
+  mask.convertTo(level, CV_32FC1, 1.0 / 255.0);
+  cv::threshold(level, level, 0.0, 1.0, cv::THRESH_BINARY);  // any non-zero value is foreground
+  for (int l = 0; l < levels && level.cols > 1 && level.rows > 1; ++l) cv::pyrDown(level, level);
+  cv::Mat full;
+  cv::resize(level, full, mask.size(), 0, 0, cv::INTER_LINEAR);
+  return full;
+}
+
+// Mean filtered depth over foreground pixels that touch the background (4-neighbourhood).
+float meanEdgeDepth(const cv::Mat& mask, const cv::Mat& depth) {
+  double sum = 0.0;
+  long count = 0;
+  for (int y = 0; y < mask.rows; ++y)
+    for (int x = 0; x < mask.cols; ++x) {
+      if (mask.at<std::uint8_t>(y, x) == 0 || !validDepth(depth.at<float>(y, x))) continue;
+      const bool edge = (x == 0 || mask.at<std::uint8_t>(y, x - 1) == 0) ||
+                        (x + 1 == mask.cols || mask.at<std::uint8_t>(y, x + 1) == 0) ||
+                        (y == 0 || mask.at<std::uint8_t>(y - 1, x) == 0) ||
+                        (y + 1 == mask.rows || mask.at<std::uint8_t>(y + 1, x) == 0);
+      if (!edge) continue;
+      sum += depth.at<float>(y, x);
+      ++count;
+    }
+  return count > 0 ? float(sum / double(count)) : 0.0f;
+}
+
+}  // namespace
+
+BorderLayer expandBorder(const cv::Mat& mask, const cv::Mat& depth, const BorderExpansionConfig& config) {
+  if (mask.type() != CV_8UC1 || depth.type() != CV_32FC1 || mask.size() != depth.size())
+    throw Error("expandBorder: expected a CV_8UC1 mask and CV_32FC1 depth of one size");
+  BorderLayer layer{cv::Mat::zeros(mask.size(), CV_32FC1), cv::Mat::zeros(mask.size(), CV_32FC1)};
+  if (config.levels <= 0 || mask.empty() || cv::countNonZero(mask) == 0) return layer;
+
+  // Foreground pixels with a valid depth: the sources of border depth.
+  cv::Mat sources = mask.clone();
+  for (int y = 0; y < mask.rows; ++y)
+    for (int x = 0; x < mask.cols; ++x)
+      if (!validDepth(depth.at<float>(y, x))) sources.at<std::uint8_t>(y, x) = 0;
+  if (cv::countNonZero(sources) == 0) return layer;
+
+  const cv::Mat blurred = blurredMask(mask, config.levels);
+  float mean_edge = 0.0f;
+  cv::Mat nearest_labels;
+  std::vector<cv::Point> label_pixel;
+  if (config.depth == BorderDepth::MeanEdge) {
+    mean_edge = meanEdgeDepth(mask, depth);
+    if (!(mean_edge > 0.0f)) return layer;
+  } else {
+    // distanceTransform labels every pixel with the nearest zero pixel of its input, so the input
+    // is zero exactly on the depth sources.
+    cv::Mat not_sources = sources == 0, distance;
+    cv::distanceTransform(not_sources, distance, nearest_labels, cv::DIST_L2, cv::DIST_MASK_5,
+                          cv::DIST_LABEL_PIXEL);
+    label_pixel.resize(std::size_t(cv::countNonZero(sources)) + 1);
+    for (int y = 0; y < mask.rows; ++y)
+      for (int x = 0; x < mask.cols; ++x)
+        if (sources.at<std::uint8_t>(y, x) != 0)
+          label_pixel[std::size_t(nearest_labels.at<int>(y, x))] = {x, y};
+  }
+
+  for (int y = 0; y < mask.rows; ++y)
+    for (int x = 0; x < mask.cols; ++x) {
+      if (mask.at<std::uint8_t>(y, x) != 0) continue;
+      const float w = blurred.at<float>(y, x);
+      if (!(w >= config.min_weight) || w >= 1.0f) continue;
+      float d = mean_edge;
+      if (config.depth == BorderDepth::Nearest) {
+        const cv::Point p = label_pixel[std::size_t(nearest_labels.at<int>(y, x))];
+        d = depth.at<float>(p.y, p.x);
+      }
+      if (!validDepth(d)) continue;
+      layer.weight.at<float>(y, x) = w;
+      layer.depth.at<float>(y, x) = d;
+    }
+  return layer;
+}
+
+}  // namespace holo::depthfilter

@@ -1,0 +1,100 @@
+#include "holo/depthfilter/foreground_mask.hpp"
+
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "holo/core/error.hpp"
+
+namespace holo::depthfilter {
+
+namespace {
+
+bool validDepth(float d) {
+  return std::isfinite(d) && d > 0.0f;
+}
+
+cv::Mat disc(int radius) {
+  return cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1));
+}
+
+}  // namespace
+
+ForegroundMasker::ForegroundMasker(ForegroundMaskConfig config)
+    : config_(std::move(config)),
+      mog2_(cv::createBackgroundSubtractorMOG2(config_.mog2_history, config_.mog2_var_threshold,
+                                               config_.detect_shadows)) {}
+
+void ForegroundMasker::checkSize(const RgbdFrame& frame) {
+  if (frame.color.type() != CV_8UC3 || frame.depth.type() != CV_32FC1 ||
+      frame.color.size() != frame.depth.size())
+    throw Error("ForegroundMasker: expected CV_8UC3 colour and CV_32FC1 depth of one size");
+  if (background_depth_.empty()) {
+    background_depth_ = cv::Mat::zeros(frame.depth.size(), CV_32FC1);
+    background_depth_count_ = cv::Mat::zeros(frame.depth.size(), CV_32FC1);
+  } else if (frame.depth.size() != background_depth_.size()) {
+    throw Error("ForegroundMasker: frame size changed from " + std::to_string(background_depth_.cols) + "x" +
+                std::to_string(background_depth_.rows) + " to " + std::to_string(frame.depth.cols) + "x" +
+                std::to_string(frame.depth.rows));
+  }
+  if (!config_.static_foreground.empty() &&
+      (config_.static_foreground.size() != frame.depth.size() || config_.static_foreground.type() != CV_8UC1))
+    throw Error("ForegroundMasker: static_foreground must be CV_8UC1 of the frame's size");
+}
+
+void ForegroundMasker::learnBackground(const RgbdFrame& frame) {
+  checkSize(frame);
+  cv::Mat ignored;
+  mog2_->apply(frame.color, ignored, config_.learning_rate_background);
+  for (int y = 0; y < frame.depth.rows; ++y) {
+    const float* d = frame.depth.ptr<float>(y);
+    float* mean = background_depth_.ptr<float>(y);
+    float* count = background_depth_count_.ptr<float>(y);
+    for (int x = 0; x < frame.depth.cols; ++x) {
+      if (!validDepth(d[x])) continue;
+      count[x] += 1.0f;
+      mean[x] += (d[x] - mean[x]) / count[x];
+    }
+  }
+  ++background_frames_;
+}
+
+cv::Mat ForegroundMasker::apply(const RgbdFrame& frame) {
+  checkSize(frame);
+  cv::Mat colour_mask;
+  mog2_->apply(frame.color, colour_mask, config_.learning_rate_live);
+
+  cv::Mat mask(frame.depth.size(), CV_8UC1);
+  for (int y = 0; y < mask.rows; ++y) {
+    const float* d = frame.depth.ptr<float>(y);
+    const float* bg = background_depth_.ptr<float>(y);
+    const std::uint8_t* colour = colour_mask.ptr<std::uint8_t>(y);
+    std::uint8_t* out = mask.ptr<std::uint8_t>(y);
+    for (int x = 0; x < mask.cols; ++x) {
+      if (validDepth(d[x]) && validDepth(bg[x])) {
+        const float margin = config_.depth_margin_m + config_.depth_margin_z2 * bg[x] * bg[x];
+        out[x] = d[x] < bg[x] - margin ? 255 : 0;
+      } else {
+        out[x] = colour[x] == 255 ? 255 : 0;  // 127 = shadow -> background
+      }
+    }
+  }
+  if (config_.open_radius > 0) cv::morphologyEx(mask, mask, cv::MORPH_OPEN, disc(config_.open_radius));
+  if (config_.close_radius > 0) cv::morphologyEx(mask, mask, cv::MORPH_CLOSE, disc(config_.close_radius));
+  if (!config_.static_foreground.empty()) mask.setTo(255, config_.static_foreground);
+
+  // Live update of the background depth where the pixel is background and the depth valid; a
+  // pixel that sees farther than its background (a door opened) moves there at the same rate.
+  const float rate = config_.background_depth_rate;
+  for (int y = 0; y < mask.rows; ++y) {
+    const float* d = frame.depth.ptr<float>(y);
+    float* bg = background_depth_.ptr<float>(y);
+    const std::uint8_t* m = mask.ptr<std::uint8_t>(y);
+    for (int x = 0; x < mask.cols; ++x) {
+      if (m[x] != 0 || !validDepth(d[x])) continue;
+      bg[x] = validDepth(bg[x]) ? bg[x] + rate * (d[x] - bg[x]) : d[x];
+    }
+  }
+  return mask;
+}
+
+}  // namespace holo::depthfilter

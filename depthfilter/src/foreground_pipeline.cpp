@@ -1,0 +1,170 @@
+#include "holo/depthfilter/foreground_pipeline.hpp"
+
+#include <tbb/parallel_for.h>
+#include <array>
+#include <chrono>
+#include <cmath>
+
+#include "holo/core/error.hpp"
+#include "holo/core/image.hpp"
+#include "holo/core/stats.hpp"
+
+namespace holo::depthfilter {
+
+struct ForegroundPipeline::CameraStage {
+  ForegroundMasker masker;
+  PrecursorFlow flow;
+  TemporalDepthFilter filter;
+  std::vector<vec3> plane_directions;  // z = 1 ray per pixel, row-major
+  cv::Mat previous_color;
+  CameraForeground result;
+  std::vector<ForegroundPoint> points;
+};
+
+namespace {
+
+std::array<float, 256> srgbTable() {
+  std::array<float, 256> table{};
+  for (int i = 0; i < 256; ++i) table[std::size_t(i)] = srgbToLinear(float(i) / 255.0f);
+  return table;
+}
+
+void appendPoints(const CameraModel& camera, std::uint16_t camera_index, const std::vector<vec3>& directions,
+                  const cv::Mat& color, const CameraForeground& result, float exposure,
+                  std::vector<ForegroundPoint>& out) {
+  static const std::array<float, 256> kLinear = srgbTable();
+  const mat4& T = camera.T_world_camera();
+  const float inverse_exposure = 1.0f / exposure;
+  for (int y = 0; y < result.depth.rows; ++y) {
+    const float* depth = result.depth.ptr<float>(y);
+    const float* border_weight = result.border.weight.ptr<float>(y);
+    const float* border_depth = result.border.depth.ptr<float>(y);
+    const cv::Vec3b* bgr = color.ptr<cv::Vec3b>(y);
+    for (int x = 0; x < result.depth.cols; ++x) {
+      float d = depth[x], w = 1.0f;
+      if (!(d > 0.0f)) {
+        d = border_depth[x];
+        w = border_weight[x];
+        if (!(d > 0.0f) || !(w > 0.0f)) continue;
+      }
+      ForegroundPoint p;
+      p.position =
+          transformPoint(T, directions[std::size_t(y) * std::size_t(result.depth.cols) + std::size_t(x)] * d);
+      p.radiance = vec3(kLinear[bgr[x][2]], kLinear[bgr[x][1]], kLinear[bgr[x][0]]) * inverse_exposure;
+      p.weight = std::min(w, 1.0f);
+      p.camera = camera_index;
+      p.x = static_cast<std::uint16_t>(x);
+      p.y = static_cast<std::uint16_t>(y);
+      if (!isFinite(p.position) || !isFinite(p.radiance)) continue;
+      out.push_back(p);
+    }
+  }
+}
+
+void checkFrame(const RgbdFrame& frame, const CameraModel& camera, std::size_t index) {
+  const std::string which = "ForegroundPipeline: camera " + std::to_string(index);
+  if (frame.color.type() != CV_8UC3 || frame.depth.type() != CV_32FC1)
+    throw Error(which + ": expected CV_8UC3 colour and CV_32FC1 depth");
+  if (frame.color.cols != camera.width() || frame.color.rows != camera.height() ||
+      frame.depth.size() != frame.color.size())
+    throw Error(which + ": expected " + std::to_string(camera.width()) + "x" +
+                std::to_string(camera.height()) + " frames, got colour " + std::to_string(frame.color.cols) +
+                "x" + std::to_string(frame.color.rows) + " and depth " + std::to_string(frame.depth.cols) +
+                "x" + std::to_string(frame.depth.rows));
+}
+
+}  // namespace
+
+ForegroundPipeline::ForegroundPipeline(std::vector<CameraModel> cameras, ForegroundPipelineConfig config)
+    : cameras_(std::move(cameras)), config_(std::move(config)) {
+  if (cameras_.empty()) throw Error("ForegroundPipeline: expected at least one camera");
+  if (!(config_.exposure > 0.0f) || !std::isfinite(config_.exposure))
+    throw Error("ForegroundPipeline: exposure must be positive and finite");
+  stages_.reserve(cameras_.size());
+  for (std::size_t i = 0; i < cameras_.size(); ++i) {
+    ForegroundMaskConfig mask_config = config_.mask;
+    if (i < config_.static_foreground.size()) mask_config.static_foreground = config_.static_foreground[i];
+    stages_.push_back(CameraStage{ForegroundMasker(mask_config),
+                                  PrecursorFlow(config_.flow),
+                                  TemporalDepthFilter(config_.filter),
+                                  cameras_[i].planeDirectionTable(),
+                                  {},
+                                  {},
+                                  {}});
+  }
+}
+
+ForegroundPipeline::~ForegroundPipeline() = default;
+ForegroundPipeline::ForegroundPipeline(ForegroundPipeline&&) noexcept = default;
+ForegroundPipeline& ForegroundPipeline::operator=(ForegroundPipeline&&) noexcept = default;
+
+std::size_t ForegroundPipeline::cameraCount() const {
+  return cameras_.size();
+}
+const CameraForeground& ForegroundPipeline::lastResult(std::size_t camera) const {
+  return stages_.at(camera).result;
+}
+const TemporalDepthFilter& ForegroundPipeline::filter(std::size_t camera) const {
+  return stages_.at(camera).filter;
+}
+
+void ForegroundPipeline::learnBackground(std::span<const RgbdFrame> frames) {
+  if (frames.size() != cameras_.size())
+    throw Error("ForegroundPipeline::learnBackground: expected " + std::to_string(cameras_.size()) +
+                " frames, got " + std::to_string(frames.size()));
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    if (frames[i].empty()) continue;
+    checkFrame(frames[i], cameras_[i], i);
+    stages_[i].masker.learnBackground(frames[i]);
+  }
+}
+
+ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> frames) {
+  if (frames.size() != cameras_.size())
+    throw Error("ForegroundPipeline::process: expected " + std::to_string(cameras_.size()) + " frames, got " +
+                std::to_string(frames.size()));
+  for (std::size_t i = 0; i < frames.size(); ++i)
+    if (!frames[i].empty()) checkFrame(frames[i], cameras_[i], i);
+
+  auto run_camera = [&](std::size_t i) {
+    CameraStage& stage = stages_[i];
+    const RgbdFrame& frame = frames[i];
+    stage.points.clear();
+    if (frame.empty()) {
+      stage.result = {};
+      stage.previous_color.release();
+      stage.filter.resetHistory();
+      stats::add("Depthfilter/Missing camera frames");
+      return;
+    }
+    CameraForeground& result = stage.result;
+    result.present = true;
+    result.mask = stage.masker.apply(frame);
+    result.flow = stage.flow.compute(frame.color, stage.previous_color);
+    result.depth = stage.filter.apply({frame.color, frame.depth, result.mask, result.flow});
+    result.border = expandBorder(result.mask, result.depth, config_.border);
+    stage.previous_color = frame.color.clone();
+    appendPoints(cameras_[i], static_cast<std::uint16_t>(i), stage.plane_directions, frame.color, result,
+                 config_.exposure, stage.points);
+  };
+  if (config_.parallel)
+    tbb::parallel_for(std::size_t(0), stages_.size(), run_camera);
+  else
+    for (std::size_t i = 0; i < stages_.size(); ++i) run_camera(i);
+
+  ForegroundCloud cloud;
+  std::size_t total = 0;
+  for (const CameraStage& stage : stages_) total += stage.points.size();
+  cloud.points.reserve(total);
+  for (const CameraStage& stage : stages_)
+    cloud.points.insert(cloud.points.end(), stage.points.begin(), stage.points.end());
+  for (const RgbdFrame& frame : frames) {
+    if (frame.empty()) continue;
+    cloud.sequence = static_cast<std::int64_t>(frame.sequence);
+    cloud.time_s = std::chrono::duration<double>(frame.host_time.time_since_epoch()).count();
+    break;
+  }
+  return cloud;
+}
+
+}  // namespace holo::depthfilter

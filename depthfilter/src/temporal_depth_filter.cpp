@@ -1,0 +1,201 @@
+#include "holo/depthfilter/temporal_depth_filter.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "holo/core/error.hpp"
+#include "holo/depthfilter/precursor_flow.hpp"
+
+namespace holo::depthfilter {
+
+namespace {
+
+// One (depth, confidence) pair of the pyramid rho_pa; depth 0 = no pair.
+struct Pair {
+  float depth = 0.0f;
+  float confidence = 1.0f;
+  bool valid() const { return depth > 0.0f; }
+};
+
+struct Level {
+  int width = 0;
+  int height = 0;
+  std::vector<Pair> pairs;
+  Pair& at(int x, int y) { return pairs[static_cast<std::size_t>(y) * std::size_t(width) + std::size_t(x)]; }
+};
+
+float sanitisedDepth(float d) {
+  return std::isfinite(d) && d > 0.0f ? d : 0.0f;
+}
+
+void checkInput(const DepthFilterInput& in) {
+  const cv::Size size = in.depth.size();
+  if (in.depth.type() != CV_32FC1) throw Error("TemporalDepthFilter: expected CV_32FC1 depth");
+  if (in.color.type() != CV_8UC3 || in.color.size() != size)
+    throw Error("TemporalDepthFilter: expected CV_8UC3 colour of the depth's size");
+  if (in.mask.type() != CV_8UC1 || in.mask.size() != size)
+    throw Error("TemporalDepthFilter: expected a CV_8UC1 mask of the depth's size");
+  if (in.flow.type() != CV_32FC2 || in.flow.size() != size)
+    throw Error("TemporalDepthFilter: expected CV_32FC2 flow of the depth's size");
+}
+
+// Pull (Algorithm 1, lines 23-26): each parent averages the children whose confidence is within
+// `tolerance` of the block's minimum.
+void pull(const Level& child, Level& parent, float tolerance) {
+  for (int y = 0; y < parent.height; ++y) {
+    for (int x = 0; x < parent.width; ++x) {
+      Pair block[4];
+      int n = 0;
+      for (int dy = 0; dy < 2; ++dy)
+        for (int dx = 0; dx < 2; ++dx) {
+          const int cx = 2 * x + dx, cy = 2 * y + dy;
+          if (cx >= child.width || cy >= child.height) continue;
+          const Pair& p = child.pairs[std::size_t(cy) * std::size_t(child.width) + std::size_t(cx)];
+          if (p.valid()) block[n++] = p;
+        }
+      Pair out;
+      if (n > 0) {
+        float min_c = block[0].confidence;
+        for (int k = 1; k < n; ++k) min_c = std::min(min_c, block[k].confidence);
+        float sum_d = 0.0f, sum_c = 0.0f;
+        int used = 0;
+        for (int k = 0; k < n; ++k) {
+          if (block[k].confidence > min_c + tolerance) continue;
+          sum_d += block[k].depth;
+          sum_c += block[k].confidence;
+          ++used;
+        }
+        out = {sum_d / float(used), sum_c / float(used)};
+      }
+      parent.at(x, y) = out;
+    }
+  }
+}
+
+// Push (line 28): fill a missing pair from the parent; blend a present one with the parent by
+// reliabilities (1 - c) when both lie on one surface.
+void push(const Level& parent, Level& child, const TemporalDepthFilterConfig& config) {
+  constexpr float kEps = 1e-3f;  // keeps the weights positive when both confidences are 1
+  for (int y = 0; y < child.height; ++y) {
+    for (int x = 0; x < child.width; ++x) {
+      const Pair& p = parent.pairs[std::size_t(y / 2) * std::size_t(parent.width) + std::size_t(x / 2)];
+      Pair& c = child.at(x, y);
+      if (!p.valid()) continue;
+      if (!c.valid()) {
+        c = p;
+        continue;
+      }
+      if (std::abs(c.depth - p.depth) > config.surfaceTolerance(c.depth)) continue;
+      const float wc = 1.0f - c.confidence + kEps;
+      const float wp = 1.0f - p.confidence + kEps;
+      c.depth = (wc * c.depth + wp * p.depth) / (wc + wp);
+      c.confidence = (wc * c.confidence + wp * p.confidence) / (wc + wp);
+    }
+  }
+}
+
+}  // namespace
+
+TemporalDepthFilter::TemporalDepthFilter(TemporalDepthFilterConfig config)
+    : config_(config),
+      pdf_alpha_(config.pdf_bins, config.alpha_max),
+      pdf_depth_diff_(config.pdf_bins, config.depth_diff_max_m) {
+  if (config_.levels < 1) throw Error("TemporalDepthFilter: levels (l_max) must be >= 1");
+  if (config_.learning_frames < 0) throw Error("TemporalDepthFilter: learning_frames (C) must be >= 0");
+}
+
+bool TemporalDepthFilter::learning() const {
+  return frame_ < config_.learning_frames || pdf_alpha_.samples() < config_.min_learning_samples ||
+         pdf_depth_diff_.samples() < config_.min_learning_samples;
+}
+
+void TemporalDepthFilter::resetHistory() {
+  previous_color_.release();
+  previous_depth_.release();
+  previous_mask_.release();
+}
+
+cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
+  checkInput(in);
+  const int width = in.depth.cols, height = in.depth.rows;
+  if (!previous_depth_.empty() && previous_depth_.size() != in.depth.size()) resetHistory();
+  const bool has_previous = !previous_depth_.empty();
+  const bool learn = learning();
+
+  Level base{width, height, std::vector<Pair>(std::size_t(width) * std::size_t(height))};
+  cv::Mat output = cv::Mat::zeros(height, width, CV_32FC1);
+  for (int y = 0; y < height; ++y) {
+    const float* depth = in.depth.ptr<float>(y);
+    const std::uint8_t* mask = in.mask.ptr<std::uint8_t>(y);
+    const cv::Vec3b* color = in.color.ptr<cv::Vec3b>(y);
+    const cv::Vec2f* flow = in.flow.ptr<cv::Vec2f>(y);
+    for (int x = 0; x < width; ++x) {
+      if (mask[x] == 0) continue;
+      const float d = sanitisedDepth(depth[x]);
+      // GetPrePx (line 7): the precursor must lie in the image, on the previous foreground and
+      // carry a depth.
+      bool has_pre = false;
+      float d_pre = 0.0f, alpha = 0.0f;
+      if (has_previous && std::isfinite(flow[x][0]) && std::isfinite(flow[x][1])) {
+        const int px = static_cast<int>(std::lround(float(x) + flow[x][0]));
+        const int py = static_cast<int>(std::lround(float(y) + flow[x][1]));
+        if (px >= 0 && py >= 0 && px < width && py < height && previous_mask_.at<std::uint8_t>(py, px) != 0) {
+          d_pre = previous_depth_.at<float>(py, px);
+          has_pre = d_pre > 0.0f;
+          alpha = precursorConfidence(color[x], previous_color_.at<cv::Vec3b>(py, px));
+        }
+      }
+      const float diff = std::abs(d - d_pre);
+      if (learn) {  // lines 11-16: learn the PDFs, pass the frame through
+        if (has_pre && d > 0.0f) {
+          pdf_depth_diff_.add(diff);
+          pdf_alpha_.add(alpha);
+        }
+        output.at<float>(y, x) = d;
+        continue;
+      }
+      // A pixel without a measurement gets no pair and is filled by the push from the current
+      // frame's neighbours; carrying d_pre instead would freeze a hole at a stale depth
+      // (docs/depthfilter.md, "Holes").
+      Pair& pair = base.at(x, y);
+      if (has_pre && d > 0.0f && diff <= config_.surfaceTolerance(d_pre)) {
+        const float p_diff = pdf_depth_diff_.cdf(diff);                        // line 19
+        pair = {(1.0f - p_diff) * d + p_diff * d_pre, pdf_alpha_.cdf(alpha)};  // lines 18-21
+      } else if (d > 0.0f) {
+        pair = {d, 1.0f};  // no usable precursor: the measurement, least confident
+      }
+    }
+  }
+
+  if (!learn) {
+    std::vector<Level> pyramid;
+    pyramid.push_back(std::move(base));
+    for (int l = 1; l < config_.levels; ++l) {
+      const Level& child = pyramid.back();
+      if (child.width == 1 && child.height == 1) break;
+      Level parent{(child.width + 1) / 2, (child.height + 1) / 2, {}};
+      parent.pairs.resize(std::size_t(parent.width) * std::size_t(parent.height));
+      pull(child, parent, config_.min_confidence_tolerance);
+      pyramid.push_back(std::move(parent));
+    }
+    for (std::size_t l = pyramid.size() - 1; l > 0; --l) push(pyramid[l], pyramid[l - 1], config_);
+    const Level& filtered = pyramid.front();
+    for (int y = 0; y < height; ++y) {
+      const std::uint8_t* mask = in.mask.ptr<std::uint8_t>(y);
+      float* out = output.ptr<float>(y);
+      for (int x = 0; x < width; ++x) {
+        const float d = filtered.pairs[std::size_t(y) * std::size_t(width) + std::size_t(x)].depth;
+        out[x] = mask[x] != 0 && std::isfinite(d) && d > 0.0f ? d : 0.0f;
+      }
+    }
+  }
+
+  previous_color_ = in.color.clone();
+  previous_depth_ = output.clone();
+  previous_mask_ = in.mask.clone();
+  ++frame_;
+  return output;
+}
+
+}  // namespace holo::depthfilter

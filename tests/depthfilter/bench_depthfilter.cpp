@@ -1,0 +1,105 @@
+// Per-camera time of each foreground stage at 640x360 on the synthetic moving-disc sequence
+// (issue 3 aim: the whole per-camera step under 8 ms on one core).
+#include <benchmark/benchmark.h>
+
+#include "holo/depthfilter/border_expansion.hpp"
+#include "holo/depthfilter/foreground_mask.hpp"
+#include "holo/depthfilter/foreground_pipeline.hpp"
+#include "holo/depthfilter/precursor_flow.hpp"
+#include "holo/depthfilter/temporal_depth_filter.hpp"
+#include "synthetic_rgbd.hpp"
+
+namespace {
+
+using namespace holo;
+using namespace holo::depthfilter;
+
+test::SyntheticScene scene640() {
+  test::SyntheticScene scene;
+  scene.width = 640;
+  scene.height = 360;
+  scene.focal = 500.0f;
+  scene.box = {80, 100, 120, 160};
+  scene.disc_radius_px = 56.0f;
+  return scene;
+}
+
+const std::vector<test::SyntheticFrame>& frames() {
+  static const std::vector<test::SyntheticFrame> sequence = [] {
+    std::vector<test::SyntheticFrame> out;
+    const test::SyntheticScene scene = scene640();
+    for (int t = 0; t < 16; ++t) out.push_back(scene.render(t, 5));
+    return out;
+  }();
+  return sequence;
+}
+
+void BM_Mask(benchmark::State& state) {
+  ForegroundMasker masker;
+  for (int t = 0; t < 4; ++t) masker.learnBackground(frames()[std::size_t(t)].frame);
+  std::size_t t = 0;
+  for (auto _ : state) benchmark::DoNotOptimize(masker.apply(frames()[t++ % frames().size()].frame));
+}
+BENCHMARK(BM_Mask)->Unit(benchmark::kMillisecond);
+
+void BM_Flow(benchmark::State& state) {
+  PrecursorFlow flow({static_cast<int>(state.range(0))});
+  std::size_t t = 1;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(flow.compute(frames()[t % frames().size()].frame.color,
+                                          frames()[(t - 1) % frames().size()].frame.color));
+    ++t;
+  }
+}
+BENCHMARK(BM_Flow)
+    ->Arg(cv::DISOpticalFlow::PRESET_ULTRAFAST)
+    ->Arg(cv::DISOpticalFlow::PRESET_FAST)
+    ->Arg(cv::DISOpticalFlow::PRESET_MEDIUM)
+    ->Unit(benchmark::kMillisecond);
+
+void BM_TemporalFilter(benchmark::State& state) {
+  TemporalDepthFilterConfig config;
+  config.learning_frames = 4;
+  TemporalDepthFilter filter(config);
+  PrecursorFlow flow;
+  std::vector<cv::Mat> flows;
+  for (std::size_t t = 0; t < frames().size(); ++t)
+    flows.push_back(flow.compute(frames()[t].frame.color, t > 0 ? frames()[t - 1].frame.color : cv::Mat()));
+  std::size_t t = 0;
+  for (; t < 6; ++t)
+    filter.apply({frames()[t].frame.color, frames()[t].frame.depth, frames()[t].true_mask, flows[t]});
+  for (auto _ : state) {
+    const std::size_t i = t++ % frames().size();
+    benchmark::DoNotOptimize(
+        filter.apply({frames()[i].frame.color, frames()[i].frame.depth, frames()[i].true_mask, flows[i]}));
+  }
+}
+BENCHMARK(BM_TemporalFilter)->Unit(benchmark::kMillisecond);
+
+void BM_BorderExpansion(benchmark::State& state) {
+  const test::SyntheticFrame& f = frames()[8];
+  for (auto _ : state) benchmark::DoNotOptimize(expandBorder(f.true_mask, f.true_depth, {}));
+}
+BENCHMARK(BM_BorderExpansion)->Unit(benchmark::kMillisecond);
+
+// The whole per-camera step (mask, flow, filter, border, back-projection) on one core.
+void BM_PipelineOneCamera(benchmark::State& state) {
+  const test::SyntheticScene scene = scene640();
+  ForegroundPipelineConfig config;
+  config.parallel = false;
+  config.filter.learning_frames = 4;
+  ForegroundPipeline pipeline({CameraModel(scene.intrinsics(), mat4(1.0f))}, config);
+  test::SyntheticScene empty = scene;
+  empty.objects = false;
+  for (int t = 0; t < 4; ++t) {
+    const RgbdFrame background = empty.render(t, 9).frame;
+    pipeline.learnBackground({&background, 1});
+  }
+  std::size_t t = 0;
+  for (; t < 6; ++t) pipeline.process({&frames()[t].frame, 1});
+  for (auto _ : state)
+    benchmark::DoNotOptimize(pipeline.process({&frames()[t++ % frames().size()].frame, 1}));
+}
+BENCHMARK(BM_PipelineOneCamera)->Unit(benchmark::kMillisecond);
+
+}  // namespace

@@ -1,0 +1,164 @@
+#include <gtest/gtest.h>
+#include <array>
+#include <cmath>
+
+#include "holo/core/error.hpp"
+#include "holo/core/image.hpp"
+#include "holo/depthfilter/foreground_pipeline.hpp"
+#include "synthetic_rgbd.hpp"
+
+namespace holo::depthfilter {
+namespace {
+
+constexpr int kCameras = 4;
+
+// Four cameras on the sides of the pyramid base, looking outward (face f at azimuth f * 90 deg).
+std::vector<CameraModel> cameras(const test::SyntheticScene& scene) {
+  std::vector<CameraModel> out;
+  for (int f = 0; f < kCameras; ++f) {
+    const float a = float(f) * 1.5707963f;
+    const vec3 outward(std::sin(a), 0.0f, std::cos(a));
+    out.emplace_back(scene.intrinsics(), lookAtCameraToWorld(0.3f * outward, 2.0f * outward));
+  }
+  return out;
+}
+
+struct Rig {
+  test::SyntheticScene scene;
+  ForegroundPipeline pipeline;
+  std::uint64_t frame = 0;
+
+  explicit Rig(ForegroundPipelineConfig config = quickConfig()) : pipeline(cameras(scene), config) {
+    test::SyntheticScene empty = scene;
+    empty.objects = false;
+    for (int t = 0; t < 10; ++t) {
+      std::array<RgbdFrame, kCameras> background;
+      for (int c = 0; c < kCameras; ++c)
+        background[std::size_t(c)] = empty.render(t, 100 + std::uint64_t(c)).frame;
+      pipeline.learnBackground(background);
+    }
+  }
+  static ForegroundPipelineConfig quickConfig() {
+    ForegroundPipelineConfig config;
+    config.filter.learning_frames = 5;
+    config.exposure = 2.0f;
+    return config;
+  }
+  std::array<test::SyntheticFrame, kCameras> render(int t) const {
+    std::array<test::SyntheticFrame, kCameras> out;
+    for (int c = 0; c < kCameras; ++c) {
+      out[std::size_t(c)] = scene.render(t, 200 + std::uint64_t(c));
+      out[std::size_t(c)].frame.camera_id = c;
+    }
+    return out;
+  }
+  static std::array<RgbdFrame, kCameras> framesOf(const std::array<test::SyntheticFrame, kCameras>& f) {
+    std::array<RgbdFrame, kCameras> out;
+    for (int c = 0; c < kCameras; ++c) out[std::size_t(c)] = f[std::size_t(c)].frame;
+    return out;
+  }
+};
+
+TEST(ForegroundPipeline, BackProjectsFilteredForegroundOfEveryCameraIntoTheWorld) {
+  Rig rig;
+  ForegroundCloud cloud;
+  std::array<test::SyntheticFrame, kCameras> truth;
+  for (int t = 0; t < 12; ++t) {
+    truth = rig.render(t);
+    cloud = rig.pipeline.process(Rig::framesOf(truth));
+  }
+  ASSERT_FALSE(rig.pipeline.filter(0).learning());
+  EXPECT_EQ(cloud.sequence, 11);
+  const std::vector<CameraModel> models = cameras(rig.scene);
+  std::array<long, kCameras> per_camera{};
+  double error_sum = 0.0, radiance_error = 0.0;
+  long interior = 0, border = 0;
+  for (const ForegroundPoint& p : cloud.points) {
+    ASSERT_LT(p.camera, kCameras);
+    ASSERT_TRUE(isFinite(p.position) && isFinite(p.radiance));
+    ASSERT_GT(p.weight, 0.0f);
+    ASSERT_LE(p.weight, 1.0f);
+    ++per_camera[p.camera];
+    const test::SyntheticFrame& f = truth[p.camera];
+    if (p.weight < 1.0f) {
+      ++border;
+      EXPECT_EQ(rig.pipeline.lastResult(p.camera).mask.at<std::uint8_t>(p.y, p.x), 0);  // outside phi_i
+      continue;
+    }
+    // Colour: the camera's sRGB linearised and divided by the exposure (2).
+    const cv::Vec3b bgr = f.frame.color.at<cv::Vec3b>(p.y, p.x);
+    radiance_error =
+        std::max(radiance_error, double(std::abs(p.radiance.r - srgbToLinear(bgr[2] / 255.0f) / 2.0f)));
+    // Position: where the true depth puts that pixel.
+    if (f.true_mask.at<std::uint8_t>(p.y, p.x) == 0) continue;
+    const vec3 expected = models[p.camera].unproject(vec2(p.x, p.y), f.true_depth.at<float>(p.y, p.x));
+    error_sum += glm::length(p.position - expected);
+    ++interior;
+  }
+  for (int c = 0; c < kCameras; ++c) EXPECT_GT(per_camera[std::size_t(c)], 3000) << "camera " << c;
+  EXPECT_GT(border, 1000);
+  EXPECT_LT(radiance_error, 1e-5);
+  EXPECT_LT(error_sum / double(interior), 0.01);  // mean 3D error below 1 cm
+  // Camera 1 looks along +X: its points lie on that side of the pyramid.
+  float min_x_of_camera_1 = INFINITY;
+  for (const ForegroundPoint& p : cloud.points)
+    if (p.camera == 1) min_x_of_camera_1 = std::min(min_x_of_camera_1, p.position.x);
+  EXPECT_GT(min_x_of_camera_1, 1.0f);
+}
+
+TEST(ForegroundPipeline, MissingCameraFrameContributesNothingAndOthersGoOn) {
+  Rig rig;
+  for (int t = 0; t < 8; ++t) rig.pipeline.process(Rig::framesOf(rig.render(t)));
+  std::array<RgbdFrame, kCameras> frames = Rig::framesOf(rig.render(8));
+  frames[2] = RgbdFrame{};
+  const ForegroundCloud cloud = rig.pipeline.process(frames);
+  EXPECT_FALSE(rig.pipeline.lastResult(2).present);
+  std::array<long, kCameras> per_camera{};
+  for (const ForegroundPoint& p : cloud.points) ++per_camera[p.camera];
+  EXPECT_EQ(per_camera[2], 0);
+  EXPECT_GT(per_camera[0], 3000);
+  // The camera comes back next frame.
+  const ForegroundCloud next = rig.pipeline.process(Rig::framesOf(rig.render(9)));
+  per_camera = {};
+  for (const ForegroundPoint& p : next.points) ++per_camera[p.camera];
+  EXPECT_GT(per_camera[2], 3000);
+}
+
+TEST(ForegroundPipeline, HardInputsStayFiniteAndBadInputIsRefused) {
+  Rig rig;
+  for (int t = 0; t < 10; ++t) {
+    std::array<RgbdFrame, kCameras> frames = Rig::framesOf(rig.render(t));
+    frames[0].depth.setTo(std::nanf(""));
+    frames[1].depth.setTo(0.0f);
+    frames[3].depth(cv::Rect(0, 0, 100, 100)).setTo(std::numeric_limits<float>::infinity());
+    const ForegroundCloud cloud = rig.pipeline.process(frames);
+    for (const ForegroundPoint& p : cloud.points) {
+      ASSERT_TRUE(isFinite(p.position) && isFinite(p.radiance));
+      ASSERT_NE(p.camera, 1);  // no depth anywhere: nothing to back-project
+    }
+  }
+  std::array<RgbdFrame, kCameras> frames = Rig::framesOf(rig.render(11));
+  EXPECT_THROW(rig.pipeline.process(std::span<const RgbdFrame>(frames.data(), 3)), Error);
+  cv::resize(frames[0].color, frames[0].color, cv::Size(100, 50));
+  EXPECT_THROW(rig.pipeline.process(frames), Error);
+  EXPECT_THROW(ForegroundPipeline({}, {}), Error);
+}
+
+TEST(ForegroundPipeline, ParallelAndSerialGiveTheSameCloud) {
+  ForegroundPipelineConfig serial = Rig::quickConfig();
+  serial.parallel = false;
+  Rig a, b(serial);
+  ForegroundCloud ca, cb;
+  for (int t = 0; t < 8; ++t) {
+    ca = a.pipeline.process(Rig::framesOf(a.render(t)));
+    cb = b.pipeline.process(Rig::framesOf(b.render(t)));
+  }
+  ASSERT_EQ(ca.points.size(), cb.points.size());
+  for (std::size_t i = 0; i < ca.points.size(); ++i) {
+    ASSERT_EQ(ca.points[i].position, cb.points[i].position);
+    ASSERT_EQ(ca.points[i].camera, cb.points[i].camera);
+  }
+}
+
+}  // namespace
+}  // namespace holo::depthfilter

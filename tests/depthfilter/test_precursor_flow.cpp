@@ -1,0 +1,72 @@
+#include <gtest/gtest.h>
+#include <cmath>
+
+#include "holo/depthfilter/precursor_flow.hpp"
+#include "synthetic_rgbd.hpp"
+
+namespace holo::depthfilter {
+namespace {
+
+// Mean end-point error of the precursor flow on the moving disc's interior (true backward flow:
+// -disc_speed_px in x) and on the static background.
+struct FlowError {
+  double disc_px = 0.0;
+  double background_px = 0.0;
+};
+
+FlowError flowError(int preset) {
+  const test::SyntheticScene scene;
+  PrecursorFlow flow({preset});
+  const test::SyntheticFrame previous = scene.render(4, 3);
+  const test::SyntheticFrame current = scene.render(5, 3);
+  const cv::Mat lambda = flow.compute(current.frame.color, previous.frame.color);
+  cv::Mat disc, background;
+  cv::erode(current.disc_mask, disc, cv::Mat::ones(7, 7, CV_8UC1));
+  cv::dilate(current.true_mask | previous.true_mask, background, cv::Mat::ones(9, 9, CV_8UC1));
+  background = background == 0;
+  double disc_sum = 0, bg_sum = 0;
+  long disc_n = 0, bg_n = 0;
+  for (int y = 0; y < lambda.rows; ++y)
+    for (int x = 0; x < lambda.cols; ++x) {
+      const cv::Vec2f f = lambda.at<cv::Vec2f>(y, x);
+      if (disc.at<std::uint8_t>(y, x)) {
+        disc_sum += std::hypot(f[0] + scene.disc_speed_px, f[1]);
+        ++disc_n;
+      } else if (background.at<std::uint8_t>(y, x)) {
+        bg_sum += std::hypot(f[0], f[1]);
+        ++bg_n;
+      }
+    }
+  return {disc_sum / double(disc_n), bg_sum / double(bg_n)};
+}
+
+TEST(PrecursorFlow, DefaultPresetFindsPrecursorsWithSubpixelError) {
+  const FlowError e = flowError(PrecursorFlowConfig{}.preset);
+  EXPECT_LT(e.disc_px, 0.5);
+  EXPECT_LT(e.background_px, 0.2);
+}
+
+TEST(PrecursorFlow, PresetsCompared) {
+  // The measurement behind the default preset (docs/depthfilter.md); timings are in
+  // bench_depthfilter. Every preset must at least track the disc.
+  for (int preset : {cv::DISOpticalFlow::PRESET_ULTRAFAST, cv::DISOpticalFlow::PRESET_FAST,
+                     cv::DISOpticalFlow::PRESET_MEDIUM}) {
+    const FlowError e = flowError(preset);
+    std::printf("DIS preset %d: end-point error disc %.3f px, background %.3f px\n", preset, e.disc_px,
+                e.background_px);
+    EXPECT_LT(e.disc_px, 1.0);
+  }
+}
+
+TEST(PrecursorFlow, FirstFrameAndConfidence) {
+  const test::SyntheticScene scene;
+  PrecursorFlow flow;
+  const cv::Mat lambda = flow.compute(scene.render(0, 1).frame.color, cv::Mat());
+  EXPECT_EQ(cv::countNonZero(lambda.reshape(1)), 0);  // no previous frame: zero flow
+  EXPECT_FLOAT_EQ(precursorConfidence({10, 20, 30}, {10, 20, 30}), 0.0f);
+  EXPECT_FLOAT_EQ(precursorConfidence({0, 0, 0}, {255, 255, 255}), std::sqrt(3.0f) * 255.0f);
+  EXPECT_FLOAT_EQ(precursorConfidence({3, 0, 0}, {0, 4, 0}), 5.0f);
+}
+
+}  // namespace
+}  // namespace holo::depthfilter

@@ -1,0 +1,231 @@
+#include <gtest/gtest.h>
+#include <cmath>
+#include <functional>
+#include <limits>
+
+#include "holo/core/error.hpp"
+#include "holo/depthfilter/depth_baselines.hpp"
+#include "holo/depthfilter/precursor_flow.hpp"
+#include "holo/depthfilter/temporal_depth_filter.hpp"
+#include "synthetic_rgbd.hpp"
+
+namespace holo::depthfilter {
+namespace {
+
+using FilterFn = std::function<cv::Mat(const DepthFilterInput&)>;
+
+cv::Mat eroded(const cv::Mat& mask, int radius) {
+  cv::Mat out;
+  cv::erode(mask, out, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * radius + 1, 2 * radius + 1)));
+  return out;
+}
+
+struct Metrics {
+  double temporal_mse_static_cm2 = 0.0;  // frame-to-frame change on the static box (cm^2)
+  double rmse_disc_cm = 0.0;             // error against the truth on the moving disc
+  double rmse_box_cm = 0.0;              // error against the truth on the static box
+  double hole_fill = 0.0;                // share of foreground pixels with an output depth
+};
+
+// Runs `filter` over `frames` frames (after `skip` warm-up frames that are not scored), with the
+// true foreground mask so that only the depth filter is measured.
+Metrics run(const test::SyntheticScene& scene, const FilterFn& filter, int skip, int frames) {
+  PrecursorFlow flow;
+  cv::Mat previous_colour, previous_out;
+  Metrics m;
+  double temporal_sum = 0.0, disc_sum = 0.0, box_sum = 0.0;
+  long temporal_n = 0, disc_n = 0, box_n = 0, filled = 0, foreground = 0;
+  for (int t = 0; t < skip + frames; ++t) {
+    const test::SyntheticFrame f = scene.render(t, 11);
+    const cv::Mat lambda = flow.compute(f.frame.color, previous_colour);
+    previous_colour = f.frame.color;
+    const cv::Mat out = filter({f.frame.color, f.frame.depth, f.true_mask, lambda});
+    if (t >= skip) {
+      const cv::Mat box = eroded(f.box_mask, 2), disc = eroded(f.disc_mask, 2), fg = eroded(f.true_mask, 2);
+      for (int y = 0; y < out.rows; ++y)
+        for (int x = 0; x < out.cols; ++x) {
+          const float d = out.at<float>(y, x), truth = f.true_depth.at<float>(y, x);
+          if (fg.at<std::uint8_t>(y, x)) {
+            ++foreground;
+            filled += d > 0.0f;
+          }
+          if (!(d > 0.0f)) continue;
+          const double e = 100.0 * (double(d) - truth);
+          if (disc.at<std::uint8_t>(y, x)) disc_sum += e * e, ++disc_n;
+          if (box.at<std::uint8_t>(y, x)) {
+            box_sum += e * e, ++box_n;
+            const float p = previous_out.empty() ? 0.0f : previous_out.at<float>(y, x);
+            if (p > 0.0f && t > skip) {
+              const double c = 100.0 * (double(d) - p);
+              temporal_sum += c * c;
+              ++temporal_n;
+            }
+          }
+        }
+    }
+    previous_out = out;
+  }
+  m.temporal_mse_static_cm2 = temporal_sum / double(std::max(1L, temporal_n));
+  m.rmse_disc_cm = std::sqrt(disc_sum / double(std::max(1L, disc_n)));
+  m.rmse_box_cm = std::sqrt(box_sum / double(std::max(1L, box_n)));
+  m.hole_fill = double(filled) / double(std::max(1L, foreground));
+  return m;
+}
+
+cv::Mat raw(const DepthFilterInput& in) {
+  cv::Mat out = cv::Mat::zeros(in.depth.size(), CV_32FC1);
+  in.depth.copyTo(out, in.mask);
+  cv::patchNaNs(out, 0.0);
+  return out;
+}
+
+TemporalDepthFilterConfig quickConfig() {
+  TemporalDepthFilterConfig config;
+  config.learning_frames = 10;
+  return config;
+}
+
+TEST(TemporalDepthFilter, StableFilledAndUndeformedAgainstBaselines) {
+  const test::SyntheticScene scene;
+  const int skip = 12, frames = 30;
+  TemporalDepthFilter ours(quickConfig());
+  TemporalMedianDepthFilter median(5);
+  TaaDepthFilter taa(0.1f);
+  const Metrics m_raw = run(scene, raw, skip, frames);
+  const Metrics m_ours = run(
+      scene, [&](const DepthFilterInput& in) { return ours.apply(in); }, skip, frames);
+  const Metrics m_median = run(
+      scene, [&](const DepthFilterInput& in) { return median.apply(in); }, skip, frames);
+  const Metrics m_taa = run(
+      scene, [&](const DepthFilterInput& in) { return taa.apply(in); }, skip, frames);
+  for (const auto& [name, m] :
+       {std::pair{"raw", m_raw}, {"ours", m_ours}, {"median", m_median}, {"taa", m_taa}})
+    std::printf("%-6s temporal_mse %.4f cm2  rmse disc %.3f cm  rmse box %.3f cm  fill %.4f\n", name,
+                m.temporal_mse_static_cm2, m.rmse_disc_cm, m.rmse_box_cm, m.hole_fill);
+  EXPECT_FALSE(ours.learning());
+  EXPECT_LT(m_ours.temporal_mse_static_cm2, m_raw.temporal_mse_static_cm2 / 10.0);
+  EXPECT_LT(m_ours.temporal_mse_static_cm2, m_median.temporal_mse_static_cm2);
+  EXPECT_LE(m_ours.rmse_disc_cm, m_raw.rmse_disc_cm);  // the moving disc is not deformed
+  EXPECT_LE(m_ours.rmse_box_cm, m_raw.rmse_box_cm);
+  EXPECT_GT(m_ours.hole_fill, 0.995);
+  EXPECT_LT(m_raw.hole_fill, 0.98);
+}
+
+// Mean output depth minus truth over the eroded box, after feeding frames whose box depth
+// follows `box_z(t)`.
+std::vector<double> boxErrorsCm(const std::function<float(int)>& box_z, int frames) {
+  test::SyntheticScene scene;
+  TemporalDepthFilter filter(quickConfig());
+  PrecursorFlow flow;
+  cv::Mat previous;
+  std::vector<double> errors;
+  for (int t = 0; t < frames; ++t) {
+    scene.box_z = box_z(t);
+    const test::SyntheticFrame f = scene.render(t, 21);
+    const cv::Mat out =
+        filter.apply({f.frame.color, f.frame.depth, f.true_mask, flow.compute(f.frame.color, previous)});
+    previous = f.frame.color;
+    const cv::Mat box = eroded(f.box_mask, 3);
+    cv::Mat valid = box & (out > 0.0f);
+    errors.push_back(100.0 * (cv::mean(out, valid)[0] - double(scene.box_z)));
+  }
+  return errors;
+}
+
+TEST(TemporalDepthFilter, FollowsASuddenDepthStepWithoutFreezing) {
+  const std::vector<double> errors = boxErrorsCm([](int t) { return t < 20 ? 2.0f : 1.7f; }, 26);
+  EXPECT_LT(std::abs(errors[19]), 0.5);
+  for (int t = 21; t < 26; ++t) EXPECT_LT(std::abs(errors[std::size_t(t)]), 1.0) << "frame " << t;
+}
+
+TEST(TemporalDepthFilter, LagOfASteadyApproachStaysBounded) {
+  // 1 cm per frame towards the camera (0.3 m/s at 30 fps), after the learning frames.
+  const std::vector<double> errors =
+      boxErrorsCm([](int t) { return 2.0f - 0.01f * float(std::max(0, t - 12)); }, 50);
+  for (int t = 20; t < 50; ++t) EXPECT_LT(std::abs(errors[std::size_t(t)]), 4.0) << "frame " << t;
+}
+
+TEST(TemporalDepthFilter, FrozenOrOversmoothedFiltersFailTheDeformationBar) {
+  const test::SyntheticScene scene;
+  const Metrics m_raw = run(scene, raw, 12, 20);
+  cv::Mat first;
+  const Metrics frozen = run(
+      scene,
+      [&](const DepthFilterInput& in) {
+        if (first.empty()) first = raw(in);
+        cv::Mat out = cv::Mat::zeros(in.depth.size(), CV_32FC1);
+        first.copyTo(out, in.mask);
+        return out;
+      },
+      12, 20);
+  const Metrics blurred = run(
+      scene,
+      [&](const DepthFilterInput& in) {
+        cv::Mat out;
+        cv::blur(raw(in), out, cv::Size(15, 15));
+        out.setTo(0.0f, in.mask == 0);
+        return out;
+      },
+      12, 20);
+  EXPECT_GT(frozen.rmse_disc_cm, m_raw.rmse_disc_cm);
+  EXPECT_GT(blurred.rmse_disc_cm, m_raw.rmse_disc_cm);
+}
+
+TEST(TemporalDepthFilter, LearningFramesPassTheMeasurementThrough) {
+  const test::SyntheticScene scene;
+  TemporalDepthFilter filter(quickConfig());
+  PrecursorFlow flow;
+  cv::Mat previous;
+  for (int t = 0; t < 10; ++t) {
+    EXPECT_TRUE(filter.learning());
+    const test::SyntheticFrame f = scene.render(t, 31);
+    const DepthFilterInput in{f.frame.color, f.frame.depth, f.true_mask,
+                              flow.compute(f.frame.color, previous)};
+    previous = f.frame.color;
+    EXPECT_EQ(cv::norm(filter.apply(in), raw(in), cv::NORM_INF), 0.0);
+  }
+  EXPECT_FALSE(filter.learning());
+  EXPECT_GT(filter.confidencePdf().samples(), 1000);
+  EXPECT_GT(filter.depthDifferencePdf().samples(), 1000);
+  // The learned |d| distribution says that noise-sized differences are common.
+  EXPECT_GT(filter.depthDifferencePdf().cdf(0.02f), 0.5f);
+}
+
+TEST(TemporalDepthFilter, HardInputsStayFinite) {
+  const test::SyntheticScene scene;
+  TemporalDepthFilter filter(quickConfig());
+  PrecursorFlow flow;
+  cv::Mat previous;
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  for (int t = 0; t < 24; ++t) {
+    test::SyntheticFrame f = scene.render(t, 41);
+    cv::Mat mask = f.true_mask;
+    if (t == 14) mask = cv::Mat::zeros(mask.size(), CV_8UC1);            // empty mask
+    if (t == 15) mask = cv::Mat(mask.size(), CV_8UC1, cv::Scalar(255));  // full mask
+    if (t == 16) f.frame.depth.setTo(0.0f);                              // all depth invalid
+    if (t == 17) f.frame.depth.setTo(nan);
+    if (t == 18) f.frame.depth(cv::Rect(0, 0, 200, 100)).setTo(inf);
+    if (t == 19) f.frame.depth(cv::Rect(0, 0, 200, 100)).setTo(-inf);
+    cv::Mat lambda = flow.compute(f.frame.color, previous);
+    if (t == 20) lambda.setTo(cv::Scalar(nan, inf));  // broken flow
+    previous = f.frame.color;
+    const cv::Mat out = filter.apply({f.frame.color, f.frame.depth, mask, lambda});
+    ASSERT_TRUE(cv::checkRange(out)) << "frame " << t;
+    double lo = 0, hi = 0;
+    cv::minMaxLoc(out, &lo, &hi);
+    EXPECT_GE(lo, 0.0) << "frame " << t;
+    EXPECT_LT(hi, 3.5) << "frame " << t;
+    cv::Mat outside = out.clone();
+    outside.setTo(0.0f, mask);
+    EXPECT_EQ(cv::countNonZero(outside), 0) << "output outside the mask, frame " << t;
+    if (t == 14) {
+      EXPECT_EQ(cv::countNonZero(out), 0);
+    }
+  }
+  EXPECT_THROW(filter.apply({cv::Mat(4, 4, CV_8UC3), cv::Mat(4, 4, CV_32FC1), cv::Mat(5, 4, CV_8UC1),
+                             cv::Mat(4, 4, CV_32FC2)}),
+               Error);
+}
+
+}  // namespace
+}  // namespace holo::depthfilter
