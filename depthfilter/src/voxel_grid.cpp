@@ -45,6 +45,8 @@ VoxelGrid::VoxelGrid(const VoxelGridSettings& settings) : settings_(settings) {
   brick_dims_ = (dims_ + glm::ivec3(b - 1)) / b;
   cell_.assign(std::size_t(dims_.x) * std::size_t(dims_.y) * std::size_t(dims_.z), -1);
   brick_count_.assign(std::size_t(brick_dims_.x) * brick_dims_.y * brick_dims_.z, 0u);
+  brick_volume_ = std::uint64_t(b) * b * b;
+  bits_.assign(std::size_t((brick_count_.size() * brick_volume_ + 63) / 64), 0u);
   occ_lo_ = dims_;
   occ_hi_ = glm::ivec3(0);
 }
@@ -75,6 +77,8 @@ void VoxelGrid::clear() {
     const int y = int((lin / dims_.x) % dims_.y);
     const int z = int(lin / (std::int64_t(dims_.x) * dims_.y));
     brick_count_[brickLinear({x, y, z})] = 0;
+    const std::uint64_t bit = bitIndex({x, y, z});
+    bits_[bit >> 6] = 0;  // the whole word: every bit in it belongs to a cleared voxel or is 0
   }
   samples_.clear();
   sample_voxel_.clear();
@@ -103,6 +107,8 @@ void VoxelGrid::build(const ForegroundCloud& cloud) {
       samples_.push_back({p.radiance, weight, p.camera, p.x, p.y, 1});
       sample_voxel_.push_back(lin);
       ++brick_count_[brickLinear(v)];
+      const std::uint64_t bit = bitIndex(v);
+      bits_[bit >> 6] |= std::uint64_t(1) << (bit & 63);
       occ_lo_ = glm::min(occ_lo_, v);
       occ_hi_ = glm::max(occ_hi_, v + 1);
       continue;

@@ -8,18 +8,31 @@ namespace {
 
 using glm::ivec3;
 
-// Clips the ray o + t d (grid units) to the box [lo, hi) and to [t0, t1]. A zero direction
-// component (either sign) keeps the ray in one slab: inside iff lo <= o < hi (half-open, as
-// voxels are). Returns false when nothing is left.
-bool clipToBox(const vec3& o, const vec3& d, const vec3& lo, const vec3& hi, float& t0, float& t1) {
+// The ray in grid units with its reciprocal direction, computed once per walk: the DDA and the
+// box clips multiply instead of divide. A zero component (+0.0 or -0.0) has inv = 0 and is
+// handled explicitly, never through 0 * inf.
+struct GridRay {
+  vec3 o, d, inv;
+  GridRay scaled(float s) const { return {o * s, d * s, inv / s}; }
+};
+
+GridRay makeGridRay(const vec3& o, const vec3& d) {
+  GridRay r{o, d, vec3(0.0f)};
+  for (int a = 0; a < 3; ++a)
+    if (d[a] != 0.0f) r.inv[a] = 1.0f / d[a];
+  return r;
+}
+
+// Clips the ray to the box [lo, hi) and to [t0, t1]. A zero direction component keeps the ray in
+// one slab: inside iff lo <= o < hi (half-open, as voxels are). Returns false when nothing is left.
+bool clipToBox(const GridRay& r, const vec3& lo, const vec3& hi, float& t0, float& t1) {
   for (int a = 0; a < 3; ++a) {
-    if (d[a] == 0.0f) {
-      if (!(o[a] >= lo[a] && o[a] < hi[a])) return false;
+    if (r.d[a] == 0.0f) {
+      if (!(r.o[a] >= lo[a] && r.o[a] < hi[a])) return false;
       continue;
     }
-    const float inv = 1.0f / d[a];
-    float ta = (lo[a] - o[a]) * inv;
-    float tb = (hi[a] - o[a]) * inv;
+    float ta = (lo[a] - r.o[a]) * r.inv[a];
+    float tb = (hi[a] - r.o[a]) * r.inv[a];
     if (ta > tb) std::swap(ta, tb);
     t0 = std::max(t0, ta);
     t1 = std::min(t1, tb);
@@ -30,9 +43,9 @@ bool clipToBox(const vec3& o, const vec3& d, const vec3& lo, const vec3& hi, flo
 // Amanatides-Woo DDA over the integer box [lo, hi) for t in [t0, t1] (already clipped to the
 // box). visit(cell, t_enter) returns true to stop. Returns false when the step cap was reached.
 template <typename Visit>
-bool dda(const vec3& o, const vec3& d, const ivec3& lo, const ivec3& hi, float t0, float t1,
-         std::uint64_t& steps, Visit&& visit) {
-  const vec3 p = o + d * t0;
+bool dda(const GridRay& r, const ivec3& lo, const ivec3& hi, float t0, float t1, std::uint64_t& steps,
+         Visit&& visit) {
+  const vec3 p = r.o + r.d * t0;
   // Round-off may put the entry point a hair outside the box: clamp into it. Clamping in float
   // first keeps far-away points from overflowing int.
   ivec3 cell = ivec3(glm::clamp(glm::floor(p), vec3(lo), vec3(hi - 1)));
@@ -40,14 +53,14 @@ bool dda(const vec3& o, const vec3& d, const ivec3& lo, const ivec3& hi, float t
   vec3 t_next(std::numeric_limits<float>::infinity());
   vec3 t_delta(std::numeric_limits<float>::infinity());
   for (int a = 0; a < 3; ++a) {
-    if (d[a] > 0.0f) {
+    if (r.d[a] > 0.0f) {
       step[a] = 1;
-      t_delta[a] = 1.0f / d[a];
-      t_next[a] = (float(cell[a] + 1) - o[a]) * t_delta[a];
-    } else if (d[a] < 0.0f) {
+      t_delta[a] = r.inv[a];
+      t_next[a] = (float(cell[a] + 1) - r.o[a]) * r.inv[a];
+    } else if (r.d[a] < 0.0f) {
       step[a] = -1;
-      t_delta[a] = -1.0f / d[a];
-      t_next[a] = (o[a] - float(cell[a])) * t_delta[a];
+      t_delta[a] = -r.inv[a];
+      t_next[a] = (float(cell[a]) - r.o[a]) * r.inv[a];
     }
     // d[a] == 0 (+0.0 or -0.0): the walk never leaves this slab; t_next stays infinite.
   }
@@ -82,13 +95,11 @@ VoxelHit firstOccupiedVoxel(const depthfilter::VoxelGrid& grid, const Ray& ray, 
 
   // Grid coordinates: voxel (i, j, k) is [i, i+1) x [j, j+1) x [k, k+1); t is unchanged.
   const float inv_size = 1.0f / grid.voxelSize();
-  const vec3 o = (ray.origin - grid.origin()) * inv_size;
-  const vec3 d = ray.direction * inv_size;
+  const GridRay r = makeGridRay((ray.origin - grid.origin()) * inv_size, ray.direction * inv_size);
 
   auto visit_voxel = [&](const ivec3& v, float t_enter) {
-    const std::int32_t s = grid.sampleIndex(v);
-    if (s < 0) return false;
-    hit.sample = s;
+    if (!grid.occupiedBit(v)) return false;
+    hit.sample = grid.sampleIndex(v);
     hit.voxel = v;
     hit.t = t_enter;
     return true;
@@ -96,8 +107,8 @@ VoxelHit firstOccupiedVoxel(const depthfilter::VoxelGrid& grid, const Ray& ray, 
 
   if (mode == WalkMode::Dense) {
     float t0 = 0.0f, t1 = t_max;
-    if (!clipToBox(o, d, vec3(0.0f), vec3(grid.dims()), t0, t1)) return hit;
-    if (!dda(o, d, ivec3(0), grid.dims(), t0, t1, st.voxel_steps, visit_voxel)) {
+    if (!clipToBox(r, vec3(0.0f), vec3(grid.dims()), t0, t1)) return hit;
+    if (!dda(r, ivec3(0), grid.dims(), t0, t1, st.voxel_steps, visit_voxel)) {
       ++st.capped;
       return VoxelHit{};
     }
@@ -108,7 +119,7 @@ VoxelHit firstOccupiedVoxel(const depthfilter::VoxelGrid& grid, const Ray& ray, 
   const ivec3 occ_lo = grid.occupiedLo();
   const ivec3 occ_hi = grid.occupiedHi();
   float t0 = 0.0f, t1 = t_max;
-  if (!clipToBox(o, d, vec3(occ_lo), vec3(occ_hi), t0, t1)) return hit;
+  if (!clipToBox(r, vec3(occ_lo), vec3(occ_hi), t0, t1)) return hit;
 
   const int b = grid.brickSize();
   const float inv_b = 1.0f / float(b);
@@ -121,14 +132,14 @@ VoxelHit firstOccupiedVoxel(const depthfilter::VoxelGrid& grid, const Ray& ray, 
     const ivec3 hi = glm::min(brick * b + b, occ_hi);
     // Re-clip in voxel units: exact bounds for the fine walk, no drift from the brick level.
     float s0 = t0, s1 = t1;
-    if (!clipToBox(o, d, vec3(lo), vec3(hi), s0, s1)) return false;
-    if (!dda(o, d, lo, hi, s0, s1, st.voxel_steps, visit_voxel)) {
+    if (!clipToBox(r, vec3(lo), vec3(hi), s0, s1)) return false;
+    if (!dda(r, lo, hi, s0, s1, st.voxel_steps, visit_voxel)) {
       capped = true;
       return true;
     }
     return hit.hit();
   };
-  const bool finished = dda(o * inv_b, d * inv_b, brick_lo, brick_hi, t0, t1, st.brick_steps, visit_brick);
+  const bool finished = dda(r.scaled(inv_b), brick_lo, brick_hi, t0, t1, st.brick_steps, visit_brick);
   if (!finished || capped) {
     ++st.capped;
     return VoxelHit{};
