@@ -11,7 +11,9 @@ float D(float cos_theta_h, float alpha) {
   if (cos_theta_h <= 0.0f) return 0.0f;
   const float a2 = alpha * alpha;
   const float c2 = cos_theta_h * cos_theta_h;
-  const float d = c2 * (a2 - 1.0f) + 1.0f;
+  // (1 - c2) + c2 a2 rather than c2 (a2 - 1) + 1: the latter rounds to 0 at the peak of a very
+  // sharp lobe (a2 < float epsilon), which would make D infinite.
+  const float d = std::max(0.0f, 1.0f - c2) + c2 * a2;
   return a2 / (kPi * d * d);
 }
 
@@ -89,8 +91,7 @@ float dielectricFresnel(const SurfaceMaterial& m, float c) {
   return m.specular * (kDielectricF0 + (1.0f - kDielectricF0) * schlickWeight(c));
 }
 vec3 specularFresnel(const SurfaceMaterial& m, float c) {
-  return (1.0f - m.metallic) * dielectricFresnel(m, c) +
-         m.metallic * schlickFresnel(m.base_color, c);
+  return (1.0f - m.metallic) * dielectricFresnel(m, c) + m.metallic * schlickFresnel(m.base_color, c);
 }
 
 vec3 cosineSampleHemisphere(const vec2& u) {
@@ -102,7 +103,9 @@ vec3 cosineSampleHemisphere(const vec2& u) {
 }  // namespace
 
 Bsdf::Bsdf(const SurfaceMaterial& material, const vec3& normal)
-    : m_(material), frame_(normal), alpha_(roughnessToAlpha(material.roughness)),
+    : m_(material),
+      frame_(normal),
+      alpha_(roughnessToAlpha(material.roughness)),
       delta_(material.roughness < kDeltaRoughness) {
   m_.base_color = glm::clamp(m_.base_color, vec3(0.0f), vec3(1.0f));
   m_.metallic = std::clamp(m_.metallic, 0.0f, 1.0f);
@@ -116,8 +119,7 @@ bool Bsdf::hasDiffuse() const {
 // Probability of sampling the specular lobe: its Fresnel-weighted share at the view angle.
 float Bsdf::specularProbability(float cos_o) const {
   const float spec = luminance(specularFresnel(m_, cos_o));
-  const float diff =
-      (1.0f - m_.metallic) * (1.0f - dielectricFresnel(m_, cos_o)) * luminance(m_.base_color);
+  const float diff = (1.0f - m_.metallic) * (1.0f - dielectricFresnel(m_, cos_o)) * luminance(m_.base_color);
   if (spec + diff <= 0.0f) return 1.0f;
   return std::clamp(spec / (spec + diff), 0.0f, 1.0f);
 }

@@ -9,9 +9,8 @@
 
 namespace holo::reflect {
 
-cv::Mat mergeForeground(const cv::Mat& static_panorama, const ForegroundPoints& points,
-                        const vec3& centre, float point_radius, float yaw,
-                        ReprojectionStats* stats) {
+cv::Mat mergeForeground(const cv::Mat& static_panorama, const depthfilter::ForegroundCloud& cloud,
+                        const vec3& centre, float point_radius, float yaw, ReprojectionStats* stats) {
   if (static_panorama.empty() || static_panorama.type() != CV_32FC3)
     throw InputError("", "panorama", "a non-empty CV_32FC3 linear BGR image");
   cv::Mat out = static_panorama.clone();
@@ -19,16 +18,17 @@ cv::Mat mergeForeground(const cv::Mat& static_panorama, const ForegroundPoints& 
   cv::Mat depth(h, w, CV_32FC1, cv::Scalar(std::numeric_limits<float>::infinity()));
   ReprojectionStats st;
   const float row_angle = kPi / float(h), col_angle = 2.0f * kPi / float(w);
-  for (std::size_t i = 0; i < points.positions.size(); ++i) {
-    const vec3 d = points.positions[i] - centre;
+  for (const depthfilter::ForegroundPoint& point : cloud.points) {
+    const vec3 d = point.position - centre;
     const float dist = glm::length(d);
-    if (i >= points.colors.size() || !isFinite(d) || !(dist > 1e-6f) ||
-        !isFinite(points.colors[i])) {
+    // The cloud's invariant says finite; a broken producer still must not poison the map.
+    if (!isFinite(d) || !(dist > 1e-6f) || !isFinite(point.radiance) || !(point.weight > 0.0f)) {
       ++st.points_rejected;
       continue;
     }
     ++st.points_used;
-    const vec3 colour = glm::max(points.colors[i], vec3(0.0f));
+    const vec3 colour = glm::max(point.radiance, vec3(0.0f));
+    const float phi = std::min(point.weight, 1.0f);
     const vec2 uv = equirect::directionToUv(d / dist, yaw);
     const int cx = std::clamp(int(uv.x * float(w)), 0, w - 1);
     const int cy = std::clamp(int(uv.y * float(h)), 0, h - 1);
@@ -46,7 +46,7 @@ cv::Mat mergeForeground(const cv::Mat& static_panorama, const ForegroundPoints& 
         if (dist < z) {
           if (std::isinf(z)) ++st.pixels_covered;
           z = dist;
-          setRgb(out, x, y, colour);
+          setRgb(out, x, y, phi * colour + (1.0f - phi) * rgbAt(static_panorama, x, y));
         }
       }
     }

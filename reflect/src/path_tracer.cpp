@@ -1,9 +1,9 @@
 #include "holo/reflect/path_tracer.hpp"
 
-#include <algorithm>
-#include <mutex>
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
+#include <algorithm>
+#include <mutex>
 
 #include "holo/core/progress.hpp"
 #include "holo/core/stats.hpp"
@@ -22,15 +22,13 @@ Ray spawnRay(const vec3& p, const vec3& geometric_normal, const vec3& direction)
 
 }  // namespace
 
-PathTracer::PathTracer(const RenderScene& scene, const Environment& environment,
-                       PathTracerOptions options)
+PathTracer::PathTracer(const RenderScene& scene, const Environment& environment, PathTracerOptions options)
     : scene_(scene), environment_(environment), options_(options) {
   options_.max_bounces = std::max(1, options_.max_bounces);
   options_.tile_size = std::max(1, options_.tile_size);
 }
 
-vec3 PathTracer::traceFromRelic(const Ray& primary, const RayHit& relic_hit,
-                                SampleStream& stream) const {
+vec3 PathTracer::traceFromRelic(const Ray& primary, const RayHit& relic_hit, SampleStream& stream) const {
   vec3 radiance(0.0f);
   vec3 throughput(1.0f);
   Ray ray = primary;
@@ -46,14 +44,15 @@ vec3 PathTracer::traceFromRelic(const Ray& primary, const RayHit& relic_hit,
     const Bsdf bsdf(scene_.relicMaterial(hit, *hit_scene), n);
 
     // Next-event estimation towards the environment, balance heuristic against the BSDF.
-    const vec2 u_light = stream.next2D();
-    if (!bsdf.mirror() || bsdf.hasDiffuse()) {
+    const vec2 u_light = stream.next2D();  // drawn in every mode: the streams stay aligned
+    const LightSampling mode = options_.sampling;
+    if (mode != LightSampling::kBsdfOnly && (!bsdf.mirror() || bsdf.hasDiffuse())) {
       const EnvironmentSample ls = environment_.sample(u_light);
       if (ls.pdf > 0.0f) {
         const vec3 f = bsdf.eval(wo, ls.direction);
         if (f.x > 0.0f || f.y > 0.0f || f.z > 0.0f) {
           if (!all.occluded(spawnRay(p, ng, ls.direction))) {
-            const float bsdf_pdf = bsdf.pdf(wo, ls.direction);
+            const float bsdf_pdf = mode == LightSampling::kMis ? bsdf.pdf(wo, ls.direction) : 0.0f;
             radiance += throughput * f * ls.radiance / (ls.pdf + bsdf_pdf);
           }
         }
@@ -72,8 +71,12 @@ vec3 PathTracer::traceFromRelic(const Ray& primary, const RayHit& relic_hit,
       const vec3 le = environment_.radiance(ray.direction);
       float weight = 1.0f;
       if (!bs->delta) {
-        const float light_pdf = environment_.pdf(ray.direction);
-        weight = bs->pdf / (bs->pdf + light_pdf);
+        if (mode == LightSampling::kMis) {
+          const float light_pdf = environment_.pdf(ray.direction);
+          weight = bs->pdf / (bs->pdf + light_pdf);
+        } else if (mode == LightSampling::kEnvironmentOnly) {
+          weight = 0.0f;
+        }
       }
       radiance += throughput * le * weight;
       break;
@@ -87,7 +90,8 @@ vec3 PathTracer::traceFromRelic(const Ray& primary, const RayHit& relic_hit,
 }
 
 ProgressiveRender::ProgressiveRender(const PathTracer& tracer, const CameraModel& camera)
-    : tracer_(tracer), camera_(camera),
+    : tracer_(tracer),
+      camera_(camera),
       sum_(static_cast<std::size_t>(camera.width()) * camera.height(), glm::dvec3(0.0)) {}
 
 void ProgressiveRender::addSamples(int spp, bool quiet) {
@@ -170,8 +174,8 @@ cv::Mat ProgressiveRender::relicMask() const {
   return mask;
 }
 
-cv::Mat renderPathTraced(const PathTracer& tracer, const CameraModel& camera, int spp,
-                         PathTracerStats* stats, bool quiet) {
+cv::Mat renderPathTraced(const PathTracer& tracer, const CameraModel& camera, int spp, PathTracerStats* stats,
+                         bool quiet) {
   ProgressiveRender render(tracer, camera);
   render.addSamples(spp, quiet);
   if (stats) *stats = render.stats();

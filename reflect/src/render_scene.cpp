@@ -23,7 +23,9 @@ vec3 texel(const cv::Mat& texture, const vec2& uv) {
 }  // namespace
 
 RenderScene::RenderScene(const Model& relic, const std::vector<Model>& emitters)
-    : relic_model_(relic), emitter_models_(emitters), all_(std::make_unique<RayScene>()),
+    : relic_model_(relic),
+      emitter_models_(emitters),
+      all_(std::make_unique<RayScene>()),
       relic_(std::make_unique<RayScene>()) {
   for (std::size_t i = 0; i < relic_model_.meshes.size(); ++i) {
     const auto& mesh = relic_model_.meshes[i];
@@ -58,13 +60,13 @@ const Material& RenderScene::materialOf(const Surface& s) const {
 }
 
 vec3 RenderScene::emission(const RayHit& hit) const {
-  if (!hit.hit() || hit.geometry >= surfaces_.size() || surfaces_[hit.geometry].relic)
-    return vec3(0.0f);
+  if (!hit.hit() || hit.geometry >= surfaces_.size() || surfaces_[hit.geometry].relic) return vec3(0.0f);
   const vec3 e = materialOf(surfaces_[hit.geometry]).emission;
   return isFinite(e) ? glm::max(e, vec3(0.0f)) : vec3(0.0f);
 }
 
 SurfaceMaterial RenderScene::relicMaterial(const RayHit& hit, const RayScene& scene) const {
+  if (override_) return *override_;
   std::size_t mesh = 0;
   if (&scene == relic_.get()) {
     mesh = relic_mesh_.at(hit.geometry);

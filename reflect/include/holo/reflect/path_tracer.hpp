@@ -25,11 +25,20 @@
 
 namespace holo::reflect {
 
+// Which estimators a path vertex combines. Only kMis is the ground truth; the single-strategy
+// modes exist to check it (all three converge to the same image, with different noise).
+enum class LightSampling {
+  kMis,              // environment NEE + BSDF sampling, balance heuristic
+  kBsdfOnly,         // BSDF sampling alone (environment reached only by escaping paths)
+  kEnvironmentOnly,  // environment NEE alone (escaping non-delta BSDF paths add nothing)
+};
+
 struct PathTracerOptions {
-  int max_bounces = 5;         // scattering events on the relic
+  int max_bounces = 5;  // scattering events on the relic
   std::uint64_t seed = 1;
   float firefly_clamp = 0.0f;  // max luminance of one path sample; 0 = off (unbiased)
   int tile_size = 16;          // pixels, for the oneTBB tiles
+  LightSampling sampling = LightSampling::kMis;
 };
 
 struct PathTracerStats {
@@ -45,10 +54,9 @@ struct PathTracerStats {
 };
 
 class PathTracer {
-public:
+ public:
   // The scene and environment must outlive the tracer.
-  PathTracer(const RenderScene& scene, const Environment& environment,
-             PathTracerOptions options = {});
+  PathTracer(const RenderScene& scene, const Environment& environment, PathTracerOptions options = {});
 
   // One path sample of the radiance arriving along `ray` after it has hit the relic; the
   // samples come from `stream`. Exposed for tests and for issue-5 style hybrid renderers.
@@ -58,7 +66,7 @@ public:
   const RenderScene& scene() const { return scene_; }
   const Environment& environment() const { return environment_; }
 
-private:
+ private:
   const RenderScene& scene_;
   const Environment& environment_;
   PathTracerOptions options_;
@@ -67,7 +75,7 @@ private:
 // Progressive accumulation of one camera view: each addSamples() call continues the same
 // per-pixel sample sequences, so N passes of k samples equal one pass of N*k.
 class ProgressiveRender {
-public:
+ public:
   ProgressiveRender(const PathTracer& tracer, const CameraModel& camera);
   // Adds `spp` samples to every pixel (oneTBB over tiles). Shows progress unless quiet.
   void addSamples(int spp, bool quiet = true);
@@ -77,7 +85,7 @@ public:
   // Relic coverage: 255 where the pixel centre's primary ray hits the relic.
   cv::Mat relicMask() const;
 
-private:
+ private:
   const PathTracer& tracer_;
   CameraModel camera_;
   std::vector<glm::dvec3> sum_;

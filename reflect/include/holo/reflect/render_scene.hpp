@@ -6,6 +6,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "holo/core/ray_scene.hpp"
@@ -14,7 +15,7 @@
 namespace holo::reflect {
 
 class RenderScene {
-public:
+ public:
   // `relic` may be empty (nothing to see); `emitters` may be empty (the relic under the sky).
   RenderScene(const Model& relic, const std::vector<Model>& emitters);
   RenderScene(const RenderScene&) = delete;  // surfaces point into the owned models
@@ -28,10 +29,14 @@ public:
   vec3 emission(const RayHit& hit) const;
   // The relic's material at a hit (textures sampled at the hit's uv), for either scene.
   SurfaceMaterial relicMaterial(const RayHit& hit, const RayScene& scene) const;
+  // Every relic surface gets this material instead of its glTF one (textures ignored): for
+  // analytic tests and material studies that glTF cannot state (a pure Lambert surface needs
+  // SurfaceMaterial::specular = 0, which core's Material does not carry).
+  void overrideRelicMaterial(const SurfaceMaterial& material) { override_ = material; }
   const Model& relic() const { return relic_model_; }
   Bounds3 relicBounds() const { return relic_model_.bounds(); }
 
-private:
+ private:
   struct Surface {
     bool relic = false;
     std::size_t mesh = 0;  // index into its model's meshes
@@ -44,6 +49,7 @@ private:
   std::vector<std::size_t> relic_mesh_;  // geometry id of relicOnly() -> relic mesh
   std::unique_ptr<RayScene> all_;
   std::unique_ptr<RayScene> relic_;
+  std::optional<SurfaceMaterial> override_;
 };
 
 }  // namespace holo::reflect
