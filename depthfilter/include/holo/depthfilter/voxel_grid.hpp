@@ -1,0 +1,122 @@
+// The foreground voxel grid: the foreground point cloud binned into cubic voxels over fixed world
+// bounds around the pyramid, rebuilt every frame, for the reflection tracer's voxel walk.
+// Units: metres (world = pyramid frame), linear radiance.
+//
+// Layout. Voxel (i, j, k) covers [origin + voxel_size * (i, j, k), origin + voxel_size * (i+1,
+// j+1, k+1)) (half-open). A coarse level groups brick_size^3 voxels into one brick and counts the
+// occupied voxels in each, so a walk can step over empty bricks; the occupied voxel bounds let a
+// walk clip rays to the part of the grid that holds anything at all.
+//
+// Cost. Clearing touches only the voxels and bricks the last build filled, so a frame costs
+// O(points), not O(voxels): a 128^3 grid (8 MiB of voxel indices) is allocated once.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "holo/core/math.hpp"
+#include "holo/depthfilter/foreground_cloud.hpp"
+
+namespace holo::depthfilter {
+
+struct VoxelGridSettings {
+  // World box the grid covers (metres). The default holds visitors standing up to ~1.6 m from the
+  // relic axis and up to 2.2 m tall.
+  Bounds3 bounds{vec3(-1.6f, 0.0f, -1.6f), vec3(1.6f, 2.2f, 1.6f)};
+  float voxel_size = 0.025f;  // edge length, metres
+  int brick_size = 8;         // voxels per brick edge for empty-space skipping, 1..64
+
+  // Throws InputError naming `source` (a config file or "VoxelGridSettings") and the field.
+  void validate(const std::string& source = "VoxelGridSettings") const;
+};
+
+// What a voxel keeps of the points that fell into it: the highest-weight point (its source
+// camera and pixel index that camera's blurred pyramids), and how many points landed there.
+struct VoxelSample {
+  vec3 radiance{0.0f};  // linear RGB of the kept point
+  float weight = 0.0f;  // mask weight of the kept point, (0, 1]
+  std::uint16_t camera = 0;
+  std::uint16_t x = 0;            // source pixel column
+  std::uint16_t y = 0;            // source pixel row
+  std::uint16_t point_count = 0;  // points binned here, saturating at 65535
+};
+
+class VoxelGrid {
+ public:
+  // Throws InputError on invalid settings (see VoxelGridSettings::validate).
+  explicit VoxelGrid(const VoxelGridSettings& settings = {});
+
+  // Empties the grid, then bins every point inside the bounds. Points outside the bounds or
+  // with non-finite positions are skipped and counted in droppedPoints().
+  void build(const ForegroundCloud& cloud);
+  // Empties the grid in O(occupied voxels).
+  void clear();
+
+  const VoxelGridSettings& settings() const { return settings_; }
+  glm::ivec3 dims() const { return dims_; }
+  glm::ivec3 brickDims() const { return brick_dims_; }
+  int brickSize() const { return settings_.brick_size; }
+  vec3 origin() const { return settings_.bounds.lo; }
+  float voxelSize() const { return settings_.voxel_size; }
+
+  bool contains(const glm::ivec3& v) const {
+    return v.x >= 0 && v.y >= 0 && v.z >= 0 && v.x < dims_.x && v.y < dims_.y && v.z < dims_.z;
+  }
+  // Linear index of an in-range voxel (x fastest).
+  std::int64_t linearIndex(const glm::ivec3& v) const {
+    return (std::int64_t(v.z) * dims_.y + v.y) * dims_.x + v.x;
+  }
+  // Sample index of an in-range voxel, or -1 when it is empty.
+  std::int32_t sampleIndex(const glm::ivec3& v) const { return cell_[std::size_t(linearIndex(v))]; }
+  bool occupied(const glm::ivec3& v) const { return contains(v) && occupiedBit(v); }
+  // Occupancy of an in-range voxel from the brick-major bit mask: the walk's inner loop reads
+  // this (one cache line per 8^3 brick) instead of the 4-byte-per-voxel index array.
+  bool occupiedBit(const glm::ivec3& v) const {
+    const std::uint64_t bit = bitIndex(v);
+    return (bits_[bit >> 6] >> (bit & 63)) & 1u;
+  }
+  const VoxelSample& sample(std::int32_t index) const { return samples_[std::size_t(index)]; }
+
+  // Occupied voxels in brick b (in-range brick coordinates).
+  std::uint32_t brickCount(const glm::ivec3& b) const {
+    return brick_count_[std::size_t((b.z * brick_dims_.y + b.y) * brick_dims_.x + b.x)];
+  }
+
+  // Voxel coordinates of a world point (floor((p - origin) / voxel_size)); may be out of range.
+  glm::ivec3 voxelOf(const vec3& p) const;
+  // World box of a voxel.
+  Bounds3 voxelBounds(const glm::ivec3& v) const;
+
+  std::size_t occupiedCount() const { return samples_.size(); }
+  std::size_t droppedPoints() const { return dropped_; }
+  bool empty() const { return samples_.empty(); }
+  // Occupied voxel range: [occupiedLo, occupiedHi) in voxel coordinates; lo >= hi when empty.
+  glm::ivec3 occupiedLo() const { return occ_lo_; }
+  glm::ivec3 occupiedHi() const { return occ_hi_; }
+
+ private:
+  std::size_t brickLinear(const glm::ivec3& v) const;
+  std::uint64_t bitIndex(const glm::ivec3& v) const {
+    const int b = settings_.brick_size;
+    const glm::ivec3 brick = v / b, local = v - brick * b;
+    const std::uint64_t brick_linear =
+        std::uint64_t((brick.z * brick_dims_.y + brick.y) * brick_dims_.x + brick.x);
+    return brick_linear * brick_volume_ + std::uint64_t((local.z * b + local.y) * b + local.x);
+  }
+
+  VoxelGridSettings settings_;
+  glm::ivec3 dims_{0};
+  glm::ivec3 brick_dims_{0};
+  std::vector<std::int32_t> cell_;          // per voxel: index into samples_, or -1
+  std::vector<std::uint32_t> brick_count_;  // per brick: occupied voxels
+  std::vector<std::uint64_t> bits_;         // occupancy bits, brick-major (see bitIndex)
+  std::uint64_t brick_volume_ = 0;          // brick_size^3
+  std::vector<VoxelSample> samples_;        // occupied voxels, in first-touch order
+  std::vector<std::int64_t> sample_voxel_;  // linear voxel index of each sample (for clear)
+  glm::ivec3 occ_lo_{0};
+  glm::ivec3 occ_hi_{0};
+  std::size_t dropped_ = 0;
+};
+
+}  // namespace holo::depthfilter

@@ -1,0 +1,130 @@
+#include "holo/depthfilter/voxel_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "holo/core/error.hpp"
+
+namespace holo::depthfilter {
+namespace {
+
+// Voxel counts above this (2^27 voxels = 512 MiB of indices) are certainly a unit mistake.
+constexpr double kMaxVoxels = double(1 << 27);
+
+std::string str(const vec3& v) {
+  std::ostringstream s;
+  s << "(" << v.x << ", " << v.y << ", " << v.z << ")";
+  return s.str();
+}
+
+}  // namespace
+
+void VoxelGridSettings::validate(const std::string& source) const {
+  if (!isFinite(bounds.lo) || !isFinite(bounds.hi) || !(bounds.hi.x > bounds.lo.x) ||
+      !(bounds.hi.y > bounds.lo.y) || !(bounds.hi.z > bounds.lo.z))
+    throw InputError(source, "bounds", "finite lo < hi on every axis (metres)",
+                     "lo " + str(bounds.lo) + ", hi " + str(bounds.hi));
+  if (!std::isfinite(voxel_size) || !(voxel_size > 0.0f))
+    throw InputError(source, "voxel_size", "a finite size > 0 (metres)", std::to_string(voxel_size));
+  const vec3 cells = glm::ceil(bounds.extent() / voxel_size);
+  const double total = double(cells.x) * double(cells.y) * double(cells.z);
+  if (!(total <= kMaxVoxels))
+    throw InputError(source, "voxel_size",
+                     "at most 2^27 voxels over the bounds (a larger voxel or smaller bounds)",
+                     std::to_string(voxel_size) + " m gives " + str(cells) + " voxels");
+  if (brick_size < 1 || brick_size > 64)
+    throw InputError(source, "brick_size", "an integer in 1..64", std::to_string(brick_size));
+}
+
+VoxelGrid::VoxelGrid(const VoxelGridSettings& settings) : settings_(settings) {
+  settings_.validate();
+  dims_ = glm::max(glm::ivec3(glm::ceil(settings_.bounds.extent() / settings_.voxel_size)), glm::ivec3(1));
+  const int b = settings_.brick_size;
+  brick_dims_ = (dims_ + glm::ivec3(b - 1)) / b;
+  cell_.assign(std::size_t(dims_.x) * std::size_t(dims_.y) * std::size_t(dims_.z), -1);
+  brick_count_.assign(std::size_t(brick_dims_.x) * brick_dims_.y * brick_dims_.z, 0u);
+  brick_volume_ = std::uint64_t(b) * b * b;
+  bits_.assign(std::size_t((brick_count_.size() * brick_volume_ + 63) / 64), 0u);
+  occ_lo_ = dims_;
+  occ_hi_ = glm::ivec3(0);
+}
+
+glm::ivec3 VoxelGrid::voxelOf(const vec3& p) const {
+  const vec3 g = glm::floor((p - settings_.bounds.lo) / settings_.voxel_size);
+  // Clamp before converting so far-away points cannot overflow int.
+  return glm::ivec3(glm::clamp(g, vec3(-1.0f), vec3(dims_) + 1.0f));
+}
+
+Bounds3 VoxelGrid::voxelBounds(const glm::ivec3& v) const {
+  Bounds3 b;
+  b.lo = settings_.bounds.lo + vec3(v) * settings_.voxel_size;
+  b.hi = settings_.bounds.lo + vec3(v + 1) * settings_.voxel_size;
+  return b;
+}
+
+std::size_t VoxelGrid::brickLinear(const glm::ivec3& v) const {
+  const glm::ivec3 b = v / settings_.brick_size;
+  return std::size_t((b.z * brick_dims_.y + b.y) * brick_dims_.x + b.x);
+}
+
+void VoxelGrid::clear() {
+  for (std::size_t i = 0; i < samples_.size(); ++i) {
+    const std::int64_t lin = sample_voxel_[i];
+    cell_[std::size_t(lin)] = -1;
+    const int x = int(lin % dims_.x);
+    const int y = int((lin / dims_.x) % dims_.y);
+    const int z = int(lin / (std::int64_t(dims_.x) * dims_.y));
+    brick_count_[brickLinear({x, y, z})] = 0;
+    const std::uint64_t bit = bitIndex({x, y, z});
+    bits_[bit >> 6] = 0;  // the whole word: every bit in it belongs to a cleared voxel or is 0
+  }
+  samples_.clear();
+  sample_voxel_.clear();
+  occ_lo_ = dims_;
+  occ_hi_ = glm::ivec3(0);
+  dropped_ = 0;
+}
+
+void VoxelGrid::build(const ForegroundCloud& cloud) {
+  clear();
+  for (const ForegroundPoint& p : cloud.points) {
+    if (!isFinite(p.position)) {
+      ++dropped_;
+      continue;
+    }
+    const glm::ivec3 v = voxelOf(p.position);
+    if (!contains(v)) {
+      ++dropped_;
+      continue;
+    }
+    const std::int64_t lin = linearIndex(v);
+    std::int32_t& slot = cell_[std::size_t(lin)];
+    const float weight = std::isfinite(p.weight) ? std::clamp(p.weight, 0.0f, 1.0f) : 0.0f;
+    if (slot < 0) {
+      slot = std::int32_t(samples_.size());
+      samples_.push_back({p.radiance, weight, p.camera, p.x, p.y, 1});
+      sample_voxel_.push_back(lin);
+      ++brick_count_[brickLinear(v)];
+      const std::uint64_t bit = bitIndex(v);
+      bits_[bit >> 6] |= std::uint64_t(1) << (bit & 63);
+      occ_lo_ = glm::min(occ_lo_, v);
+      occ_hi_ = glm::max(occ_hi_, v + 1);
+      continue;
+    }
+    VoxelSample& s = samples_[std::size_t(slot)];
+    if (s.point_count < std::numeric_limits<std::uint16_t>::max()) ++s.point_count;
+    // Keep the most confident point: its pixel lies well inside the camera's mask, so the
+    // blurred pyramids around it hold foreground, not the expanded border.
+    if (weight > s.weight) {
+      s.radiance = p.radiance;
+      s.weight = weight;
+      s.camera = p.camera;
+      s.x = p.x;
+      s.y = p.y;
+    }
+  }
+}
+
+}  // namespace holo::depthfilter

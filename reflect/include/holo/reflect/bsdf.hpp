@@ -1,0 +1,85 @@
+// Surface scattering of the relic: glTF 2.0 metallic-roughness as the glTF specification's
+// reference BRDF defines it (appendix B): GGX microfacets with Smith height-correlated masking,
+// Schlick Fresnel, Lambert diffuse, mixed by metallic; KHR_materials_specular's specular factor
+// scales the dielectric Fresnel (1 = glTF default F0 0.04, 0 = a pure Lambert surface).
+//
+// Conventions: every direction is a unit world vector pointing AWAY from the surface (wo to the
+// viewer, wi to the light); `normal` is the unit shading normal on the viewer's side.
+// eval() returns f(wo, wi) * cos(theta_i) (so a sample's weight is eval / pdf); pdfs are per
+// unit solid angle. Directions below the shading hemisphere scatter nothing (finite zero).
+// Roughness below kDeltaRoughness is an exact mirror: a delta lobe that eval() and pdf() never
+// see and sample() returns with `delta` set, so no tiny-lobe blows up.
+#pragma once
+
+#include <optional>
+
+#include "holo/core/math.hpp"
+
+namespace holo::reflect {
+
+inline constexpr float kDeltaRoughness = 0.01f;  // perceptual roughness; alpha = roughness^2
+inline constexpr float kDielectricF0 = 0.04f;    // glTF default (IOR 1.5)
+
+struct SurfaceMaterial {
+  vec3 base_color{0.8f};  // linear RGB albedo (dielectric) or F0 (metal), [0,1]
+  float metallic = 0.0f;  // [0,1]
+  float roughness = 1.0f; // [0,1] perceptual; GGX alpha = roughness^2
+  float specular = 1.0f;  // [0,1] dielectric Fresnel scale (KHR_materials_specular)
+};
+
+// GGX building blocks in a local frame where the normal is +Z (exposed for the prefilter, the
+// DFG table and tests). alpha > 0.
+namespace ggx {
+float D(float cos_theta_h, float alpha);                 // normal distribution, 1/sr
+float lambda(float cos_theta, float alpha);              // Smith Lambda
+float G1(float cos_theta, float alpha);                  // Smith masking
+float G2(float cos_o, float cos_i, float alpha);         // height-correlated masking-shadowing
+// Heitz 2018 visible-normal sample for view `wo_local` (z > 0); u in [0,1)^2.
+vec3 sampleVisibleNormal(const vec3& wo_local, float alpha, const vec2& u);
+// Normal-distribution sample (pdf of h = D(h) cos_theta_h); used by the prefilter.
+vec3 sampleNormal(float alpha, const vec2& u);
+}  // namespace ggx
+
+vec3 schlickFresnel(const vec3& f0, float cos_theta);
+float roughnessToAlpha(float roughness);
+
+// Orthonormal frame around a unit normal (Duff et al. 2017, no branch on a seam).
+struct Frame {
+  vec3 t, b, n;
+  explicit Frame(const vec3& normal);
+  vec3 toLocal(const vec3& v) const { return {glm::dot(v, t), glm::dot(v, b), glm::dot(v, n)}; }
+  vec3 toWorld(const vec3& v) const { return v.x * t + v.y * b + v.z * n; }
+};
+
+struct BsdfSample {
+  vec3 wi{0.0f};      // world, unit
+  vec3 weight{0.0f};  // f * cos / pdf (for delta: the reflectance / lobe probability)
+  float pdf = 0.0f;   // solid-angle pdf of the whole mixture (0 for a delta sample)
+  bool delta = false;
+};
+
+class Bsdf {
+public:
+  Bsdf(const SurfaceMaterial& material, const vec3& normal);
+
+  vec3 eval(const vec3& wo, const vec3& wi) const;  // f * cos(theta_i), non-delta lobes
+  float pdf(const vec3& wo, const vec3& wi) const;  // pdf of sample() over non-delta lobes
+  // u in [0,1)^3: u.x picks the lobe, u.yz the direction. nullopt when nothing scatters.
+  std::optional<BsdfSample> sample(const vec3& wo, const vec3& u) const;
+
+  bool mirror() const { return delta_; }
+  bool hasDiffuse() const;
+  const SurfaceMaterial& material() const { return m_; }
+  const vec3& normal() const { return frame_.n; }
+
+private:
+  float specularProbability(float cos_o) const;
+  vec3 evalLocal(const vec3& wo, const vec3& wi) const;
+  float pdfLocal(const vec3& wo, const vec3& wi, float p_spec) const;
+  SurfaceMaterial m_;
+  Frame frame_;
+  float alpha_;
+  bool delta_;
+};
+
+}  // namespace holo::reflect

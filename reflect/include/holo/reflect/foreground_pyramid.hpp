@@ -1,0 +1,72 @@
+// Per-camera blurred foreground pyramids (paper Section 3.3): rho_gamma, the foreground colour,
+// and rho_g, the foreground mask, with `levels` (l_max) levels built by the dual Kawase filter
+// (Kawase 2003; Bjorge 2015's downsampling form): level l+1 is level l filtered with the Kawase
+// 5-tap kernel (the 2x2 block centre, weight 4/8, plus four diagonal taps one pixel out, 1/8 each,
+// every tap a bilinear read) and halved in resolution.
+//
+// Colour is stored premultiplied by the mask, so background pixels never bleed into the
+// foreground's blur; sample() divides it back out: radiance = blur(colour * mask) / blur(mask),
+// weight = blur(mask). The composition then reads psi_d * w = blur(colour * mask).
+//
+// Blur scale (derivation in docs/tracer.md): one Kawase step has per-axis variance 3/4 of its input
+// pixel, so level L has variance sigma^2(L) = sum_{l<L} (3/4) 4^l = (4^L - 1) / 4 in level-0
+// pixels; reading level L bilinearly adds a tent of width 2^L (variance 4^L / 6), so a read
+// delivers sigma^2(L) = (5/12) 4^L - 1/4 and the level for a wanted sigma is
+// L = log2((sigma^2 + 1/4) 12/5) / 2 (clamped at 0). tests/reflect/test_foreground_pyramid.cpp
+// measures it on an impulse.
+// Units: pixels of the camera image (level 0), linear radiance.
+#pragma once
+
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "holo/core/math.hpp"
+
+namespace holo::reflect {
+
+inline constexpr int kMaxPyramidLevels = 12;
+
+struct ForegroundSample {
+  vec3 radiance{0.0f};  // linear RGB of the foreground around the pixel (0 where weight is 0)
+  float weight = 0.0f;  // blurred mask, [0, 1]
+};
+
+class ForegroundPyramid {
+ public:
+  ForegroundPyramid() = default;
+  // colour: CV_32FC3 linear BGR; mask: CV_32FC1 in [0, 1] or CV_8UC1 (0..255), same size.
+  // Non-finite colours count as 0 and non-finite mask values as 0 (repairs, not errors).
+  // Throws InputError when the types or sizes disagree or levels is outside 1..kMaxPyramidLevels.
+  ForegroundPyramid(const cv::Mat& colour_bgr, const cv::Mat& mask, int levels);
+
+  int levels() const { return int(colour_.size()); }
+  bool empty() const { return colour_.empty(); }
+  // Bilinear read at a level-0 pixel position (integer = pixel centre) with a continuous level
+  // clamped to [0, levels-1] (linear between the two nearest levels). Outside the image: clamped.
+  ForegroundSample sample(const vec2& pixel, float level) const;
+  const cv::Mat& premultipliedColour(int level) const { return colour_.at(std::size_t(level)); }
+  const cv::Mat& mask(int level) const { return mask_.at(std::size_t(level)); }
+
+ private:
+  std::vector<cv::Mat> colour_;  // CV_32FC3, colour * mask
+  std::vector<cv::Mat> mask_;    // CV_32FC1
+};
+
+// The Kawase pyramid's blur: per-axis standard deviation (level-0 pixels) of a continuous level,
+// and its inverse (the level giving a wanted sigma, >= 0).
+float pyramidSigmaPx(float level);
+float pyramidLevelForSigma(float sigma_px);
+
+// Per-axis angular standard deviation (radians) of a GGX reflection lobe around the mirror
+// direction, from perceptual roughness (alpha = roughness^2): sqrt(2) * alpha, from the Beckmann
+// slope variance alpha^2 / 2 per axis and the doubling of angles by reflection; capped at 1 rad.
+float reflectedLobeSigma(float roughness);
+
+// The pyramid level for a reflected ray: its lobe, spread over the travel distance from the hit
+// point to the voxel (metres), seen by a camera at distance camera_distance (metres) with focal
+// length focal_px, covers sigma = travel * tan(lobe) * focal_px / camera_distance pixels.
+// Non-finite or non-positive inputs give level 0 (a mirror read); the result is in [0, levels-1].
+float foregroundLevel(float roughness, float travel_m, float camera_distance_m, float focal_px, int levels);
+
+}  // namespace holo::reflect

@@ -1,0 +1,92 @@
+// The efficient reflection tracer's frame renderer (paper steps 3-5): per frame it bins the
+// foreground cloud into the voxel grid and builds each camera's Kawase pyramids, then per face
+// view traces hit points on the relic, shades the static reflection psi_s from the prefiltered
+// IBL, walks each reflected ray through the voxel grid for the foreground radiance psi_d and
+// weight w (the camera that saw the voxel, read at the pyramid level of the hit's roughness and
+// the ray's travel distance), composes psi_f = psi_d w + psi_s (1 - w) in HDR (specular part;
+// the diffuse irradiance is added to both), and tone-maps to sRGB. Which passes run comes from
+// the effect plan (effect_plan.hpp); every pass is timed.
+// Units: metres, linear radiance; images CV_32FC3 linear BGR (HDR) and CV_8UC3 sRGB BGR.
+#pragma once
+
+#include <vector>
+
+#include "holo/core/camera_model.hpp"
+#include "holo/depthfilter/foreground_cloud.hpp"
+#include "holo/depthfilter/voxel_grid.hpp"
+#include "holo/reflect/effect_plan.hpp"
+#include "holo/reflect/foreground_pyramid.hpp"
+#include "holo/reflect/prefiltered_ibl.hpp"
+#include "holo/reflect/render_scene.hpp"
+#include "holo/reflect/voxel_walk.hpp"
+
+namespace holo::reflect {
+
+struct TracerSettings {
+  bool foreground_enabled = true;
+  int pyramid_levels = 7;                // l_max, 1..kMaxPyramidLevels
+  int aa_samples = 4;                    // sub-samples per pixel: 1 or 4
+  float max_reflection_distance = 3.0f;  // metres a reflected ray may travel through the grid
+  float ray_offset = 1e-3f;              // metres along the normal, against self-intersection
+  float exposure = 0.0f;                 // <= 0: automatic (tone_map.hpp's autoExposure)
+  depthfilter::VoxelGridSettings grid;
+  // Throws InputError naming the field.
+  void validate() const;
+};
+
+// One foreground camera of this frame: its model and the filtered colour and mask it saw.
+struct ForegroundCameraImage {
+  CameraModel camera;
+  cv::Mat colour_bgr;  // CV_32FC3 linear
+  cv::Mat mask;        // CV_32FC1 [0, 1] or CV_8UC1
+};
+
+struct PassTiming {
+  Pass pass;
+  double ms = 0.0;
+};
+
+struct ViewImages {
+  cv::Mat hdr;       // psi_f, CV_32FC3 linear BGR; 0 where nothing is seen
+  cv::Mat weight;    // mean foreground weight w per pixel, CV_32FC1 [0, 1]
+  cv::Mat coverage;  // relic coverage per pixel, CV_32FC1 [0, 1]
+  cv::Mat display;   // CV_8UC3 sRGB BGR
+  float exposure = 1.0f;
+  std::vector<PassTiming> timings;  // this view's passes
+  std::uint64_t walked_rays = 0, foreground_hits = 0;
+};
+
+struct FrameResult {
+  EffectPlan plan;
+  std::vector<PassTiming> frame_timings;  // per-frame passes (voxel grid, pyramids)
+  std::vector<ViewImages> views;
+};
+
+class FrameRenderer {
+ public:
+  // The scene and IBL must outlive the renderer. Throws InputError on invalid settings.
+  FrameRenderer(const RenderScene& scene, const PrefilteredIbl& ibl, TracerSettings settings = {});
+
+  EffectPlan plan(const depthfilter::ForegroundCloud& cloud,
+                  const std::vector<ForegroundCameraImage>& cameras) const;
+  // Renders every view of one frame. A point whose camera index has no image is ignored.
+  FrameResult render(const depthfilter::ForegroundCloud& cloud,
+                     const std::vector<ForegroundCameraImage>& cameras,
+                     const std::vector<CameraModel>& views);
+
+  const depthfilter::VoxelGrid& grid() const { return grid_; }
+  const TracerSettings& settings() const { return settings_; }
+
+ private:
+  ViewImages renderView(const EffectPlan& plan, const std::vector<ForegroundCameraImage>& cameras,
+                        const CameraModel& view) const;
+
+  const RenderScene& scene_;
+  const PrefilteredIbl& ibl_;
+  TracerSettings settings_;
+  bool relic_glossy_ = false;
+  depthfilter::VoxelGrid grid_;
+  std::vector<ForegroundPyramid> pyramids_;
+};
+
+}  // namespace holo::reflect

@@ -1,0 +1,15 @@
+// The IBL renderer: the relic shaded from prefiltered maps alone (no visibility, no
+// interreflection), one primary ray per pixel centre. With the foreground reprojected into the
+// map (foreground_environment.hpp) this is the paper's IBL baseline. Same view and GT conventions
+// as the path tracer: pixels that miss the relic are 0. Output: linear HDR CV_32FC3 BGR.
+#pragma once
+
+#include "holo/core/camera_model.hpp"
+#include "holo/reflect/prefiltered_ibl.hpp"
+#include "holo/reflect/render_scene.hpp"
+
+namespace holo::reflect {
+
+cv::Mat renderIbl(const RenderScene& scene, const PrefilteredIbl& ibl, const CameraModel& camera);
+
+}  // namespace holo::reflect

@@ -1,0 +1,100 @@
+// Monte Carlo path tracer: the ground truth of the evaluation (DESIGN.md, paper Sec. 4).
+//
+// GT definition: a camera ray sees only the relic (pixels that miss it are 0: the pyramid's
+// monitors show the relic alone); from the relic, paths bounce on the relic's glTF BSDF up to
+// max_bounces times, reach emitters (hall, visitors: diffuse emitters, their radiance is
+// Material::emission, they do not scatter) or escape to the environment. At every non-mirror
+// relic vertex the environment is sampled (next-event estimation through its importance
+// distribution, shadowed by all geometry) and combined with BSDF sampling by the balance
+// heuristic (delta-path-tracing paper Sec. 3.2); emitters are reached by BSDF sampling only.
+// No Russian roulette: the estimator is exact for the bounce budget.
+//
+// Samples come from a seeded per-pixel Owen-scrambled Sobol stream (sampler.hpp), so a render is
+// bit-identical for a seed whatever the thread count, and passes accumulate progressively.
+// A non-finite path sample is dropped and counted; the optional firefly clamp limits each path
+// sample's luminance and reports the energy it removed. Output: linear HDR CV_32FC3 BGR.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "holo/core/camera_model.hpp"
+#include "holo/reflect/environment.hpp"
+#include "holo/reflect/render_scene.hpp"
+#include "holo/reflect/sampler.hpp"
+
+namespace holo::reflect {
+
+// Which estimators a path vertex combines. Only kMis is the ground truth; the single-strategy
+// modes exist to check it (all three converge to the same image, with different noise).
+enum class LightSampling {
+  kMis,              // environment NEE + BSDF sampling, balance heuristic
+  kBsdfOnly,         // BSDF sampling alone (environment reached only by escaping paths)
+  kEnvironmentOnly,  // environment NEE alone (escaping non-delta BSDF paths add nothing)
+};
+
+struct PathTracerOptions {
+  int max_bounces = 5;  // scattering events on the relic
+  std::uint64_t seed = 1;
+  float firefly_clamp = 0.0f;  // max luminance of one path sample; 0 = off (unbiased)
+  int tile_size = 16;          // pixels, for the oneTBB tiles
+  LightSampling sampling = LightSampling::kMis;
+};
+
+struct PathTracerStats {
+  std::int64_t samples = 0;            // path samples taken so far
+  std::int64_t nonfinite_dropped = 0;  // path samples that were NaN/Inf (counted, contribute 0)
+  std::int64_t clamped = 0;            // path samples the firefly clamp touched
+  double clamped_energy = 0;           // luminance removed by the clamp, summed over samples
+  double total_energy = 0;             // luminance kept, summed over samples
+  double clampedFraction() const {
+    const double all = clamped_energy + total_energy;
+    return all > 0 ? clamped_energy / all : 0.0;
+  }
+};
+
+class PathTracer {
+ public:
+  // The scene and environment must outlive the tracer.
+  PathTracer(const RenderScene& scene, const Environment& environment, PathTracerOptions options = {});
+
+  // One path sample of the radiance arriving along `ray` after it has hit the relic; the
+  // samples come from `stream`. Exposed for tests and for issue-5 style hybrid renderers.
+  vec3 traceFromRelic(const Ray& ray, const RayHit& relic_hit, SampleStream& stream) const;
+
+  const PathTracerOptions& options() const { return options_; }
+  const RenderScene& scene() const { return scene_; }
+  const Environment& environment() const { return environment_; }
+
+ private:
+  const RenderScene& scene_;
+  const Environment& environment_;
+  PathTracerOptions options_;
+};
+
+// Progressive accumulation of one camera view: each addSamples() call continues the same
+// per-pixel sample sequences, so N passes of k samples equal one pass of N*k.
+class ProgressiveRender {
+ public:
+  ProgressiveRender(const PathTracer& tracer, const CameraModel& camera);
+  // Adds `spp` samples to every pixel (oneTBB over tiles). Shows progress unless quiet.
+  void addSamples(int spp, bool quiet = true);
+  cv::Mat image() const;  // mean radiance, CV_32FC3 BGR, always finite
+  int samplesPerPixel() const { return spp_; }
+  const PathTracerStats& stats() const { return stats_; }
+  // Relic coverage: 255 where the pixel centre's primary ray hits the relic.
+  cv::Mat relicMask() const;
+
+ private:
+  const PathTracer& tracer_;
+  CameraModel camera_;
+  std::vector<glm::dvec3> sum_;
+  int spp_ = 0;
+  PathTracerStats stats_;
+};
+
+// Convenience: a full render at `spp` samples per pixel.
+cv::Mat renderPathTraced(const PathTracer& tracer, const CameraModel& camera, int spp,
+                         PathTracerStats* stats = nullptr, bool quiet = true);
+
+}  // namespace holo::reflect

@@ -1,0 +1,55 @@
+// What the renderers trace: the relic (the only surface with a BRDF) and the emitters (the hall,
+// visitors and what they carry: diffuse emitters whose radiance is their Material::emission, the
+// light model of sim/museum.hpp), in one Embree scene, plus a relic-only scene for primary rays
+// (the pyramid's monitors show the relic alone; everything real is seen only in reflections).
+// Models are copied in. Positions in metres, world frame.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "holo/core/ray_scene.hpp"
+#include "holo/reflect/bsdf.hpp"
+
+namespace holo::reflect {
+
+class RenderScene {
+ public:
+  // `relic` may be empty (nothing to see); `emitters` may be empty (the relic under the sky).
+  RenderScene(const Model& relic, const std::vector<Model>& emitters);
+  RenderScene(const RenderScene&) = delete;  // surfaces point into the owned models
+  RenderScene& operator=(const RenderScene&) = delete;
+
+  const RayScene& all() const { return *all_; }          // relic + emitters
+  const RayScene& relicOnly() const { return *relic_; }  // primary visibility
+
+  bool isRelic(std::uint32_t geometry) const;  // geometry id of all()
+  // Emitted radiance (RGB) of an emitter hit in all(); 0 for the relic.
+  vec3 emission(const RayHit& hit) const;
+  // The relic's material at a hit (textures sampled at the hit's uv), for either scene.
+  SurfaceMaterial relicMaterial(const RayHit& hit, const RayScene& scene) const;
+  // Every relic surface gets this material instead of its glTF one (textures ignored): for
+  // analytic tests and material studies that glTF cannot state (a pure Lambert surface needs
+  // SurfaceMaterial::specular = 0, which core's Material does not carry).
+  void overrideRelicMaterial(const SurfaceMaterial& material) { override_ = material; }
+  const Model& relic() const { return relic_model_; }
+  Bounds3 relicBounds() const { return relic_model_.bounds(); }
+
+ private:
+  struct Surface {
+    bool relic = false;
+    std::size_t mesh = 0;  // index into its model's meshes
+    const Model* model = nullptr;
+  };
+  const Material& materialOf(const Surface& s) const;
+  Model relic_model_;
+  std::vector<Model> emitter_models_;
+  std::vector<Surface> surfaces_;        // by geometry id of all()
+  std::vector<std::size_t> relic_mesh_;  // geometry id of relicOnly() -> relic mesh
+  std::unique_ptr<RayScene> all_;
+  std::unique_ptr<RayScene> relic_;
+  std::optional<SurfaceMaterial> override_;
+};
+
+}  // namespace holo::reflect

@@ -1,0 +1,83 @@
+#include "holo/reflect/effect_plan.hpp"
+
+#include <algorithm>
+
+namespace holo::reflect {
+namespace {
+
+// Distance between two boxes (0 when they overlap).
+float boxDistance(const Bounds3& a, const Bounds3& b) {
+  const vec3 gap = glm::max(glm::max(a.lo - b.hi, b.lo - a.hi), vec3(0.0f));
+  return glm::length(gap);
+}
+
+}  // namespace
+
+const char* passName(Pass pass) {
+  switch (pass) {
+    case Pass::VoxelGrid:
+      return "VoxelGrid";
+    case Pass::Pyramids:
+      return "Pyramids";
+    case Pass::HitPoints:
+      return "HitPoints";
+    case Pass::StaticReflections:
+      return "StaticReflections";
+    case Pass::ForegroundWalk:
+      return "ForegroundWalk";
+    case Pass::Composition:
+      return "Composition";
+    case Pass::ToneMap:
+      return "ToneMap";
+  }
+  return "?";
+}
+
+bool EffectPlan::has(Pass pass) const {
+  return std::find(passes.begin(), passes.end(), pass) != passes.end();
+}
+
+std::string EffectPlan::describe() const {
+  std::string s;
+  for (Pass p : passes) {
+    if (!s.empty()) s.push_back(',');
+    s.append(passName(p));
+  }
+  s.append(" (");
+  s.append(foreground_reason);
+  s.push_back(')');
+  return s;
+}
+
+EffectPlan planEffects(const EffectInputs& in) {
+  EffectPlan plan;
+  if (in.relic_empty) {
+    plan.foreground_reason = "no relic";
+    plan.passes = {Pass::ToneMap};
+    return plan;
+  }
+  if (!in.foreground_enabled)
+    plan.foreground_reason = "foreground effect off";
+  else if (in.foreground_points == 0 || in.foreground_bounds.empty())
+    plan.foreground_reason = "no foreground points";
+  else if (in.cameras == 0)
+    plan.foreground_reason = "no foreground cameras";
+  else if (!in.relic_glossy)
+    plan.foreground_reason = "no glossy relic material";
+  else if (!(boxDistance(in.relic_bounds, in.foreground_bounds) <= in.max_reflection_distance))
+    plan.foreground_reason = "foreground beyond the reflection distance";
+  else
+    plan.foreground_reason = "foreground near a glossy relic";
+  const bool foreground = plan.foreground_reason == "foreground near a glossy relic";
+  if (foreground) plan.passes = {Pass::VoxelGrid, Pass::Pyramids};
+  plan.passes.push_back(Pass::HitPoints);
+  plan.passes.push_back(Pass::StaticReflections);
+  if (foreground) {
+    plan.passes.push_back(Pass::ForegroundWalk);
+    plan.passes.push_back(Pass::Composition);
+  }
+  plan.passes.push_back(Pass::ToneMap);
+  return plan;
+}
+
+}  // namespace holo::reflect

@@ -1,0 +1,150 @@
+#include "holo/reflect/voxel_walk.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace holo::reflect {
+namespace {
+
+using glm::ivec3;
+
+// The ray in grid units with its reciprocal direction, computed once per walk: the DDA and the
+// box clips multiply instead of divide. A zero component (+0.0 or -0.0) has inv = 0 and is
+// handled explicitly, never through 0 * inf.
+struct GridRay {
+  vec3 o, d, inv;
+  GridRay scaled(float s) const { return {o * s, d * s, inv / s}; }
+};
+
+GridRay makeGridRay(const vec3& o, const vec3& d) {
+  GridRay r{o, d, vec3(0.0f)};
+  for (int a = 0; a < 3; ++a)
+    if (d[a] != 0.0f) r.inv[a] = 1.0f / d[a];
+  return r;
+}
+
+// Clips the ray to the box [lo, hi) and to [t0, t1]. A zero direction component keeps the ray in
+// one slab: inside iff lo <= o < hi (half-open, as voxels are). Returns false when nothing is left.
+bool clipToBox(const GridRay& r, const vec3& lo, const vec3& hi, float& t0, float& t1) {
+  for (int a = 0; a < 3; ++a) {
+    if (r.d[a] == 0.0f) {
+      if (!(r.o[a] >= lo[a] && r.o[a] < hi[a])) return false;
+      continue;
+    }
+    float ta = (lo[a] - r.o[a]) * r.inv[a];
+    float tb = (hi[a] - r.o[a]) * r.inv[a];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  return t0 <= t1;
+}
+
+// Amanatides-Woo DDA over the integer box [lo, hi) for t in [t0, t1] (already clipped to the
+// box). visit(cell, t_enter) returns true to stop. Returns false when the step cap was reached.
+template <typename Visit>
+bool dda(const GridRay& r, const ivec3& lo, const ivec3& hi, float t0, float t1, std::uint64_t& steps,
+         Visit&& visit) {
+  const vec3 p = r.o + r.d * t0;
+  // Round-off may put the entry point a hair outside the box: clamp into it. Clamping in float
+  // first keeps far-away points from overflowing int.
+  ivec3 cell = ivec3(glm::clamp(glm::floor(p), vec3(lo), vec3(hi - 1)));
+  ivec3 step(0);
+  vec3 t_next(std::numeric_limits<float>::infinity());
+  vec3 t_delta(std::numeric_limits<float>::infinity());
+  for (int a = 0; a < 3; ++a) {
+    if (r.d[a] > 0.0f) {
+      step[a] = 1;
+      t_delta[a] = r.inv[a];
+      t_next[a] = (float(cell[a] + 1) - r.o[a]) * r.inv[a];
+    } else if (r.d[a] < 0.0f) {
+      step[a] = -1;
+      t_delta[a] = -r.inv[a];
+      t_next[a] = (float(cell[a]) - r.o[a]) * r.inv[a];
+    }
+    // d[a] == 0 (+0.0 or -0.0): the walk never leaves this slab; t_next stays infinite.
+  }
+  // A correct walk moves monotonically along every axis, so it visits at most the sum of the
+  // box's extents plus one cells; the slack covers clamped starts.
+  const ivec3 extent = hi - lo;
+  const int cap = extent.x + extent.y + extent.z + 4;
+  float t = t0;
+  for (int i = 0; i < cap; ++i) {
+    ++steps;
+    if (visit(cell, t)) return true;
+    const int a = (t_next.x < t_next.y) ? (t_next.x < t_next.z ? 0 : 2) : (t_next.y < t_next.z ? 1 : 2);
+    if (!(t_next[a] <= t1)) return true;  // leaves [t0, t1] first (or every axis is parallel)
+    t = std::max(t, t_next[a]);
+    cell[a] += step[a];
+    if (cell[a] < lo[a] || cell[a] >= hi[a]) return true;
+    t_next[a] += t_delta[a];
+  }
+  return false;
+}
+
+}  // namespace
+
+VoxelHit firstOccupiedVoxel(const depthfilter::VoxelGrid& grid, const Ray& ray, float t_max, WalkMode mode,
+                            WalkStats* stats) {
+  VoxelHit hit;
+  WalkStats local;
+  WalkStats& st = stats ? *stats : local;
+  if (grid.empty() || !isFinite(ray.origin) || !isFinite(ray.direction) || std::isnan(t_max) ||
+      !(t_max >= 0.0f) || ray.direction == vec3(0.0f))
+    return hit;
+
+  // Grid coordinates: voxel (i, j, k) is [i, i+1) x [j, j+1) x [k, k+1); t is unchanged.
+  const float inv_size = 1.0f / grid.voxelSize();
+  const GridRay r = makeGridRay((ray.origin - grid.origin()) * inv_size, ray.direction * inv_size);
+
+  auto visit_voxel = [&](const ivec3& v, float t_enter) {
+    if (!grid.occupiedBit(v)) return false;
+    hit.sample = grid.sampleIndex(v);
+    hit.voxel = v;
+    hit.t = t_enter;
+    return true;
+  };
+
+  if (mode == WalkMode::Dense) {
+    float t0 = 0.0f, t1 = t_max;
+    if (!clipToBox(r, vec3(0.0f), vec3(grid.dims()), t0, t1)) return hit;
+    if (!dda(r, ivec3(0), grid.dims(), t0, t1, st.voxel_steps, visit_voxel)) {
+      ++st.capped;
+      return VoxelHit{};
+    }
+    return hit;
+  }
+
+  // Skipping: clip to the occupied bounds, walk bricks, descend into non-empty ones.
+  const ivec3 occ_lo = grid.occupiedLo();
+  const ivec3 occ_hi = grid.occupiedHi();
+  float t0 = 0.0f, t1 = t_max;
+  if (!clipToBox(r, vec3(occ_lo), vec3(occ_hi), t0, t1)) return hit;
+
+  const int b = grid.brickSize();
+  const float inv_b = 1.0f / float(b);
+  const ivec3 brick_lo = occ_lo / b;
+  const ivec3 brick_hi = (occ_hi - 1) / b + 1;
+  bool capped = false;
+  auto visit_brick = [&](const ivec3& brick, float) {
+    if (grid.brickCount(brick) == 0) return false;
+    const ivec3 lo = glm::max(brick * b, occ_lo);
+    const ivec3 hi = glm::min(brick * b + b, occ_hi);
+    // Re-clip in voxel units: exact bounds for the fine walk, no drift from the brick level.
+    float s0 = t0, s1 = t1;
+    if (!clipToBox(r, vec3(lo), vec3(hi), s0, s1)) return false;
+    if (!dda(r, lo, hi, s0, s1, st.voxel_steps, visit_voxel)) {
+      capped = true;
+      return true;
+    }
+    return hit.hit();
+  };
+  const bool finished = dda(r.scaled(inv_b), brick_lo, brick_hi, t0, t1, st.brick_steps, visit_brick);
+  if (!finished || capped) {
+    ++st.capped;
+    return VoxelHit{};
+  }
+  return hit;
+}
+
+}  // namespace holo::reflect

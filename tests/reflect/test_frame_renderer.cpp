@@ -1,0 +1,248 @@
+// The frame renderer end to end on a mirror sphere with a red "visitor" in front of it, the effect
+// plan, and the composition's bounds.
+#include "holo/reflect/frame_renderer.hpp"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+
+#include "holo/core/error.hpp"
+#include "holo/core/image.hpp"
+#include "holo/reflect/composition.hpp"
+#include "holo/reflect/view.hpp"
+#include "reflect_test_scenes.hpp"
+
+namespace holo::reflect {
+namespace {
+
+using depthfilter::ForegroundCloud;
+using depthfilter::ForegroundPoint;
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr float kNan = std::numeric_limits<float>::quiet_NaN();
+
+TEST(Composition, MixesAndStaysFiniteAndBounded) {
+  const vec3 d(2.0f, 0.0f, 1.0f), s(0.0f, 1.0f, 1.0f);
+  const vec3 mid = composeReflection(d, s, 0.25f);
+  EXPECT_FLOAT_EQ(mid.r, 0.5f);
+  EXPECT_FLOAT_EQ(mid.g, 0.75f);
+  EXPECT_FLOAT_EQ(mid.b, 1.0f);
+  EXPECT_EQ(composeReflection(d, s, 0.0f), s);
+  EXPECT_EQ(composeReflection(d, s, 1.0f), d);
+  EXPECT_EQ(composeReflection(d, s, 7.0f), d);   // w clamped to 1
+  EXPECT_EQ(composeReflection(d, s, -3.0f), s);  // w clamped to 0
+  EXPECT_EQ(composeReflection(d, s, kNan), s);   // NaN weight: no foreground
+  EXPECT_EQ(composeReflection(d, s, kInf), s);   // so is an infinite one
+  for (float w : {kNan, kInf, -kInf, 0.5f}) {
+    const vec3 c = composeReflection(vec3(kNan, kInf, -1.0f), vec3(-kInf, kNan, 3.0f), w);
+    EXPECT_TRUE(isFinite(c));
+    EXPECT_GE(glm::min(c.x, glm::min(c.y, c.z)), 0.0f);
+    EXPECT_LE(c.b, 3.0f);
+  }
+}
+
+EffectInputs nearForeground() {
+  EffectInputs in;
+  in.foreground_points = 100;
+  in.cameras = 4;
+  in.relic_bounds = {vec3(-0.1f), vec3(0.1f)};
+  in.foreground_bounds = {vec3(0.5f), vec3(1.0f)};
+  return in;
+}
+
+TEST(EffectPlan, ForegroundPassesRunOnlyWhenTheyCanMatter) {
+  const EffectPlan full = planEffects(nearForeground());
+  for (Pass p : {Pass::VoxelGrid, Pass::Pyramids, Pass::HitPoints, Pass::StaticReflections,
+                 Pass::ForegroundWalk, Pass::Composition, Pass::ToneMap})
+    EXPECT_TRUE(full.has(p)) << passName(p);
+  auto expectStaticOnly = [](const EffectInputs& in, const std::string& reason) {
+    const EffectPlan plan = planEffects(in);
+    EXPECT_EQ(plan.foreground_reason, reason);
+    for (Pass p : {Pass::VoxelGrid, Pass::Pyramids, Pass::ForegroundWalk, Pass::Composition})
+      EXPECT_FALSE(plan.has(p)) << passName(p) << " runs although " << reason;
+    EXPECT_TRUE(plan.has(Pass::HitPoints));
+    EXPECT_TRUE(plan.has(Pass::StaticReflections));
+  };
+  EffectInputs in = nearForeground();
+  in.foreground_enabled = false;
+  expectStaticOnly(in, "foreground effect off");
+  in = nearForeground();
+  in.foreground_points = 0;
+  expectStaticOnly(in, "no foreground points");
+  in = nearForeground();
+  in.cameras = 0;
+  expectStaticOnly(in, "no foreground cameras");
+  in = nearForeground();
+  in.relic_glossy = false;
+  expectStaticOnly(in, "no glossy relic material");
+  in = nearForeground();
+  in.foreground_bounds = {vec3(5.0f), vec3(6.0f)};
+  expectStaticOnly(in, "foreground beyond the reflection distance");
+  in = nearForeground();
+  in.relic_empty = true;
+  const EffectPlan none = planEffects(in);
+  EXPECT_EQ(none.passes, std::vector<Pass>{Pass::ToneMap});
+  EXPECT_NE(full.describe().find("ForegroundWalk"), std::string::npos);
+}
+
+// A mirror-like sphere at the origin, a uniform grey sky, a red wall of foreground points between
+// the sphere and the viewer (visible only in the reflection), seen by one camera behind it.
+struct MirrorScene {
+  explicit MirrorScene(float roughness)
+      : scene(holo::test::sphereModel({vec3(0.9f), 1.0f, roughness, 1.0f}, 0.15f, vec3(0.0f, 0.3f, 0.0f), 24,
+                                      48),
+              {}),
+        ibl(Environment::uniform(vec3(0.5f)), PrefilterOptions{5, 16, 16}) {
+    camera.camera = lookAtCamera(vec3(0.0f, 0.3f, -0.2f), vec3(0.0f, 0.3f, 0.6f), 100.0f, 64, 64);
+    camera.colour_bgr = cv::Mat(64, 64, CV_32FC3, cv::Scalar(0, 0, 2));  // red, linear
+    camera.mask = cv::Mat(64, 64, CV_32FC1, cv::Scalar(1));
+    for (int i = 0; i <= 80; ++i)
+      for (int j = 0; j <= 80; ++j) {
+        ForegroundPoint p;
+        p.position = vec3(-0.4f + 0.01f * float(i), -0.1f + 0.01f * float(j), 0.6f);
+        p.radiance = vec3(2.0f, 0.0f, 0.0f);
+        const auto px = camera.camera.project(p.position);
+        p.x = std::uint16_t(std::clamp(px ? px->x : 0.0f, 0.0f, 63.0f));
+        p.y = std::uint16_t(std::clamp(px ? px->y : 0.0f, 0.0f, 63.0f));
+        wall.points.push_back(p);
+      }
+    view = lookAtCamera(vec3(0.0f, 0.3f, 1.2f), vec3(0.0f, 0.3f, 0.0f), 16.0f, 48, 48);
+  }
+  RenderScene scene;
+  PrefilteredIbl ibl;
+  ForegroundCameraImage camera;
+  ForegroundCloud wall;
+  CameraModel view;
+};
+
+TracerSettings smallGridSettings() {
+  TracerSettings s;
+  s.grid.bounds = {vec3(-1.0f, 0.0f, -1.0f), vec3(1.0f, 1.5f, 1.0f)};
+  s.grid.voxel_size = 0.02f;
+  return s;
+}
+
+void expectFiniteAndBounded(const ViewImages& v) {
+  for (int y = 0; y < v.hdr.rows; ++y)
+    for (int x = 0; x < v.hdr.cols; ++x) {
+      const vec3 c = rgbAt(v.hdr, x, y);
+      ASSERT_TRUE(isFinite(c)) << x << "," << y;
+      ASSERT_GE(glm::min(c.x, glm::min(c.y, c.z)), 0.0f);
+      ASSERT_GE(v.weight.at<float>(y, x), 0.0f);
+      ASSERT_LE(v.weight.at<float>(y, x), 1.0f);
+      ASSERT_GE(v.coverage.at<float>(y, x), 0.0f);
+      ASSERT_LE(v.coverage.at<float>(y, x), 1.0f);
+    }
+  EXPECT_EQ(v.display.type(), CV_8UC3);
+}
+
+TEST(FrameRenderer, MirrorShowsTheVisitorWhereTheReflectionMeetsIt) {
+  MirrorScene m(0.0f);
+  FrameRenderer renderer(m.scene, m.ibl, smallGridSettings());
+  const FrameResult with = renderer.render(m.wall, {m.camera}, {m.view});
+  ASSERT_TRUE(with.plan.has(Pass::ForegroundWalk)) << with.plan.describe();
+  const ViewImages& v = with.views.at(0);
+  expectFiniteAndBounded(v);
+  // The sphere's centre reflects straight back at the wall: red, scaled by the metal's F0 (0.9).
+  const vec3 centre = rgbAt(v.hdr, 24, 24);
+  EXPECT_NEAR(centre.r, 0.9f * 2.0f, 0.15f);
+  EXPECT_NEAR(centre.g, 0.0f, 0.05f);
+  EXPECT_NEAR(v.weight.at<float>(24, 24), 1.0f, 1e-3f);
+  EXPECT_EQ(v.coverage.at<float>(24, 24), 1.0f);
+  EXPECT_EQ(v.coverage.at<float>(0, 0), 0.0f);
+  EXPECT_EQ(rgbAt(v.hdr, 0, 0), vec3(0.0f));
+  EXPECT_GT(v.foreground_hits, 0u);
+  EXPECT_LT(v.foreground_hits, v.walked_rays);  // rays near the rim reflect past the wall
+  // Some pixel is a partly covered silhouette.
+  bool partial = false;
+  for (int x = 0; x < 48; ++x) {
+    const float c = v.coverage.at<float>(24, x);
+    partial |= c > 0.0f && c < 1.0f;
+  }
+  EXPECT_TRUE(partial);
+
+  // Without foreground the walk does not run and the centre shows the grey sky.
+  const FrameResult without = renderer.render(ForegroundCloud{}, {m.camera}, {m.view});
+  EXPECT_FALSE(without.plan.has(Pass::ForegroundWalk));
+  EXPECT_TRUE(without.frame_timings.empty());
+  for (const PassTiming& t : without.views.at(0).timings) {
+    EXPECT_NE(t.pass, Pass::ForegroundWalk);
+    EXPECT_NE(t.pass, Pass::Composition);
+  }
+  const vec3 sky = rgbAt(without.views.at(0).hdr, 24, 24);
+  EXPECT_NEAR(sky.g, 0.9f * 0.5f, 0.05f);
+  EXPECT_NEAR(sky.r, sky.g, 1e-3f);
+  EXPECT_EQ(without.views.at(0).walked_rays, 0u);
+}
+
+TEST(FrameRenderer, StaysFiniteInHardCases) {
+  for (float roughness : {0.0f, 0.5f, 1.0f}) {
+    MirrorScene m(roughness);
+    TracerSettings s = smallGridSettings();
+    s.aa_samples = 1;
+    FrameRenderer renderer(m.scene, m.ibl, s);
+    // A visitor touching the pyramid (points on the relic's surface), points outside the grid,
+    // NaN positions and a camera index with no image.
+    ForegroundCloud cloud = m.wall;
+    for (int i = 0; i < 200; ++i) {
+      ForegroundPoint p;
+      const float a = 0.05f * float(i);
+      p.position = vec3(0.0f, 0.3f, 0.0f) + 0.15f * vec3(std::cos(a), 0.0f, std::sin(a));
+      p.radiance = vec3(kInf, 1.0f, 0.0f);
+      cloud.points.push_back(p);
+    }
+    ForegroundPoint far_point;
+    far_point.position = vec3(50.0f);
+    cloud.points.push_back(far_point);
+    ForegroundPoint other_camera;
+    other_camera.position = vec3(0.0f, 0.3f, 0.3f);
+    other_camera.camera = 9;
+    cloud.points.push_back(other_camera);
+    ForegroundCameraImage bad = m.camera;
+    bad.colour_bgr = cv::Mat(64, 64, CV_32FC3, cv::Scalar(kNan, kInf, 1));
+    const FrameResult r = renderer.render(cloud, {bad}, {m.view});
+    // Roughness 1 is not glossy: the walk is skipped, the output still bounded.
+    ASSERT_EQ(r.plan.has(Pass::ForegroundWalk), roughness < kGlossyRoughnessLimit);
+    expectFiniteAndBounded(r.views.at(0));
+  }
+}
+
+TEST(FrameRenderer, FullGridStaysBounded) {
+  MirrorScene m(0.2f);
+  TracerSettings s;
+  s.grid.bounds = {vec3(-0.5f, 0.0f, -0.5f), vec3(0.5f, 1.0f, 0.5f)};
+  s.grid.voxel_size = 0.05f;  // 20^3, every voxel filled (the relic sits inside the foreground)
+  s.aa_samples = 1;
+  ForegroundCloud full;
+  for (int z = 0; z < 20; ++z)
+    for (int y = 0; y < 20; ++y)
+      for (int x = 0; x < 20; ++x) {
+        ForegroundPoint p;
+        p.position = vec3(-0.5f, 0.0f, -0.5f) + (vec3(x, y, z) + 0.5f) * 0.05f;
+        full.points.push_back(p);
+      }
+  FrameRenderer renderer(m.scene, m.ibl, s);
+  const FrameResult r = renderer.render(full, {m.camera}, {m.view});
+  EXPECT_EQ(renderer.grid().occupiedCount(), 8000u);
+  expectFiniteAndBounded(r.views.at(0));
+  EXPECT_EQ(r.views.at(0).foreground_hits, r.views.at(0).walked_rays);
+}
+
+TEST(FrameRenderer, RejectsBadSettings) {
+  MirrorScene m(0.0f);
+  TracerSettings s;
+  s.aa_samples = 3;
+  EXPECT_THROW(FrameRenderer(m.scene, m.ibl, s), InputError);
+  s = TracerSettings{};
+  s.pyramid_levels = 0;
+  EXPECT_THROW(FrameRenderer(m.scene, m.ibl, s), InputError);
+  s = TracerSettings{};
+  s.max_reflection_distance = kNan;
+  EXPECT_THROW(FrameRenderer(m.scene, m.ibl, s), InputError);
+  s = TracerSettings{};
+  s.grid.voxel_size = -1.0f;
+  EXPECT_THROW(FrameRenderer(m.scene, m.ibl, s), InputError);
+}
+
+}  // namespace
+}  // namespace holo::reflect

@@ -1,0 +1,143 @@
+#include "holo/depthfilter/voxel_grid.hpp"
+
+#include <gtest/gtest.h>
+
+#include <limits>
+
+#include "holo/core/error.hpp"
+#include "synthetic_foreground.hpp"
+
+namespace holo::depthfilter {
+namespace {
+
+ForegroundPoint point(const vec3& p, float weight, std::uint16_t camera, std::uint16_t x) {
+  ForegroundPoint fp;
+  fp.position = p;
+  fp.radiance = vec3(float(x));
+  fp.weight = weight;
+  fp.camera = camera;
+  fp.x = x;
+  fp.y = 7;
+  return fp;
+}
+
+VoxelGridSettings unitSettings() {
+  VoxelGridSettings s;
+  s.bounds = {vec3(-1.0f), vec3(1.0f)};
+  s.voxel_size = 0.25f;  // 8^3 voxels
+  s.brick_size = 4;      // 2^3 bricks
+  return s;
+}
+
+TEST(VoxelGrid, DimensionsCoverTheBounds) {
+  VoxelGridSettings s;
+  s.bounds = {vec3(-1.6f, 0.0f, -1.6f), vec3(1.6f, 3.2f, 1.6f)};
+  s.voxel_size = 0.025f;
+  s.brick_size = 8;
+  const VoxelGrid grid(s);
+  EXPECT_EQ(grid.dims(), glm::ivec3(128));
+  EXPECT_EQ(grid.brickDims(), glm::ivec3(16));
+  // A partial last brick: 10 voxels in bricks of 4 need 3 bricks.
+  s.bounds = {vec3(0.0f), vec3(1.0f)};
+  s.voxel_size = 0.1f;
+  s.brick_size = 4;
+  EXPECT_EQ(VoxelGrid(s).brickDims(), glm::ivec3(3));
+}
+
+TEST(VoxelGrid, KeepsTheHighestWeightPointPerVoxel) {
+  VoxelGrid grid(unitSettings());
+  ForegroundCloud cloud;
+  cloud.points = {point({0.1f, 0.1f, 0.1f}, 0.4f, 1, 10), point({0.2f, 0.05f, 0.01f}, 0.9f, 2, 20),
+                  point({0.15f, 0.15f, 0.15f}, 0.6f, 3, 30), point({-0.9f, 0.9f, 0.0f}, 1.0f, 0, 40)};
+  grid.build(cloud);
+  ASSERT_EQ(grid.occupiedCount(), 2u);
+  const glm::ivec3 v = grid.voxelOf({0.1f, 0.1f, 0.1f});
+  EXPECT_EQ(v, glm::ivec3(4));
+  const VoxelSample& s = grid.sample(grid.sampleIndex(v));
+  EXPECT_EQ(s.camera, 2);
+  EXPECT_EQ(s.x, 20);
+  EXPECT_FLOAT_EQ(s.weight, 0.9f);
+  EXPECT_EQ(s.point_count, 3);
+  EXPECT_EQ(grid.occupiedLo(), glm::ivec3(0, 4, 4));
+  EXPECT_EQ(grid.occupiedHi(), glm::ivec3(5, 8, 5));
+  EXPECT_EQ(grid.brickCount({1, 1, 1}), 1u);
+  EXPECT_EQ(grid.brickCount({0, 1, 1}), 1u);
+  EXPECT_EQ(grid.brickCount({0, 0, 0}), 0u);
+}
+
+TEST(VoxelGrid, DropsOutsideAndNonFinitePointsAndCountsThem) {
+  VoxelGrid grid(unitSettings());
+  ForegroundCloud cloud;
+  const float inf = std::numeric_limits<float>::infinity();
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  cloud.points = {point({1.0f, 0.0f, 0.0f}, 1.0f, 0, 1),     // on the upper face: outside (half-open)
+                  point({-1.0f, -1.0f, -1.0f}, 1.0f, 0, 2),  // on the lower corner: inside
+                  point({5.0f, 0.0f, 0.0f}, 1.0f, 0, 3),    point({inf, 0.0f, 0.0f}, 1.0f, 0, 4),
+                  point({nan, 0.0f, 0.0f}, 1.0f, 0, 5),     point({0.0f, 0.0f, -1e30f}, 1.0f, 0, 6)};
+  grid.build(cloud);
+  EXPECT_EQ(grid.occupiedCount(), 1u);
+  EXPECT_EQ(grid.droppedPoints(), 5u);
+  EXPECT_TRUE(grid.occupied({0, 0, 0}));
+}
+
+TEST(VoxelGrid, RebuildClearsThePreviousFrame) {
+  VoxelGridSettings s = unitSettings();
+  s.voxel_size = 0.05f;  // 40^3
+  VoxelGrid grid(s);
+  const ForegroundCloud first = holo::test::visitorCloud(2, 0.6f, 1);
+  grid.build(first);
+  const std::size_t first_count = grid.occupiedCount();
+  ASSERT_GT(first_count, 100u);
+  ForegroundCloud second;
+  second.points = {point({0.0f, 0.0f, 0.0f}, 1.0f, 0, 1)};
+  grid.build(second);
+  EXPECT_EQ(grid.occupiedCount(), 1u);
+  // Every voxel and brick except the one point's is empty again.
+  std::size_t occupied = 0;
+  for (int z = 0; z < grid.dims().z; ++z)
+    for (int y = 0; y < grid.dims().y; ++y)
+      for (int x = 0; x < grid.dims().x; ++x) occupied += grid.occupied({x, y, z}) ? 1 : 0;
+  EXPECT_EQ(occupied, 1u);
+  std::uint64_t bricks = 0;
+  for (int z = 0; z < grid.brickDims().z; ++z)
+    for (int y = 0; y < grid.brickDims().y; ++y)
+      for (int x = 0; x < grid.brickDims().x; ++x) bricks += grid.brickCount({x, y, z});
+  EXPECT_EQ(bricks, 1u);
+  EXPECT_EQ(grid.occupiedLo(), grid.voxelOf(vec3(0.0f)));
+  EXPECT_EQ(grid.occupiedHi(), grid.voxelOf(vec3(0.0f)) + 1);
+  grid.clear();
+  EXPECT_TRUE(grid.empty());
+  EXPECT_FALSE(grid.occupied(grid.voxelOf(vec3(0.0f))));
+}
+
+TEST(VoxelGrid, RejectsBadSettingsNamingTheField) {
+  auto expectError = [](VoxelGridSettings s, const std::string& field) {
+    try {
+      VoxelGrid grid(s);
+      ADD_FAILURE() << "no error for field " << field;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), field);
+      EXPECT_NE(std::string(e.what()).find("expected"), std::string::npos) << e.what();
+    }
+  };
+  VoxelGridSettings s = unitSettings();
+  s.voxel_size = 0.0f;
+  expectError(s, "voxel_size");
+  s.voxel_size = std::numeric_limits<float>::quiet_NaN();
+  expectError(s, "voxel_size");
+  s.voxel_size = 1e-5f;  // 2e5^3 voxels
+  expectError(s, "voxel_size");
+  s = unitSettings();
+  s.brick_size = 0;
+  expectError(s, "brick_size");
+  s.brick_size = 65;
+  expectError(s, "brick_size");
+  s = unitSettings();
+  s.bounds.hi.y = s.bounds.lo.y;
+  expectError(s, "bounds");
+  s.bounds.hi.y = std::numeric_limits<float>::infinity();
+  expectError(s, "bounds");
+}
+
+}  // namespace
+}  // namespace holo::depthfilter
