@@ -9,8 +9,16 @@ endfunction()
 
 # holo_module(NAME SOURCES ... DEPS ...): a module library holo_NAME with its public
 # headers under NAME/include/holo/NAME and an alias holo::NAME.
+# A module whose sources have not landed yet is an INTERFACE library of its headers.
 function(holo_module name)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPS;PRIVATE_DEPS" ${ARGN})
+  if(NOT ARG_SOURCES)
+    add_library(holo_${name} INTERFACE)
+    add_library(holo::${name} ALIAS holo_${name})
+    target_include_directories(holo_${name} INTERFACE ${CMAKE_CURRENT_SOURCE_DIR}/include)
+    target_link_libraries(holo_${name} INTERFACE ${ARG_DEPS})
+    return()
+  endif()
   add_library(holo_${name} STATIC ${ARG_SOURCES})
   add_library(holo::${name} ALIAS holo_${name})
   target_include_directories(holo_${name} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
