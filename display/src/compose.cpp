@@ -6,8 +6,9 @@
 namespace holo::display {
 
 std::array<cv::Rect2f, kFaceCount> chooseCrops(const DisplayConfig& config, const FaceImages& faces,
-                                               const FaceImages* coverage) {
-  std::array<cv::Rect2f, kFaceCount> crops{};
+                                               const FaceImages* coverage,
+                                               const std::array<cv::Rect2f, kFaceCount>& previous) {
+  std::array<cv::Rect2f, kFaceCount> crops = previous;
   for (int f = 0; f < kFaceCount; ++f) {
     const cv::Mat& face = faces[static_cast<std::size_t>(f)];
     if (face.empty()) continue;

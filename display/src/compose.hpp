@@ -3,15 +3,16 @@
 
 #include <array>
 
-#include "holo/display/presenter.hpp"
+#include "holo/display/quad_view_presenter.hpp"
 #include "quad_renderer.hpp"
 
 namespace holo::display {
 
 // Checks the faces' types and returns each face's crop (auto-fit or the whole image); an empty
-// face gets an empty crop and is not drawn.
+// face keeps its crop from `previous` (its texture keeps the last image), so it is drawn again.
 std::array<cv::Rect2f, kFaceCount> chooseCrops(const DisplayConfig& config, const FaceImages& faces,
-                                               const FaceImages* coverage);
+                                               const FaceImages* coverage,
+                                               const std::array<cv::Rect2f, kFaceCount>& previous);
 
 // Clears output `output` (at `origin` in a framebuffer `framebuffer_height` tall) to black and
 // draws the faces that belong to it, already uploaded to `renderer`.

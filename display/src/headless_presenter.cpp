@@ -66,7 +66,7 @@ class EglContext {
   EGLContext context_ = EGL_NO_CONTEXT;
 };
 
-class HeadlessPresenter final : public Presenter {
+class HeadlessPresenter final : public QuadViewPresenter {
  public:
   explicit HeadlessPresenter(const DisplayConfig& config) : config_(config), canvas_(canvasSize(config)) {
     context_.makeCurrent();
@@ -96,7 +96,7 @@ class HeadlessPresenter final : public Presenter {
   }
 
   void present(const FaceImages& faces, const FaceImages* coverage) override {
-    crops_ = chooseCrops(config_, faces, coverage);
+    crops_ = chooseCrops(config_, faces, coverage, crops_);
     context_.makeCurrent();
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
     for (int f = 0; f < kFaceCount; ++f)
@@ -129,7 +129,7 @@ class HeadlessPresenter final : public Presenter {
 
 }  // namespace
 
-std::unique_ptr<Presenter> makeHeadlessPresenter(const DisplayConfig& config) {
+std::unique_ptr<QuadViewPresenter> makeHeadlessPresenter(const DisplayConfig& config) {
   return std::make_unique<HeadlessPresenter>(config);
 }
 

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <glm/gtc/type_ptr.hpp>
+#include <limits>
 
 #include "holo/core/error.hpp"
 
@@ -42,7 +43,7 @@ vec3 encodeSrgb(vec3 c) {
 void main() {
   vec3 c = texture(face, uv).rgb;
   if (linear_input == 1) {
-    c = mix(c, vec3(0.0), isnan(c));  // NaN shows black; +Inf clamps to white below
+    c = mix(c, vec3(0.0), isnan(c));  // upload already repaired NaN (finiteLinearFace); never show one
     c = encodeSrgb(clamp(c * exposure, 0.0, 1.0));
   }
   colour = vec4(c, 1.0);
@@ -109,11 +110,23 @@ QuadRenderer::~QuadRenderer() {
   glDeleteProgram(program_);
 }
 
-void QuadRenderer::upload(int face, const cv::Mat& image) {
-  if (image.type() != CV_8UC3 && image.type() != CV_32FC3)
+cv::Mat finiteLinearFace(const cv::Mat& image) {
+  // Bilinear filtering computes a + t * (b - a): a NaN or infinite texel would poison its
+  // neighbours even at weight 0, so the texture holds repaired values (negatives clamp to 0
+  // later anyway).
+  cv::Mat repaired = image.clone();
+  cv::patchNaNs(repaired, 0.0);
+  cv::min(repaired, std::numeric_limits<float>::max(), repaired);
+  cv::max(repaired, 0.0, repaired);
+  return repaired;
+}
+
+void QuadRenderer::upload(int face, const cv::Mat& input) {
+  if (input.type() != CV_8UC3 && input.type() != CV_32FC3)
     throw Error("display: face " + std::to_string(face) + " must be CV_8UC3 or CV_32FC3");
   Texture& texture = textures_.at(static_cast<std::size_t>(face));
-  const bool is_float = image.depth() == CV_32F;
+  const bool is_float = input.depth() == CV_32F;
+  const cv::Mat image = is_float ? finiteLinearFace(input) : input;
   glActiveTexture(GL_TEXTURE0);
   glBindTexture(GL_TEXTURE_2D, texture.id);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);

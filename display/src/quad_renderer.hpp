@@ -41,6 +41,9 @@ class QuadRenderer {
   cv::Size output_;
 };
 
+// A linear HDR face with NaN -> 0, +Inf -> FLT_MAX (saturates) and negatives -> 0, as uploaded.
+cv::Mat finiteLinearFace(const cv::Mat& image);
+
 // Reads `region` (top-left origin) of the current read framebuffer, `framebuffer_height` pixels
 // tall, into a CV_8UC3 BGR image with row 0 at the top.
 cv::Mat readPixelsBgr(cv::Rect region, int framebuffer_height);

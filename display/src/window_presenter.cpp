@@ -34,7 +34,7 @@ struct Window {
   std::unique_ptr<QuadRenderer> renderer;
 };
 
-class WindowPresenter final : public Presenter {
+class WindowPresenter final : public QuadViewPresenter {
  public:
   explicit WindowPresenter(const DisplayConfig& config) : config_(config) {
     glfwSetErrorCallback(onGlfwError);
@@ -55,7 +55,7 @@ class WindowPresenter final : public Presenter {
   }
 
   void present(const FaceImages& faces, const FaceImages* coverage) override {
-    crops_ = chooseCrops(config_, faces, coverage);
+    crops_ = chooseCrops(config_, faces, coverage, crops_);
     for (Window& window : windows_) {
       glfwMakeContextCurrent(window.handle);
       for (int f = 0; f < kFaceCount; ++f) {
@@ -174,7 +174,7 @@ class WindowPresenter final : public Presenter {
 
 }  // namespace
 
-std::unique_ptr<Presenter> makeWindowPresenter(const DisplayConfig& config) {
+std::unique_ptr<QuadViewPresenter> makeWindowPresenter(const DisplayConfig& config) {
   return std::make_unique<WindowPresenter>(config);
 }
 

@@ -11,9 +11,11 @@
 // Both draw with the same shader and the same FacePlacement matrices (layout.hpp).
 //
 // Threads: a presenter is used from the thread that created it (GLFW requires the main thread).
-// Faces: CV_8UC3 sRGB or CV_32FC3 linear HDR, BGR, any size (they may differ per face); an empty
-// Mat leaves its view black. Linear faces are multiplied by config.exposure, clamped to [0, 1]
-// (NaN shows black) and sRGB-encoded on the GPU; tone mapping is the renderer's job.
+// Faces: CV_8UC3 sRGB or CV_32FC3 linear HDR, BGR, any size (they may differ per face). A
+// missing face (an empty Mat: its renderer was late, its camera dropped out) keeps showing the
+// last image presented for it with its last crop, never black; a face never given stays black. Linear faces
+// are multiplied by config.exposure, clamped to [0, 1] (NaN shows black, +Inf white) and sRGB-encoded on the
+// GPU; tone mapping is the renderer's job.
 #pragma once
 
 #include <array>
@@ -26,25 +28,26 @@ namespace holo::display {
 
 using FaceImages = std::array<cv::Mat, kFaceCount>;
 
-class Presenter {
+class QuadViewPresenter {
  public:
-  virtual ~Presenter() = default;
+  virtual ~QuadViewPresenter() = default;
   // Shows one quad frame. `coverage` (optional, CV_8UC1 per face, empty entries allowed) gives
   // the object masks for auto-fit; without it auto-fit uses the non-black pixels.
-  virtual void present(const FaceImages& faces, const FaceImages* coverage = nullptr) = 0;
+  virtual void present(const FaceImages& face_images, const FaceImages* coverage = nullptr) = 0;
   // The last presented frame as CV_8UC3 BGR (black before the first present()).
   virtual cv::Mat readBack() = 0;
   // False once a window was closed or Escape pressed; always true headless. Polls events.
   virtual bool isOpen() = 0;
   virtual const DisplayConfig& config() const = 0;
-  // Crop rectangles (face image pixels) used for the last frame; the whole image without auto-fit.
+  // Crop rectangles (face image pixels) used for the last frame; the whole image without
+  // auto-fit; an empty rectangle for a face never given.
   virtual const std::array<cv::Rect2f, kFaceCount>& lastCrops() const = 0;
 };
 
 // Throws holo::Error with EGL's reason when no OpenGL 3.3 core context can be made.
-std::unique_ptr<Presenter> makeHeadlessPresenter(const DisplayConfig& config);
+std::unique_ptr<QuadViewPresenter> makeHeadlessPresenter(const DisplayConfig& config);
 // Throws holo::Error when GLFW cannot start (no X display) and holo::InputError when a face's
 // monitor is not connected (naming the field display.faces[N].monitor of config.source).
-std::unique_ptr<Presenter> makeWindowPresenter(const DisplayConfig& config);
+std::unique_ptr<QuadViewPresenter> makeWindowPresenter(const DisplayConfig& config);
 
 }  // namespace holo::display
