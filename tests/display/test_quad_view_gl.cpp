@@ -262,15 +262,19 @@ TEST(QuadViewWindow, SameScreenshotAsHeadless) {
   for (LayoutKind kind : {LayoutKind::Cross, LayoutKind::Monitors}) {
     DisplayConfig config = baseConfig(kind);
     config.fullscreen = false;
-    HEADLESS_OR_SKIP(headless, config);
-    auto window = makeWindowPresenter(config);
     const FaceImages faces = patternFaces();
+    // One API per thread at a time: the windows (GLX) are closed before EGL starts.
+    cv::Mat from_window;
+    {
+      auto window = makeWindowPresenter(config);
+      window->present(faces);
+      EXPECT_TRUE(window->isOpen());
+      from_window = window->readBack();
+    }
+    HEADLESS_OR_SKIP(headless, config);
     headless->present(faces);
-    window->present(faces);
-    const cv::Mat from_window = window->readBack();
     ASSERT_EQ(from_window.size(), canvasSize(config)) << layoutName(kind);
     EXPECT_LE(maxDifference(from_window, headless->readBack()), 1.0) << layoutName(kind);
-    EXPECT_TRUE(window->isOpen());
   }
 }
 
