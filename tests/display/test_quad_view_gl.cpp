@@ -5,12 +5,15 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
 
 #include "holo/core/error.hpp"
 #include "holo/display/cpu_compose.hpp"
 #include "holo/display/quad_view_presenter.hpp"
 #include "holo/display/test_pattern.hpp"
+#include "shared_data.hpp"
 
 namespace holo::display {
 namespace {
@@ -253,6 +256,37 @@ TEST(QuadViewGlPresent, WrongFaceTypeIsAnError) {
   FaceImages faces;
   faces[0] = cv::Mat(32, 32, CV_16UC3, cv::Scalar::all(0));
   EXPECT_THROW(presenter->present(faces), Error);
+}
+
+// Headless recording: every presented frame lands in the MP4, every second one as a PNG equal to
+// the canvas read back through EGL.
+TEST(QuadViewGlPresent, RecordingWritesMp4AndPngFrames) {
+  const DisplayConfig config = baseConfig(LayoutKind::Cross);
+  HEADLESS_OR_SKIP(headless, config);
+  const auto dir = test::scratchDir("display_recording");
+  RecordingSettings settings;
+  settings.out_dir = dir;
+  settings.fps = 10.0;
+  settings.png_every = 2;
+  auto recorder = makeRecordingPresenter(std::move(headless), settings);
+  FaceImages faces = patternFaces();
+  cv::Mat frame_two;
+  for (int i = 0; i < 5; ++i) {
+    faces[static_cast<std::size_t>(i % kFaceCount)] = cv::Mat();  // one face late each frame
+    recorder->present(faces);
+    if (i == 2) frame_two = recorder->readBack();
+    faces = patternFaces();
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir / "quadview.mp4")) << "the video appears at finish()";
+  recorder->finish();
+  cv::VideoCapture video((dir / "quadview.mp4").string(), cv::CAP_FFMPEG);
+  ASSERT_TRUE(video.isOpened());
+  EXPECT_EQ(static_cast<int>(video.get(cv::CAP_PROP_FRAME_COUNT)), 5);
+  for (const char* name : {"frame_00000.png", "frame_00002.png", "frame_00004.png"})
+    EXPECT_TRUE(std::filesystem::exists(dir / name)) << name;
+  EXPECT_FALSE(std::filesystem::exists(dir / "frame_00001.png"));
+  const cv::Mat png = cv::imread((dir / "frame_00002.png").string(), cv::IMREAD_COLOR);
+  EXPECT_EQ(maxDifference(png, frame_two), 0.0);
 }
 
 // The same quad view in GLFW windows (plain windows of output_size, as under Xvfb) reads back

@@ -19,8 +19,10 @@
 #pragma once
 
 #include <array>
+#include <filesystem>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <string>
 
 #include "holo/display/layout.hpp"
 
@@ -42,6 +44,9 @@ class QuadViewPresenter {
   // Crop rectangles (face image pixels) used for the last frame; the whole image without
   // auto-fit; an empty rectangle for a face never given.
   virtual const std::array<cv::Rect2f, kFaceCount>& lastCrops() const = 0;
+  // Ends the session: a recording presenter closes its video (renames it into place). Call once
+  // after the last present(); without it an unfinished recording is discarded.
+  virtual void finish() {}
 };
 
 // Throws holo::Error with EGL's reason when no OpenGL 3.3 core context can be made.
@@ -49,5 +54,18 @@ std::unique_ptr<QuadViewPresenter> makeHeadlessPresenter(const DisplayConfig& co
 // Throws holo::Error when GLFW cannot start (no X display) and holo::InputError when a face's
 // monitor is not connected (naming the field display.faces[N].monitor of config.source).
 std::unique_ptr<QuadViewPresenter> makeWindowPresenter(const DisplayConfig& config);
+
+// Headless output of a run: what every present() showed, read back and written to disk.
+struct RecordingSettings {
+  std::filesystem::path out_dir;            // created when missing
+  std::string video_name = "quadview.mp4";  // empty: no video
+  double fps = 30.0;                        // of the video
+  int png_every = 0;                        // write frame_NNNNN.png every this many frames; 0: none
+};
+// Wraps `inner` (usually the headless presenter): after each present() the canvas is read back
+// and appended to the MP4 (VideoFileWriter, atomic at finish()) and, every png_every frames
+// (starting with frame 0), written as a PNG (atomically).
+std::unique_ptr<QuadViewPresenter> makeRecordingPresenter(std::unique_ptr<QuadViewPresenter> inner,
+                                                          const RecordingSettings& settings);
 
 }  // namespace holo::display
