@@ -48,10 +48,9 @@ class EglContext {
       eglTerminate(display_);
       eglFail("eglCreateContext(OpenGL 3.3 core)");
     }
-    makeCurrent();
   }
   ~EglContext() {
-    eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    release();
     eglDestroyContext(display_, context_);
     eglTerminate(display_);
   }
@@ -60,6 +59,20 @@ class EglContext {
   void makeCurrent() {
     if (!eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_)) eglFail("eglMakeCurrent");
   }
+  void release() { eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT); }
+
+  // Current for one call of the presenter, released after it: the thread stays free for another
+  // API (Mesa refuses a GLX context current while an EGL one is), and for another presenter.
+  class Scope {
+   public:
+    explicit Scope(EglContext& context) : context_(context) { context_.makeCurrent(); }
+    ~Scope() { context_.release(); }
+    Scope(const Scope&) = delete;
+    Scope& operator=(const Scope&) = delete;
+
+   private:
+    EglContext& context_;
+  };
 
  private:
   EGLDisplay display_ = EGL_NO_DISPLAY;
@@ -69,7 +82,7 @@ class EglContext {
 class HeadlessPresenter final : public QuadViewPresenter {
  public:
   explicit HeadlessPresenter(const DisplayConfig& config) : config_(config), canvas_(canvasSize(config)) {
-    context_.makeCurrent();
+    const EglContext::Scope current(context_);
     HOLO_LOG_DEBUG("display: headless OpenGL {} on {}",
                    reinterpret_cast<const char*>(glGetString(GL_VERSION)),
                    reinterpret_cast<const char*>(glGetString(GL_RENDERER)));
@@ -89,7 +102,7 @@ class HeadlessPresenter final : public QuadViewPresenter {
     crops_.fill(cv::Rect2f());
   }
   ~HeadlessPresenter() override {
-    context_.makeCurrent();
+    const EglContext::Scope current(context_);
     renderer_.reset();
     glDeleteRenderbuffers(1, &colour_);
     glDeleteFramebuffers(1, &framebuffer_);
@@ -97,7 +110,7 @@ class HeadlessPresenter final : public QuadViewPresenter {
 
   void present(const FaceImages& faces, const FaceImages* coverage) override {
     crops_ = chooseCrops(config_, faces, coverage, crops_);
-    context_.makeCurrent();
+    const EglContext::Scope current(context_);
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
     for (int f = 0; f < kFaceCount; ++f)
       if (!faces[static_cast<std::size_t>(f)].empty())
@@ -108,7 +121,7 @@ class HeadlessPresenter final : public QuadViewPresenter {
   }
 
   cv::Mat readBack() override {
-    context_.makeCurrent();
+    const EglContext::Scope current(context_);
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
     return readPixelsBgr({0, 0, canvas_.width, canvas_.height}, canvas_.height);
   }

@@ -28,6 +28,15 @@ void onKey(GLFWwindow* window, int key, int /*scancode*/, int action, int /*mods
   if (key == GLFW_KEY_ESCAPE && action == GLFW_PRESS) glfwSetWindowShouldClose(window, GLFW_TRUE);
 }
 
+// Leaves no context current when a presenter call ends, so the thread stays free for another
+// presenter or API (Mesa refuses a GLX context current while an EGL one is, and vice versa).
+struct ReleaseContextOnExit {
+  ReleaseContextOnExit() = default;
+  ~ReleaseContextOnExit() { glfwMakeContextCurrent(nullptr); }
+  ReleaseContextOnExit(const ReleaseContextOnExit&) = delete;
+  ReleaseContextOnExit& operator=(const ReleaseContextOnExit&) = delete;
+};
+
 struct Window {
   GLFWwindow* handle = nullptr;
   int output = 0;
@@ -56,6 +65,7 @@ class WindowPresenter final : public QuadViewPresenter {
 
   void present(const FaceImages& faces, const FaceImages* coverage) override {
     crops_ = chooseCrops(config_, faces, coverage, crops_);
+    const ReleaseContextOnExit release;
     for (Window& window : windows_) {
       glfwMakeContextCurrent(window.handle);
       for (int f = 0; f < kFaceCount; ++f) {
@@ -72,6 +82,7 @@ class WindowPresenter final : public QuadViewPresenter {
   cv::Mat readBack() override {
     std::vector<cv::Mat> outputs;
     cv::Size cell(0, 0);
+    const ReleaseContextOnExit release;
     for (Window& window : windows_) {
       glfwMakeContextCurrent(window.handle);
       draw(window);
@@ -113,6 +124,7 @@ class WindowPresenter final : public QuadViewPresenter {
   }
 
   void openWindows() {
+    const ReleaseContextOnExit release;
     int monitor_count = 0;
     GLFWmonitor** monitors = glfwGetMonitors(&monitor_count);
     for (int output = 0; output < outputCount(config_.layout); ++output) {
@@ -159,6 +171,7 @@ class WindowPresenter final : public QuadViewPresenter {
   }
 
   void closeWindows() {
+    const ReleaseContextOnExit release;
     for (Window& window : windows_) {
       glfwMakeContextCurrent(window.handle);
       window.renderer.reset();
