@@ -1,0 +1,100 @@
+// Eye positions E_f of the four pyramid faces: where each face's view of the relic is rendered
+// from. A face shows the relic as seen by a default standing visitor until a visitor stands at
+// it; then the eye follows the visitor's head, found in the foreground point cloud.
+//
+// Frames and units: world = pyramid frame (DESIGN.md): origin at the centre of the base's top
+// plane, +Y up, metres; the floor is at settings.floor_y. Face f (0..3) faces +Z, +X, -Z, -X
+// (layout.hpp), and its sector is the quarter of the room within 45 degrees of that direction.
+//
+// Detection, per face and frame (detectEye): the foreground points in the face's sector, at a
+// horizontal distance from the pyramid's axis in [min_distance, max_distance] and at heights
+// where a head can be ([min_head_top, max_head_top] above the floor). The head is the highest
+// such point that has at least min_top_support points within head_radius horizontally and
+// top_band below it, and min_support within head_depth below it (flying pixels above a head are
+// sparse and are not its top). The eye is at the horizontal centroid
+// of those points (the cameras on the base see the visitor's face side, so the centroid of the
+// visible head lies near the eyes) and eye_below_top under the robust top of the head (the 95th
+// percentile of their heights).
+//
+// Smoothing: an alpha-beta (constant-velocity) filter on the 3D eye, per face. Why not the
+// paper's KCF: OpenCV's KCF tracks an appearance patch in one 2D image, while the head here is
+// a 3D cluster of the fused, already segmented foreground cloud of four cameras (a visitor walking
+// around the pyramid passes from one camera to the next), and the reflections need the 3D point.
+// Detection in the cloud is cheap and needs no initial box; the alpha-beta filter removes the
+// frame-to-frame jitter of the depth with no appearance model. The default gains (0.35, 0.05)
+// leave about half the rms jitter of white detection noise ((2a^2 + b(2 - 3a)) / (a(4 - b - 2a))
+// = 0.26 of its variance), settle in a few frames and, being constant-velocity, do not lag a
+// visitor walking at a steady pace (about 1.5 cm behind one turning around the pyramid at 1 m).
+// A detection farther than `gate` from the prediction starts a new track (another visitor);
+// with a track, the highest head within the gate is preferred over a taller visitor elsewhere.
+// After lost_timeout_s without a detection the face goes back to its default eye.
+#pragma once
+
+#include <array>
+#include <optional>
+
+#include "holo/core/math.hpp"
+#include "holo/depthfilter/foreground_cloud.hpp"
+#include "holo/display/layout.hpp"
+
+namespace holo::display {
+
+struct EyeTrackerSettings {
+  float floor_y = -1.0f;            // world height of the floor (the simulated museum's)
+  float default_eye_height = 1.6f;  // above the floor: an adult standing visitor's eyes
+  float default_distance = 1.0f;    // from the pyramid's axis, along the face's normal
+  float min_head_top = 1.0f;        // above the floor: a child
+  float max_head_top = 2.2f;        // above the floor: a tall adult
+  float min_distance = 0.25f;       // horizontal, from the axis: closer is the pyramid itself
+  float max_distance = 3.0f;        // farther away is not "standing at the face"
+  float head_radius = 0.15f;        // metres, horizontal
+  float head_depth = 0.25f;         // metres below the top that count as head
+  int min_support = 15;             // points the head needs
+  float top_band = 0.05f;           // metres: the top of a head is a dense surface, so...
+  int min_top_support = 5;          // ...this many points lie within top_band below it
+  float eye_below_top = 0.10f;      // metres from the top of the head down to the eyes
+  float alpha = 0.35f;              // position gain of the alpha-beta filter, (0, 1]
+  float beta = 0.05f;               // velocity gain, [0, 2)
+  float max_speed = 3.0f;           // m/s: a faster filtered velocity is clamped
+  float gate = 0.5f;                // metres: a detection farther from the prediction restarts
+  double lost_timeout_s = 1.0;      // seconds without a detection before the default eye
+};
+
+struct FaceEye {
+  vec3 position{0.0f};       // world, metres: the eye the face renders from
+  bool tracked = false;      // true while it follows a visitor (else the default eye)
+  vec3 velocity{0.0f};       // m/s, the filter's estimate (0 when not tracked)
+  double last_seen_s = 0.0;  // time of the last detection used
+};
+
+// Outward horizontal unit normal of face f: +Z, +X, -Z, -X for f = 0..3.
+vec3 faceNormal(int face);
+// The default standing visitor's eye of face f.
+vec3 defaultEye(int face, const EyeTrackerSettings& settings);
+
+// One frame's eye of face f found in `cloud`, without smoothing. Non-finite points are ignored.
+// With `near`, the highest supported head within settings.gate of it (horizontally) wins if any;
+// otherwise the highest supported head of the sector. Nothing found gives nullopt.
+std::optional<vec3> detectEye(const depthfilter::ForegroundCloud& cloud, int face,
+                              const EyeTrackerSettings& settings,
+                              const std::optional<vec3>& near = std::nullopt);
+
+class EyeTracker {
+ public:
+  explicit EyeTracker(EyeTrackerSettings settings = {});
+
+  // Detects and filters the four eyes in the cloud of one frame (time cloud.time_s, seconds,
+  // increasing; a time that does not advance counts as a new frame 1/30 s later).
+  const std::array<FaceEye, kFaceCount>& update(const depthfilter::ForegroundCloud& cloud);
+  const std::array<FaceEye, kFaceCount>& eyes() const { return eyes_; }
+  const EyeTrackerSettings& settings() const { return settings_; }
+
+ private:
+  void updateFace(int face, const std::optional<vec3>& detection, double now);
+
+  EyeTrackerSettings settings_;
+  std::array<FaceEye, kFaceCount> eyes_{};
+  std::optional<double> last_time_s_;
+};
+
+}  // namespace holo::display

@@ -1,0 +1,172 @@
+#include "holo/display/eye_tracker.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+#include <vector>
+
+#include "holo/core/error.hpp"
+#include "holo/core/stats.hpp"
+
+namespace holo::display {
+
+namespace {
+
+constexpr double kFallbackFrameS = 1.0 / 30.0;
+
+// Horizontal grid of head_radius cells, so a head's neighbours lie in the 3x3 cells around it.
+struct ColumnGrid {
+  float cell;
+  std::unordered_map<std::int64_t, std::vector<vec3>> cells;
+  static std::int64_t key(int i, int k) {
+    return (static_cast<std::int64_t>(i) << 32) ^ static_cast<std::int64_t>(static_cast<std::uint32_t>(k));
+  }
+  int index(float v) const { return static_cast<int>(std::floor(v / cell)); }
+  void add(const vec3& p) { cells[key(index(p.x), index(p.z))].push_back(p); }
+  // Points within `radius` horizontally of `top` and `depth` below it.
+  std::vector<vec3> column(const vec3& top, float radius, float depth) const {
+    std::vector<vec3> out;
+    const int ci = index(top.x), ck = index(top.z);
+    for (int i = ci - 1; i <= ci + 1; ++i)
+      for (int k = ck - 1; k <= ck + 1; ++k) {
+        const auto it = cells.find(key(i, k));
+        if (it == cells.end()) continue;
+        for (const vec3& p : it->second) {
+          const float dx = p.x - top.x, dz = p.z - top.z;
+          if (dx * dx + dz * dz <= radius * radius && p.y <= top.y && p.y >= top.y - depth) out.push_back(p);
+        }
+      }
+    return out;
+  }
+};
+
+float horizontalDistance(const vec3& a, const vec3& b) {
+  return std::hypot(a.x - b.x, a.z - b.z);
+}
+
+void checkFace(int face) {
+  if (face < 0 || face >= kFaceCount)
+    throw Error("display: face index " + std::to_string(face) + " outside 0..3");
+}
+
+}  // namespace
+
+vec3 faceNormal(int face) {
+  checkFace(face);
+  static constexpr float kX[kFaceCount] = {0.0f, 1.0f, 0.0f, -1.0f};
+  static constexpr float kZ[kFaceCount] = {1.0f, 0.0f, -1.0f, 0.0f};
+  return {kX[face], 0.0f, kZ[face]};
+}
+
+vec3 defaultEye(int face, const EyeTrackerSettings& settings) {
+  return faceNormal(face) * settings.default_distance +
+         vec3(0.0f, settings.floor_y + settings.default_eye_height, 0.0f);
+}
+
+std::optional<vec3> detectEye(const depthfilter::ForegroundCloud& cloud, int face,
+                              const EyeTrackerSettings& settings, const std::optional<vec3>& near) {
+  const vec3 normal = faceNormal(face);
+  const vec3 tangent(normal.z, 0.0f, -normal.x);
+  const float y_lo = settings.floor_y + settings.min_head_top - settings.head_depth;
+  const float y_hi = settings.floor_y + settings.max_head_top;
+  std::vector<vec3> candidates;
+  ColumnGrid grid{settings.head_radius, {}};
+  std::int64_t non_finite = 0;
+  for (const depthfilter::ForegroundPoint& point : cloud.points) {
+    const vec3& p = point.position;
+    if (!isFinite(p)) {
+      ++non_finite;
+      continue;
+    }
+    if (p.y < y_lo || p.y > y_hi) continue;
+    const float along = p.x * normal.x + p.z * normal.z;
+    const float across = p.x * tangent.x + p.z * tangent.z;
+    if (along <= 0.0f || along < std::abs(across)) continue;  // another face's sector
+    const float distance = std::hypot(p.x, p.z);
+    if (distance < settings.min_distance || distance > settings.max_distance) continue;
+    grid.add(p);
+    // A head's top must itself be at a plausible head height.
+    if (p.y >= settings.floor_y + settings.min_head_top) candidates.push_back(p);
+  }
+  if (non_finite > 0) stats::add("Display/Eye tracker non-finite points ignored", non_finite);
+  std::sort(candidates.begin(), candidates.end(), [](const vec3& a, const vec3& b) { return a.y > b.y; });
+
+  const auto headAt = [&](const vec3& top) -> std::optional<vec3> {
+    std::vector<vec3> head = grid.column(top, settings.head_radius, settings.head_depth);
+    if (static_cast<int>(head.size()) < settings.min_support) return std::nullopt;
+    const auto near_top = std::count_if(head.begin(), head.end(),
+                                        [&](const vec3& p) { return p.y >= top.y - settings.top_band; });
+    if (near_top < settings.min_top_support) return std::nullopt;
+    vec3 sum(0.0f);
+    std::vector<float> heights;
+    heights.reserve(head.size());
+    for (const vec3& p : head) {
+      sum += p;
+      heights.push_back(p.y);
+    }
+    const std::size_t rank = static_cast<std::size_t>(0.95 * static_cast<double>(heights.size() - 1));
+    std::nth_element(heights.begin(), heights.begin() + static_cast<std::ptrdiff_t>(rank), heights.end());
+    const vec3 centroid = sum / static_cast<float>(head.size());
+    return vec3(centroid.x, heights[rank] - settings.eye_below_top, centroid.z);
+  };
+  // Candidates go from the highest down; a rejected one is a stray point (too little support).
+  const auto search = [&](bool gated) -> std::optional<vec3> {
+    for (const vec3& top : candidates) {
+      if (gated && horizontalDistance(top, *near) > settings.gate) continue;
+      if (auto eye = headAt(top)) return eye;
+    }
+    return std::nullopt;
+  };
+  if (near) {
+    if (auto eye = search(true)) return eye;
+  }
+  return search(false);
+}
+
+EyeTracker::EyeTracker(EyeTrackerSettings settings) : settings_(settings) {
+  if (!(settings_.alpha > 0.0f && settings_.alpha <= 1.0f) ||
+      !(settings_.beta >= 0.0f && settings_.beta < 2.0f))
+    throw Error("display: eye tracker gains need 0 < alpha <= 1 and 0 <= beta < 2");
+  for (int f = 0; f < kFaceCount; ++f) eyes_[static_cast<std::size_t>(f)].position = defaultEye(f, settings_);
+}
+
+const std::array<FaceEye, kFaceCount>& EyeTracker::update(const depthfilter::ForegroundCloud& cloud) {
+  double now = cloud.time_s;
+  if (last_time_s_ && !(std::isfinite(now) && now > *last_time_s_)) now = *last_time_s_ + kFallbackFrameS;
+  if (!std::isfinite(now)) now = 0.0;
+  last_time_s_ = now;
+  for (int f = 0; f < kFaceCount; ++f) {
+    const FaceEye& eye = eyes_[static_cast<std::size_t>(f)];
+    std::optional<vec3> predicted;
+    if (eye.tracked) predicted = eye.position + eye.velocity * static_cast<float>(now - eye.last_seen_s);
+    updateFace(f, detectEye(cloud, f, settings_, predicted), now);
+  }
+  return eyes_;
+}
+
+void EyeTracker::updateFace(int face, const std::optional<vec3>& detection, double now) {
+  FaceEye& eye = eyes_[static_cast<std::size_t>(face)];
+  if (!detection) {
+    // A missed frame holds the eye where it was (no extrapolation into nowhere); the filter
+    // predicts over the whole gap at the next detection. After the timeout: the default eye.
+    if (eye.tracked && now - eye.last_seen_s > settings_.lost_timeout_s)
+      eye = FaceEye{defaultEye(face, settings_)};
+    return;
+  }
+  const float step = static_cast<float>(now - eye.last_seen_s);
+  const vec3 predicted = eye.position + eye.velocity * step;
+  if (!eye.tracked || glm::length(*detection - predicted) > settings_.gate) {
+    eye.position = *detection;  // a new visitor: start where they are, at rest
+    eye.velocity = vec3(0.0f);
+  } else {
+    const vec3 residual = *detection - predicted;
+    eye.position = predicted + settings_.alpha * residual;
+    eye.velocity += (settings_.beta / step) * residual;
+    const float speed = glm::length(eye.velocity);
+    if (speed > settings_.max_speed) eye.velocity *= settings_.max_speed / speed;
+  }
+  eye.tracked = true;
+  eye.last_seen_s = now;
+}
+
+}  // namespace holo::display

@@ -1,0 +1,73 @@
+// Costs of the display stage per frame: presenting four 320x320 faces headless (with and
+// without reading the canvas back, as recording does), the CPU reference composition, and eye
+// detection on a foreground cloud of a few visitors.
+#include <benchmark/benchmark.h>
+
+#include <random>
+
+#include "holo/display/cpu_compose.hpp"
+#include "holo/display/eye_tracker.hpp"
+#include "holo/display/quad_view_presenter.hpp"
+#include "holo/display/test_pattern.hpp"
+
+namespace holo::display {
+namespace {
+
+DisplayConfig benchConfig() {
+  DisplayConfig config;
+  config.layout = LayoutKind::Cross;
+  config.output_size = {1080, 1080};
+  return config;
+}
+
+FaceImages benchFaces() {
+  FaceImages faces;
+  for (int f = 0; f < kFaceCount; ++f) faces[static_cast<std::size_t>(f)] = testPatternFace(f, {320, 320});
+  return faces;
+}
+
+void BM_HeadlessPresent(benchmark::State& state) {
+  const bool read_back = state.range(0) != 0;
+  auto presenter = makeHeadlessPresenter(benchConfig());
+  const FaceImages faces = benchFaces();
+  for (auto _ : state) {
+    presenter->present(faces);
+    if (read_back) benchmark::DoNotOptimize(presenter->readBack().data);
+  }
+}
+BENCHMARK(BM_HeadlessPresent)->Arg(0)->Arg(1)->ArgName("read_back")->Unit(benchmark::kMillisecond);
+
+void BM_CpuCompose(benchmark::State& state) {
+  const DisplayConfig config = benchConfig();
+  const FaceImages faces = benchFaces();
+  std::array<cv::Rect2f, kFaceCount> crops;
+  crops.fill(cv::Rect2f(0, 0, 320, 320));
+  for (auto _ : state) benchmark::DoNotOptimize(composeCanvasCpu(config, faces, crops).data);
+}
+BENCHMARK(BM_CpuCompose)->Unit(benchmark::kMillisecond);
+
+void BM_EyeTrackerUpdate(benchmark::State& state) {
+  // Four visitors, one per face, each 5000 points from the floor to the top of the head.
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> u(-0.15f, 0.15f);
+  std::uniform_real_distribution<float> height(-1.0f, 0.75f);
+  depthfilter::ForegroundCloud cloud;
+  for (int f = 0; f < kFaceCount; ++f) {
+    const vec3 centre = faceNormal(f) * 1.0f;
+    for (int i = 0; i < 5000; ++i) {
+      depthfilter::ForegroundPoint p;
+      p.position = centre + vec3(u(rng), height(rng), u(rng));
+      cloud.points.push_back(p);
+    }
+  }
+  EyeTracker tracker;
+  for (auto _ : state) {
+    cloud.time_s += 1.0 / 30.0;
+    benchmark::DoNotOptimize(tracker.update(cloud).data());
+  }
+  state.counters["points"] = static_cast<double>(cloud.points.size());
+}
+BENCHMARK(BM_EyeTrackerUpdate)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace holo::display
