@@ -72,7 +72,8 @@ struct TestFaults {
       std::this_thread::sleep_for(std::chrono::duration<double>(freeze_seconds));
     }
     if (extra_frame_ms > 0 && !request.blank)
-      std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(extra_frame_ms / (1 << request.quality)));
+      std::this_thread::sleep_for(
+          std::chrono::duration<double, std::milli>(extra_frame_ms / (1 << request.quality)));
   }
 };
 
@@ -113,6 +114,10 @@ class TestPatternSource {
   TestFaults faults_;
 };
 
+std::string displaySection(const ConfigNode& root) {
+  return root.has("display") ? YAML::Dump(root.yaml()["display"]) : std::string();
+}
+
 kiosk::RenderFrame makeFrameSource(const kiosk::LoadedConfig& config, bool headless) {
   return TestPatternSource(displayConfigOf(config.root), headless, TestFaults::fromEnvironment());
 }
@@ -130,24 +135,32 @@ int runKiosk(const KioskOptions& options) {
   // Before any thread starts (health server, presenters), so all threads inherit the block.
   kiosk::SignalEvents signals;
   kiosk::SystemdNotifier notifier;
-  const std::filesystem::path last_good =
-      options.state_dir.empty() ? std::filesystem::path() : std::filesystem::path(options.state_dir) / "last-good.yaml";
+  const std::filesystem::path last_good = options.state_dir.empty()
+                                              ? std::filesystem::path()
+                                              : std::filesystem::path(options.state_dir) / "last-good.yaml";
   const auto load = [&] {
-    kiosk::LoadedConfig loaded =
-        kiosk::loadConfigWithFallback(options.config, last_good, [](const ConfigNode& root) { displayConfigOf(root); });
+    kiosk::LoadedConfig loaded = kiosk::loadConfigWithFallback(
+        options.config, last_good, [](const ConfigNode& root) { displayConfigOf(root); });
     if (options.health_port) loaded.kiosk.health_port = *options.health_port;
     if (options.health_file) loaded.kiosk.health_file = *options.health_file;
     return loaded;
   };
   kiosk::LoadedConfig loaded = load();
   HOLO_LOG_INFO("kiosk starting with configuration from {}", loaded.source);
-  std::shared_ptr<kiosk::RenderFrame> source = std::make_shared<kiosk::RenderFrame>(makeFrameSource(loaded, options.headless));
+  std::shared_ptr<kiosk::RenderFrame> source =
+      std::make_shared<kiosk::RenderFrame>(makeFrameSource(loaded, options.headless));
   kiosk::KioskLoop loop(
       loaded, [source](const kiosk::FrameRequest& r) { return (*source)(r); },
       [&] {
         kiosk::LoadedConfig reloaded = load();
-        // The display settings may have changed: a fresh source (and presenter) picks them up.
-        *source = makeFrameSource(reloaded, options.headless);
+        // Changed display settings need a fresh presenter. The old one goes first: two EGL
+        // presenters alive at once in one process disturb each other's context.
+        if (displaySection(reloaded.root) != displaySection(loaded.root)) {
+          HOLO_LOG_INFO("display settings changed: restarting the presenter");
+          *source = {};
+          *source = makeFrameSource(reloaded, options.headless);
+        }
+        loaded = reloaded;
         return reloaded;
       });
   return loop.run(signals, notifier, options.frames);
@@ -162,13 +175,16 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--config", options->config, "YAML configuration (kiosk: and display: sections)")
           ->capture_default_str();
       sub.add_flag("--headless", options->headless, "Render offscreen through EGL, no windows");
-      sub.add_option("--state-dir", options->state_dir, "Where the last good configuration is kept ('' = nowhere)")
+      sub.add_option("--state-dir", options->state_dir,
+                     "Where the last good configuration is kept ('' = nowhere)")
           ->capture_default_str();
       sub.add_option("--frames", options->frames, "Stop after N frames (0 = run until SIGTERM)");
-      sub.add_option_function<int>("--health-port", [options](int p) { options->health_port = p; },
-                                   "Override kiosk.health.port (0 = any free port, -1 = off)");
-      sub.add_option_function<std::string>("--health-file", [options](const std::string& f) { options->health_file = f; },
-                                            "Override kiosk.health.file ('' = none)");
+      sub.add_option_function<int>(
+          "--health-port", [options](int p) { options->health_port = p; },
+          "Override kiosk.health.port (0 = any free port, -1 = off)");
+      sub.add_option_function<std::string>(
+          "--health-file", [options](const std::string& f) { options->health_file = f; },
+          "Override kiosk.health.file ('' = none)");
       return [options] { return runKiosk(*options); };
     },
     "Appliance mode under systemd: watchdog, health, opening hours, graceful degradation"});

@@ -8,9 +8,12 @@ namespace holo::kiosk {
 
 const char* renderModeName(RenderMode mode) {
   switch (mode) {
-    case RenderMode::Full: return "full";
-    case RenderMode::Partial: return "partial";
-    case RenderMode::IblOnly: return "ibl-only";
+    case RenderMode::Full:
+      return "full";
+    case RenderMode::Partial:
+      return "partial";
+    case RenderMode::IblOnly:
+      return "ibl-only";
   }
   return "?";
 }
@@ -38,7 +41,11 @@ DegradationDecision DegradationPolicy::update(double frame_ms, int cameras_alive
   const double sample = std::isfinite(frame_ms) && frame_ms >= 0.0 ? frame_ms : 1e9;
   smoothed_ms_ = has_average_ ? smoothed_ms_ + settings_.smoothing * (sample - smoothed_ms_) : sample;
   has_average_ = true;
-  if (smoothed_ms_ > settings_.frame_budget_ms) {
+  const int last_level = static_cast<int>(settings_.quality_levels.size()) - 1;
+  if (cooldown_ > 0) {
+    // Right after a change the new level's times are still settling: do not count them.
+    --cooldown_;
+  } else if (smoothed_ms_ > settings_.frame_budget_ms) {
     ++over_frames_;
     under_frames_ = 0;
   } else if (smoothed_ms_ < settings_.headroom * settings_.frame_budget_ms) {
@@ -48,10 +55,7 @@ DegradationDecision DegradationPolicy::update(double frame_ms, int cameras_alive
     over_frames_ = 0;
     under_frames_ = 0;
   }
-  const int last_level = static_cast<int>(settings_.quality_levels.size()) - 1;
-  if (cooldown_ > 0) {
-    --cooldown_;
-  } else if (over_frames_ >= settings_.down_after_frames && quality_ < last_level) {
+  if (over_frames_ >= settings_.down_after_frames && quality_ < last_level) {
     ++quality_;
     d.quality_changed = true;
   } else if (under_frames_ >= settings_.up_after_frames && quality_ > 0) {
@@ -68,8 +72,10 @@ DegradationDecision DegradationPolicy::update(double frame_ms, int cameras_alive
 
   // --- mode from the cameras
   RenderMode wanted = RenderMode::IblOnly;
-  if (cameras_total > 0 && cameras_alive >= cameras_total) wanted = RenderMode::Full;
-  else if (cameras_alive > 0) wanted = RenderMode::Partial;
+  if (cameras_total > 0 && cameras_alive >= cameras_total)
+    wanted = RenderMode::Full;
+  else if (cameras_alive > 0)
+    wanted = RenderMode::Partial;
   if (wanted > mode_) {  // worse: degrade at once
     mode_ = wanted;
     d.mode_changed = true;

@@ -2,8 +2,7 @@
 
 namespace holo::kiosk {
 
-FrameWatchdog::FrameWatchdog(std::optional<std::chrono::microseconds> timeout,
-                             std::function<void()> pet)
+FrameWatchdog::FrameWatchdog(std::optional<std::chrono::microseconds> timeout, std::function<void()> pet)
     : pet_(std::move(pet)) {
   if (timeout && timeout->count() > 0) interval_ = *timeout / 2;
 }

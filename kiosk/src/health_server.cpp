@@ -1,13 +1,13 @@
 #include "holo/kiosk/health_server.hpp"
 
 #include <arpa/inet.h>
-#include <cerrno>
-#include <cstring>
 #include <fcntl.h>
 #include <netinet/in.h>
 #include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
+#include <cerrno>
+#include <cstring>
 
 #include "holo/core/error.hpp"
 #include "holo/core/log.hpp"
@@ -15,7 +15,9 @@
 namespace holo::kiosk {
 namespace {
 
-std::string resolveName(const std::string& address) { return address == "localhost" ? "127.0.0.1" : address; }
+std::string resolveName(const std::string& address) {
+  return address == "localhost" ? "127.0.0.1" : address;
+}
 
 void sendAll(int fd, const std::string& data) {
   std::size_t done = 0;
@@ -47,13 +49,16 @@ HealthServer::HealthServer(const std::string& address, std::uint16_t port,
                            std::function<std::string()> provider, const std::string& field)
     : provider_(std::move(provider)) {
   if (!isLoopbackAddress(address))
-    throw InputError("", field, "a loopback address (127.0.0.1, localhost or ::1); the health endpoint never "
-                     "listens on the museum network", address);
+    throw InputError("", field,
+                     "a loopback address (127.0.0.1, localhost or ::1); the health endpoint never "
+                     "listens on the museum network",
+                     address);
   const std::string name = resolveName(address);
   sockaddr_storage storage{};
   socklen_t length = 0;
   int family = AF_INET;
-  if (auto* v4 = reinterpret_cast<sockaddr_in*>(&storage); inet_pton(AF_INET, name.c_str(), &v4->sin_addr) == 1) {
+  if (auto* v4 = reinterpret_cast<sockaddr_in*>(&storage);
+      inet_pton(AF_INET, name.c_str(), &v4->sin_addr) == 1) {
     v4->sin_family = AF_INET;
     v4->sin_port = htons(port);
     length = sizeof(sockaddr_in);
@@ -69,7 +74,8 @@ HealthServer::HealthServer(const std::string& address, std::uint16_t port,
   if (listen_fd_ < 0) throw Error(std::string("health server: socket: ") + std::strerror(errno));
   const int one = 1;
   setsockopt(listen_fd_, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-  if (::bind(listen_fd_, reinterpret_cast<sockaddr*>(&storage), length) != 0 || ::listen(listen_fd_, 8) != 0) {
+  if (::bind(listen_fd_, reinterpret_cast<sockaddr*>(&storage), length) != 0 ||
+      ::listen(listen_fd_, 8) != 0) {
     const int err = errno;
     ::close(listen_fd_);
     throw Error("health server: cannot listen on " + address + ":" + std::to_string(port) + ": " +

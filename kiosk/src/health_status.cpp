@@ -1,12 +1,14 @@
 #include "holo/kiosk/health_status.hpp"
 
-#include <cmath>
 #include <fmt/format.h>
+#include <cmath>
 
 namespace holo::kiosk {
 namespace {
 // JSON has no NaN or Inf; a broken timer must not make the whole document invalid.
-double finite(double v) { return std::isfinite(v) ? v : -1.0; }
+double finite(double v) {
+  return std::isfinite(v) ? v : -1.0;
+}
 }  // namespace
 
 void HealthStatus::addError(const std::string& message) {

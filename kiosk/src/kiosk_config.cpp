@@ -62,7 +62,8 @@ KioskConfig parseKioskConfig(const ConfigNode& root) {
     c.opening_hours = OpeningHours::parse(c.opening_hours_text, k.file(), k["opening_hours"].path());
   }
   c.max_fps = k.getInRange("max_fps", static_cast<float>(c.max_fps), 1.0f, 240.0f);
-  c.status_interval_s = k.getInRange("status_interval_s", static_cast<float>(c.status_interval_s), 0.05f, 60.0f);
+  c.status_interval_s =
+      k.getInRange("status_interval_s", static_cast<float>(c.status_interval_s), 0.05f, 60.0f);
   if (const auto h = k.find("health")) {
     rejectUnknown(*h, {"address", "port", "file"});
     c.health_address = h->get<std::string>("address", c.health_address);
@@ -74,7 +75,8 @@ KioskConfig parseKioskConfig(const ConfigNode& root) {
     rejectUnknown(*d, {"frame_budget_ms", "quality_levels", "headroom", "smoothing", "down_after_frames",
                        "up_after_frames", "cooldown_frames", "recover_after_frames"});
     auto& s = c.degradation;
-    s.frame_budget_ms = d->getInRange("frame_budget_ms", static_cast<float>(s.frame_budget_ms), 1.0f, 10000.0f);
+    s.frame_budget_ms =
+        d->getInRange("frame_budget_ms", static_cast<float>(s.frame_budget_ms), 1.0f, 10000.0f);
     s.headroom = d->getInRange("headroom", static_cast<float>(s.headroom), 0.05f, 0.95f);
     s.smoothing = d->getInRange("smoothing", static_cast<float>(s.smoothing), 0.01f, 1.0f);
     s.down_after_frames = positiveInt(*d, "down_after_frames", s.down_after_frames, 1);
@@ -100,7 +102,8 @@ LoadedConfig loadConfigWithFallback(const std::filesystem::path& path, const std
   };
   std::string warning;
   try {
-    if (!std::filesystem::exists(path)) throw InputError(path.string(), "", "a configuration file", "no such file");
+    if (!std::filesystem::exists(path))
+      throw InputError(path.string(), "", "a configuration file", "no such file");
     LoadedConfig loaded = tryLoad(ConfigNode::loadFile(path), path.string());
     if (!last_good.empty()) {
       try {
@@ -116,7 +119,8 @@ LoadedConfig loadConfigWithFallback(const std::filesystem::path& path, const std
   HOLO_LOG_ERROR("configuration {} not used: {}", path.string(), warning);
   if (!last_good.empty() && std::filesystem::exists(last_good)) {
     try {
-      LoadedConfig loaded = tryLoad(ConfigNode::loadFile(last_good), "last good copy (" + last_good.string() + ")");
+      LoadedConfig loaded =
+          tryLoad(ConfigNode::loadFile(last_good), "last good copy (" + last_good.string() + ")");
       loaded.warning = "using last good config: " + warning;
       HOLO_LOG_WARN("running with the last good configuration {}", last_good.string());
       return loaded;
@@ -124,7 +128,8 @@ LoadedConfig loadConfigWithFallback(const std::filesystem::path& path, const std
       HOLO_LOG_ERROR("last good configuration {} not usable either: {}", last_good.string(), e.what());
     }
   }
-  LoadedConfig loaded = tryLoad(ConfigNode::parse(factoryDefaultsYaml(), "factory defaults"), "factory defaults");
+  LoadedConfig loaded =
+      tryLoad(ConfigNode::parse(factoryDefaultsYaml(), "factory defaults"), "factory defaults");
   loaded.warning = "using factory defaults: " + warning;
   HOLO_LOG_WARN("running with the factory default configuration");
   return loaded;

@@ -53,14 +53,17 @@ void KioskLoop::applyConfig(LoadedConfig config) {
   }
 }
 
-std::uint16_t KioskLoop::healthPort() const { return server_ ? server_->port() : 0; }
+std::uint16_t KioskLoop::healthPort() const {
+  return server_ ? server_->port() : 0;
+}
 
 HealthStatus KioskLoop::health() const {
   std::lock_guard lock(mutex_);
   HealthStatus h = health_;
   const auto now = Clock::now();
   h.uptime_s = std::chrono::duration<double>(now - started_).count();
-  h.seconds_since_frame = last_frame_ ? std::chrono::duration<double>(now - *last_frame_).count() : h.uptime_s;
+  h.seconds_since_frame =
+      last_frame_ ? std::chrono::duration<double>(now - *last_frame_).count() : h.uptime_s;
   return h;
 }
 
@@ -83,7 +86,8 @@ void KioskLoop::publish(SystemdNotifier& notifier, bool force) {
 
 void KioskLoop::frame(SystemdNotifier& notifier) {
   const bool blank = !config_.kiosk.opening_hours.isOpen(std::chrono::system_clock::now());
-  if (blank != was_blank_) HOLO_LOG_INFO(blank ? "closing time: blanking the monitors" : "opening: resuming the picture");
+  if (blank != was_blank_)
+    HOLO_LOG_INFO(blank ? "closing time: blanking the monitors" : "opening: resuming the picture");
   was_blank_ = blank;
   FrameRequest request{index_++, policy_->quality(), policy_->qualityName(), policy_->mode(), blank};
 
@@ -108,8 +112,9 @@ void KioskLoop::frame(SystemdNotifier& notifier) {
   if (decision.quality_changed)
     HOLO_LOG_WARN("frame time {:.1f} ms (budget {:.1f} ms): quality now '{}'", frame_ms,
                   config_.kiosk.degradation.frame_budget_ms, policy_->qualityName());
-  if (decision.mode_changed)
-    HOLO_LOG_WARN("cameras {}/{}: mode now '{}'", alive, total, renderModeName(decision.mode));
+  // Without cameras configured (a stand-in frame source) ibl-only is the plan, not a fault.
+  const bool mode_fault = decision.mode_changed && total > 0;
+  if (mode_fault) HOLO_LOG_WARN("cameras {}/{}: mode now '{}'", alive, total, renderModeName(decision.mode));
 
   if (report.presented) {
     watchdog_->frameCompleted(t1);
@@ -128,7 +133,7 @@ void KioskLoop::frame(SystemdNotifier& notifier) {
     if (decision.quality_changed)
       health_.addError("quality stepped to '" + policy_->qualityName() + "' at frame time " +
                        std::to_string(std::lround(frame_ms)) + " ms");
-    if (decision.mode_changed)
+    if (mode_fault)
       health_.addError("mode '" + std::string(renderModeName(decision.mode)) + "' with cameras " +
                        std::to_string(alive) + "/" + std::to_string(total));
     health_.state = blank ? "blanked" : "running";
@@ -156,7 +161,8 @@ void KioskLoop::frame(SystemdNotifier& notifier) {
 }
 
 int KioskLoop::run(SignalEvents& signals, SystemdNotifier& notifier, std::int64_t stop_after_frames) {
-  watchdog_ = std::make_unique<FrameWatchdog>(notifier.watchdogTimeout(), [&notifier] { notifier.watchdog(); });
+  watchdog_ =
+      std::make_unique<FrameWatchdog>(notifier.watchdogTimeout(), [&notifier] { notifier.watchdog(); });
   if (const auto interval = watchdog_->petInterval())
     HOLO_LOG_INFO("systemd watchdog: WATCHDOG=1 every {:.3f} s while frames are presented",
                   std::chrono::duration<double>(*interval).count());
@@ -170,7 +176,8 @@ int KioskLoop::run(SignalEvents& signals, SystemdNotifier& notifier, std::int64_
     // Pace to max_fps (2 fps when blanked); the wait is the signal poll, so signals are handled
     // at once even while idle.
     const double fps = was_blank_ ? kBlankFps : config_.kiosk.max_fps;
-    const auto next = frame_start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / fps));
+    const auto next =
+        frame_start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / fps));
     const auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(next - Clock::now());
     bool stop = false;
     for (const SignalEvent event : signals.poll(std::max(wait, std::chrono::milliseconds(0)))) {

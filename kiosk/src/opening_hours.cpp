@@ -60,8 +60,7 @@ OpeningHours OpeningHours::parse(const std::string& text, const std::string& ori
     if (clause.empty()) continue;
     const auto fail = [&](const std::string& what) {
       throw InputError(origin, field,
-                       "opening hours like \"Mon-Fri 09:00-18:00; Sat 10:00-16:00\" (" + what + ")",
-                       clause);
+                       "opening hours like \"Mon-Fri 09:00-18:00; Sat 10:00-16:00\" (" + what + ")", clause);
     };
     const auto space = clause.find_first_of(" \t");
     if (space == std::string::npos) fail("days, a space, then times or 'closed'");

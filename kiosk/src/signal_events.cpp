@@ -1,11 +1,11 @@
 #include "holo/kiosk/signal_events.hpp"
 
-#include <cerrno>
-#include <cstring>
 #include <poll.h>
 #include <pthread.h>
 #include <sys/signalfd.h>
 #include <unistd.h>
+#include <cerrno>
+#include <cstring>
 
 #include "holo/core/error.hpp"
 

@@ -1,7 +1,7 @@
 #include "holo/kiosk/systemd_notifier.hpp"
 
-#include <cstdlib>
 #include <systemd/sd-daemon.h>
+#include <cstdlib>
 
 #include "holo/core/log.hpp"
 
@@ -33,7 +33,9 @@ void SystemdNotifier::ready(const std::string& status) {
   send("READY=1\nSTATUS=" + status);
 }
 
-void SystemdNotifier::watchdog() { send("WATCHDOG=1"); }
+void SystemdNotifier::watchdog() {
+  send("WATCHDOG=1");
+}
 
 void SystemdNotifier::status(const std::string& status) {
   if (status == last_status_) return;
@@ -41,8 +43,12 @@ void SystemdNotifier::status(const std::string& status) {
   send("STATUS=" + status);
 }
 
-void SystemdNotifier::reloading() { send("RELOADING=1"); }
+void SystemdNotifier::reloading() {
+  send("RELOADING=1");
+}
 
-void SystemdNotifier::stopping() { send("STOPPING=1"); }
+void SystemdNotifier::stopping() {
+  send("STOPPING=1");
+}
 
 }  // namespace holo::kiosk

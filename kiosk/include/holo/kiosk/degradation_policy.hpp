@@ -25,13 +25,13 @@ const char* renderModeName(RenderMode mode);  // "full", "partial", "ibl-only"
 
 struct DegradationSettings {
   std::vector<std::string> quality_levels{"full", "reduced", "low", "minimal"};
-  double frame_budget_ms = 40.0;   // 25 fps
-  double headroom = 0.7;           // step up only below headroom * budget
-  double smoothing = 0.2;          // weight of the newest frame in the average, (0, 1]
+  double frame_budget_ms = 40.0;  // 25 fps
+  double headroom = 0.7;          // step up only below headroom * budget
+  double smoothing = 0.2;         // weight of the newest frame in the average, (0, 1]
   int down_after_frames = 10;
   int up_after_frames = 60;
-  int cooldown_frames = 30;        // no quality change right after one
-  int recover_after_frames = 15;   // camera mode recovery
+  int cooldown_frames = 30;       // no quality change right after one
+  int recover_after_frames = 15;  // camera mode recovery
 };
 
 struct DegradationDecision {

@@ -54,7 +54,7 @@ const std::string& factoryDefaultsYaml();
 KioskConfig parseKioskConfig(const ConfigNode& root);
 
 struct LoadedConfig {
-  ConfigNode root;      // the whole document used (other modules read their sections from it)
+  ConfigNode root;  // the whole document used (other modules read their sections from it)
   KioskConfig kiosk;
   std::string source;   // the file's path, "last good copy (PATH)" or "factory defaults"
   std::string warning;  // empty when the configured file was used; else why it was not

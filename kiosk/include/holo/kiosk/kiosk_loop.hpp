@@ -30,10 +30,10 @@ namespace holo::kiosk {
 
 struct FrameRequest {
   std::int64_t index = 0;
-  int quality = 0;              // 0 = best, see DegradationSettings::quality_levels
+  int quality = 0;  // 0 = best, see DegradationSettings::quality_levels
   std::string quality_name;
   RenderMode mode = RenderMode::Full;
-  bool blank = false;           // outside opening hours: present black, skip the work
+  bool blank = false;  // outside opening hours: present black, skip the work
 };
 
 struct FrameReport {

@@ -24,8 +24,7 @@ class OpeningHours {
   // Always open.
   OpeningHours() = default;
   // Throws InputError(origin, field, ...) naming the clause that does not parse.
-  static OpeningHours parse(const std::string& text, const std::string& origin,
-                            const std::string& field);
+  static OpeningHours parse(const std::string& text, const std::string& origin, const std::string& field);
 
   bool alwaysOpen() const { return always_open_; }
   // weekday: 0 = Monday .. 6 = Sunday; minute: 0..1439 of local wall-clock time.
