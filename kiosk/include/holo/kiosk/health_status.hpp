@@ -1,0 +1,49 @@
+// What the kiosk knows about its own health, as JSON (file and HTTP endpoint) and as the one-line
+// STATUS= summary systemd shows in `systemctl status`. Times in milliseconds, ages in seconds.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace holo::kiosk {
+
+struct CameraHealth {
+  std::string name;
+  bool alive = false;           // delivered a fresh frame recently
+  std::int64_t frames = 0;      // frames received since start
+  std::int64_t dropped = 0;     // frames dropped (late, corrupt)
+  std::int64_t reconnects = 0;  // times the source was reopened
+  double last_frame_age_s = 0;  // seconds since its newest frame
+};
+
+struct HealthStatus {
+  std::string state = "starting";          // starting, running, blanked (closed hours), stopping
+  std::string mode = "full";               // renderModeName
+  std::string quality = "full";            // the degradation level's name
+  double fps = 0;                          // over the last second or so
+  double frame_ms = 0;                     // smoothed frame time
+  std::map<std::string, double> stage_ms;  // last frame's stage times
+  std::optional<double> foreground_share;  // fraction of view pixels showing foreground, [0, 1]
+  std::vector<CameraHealth> cameras;
+  double uptime_s = 0;
+  std::int64_t frames = 0;
+  double seconds_since_frame = 0;       // grows when the frame loop hangs
+  std::string config_source;            // the file used, "last good copy" or "factory defaults"
+  std::string config_warning;           // why the configured file was not used (empty when it was)
+  std::deque<std::string> last_errors;  // newest last, at most kMaxErrors
+
+  static constexpr std::size_t kMaxErrors = 10;
+  void addError(const std::string& message);
+  int camerasAlive() const;
+
+  nlohmann::json toJson() const;
+  // "cameras 3/4, 24.9 fps, fg 12%, mode partial, quality full[, CONFIG WARNING]"
+  std::string summary() const;
+};
+
+}  // namespace holo::kiosk

@@ -1,0 +1,138 @@
+#include "holo/kiosk/kiosk_config.hpp"
+
+#include <set>
+
+#include "holo/core/files.hpp"
+#include "holo/core/log.hpp"
+
+namespace holo::kiosk {
+namespace {
+
+void rejectUnknown(const ConfigNode& node, const std::set<std::string>& known) {
+  for (const auto& key : node.keys()) {
+    if (!known.count(key)) {
+      std::string list;
+      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+      node[key].fail("one of the known fields (" + list + ")", "unknown field '" + key + "'");
+    }
+  }
+}
+
+int positiveInt(const ConfigNode& node, const std::string& key, int fallback, int minimum) {
+  if (!node.has(key)) return fallback;
+  const int v = node[key].as<int>();
+  if (v < minimum) node[key].fail("an integer >= " + std::to_string(minimum), std::to_string(v));
+  return v;
+}
+
+}  // namespace
+
+const std::string& factoryDefaultsYaml() {
+  static const std::string text = R"(# Holopyramid factory defaults (built into the program).
+kiosk:
+  opening_hours: ""
+  max_fps: 30
+  status_interval_s: 1.0
+  health:
+    address: 127.0.0.1
+    port: 8787
+    file: /run/holopyramid/health.json
+  degradation:
+    frame_budget_ms: 40
+    quality_levels: [full, reduced, low, minimal]
+    headroom: 0.7
+    smoothing: 0.2
+    down_after_frames: 10
+    up_after_frames: 60
+    cooldown_frames: 30
+    recover_after_frames: 15
+)";
+  return text;
+}
+
+KioskConfig parseKioskConfig(const ConfigNode& root) {
+  KioskConfig c;
+  const auto section = root.find("kiosk");
+  if (!section) return c;
+  const ConfigNode& k = *section;
+  if (!k.isMap()) k.fail("a map of kiosk settings");
+  rejectUnknown(k, {"opening_hours", "max_fps", "status_interval_s", "health", "degradation"});
+  if (k.has("opening_hours")) {
+    c.opening_hours_text = k["opening_hours"].as<std::string>();
+    c.opening_hours = OpeningHours::parse(c.opening_hours_text, k.file(), k["opening_hours"].path());
+  }
+  c.max_fps = k.getInRange("max_fps", static_cast<float>(c.max_fps), 1.0f, 240.0f);
+  c.status_interval_s =
+      k.getInRange("status_interval_s", static_cast<float>(c.status_interval_s), 0.05f, 60.0f);
+  if (const auto h = k.find("health")) {
+    rejectUnknown(*h, {"address", "port", "file"});
+    c.health_address = h->get<std::string>("address", c.health_address);
+    c.health_port = h->get<int>("port", c.health_port);
+    if (c.health_port > 65535) (*h)["port"].fail("a TCP port up to 65535 (0 = any, negative = off)");
+    c.health_file = h->get<std::string>("file", c.health_file.string());
+  }
+  if (const auto d = k.find("degradation")) {
+    rejectUnknown(*d, {"frame_budget_ms", "quality_levels", "headroom", "smoothing", "down_after_frames",
+                       "up_after_frames", "cooldown_frames", "recover_after_frames"});
+    auto& s = c.degradation;
+    s.frame_budget_ms =
+        d->getInRange("frame_budget_ms", static_cast<float>(s.frame_budget_ms), 1.0f, 10000.0f);
+    s.headroom = d->getInRange("headroom", static_cast<float>(s.headroom), 0.05f, 0.95f);
+    s.smoothing = d->getInRange("smoothing", static_cast<float>(s.smoothing), 0.01f, 1.0f);
+    s.down_after_frames = positiveInt(*d, "down_after_frames", s.down_after_frames, 1);
+    s.up_after_frames = positiveInt(*d, "up_after_frames", s.up_after_frames, 1);
+    s.cooldown_frames = positiveInt(*d, "cooldown_frames", s.cooldown_frames, 0);
+    s.recover_after_frames = positiveInt(*d, "recover_after_frames", s.recover_after_frames, 1);
+    if (d->has("quality_levels")) {
+      const ConfigNode levels = (*d)["quality_levels"];
+      if (!levels.isSequence() || levels.size() == 0) levels.fail("a non-empty list of level names");
+      s.quality_levels.clear();
+      for (std::size_t i = 0; i < levels.size(); ++i) s.quality_levels.push_back(levels[i].as<std::string>());
+    }
+  }
+  return c;
+}
+
+LoadedConfig loadConfigWithFallback(const std::filesystem::path& path, const std::filesystem::path& last_good,
+                                    const std::function<void(const ConfigNode&)>& validate) {
+  const auto tryLoad = [&](const ConfigNode& root, const std::string& source) {
+    LoadedConfig loaded{root, parseKioskConfig(root), source, {}};
+    if (validate) validate(root);
+    return loaded;
+  };
+  std::string warning;
+  try {
+    if (!std::filesystem::exists(path))
+      throw InputError(path.string(), "", "a configuration file", "no such file");
+    LoadedConfig loaded = tryLoad(ConfigNode::loadFile(path), path.string());
+    if (!last_good.empty()) {
+      try {
+        writeFileAtomically(last_good, readFile(path));
+      } catch (const std::exception& e) {  // the config itself is fine; keeping a copy is a bonus
+        HOLO_LOG_WARN("cannot keep a last good copy of the configuration: {}", e.what());
+      }
+    }
+    return loaded;
+  } catch (const std::exception& e) {
+    warning = e.what();
+  }
+  HOLO_LOG_ERROR("configuration {} not used: {}", path.string(), warning);
+  if (!last_good.empty() && std::filesystem::exists(last_good)) {
+    try {
+      LoadedConfig loaded =
+          tryLoad(ConfigNode::loadFile(last_good), "last good copy (" + last_good.string() + ")");
+      loaded.warning = "using last good config: " + warning;
+      HOLO_LOG_WARN("running with the last good configuration {}", last_good.string());
+      return loaded;
+    } catch (const std::exception& e) {
+      HOLO_LOG_ERROR("last good configuration {} not usable either: {}", last_good.string(), e.what());
+    }
+  }
+  LoadedConfig loaded =
+      tryLoad(ConfigNode::parse(factoryDefaultsYaml(), "factory defaults"), "factory defaults");
+  loaded.warning = "using factory defaults: " + warning;
+  HOLO_LOG_WARN("running with the factory default configuration");
+  return loaded;
+}
+
+}  // namespace holo::kiosk

@@ -1,0 +1,208 @@
+#include "holo/kiosk/kiosk_loop.hpp"
+
+#include <cmath>
+#include <thread>
+
+#include "holo/core/files.hpp"
+#include "holo/core/log.hpp"
+#include "holo/core/stats.hpp"
+
+namespace holo::kiosk {
+namespace {
+using Clock = std::chrono::steady_clock;
+double msBetween(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+// Blanked monitors still get a black frame now and then, so the watchdog keeps seeing progress.
+constexpr double kBlankFps = 2.0;
+}  // namespace
+
+KioskLoop::KioskLoop(LoadedConfig config, RenderFrame render, Reload reload)
+    : config_(config), render_(std::move(render)), reload_(std::move(reload)), started_(Clock::now()) {
+  applyConfig(std::move(config));
+}
+
+KioskLoop::~KioskLoop() = default;
+
+void KioskLoop::applyConfig(LoadedConfig config) {
+  const bool server_changed = !server_ || config.kiosk.health_address != config_.kiosk.health_address ||
+                              config.kiosk.health_port != config_.kiosk.health_port;
+  config_ = std::move(config);
+  policy_ = std::make_unique<DegradationPolicy>(config_.kiosk.degradation);
+  {
+    std::lock_guard lock(mutex_);
+    health_.config_source = config_.source;
+    health_.config_warning = config_.warning;
+    if (!config_.warning.empty()) health_.addError(config_.warning);
+    health_.quality = policy_->qualityName();
+  }
+  if (server_changed) {
+    server_.reset();
+    if (config_.kiosk.health_port < 0) return;
+    try {
+      server_ = std::make_unique<HealthServer>(config_.kiosk.health_address,
+                                               static_cast<std::uint16_t>(config_.kiosk.health_port),
+                                               [this] { return health().toJson().dump(2); });
+      HOLO_LOG_INFO("health endpoint on http://{}:{}/health", config_.kiosk.health_address, server_->port());
+    } catch (const std::exception& e) {
+      // The picture matters more than the endpoint: report and keep going.
+      HOLO_LOG_ERROR("health endpoint not started: {}", e.what());
+      std::lock_guard lock(mutex_);
+      health_.addError(std::string("health endpoint not started: ") + e.what());
+    }
+  }
+}
+
+std::uint16_t KioskLoop::healthPort() const {
+  return server_ ? server_->port() : 0;
+}
+
+HealthStatus KioskLoop::health() const {
+  std::lock_guard lock(mutex_);
+  HealthStatus h = health_;
+  const auto now = Clock::now();
+  h.uptime_s = std::chrono::duration<double>(now - started_).count();
+  h.seconds_since_frame =
+      last_frame_ ? std::chrono::duration<double>(now - *last_frame_).count() : h.uptime_s;
+  return h;
+}
+
+void KioskLoop::publish(SystemdNotifier& notifier, bool force) {
+  const auto now = Clock::now();
+  if (!force && std::chrono::duration<double>(now - last_publish_).count() < config_.kiosk.status_interval_s)
+    return;
+  last_publish_ = now;
+  const HealthStatus h = health();
+  if (ready_sent_) notifier.status(h.summary());
+  if (!config_.kiosk.health_file.empty()) {
+    try {
+      writeFileAtomically(config_.kiosk.health_file, h.toJson().dump(2) + "\n");
+    } catch (const std::exception& e) {
+      HOLO_LOG_WARN("health file not written: {}", e.what());
+      stats::add("Kiosk/Health file write failures");
+    }
+  }
+}
+
+void KioskLoop::frame(SystemdNotifier& notifier) {
+  const bool blank = !config_.kiosk.opening_hours.isOpen(std::chrono::system_clock::now());
+  if (blank != was_blank_)
+    HOLO_LOG_INFO(blank ? "closing time: blanking the monitors" : "opening: resuming the picture");
+  was_blank_ = blank;
+  FrameRequest request{index_++, policy_->quality(), policy_->qualityName(), policy_->mode(), blank};
+
+  const auto t0 = Clock::now();
+  FrameReport report;
+  try {
+    report = render_(request);
+  } catch (const std::exception& e) {
+    report.presented = false;
+    report.errors.push_back(std::string("frame failed: ") + e.what());
+    stats::add("Kiosk/Frames failed");
+  }
+  const auto t1 = Clock::now();
+  const double frame_ms = msBetween(t0, t1);
+
+  int alive = 0;
+  for (const auto& c : report.cameras) alive += c.alive ? 1 : 0;
+  const int total = static_cast<int>(report.cameras.size());
+  DegradationDecision decision{policy_->quality(), policy_->mode(), false, false};
+  // Black frames say nothing about the renderer's load; keep the quality where it was.
+  if (!blank) decision = policy_->update(frame_ms, alive, total);
+  if (decision.quality_changed)
+    HOLO_LOG_WARN("frame time {:.1f} ms (budget {:.1f} ms): quality now '{}'", frame_ms,
+                  config_.kiosk.degradation.frame_budget_ms, policy_->qualityName());
+  // Without cameras configured (a stand-in frame source) ibl-only is the plan, not a fault.
+  const bool mode_fault = decision.mode_changed && total > 0;
+  if (mode_fault) HOLO_LOG_WARN("cameras {}/{}: mode now '{}'", alive, total, renderModeName(decision.mode));
+
+  if (report.presented) {
+    watchdog_->frameCompleted(t1);
+    ++fps_window_frames_;
+  }
+  {
+    std::lock_guard lock(mutex_);
+    if (report.presented) {
+      last_frame_ = t1;
+      ++health_.frames;
+    }
+    for (const auto& e : report.errors) {
+      HOLO_LOG_WARN("{}", e);
+      health_.addError(e);
+    }
+    if (decision.quality_changed)
+      health_.addError("quality stepped to '" + policy_->qualityName() + "' at frame time " +
+                       std::to_string(std::lround(frame_ms)) + " ms");
+    if (mode_fault)
+      health_.addError("mode '" + std::string(renderModeName(decision.mode)) + "' with cameras " +
+                       std::to_string(alive) + "/" + std::to_string(total));
+    health_.state = blank ? "blanked" : "running";
+    health_.mode = renderModeName(policy_->mode());
+    health_.quality = policy_->qualityName();
+    health_.frame_ms = policy_->smoothedFrameMs();
+    health_.stage_ms = report.stage_ms;
+    health_.stage_ms["frame"] = frame_ms;
+    health_.cameras = report.cameras;
+    health_.foreground_share = report.foreground_share;
+    const double window_s = std::chrono::duration<double>(t1 - fps_window_start_).count();
+    if (window_s >= 1.0) {
+      health_.fps = static_cast<double>(fps_window_frames_) / window_s;
+      fps_window_start_ = t1;
+      fps_window_frames_ = 0;
+    }
+  }
+  if (report.presented && !ready_sent_) {
+    ready_sent_ = true;
+    const HealthStatus h = health();
+    HOLO_LOG_INFO("first frame on screen after {:.2f} s: ready", h.uptime_s);
+    notifier.ready(h.summary());
+    publish(notifier, true);
+  }
+}
+
+int KioskLoop::run(SignalEvents& signals, SystemdNotifier& notifier, std::int64_t stop_after_frames) {
+  watchdog_ =
+      std::make_unique<FrameWatchdog>(notifier.watchdogTimeout(), [&notifier] { notifier.watchdog(); });
+  if (const auto interval = watchdog_->petInterval())
+    HOLO_LOG_INFO("systemd watchdog: WATCHDOG=1 every {:.3f} s while frames are presented",
+                  std::chrono::duration<double>(*interval).count());
+  fps_window_start_ = Clock::now();
+  for (;;) {
+    const auto frame_start = Clock::now();
+    frame(notifier);
+    publish(notifier, false);
+    if (stop_after_frames > 0 && index_ >= stop_after_frames) break;
+
+    // Pace to max_fps (2 fps when blanked); the wait is the signal poll, so signals are handled
+    // at once even while idle.
+    const double fps = was_blank_ ? kBlankFps : config_.kiosk.max_fps;
+    const auto next =
+        frame_start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / fps));
+    const auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(next - Clock::now());
+    bool stop = false;
+    for (const SignalEvent event : signals.poll(std::max(wait, std::chrono::milliseconds(0)))) {
+      if (event == SignalEvent::Stop) {
+        stop = true;
+      } else {
+        HOLO_LOG_INFO("SIGHUP: reloading the configuration");
+        notifier.reloading();
+        applyConfig(reload_());
+        const HealthStatus h = health();
+        notifier.ready(h.summary());
+        publish(notifier, true);
+      }
+    }
+    if (stop) break;
+  }
+  HOLO_LOG_INFO("stopping");
+  notifier.stopping();
+  {
+    std::lock_guard lock(mutex_);
+    health_.state = "stopping";
+  }
+  publish(notifier, true);
+  server_.reset();
+  return 0;
+}
+
+}  // namespace holo::kiosk
