@@ -1,0 +1,103 @@
+// `holopyramid run`: the product's main job. The live pipeline on a scene of the simulated
+// museum, on the monitors (GLFW) or headless (EGL) into PNG frames, an MP4 and a timing table.
+#include <fmt/format.h>
+
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "command.hpp"
+#include "frame_loop.hpp"
+#include "holo/core/files.hpp"
+#include "holo/core/progress.hpp"
+#include "holo/display/display_config.hpp"
+
+namespace holo::app {
+namespace {
+
+struct RunOptions {
+  FrameLoopOptions loop;
+  std::string config_file;
+  std::string layout;
+  bool headless = false;
+  int frames = 0;
+  std::string out = "out/run";
+  std::string json;
+  int png_every = 10;
+};
+
+int runPipeline(RunOptions options) {
+  display::DisplayConfig display_config =
+      options.config_file.empty() ? display::DisplayConfig{} : display::loadDisplayConfig(options.config_file);
+  if (!options.layout.empty())
+    display_config.layout = display::parseLayoutKind(options.layout, "--layout");
+  const int frames = options.frames > 0 ? options.frames : (options.headless ? 30 : 0);
+  if (options.headless && !options.loop.live) {
+    // Deterministic: the same scene always gives the same frames, whatever the machine's speed.
+  } else {
+    options.loop.live = true;
+  }
+
+  std::unique_ptr<display::QuadViewPresenter> presenter;
+  const std::filesystem::path out(options.out);
+  if (options.headless) {
+    display::RecordingSettings recording;
+    recording.out_dir = out;
+    recording.fps = sim::loadScene(options.loop.scene).camera.fps;
+    recording.png_every = options.png_every;
+    presenter = display::makeRecordingPresenter(display::makeHeadlessPresenter(display_config), recording);
+  } else {
+    presenter = display::makeWindowPresenter(display_config);
+  }
+
+  FrameLoop loop(options.loop, std::move(presenter));
+  std::vector<FrameReport> reports;
+  ProgressReporter progress(frames > 0 ? frames : 0, "frames");
+  while (frames == 0 || static_cast<int>(reports.size()) < frames) {
+    reports.push_back(loop.step());
+    progress.update(1);
+    if (!reports.back().presented && !options.headless) break;  // the window was closed
+  }
+  progress.done();
+  loop.finish();
+
+  const StageTimes median = medianTimes(reports);
+  const std::string table = formatTimingTable(median, reports.size());
+  std::cout << table;
+  if (options.headless) {
+    writeFileAtomically(out / "timing.txt", table);
+    writeFileAtomically(out / "timing.json", timingJson(median, reports));
+    std::cout << fmt::format("wrote {} (quadview.mp4, frame_*.png, timing.txt, timing.json)\n", out.string());
+  }
+  if (!options.json.empty()) writeFileAtomically(options.json, timingJson(median, reports));
+  return 0;
+}
+
+}  // namespace
+
+HOLO_REGISTER_COMMAND(Command{
+    "run",
+    [](CLI::App& sub) {
+      auto options = std::make_shared<RunOptions>();
+      sub.add_option("--scene", options->loop.scene, "Built-in scene (see `holopyramid scenes`) or YAML file")
+          ->capture_default_str();
+      sub.add_option("--config", options->config_file, "YAML configuration (its display: section)");
+      sub.add_option("--layout", options->layout, "monitors | cross (overrides the configuration)");
+      sub.add_flag("--headless", options->headless, "Render offscreen through EGL into --out, no windows");
+      sub.add_flag("--live", options->loop.live,
+                   "Headless too: capture threads at the cameras' rate (not deterministic)");
+      sub.add_option("--frames", options->frames, "Frames to run (0: until the window closes; headless: 30)");
+      sub.add_option("--out", options->out, "Headless output folder")->capture_default_str();
+      sub.add_option("--png-every", options->png_every, "Headless: write every Nth frame as PNG (0: none)")
+          ->capture_default_str();
+      sub.add_option("--view-size", options->loop.view_size, "Pixels per face view (square)")
+          ->capture_default_str();
+      sub.add_flag("!--no-foreground", options->loop.tracer.foreground_enabled,
+                   "Static IBL reflections only (the foreground effect off)");
+      sub.add_flag("!--no-eye-tracking", options->loop.track_eyes, "Default standing eyes for every face");
+      sub.add_option("--json", options->json, "Also write the timing report (medians, per frame) here");
+      return [options] { return runPipeline(*options); };
+    },
+    "The live pipeline: cameras -> foreground -> reflections -> quad view (monitors or headless)"});
+
+}  // namespace holo::app

@@ -1,0 +1,291 @@
+#include "frame_loop.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+#include <tbb/parallel_for.h>
+
+#include "holo/capture/simulated_source.hpp"
+#include "holo/core/error.hpp"
+#include "holo/core/image.hpp"
+#include "holo/core/log.hpp"
+#include "holo/reflect/view.hpp"
+
+namespace holo::app {
+namespace {
+
+using Ms = std::chrono::duration<double, std::milli>;
+
+double msSince(Clock::time_point t0) { return Ms(Clock::now() - t0).count(); }
+
+double passMs(const std::vector<reflect::PassTiming>& timings, std::initializer_list<reflect::Pass> passes) {
+  double sum = 0;
+  for (const reflect::PassTiming& t : timings)
+    if (std::find(passes.begin(), passes.end(), t.pass) != passes.end()) sum += t.ms;
+  return sum;
+}
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  return *mid;
+}
+
+}  // namespace
+
+FrameLoop::FrameLoop(FrameLoopOptions options, std::unique_ptr<display::QuadViewPresenter> presenter)
+    : options_(std::move(options)),
+      museum_(std::make_shared<sim::Museum>(sim::loadScene(options_.scene))),
+      foreground_([&] {
+        std::vector<CameraModel> cameras;
+        for (int i = 0; i < museum_->cameraCount(); ++i) cameras.push_back(museum_->camera(i));
+        depthfilter::ForegroundPipelineConfig config;
+        config.exposure = museum_->description().camera.exposure;
+        return depthfilter::ForegroundPipeline(cameras, config);
+      }()),
+      eye_tracker_(options_.eyes),
+      presenter_(std::move(presenter)) {
+  if (options_.view_size < 16 || options_.view_size > 4096)
+    throw InputError("frame loop", "view_size", "16..4096 pixels", std::to_string(options_.view_size));
+  const int n = museum_->cameraCount();
+  for (int i = 0; i < n; ++i) cameras_.push_back(museum_->camera(i));
+
+  // The background gamma_s each camera learns its mask against (DESIGN.md step 2).
+  std::vector<RgbdFrame> backgrounds(static_cast<std::size_t>(n));
+  tbb::parallel_for(0, n, [&](int i) { backgrounds[static_cast<std::size_t>(i)] = museum_->backgroundFrame(i); });
+  foreground_.learnBackground(backgrounds);
+
+  const int pw = std::max(64, options_.panorama_width);
+  environment_ = reflect::Environment(museum_->renderPanorama(pw, pw / 2));
+  ibl_ = reflect::PrefilteredIbl(environment_);
+  render_scene_ = std::make_unique<reflect::RenderScene>(museum_->relic(), std::vector<Model>{});
+  renderer_ = std::make_unique<reflect::FrameRenderer>(*render_scene_, ibl_, options_.tracer);
+  for (int f = 0; f < 4; ++f) eyes_[static_cast<std::size_t>(f)] = display::defaultEye(f, options_.eyes);
+
+  if (options_.live) {
+    latest_.resize(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i) {
+      mailboxes_.push_back(std::make_unique<capture::LatestFrameMailbox>());
+      capture::CaptureOptions capture_options;
+      capture_options.camera_id = i;
+      threads_.push_back(std::make_unique<capture::CaptureThread>(
+          std::make_unique<capture::SimulatedSource>(museum_, i), *mailboxes_.back(), capture_options));
+    }
+  } else {
+    next_frames_ = std::async(std::launch::async, [this] { return grabDeterministic(0); });
+  }
+  HOLO_LOG_INFO("frame loop ready: scene '{}', {} cameras, {} mode, views {}x{}",
+                museum_->description().name, n, options_.live ? "live" : "deterministic",
+                options_.view_size, options_.view_size);
+}
+
+FrameLoop::~FrameLoop() {
+  for (auto& thread : threads_) thread->stop();
+  if (next_frames_.valid()) next_frames_.wait();
+}
+
+std::vector<RgbdFrame> FrameLoop::grabDeterministic(std::int64_t frame) {
+  const int n = museum_->cameraCount();
+  std::vector<RgbdFrame> frames(static_cast<std::size_t>(n));
+  tbb::parallel_for(0, n, [&](int i) {
+    frames[static_cast<std::size_t>(i)] = museum_->renderCamera(i, static_cast<int>(frame)).frame;
+  });
+  return frames;
+}
+
+std::vector<RgbdFrame> FrameLoop::acquire(double& wait_ms) {
+  const auto t0 = Clock::now();
+  std::vector<RgbdFrame> frames;
+  if (!options_.live) {
+    frames = next_frames_.get();
+    next_frames_ = std::async(std::launch::async, [this, next = index_ + 1] { return grabDeterministic(next); });
+  } else {
+    const auto now = Clock::now();
+    frames.resize(latest_.size());
+    for (std::size_t i = 0; i < latest_.size(); ++i) {
+      if (auto fresh = mailboxes_[i]->take()) latest_[i] = std::move(*fresh);
+      const bool stale = latest_[i].color.empty() ||
+                         std::chrono::duration<double>(now - latest_[i].host_time).count() > options_.stale_camera_s;
+      if (!stale) frames[i] = latest_[i];  // an empty frame tells the pipeline the camera is missing
+    }
+  }
+  wait_ms = msSince(t0);
+  return frames;
+}
+
+std::vector<reflect::ForegroundCameraImage> FrameLoop::cameraImages(const std::vector<RgbdFrame>& frames) const {
+  std::vector<reflect::ForegroundCameraImage> images(frames.size());
+  const float exposure = museum_->description().camera.exposure;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const depthfilter::CameraForeground& result = foreground_.lastResult(i);
+    if (!result.present || frames[i].color.empty()) continue;  // no image: its points are ignored
+    images[i].camera = cameras_[i];
+    images[i].colour_bgr = srgb8ToLinear(frames[i].color) * (1.0f / exposure);
+    images[i].mask = result.mask;
+  }
+  return images;
+}
+
+FrameReport FrameLoop::step() {
+  FrameReport report;
+  report.index = index_;
+  const auto frame_start = Clock::now();
+
+  double wait_ms = 0;
+  const std::vector<RgbdFrame> frames = acquire(wait_ms);
+  report.times.acquisition = wait_ms;
+  for (const RgbdFrame& f : frames) report.cameras_live += f.color.empty() ? 0 : 1;
+
+  auto t0 = Clock::now();
+  cloud_ = foreground_.process(frames);
+  cloud_.sequence = index_;
+  cloud_.time_s = museum_->frameTime(static_cast<int>(index_));
+  report.foreground_points = cloud_.points.size();
+  report.times.foreground = msSince(t0);
+
+  t0 = Clock::now();
+  if (options_.track_eyes) {
+    const auto& eyes = eye_tracker_.update(cloud_);
+    for (std::size_t f = 0; f < 4; ++f) {
+      eyes_[f] = eyes[f].position;
+      report.eyes_tracked[f] = eyes[f].tracked;
+    }
+  }
+  const std::vector<CameraModel> views = faceViews();
+  const double eyes_ms = msSince(t0);
+
+  last_result_ = renderer_->render(cloud_, cameraImages(frames), views);
+  report.times.foreground += passMs(last_result_.frame_timings, {reflect::Pass::VoxelGrid});
+  report.times.dynamic += passMs(last_result_.frame_timings, {reflect::Pass::Pyramids});
+  for (const reflect::ViewImages& view : last_result_.views) {
+    report.times.dynamic += passMs(view.timings, {reflect::Pass::ForegroundWalk});
+    report.times.statics += passMs(view.timings, {reflect::Pass::HitPoints, reflect::Pass::StaticReflections});
+    report.times.composition += passMs(view.timings, {reflect::Pass::Composition, reflect::Pass::ToneMap});
+  }
+  report.plan = last_result_.plan.describe();
+
+  // Exposure: fixed from the first frame's automatic choice, so the relic does not pump as
+  // visitors come and go.
+  if (!exposure_ && options_.tracer.exposure <= 0.0f && !last_result_.views.empty()) {
+    std::vector<double> chosen;
+    for (const reflect::ViewImages& v : last_result_.views) chosen.push_back(v.exposure);
+    exposure_ = static_cast<float>(median(chosen));
+    options_.tracer.exposure = *exposure_;
+    renderer_ = std::make_unique<reflect::FrameRenderer>(*render_scene_, ibl_, options_.tracer);
+  }
+
+  t0 = Clock::now();
+  if (presenter_) {
+    display::FaceImages faces;
+    display::FaceImages coverage;
+    for (std::size_t f = 0; f < last_result_.views.size() && f < faces.size(); ++f) {
+      faces[f] = last_result_.views[f].display;
+      last_result_.views[f].coverage.convertTo(coverage[f], CV_8U, 255.0);
+    }
+    presenter_->present(faces, &coverage);
+    report.presented = presenter_->isOpen();
+  }
+  report.times.display = eyes_ms + msSince(t0);
+  report.times.total = msSince(frame_start);
+  ++index_;
+  return report;
+}
+
+std::vector<CameraModel> FrameLoop::faceViews() const {
+  const Bounds3 bounds = render_scene_->relicBounds();
+  const vec3 target = bounds.empty() ? vec3(0.0f) : bounds.center();
+  std::vector<CameraModel> views;
+  for (const vec3& eye : eyes_)
+    views.push_back(reflect::lookAtCamera(eye, target, reflect::framingFovDeg(eye, bounds), options_.view_size,
+                                          options_.view_size));
+  return views;
+}
+
+void FrameLoop::setQuality(int view_size, bool foreground_enabled) {
+  if (view_size == options_.view_size && foreground_enabled == options_.tracer.foreground_enabled) return;
+  options_.view_size = std::clamp(view_size, 16, 4096);
+  options_.tracer.foreground_enabled = foreground_enabled;
+  renderer_ = std::make_unique<reflect::FrameRenderer>(*render_scene_, ibl_, options_.tracer);
+}
+
+void FrameLoop::finish() {
+  if (presenter_) presenter_->finish();
+}
+
+std::vector<capture::CameraHealth> FrameLoop::cameraHealth() const {
+  std::vector<capture::CameraHealth> health;
+  for (const auto& thread : threads_) health.push_back(thread->health());
+  if (threads_.empty())  // deterministic: the simulated cameras always deliver
+    for (std::int64_t i = 0; i < static_cast<std::int64_t>(cameras_.size()); ++i) {
+      capture::CameraHealth h;
+      h.connected = true;
+      h.frames_completed = index_;
+      h.last_frame_age_s = 0.0;
+      health.push_back(h);
+    }
+  return health;
+}
+
+StageTimes medianTimes(const std::vector<FrameReport>& reports) {
+  auto pick = [&](double StageTimes::*field) {
+    std::vector<double> values;
+    for (const FrameReport& r : reports) values.push_back(r.times.*field);
+    return median(values);
+  };
+  StageTimes m;
+  m.acquisition = pick(&StageTimes::acquisition);
+  m.foreground = pick(&StageTimes::foreground);
+  m.dynamic = pick(&StageTimes::dynamic);
+  m.statics = pick(&StageTimes::statics);
+  m.composition = pick(&StageTimes::composition);
+  m.display = pick(&StageTimes::display);
+  m.total = pick(&StageTimes::total);
+  return m;
+}
+
+std::string formatTimingTable(const StageTimes& m, std::size_t frames) {
+  std::ostringstream out;
+  char line[128];
+  out << "stage                      median ms   (over " << frames << " frames)\n";
+  const std::pair<const char*, double> rows[] = {
+      {"acquisition (wait)", m.acquisition}, {"foreground point cloud", m.foreground},
+      {"dynamic reflections", m.dynamic},    {"static reflections", m.statics},
+      {"composition", m.composition},        {"display", m.display},
+      {"whole frame", m.total}};
+  for (const auto& [name, ms] : rows) {
+    std::snprintf(line, sizeof line, "%-26s %9.2f\n", name, ms);
+    out << line;
+  }
+  std::snprintf(line, sizeof line, "%-26s %9.2f\n", "frames per second", m.total > 0 ? 1000.0 / m.total : 0.0);
+  out << line;
+  return out.str();
+}
+
+std::string timingJson(const StageTimes& m, const std::vector<FrameReport>& reports) {
+  auto stages = [](const StageTimes& t) {
+    return nlohmann::json{{"acquisition_ms", t.acquisition}, {"foreground_ms", t.foreground},
+                          {"dynamic_reflections_ms", t.dynamic}, {"static_reflections_ms", t.statics},
+                          {"composition_ms", t.composition},     {"display_ms", t.display},
+                          {"frame_ms", t.total}};
+  };
+  nlohmann::json j;
+  j["frames"] = reports.size();
+  j["median"] = stages(m);
+  j["fps"] = m.total > 0 ? 1000.0 / m.total : 0.0;
+  nlohmann::json per_frame = nlohmann::json::array();
+  for (const FrameReport& r : reports) {
+    nlohmann::json f = stages(r.times);
+    f["index"] = r.index;
+    f["foreground_points"] = r.foreground_points;
+    f["cameras_live"] = r.cameras_live;
+    f["plan"] = r.plan;
+    per_frame.push_back(f);
+  }
+  j["per_frame"] = per_frame;
+  return j.dump(2);
+}
+
+}  // namespace holo::app

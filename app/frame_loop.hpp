@@ -1,0 +1,126 @@
+// The live frame loop (DESIGN.md "One frame of the live pipeline"): four cameras -> foreground
+// point cloud -> reflections per face view -> composition -> the quad view.
+//
+// Acquisition overlaps processing in both modes:
+//  * live: one capture thread per camera publishes into a latest-frame mailbox; the loop takes
+//    the newest frame of each camera and never waits for one. A camera silent for longer than
+//    stale_camera_s is dropped from the foreground (the others go on; with none, IBL only).
+//  * deterministic (headless runs, tests, benchmarks): frame n+1 of every camera is grabbed on a
+//    worker while frame n is processed, so the same scene always gives the same images.
+//
+// Units: seconds for times, milliseconds in StageTimes, metres in the world (pyramid) frame.
+// Threads: construct and step() on one thread (a window presenter needs the main thread).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <future>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "holo/capture/camera_source.hpp"
+#include "holo/capture/capture_thread.hpp"
+#include "holo/capture/latest_frame_mailbox.hpp"
+#include "holo/depthfilter/foreground_pipeline.hpp"
+#include "holo/display/eye_tracker.hpp"
+#include "holo/display/quad_view_presenter.hpp"
+#include "holo/reflect/frame_renderer.hpp"
+#include "holo/reflect/prefiltered_ibl.hpp"
+#include "holo/reflect/render_scene.hpp"
+#include "holo/sim/museum.hpp"
+
+namespace holo::app {
+
+struct FrameLoopOptions {
+  std::string scene = "museum";  // built-in name or YAML file (sim::loadScene)
+  bool live = false;             // capture threads at the cameras' rate; else deterministic
+  int view_size = 320;           // pixels, square face views
+  int panorama_width = 512;      // of the simulated hall panorama the IBL is built from
+  double stale_camera_s = 0.5;   // live: a camera silent this long leaves the foreground
+  bool track_eyes = true;        // eyes follow visitors' heads; else default standing eyes
+  reflect::TracerSettings tracer;
+  display::EyeTrackerSettings eyes;
+};
+
+// The paper's Table 3 stages of one frame, milliseconds.
+struct StageTimes {
+  double acquisition = 0;  // waiting for and converting camera frames (overlapped: the wait)
+  double foreground = 0;   // masks, flow, temporal filter, back-projection, voxel grid
+  double dynamic = 0;      // Kawase pyramids and voxel walk
+  double statics = 0;      // hit points and prefiltered IBL
+  double composition = 0;  // composition, tone mapping
+  double display = 0;      // eye tracking, quad layout, presentation
+  double total = 0;
+};
+
+struct FrameReport {
+  std::int64_t index = 0;
+  StageTimes times;
+  std::size_t foreground_points = 0;
+  int cameras_live = 0;       // cameras whose frame reached the foreground stage
+  std::string plan;           // the effect plan of face 0 ("HitPoints,... (reason)")
+  std::array<bool, 4> eyes_tracked{};
+  bool presented = false;
+};
+
+class FrameLoop {
+ public:
+  // Builds the museum, the cameras, the IBL and the renderers. Throws InputError for a bad scene
+  // or settings. `presenter` may be null (benchmarks: render without showing).
+  FrameLoop(FrameLoopOptions options, std::unique_ptr<display::QuadViewPresenter> presenter);
+  ~FrameLoop();
+  FrameLoop(const FrameLoop&) = delete;
+  FrameLoop& operator=(const FrameLoop&) = delete;
+
+  // Renders and presents one frame.
+  FrameReport step();
+  // Lower quality for the kiosk's degradation: view size and whether the foreground runs.
+  void setQuality(int view_size, bool foreground_enabled);
+  // Closes the presenter's outputs (the MP4 is renamed into place).
+  void finish();
+
+  const sim::Museum& museum() const { return *museum_; }
+  const std::vector<CameraModel>& cameras() const { return cameras_; }
+  std::vector<CameraModel> faceViews() const;  // the four views of the last frame
+  const reflect::FrameResult& lastResult() const { return last_result_; }
+  std::vector<capture::CameraHealth> cameraHealth() const;
+  display::QuadViewPresenter* presenter() { return presenter_.get(); }
+  const reflect::RenderScene& renderScene() const { return *render_scene_; }
+  const reflect::PrefilteredIbl& ibl() const { return ibl_; }
+
+ private:
+  std::vector<RgbdFrame> acquire(double& wait_ms);
+  std::vector<RgbdFrame> grabDeterministic(std::int64_t frame);
+  std::vector<reflect::ForegroundCameraImage> cameraImages(const std::vector<RgbdFrame>& frames) const;
+
+  FrameLoopOptions options_;
+  std::shared_ptr<const sim::Museum> museum_;
+  std::vector<CameraModel> cameras_;
+  std::vector<std::unique_ptr<capture::CameraSource>> sources_;  // deterministic mode
+  std::future<std::vector<RgbdFrame>> next_frames_;               // deterministic prefetch
+  std::vector<std::unique_ptr<capture::LatestFrameMailbox>> mailboxes_;  // live mode
+  std::vector<std::unique_ptr<capture::CaptureThread>> threads_;         // live mode
+  std::vector<RgbdFrame> latest_;                                        // live: per camera
+  depthfilter::ForegroundPipeline foreground_;
+  depthfilter::ForegroundCloud cloud_;
+  reflect::Environment environment_;
+  reflect::PrefilteredIbl ibl_;
+  std::unique_ptr<reflect::RenderScene> render_scene_;
+  std::unique_ptr<reflect::FrameRenderer> renderer_;
+  display::EyeTracker eye_tracker_;
+  std::unique_ptr<display::QuadViewPresenter> presenter_;
+  std::array<vec3, 4> eyes_{};
+  std::optional<float> exposure_;  // fixed after the first frame so the image does not pump
+  reflect::FrameResult last_result_;
+  std::int64_t index_ = 0;
+};
+
+// Median of each stage over the reports, and frames per second from the median total.
+StageTimes medianTimes(const std::vector<FrameReport>& reports);
+// The Table 3 style text table and its JSON form.
+std::string formatTimingTable(const StageTimes& median, std::size_t frames);
+std::string timingJson(const StageTimes& median, const std::vector<FrameReport>& reports);
+
+}  // namespace holo::app
