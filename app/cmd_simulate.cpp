@@ -1,0 +1,188 @@
+// `holopyramid simulate --scene NAME|FILE --frames N --out DIR`: records the simulated museum.
+//
+// DIR (a recording that `holopyramid info` and the recording source read):
+//   recording.yaml, cam0..cam3/           the four cameras as the sensors deliver them (noisy):
+//                                         rgb/*.png, depth/*.png (16-bit, millimetres), TUM index
+//                                         files and associations.txt (capture/recording.hpp)
+//   truth/cam<i>/depth/NNNNNN.png         noiseless depth, 16-bit millimetres, 0 = nothing in range
+//   truth/cam<i>/foreground/NNNNNN.png    8-bit mask, 255 where the pixel sees a visitor
+//   background/cam<i>/color.png, depth.png  the empty hall with sensor noise (gamma_s)
+//   panorama.exr                          equirectangular linear HDR of the empty hall
+//   contact_sheet.png                     frame 0 of every camera: colour, depth, truth, mask
+//   scene.txt                             the scene's name, source and seed
+//
+// The whole folder is written under DIR.partial-PID and renamed to DIR at the end, so DIR either
+// does not exist or is complete. DIR must not exist yet.
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "command.hpp"
+#include "holo/capture/recorder.hpp"
+#include "holo/core/error.hpp"
+#include "holo/core/files.hpp"
+#include "holo/core/hdr_io.hpp"
+#include "holo/core/progress.hpp"
+#include "holo/sim/museum.hpp"
+
+namespace holo::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct SimulateOptions {
+  std::string scene;
+  int frames = 30;
+  std::string out;
+  int panorama_width = 2048;
+  bool quiet = false;
+};
+
+void writePng(const fs::path& path, const cv::Mat& image) {
+  fs::create_directories(path.parent_path());
+  writeAtomically(path, [&](const fs::path& tmp) {
+    if (!cv::imwrite(tmp.string(), image)) throw Error("could not write " + path.string());
+  });
+}
+
+std::string frameName(int frame) {
+  char name[16];
+  std::snprintf(name, sizeof name, "%06d.png", frame);
+  return name;
+}
+
+// Depth as a picture: near = warm, far = cool, no measurement = black.
+cv::Mat depthPicture(const cv::Mat& depth_m, float max_range) {
+  cv::Mat scaled;
+  depth_m.convertTo(scaled, CV_8U, -255.0 / max_range, 255.0);
+  cv::Mat colour;
+  cv::applyColorMap(scaled, colour, cv::COLORMAP_TURBO);
+  colour.setTo(cv::Scalar::all(0), depth_m <= 0);
+  return colour;
+}
+
+cv::Mat labelled(const cv::Mat& bgr, const std::string& label) {
+  cv::Mat out = bgr.clone();
+  cv::putText(out, label, {8, 24}, cv::FONT_HERSHEY_SIMPLEX, 0.7, cv::Scalar(0, 0, 0), 3, cv::LINE_AA);
+  cv::putText(out, label, {8, 24}, cv::FONT_HERSHEY_SIMPLEX, 0.7, cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
+  return out;
+}
+
+// One column per camera; rows: colour, measured depth, true depth, foreground mask.
+cv::Mat contactSheet(const std::vector<sim::SimulatedFrame>& first, float max_range) {
+  std::vector<cv::Mat> columns;
+  for (std::size_t i = 0; i < first.size(); ++i) {
+    const auto& f = first[i];
+    cv::Mat mask;
+    cv::cvtColor(f.foreground, mask, cv::COLOR_GRAY2BGR);
+    const std::string cam = "cam" + std::to_string(i);
+    std::vector<cv::Mat> rows{labelled(f.frame.color, cam + " colour"),
+                              labelled(depthPicture(f.frame.depth, max_range), cam + " depth"),
+                              labelled(depthPicture(f.true_depth, max_range), cam + " true depth"),
+                              labelled(mask, cam + " foreground")};
+    cv::Mat column;
+    cv::vconcat(rows, column);
+    columns.push_back(column);
+  }
+  cv::Mat sheet;
+  cv::hconcat(columns, sheet);
+  return sheet;
+}
+
+int simulate(const SimulateOptions& o) {
+  if (o.frames < 1 || o.frames > 100000)
+    throw InputError("", "--frames", "1 to 100000", std::to_string(o.frames));
+  if (o.panorama_width < 16 || o.panorama_width % 2 != 0)
+    throw InputError("", "--panorama-width", "an even width of at least 16 pixels",
+                     std::to_string(o.panorama_width));
+  const fs::path out = fs::absolute(o.out).lexically_normal();
+  std::error_code ec;
+  if (fs::exists(out, ec))
+    throw InputError(out.string(), "--out", "a folder that does not exist yet", "it exists");
+
+  const sim::SceneDescription scene = sim::loadScene(o.scene);
+  const sim::Museum museum(scene);
+  const int cameras = museum.cameraCount();
+
+  const fs::path tmp =
+      out.parent_path() / (out.filename().string() + ".partial-" + std::to_string(::getpid()));
+  fs::remove_all(tmp, ec);
+  fs::create_directories(tmp);
+
+  ProgressReporter progress(static_cast<std::int64_t>(o.frames) * cameras + cameras + 1,
+                            "simulate " + scene.name, o.quiet);
+  std::vector<capture::RecorderCamera> recorder_cameras;
+  for (int c = 0; c < cameras; ++c)
+    recorder_cameras.push_back(
+        {"cam" + std::to_string(c), "SIM-" + scene.name + "-" + std::to_string(c), museum.camera(c)});
+  std::int64_t clipped = 0;
+  {
+    capture::Recorder recorder(tmp, recorder_cameras, capture::kDefaultDepthScale);
+    std::vector<sim::SimulatedFrame> first;
+    for (int frame = 0; frame < o.frames; ++frame) {
+      for (int c = 0; c < cameras; ++c) {
+        sim::SimulatedFrame f = museum.renderCamera(c, frame);
+        f.frame.camera_id = c;
+        f.frame.sequence = static_cast<std::uint64_t>(frame);
+        f.frame.device_time = std::chrono::duration_cast<Nanoseconds>(
+            std::chrono::duration<double>(static_cast<double>(museum.frameTime(frame))));
+        recorder.write(f.frame);
+        const fs::path truth = tmp / "truth" / ("cam" + std::to_string(c));
+        writePng(truth / "depth" / frameName(frame),
+                 capture::depthToU16(f.true_depth, capture::kDefaultDepthScale, &clipped));
+        writePng(truth / "foreground" / frameName(frame), f.foreground);
+        if (frame == 0) first.push_back(std::move(f));
+        progress.update();
+      }
+    }
+    recorder.finish();
+    // Colour the depth over the range the scene actually spans, not the sensor's 20 m.
+    double far = 0.5;
+    for (const auto& f : first) {
+      double hi = 0;
+      cv::minMaxLoc(f.true_depth, nullptr, &hi);
+      far = std::max(far, hi);
+    }
+    writePng(tmp / "contact_sheet.png",
+             contactSheet(first, static_cast<float>(std::min<double>(far, scene.camera.max_range))));
+  }
+  for (int c = 0; c < cameras; ++c) {
+    const RgbdFrame background = museum.backgroundFrame(c);
+    const fs::path dir = tmp / "background" / ("cam" + std::to_string(c));
+    writePng(dir / "color.png", background.color);
+    writePng(dir / "depth.png", capture::depthToU16(background.depth, capture::kDefaultDepthScale, &clipped));
+    progress.update();
+  }
+  saveHdr(tmp / "panorama.exr", museum.renderPanorama(o.panorama_width, o.panorama_width / 2));
+  progress.update();
+  writeFileAtomically(tmp / "scene.txt", "scene: " + scene.name + "\nsource: " + scene.source +
+                                             "\nseed: " + std::to_string(scene.seed) +
+                                             "\nframes: " + std::to_string(o.frames) + "\n");
+  progress.done();
+  fs::rename(tmp, out);
+  std::cout << "wrote " << o.frames << " frames of " << cameras << " cameras of scene '" << scene.name
+            << "' to " << out.string() << " (contact sheet: " << (out / "contact_sheet.png").string()
+            << ")\n";
+  if (clipped > 0) std::cout << "depth pixels beyond 65.5 m stored as 0: " << clipped << "\n";
+  return 0;
+}
+
+}  // namespace
+
+HOLO_REGISTER_COMMAND(Command{
+    "simulate",
+    [](CLI::App& sub) {
+      auto o = std::make_shared<SimulateOptions>();
+      sub.add_option("--scene", o->scene, "Built-in scene name or scene YAML file")->required();
+      sub.add_option("--frames", o->frames, "Frames per camera")->capture_default_str();
+      sub.add_option("--out", o->out, "Output folder (must not exist)")->required();
+      sub.add_option("--panorama-width", o->panorama_width, "Panorama width in pixels")
+          ->capture_default_str();
+      sub.add_flag("-q,--quiet", o->quiet, "No progress output");
+      return [o] { return simulate(*o); };
+    },
+    "Record the simulated museum: four RGB-D cameras, ground truth, backgrounds, panorama"});
+
+}  // namespace holo::app

@@ -1,0 +1,65 @@
+#include "holo/capture/simulated_source.hpp"
+
+#include <thread>
+
+#include "holo/core/error.hpp"
+#include "holo/sim/museum.hpp"
+
+namespace holo::capture {
+
+SimulatedSource::SimulatedSource(std::shared_ptr<const sim::Museum> museum, int camera,
+                                 SimulationOptions options)
+    : museum_(std::move(museum)), camera_(camera), options_(options), next_frame_(options.first_frame) {
+  if (!museum_) throw InputError("", "museum", "a simulated museum");
+  if (camera_ < 0 || camera_ >= museum_->cameraCount())
+    throw InputError(museum_->description().source, "camera",
+                     "0.." + std::to_string(museum_->cameraCount() - 1), std::to_string(camera_));
+  if (options_.first_frame < 0) throw InputError(museum_->description().source, "first_frame", ">= 0");
+}
+
+std::string SimulatedSource::name() const {
+  return "sim:" + museum_->description().name + "/cam" + std::to_string(camera_);
+}
+
+std::string SimulatedSource::serial() const {
+  return "SIM-" + museum_->description().name + "-" + std::to_string(camera_);
+}
+
+void SimulatedSource::start() {
+  next_frame_ = options_.first_frame;
+  start_ = Clock::now();
+}
+
+GrabResult SimulatedSource::grab(Nanoseconds timeout) {
+  const int index = next_frame_ - options_.first_frame;
+  if (options_.frame_count >= 0 && index >= options_.frame_count)
+    return {GrabStatus::EndOfStream, {}, "end of simulation"};
+  if (options_.paced) {
+    const double fps = museum_->description().camera.fps;
+    const auto due =
+        start_ + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(index / fps));
+    const auto now = Clock::now();
+    if (due - now > timeout) {
+      std::this_thread::sleep_for(timeout);
+      return {GrabStatus::Timeout, {}, "next frame not due yet"};
+    }
+    std::this_thread::sleep_until(due);
+  }
+  sim::SimulatedFrame simulated = museum_->renderCamera(camera_, next_frame_, options_.with_visitors);
+  GrabResult result;
+  result.status = GrabStatus::Ok;
+  result.frame = std::move(simulated.frame);
+  result.frame.camera_id = camera_;
+  result.frame.sequence = static_cast<std::uint64_t>(index);
+  result.frame.device_time = std::chrono::duration_cast<Nanoseconds>(
+      std::chrono::duration<double>(static_cast<double>(museum_->frameTime(next_frame_))));
+  result.frame.host_time = Clock::now();
+  ++next_frame_;
+  return result;
+}
+
+std::optional<CameraModel> SimulatedSource::cameraModel() const {
+  return museum_->camera(camera_);
+}
+
+}  // namespace holo::capture
