@@ -52,7 +52,8 @@ DisplayConfig parseDisplayConfig(const ConfigNode& node) {
   DisplayConfig config;
   config.source = node.file();
   if (node.yaml().IsNull() || !node.yaml().IsDefined()) return config;
-  rejectUnknownKeys(node, {"layout", "output_size", "fullscreen", "exposure", "cross", "auto_fit", "faces"});
+  rejectUnknownKeys(
+      node, {"layout", "output_size", "fullscreen", "exposure", "cross", "auto_fit", "faces", "eyes"});
   if (node.has("layout")) config.layout = layoutFrom(node["layout"]);
   if (node.has("output_size")) config.output_size = sizeFrom(node["output_size"]);
   config.fullscreen = node.get<bool>("fullscreen", config.fullscreen);
@@ -88,6 +89,50 @@ DisplayConfig loadDisplayConfig(const std::filesystem::path& path) {
   DisplayConfig config = section ? parseDisplayConfig(*section) : DisplayConfig{};
   config.source = path.string();
   return config;
+}
+
+EyeTrackerSettings parseEyeTrackerSettings(const ConfigNode& node) {
+  EyeTrackerSettings e;
+  if (node.yaml().IsNull() || !node.yaml().IsDefined()) return e;
+  rejectUnknownKeys(
+      node, {"floor_y", "default_eye_height", "default_distance", "min_head_top", "max_head_top",
+             "min_distance", "max_distance", "head_radius", "head_depth", "min_support", "top_band",
+             "min_top_support", "eye_below_top", "alpha", "beta", "max_speed", "gate", "lost_timeout_s"});
+  e.floor_y = node.getInRange("floor_y", e.floor_y, -10.0f, 10.0f);
+  e.default_eye_height = node.getInRange("default_eye_height", e.default_eye_height, 0.3f, 2.5f);
+  e.default_distance = node.getInRange("default_distance", e.default_distance, 0.1f, 10.0f);
+  e.min_head_top = node.getInRange("min_head_top", e.min_head_top, 0.3f, 2.5f);
+  e.max_head_top = node.getInRange("max_head_top", e.max_head_top, 0.3f, 3.0f);
+  if (e.max_head_top <= e.min_head_top) node["max_head_top"].fail("a height above min_head_top");
+  e.min_distance = node.getInRange("min_distance", e.min_distance, 0.0f, 10.0f);
+  e.max_distance = node.getInRange("max_distance", e.max_distance, 0.1f, 20.0f);
+  if (e.max_distance <= e.min_distance) node["max_distance"].fail("a distance above min_distance");
+  e.head_radius = node.getInRange("head_radius", e.head_radius, 0.03f, 0.5f);
+  e.head_depth = node.getInRange("head_depth", e.head_depth, 0.05f, 1.0f);
+  e.min_support = node.get<int>("min_support", e.min_support);
+  if (e.min_support < 1) node["min_support"].fail("an integer >= 1");
+  e.top_band = node.getInRange("top_band", e.top_band, 0.005f, 0.5f);
+  e.min_top_support = node.get<int>("min_top_support", e.min_top_support);
+  if (e.min_top_support < 1) node["min_top_support"].fail("an integer >= 1");
+  e.eye_below_top = node.getInRange("eye_below_top", e.eye_below_top, 0.0f, 0.5f);
+  e.alpha = node.getInRange("alpha", e.alpha, 0.01f, 1.0f);
+  e.beta = node.getInRange("beta", e.beta, 0.0f, 1.99f);
+  e.max_speed = node.getInRange("max_speed", e.max_speed, 0.1f, 20.0f);
+  e.gate = node.getInRange("gate", e.gate, 0.05f, 5.0f);
+  e.lost_timeout_s = node.getInRange("lost_timeout_s", static_cast<float>(e.lost_timeout_s), 0.0f, 600.0f);
+  return e;
+}
+
+EyeTrackerSettings loadEyeTrackerSettings(const std::filesystem::path& path) {
+  const ConfigNode root = ConfigNode::loadFile(path);
+  if (!root.isMap()) {
+    if (root.yaml().IsNull()) return {};
+    root.fail("a map with a 'display' section");
+  }
+  const auto display = root.find("display");
+  if (!display || !display->isMap()) return {};
+  const auto eyes = display->find("eyes");
+  return eyes ? parseEyeTrackerSettings(*eyes) : EyeTrackerSettings{};
 }
 
 LayoutKind parseLayoutKind(const std::string& name, const std::string& origin) {

@@ -3,20 +3,22 @@
 // detection on a foreground cloud of a few visitors.
 #include <benchmark/benchmark.h>
 
+#include <filesystem>
 #include <random>
 
 #include "holo/display/cpu_compose.hpp"
 #include "holo/display/eye_tracker.hpp"
+#include "holo/display/frame_output.hpp"
 #include "holo/display/quad_view_presenter.hpp"
 #include "holo/display/test_pattern.hpp"
 
 namespace holo::display {
 namespace {
 
-DisplayConfig benchConfig() {
+DisplayConfig benchConfig(int side = 1080) {
   DisplayConfig config;
   config.layout = LayoutKind::Cross;
-  config.output_size = {1080, 1080};
+  config.output_size = {side, side};
   return config;
 }
 
@@ -28,14 +30,18 @@ FaceImages benchFaces() {
 
 void BM_HeadlessPresent(benchmark::State& state) {
   const bool read_back = state.range(0) != 0;
-  auto presenter = makeHeadlessPresenter(benchConfig());
+  auto presenter = makeHeadlessPresenter(benchConfig(static_cast<int>(state.range(1))));
   const FaceImages faces = benchFaces();
   for (auto _ : state) {
     presenter->present(faces);
     if (read_back) benchmark::DoNotOptimize(presenter->readBack().data);
   }
 }
-BENCHMARK(BM_HeadlessPresent)->Arg(0)->Arg(1)->ArgName("read_back")->Unit(benchmark::kMillisecond);
+// Canvas 960 holds four 320-pixel views at 1:1 (cross view_size 1/3).
+BENCHMARK(BM_HeadlessPresent)
+    ->ArgsProduct({{0, 1}, {960, 1080}})
+    ->ArgNames({"read_back", "canvas"})
+    ->Unit(benchmark::kMillisecond);
 
 void BM_CpuCompose(benchmark::State& state) {
   const DisplayConfig config = benchConfig();
@@ -45,6 +51,20 @@ void BM_CpuCompose(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(composeCanvasCpu(config, faces, crops).data);
 }
 BENCHMARK(BM_CpuCompose)->Unit(benchmark::kMillisecond);
+
+// Appending one canvas to the MP4 (H.264 through FFmpeg when available).
+void BM_Mp4WriteFrame(benchmark::State& state) {
+  const int side = static_cast<int>(state.range(0));
+  auto presenter = makeHeadlessPresenter(benchConfig(side));
+  presenter->present(benchFaces());
+  const cv::Mat canvas = presenter->readBack();
+  const auto path = std::filesystem::temp_directory_path() / "holo_bench_display.mp4";
+  VideoFileWriter video(path, canvas.size(), 30.0);
+  for (auto _ : state) video.write(canvas);
+  state.SetLabel(video.fourcc());
+  // Not finished: the temporary is removed when the writer goes.
+}
+BENCHMARK(BM_Mp4WriteFrame)->Arg(960)->ArgName("canvas")->Unit(benchmark::kMillisecond);
 
 void BM_EyeTrackerUpdate(benchmark::State& state) {
   // Four visitors, one per face, each 5000 points from the floor to the top of the head.

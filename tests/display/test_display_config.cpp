@@ -100,6 +100,37 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"nan", "display: {exposure: .nan}\n", "display.exposure", "finite"}),
     [](const ::testing::TestParamInfo<BadCase>& param) { return std::string(param.param.name); });
 
+TEST(DisplayConfig, EyeTrackerSettingsFromTheEyesSection) {
+  const auto path = writeYaml("eyes", R"(
+display:
+  layout: cross
+  eyes: {floor_y: -1.2, default_eye_height: 1.5, alpha: 0.6, lost_timeout_s: 2.5, min_support: 30}
+)");
+  const EyeTrackerSettings eyes = loadEyeTrackerSettings(path);
+  EXPECT_FLOAT_EQ(eyes.floor_y, -1.2f);
+  EXPECT_FLOAT_EQ(eyes.default_eye_height, 1.5f);
+  EXPECT_FLOAT_EQ(eyes.alpha, 0.6f);
+  EXPECT_DOUBLE_EQ(eyes.lost_timeout_s, 2.5);
+  EXPECT_EQ(eyes.min_support, 30);
+  EXPECT_FLOAT_EQ(eyes.beta, EyeTrackerSettings{}.beta);         // default kept
+  EXPECT_EQ(loadDisplayConfig(path).layout, LayoutKind::Cross);  // the display parser accepts it
+  EXPECT_FLOAT_EQ(loadEyeTrackerSettings(writeYaml("no_eyes", "display: {layout: cross}\n")).alpha,
+                  EyeTrackerSettings{}.alpha);
+
+  const auto bad = writeYaml("bad_eyes", "display:\n  eyes: {alpha: 0}\n");
+  try {
+    loadEyeTrackerSettings(bad);
+    FAIL() << "no InputError";
+  } catch (const InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(bad.string()), std::string::npos) << message;
+    EXPECT_NE(message.find("display.eyes.alpha"), std::string::npos) << message;
+  }
+  const auto crossed =
+      writeYaml("crossed_eyes", "display:\n  eyes: {min_head_top: 2.0, max_head_top: 1.5}\n");
+  EXPECT_THROW(loadEyeTrackerSettings(crossed), InputError);
+}
+
 TEST(DisplayConfig, LayoutFlagErrorNamesTheFlag) {
   EXPECT_EQ(parseLayoutKind("cross", "command line"), LayoutKind::Cross);
   try {
