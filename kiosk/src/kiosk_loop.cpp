@@ -78,7 +78,9 @@ void KioskLoop::publish(SystemdNotifier& notifier, bool force) {
     try {
       writeFileAtomically(config_.kiosk.health_file, h.toJson().dump(2) + "\n");
     } catch (const std::exception& e) {
-      HOLO_LOG_WARN("health file not written: {}", e.what());
+      // Once: a read-only folder would otherwise flood the journal every status interval.
+      if (!health_file_warned_) HOLO_LOG_WARN("health file not written: {}", e.what());
+      health_file_warned_ = true;
       stats::add("Kiosk/Health file write failures");
     }
   }
@@ -127,6 +129,9 @@ void KioskLoop::frame(SystemdNotifier& notifier) {
       ++health_.frames;
     }
     for (const auto& e : report.errors) {
+      stats::add("Kiosk/Frame faults");
+      // A fault that repeats every frame is reported once, not 25 times a second.
+      if (!health_.last_errors.empty() && health_.last_errors.back() == e) continue;
       HOLO_LOG_WARN("{}", e);
       health_.addError(e);
     }
