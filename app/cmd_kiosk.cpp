@@ -8,11 +8,11 @@
 // loop is one line: makeFrameSource() returns its RenderFrame callback instead.
 #include <array>
 #include <chrono>
-#include <cstdlib>
 #include <memory>
 #include <optional>
 #include <string>
-#include <thread>
+
+#include <opencv2/imgproc.hpp>
 
 #include "command.hpp"
 #include "holo/core/config.hpp"
@@ -21,6 +21,7 @@
 #include "holo/display/display_config.hpp"
 #include "holo/display/presenter.hpp"
 #include "holo/display/test_pattern.hpp"
+#include "holo/kiosk/fault_injector.hpp"
 #include "holo/kiosk/kiosk_loop.hpp"
 
 namespace holo::app {
@@ -32,73 +33,35 @@ double msSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-// Faults injected on purpose by the tests (and the soak test), read from the environment so no
-// product configuration ever carries them:
-//   HOLO_KIOSK_TEST_FREEZE=N:S     after N frames, one frame hangs for S seconds (a hung render)
-//   HOLO_KIOSK_TEST_FRAME_MS=M     every frame at the best quality level takes at least M ms
-//                                  more (halved per level down), an overloaded renderer
-struct TestFaults {
-  std::optional<std::int64_t> freeze_after_frames;
-  double freeze_seconds = 0;
-  double extra_frame_ms = 0;
-
-  static TestFaults fromEnvironment() {
-    TestFaults f;
-    if (const char* freeze = std::getenv("HOLO_KIOSK_TEST_FREEZE")) {
-      const std::string text = freeze;
-      const auto colon = text.find(':');
-      try {
-        f.freeze_after_frames = std::stoll(text.substr(0, colon));
-        f.freeze_seconds = colon == std::string::npos ? 3600.0 : std::stod(text.substr(colon + 1));
-      } catch (const std::exception&) {
-        throw InputError("HOLO_KIOSK_TEST_FREEZE", "", "FRAMES:SECONDS, e.g. 20:5", text);
-      }
-      HOLO_LOG_WARN("test fault: frame {} will hang for {} s", *f.freeze_after_frames, f.freeze_seconds);
-    }
-    if (const char* slow = std::getenv("HOLO_KIOSK_TEST_FRAME_MS")) {
-      try {
-        f.extra_frame_ms = std::stod(slow);
-      } catch (const std::exception&) {
-        throw InputError("HOLO_KIOSK_TEST_FRAME_MS", "", "milliseconds", slow);
-      }
-      HOLO_LOG_WARN("test fault: frames take {} ms more at the best quality", f.extra_frame_ms);
-    }
-    return f;
-  }
-
-  void apply(const kiosk::FrameRequest& request) const {
-    if (freeze_after_frames && request.index == *freeze_after_frames) {
-      HOLO_LOG_WARN("test fault: frame {} hangs now", request.index);
-      std::this_thread::sleep_for(std::chrono::duration<double>(freeze_seconds));
-    }
-    if (extra_frame_ms > 0 && !request.blank)
-      std::this_thread::sleep_for(
-          std::chrono::duration<double, std::milli>(extra_frame_ms / (1 << request.quality)));
-  }
-};
-
 display::DisplayConfig displayConfigOf(const ConfigNode& root) {
   const auto section = root.find("display");
   return section ? display::parseDisplayConfig(*section) : display::DisplayConfig{};
 }
 
-// The stand-in frame source: the four faces' test pattern, presented for real.
+// The stand-in frame source: the four faces' test pattern, presented for real. Every 30th
+// frame (headless) the presented picture is read back and checked for black, the fault the
+// kiosk exists to prevent.
 class TestPatternSource {
  public:
-  TestPatternSource(const display::DisplayConfig& config, bool headless, TestFaults faults)
+  TestPatternSource(const display::DisplayConfig& config, bool headless)
       : presenter_(headless ? display::makeHeadlessPresenter(config) : display::makeWindowPresenter(config)),
-        faults_(faults) {}
+        headless_(headless),
+        faults_(std::make_shared<kiosk::FaultInjector>(kiosk::FaultInjector::fromEnvironment())) {}
 
   kiosk::FrameReport operator()(const kiosk::FrameRequest& request) {
     kiosk::FrameReport report;
     auto t0 = Clock::now();
-    faults_.apply(request);
+    const kiosk::InjectedFaults faults = faults_->beginFrame(request.index, request.quality, request.blank);
     display::FaceImages faces;  // empty images present black
-    if (!request.blank) {
+    if (!request.blank && !faults.black) {
       // Lower quality levels halve the view resolution, as the real renderer will.
       const int side = std::max(40, 320 >> request.quality);
-      for (int f = 0; f < display::kFaceCount; ++f)
-        faces[static_cast<std::size_t>(f)] = display::testPatternFace(f, {side, side});
+      if (pattern_side_ != side) {
+        for (int f = 0; f < display::kFaceCount; ++f)
+          patterns_[static_cast<std::size_t>(f)] = display::testPatternFace(f, {side, side});
+        pattern_side_ = side;
+      }
+      faces = patterns_;
     }
     report.stage_ms["render"] = msSince(t0);
     t0 = Clock::now();
@@ -106,12 +69,20 @@ class TestPatternSource {
     report.stage_ms["present"] = msSince(t0);
     report.presented = presenter_->isOpen();
     if (!report.presented) report.errors.push_back("display window closed");
+    if (headless_ && !request.blank && request.index % 30 == 0) {
+      cv::Mat grey;
+      cv::cvtColor(presenter_->readBack(), grey, cv::COLOR_BGR2GRAY);
+      if (cv::countNonZero(grey) == 0) report.errors.push_back("black frame presented during opening hours");
+    }
     return report;
   }
 
  private:
   std::shared_ptr<display::Presenter> presenter_;  // shared: RenderFrame is copyable
-  TestFaults faults_;
+  bool headless_;
+  std::shared_ptr<kiosk::FaultInjector> faults_;
+  display::FaceImages patterns_;
+  int pattern_side_ = 0;
 };
 
 std::string displaySection(const ConfigNode& root) {
@@ -119,7 +90,7 @@ std::string displaySection(const ConfigNode& root) {
 }
 
 kiosk::RenderFrame makeFrameSource(const kiosk::LoadedConfig& config, bool headless) {
-  return TestPatternSource(displayConfigOf(config.root), headless, TestFaults::fromEnvironment());
+  return TestPatternSource(displayConfigOf(config.root), headless);
 }
 
 struct KioskOptions {

@@ -15,6 +15,8 @@ double msBetween(Clock::time_point a, Clock::time_point b) {
 }
 // Blanked monitors still get a black frame now and then, so the watchdog keeps seeing progress.
 constexpr double kBlankFps = 2.0;
+// Frames after a start or reload that the degradation policy does not see.
+constexpr int kWarmupFrames = 5;
 }  // namespace
 
 KioskLoop::KioskLoop(LoadedConfig config, RenderFrame render, Reload reload)
@@ -29,6 +31,7 @@ void KioskLoop::applyConfig(LoadedConfig config) {
                               config.kiosk.health_port != config_.kiosk.health_port;
   config_ = std::move(config);
   policy_ = std::make_unique<DegradationPolicy>(config_.kiosk.degradation);
+  warmup_frames_left_ = kWarmupFrames;
   {
     std::lock_guard lock(mutex_);
     health_.config_source = config_.source;
@@ -78,7 +81,9 @@ void KioskLoop::publish(SystemdNotifier& notifier, bool force) {
     try {
       writeFileAtomically(config_.kiosk.health_file, h.toJson().dump(2) + "\n");
     } catch (const std::exception& e) {
-      HOLO_LOG_WARN("health file not written: {}", e.what());
+      // Once: a read-only folder would otherwise flood the journal every status interval.
+      if (!health_file_warned_) HOLO_LOG_WARN("health file not written: {}", e.what());
+      health_file_warned_ = true;
       stats::add("Kiosk/Health file write failures");
     }
   }
@@ -107,8 +112,12 @@ void KioskLoop::frame(SystemdNotifier& notifier) {
   for (const auto& c : report.cameras) alive += c.alive ? 1 : 0;
   const int total = static_cast<int>(report.cameras.size());
   DegradationDecision decision{policy_->quality(), policy_->mode(), false, false};
-  // Black frames say nothing about the renderer's load; keep the quality where it was.
-  if (!blank) decision = policy_->update(frame_ms, alive, total);
+  // Black frames say nothing about the renderer's load, and the first frames after a start or
+  // reload compile shaders and fill caches (hundreds of ms): neither may lower the quality.
+  if (!blank && warmup_frames_left_ > 0)
+    --warmup_frames_left_;
+  else if (!blank)
+    decision = policy_->update(frame_ms, alive, total);
   if (decision.quality_changed)
     HOLO_LOG_WARN("frame time {:.1f} ms (budget {:.1f} ms): quality now '{}'", frame_ms,
                   config_.kiosk.degradation.frame_budget_ms, policy_->qualityName());
@@ -127,6 +136,9 @@ void KioskLoop::frame(SystemdNotifier& notifier) {
       ++health_.frames;
     }
     for (const auto& e : report.errors) {
+      stats::add("Kiosk/Frame faults");
+      // A fault that repeats every frame is reported once, not 25 times a second.
+      if (!health_.last_errors.empty() && health_.last_errors.back() == e) continue;
       HOLO_LOG_WARN("{}", e);
       health_.addError(e);
     }

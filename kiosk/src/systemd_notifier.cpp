@@ -11,8 +11,7 @@ SystemdNotifier::SystemdNotifier() {
   const char* socket = std::getenv("NOTIFY_SOCKET");
   enabled_ = socket != nullptr && *socket != '\0';
   std::uint64_t usec = 0;
-  // unset_environment = 0: child processes we might start must not inherit the watchdog anyway,
-  // but the kiosk starts none, and tests read the variables after us.
+  // unset_environment = 0: sd_notify() reads NOTIFY_SOCKET on every call, so it must stay set.
   if (sd_watchdog_enabled(0, &usec) > 0 && usec > 0) {
     watchdog_timeout_ = std::chrono::microseconds(static_cast<std::int64_t>(usec));
   }

@@ -81,6 +81,8 @@ class KioskLoop {
   std::int64_t index_ = 0;
   bool ready_sent_ = false;
   bool was_blank_ = false;
+  bool health_file_warned_ = false;
+  int warmup_frames_left_ = 0;
 
   mutable std::mutex mutex_;  // guards health_ and last_frame_
   HealthStatus health_;
