@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 #include <opencv2/imgcodecs.hpp>
 
 #include "holo/core/equirect.hpp"
@@ -32,6 +33,18 @@ TEST(Museum, SameDescriptionGivesBitIdenticalFrames) {
     EXPECT_TRUE(identical(fa.foreground, fb.foreground));
   }
   EXPECT_TRUE(identical(a.renderPanorama(64, 32), b.renderPanorama(64, 32)));
+}
+
+// Rows are split between threads however oneTBB likes; the pixels must not care.
+TEST(Museum, OneThreadGivesTheSameFrames) {
+  const Museum m(small("museum"));
+  const SimulatedFrame parallel = m.renderCamera(1, 12);
+  const cv::Mat pano = m.renderPanorama(64, 32);
+  const tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
+  const SimulatedFrame serial = m.renderCamera(1, 12);
+  EXPECT_TRUE(identical(parallel.frame.color, serial.frame.color));
+  EXPECT_TRUE(identical(parallel.frame.depth, serial.frame.depth));
+  EXPECT_TRUE(identical(pano, m.renderPanorama(64, 32)));
 }
 
 TEST(Museum, DifferentSeedsDiffer) {
