@@ -172,6 +172,28 @@ TEST(Museum, EveryBuiltinSceneRenders) {
   }
 }
 
+// Every hall has a strongly coloured object (one channel at least 3x another) within 1 m of the
+// pyramid axis, outside the base: something for the relic to reflect up close.
+TEST(Halls, StronglyColouredObjectsNearThePyramid) {
+  for (const std::string hall : {"room", "gallery", "atrium"}) {
+    SCOPED_TRACE(hall);
+    const Model m = makeHall(hall);
+    bool found = false;
+    for (const auto& mesh : m.meshes) {
+      const vec3 e = m.materials[static_cast<std::size_t>(mesh.material)].emission;
+      const float hi = std::max({e.r, e.g, e.b}), lo = std::min({e.r, e.g, e.b});
+      if (hi < 0.2f || hi < 3.0f * lo) continue;
+      for (const vec3& p : mesh.positions) {
+        const float r = std::hypot(p.x, p.z);
+        if (r < 1.0f && r > kBaseHalfWidth * 1.5f) found = true;
+      }
+    }
+    EXPECT_TRUE(found);
+  }
+  EXPECT_TRUE(makeHall("none").meshes.empty());
+  EXPECT_THROW(makeHall("cellar"), InputError);
+}
+
 TEST(Museum, UnknownSceneNameListsTheNames) {
   try {
     loadScene("no-such-scene");
