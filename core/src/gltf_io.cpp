@@ -342,6 +342,10 @@ Model convert(const tinygltf::Model& gltf, const std::string& file) {
       if (mesh.primitives.size() > 1) out.name += "." + std::to_string(p);
       out.positions = reader.readVec<3>(pos_it->second, field + ".attributes.POSITION");
       const std::size_t n = out.positions.size();
+      for (std::size_t i = 0; i < n; ++i)
+        if (!isFinite(out.positions[i]))
+          reader.fail(field + ".attributes.POSITION", "finite positions",
+                      "NaN or Inf at vertex " + std::to_string(i));
       if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
         out.normals = reader.readVec<3>(it->second, field + ".attributes.NORMAL");
         if (out.normals.size() != n) reader.fail(field + ".attributes.NORMAL", "one normal per position");

@@ -166,6 +166,23 @@ TEST(GltfIo, TruncatedBufferAndGarbage) {
   expectInputError(write(dir / "model.obj", "v 0 0 0"), ".obj");
 }
 
+TEST(GltfIo, NonFinitePositionsAreRejected) {
+  const auto dir = test::scratchDir("gltf_nan");
+  TriangleFile f;
+  f.positions[4] = std::numeric_limits<float>::quiet_NaN();
+  expectInputError(write(dir / "nan.gltf", f.json()), "POSITION");
+}
+
+// A degenerate triangle (all three corners equal) loads with finite unit normals (+Y by
+// TriangleMesh::computeNormals' rule).
+TEST(GltfIo, DegenerateTriangleGetsFiniteNormals) {
+  const auto dir = test::scratchDir("gltf_degenerate");
+  TriangleFile f;
+  f.positions = {1, 1, 1, 1, 1, 1, 1, 1, 1};
+  const Model m = loadGltf(write(dir / "flat.gltf", f.json()));
+  for (const vec3& n : m.meshes[0].normals) EXPECT_LT(glm::length(n - vec3(0, 1, 0)), 1e-6f);
+}
+
 // A textured, emissive model written as .glb and read back: geometry, factors, the emission
 // above 1 (KHR_materials_emissive_strength) and the texture pixels survive.
 TEST(GltfIo, GlbRoundTripKeepsTexturesAndStrongEmission) {
