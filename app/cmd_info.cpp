@@ -7,6 +7,7 @@
 #include "holo/capture/recording.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/hdr_io.hpp"
+#include "info_gltf.hpp"
 #include "info_recording.hpp"
 
 namespace holo::app {
@@ -32,7 +33,9 @@ int describe(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (ext == ".hdr" || ext == ".exr") return describeHdr(path);
-  throw InputError(path.string(), "", "an HDR panorama (.hdr, .exr) or a recording folder",
+  if (ext == ".gltf" || ext == ".glb") return describeGltf(path);
+  throw InputError(path.string(), "",
+                   "an HDR panorama (.hdr, .exr), a glTF model (.gltf, .glb) or a recording folder",
                    "unknown kind of file");
 }
 

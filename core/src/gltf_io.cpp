@@ -252,9 +252,15 @@ cv::Mat decodeImage(const tinygltf::Image& image) {
     case 3:
       cv::cvtColor(raw, out, cv::COLOR_RGB2BGR);
       break;
-    default:
-      cv::cvtColor(raw, out, cv::COLOR_RGBA2BGRA);
+    default: {
+      // stb decodes to RGBA unless asked otherwise; an opaque texture drops its alpha.
+      cv::Mat alpha;
+      cv::extractChannel(raw, alpha, 3);
+      double lowest = 0;
+      cv::minMaxLoc(alpha, &lowest);
+      cv::cvtColor(raw, out, lowest >= 255.0 ? cv::COLOR_RGBA2BGR : cv::COLOR_RGBA2BGRA);
       break;
+    }
   }
   return out;
 }
@@ -336,6 +342,10 @@ Model convert(const tinygltf::Model& gltf, const std::string& file) {
       if (mesh.primitives.size() > 1) out.name += "." + std::to_string(p);
       out.positions = reader.readVec<3>(pos_it->second, field + ".attributes.POSITION");
       const std::size_t n = out.positions.size();
+      for (std::size_t i = 0; i < n; ++i)
+        if (!isFinite(out.positions[i]))
+          reader.fail(field + ".attributes.POSITION", "finite positions",
+                      "NaN or Inf at vertex " + std::to_string(i));
       if (auto it = prim.attributes.find("NORMAL"); it != prim.attributes.end()) {
         out.normals = reader.readVec<3>(it->second, field + ".attributes.NORMAL");
         if (out.normals.size() != n) reader.fail(field + ".attributes.NORMAL", "one normal per position");
@@ -411,6 +421,13 @@ Model convert(const tinygltf::Model& gltf, const std::string& file) {
     throw InputError(file, "extensionsRequired", "meshes without Draco compression (no Draco decoder)",
                      kDraco);
   const std::string low = lower(err);
+  if (low.find("not found") != std::string::npos) {
+    // tinygltf reports a missing external file by name only; its extension tells which it was.
+    const bool image = low.find(".png") != std::string::npos || low.find(".jp") != std::string::npos ||
+                       low.find("image") != std::string::npos;
+    throw InputError(file, image ? "images" : "buffers", "every external file the glTF names, next to it",
+                     firstLine(err));
+  }
   const std::string field = low.find("buffer") != std::string::npos  ? "buffers"
                             : low.find("image") != std::string::npos ? "images"
                                                                      : "";

@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 #include <opencv2/imgcodecs.hpp>
 
 #include "holo/core/equirect.hpp"
@@ -32,6 +33,18 @@ TEST(Museum, SameDescriptionGivesBitIdenticalFrames) {
     EXPECT_TRUE(identical(fa.foreground, fb.foreground));
   }
   EXPECT_TRUE(identical(a.renderPanorama(64, 32), b.renderPanorama(64, 32)));
+}
+
+// Rows are split between threads however oneTBB likes; the pixels must not care.
+TEST(Museum, OneThreadGivesTheSameFrames) {
+  const Museum m(small("museum"));
+  const SimulatedFrame parallel = m.renderCamera(1, 12);
+  const cv::Mat pano = m.renderPanorama(64, 32);
+  const tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
+  const SimulatedFrame serial = m.renderCamera(1, 12);
+  EXPECT_TRUE(identical(parallel.frame.color, serial.frame.color));
+  EXPECT_TRUE(identical(parallel.frame.depth, serial.frame.depth));
+  EXPECT_TRUE(identical(pano, m.renderPanorama(64, 32)));
 }
 
 TEST(Museum, DifferentSeedsDiffer) {
@@ -157,6 +170,28 @@ TEST(Museum, EveryBuiltinSceneRenders) {
     const SimulatedFrame f = m.renderCamera(0, 0);
     EXPECT_GT(cv::mean(f.frame.color)[0] + cv::mean(f.frame.color)[1] + cv::mean(f.frame.color)[2], 10.0);
   }
+}
+
+// Every hall has a strongly coloured object (one channel at least 3x another) within 1 m of the
+// pyramid axis, outside the base: something for the relic to reflect up close.
+TEST(Halls, StronglyColouredObjectsNearThePyramid) {
+  for (const std::string hall : {"room", "gallery", "atrium"}) {
+    SCOPED_TRACE(hall);
+    const Model m = makeHall(hall);
+    bool found = false;
+    for (const auto& mesh : m.meshes) {
+      const vec3 e = m.materials[static_cast<std::size_t>(mesh.material)].emission;
+      const float hi = std::max({e.r, e.g, e.b}), lo = std::min({e.r, e.g, e.b});
+      if (hi < 0.2f || hi < 3.0f * lo) continue;
+      for (const vec3& p : mesh.positions) {
+        const float r = std::hypot(p.x, p.z);
+        if (r < 1.0f && r > kBaseHalfWidth * 1.5f) found = true;
+      }
+    }
+    EXPECT_TRUE(found);
+  }
+  EXPECT_TRUE(makeHall("none").meshes.empty());
+  EXPECT_THROW(makeHall("cellar"), InputError);
 }
 
 TEST(Museum, UnknownSceneNameListsTheNames) {

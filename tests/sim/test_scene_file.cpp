@@ -89,3 +89,32 @@ TEST(SceneFile, BadFieldsNameTheField) {
 
 }  // namespace
 }  // namespace holo::sim
+
+namespace holo::sim {
+namespace {
+
+TEST(SceneFile, TheExampleFileLoads) {
+  const SceneDescription d = loadScene(std::string(HOLO_SOURCE_DIR) + "/sim/scenes/example.yaml");
+  EXPECT_EQ(d.hall, "atrium");
+  EXPECT_EQ(d.relic, "kettle");
+  EXPECT_EQ(d.visitors, 4);
+  EXPECT_EQ(d.seed, 7u);
+}
+
+// A real model as the relic: fitted onto the pedestal like the procedural ones.
+TEST(SceneFile, RealModelAsRelic) {
+  HOLO_REQUIRE_SHARED_DATA("models/teapots_mr.glb");
+  SceneDescription d = loadScene("empty");
+  d.relic = test::sharedData("models/teapots_mr.glb").string();
+  d.camera.width = 32;
+  d.camera.height = 18;
+  const Museum m(d);
+  const Bounds3 b = m.relic().bounds();
+  EXPECT_EQ(m.relic().triangleCount(), 2976u);
+  EXPECT_NEAR(b.lo.y, 0.0f, 1e-4f);
+  EXPECT_LE(b.hi.y, kRelicHeight + 1e-4f);
+  EXPECT_LE(std::max(b.extent().x, b.extent().z), kRelicMaxWidth + 1e-4f);
+}
+
+}  // namespace
+}  // namespace holo::sim

@@ -24,7 +24,8 @@ TEST(SensorNoise, DepthSigmaMatchesTheModelAt1_2_4m) {
   const CameraSettings camera;
   for (float z : {1.0f, 2.0f, 4.0f}) {
     const Truth t = flatWall(z);
-    const SensorOutput out = applySensorNoise(noise, camera, t.depth, t.cosine, t.radiance, 11);
+    const SensorOutput out =
+        applySensorNoise(noise, camera, t.depth, t.cosine, t.radiance, 11 + static_cast<std::uint64_t>(z));
     double sum = 0, sum2 = 0;
     int n = 0;
     for (int y = 1; y < t.depth.rows - 1; ++y)
