@@ -14,6 +14,7 @@
 // The whole folder is written under DIR.partial-PID and renamed to DIR at the end, so DIR either
 // does not exist or is complete. DIR must not exist yet.
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <opencv2/imgcodecs.hpp>
@@ -126,8 +127,7 @@ int simulate(const SimulateOptions& o) {
         sim::SimulatedFrame f = museum.renderCamera(c, frame);
         f.frame.camera_id = c;
         f.frame.sequence = static_cast<std::uint64_t>(frame);
-        f.frame.device_time = std::chrono::duration_cast<Nanoseconds>(
-            std::chrono::duration<double>(static_cast<double>(museum.frameTime(frame))));
+        f.frame.device_time = Nanoseconds(std::llround(frame * 1e9 / static_cast<double>(scene.camera.fps)));
         recorder.write(f.frame);
         const fs::path truth = tmp / "truth" / ("cam" + std::to_string(c));
         writePng(truth / "depth" / frameName(frame),

@@ -1,10 +1,13 @@
 #include "holo/capture/capture_config.hpp"
 
 #include <algorithm>
+#include <map>
 #include <set>
 
 #include "holo/capture/recording_source.hpp"
+#include "holo/capture/simulated_source.hpp"
 #include "holo/core/error.hpp"
+#include "holo/sim/museum.hpp"
 
 namespace holo::capture {
 
@@ -130,7 +133,7 @@ V4l2StreamConfig parseV4l2Stream(const ConfigNode& node, bool depth) {
 }
 
 CameraEntry parseCamera(const ConfigNode& node) {
-  rejectUnknownKeys(node, {"face", "backend", "name", "color", "depth", "path", "camera"});
+  rejectUnknownKeys(node, {"face", "backend", "name", "color", "depth", "path", "camera", "scene", "paced"});
   CameraEntry e;
   e.face = node["face"].as<int>();
   if (e.face < 0 || e.face > 3) node["face"].fail("0, 1, 2 or 3 (the side facing +Z, +X, -Z, -X)");
@@ -151,13 +154,22 @@ CameraEntry parseCamera(const ConfigNode& node) {
     e.recording = resolvePath(node, node["path"].as<std::string>());
     e.recording_camera = node.get<int>("camera", e.face);
     if (e.recording_camera < 0) node["camera"].fail("a camera index >= 0");
+  } else if (backend == "sim") {
+    e.backend = Backend::Simulated;
+    e.scene = node["scene"].as<std::string>();
+    // A scene file is relative to the configuration; a built-in name stays as it is.
+    if (fs::path(e.scene).has_extension()) e.scene = resolvePath(node, e.scene).string();
+    e.sim_camera = node.get<int>("camera", e.face);
+    if (e.sim_camera < 0 || e.sim_camera > 3) node["camera"].fail("a simulated camera 0..3");
+    e.paced = node.get<bool>("paced", true);
   } else {
-    node["backend"].fail("aravis, v4l2 or recording");
+    node["backend"].fail("aravis, v4l2, recording or sim");
   }
-  if (e.backend != Backend::Recording && !node.has("color") && !node.has("depth"))
-    node.fail("a color stream, a depth stream or both");
-  if (e.backend == Backend::Recording && (node.has("color") || node.has("depth")))
-    node.fail("no color/depth streams for a recording (it has its own)");
+  const bool device = e.backend == Backend::Aravis || e.backend == Backend::V4l2;
+  if (device && !node.has("color") && !node.has("depth")) node.fail("a color stream, a depth stream or both");
+  if (!device && (node.has("color") || node.has("depth")))
+    node.fail(std::string("no color/depth streams for a ") + toString(e.backend) +
+              " camera (it has its own)");
   return e;
 }
 
@@ -179,6 +191,8 @@ const char* toString(Backend backend) {
       return "v4l2";
     case Backend::Recording:
       return "recording";
+    case Backend::Simulated:
+      return "sim";
   }
   return "unknown";
 }
@@ -231,8 +245,29 @@ std::unique_ptr<CameraSource> makeSource(const CameraEntry& entry) {
                        "a camera of the recording (it has " + std::to_string(recording.cameras.size()) + ")",
                        std::to_string(entry.recording_camera));
     }
+    case Backend::Simulated: {
+      auto museum = std::make_shared<const sim::Museum>(sim::loadScene(entry.scene));
+      return std::make_unique<SimulatedSource>(std::move(museum), entry.sim_camera,
+                                               SimulationOptions{.paced = entry.paced});
+    }
   }
   throw Error("unknown capture backend");
+}
+
+std::vector<std::unique_ptr<CameraSource>> makeSources(const CaptureConfig& config) {
+  std::map<std::string, std::shared_ptr<const sim::Museum>> museums;
+  std::vector<std::unique_ptr<CameraSource>> sources;
+  for (const auto& entry : config.cameras) {
+    if (entry.backend != Backend::Simulated) {
+      sources.push_back(makeSource(entry));
+      continue;
+    }
+    auto& museum = museums[entry.scene];
+    if (!museum) museum = std::make_shared<const sim::Museum>(sim::loadScene(entry.scene));
+    sources.push_back(
+        std::make_unique<SimulatedSource>(museum, entry.sim_camera, SimulationOptions{.paced = entry.paced}));
+  }
+  return sources;
 }
 
 CaptureOptions makeCaptureOptions(const CaptureConfig& config, const CameraEntry& entry) {

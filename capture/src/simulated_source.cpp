@@ -1,5 +1,6 @@
 #include "holo/capture/simulated_source.hpp"
 
+#include <cmath>
 #include <thread>
 
 #include "holo/core/error.hpp"
@@ -51,8 +52,9 @@ GrabResult SimulatedSource::grab(Nanoseconds timeout) {
   result.frame = std::move(simulated.frame);
   result.frame.camera_id = camera_;
   result.frame.sequence = static_cast<std::uint64_t>(index);
-  result.frame.device_time = std::chrono::duration_cast<Nanoseconds>(
-      std::chrono::duration<double>(static_cast<double>(museum_->frameTime(next_frame_))));
+  // Exact in double (frameTime() is a float, off by nanoseconds).
+  result.frame.device_time =
+      Nanoseconds(std::llround(next_frame_ * 1e9 / static_cast<double>(museum_->description().camera.fps)));
   result.frame.host_time = Clock::now();
   ++next_frame_;
   return result;

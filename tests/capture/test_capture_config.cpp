@@ -101,7 +101,7 @@ TEST(CaptureConfig, ErrorsNameTheFileAndTheField) {
 
   const std::string backend = errorOf("capture:\n  cameras:\n    - {face: 0, backend: gige}\n");
   EXPECT_TRUE(contains(backend, "capture.cameras[0].backend")) << backend;
-  EXPECT_TRUE(contains(backend, "aravis, v4l2 or recording")) << backend;
+  EXPECT_TRUE(contains(backend, "aravis, v4l2, recording or sim")) << backend;
 
   const std::string no_stream = errorOf("capture:\n  cameras:\n    - {face: 0, backend: aravis}\n");
   EXPECT_TRUE(contains(no_stream, "capture.cameras[0]")) << no_stream;
@@ -116,4 +116,31 @@ TEST(CaptureConfig, RecordingBackendThatIsNoRecordingFailsWhenTheSourceIsMade) {
   ASSERT_EQ(c.cameras.size(), 1u);
   EXPECT_EQ(c.cameras[0].recording_camera, 3);
   EXPECT_THROW(makeSource(c.cameras[0]), InputError);
+}
+
+TEST(CaptureConfig, SimulatedBackendNamesASceneAndACamera) {
+  const CaptureConfig c = parse(R"(
+capture:
+  cameras:
+    - {face: 0, backend: sim, scene: room, paced: false}
+    - {face: 1, backend: sim, scene: room, camera: 3}
+)");
+  ASSERT_EQ(c.cameras.size(), 2u);
+  EXPECT_EQ(c.cameras[0].backend, Backend::Simulated);
+  EXPECT_EQ(c.cameras[0].sim_camera, 0);
+  EXPECT_FALSE(c.cameras[0].paced);
+  EXPECT_EQ(c.cameras[1].sim_camera, 3);
+  EXPECT_TRUE(c.cameras[1].paced);
+  const auto sources = makeSources(c);
+  ASSERT_EQ(sources.size(), 2u);
+  EXPECT_EQ(sources[0]->name(), "sim:room/cam0");
+  EXPECT_EQ(sources[1]->name(), "sim:room/cam3");
+  EXPECT_TRUE(sources[1]->cameraModel().has_value());
+
+  const std::string bad =
+      errorOf("capture:\n  cameras:\n    - {face: 0, backend: sim, scene: room, camera: 7}\n");
+  EXPECT_TRUE(contains(bad, "capture.cameras[0].camera")) << bad;
+  const std::string streams =
+      errorOf("capture:\n  cameras:\n    - {face: 0, backend: sim, scene: room, color: {serial: A}}\n");
+  EXPECT_TRUE(contains(streams, "sim camera")) << streams;
 }

@@ -19,9 +19,15 @@
 //         backend: recording
 //         path: recordings/hall-monday    # a recording folder (recording.hpp)
 //         camera: 2                       # which of its cameras; default = face
+//       - face: 3
+//         backend: sim                    # the simulated museum (sim/museum.hpp)
+//         scene: museum                   # built-in name or scene YAML (relative to this file)
+//         camera: 3                       # which simulated camera; default = face
+//         paced: true                     # frames at the scene's fps (default)
 //
 // depth_scale is in raw units per metre (1000 = millimetres). Every error is a holo::InputError
-// naming the file and the dotted field ("capture.cameras[1].color.pixel_format").
+// naming the file and the dotted field ("capture.cameras[1].color.pixel_format"). Parsing opens
+// nothing; makeSources() builds the sources (and loads simulated scenes).
 #pragma once
 
 #include <filesystem>
@@ -37,7 +43,7 @@
 
 namespace holo::capture {
 
-enum class Backend { Aravis, V4l2, Recording };
+enum class Backend { Aravis, V4l2, Recording, Simulated };
 const char* toString(Backend backend);
 
 struct CameraEntry {
@@ -48,6 +54,9 @@ struct CameraEntry {
   V4l2CameraConfig v4l2;
   std::filesystem::path recording;  // Backend::Recording: the folder, relative to the config file
   int recording_camera = 0;         // which camera of the recording
+  std::string scene;                // Backend::Simulated: built-in scene name or YAML file
+  int sim_camera = 0;               // which simulated camera
+  bool paced = true;                // Backend::Simulated: frames at the scene's rate
 };
 
 struct CaptureConfig {
@@ -63,6 +72,9 @@ CaptureConfig loadCaptureConfig(const std::filesystem::path& file);
 
 // The source for one entry (not opened). A recording is read here: InputError when it is not one.
 std::unique_ptr<CameraSource> makeSource(const CameraEntry& entry);
+// The sources of every entry, in the order of config.cameras; cameras of the same simulated
+// scene share one museum (it is built once).
+std::vector<std::unique_ptr<CameraSource>> makeSources(const CaptureConfig& config);
 CaptureOptions makeCaptureOptions(const CaptureConfig& config, const CameraEntry& entry);
 
 }  // namespace holo::capture
