@@ -2,6 +2,7 @@
 // over [0, max_value] (larger values fall into the last bin). The paper's PDF_alpha and PDF_|d|
 // "expressed by enough discrete function values"; the filter reads them as cumulative
 // probabilities P(X <= x). Invariant: cdf() returns a value in [0, 1] for every input, NaN included.
+// Not thread-safe: cdf() rebuilds a cached cumulative table after add().
 #pragma once
 
 #include <cstdint>

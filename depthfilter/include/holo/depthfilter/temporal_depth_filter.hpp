@@ -8,10 +8,11 @@
 //   afterwards: d_hat = (1 - P_|d|) px.d + P_|d| px_pre.d with confidence c = P_alpha,
 //   where P_x = P(X <= x) of the learned distribution (smaller c = more reliable).
 // Pull: level l+1 holds, per 2x2 block of level l, the average of the block's pairs whose
-// confidence is within `min_confidence_tolerance` of the block's minimum. Push: from the top
-// level down, a pixel without a pair takes its parent's; a pixel with one is blended with its
-// parent by their reliabilities (1 - c) unless their depths differ by more than the
-// same-surface tolerance (a depth edge, kept sharp). Only foreground pixels (phi_i) receive output.
+// confidence is within `min_confidence_tolerance` of the block's minimum (front-most surface
+// only). Push: from the top level down, a pixel without a pair takes its parent's unless the
+// parent's block straddles a depth edge; a pixel with one is blended with its parent by their
+// reliabilities (1 - c) unless their depths differ by more than the same-surface tolerance (a
+// depth edge, kept sharp). Only foreground pixels (phi_i) receive output.
 // The choices where the paper is silent are listed, with reasons, in docs/depthfilter.md.
 //
 // Units: metres; depth 0 = invalid. Invariant: the output is CV_32FC1, finite, 0 outside phi_i,
