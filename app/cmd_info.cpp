@@ -6,6 +6,7 @@
 #include "command.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/hdr_io.hpp"
+#include "info_gltf.hpp"
 
 namespace holo::app {
 namespace {
@@ -29,7 +30,9 @@ int describe(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (ext == ".hdr" || ext == ".exr") return describeHdr(path);
-  throw InputError(path.string(), "", "an HDR panorama (.hdr, .exr)", "unknown kind of file");
+  if (ext == ".gltf" || ext == ".glb") return describeGltf(path);
+  throw InputError(path.string(), "", "an HDR panorama (.hdr, .exr) or a glTF model (.gltf, .glb)",
+                   "unknown kind of file");
 }
 
 }  // namespace

@@ -1,0 +1,248 @@
+#include <gtest/gtest.h>
+#include <cstring>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+
+#include "holo/core/error.hpp"
+#include "holo/core/gltf_io.hpp"
+#include "shared_data.hpp"
+
+namespace holo {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string base64(const std::string& bytes) {
+  static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  std::size_t i = 0;
+  for (; i + 2 < bytes.size(); i += 3) {
+    const unsigned v =
+        (unsigned char)bytes[i] << 16 | (unsigned char)bytes[i + 1] << 8 | (unsigned char)bytes[i + 2];
+    for (int k = 3; k >= 0; --k) out += table[(v >> (6 * k)) & 63];
+  }
+  if (i + 1 == bytes.size()) {
+    const unsigned v = (unsigned char)bytes[i] << 16;
+    out += std::string{table[(v >> 18) & 63], table[(v >> 12) & 63], '=', '='};
+  } else if (i + 2 == bytes.size()) {
+    const unsigned v = (unsigned char)bytes[i] << 16 | (unsigned char)bytes[i + 1] << 8;
+    out += std::string{table[(v >> 18) & 63], table[(v >> 12) & 63], table[(v >> 6) & 63], '='};
+  }
+  return out;
+}
+
+template <class T>
+std::string bytesOf(const std::vector<T>& v) {
+  return std::string(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+}
+
+// One triangle (0,0,0) (1,0,0) (0,1,0) as positions (36 bytes) then uint16 indices (6 bytes).
+struct TriangleFile {
+  std::vector<float> positions{0, 0, 0, 1, 0, 0, 0, 1, 0};
+  std::vector<std::uint16_t> indices{0, 1, 2};
+  std::string mode = "4";
+  std::string node = R"({"mesh": 0})";
+  std::string extra_nodes;
+  std::string buffer_uri;  // empty: embedded data URI
+  std::string extensions_required;
+  std::string material = R"({"pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1.0],
+      "metallicFactor": 0.75, "roughnessFactor": 0.3}, "emissiveFactor": [1.0, 0.5, 0.0]})";
+
+  std::string json() const {
+    const std::string data = bytesOf(positions) + bytesOf(indices);
+    const std::string uri =
+        buffer_uri.empty() ? "data:application/octet-stream;base64," + base64(data) : buffer_uri;
+    const std::size_t pos_bytes = positions.size() * 4;
+    return R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+  "nodes": [)" +
+           node + extra_nodes + R"(],
+  "meshes": [{"name": "tri", "primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "mode": )" +
+           mode + R"(, "material": 0}]}],
+  "materials": [)" +
+           material + R"(],
+  "buffers": [{"byteLength": )" +
+           std::to_string(data.size()) + R"(, "uri": ")" + uri + R"("}],
+  "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": )" +
+           std::to_string(pos_bytes) + R"(},
+                  {"buffer": 0, "byteOffset": )" +
+           std::to_string(pos_bytes) + R"(, "byteLength": )" + std::to_string(indices.size() * 2) + R"(}],
+  "accessors": [{"bufferView": 0, "componentType": 5126, "count": )" +
+           std::to_string(positions.size() / 3) +
+           R"(, "type": "VEC3", "min": [0,0,0], "max": [1,1,0]},
+                {"bufferView": 1, "componentType": 5123, "count": )" +
+           std::to_string(indices.size()) + R"(, "type": "SCALAR"}])" + extensions_required + "}";
+  }
+};
+
+fs::path write(const fs::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+  return path;
+}
+
+// Loading must fail with an InputError naming the file, and the message must mention `needle`.
+void expectInputError(const fs::path& path, const std::string& needle) {
+  try {
+    loadGltf(path);
+    ADD_FAILURE() << "expected InputError for " << path;
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), path.string());
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+  }
+}
+
+TEST(GltfIo, LoadsTriangleWithMaterialAndComputesNormals) {
+  const auto dir = test::scratchDir("gltf_ok");
+  const Model m = loadGltf(write(dir / "tri.gltf", TriangleFile{}.json()));
+  ASSERT_EQ(m.meshes.size(), 1u);
+  ASSERT_EQ(m.triangleCount(), 1u);
+  const TriangleMesh& mesh = m.meshes[0];
+  ASSERT_EQ(mesh.normals.size(), 3u);  // none in the file: computed
+  for (const vec3& n : mesh.normals) EXPECT_LT(glm::length(n - vec3(0, 0, 1)), 1e-5f);
+  ASSERT_EQ(m.materials.size(), 1u);
+  const Material& mat = m.materials[0];
+  EXPECT_FLOAT_EQ(mat.base_color.g, 0.4f);
+  EXPECT_FLOAT_EQ(mat.metallic, 0.75f);
+  EXPECT_FLOAT_EQ(mat.roughness, 0.3f);
+  EXPECT_FLOAT_EQ(mat.emission.r, 1.0f);
+  EXPECT_EQ(mat.base_color_texture, -1);
+}
+
+TEST(GltfIo, AppliesTheNodeHierarchy) {
+  const auto dir = test::scratchDir("gltf_nodes");
+  TriangleFile f;
+  // Parent: translate (10, 0, 0) and scale 2; child: rotate 90 degrees about Z, holds the mesh.
+  f.node = R"({"children": [1], "translation": [10, 0, 0], "scale": [2, 2, 2]})";
+  f.extra_nodes = R"(, {"mesh": 0, "rotation": [0, 0, 0.7071068, 0.7071068]})";
+  const Model m = loadGltf(write(dir / "nodes.gltf", f.json()));
+  ASSERT_EQ(m.meshes.size(), 1u);
+  const auto& p = m.meshes[0].positions;
+  EXPECT_LT(glm::length(p[0] - vec3(10, 0, 0)), 1e-5f);
+  EXPECT_LT(glm::length(p[1] - vec3(10, 2, 0)), 1e-5f);  // (1,0,0) -> rotate -> (0,1,0) -> x2 + 10
+  EXPECT_LT(glm::length(p[2] - vec3(8, 0, 0)), 1e-5f);   // (0,1,0) -> (-1,0,0)
+  EXPECT_LT(glm::length(m.meshes[0].normals[0] - vec3(0, 0, 1)), 1e-5f);
+}
+
+TEST(GltfIo, MissingBufferNamesTheBuffer) {
+  const auto dir = test::scratchDir("gltf_missing_buffer");
+  TriangleFile f;
+  f.buffer_uri = "missing.bin";
+  expectInputError(write(dir / "missing.gltf", f.json()), "buffers");
+}
+
+TEST(GltfIo, IndexOutOfRange) {
+  const auto dir = test::scratchDir("gltf_index");
+  TriangleFile f;
+  f.indices = {0, 1, 7};
+  expectInputError(write(dir / "index.gltf", f.json()), "index 7");
+}
+
+TEST(GltfIo, NonTrianglePrimitive) {
+  const auto dir = test::scratchDir("gltf_lines");
+  TriangleFile f;
+  f.mode = "1";  // LINES
+  expectInputError(write(dir / "lines.gltf", f.json()), "mode 1");
+}
+
+TEST(GltfIo, DracoCompressedFile) {
+  const auto dir = test::scratchDir("gltf_draco");
+  TriangleFile f;
+  f.extensions_required = R"(, "extensionsUsed": ["KHR_draco_mesh_compression"],
+      "extensionsRequired": ["KHR_draco_mesh_compression"])";
+  expectInputError(write(dir / "draco.gltf", f.json()), "KHR_draco_mesh_compression");
+}
+
+TEST(GltfIo, TruncatedBufferAndGarbage) {
+  const auto dir = test::scratchDir("gltf_garbage");
+  TriangleFile f;
+  f.positions.resize(6);  // accessor still says 3 vertices: it overruns its buffer view
+  std::string json = f.json();
+  const auto at = json.find("\"count\": 2");
+  ASSERT_NE(at, std::string::npos);
+  json.replace(at, 10, "\"count\": 3");
+  expectInputError(write(dir / "short.gltf", json), "accessors");
+  expectInputError(write(dir / "junk.glb", "definitely not a glb file"), "glTF");
+  expectInputError(write(dir / "junk.gltf", "{ not json"), "glTF");
+  expectInputError(dir / "absent.glb", "not found");
+  expectInputError(write(dir / "model.obj", "v 0 0 0"), ".obj");
+}
+
+// A textured, emissive model written as .glb and read back: geometry, factors, the emission
+// above 1 (KHR_materials_emissive_strength) and the texture pixels survive.
+TEST(GltfIo, GlbRoundTripKeepsTexturesAndStrongEmission) {
+  const auto dir = test::scratchDir("gltf_roundtrip");
+  Model m;
+  TriangleMesh mesh;
+  mesh.name = "quad";
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  mesh.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
+  mesh.computeNormals();
+  m.meshes.push_back(mesh);
+  Material mat;
+  mat.name = "lamp";
+  mat.roughness = 0.0f;
+  mat.metallic = 1.0f;
+  mat.emission = {12.0f, 6.0f, 3.0f};
+  mat.base_color_texture = 0;
+  m.materials.push_back(mat);
+  cv::Mat tex(4, 8, CV_8UC3, cv::Scalar(10, 20, 200));  // BGR: red
+  tex.at<cv::Vec3b>(1, 2) = cv::Vec3b(255, 0, 0);
+  m.textures.push_back(tex);
+  saveGltf(dir / "quad.glb", m);
+  const Model back = loadGltf(dir / "quad.glb");
+  ASSERT_EQ(back.triangleCount(), 2u);
+  ASSERT_EQ(back.meshes[0].uvs.size(), 4u);
+  EXPECT_FLOAT_EQ(back.materials[0].roughness, 0.0f);
+  EXPECT_NEAR(back.materials[0].emission.r, 12.0f, 1e-4f);
+  EXPECT_NEAR(back.materials[0].emission.b, 3.0f, 1e-4f);
+  ASSERT_EQ(back.materials[0].base_color_texture, 0);
+  ASSERT_EQ(back.textures.size(), 1u);
+  EXPECT_EQ(cv::norm(back.textures[0], tex, cv::NORM_INF), 0.0);
+  // .gltf with everything embedded loads the same.
+  saveGltf(dir / "quad.gltf", m);
+  EXPECT_EQ(loadGltf(dir / "quad.gltf").triangleCount(), 2u);
+  const auto bytes = encodeGlb(m);
+  EXPECT_EQ(loadGlbFromMemory(bytes, "memory").triangleCount(), 2u);
+}
+
+struct RealModel {
+  const char* file;
+  std::size_t triangles;
+};
+
+// Every real model in ../shared/data/models loads, with the README's triangle count, finite
+// unit normals and sane materials.
+TEST(GltfIo, LoadsTheRealModels) {
+  HOLO_REQUIRE_SHARED_DATA("models/greek_vase_mr.glb");
+  const RealModel models[] = {{"models/greek_vase_mr.glb", 572},
+                              {"models/teapots_mr.glb", 2976},
+                              {"models/bunny_nodraco.glb", 5648},
+                              {"models/glmark2_bunny_mr.glb", 69666}};
+  for (const auto& r : models) {
+    SCOPED_TRACE(r.file);
+    const Model m = loadGltf(test::sharedData(r.file));
+    EXPECT_EQ(m.triangleCount(), r.triangles);
+    EXPECT_FALSE(m.bounds().empty());
+    for (const auto& mesh : m.meshes) {
+      ASSERT_EQ(mesh.normals.size(), mesh.positions.size());
+      for (const auto& n : mesh.normals) ASSERT_NEAR(glm::length(n), 1.0f, 1e-3f);
+      for (const auto& t : mesh.triangles) ASSERT_LT(std::max({t.x, t.y, t.z}), mesh.positions.size());
+      ASSERT_GE(mesh.material, 0);
+      ASSERT_LT(mesh.material, static_cast<int>(m.materials.size()));
+    }
+    for (const auto& mat : m.materials) {
+      EXPECT_GE(mat.roughness, 0.0f);
+      EXPECT_LE(mat.roughness, 1.0f);
+    }
+  }
+  // The Greek vase is textured: its base colour texture is decoded.
+  const Model vase = loadGltf(test::sharedData("models/greek_vase_mr.glb"));
+  bool textured = false;
+  for (const auto& mat : vase.materials)
+    if (mat.base_color_texture >= 0)
+      textured = !vase.textures[static_cast<std::size_t>(mat.base_color_texture)].empty();
+  EXPECT_TRUE(textured);
+}
+
+}  // namespace
+}  // namespace holo
