@@ -22,16 +22,19 @@ float radicalInverse(std::uint32_t i) {
   return float(i) * 2.3283064365386963e-10f;
 }
 
-float cellNdotV(int i) { return (float(i) + 0.5f) / float(kTableSize); }
-float cellRoughness(int j) { return float(j) / float(kTableSize - 1); }
+float cellNdotV(int i) {
+  return (float(i) + 0.5f) / float(kTableSize);
+}
+float cellRoughness(int j) {
+  return float(j) / float(kTableSize - 1);
+}
 
 const std::array<vec2, kTableSize * kTableSize>& table() {
   static const auto t = [] {
     std::array<vec2, kTableSize * kTableSize> out{};
     for (int j = 0; j < kTableSize; ++j)
       for (int i = 0; i < kTableSize; ++i)
-        out[std::size_t(j) * kTableSize + i] =
-            dfgIntegrate(cellNdotV(i), cellRoughness(j), kTableSamples);
+        out[std::size_t(j) * kTableSize + i] = dfgIntegrate(cellNdotV(i), cellRoughness(j), kTableSamples);
     return out;
   }();
   return t;

@@ -12,8 +12,8 @@ int findInterval(const double* cdf, int n, double u) {
   const double* it = std::upper_bound(cdf + 1, cdf + n + 1, u);
   int i = static_cast<int>(it - cdf) - 1;
   i = std::clamp(i, 0, n - 1);
-  while (i > 0 && cdf[i + 1] <= cdf[i]) --i;        // landed past the end on a flat tail
-  while (i < n - 1 && cdf[i + 1] <= cdf[i]) ++i;    // landed on a flat cell
+  while (i > 0 && cdf[i + 1] <= cdf[i]) --i;      // landed past the end on a flat tail
+  while (i < n - 1 && cdf[i + 1] <= cdf[i]) ++i;  // landed on a flat cell
   return i;
 }
 

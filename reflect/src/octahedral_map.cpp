@@ -6,7 +6,9 @@
 namespace holo::reflect {
 
 namespace {
-float signNotZero(float v) { return v >= 0.0f ? 1.0f : -1.0f; }
+float signNotZero(float v) {
+  return v >= 0.0f ? 1.0f : -1.0f;
+}
 }  // namespace
 
 vec2 octahedralEncode(const vec3& d) {
@@ -67,8 +69,8 @@ OctahedralMap OctahedralMap::downsampled() const {
   OctahedralMap out(std::max(1, size_ / 2));
   for (int y = 0; y < out.size_; ++y)
     for (int x = 0; x < out.size_; ++x)
-      out.at(x, y) = 0.25f * (at(2 * x, 2 * y) + at(2 * x + 1, 2 * y) + at(2 * x, 2 * y + 1) +
-                              at(2 * x + 1, 2 * y + 1));
+      out.at(x, y) =
+          0.25f * (at(2 * x, 2 * y) + at(2 * x + 1, 2 * y) + at(2 * x, 2 * y + 1) + at(2 * x + 1, 2 * y + 1));
   return out;
 }
 

@@ -1,9 +1,9 @@
 #include "holo/reflect/prefiltered_ibl.hpp"
 
-#include <algorithm>
-#include <cmath>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <algorithm>
+#include <cmath>
 
 #include "holo/core/equirect.hpp"
 #include "holo/reflect/dfg_table.hpp"
@@ -26,16 +26,15 @@ int ceilPow2(int v) {
 // Level 0: every panorama pixel's radiance * solid angle lands in the octahedral texel of its
 // centre (a box filter that keeps the total power exactly); the rare texel no pixel centre falls
 // in (base finer than the panorama near the equator) takes the panorama's nearest pixel.
-OctahedralMap resamplePanorama(const Environment& env, int size) {
-  const cv::Mat& pano = env.panorama();
+OctahedralMap resamplePanorama(const cv::Mat& pano, float yaw, int size) {
   const int w = pano.cols, h = pano.rows;
   std::vector<glm::dvec3> sum(std::size_t(size) * size, glm::dvec3(0.0));
   std::vector<double> weight(std::size_t(size) * size, 0.0);
   for (int y = 0; y < h; ++y) {
     const double omega = Environment::pixelSolidAngle(y, w, h);
     for (int x = 0; x < w; ++x) {
-      const vec3 d = equirect::uvToDirection(
-          {(float(x) + 0.5f) / float(w), (float(y) + 0.5f) / float(h)}, env.yaw());
+      const vec3 d =
+          equirect::uvToDirection({(float(x) + 0.5f) / float(w), (float(y) + 0.5f) / float(h)}, yaw);
       const vec2 uv = octahedralEncode(d);
       const int tx = std::clamp(int(uv.x * float(size)), 0, size - 1);
       const int ty = std::clamp(int(uv.y * float(size)), 0, size - 1);
@@ -48,9 +47,67 @@ OctahedralMap resamplePanorama(const Environment& env, int size) {
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x) {
       const std::size_t i = std::size_t(y) * size + x;
-      map.at(x, y) = weight[i] > 0 ? vec3(sum[i] / weight[i]) : env.radiance(map.texelDirection(x, y));
+      if (weight[i] > 0) {
+        map.at(x, y) = vec3(sum[i] / weight[i]);
+      } else {
+        const vec2 uv = equirect::directionToUv(map.texelDirection(x, y), yaw);
+        map.at(x, y) = rgbAt(pano, std::clamp(int(uv.x * float(w)), 0, w - 1),
+                             std::clamp(int(uv.y * float(h)), 0, h - 1));
+      }
     }
   return map;
+}
+
+// The panorama's few very bright pixels (a sun, a lamp), which a sample-based prefilter would
+// either miss or, read from a blurred MIP level, smear across the horizon. They are taken out of
+// the panorama and integrated exactly for every texel (2 x 2 point lights per pixel).
+struct BrightLight {
+  vec3 direction;
+  vec3 power;  // radiance * solid angle / 4 (one of the 4 sub-points), RGB
+};
+constexpr int kMaxBrightPixels = 512;
+constexpr float kBrightFactor = 32.0f;  // "bright" = luminance above 32 x the sphere's mean
+
+std::vector<BrightLight> extractBrightPixels(cv::Mat& pano, float yaw, const vec3& integral) {
+  const int w = pano.cols, h = pano.rows;
+  const float threshold = kBrightFactor * luminance(integral) / (4.0f * kPi);
+  struct Candidate {
+    double power;
+    int x, y;
+  };
+  std::vector<Candidate> candidates;
+  for (int y = 0; y < h; ++y) {
+    const double omega = Environment::pixelSolidAngle(y, w, h);
+    for (int x = 0; x < w; ++x) {
+      const float lum = luminance(rgbAt(pano, x, y));
+      if (threshold > 0.0f && lum > threshold) candidates.push_back({lum * omega, x, y});
+    }
+  }
+  if (candidates.size() > std::size_t(kMaxBrightPixels)) {
+    std::nth_element(candidates.begin(), candidates.begin() + kMaxBrightPixels, candidates.end(),
+                     [](const Candidate& a, const Candidate& b) { return a.power > b.power; });
+    candidates.resize(std::size_t(kMaxBrightPixels));
+  }
+  std::vector<BrightLight> lights;
+  for (const Candidate& c : candidates) {
+    const vec3 radiance = rgbAt(pano, c.x, c.y);
+    const float quarter = float(Environment::pixelSolidAngle(c.y, w, h)) * 0.25f;
+    for (int j = 0; j < 2; ++j)
+      for (int i = 0; i < 2; ++i)
+        lights.push_back({equirect::uvToDirection({(float(c.x) + 0.25f + 0.5f * float(i)) / float(w),
+                                                   (float(c.y) + 0.25f + 0.5f * float(j)) / float(h)},
+                                                  yaw),
+                          radiance * quarter});
+    setRgb(pano, c.x, c.y, vec3(0.0f));
+  }
+  return lights;
+}
+
+// The prefilter's lobe weight W(l) = pdf(l) * n.l with n = v: pdf(l) = D(h) / 4, n.h =
+// sqrt((1 + n.l) / 2).
+float lobeWeight(float n_dot_l, float alpha) {
+  if (n_dot_l <= 0.0f) return 0.0f;
+  return ggx::D(std::sqrt(0.5f * (1.0f + n_dot_l)), alpha) * 0.25f * n_dot_l;
 }
 
 vec3 trilinear(const std::vector<OctahedralMap>& chain, const vec3& d, float lod) {
@@ -73,12 +130,12 @@ float hammersley(std::uint32_t i) {
 }
 
 struct LobeSample {
-  vec3 l;      // local direction (normal = view = +Z)
-  float nol;   // weight
-  float lod;   // source MIP level
+  vec3 l;     // local direction (normal = view = +Z)
+  float nol;  // weight
+  float lod;  // source MIP level
 };
 
-std::vector<LobeSample> lobeSamples(float alpha, int count, int base_size) {
+std::vector<LobeSample> lobeSamples(float alpha, int count, int base_size, float lod_bias) {
   std::vector<LobeSample> out;
   const float omega_p = 4.0f * kPi / float(base_size * base_size);
   for (int k = 0; k < count; ++k) {
@@ -89,10 +146,22 @@ std::vector<LobeSample> lobeSamples(float alpha, int count, int base_size) {
     // pdf of l with n = v: D(h) (n.h) / (4 v.h) = D(h) / 4.
     const float pdf = ggx::D(hv.z, alpha) * 0.25f;
     const float omega_s = 1.0f / (float(count) * std::max(pdf, 1e-20f));
-    const float lod = std::max(0.0f, 0.5f * std::log2(omega_s / omega_p) + 1.0f);
+    const float lod = std::max(0.0f, 0.5f * std::log2(omega_s / omega_p) + lod_bias);
     out.push_back({l, l.z, lod});
   }
   return out;
+}
+
+// Integral of the lobe weight over the sphere (the FIS estimate's denominator), by 4096
+// Hammersley samples of the lobe's own distribution.
+double lobeNormalisation(float alpha) {
+  constexpr int kSamples = 4096;
+  double sum = 0;
+  for (int k = 0; k < kSamples; ++k) {
+    const vec3 hv = ggx::sampleNormal(alpha, {(float(k) + 0.5f) / kSamples, hammersley(std::uint32_t(k))});
+    sum += std::max(0.0f, 2.0f * hv.z * hv.z - 1.0f);  // n.l
+  }
+  return sum / kSamples;
 }
 
 }  // namespace
@@ -104,18 +173,28 @@ PrefilteredIbl::PrefilteredIbl(const Environment& env, PrefilterOptions options)
   if (base <= 0) base = std::clamp(floorPow2(std::max(1, env.panorama().cols / 4)), 16, 1024);
   base = floorPow2(std::max(base, 4));
 
-  std::vector<OctahedralMap> chain;
-  chain.push_back(env.panorama().empty() ? OctahedralMap(base) : resamplePanorama(env, base));
+  levels_.resize(std::size_t(levels));
+  std::vector<OctahedralMap> chain;  // MIP chain of the panorama without its bright pixels
+  std::vector<BrightLight> lights;
+  if (env.panorama().empty()) {
+    chain.emplace_back(base);
+    levels_[0] = chain[0];
+  } else {
+    levels_[0] = resamplePanorama(env.panorama(), env.yaw(), base);
+    cv::Mat residual = env.panorama().clone();
+    lights = extractBrightPixels(residual, env.yaw(), env.integral());
+    chain.push_back(lights.empty() ? levels_[0] : resamplePanorama(residual, env.yaw(), base));
+  }
   while (chain.back().size() > 1) chain.push_back(chain.back().downsampled());
 
-  levels_.resize(std::size_t(levels));
-  levels_[0] = chain[0];
   for (int l = 1; l < levels; ++l) {
     const float roughness = levelRoughness(l);
     const float alpha = std::max(roughnessToAlpha(roughness), 1e-4f);
-    // Texels about a quarter of the lobe's angular width (~2 alpha radians) wide.
-    const int size = std::clamp(ceilPow2(int(std::ceil(4.0f / alpha))), 16, base);
-    const auto samples = lobeSamples(alpha, std::max(1, options.samples_per_texel), base);
+    // Texels about half the lobe's angular width (~2 alpha radians) wide; bilinear lookups
+    // interpolate between them.
+    const int size = std::clamp(ceilPow2(int(std::ceil(2.0f / alpha))), 16, base);
+    const float bright_scale = lights.empty() ? 0.0f : float(1.0 / lobeNormalisation(alpha));
+    const auto samples = lobeSamples(alpha, std::max(1, options.samples_per_texel), base, options.lod_bias);
     OctahedralMap& out = levels_[std::size_t(l)];
     out = OctahedralMap(size);
     tbb::parallel_for(tbb::blocked_range<int>(0, size), [&](const tbb::blocked_range<int>& rows) {
@@ -128,7 +207,11 @@ PrefilteredIbl::PrefilteredIbl(const Environment& env, PrefilterOptions options)
             sum += s.nol * trilinear(chain, frame.toWorld(s.l), s.lod);
             wsum += s.nol;
           }
-          out.at(x, y) = wsum > 0.0f ? sum / wsum : vec3(0.0f);
+          vec3 texel = wsum > 0.0f ? sum / wsum : vec3(0.0f);
+          vec3 bright(0.0f);
+          for (const BrightLight& light : lights)
+            bright += light.power * lobeWeight(glm::dot(frame.n, light.direction), alpha);
+          out.at(x, y) = texel + bright * bright_scale;
         }
     });
   }
@@ -161,8 +244,7 @@ vec3 PrefilteredIbl::shade(const SurfaceMaterial& m, const vec3& n, const vec3& 
   const vec3 r = glm::reflect(-wo, n);
   const vec3 spec = specular(r, m.roughness) * (f0 * ab.x + f90 * ab.y);
   const float dielectric_reflectance = kDielectricF0 * s * ab.x + s * ab.y;
-  const vec3 diffuse =
-      (1.0f - metallic) * (1.0f - dielectric_reflectance) * base * irradiance(n) / kPi;
+  const vec3 diffuse = (1.0f - metallic) * (1.0f - dielectric_reflectance) * base * irradiance(n) / kPi;
   return spec + diffuse;
 }
 

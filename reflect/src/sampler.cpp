@@ -34,7 +34,9 @@ std::uint32_t sobolSecondDimension(std::uint32_t i) {
   return r;
 }
 
-float toUnitFloat(std::uint32_t x) { return float(x >> 8) * 0x1p-24f; }  // in [0, 1)
+float toUnitFloat(std::uint32_t x) {
+  return float(x >> 8) * 0x1p-24f;
+}  // in [0, 1)
 
 }  // namespace
 
@@ -54,8 +56,7 @@ vec2 SampleStream::next2D() {
   const std::uint32_t pair_seed = hashCombine(base_, dimension_++);
   const std::uint32_t shuffled = nestedUniformScramble(index_, pair_seed);
   const std::uint32_t x = nestedUniformScramble(reverseBits(shuffled), hashCombine(pair_seed, 1));
-  const std::uint32_t y =
-      nestedUniformScramble(sobolSecondDimension(shuffled), hashCombine(pair_seed, 2));
+  const std::uint32_t y = nestedUniformScramble(sobolSecondDimension(shuffled), hashCombine(pair_seed, 2));
   return {toUnitFloat(x), toUnitFloat(y)};
 }
 

@@ -30,10 +30,9 @@ cv::Mat toneMap(const cv::Mat& hdr, float exposure) {
       c = glm::max(c, vec3(0.0f));
       const float l = luminance(c);
       if (l > 0.0f) c *= (1.0f / (1.0f + l));
-      out.at<cv::Vec3b>(y, x) = cv::Vec3b(
-          cv::saturate_cast<uchar>(linearToSrgb(c.b) * 255.0f + 0.5f),
-          cv::saturate_cast<uchar>(linearToSrgb(c.g) * 255.0f + 0.5f),
-          cv::saturate_cast<uchar>(linearToSrgb(c.r) * 255.0f + 0.5f));
+      out.at<cv::Vec3b>(y, x) = cv::Vec3b(cv::saturate_cast<uchar>(linearToSrgb(c.b) * 255.0f + 0.5f),
+                                          cv::saturate_cast<uchar>(linearToSrgb(c.g) * 255.0f + 0.5f),
+                                          cv::saturate_cast<uchar>(linearToSrgb(c.r) * 255.0f + 0.5f));
     }
   return out;
 }

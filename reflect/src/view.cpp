@@ -17,8 +17,7 @@ vec3 defaultFaceEye(int face, const Bounds3& relic_bounds, float floor_y) {
   return eye;
 }
 
-CameraModel lookAtCamera(const vec3& eye, const vec3& target, float vfov_deg, int width,
-                         int height) {
+CameraModel lookAtCamera(const vec3& eye, const vec3& target, float vfov_deg, int width, int height) {
   const float vfov = std::clamp(vfov_deg, 1.0f, 170.0f) * kPi / 180.0f;
   const float fy = 0.5f * float(height) / std::tan(0.5f * vfov);
   Intrinsics K;

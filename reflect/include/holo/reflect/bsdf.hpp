@@ -21,19 +21,19 @@ inline constexpr float kDeltaRoughness = 0.01f;  // perceptual roughness; alpha 
 inline constexpr float kDielectricF0 = 0.04f;    // glTF default (IOR 1.5)
 
 struct SurfaceMaterial {
-  vec3 base_color{0.8f};  // linear RGB albedo (dielectric) or F0 (metal), [0,1]
-  float metallic = 0.0f;  // [0,1]
-  float roughness = 1.0f; // [0,1] perceptual; GGX alpha = roughness^2
-  float specular = 1.0f;  // [0,1] dielectric Fresnel scale (KHR_materials_specular)
+  vec3 base_color{0.8f};   // linear RGB albedo (dielectric) or F0 (metal), [0,1]
+  float metallic = 0.0f;   // [0,1]
+  float roughness = 1.0f;  // [0,1] perceptual; GGX alpha = roughness^2
+  float specular = 1.0f;   // [0,1] dielectric Fresnel scale (KHR_materials_specular)
 };
 
 // GGX building blocks in a local frame where the normal is +Z (exposed for the prefilter, the
 // DFG table and tests). alpha > 0.
 namespace ggx {
-float D(float cos_theta_h, float alpha);                 // normal distribution, 1/sr
-float lambda(float cos_theta, float alpha);              // Smith Lambda
-float G1(float cos_theta, float alpha);                  // Smith masking
-float G2(float cos_o, float cos_i, float alpha);         // height-correlated masking-shadowing
+float D(float cos_theta_h, float alpha);          // normal distribution, 1/sr
+float lambda(float cos_theta, float alpha);       // Smith Lambda
+float G1(float cos_theta, float alpha);           // Smith masking
+float G2(float cos_o, float cos_i, float alpha);  // height-correlated masking-shadowing
 // Heitz 2018 visible-normal sample for view `wo_local` (z > 0); u in [0,1)^2.
 vec3 sampleVisibleNormal(const vec3& wo_local, float alpha, const vec2& u);
 // Normal-distribution sample (pdf of h = D(h) cos_theta_h); used by the prefilter.
@@ -59,7 +59,7 @@ struct BsdfSample {
 };
 
 class Bsdf {
-public:
+ public:
   Bsdf(const SurfaceMaterial& material, const vec3& normal);
 
   vec3 eval(const vec3& wo, const vec3& wi) const;  // f * cos(theta_i), non-delta lobes
@@ -72,7 +72,7 @@ public:
   const SurfaceMaterial& material() const { return m_; }
   const vec3& normal() const { return frame_.n; }
 
-private:
+ private:
   float specularProbability(float cos_o) const;
   vec3 evalLocal(const vec3& wo, const vec3& wi) const;
   float pdfLocal(const vec3& wo, const vec3& wi, float p_spec) const;

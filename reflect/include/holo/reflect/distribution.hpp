@@ -11,15 +11,15 @@
 namespace holo::reflect {
 
 class Distribution2D {
-public:
+ public:
   Distribution2D() = default;
   // weights: row-major, width * height values >= 0 (NaN/Inf/negative count as 0).
   Distribution2D(const std::vector<double>& weights, int width, int height);
 
   struct Sample {
-    int x = 0, y = 0;         // chosen cell
-    double probability = 0;   // discrete probability of that cell (0 when the grid is empty)
-    vec2 within{0.5f};        // u remapped to [0,1)^2 inside the cell, for continuous warps
+    int x = 0, y = 0;        // chosen cell
+    double probability = 0;  // discrete probability of that cell (0 when the grid is empty)
+    vec2 within{0.5f};       // u remapped to [0,1)^2 inside the cell, for continuous warps
   };
   Sample sample(const vec2& u) const;
   double probability(int x, int y) const;  // discrete probability of a cell
@@ -28,11 +28,11 @@ public:
   int width() const { return width_; }
   int height() const { return height_; }
 
-private:
+ private:
   int width_ = 0, height_ = 0;
   double total_ = 0;
-  std::vector<double> weights_;      // cleaned weights
-  std::vector<double> row_cdf_;      // height + 1 entries, normalised
+  std::vector<double> weights_;  // cleaned weights
+  std::vector<double> row_cdf_;  // height + 1 entries, normalised
   std::vector<double> row_sums_;
   std::vector<double> column_cdfs_;  // per row, width + 1 entries, normalised
 };

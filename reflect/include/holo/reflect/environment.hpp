@@ -26,7 +26,7 @@ struct EnvironmentSample {
 };
 
 class Environment {
-public:
+ public:
   Environment() = default;
   // Copies the panorama; yaw in radians as in core/equirect.hpp.
   explicit Environment(const cv::Mat& panorama_bgr32f, float yaw = 0.0f);
@@ -48,7 +48,7 @@ public:
   // Row y's colatitude span [theta0, theta1] and a pixel's solid angle (exact, steradians).
   static double pixelSolidAngle(int y, int width, int height);
 
-private:
+ private:
   ivec2 pixelOf(const vec3& direction) const;
   cv::Mat panorama_;
   float yaw_ = 0.0f;

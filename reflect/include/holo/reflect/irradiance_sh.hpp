@@ -12,7 +12,7 @@
 namespace holo::reflect {
 
 class IrradianceSH {
-public:
+ public:
   IrradianceSH() = default;
   explicit IrradianceSH(const Environment& environment);
   // Irradiance E(n) = integral of L(w) max(0, n.w) dw (RGB, clamped at 0); a white Lambert
@@ -20,7 +20,7 @@ public:
   vec3 irradiance(const vec3& normal) const;
   const std::array<vec3, 9>& coefficients() const { return c_; }
 
-private:
+ private:
   std::array<vec3, 9> c_{};  // radiance coefficients L_lm, RGB
 };
 

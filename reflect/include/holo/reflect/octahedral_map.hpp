@@ -15,7 +15,7 @@ vec2 octahedralEncode(const vec3& direction);  // unit direction -> [0,1]^2
 vec3 octahedralDecode(const vec2& uv);         // [0,1]^2 -> unit direction
 
 class OctahedralMap {
-public:
+ public:
   OctahedralMap() = default;
   explicit OctahedralMap(int size) : size_(size), texels_(std::size_t(size) * size, vec3(0.0f)) {}
 
@@ -29,7 +29,7 @@ public:
   // Half-resolution 2x2 box average (the next level of a MIP chain); size must be >= 2.
   OctahedralMap downsampled() const;
 
-private:
+ private:
   int size_ = 0;
   std::vector<vec3> texels_;  // linear RGB, row-major
 };

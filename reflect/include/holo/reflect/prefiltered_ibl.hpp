@@ -8,9 +8,12 @@
 //        lod = max(0, 0.5 * log2(Omega_s / Omega_p) + 1),  Omega_s = 1 / (K pdf),
 //        Omega_p = 4 pi / size0^2 (one base texel),
 //    weighted by n.l. Level resolution follows the lobe width (finer for sharper levels).
+//    The panorama's brightest pixels (luminance > 32 x the mean, at most 256: a sun, a lamp)
+//    are taken out of the FIS source and integrated exactly for every texel, so a hard sun is
+//    neither missed nor smeared across the horizon by a blurred MIP level.
 //  * diffuse: irradiance from 9 spherical harmonics (irradiance_sh.hpp);
 //  * the split-sum DFG table (dfg_table.hpp) for the specular scale and bias.
-// Units: radiance in, radiance out. Build cost is measured in tests/reflect/bench_ibl.cpp.
+// Units: radiance in, radiance out. Build cost is measured in tests/reflect/bench_reflect.cpp.
 #pragma once
 
 #include <cstdint>
@@ -24,13 +27,14 @@
 namespace holo::reflect {
 
 struct PrefilterOptions {
-  int levels = 9;             // roughness levels, >= 2
-  int base_size = 0;          // octahedral size of level 0; 0 = from the panorama width
-  int samples_per_texel = 48; // K of the FIS estimate
+  int levels = 9;              // roughness levels, >= 2
+  int base_size = 0;           // octahedral size of level 0; 0 = from the panorama width
+  int samples_per_texel = 64;  // K of the FIS estimate
+  float lod_bias = 0.0f;       // added to the FIS level (Krivanek & Colbert use 1; 0 measured better)
 };
 
 class PrefilteredIbl {
-public:
+ public:
   PrefilteredIbl() = default;
   explicit PrefilteredIbl(const Environment& environment, PrefilterOptions options = {});
 
@@ -46,7 +50,7 @@ public:
   std::uint64_t sourceHash() const { return source_hash_; }
   bool empty() const { return levels_.empty(); }
 
-private:
+ private:
   std::vector<OctahedralMap> levels_;
   IrradianceSH sh_;
   std::uint64_t source_hash_ = 0;
@@ -55,12 +59,12 @@ private:
 // Keeps a PrefilteredIbl in step with a panorama that may change: get() rebuilds only when the
 // environment's content hash differs from the one the current maps were built from.
 class IblCache {
-public:
+ public:
   explicit IblCache(PrefilterOptions options = {}) : options_(options) {}
   const PrefilteredIbl& get(const Environment& environment);
   int builds() const { return builds_; }
 
-private:
+ private:
   PrefilterOptions options_;
   PrefilteredIbl ibl_;
   int builds_ = 0;

@@ -15,7 +15,7 @@ namespace holo::reflect {
 std::uint32_t hashCombine(std::uint32_t seed, std::uint32_t value);
 
 class SampleStream {
-public:
+ public:
   SampleStream(std::uint64_t seed, std::uint32_t pixel, std::uint32_t sample_index);
   vec2 next2D();  // in [0,1)^2; consecutive calls use new dimension pairs
   float next1D() { return next2D().x; }
@@ -24,7 +24,7 @@ public:
     return {a.x, a.y, next1D()};
   }
 
-private:
+ private:
   std::uint32_t base_;
   std::uint32_t index_;
   std::uint32_t dimension_ = 0;

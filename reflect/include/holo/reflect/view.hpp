@@ -17,8 +17,7 @@ vec3 faceDirection(int face);
 // Default eye of face f for a floor at floor_y, looking at the relic's bounding-box centre.
 vec3 defaultFaceEye(int face, const Bounds3& relic_bounds, float floor_y);
 // Pinhole camera at `eye` looking at `target` (OpenCV axes), square pixels, vertical fov.
-CameraModel lookAtCamera(const vec3& eye, const vec3& target, float vfov_deg, int width,
-                         int height);
+CameraModel lookAtCamera(const vec3& eye, const vec3& target, float vfov_deg, int width, int height);
 // The smallest vertical fov (degrees, with a 10% margin) that frames the relic's bounding
 // sphere from `eye`; kDefaultFovDeg when the bounds are empty.
 float framingFovDeg(const vec3& eye, const Bounds3& relic_bounds);

@@ -1,0 +1,273 @@
+// `holopyramid eval reflections`: what accuracy costs in time. Renders the ground truth (path
+// traced, cached on disk by scene hash) with and without the visitors, then every method at a
+// few quality settings, and reports for each (time, error) point the MSE over the whole view
+// and over the dynamic-foreground reflection region (paper Sec. 4.1.2: the ground truths with
+// and without the visitors differ by RGB distance >= 0.2). Writes JSON, CSV, an SVG plot of
+// error against time and, with --images, each method's tone-mapped image, its error map and a
+// side-by-side strip. HOLO_FULL_EVAL=1 (or --full) adds the slow, high-quality settings.
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "command.hpp"
+#include "holo/core/error.hpp"
+#include "holo/core/files.hpp"
+#include "holo/core/hdr_io.hpp"
+#include "holo/reflect/image_metrics.hpp"
+#include "holo/reflect/tone_map.hpp"
+#include "reflection_setup.hpp"
+
+namespace holo::app {
+namespace {
+
+struct EvalOptions {
+  SceneOptions scene;
+  ViewOptions view;
+  int gt_spp = 256;
+  std::string json, csv, svg, images;
+  std::string cache = (std::filesystem::temp_directory_path() / "holopyramid-gt-cache").string();
+  bool full = false;
+};
+
+struct Point {
+  std::string method, knob;
+  MethodSettings settings;
+  double ms = 0, mse = 0, fg_mse = 0;
+  cv::Mat image;
+};
+
+// The (method, knob) points: the first of each method is its default (the one "methods" in the
+// JSON reports); the rest trace the time/error curve.
+std::vector<Point> plannedPoints(bool full, int gt_spp) {
+  std::vector<Point> points;
+  const auto add = [&](const std::string& method, const std::string& knob, MethodSettings s) {
+    points.push_back({method, knob, s, 0, 0, 0, {}});
+  };
+  for (int spp : full ? std::vector<int>{16, 1, 4, 64, 256} : std::vector<int>{16, 1, 4}) {
+    if (spp >= gt_spp) continue;
+    MethodSettings s;
+    s.spp = spp;
+    s.seed = 7;  // independent of the ground truth's samples
+    add("gt", "spp=" + std::to_string(spp), s);
+  }
+  const std::vector<std::pair<int, int>> ibl =
+      full ? std::vector<std::pair<int, int>>{{9, 64}, {5, 16}, {9, 16}, {17, 128}, {17, 256}}
+           : std::vector<std::pair<int, int>>{{9, 64}, {5, 16}};
+  for (const std::string method : {"ibl", "ibl-baseline"})
+    for (auto [levels, samples] : ibl) {
+      MethodSettings s;
+      s.ibl_levels = levels;
+      s.ibl_samples = samples;
+      add(method, "levels=" + std::to_string(levels) + ",samples=" + std::to_string(samples), s);
+    }
+  return points;
+}
+
+std::string hex(std::uint64_t v) {
+  std::ostringstream s;
+  s << std::hex << v;
+  return s.str();
+}
+
+// The ground truth of this scene and view, from the cache when it is there.
+cv::Mat groundTruth(const ReflectionScene& scene, const CameraModel& camera, int spp, bool with_visitors,
+                    const std::filesystem::path& cache) {
+  // The view enters the key through its pose and intrinsics, bit for bit.
+  const mat4& pose = camera.T_world_camera();
+  const Intrinsics& K = camera.intrinsics();
+  std::string view(reinterpret_cast<const char*>(&pose[0][0]), sizeof(mat4));
+  view.append(reinterpret_cast<const char*>(&K.fx), 4 * sizeof(float));
+  const std::string key = hex(scene.hash) + "-" + std::to_string(camera.width()) + "x" +
+                          std::to_string(camera.height()) + "-" + hex(std::hash<std::string>{}(view)) +
+                          "-spp" + std::to_string(spp) + (with_visitors ? "" : "-novisitors");
+  const std::filesystem::path file = cache / ("gt-" + key + ".exr");
+  if (std::filesystem::exists(file)) {
+    const cv::Mat cached = loadHdr(file).pixels;
+    if (cached.cols == camera.width() && cached.rows == camera.height()) return cached;
+  }
+  MethodSettings s;
+  s.spp = spp;
+  s.with_visitors = with_visitors;
+  const cv::Mat image = renderMethod("gt", scene, camera, s, false).image;
+  std::filesystem::create_directories(cache);
+  saveHdr(file, image);
+  return image;
+}
+
+void writeCsv(const std::string& path, const std::vector<Point>& points) {
+  std::ostringstream out;
+  out << "method,knob,ms,mse,fg_mse\n";
+  for (const Point& p : points)
+    out << p.method << ",\"" << p.knob << "\"," << p.ms << "," << p.mse << "," << p.fg_mse << "\n";
+  writeFileAtomically(path, out.str());
+}
+
+// Log-log plot of error (MSE, and foreground MSE dashed) against time per view.
+void writeSvg(const std::string& path, const std::vector<Point>& points, const std::string& title) {
+  constexpr double W = 640, H = 420, L = 70, R = 160, T = 40, B = 50;
+  double t_lo = 1e30, t_hi = 0, e_lo = 1e30, e_hi = 0;
+  for (const Point& p : points) {
+    t_lo = std::min(t_lo, p.ms), t_hi = std::max(t_hi, p.ms);
+    for (double e : {p.mse, p.fg_mse})
+      if (e > 0) e_lo = std::min(e_lo, e), e_hi = std::max(e_hi, e);
+  }
+  if (!(t_hi > 0) || !(e_hi > 0)) t_lo = 1, t_hi = 10, e_lo = 1e-4, e_hi = 1e-2;
+  const double lt0 = std::floor(std::log10(std::max(t_lo, 1e-3))), lt1 = std::ceil(std::log10(t_hi) + 1e-9);
+  const double le0 = std::floor(std::log10(e_lo)), le1 = std::ceil(std::log10(e_hi) + 1e-9);
+  const auto px = [&](double t) {
+    return L + (std::log10(std::max(t, 1e-3)) - lt0) / std::max(lt1 - lt0, 1.0) * (W - L - R);
+  };
+  const auto py = [&](double e) {
+    return H - B - (std::log10(std::max(e, 1e-30)) - le0) / std::max(le1 - le0, 1.0) * (H - T - B);
+  };
+  std::ostringstream s;
+  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='" << H
+    << "' font-family='sans-serif' font-size='12'>\n<rect width='100%' height='100%' fill='white'/>\n"
+    << "<text x='" << L << "' y='22' font-size='14'>" << title << "</text>\n";
+  for (double d = lt0; d <= lt1; ++d)
+    s << "<line x1='" << px(std::pow(10, d)) << "' y1='" << T << "' x2='" << px(std::pow(10, d)) << "' y2='"
+      << H - B << "' stroke='#ddd'/><text x='" << px(std::pow(10, d)) - 12 << "' y='" << H - B + 16 << "'>1e"
+      << d << "</text>\n";
+  for (double d = le0; d <= le1; ++d)
+    s << "<line x1='" << L << "' y1='" << py(std::pow(10, d)) << "' x2='" << W - R << "' y2='"
+      << py(std::pow(10, d)) << "' stroke='#ddd'/><text x='" << 20 << "' y='" << py(std::pow(10, d)) + 4
+      << "'>1e" << d << "</text>\n";
+  s << "<text x='" << (L + W - R) / 2 - 60 << "' y='" << H - 12 << "'>time per view (ms)</text>\n"
+    << "<text x='14' y='" << T - 8 << "'>MSE</text>\n";
+  const std::map<std::string, std::string> colours = {
+      {"gt", "#1f77b4"}, {"ibl", "#2ca02c"}, {"ibl-baseline", "#d62728"}};
+  int legend = 0;
+  for (const auto& [method, colour] : colours) {
+    std::vector<const Point*> ps;
+    for (const Point& p : points)
+      if (p.method == method) ps.push_back(&p);
+    if (ps.empty()) continue;
+    std::sort(ps.begin(), ps.end(), [](const Point* a, const Point* b) { return a->ms < b->ms; });
+    for (int fg = 0; fg < 2; ++fg) {
+      s << "<polyline fill='none' stroke='" << colour << "'" << (fg ? " stroke-dasharray='4,3'" : "")
+        << " points='";
+      for (const Point* p : ps) s << px(p->ms) << "," << py(fg ? p->fg_mse : p->mse) << " ";
+      s << "'/>\n";
+      for (const Point* p : ps)
+        s << "<circle cx='" << px(p->ms) << "' cy='" << py(fg ? p->fg_mse : p->mse) << "' r='3' fill='"
+          << colour << "'><title>" << p->method << " " << p->knob << "</title></circle>\n";
+    }
+    const double ly = T + 18 * legend++;
+    s << "<line x1='" << W - R + 10 << "' y1='" << ly << "' x2='" << W - R + 30 << "' y2='" << ly
+      << "' stroke='" << colour << "'/><text x='" << W - R + 35 << "' y='" << ly + 4 << "'>" << method
+      << "</text>\n";
+  }
+  s << "<text x='" << W - R + 10 << "' y='" << T + 18 * legend + 4
+    << "'>dashed: foreground MSE</text>\n</svg>\n";
+  writeFileAtomically(path, s.str());
+}
+
+void writePng(const std::filesystem::path& path, const cv::Mat& bgr8) {
+  writeAtomically(path, [&](const std::filesystem::path& tmp) {
+    if (!cv::imwrite(tmp.string() + ".png", bgr8)) throw Error("could not write " + path.string());
+    std::filesystem::rename(tmp.string() + ".png", tmp);
+  });
+}
+
+int evalReflections(EvalOptions o) {
+  if (const char* f = std::getenv("HOLO_FULL_EVAL"); f && std::string(f) == "1") o.full = true;
+  const ReflectionScene scene = loadReflectionScene(o.scene);
+  const CameraModel camera = viewCamera(o.view, scene);
+  const cv::Mat gt = groundTruth(scene, camera, o.gt_spp, true, o.cache);
+  cv::Mat region(gt.size(), CV_8UC1, cv::Scalar(0));
+  if (!scene.visitors.meshes.empty())
+    region = reflect::foregroundRegion(gt, groundTruth(scene, camera, o.gt_spp, false, o.cache));
+  const int fg_pixels = cv::countNonZero(region);
+
+  std::vector<Point> points = plannedPoints(o.full, o.gt_spp);
+  for (Point& p : points) {
+    const MethodResult r = renderMethod(p.method, scene, camera, p.settings);
+    p.ms = r.ms;
+    p.image = r.image;
+    p.mse = reflect::mse(r.image, gt);
+    p.fg_mse = fg_pixels > 0 ? reflect::mse(r.image, gt, region) : 0.0;
+    std::cout << p.method << " " << p.knob << ": " << p.ms << " ms, mse " << p.mse << ", fg_mse " << p.fg_mse
+              << "\n";
+  }
+
+  nlohmann::json j;
+  j["scene"] = scene.scene_name;
+  j["relic"] = scene.relic_name;
+  j["width"] = camera.width();
+  j["height"] = camera.height();
+  j["gt_spp"] = o.gt_spp;
+  j["fg_pixels"] = fg_pixels;
+  j["methods"] = nlohmann::json::object();
+  j["points"] = nlohmann::json::array();
+  for (const Point& p : points) {
+    const nlohmann::json entry = {{"fg_mse", p.fg_mse}, {"mse", p.mse}, {"ms", p.ms}, {"knob", p.knob}};
+    if (!j["methods"].contains(p.method)) j["methods"][p.method] = entry;
+    nlohmann::json point = entry;
+    point["method"] = p.method;
+    j["points"].push_back(point);
+  }
+  if (!o.json.empty())
+    writeFileAtomically(o.json, j.dump(2) + "\n");
+  else
+    std::cout << j.dump(2) << "\n";
+  if (!o.csv.empty()) writeCsv(o.csv, points);
+  if (!o.svg.empty())
+    writeSvg(o.svg, points,
+             "Reflections: error vs time (" + scene.scene_name + ", " + scene.relic_name + ")");
+
+  if (!o.images.empty()) {
+    const std::filesystem::path dir = o.images;
+    std::filesystem::create_directories(dir);
+    const float exposure = reflect::autoExposure(gt);  // one exposure: images stay comparable
+    std::vector<cv::Mat> strip = {reflect::toneMap(gt, exposure)};
+    writePng(dir / "gt_reference.png", strip.front());
+    cv::Mat region_bgr;
+    cv::cvtColor(region, region_bgr, cv::COLOR_GRAY2BGR);
+    writePng(dir / "foreground_region.png", region_bgr);
+    std::map<std::string, bool> seen;
+    for (const Point& p : points) {
+      if (seen[p.method]) continue;  // the default setting of each method
+      seen[p.method] = true;
+      const cv::Mat ldr = reflect::toneMap(p.image, exposure);
+      writePng(dir / (p.method + ".png"), ldr);
+      writePng(dir / (p.method + "_error.png"), reflect::errorMap(p.image, gt));
+      strip.push_back(ldr);
+    }
+    cv::Mat side_by_side;
+    cv::hconcat(strip, side_by_side);
+    writePng(dir / "side_by_side.png", side_by_side);
+  }
+  return 0;
+}
+
+}  // namespace
+
+HOLO_REGISTER_COMMAND(Command{
+    "eval reflections",
+    [](CLI::App& sub) {
+      auto o = std::make_shared<EvalOptions>();
+      o->scene.scene = "museum";
+      o->view.width = o->view.height = 128;
+      o->scene.addTo(sub);
+      o->view.addTo(sub);
+      sub.add_option("--gt-spp", o->gt_spp, "Ground-truth samples per pixel")
+          ->capture_default_str()
+          ->check(CLI::Range(1, 1 << 20));
+      sub.add_option("--json", o->json, "Write the results as JSON (default: stdout)");
+      sub.add_option("--csv", o->csv, "Write every (time, error) point as CSV");
+      sub.add_option("--svg", o->svg, "Write the error-vs-time plot as SVG");
+      sub.add_option("--images", o->images, "Write tone-mapped images and error maps (PNG) here");
+      sub.add_option("--cache", o->cache, "Ground-truth cache folder")->capture_default_str();
+      sub.add_flag("--full", o->full, "All quality settings (slow); also HOLO_FULL_EVAL=1");
+      return [o] { return evalReflections(*o); };
+    },
+    "Time and error of every reflection method against the path-traced ground truth"});
+
+}  // namespace holo::app

@@ -1,0 +1,76 @@
+// What `holopyramid render` and `holopyramid eval reflections` share: turning --scene, --relic,
+// --panorama and the view options into a relic, its emitters, an environment and a camera, and
+// rendering one view with a named method. Units: metres, degrees where the name says so.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "holo/core/camera_model.hpp"
+#include "holo/core/mesh.hpp"
+#include "holo/depthfilter/foreground_cloud.hpp"
+
+namespace holo::app {
+
+struct SceneOptions {
+  std::string scene = "empty";  // built-in scene name or YAML file; "empty" = relic alone
+  std::string relic;            // built-in relic name or glTF file; empty = the scene's
+  std::string panorama;         // HDR/EXR file; empty = the museum's rendered hall panorama
+  bool fit = false;             // scale and centre a relic file on the pedestal
+  int frame = 0;                // museum frame (visitor poses)
+  void addTo(CLI::App& app);
+};
+
+struct ViewOptions {
+  int width = 256, height = 256;
+  int face = 0;
+  std::string eye, look_at;  // "X,Y,Z" (metres); empty = the face's default eye / relic centre
+  float fov_deg = 0.0f;      // vertical; 0 = frame the relic
+  void addTo(CLI::App& app);
+};
+
+// The relic, the real things around it (emitters) and the environment beyond.
+struct ReflectionScene {
+  std::string scene_name, relic_name;
+  Model relic;
+  std::vector<Model> static_emitters;       // the hall
+  Model visitors;                           // visitors and what they carry at the frame (may be empty)
+  cv::Mat panorama;                         // linear HDR CV_32FC3 BGR, the static environment
+  depthfilter::ForegroundCloud foreground;  // the visitors as the depth cameras see them
+  float floor_y = -1.0f;
+  std::uint64_t hash = 0;  // of everything that changes the ground truth (for caching)
+};
+
+ReflectionScene loadReflectionScene(const SceneOptions& options);
+CameraModel viewCamera(const ViewOptions& view, const ReflectionScene& scene);
+
+inline const std::vector<std::string>& reflectionMethods() {
+  static const std::vector<std::string> methods = {"gt", "ibl", "ibl-baseline"};
+  return methods;
+}
+
+struct MethodSettings {
+  int spp = 256;         // gt: samples per pixel
+  int ibl_levels = 9;    // ibl*: roughness levels
+  int ibl_samples = 64;  // ibl*: FIS samples per texel
+  bool with_visitors = true;
+  std::uint64_t seed = 1;
+};
+
+struct MethodResult {
+  cv::Mat image;        // linear HDR CV_32FC3 BGR
+  double ms = 0;        // render time of the view (IBL: prefilter build included)
+  double build_ms = 0;  // part of ms spent building maps (IBL) or 0
+};
+
+// Throws InputError(field "method") for an unknown method.
+MethodResult renderMethod(const std::string& method, const ReflectionScene& scene, const CameraModel& camera,
+                          const MethodSettings& settings, bool quiet = true);
+
+// Writes FILE.exr and, beside it, FILE.png (tone mapped with `exposure`, auto when <= 0).
+void writeImagePair(const std::string& exr_path, const cv::Mat& hdr, float exposure = 0.0f);
+
+}  // namespace holo::app
