@@ -21,11 +21,12 @@
 namespace holo::depthfilter {
 
 struct VoxelGridSettings {
-  // World box the grid covers (metres). The default holds visitors standing up to ~1.6 m from the
-  // relic axis and up to 2.2 m tall.
-  Bounds3 bounds{vec3(-1.6f, 0.0f, -1.6f), vec3(1.6f, 2.2f, 1.6f)};
-  float voxel_size = 0.025f;  // edge length, metres
-  int brick_size = 8;         // voxels per brick edge for empty-space skipping, 1..64
+  // World box the grid covers (metres; world = pyramid frame, y = 0 on the base top, the floor
+  // about 1 m below). The default holds visitors standing up to 2 m from the relic axis, from
+  // the floor to 2.2 m above it: 128 x 71 x 128 voxels of 3.125 cm.
+  Bounds3 bounds{vec3(-2.0f, -1.0f, -2.0f), vec3(2.0f, 1.2f, 2.0f)};
+  float voxel_size = 0.03125f;  // edge length, metres
+  int brick_size = 8;           // voxels per brick edge for empty-space skipping, 1..64
 
   // Throws InputError naming `source` (a config file or "VoxelGridSettings") and the field.
   void validate(const std::string& source = "VoxelGridSettings") const;
