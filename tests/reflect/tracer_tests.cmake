@@ -11,3 +11,6 @@ if(TARGET holo::sim)
     SOURCES test_tracer_vs_path_traced.cpp
     DEPS holo::reflect holo::sim holo_test_support)
 endif()
+holo_benchmark(bench_frame_renderer
+  SOURCES bench_frame_renderer.cpp
+  DEPS holo::reflect holo::depthfilter holo_test_support)
