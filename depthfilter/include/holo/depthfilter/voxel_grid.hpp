@@ -84,6 +84,13 @@ class VoxelGrid {
     return brick_count_[std::size_t((b.z * brick_dims_.y + b.y) * brick_dims_.x + b.x)];
   }
 
+  // Chebyshev distance, in bricks, from brick b to the nearest brick holding an occupied voxel
+  // (0 for such a brick, saturating at 255; 255 everywhere when the grid is empty): every brick
+  // within distance - 1 of b is empty, so a walk may jump over that whole cube.
+  std::uint8_t brickDistance(const glm::ivec3& b) const {
+    return brick_distance_[std::size_t((b.z * brick_dims_.y + b.y) * brick_dims_.x + b.x)];
+  }
+
   // Voxel coordinates of a world point (floor((p - origin) / voxel_size)); may be out of range.
   glm::ivec3 voxelOf(const vec3& p) const;
   // World box of a voxel.
@@ -98,6 +105,7 @@ class VoxelGrid {
 
  private:
   std::size_t brickLinear(const glm::ivec3& v) const;
+  void computeBrickDistances();
   std::uint64_t bitIndex(const glm::ivec3& v) const {
     const int b = settings_.brick_size;
     const glm::ivec3 brick = v / b, local = v - brick * b;
@@ -109,12 +117,13 @@ class VoxelGrid {
   VoxelGridSettings settings_;
   glm::ivec3 dims_{0};
   glm::ivec3 brick_dims_{0};
-  std::vector<std::int32_t> cell_;          // per voxel: index into samples_, or -1
-  std::vector<std::uint32_t> brick_count_;  // per brick: occupied voxels
-  std::vector<std::uint64_t> bits_;         // occupancy bits, brick-major (see bitIndex)
-  std::uint64_t brick_volume_ = 0;          // brick_size^3
-  std::vector<VoxelSample> samples_;        // occupied voxels, in first-touch order
-  std::vector<std::int64_t> sample_voxel_;  // linear voxel index of each sample (for clear)
+  std::vector<std::int32_t> cell_;            // per voxel: index into samples_, or -1
+  std::vector<std::uint32_t> brick_count_;    // per brick: occupied voxels
+  std::vector<std::uint8_t> brick_distance_;  // per brick: see brickDistance
+  std::vector<std::uint64_t> bits_;           // occupancy bits, brick-major (see bitIndex)
+  std::uint64_t brick_volume_ = 0;            // brick_size^3
+  std::vector<VoxelSample> samples_;          // occupied voxels, in first-touch order
+  std::vector<std::int64_t> sample_voxel_;    // linear voxel index of each sample (for clear)
   glm::ivec3 occ_lo_{0};
   glm::ivec3 occ_hi_{0};
   std::size_t dropped_ = 0;
