@@ -47,6 +47,7 @@ VoxelGrid::VoxelGrid(const VoxelGridSettings& settings) : settings_(settings) {
   brick_count_.assign(std::size_t(brick_dims_.x) * brick_dims_.y * brick_dims_.z, 0u);
   brick_volume_ = std::uint64_t(b) * b * b;
   bits_.assign(std::size_t((brick_count_.size() * brick_volume_ + 63) / 64), 0u);
+  brick_distance_.assign(brick_count_.size(), 255);
   occ_lo_ = dims_;
   occ_hi_ = glm::ivec3(0);
 }
@@ -80,6 +81,7 @@ void VoxelGrid::clear() {
     const std::uint64_t bit = bitIndex({x, y, z});
     bits_[bit >> 6] = 0;  // the whole word: every bit in it belongs to a cleared voxel or is 0
   }
+  std::fill(brick_distance_.begin(), brick_distance_.end(), std::uint8_t(255));
   samples_.clear();
   sample_voxel_.clear();
   occ_lo_ = dims_;
@@ -125,6 +127,33 @@ void VoxelGrid::build(const ForegroundCloud& cloud) {
       s.y = p.y;
     }
   }
+  computeBrickDistances();
+}
+
+// Exact Chebyshev (L-infinity) distance transform of the brick occupancy, one axis at a time:
+// d(b) = min over b' of max(|b - b'|) separates into 1-D passes d_a(b) = min over b'_a of
+// max(|b_a - b'_a|, d_{a-1}(b with b'_a)). Brick grids are small (16 x 9 x 16 by default), so the
+// O(n) scan per element is cheaper than bookkeeping.
+void VoxelGrid::computeBrickDistances() {
+  const glm::ivec3 n = brick_dims_;
+  auto at = [&](int x, int y, int z) { return std::size_t((z * n.y + y) * n.x + x); };
+  constexpr int kFar = 255;
+  std::vector<int> d(brick_count_.size()), next(brick_count_.size());
+  for (std::size_t i = 0; i < d.size(); ++i) d[i] = brick_count_[i] > 0 ? 0 : kFar;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int z = 0; z < n.z; ++z)
+      for (int y = 0; y < n.y; ++y)
+        for (int x = 0; x < n.x; ++x) {
+          const glm::ivec3 b(x, y, z);
+          int best = kFar;
+          glm::ivec3 o = b;
+          for (o[axis] = 0; o[axis] < n[axis]; ++o[axis])
+            best = std::min(best, std::max(std::abs(o[axis] - b[axis]), d[at(o.x, o.y, o.z)]));
+          next[at(x, y, z)] = best;
+        }
+    std::swap(d, next);
+  }
+  for (std::size_t i = 0; i < d.size(); ++i) brick_distance_[i] = std::uint8_t(std::min(d[i], kFar));
 }
 
 }  // namespace holo::depthfilter

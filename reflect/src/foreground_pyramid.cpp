@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+
+#include <opencv2/imgproc.hpp>
 
 #include "holo/core/error.hpp"
 
@@ -22,23 +25,25 @@ T bilinear(const cv::Mat& m, float x, float y) {
 }
 
 // One dual-Kawase downsampling step: output pixel (x, y) covers input block [2x, 2x+1]^2 whose
-// centre (in pixel-centre coordinates) is (2x + 0.5, 2y + 0.5); taps at the centre (4/8) and at
-// the centre +-(1, 1) (1/8 each), every tap a bilinear read.
-template <typename T>
+// centre is read bilinearly with weight 4/8, plus four bilinear taps one pixel out diagonally,
+// 1/8 each. Every tap is the mean of a 2x2 block, so the step is the 4x4 kernel below over input
+// pixels 2x-1..2x+2 (OpenCV's SIMD filter2D, edges replicated), sampled at even pixels.
 cv::Mat kawaseDown(const cv::Mat& in) {
+  static const cv::Mat kernel = (cv::Mat_<float>(4, 4) << 1, 1, 1, 1,  //
+                                 1, 5, 5, 1,                           //
+                                 1, 5, 5, 1,                           //
+                                 1, 1, 1, 1) /
+                                32.0f;
+  cv::Mat filtered;
+  cv::filter2D(in, filtered, -1, kernel, cv::Point(1, 1), 0.0, cv::BORDER_REPLICATE);
   cv::Mat out(std::max(1, (in.rows + 1) / 2), std::max(1, (in.cols + 1) / 2), in.type());
-  cv::parallel_for_(cv::Range(0, out.rows), [&](const cv::Range& rows) {
-    for (int y = rows.start; y < rows.end; ++y) {
-      T* o = out.ptr<T>(y);
-      for (int x = 0; x < out.cols; ++x) {
-        const float cx = 2.0f * float(x) + 0.5f, cy = 2.0f * float(y) + 0.5f;
-        const T sum = bilinear<T>(in, cx, cy) * 4.0f + bilinear<T>(in, cx - 1.0f, cy - 1.0f) +
-                      bilinear<T>(in, cx + 1.0f, cy - 1.0f) + bilinear<T>(in, cx - 1.0f, cy + 1.0f) +
-                      bilinear<T>(in, cx + 1.0f, cy + 1.0f);
-        o[x] = sum * 0.125f;
-      }
-    }
-  });
+  const std::size_t pixel_bytes = in.elemSize();
+  for (int y = 0; y < out.rows; ++y) {
+    const std::uint8_t* src = filtered.ptr<std::uint8_t>(2 * y);
+    std::uint8_t* dst = out.ptr<std::uint8_t>(y);
+    for (int x = 0; x < out.cols; ++x)
+      std::memcpy(dst + std::size_t(x) * pixel_bytes, src + std::size_t(2 * x) * pixel_bytes, pixel_bytes);
+  }
   return out;
 }
 
@@ -74,8 +79,8 @@ ForegroundPyramid::ForegroundPyramid(const cv::Mat& colour_bgr, const cv::Mat& m
   colour_.push_back(c);
   mask_.push_back(m);
   for (int l = 1; l < levels; ++l) {
-    colour_.push_back(kawaseDown<cv::Vec3f>(colour_.back()));
-    mask_.push_back(kawaseDown<float>(mask_.back()));
+    colour_.push_back(kawaseDown(colour_.back()));
+    mask_.push_back(kawaseDown(mask_.back()));
   }
 }
 

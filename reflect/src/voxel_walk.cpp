@@ -125,9 +125,25 @@ VoxelHit firstOccupiedVoxel(const depthfilter::VoxelGrid& grid, const Ray& ray, 
   const float inv_b = 1.0f / float(b);
   const ivec3 brick_lo = occ_lo / b;
   const ivec3 brick_hi = (occ_hi - 1) / b + 1;
+  const GridRay rb = r.scaled(inv_b);
   bool capped = false;
-  auto visit_brick = [&](const ivec3& brick, float) {
-    if (grid.brickCount(brick) == 0) return false;
+  float t_restart = t0;  // set when an empty brick lets the walk jump
+  auto visit_brick = [&](const ivec3& brick, float t_enter) {
+    if (grid.brickCount(brick) == 0) {
+      // Every brick within distance - 1 of this one is empty: jump to where the ray leaves
+      // that cube (restarting the brick DDA there) when it saves at least one step.
+      const int k = grid.brickDistance(brick);
+      if (k < 2) return false;
+      float t_exit = t1;
+      for (int a = 0; a < 3; ++a) {
+        if (rb.d[a] == 0.0f) continue;
+        const float face = rb.d[a] > 0.0f ? float(brick[a] + k) : float(brick[a] - k + 1);
+        t_exit = std::min(t_exit, (face - rb.o[a]) * rb.inv[a]);
+      }
+      if (!(t_exit > t_enter)) return false;
+      t_restart = t_exit;
+      return true;
+    }
     const ivec3 lo = glm::max(brick * b, occ_lo);
     const ivec3 hi = glm::min(brick * b + b, occ_hi);
     // Re-clip in voxel units: exact bounds for the fine walk, no drift from the brick level.
@@ -139,10 +155,23 @@ VoxelHit firstOccupiedVoxel(const depthfilter::VoxelGrid& grid, const Ray& ray, 
     }
     return hit.hit();
   };
-  const bool finished = dda(r.scaled(inv_b), brick_lo, brick_hi, t0, t1, st.brick_steps, visit_brick);
-  if (!finished || capped) {
-    ++st.capped;
-    return VoxelHit{};
+  // Restarts happen only after a jump that moved t forward by at least one brick, so their
+  // number is bounded by the brick extents as well.
+  const ivec3 brick_extent = brick_hi - brick_lo;
+  const int max_restarts = brick_extent.x + brick_extent.y + brick_extent.z + 4;
+  for (int restart = 0;; ++restart) {
+    if (restart > max_restarts) {
+      ++st.capped;
+      return VoxelHit{};
+    }
+    const float start = t_restart;
+    t_restart = -1.0f;
+    const bool finished = dda(rb, brick_lo, brick_hi, start, t1, st.brick_steps, visit_brick);
+    if (!finished || capped) {
+      ++st.capped;
+      return VoxelHit{};
+    }
+    if (hit.hit() || !(t_restart > start) || !(t_restart <= t1)) break;
   }
   return hit;
 }

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <limits>
 
 #include "holo/core/error.hpp"
@@ -108,6 +109,29 @@ TEST(VoxelGrid, RebuildClearsThePreviousFrame) {
   grid.clear();
   EXPECT_TRUE(grid.empty());
   EXPECT_FALSE(grid.occupied(grid.voxelOf(vec3(0.0f))));
+}
+
+TEST(VoxelGrid, BrickDistancesAreChebyshevToTheNearestOccupiedBrick) {
+  VoxelGridSettings s;
+  s.bounds = {vec3(0.0f), vec3(1.0f, 0.5f, 0.8f)};
+  s.voxel_size = 0.05f;  // 20 x 10 x 16 voxels, bricks of 2: 10 x 5 x 8
+  s.brick_size = 2;
+  VoxelGrid grid(s);
+  EXPECT_EQ(grid.brickDistance({3, 2, 1}), 255);  // empty grid: far everywhere
+  ForegroundCloud cloud;
+  cloud.points = {point({0.12f, 0.12f, 0.12f}, 1.0f, 0, 1),   // brick (1, 1, 1)
+                  point({0.92f, 0.42f, 0.72f}, 1.0f, 0, 2)};  // brick (9, 4, 7)
+  grid.build(cloud);
+  for (int z = 0; z < 8; ++z)
+    for (int y = 0; y < 5; ++y)
+      for (int x = 0; x < 10; ++x) {
+        const glm::ivec3 b(x, y, z);
+        const glm::ivec3 d1 = glm::abs(b - glm::ivec3(1, 1, 1)), d2 = glm::abs(b - glm::ivec3(9, 4, 7));
+        const int expected = std::min(std::max({d1.x, d1.y, d1.z}), std::max({d2.x, d2.y, d2.z}));
+        ASSERT_EQ(grid.brickDistance(b), expected) << x << "," << y << "," << z;
+      }
+  grid.clear();
+  EXPECT_EQ(grid.brickDistance({1, 1, 1}), 255);
 }
 
 TEST(VoxelGrid, RejectsBadSettingsNamingTheField) {

@@ -5,3 +5,12 @@ holo_test(test_tracer
 holo_benchmark(bench_voxel_walk
   SOURCES bench_voxel_walk.cpp
   DEPS holo::reflect holo::depthfilter holo_test_support)
+# Against path-traced ground truth on a simulated museum frame (needs module sim).
+if(TARGET holo::sim)
+  holo_test(test_tracer_vs_path_traced
+    SOURCES test_tracer_vs_path_traced.cpp
+    DEPS holo::reflect holo::sim holo_test_support)
+endif()
+holo_benchmark(bench_frame_renderer
+  SOURCES bench_frame_renderer.cpp
+  DEPS holo::reflect holo::depthfilter holo_test_support)

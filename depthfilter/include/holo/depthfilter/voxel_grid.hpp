@@ -21,11 +21,12 @@
 namespace holo::depthfilter {
 
 struct VoxelGridSettings {
-  // World box the grid covers (metres). The default holds visitors standing up to ~1.6 m from the
-  // relic axis and up to 2.2 m tall.
-  Bounds3 bounds{vec3(-1.6f, 0.0f, -1.6f), vec3(1.6f, 2.2f, 1.6f)};
-  float voxel_size = 0.025f;  // edge length, metres
-  int brick_size = 8;         // voxels per brick edge for empty-space skipping, 1..64
+  // World box the grid covers (metres; world = pyramid frame, y = 0 on the base top, the floor
+  // about 1 m below). The default holds visitors standing up to 2 m from the relic axis, from
+  // the floor to 2.2 m above it: 128 x 71 x 128 voxels of 3.125 cm.
+  Bounds3 bounds{vec3(-2.0f, -1.0f, -2.0f), vec3(2.0f, 1.2f, 2.0f)};
+  float voxel_size = 0.03125f;  // edge length, metres
+  int brick_size = 4;           // voxels per brick edge for skipping, 1..64 (4: fastest in bench_voxel_walk)
 
   // Throws InputError naming `source` (a config file or "VoxelGridSettings") and the field.
   void validate(const std::string& source = "VoxelGridSettings") const;
@@ -83,6 +84,13 @@ class VoxelGrid {
     return brick_count_[std::size_t((b.z * brick_dims_.y + b.y) * brick_dims_.x + b.x)];
   }
 
+  // Chebyshev distance, in bricks, from brick b to the nearest brick holding an occupied voxel
+  // (0 for such a brick, saturating at 255; 255 everywhere when the grid is empty): every brick
+  // within distance - 1 of b is empty, so a walk may jump over that whole cube.
+  std::uint8_t brickDistance(const glm::ivec3& b) const {
+    return brick_distance_[std::size_t((b.z * brick_dims_.y + b.y) * brick_dims_.x + b.x)];
+  }
+
   // Voxel coordinates of a world point (floor((p - origin) / voxel_size)); may be out of range.
   glm::ivec3 voxelOf(const vec3& p) const;
   // World box of a voxel.
@@ -97,6 +105,7 @@ class VoxelGrid {
 
  private:
   std::size_t brickLinear(const glm::ivec3& v) const;
+  void computeBrickDistances();
   std::uint64_t bitIndex(const glm::ivec3& v) const {
     const int b = settings_.brick_size;
     const glm::ivec3 brick = v / b, local = v - brick * b;
@@ -108,12 +117,13 @@ class VoxelGrid {
   VoxelGridSettings settings_;
   glm::ivec3 dims_{0};
   glm::ivec3 brick_dims_{0};
-  std::vector<std::int32_t> cell_;          // per voxel: index into samples_, or -1
-  std::vector<std::uint32_t> brick_count_;  // per brick: occupied voxels
-  std::vector<std::uint64_t> bits_;         // occupancy bits, brick-major (see bitIndex)
-  std::uint64_t brick_volume_ = 0;          // brick_size^3
-  std::vector<VoxelSample> samples_;        // occupied voxels, in first-touch order
-  std::vector<std::int64_t> sample_voxel_;  // linear voxel index of each sample (for clear)
+  std::vector<std::int32_t> cell_;            // per voxel: index into samples_, or -1
+  std::vector<std::uint32_t> brick_count_;    // per brick: occupied voxels
+  std::vector<std::uint8_t> brick_distance_;  // per brick: see brickDistance
+  std::vector<std::uint64_t> bits_;           // occupancy bits, brick-major (see bitIndex)
+  std::uint64_t brick_volume_ = 0;            // brick_size^3
+  std::vector<VoxelSample> samples_;          // occupied voxels, in first-touch order
+  std::vector<std::int64_t> sample_voxel_;    // linear voxel index of each sample (for clear)
   glm::ivec3 occ_lo_{0};
   glm::ivec3 occ_hi_{0};
   std::size_t dropped_ = 0;

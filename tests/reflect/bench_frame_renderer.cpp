@@ -1,0 +1,57 @@
+// Per-view time of each pass of the frame renderer (milliseconds, as counters), with and without
+// foreground: a mirror-like sphere (roughness 0.2), three synthetic visitors around the pyramid
+// seen by four 640x360 cameras, one 256x256 face view with 4 sub-samples per pixel.
+#include <benchmark/benchmark.h>
+
+#include <map>
+
+#include "holo/reflect/frame_renderer.hpp"
+#include "holo/reflect/view.hpp"
+#include "reflect_test_scenes.hpp"
+#include "synthetic_foreground.hpp"
+
+namespace {
+
+using namespace holo;
+using namespace holo::reflect;
+
+void frame(benchmark::State& state) {
+  const bool with_foreground = state.range(0) != 0;
+  const int aa = int(state.range(1));
+  const RenderScene scene(
+      holo::test::sphereModel({vec3(0.9f), 1.0f, 0.2f, 1.0f}, 0.15f, vec3(0.0f, 0.3f, 0.0f)), {});
+  const PrefilteredIbl ibl(Environment::uniform(vec3(0.5f)), PrefilterOptions{6, 32, 16});
+  std::vector<ForegroundCameraImage> cameras;
+  for (int f = 0; f < 4; ++f) {
+    ForegroundCameraImage c;
+    c.camera = lookAtCamera(vec3(0.0f, 0.2f, 0.0f) + 0.3f * faceDirection(f),
+                            vec3(0.0f, 0.5f, 0.0f) + 2.0f * faceDirection(f), 70.0f, 640, 360);
+    c.colour_bgr = cv::Mat(360, 640, CV_32FC3, cv::Scalar(0.2, 0.4, 0.8));
+    c.mask = cv::Mat(360, 640, CV_32FC1, cv::Scalar(1));
+    cameras.push_back(c);
+  }
+  depthfilter::ForegroundCloud cloud;
+  if (with_foreground) cloud = holo::test::visitorCloud(3, 0.7f, 5);
+  const CameraModel view = lookAtCamera(vec3(0.0f, 0.6f, 1.2f), vec3(0.0f, 0.3f, 0.0f), 14.0f, 256, 256);
+  TracerSettings settings;
+  settings.aa_samples = aa;
+  FrameRenderer renderer(scene, ibl, settings);
+  std::map<std::string, double> ms;
+  double walked = 0.0;
+  for (auto _ : state) {
+    const FrameResult r = renderer.render(cloud, cameras, {view});
+    for (const PassTiming& t : r.frame_timings) ms[passName(t.pass)] += t.ms;
+    for (const PassTiming& t : r.views.at(0).timings) ms[passName(t.pass)] += t.ms;
+    walked += double(r.views.at(0).walked_rays);
+  }
+  for (const auto& [name, total] : ms) state.counters[name + "_ms"] = total / double(state.iterations());
+  state.counters["walked_rays"] = walked / double(state.iterations());
+}
+BENCHMARK(frame)
+    ->ArgNames({"foreground", "aa"})
+    ->Args({1, 4})
+    ->Args({0, 4})
+    ->Args({1, 1})
+    ->Unit(benchmark::kMillisecond);
+
+}  // namespace
