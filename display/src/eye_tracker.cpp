@@ -98,16 +98,9 @@ std::optional<vec3> detectEye(const depthfilter::ForegroundCloud& cloud, int fac
                                         [&](const vec3& p) { return p.y >= top.y - settings.top_band; });
     if (near_top < settings.min_top_support) return std::nullopt;
     vec3 sum(0.0f);
-    std::vector<float> heights;
-    heights.reserve(head.size());
-    for (const vec3& p : head) {
-      sum += p;
-      heights.push_back(p.y);
-    }
-    const std::size_t rank = static_cast<std::size_t>(0.95 * static_cast<double>(heights.size() - 1));
-    std::nth_element(heights.begin(), heights.begin() + static_cast<std::ptrdiff_t>(rank), heights.end());
+    for (const vec3& p : head) sum += p;
     const vec3 centroid = sum / static_cast<float>(head.size());
-    return vec3(centroid.x, heights[rank] - settings.eye_below_top, centroid.z);
+    return vec3(centroid.x, top.y - settings.eye_below_top, centroid.z);
   };
   // Candidates go from the highest down; a rejected one is a stray point (too little support).
   const auto search = [&](bool gated) -> std::optional<vec3> {

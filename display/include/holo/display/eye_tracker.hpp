@@ -13,8 +13,8 @@
 // top_band below it, and min_support within head_depth below it (flying pixels above a head are
 // sparse and are not its top). The eye is at the horizontal centroid
 // of those points (the cameras on the base see the visitor's face side, so the centroid of the
-// visible head lies near the eyes) and eye_below_top under the robust top of the head (the 95th
-// percentile of their heights).
+// visible head lies near the eyes) and eye_below_top under that top. (The cameras look up at the
+// head and see little of its crown; a percentile of the heights would put the eye too low.)
 //
 // Smoothing: an alpha-beta (constant-velocity) filter on the 3D eye, per face. Why not the
 // paper's KCF: OpenCV's KCF tracks an appearance patch in one 2D image, while the head here is
