@@ -162,6 +162,12 @@ cv::Rect2d BoardSpec::extent() const {
   return {-square_m, -square_m, (cols + 1) * square_m, (rows + 1) * square_m};
 }
 
+double BoardDetection::widthFraction(int image_width) const {
+  if (image_points.empty() || image_width <= 0) return 0.0;
+  const cv::Rect2f box = cv::boundingRect(image_points);
+  return static_cast<double>(box.width) / image_width;
+}
+
 BoardDetection detectBoard(const BoardSpec& board, const cv::Mat& image) {
   BoardDetection out;
   const cv::Mat grey = toGrey(image);

@@ -45,6 +45,8 @@ struct BoardDetection {
   std::vector<int> ids;
   int markers = 0;  // ChArUco: markers found (diagnostics)
   bool usable() const { return image_points.size() >= 6; }
+  // Width of the detected corners' bounding box as a share of the image width (0 when empty).
+  double widthFraction(int image_width) const;
 };
 
 // Finds the board's corners (sub-pixel refined). An image without the board gives an empty
