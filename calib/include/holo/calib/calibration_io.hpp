@@ -38,9 +38,9 @@ struct CameraCalibration {
   double rms = 0.0;            // RMS reprojection error of the intrinsics, pixels
 };
 
-// Display alignment of one pyramid face: the face view is scaled about its centre, rotated
-// (counter-clockwise on screen, degrees), optionally mirrored left-right, then shifted by
-// offset (pixels, +x right, +y down) inside its quarter of the monitor.
+// Display alignment of one pyramid face: the face view is optionally mirrored left-right, scaled
+// about its centre, rotated (counter-clockwise on screen, degrees), then shifted by offset
+// (pixels, +x right, +y down) inside its quarter of the monitor (display_alignment.hpp).
 struct FaceAlignment {
   vec2 offset_px{0.0f};
   float scale = 1.0f;         // > 0
