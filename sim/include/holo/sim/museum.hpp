@@ -26,7 +26,7 @@
 
 namespace holo::sim {
 
-inline constexpr float kBaseHeight = 1.0f;   // floor to base top, metres
+inline constexpr float kBaseHeight = 1.0f;  // floor to base top, metres
 inline constexpr int kFaceCount = 4;
 
 struct SensorNoise {
@@ -53,11 +53,11 @@ struct CameraSettings {
 };
 
 struct SceneDescription {
-  std::string name;             // built-in name or file stem
-  std::string source;           // file it came from, or "built-in"
-  std::string hall = "gallery"; // room | gallery | atrium
-  std::string relic = "vase";   // vase | kettle | tripod | sphere, or a glTF path
-  bool fit_relic = true;        // scale and centre the relic on the pedestal
+  std::string name;              // built-in name or file stem
+  std::string source;            // file it came from, or "built-in"
+  std::string hall = "gallery";  // room | gallery | atrium
+  std::string relic = "vase";    // vase | kettle | tripod | sphere, or a glTF path
+  bool fit_relic = true;         // scale and centre the relic on the pedestal
   // Overrides of the relic's material; negative means "keep the model's".
   float relic_roughness = -1.0f;
   float relic_metallic = -1.0f;
@@ -73,16 +73,18 @@ struct SceneDescription {
 SceneDescription loadScene(const std::string& name_or_file);
 std::vector<std::string> builtinSceneNames();
 std::vector<std::string> builtinRelicNames();
+// One line about a built-in scene (hall, relic, visitors); empty for an unknown name.
+std::string describeBuiltinScene(const std::string& name);
 
 // One simulated camera frame and what a perfect sensor would have given.
 struct SimulatedFrame {
-  RgbdFrame frame;          // noisy, as the sensor delivers it
-  cv::Mat true_depth;       // CV_32FC1, metres, 0 where nothing is within range
-  cv::Mat foreground;       // CV_8UC1, 255 where the pixel sees a visitor or what they carry
+  RgbdFrame frame;     // noisy, as the sensor delivers it
+  cv::Mat true_depth;  // CV_32FC1, metres, 0 where nothing is within range
+  cv::Mat foreground;  // CV_8UC1, 255 where the pixel sees a visitor or what they carry
 };
 
 class Museum {
-public:
+ public:
   explicit Museum(SceneDescription description);
   ~Museum();
   Museum(Museum&&) noexcept;
@@ -107,10 +109,10 @@ public:
   // The background frame gamma_s of a camera: the empty hall, with sensor noise.
   RgbdFrame backgroundFrame(int index) const;
   // Equirectangular linear HDR (CV_32FC3 BGR) of the empty hall seen from panorama_position;
-  // the pixel/direction mapping is reflect's equirect convention (see holo/sim/panorama.hpp).
+  // the pixel/direction mapping is the one in holo/core/equirect.hpp.
   cv::Mat renderPanorama(int width, int height) const;
 
-private:
+ private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

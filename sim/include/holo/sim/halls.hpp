@@ -1,0 +1,26 @@
+// The static halls around the pyramid. Every surface is a diffuse emitter whose
+// Material::emission is its (baked) radiance, so cameras, the panorama and the path tracer agree
+// (see museum.hpp). Floor at y = -kBaseHeight; the pyramid base is a dark box of half width
+// kBaseHalfWidth from the floor to y = 0. Lamps, windows and skylights have radiance well above 1,
+// so the hall's panorama is truly HDR.
+//   room    : small living room 5 x 5 x 2.8 m, coloured walls, sofa, bookcase, window, lamps
+//   gallery : long gallery 16 x 5.6 x 4.5 m, paintings, benches, a row of ceiling lamps
+//   atrium  : tall atrium 12 x 12 x 12 m, columns, balcony, banners, a skylight
+//   none    : nothing at all (the relic alone, for tests under a panorama)
+// Each hall has strongly coloured objects within 1 m of the pyramid axis.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "holo/core/mesh.hpp"
+
+namespace holo::sim {
+
+inline constexpr float kBaseHalfWidth = 0.3f;  // metres, the square base is 0.6 m wide
+
+std::vector<std::string> hallNames();  // room, gallery, atrium, none
+// Throws InputError(origin, "hall", ...) for an unknown name.
+Model makeHall(const std::string& name, const std::string& origin = "built-in");
+
+}  // namespace holo::sim

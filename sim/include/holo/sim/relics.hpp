@@ -1,0 +1,24 @@
+// Procedural relics (fitted with fitOnPedestal): vase (surface of revolution), kettle (body, spout and
+// handle: non-convex), tripod vessel (bowl, three legs, two handles) and a sphere. Each is about 0.28 m tall,
+// standing on y = 0 and centred on the Y axis (the pyramid frame), with a metal material from
+// mirror (sphere, roughness 0) to rough (tripod, roughness 0.6).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "holo/core/mesh.hpp"
+
+namespace holo::sim {
+
+std::vector<std::string> relicNames();  // vase, kettle, tripod, sphere
+// Builds a relic by name; throws InputError(origin, "relic", ...) listing the names otherwise.
+Model makeRelic(const std::string& name, const std::string& origin = "built-in");
+
+inline constexpr float kRelicHeight = 0.28f;    // metres, base top to the relic's top
+inline constexpr float kRelicMaxWidth = 0.36f;  // fits well inside the pyramid over the base
+// Scales `model` uniformly to kRelicHeight tall (or less, to stay kRelicMaxWidth wide), standing on
+// y = 0 and centred on the Y axis. A model without extent is left as it is.
+void fitOnPedestal(Model& model);
+
+}  // namespace holo::sim

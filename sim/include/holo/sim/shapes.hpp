@@ -1,0 +1,30 @@
+// Mesh primitives the simulator builds its halls, relics and visitors from. Every builder
+// returns a closed (or, for lathes, optionally open) triangle mesh with per-vertex unit normals
+// in its own local frame, in metres; place it with TriangleMesh::transform or appendMesh.
+#pragma once
+
+#include <vector>
+
+#include "holo/core/mesh.hpp"
+
+namespace holo::sim {
+
+// Axis-aligned box centred at the origin with the given half extents (flat-shaded faces).
+TriangleMesh makeBox(const vec3& half_extent);
+// Cylinder along +Y from y = 0 to y = height, capped at both ends.
+TriangleMesh makeCylinder(float radius, float height, int segments = 24);
+// UV sphere centred at the origin.
+TriangleMesh makeSphere(float radius, int rings = 12, int segments = 24);
+// Surface of revolution about +Y of a profile of (radius, y) points, bottom to top; uvs are
+// (angle / 2 pi, profile parameter). Points with radius 0 close the surface there.
+TriangleMesh makeLathe(const std::vector<vec2>& profile, int segments = 48);
+// A tube of circular cross-section along a polyline (at least 2 points), one radius per point.
+TriangleMesh makeTube(const std::vector<vec3>& path, const std::vector<float>& radii, int segments = 16);
+
+// Appends `part`, transformed by T, to `dst` (keeps dst's material).
+void appendMesh(TriangleMesh& dst, const TriangleMesh& part, const mat4& T = mat4(1.0f));
+
+// Catmull-Rom resampling of a smooth profile through control points (samples per segment).
+std::vector<vec2> smoothProfile(const std::vector<vec2>& control, int samples_per_segment = 8);
+
+}  // namespace holo::sim

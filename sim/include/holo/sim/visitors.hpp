@@ -1,0 +1,49 @@
+// Visitors: articulated figures built from primitives (legs, torso, arms, neck, head) that walk
+// seeded paths around the pyramid, some carrying a book or a bag in a saturated colour.
+//
+// Each visitor walks its own lane (a ring between the hall's inner and outer radius, so visitors
+// never walk through each other), with a slowly varying speed (0.4 to 0.9 m/s on average, slowing
+// down and speeding up), a radial sway inside the lane and a leg/arm swing tied to the distance
+// walked. A pose is a closed-form function of time, so any frame can be rendered on its own.
+// Every surface is an emitter with baked radiance, like the hall (see museum.hpp).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "holo/core/mesh.hpp"
+
+namespace holo::sim {
+
+enum class Carried { nothing, book, bag };
+
+struct VisitorPlan {
+  float lane_radius = 1.5f;  // metres from the pyramid axis
+  float sway = 0.05f;        // radial sway amplitude, metres
+  float sway_hz = 0.1f;
+  float start_angle = 0.0f;    // radians, azimuth at t = 0 (0 = +Z, pi/2 = +X)
+  float angular_speed = 0.4f;  // mean, radians per second; the sign gives the direction
+  float pace_hz = 0.08f;       // how often the visitor slows down and speeds up
+  float pace_phase = 0.0f;
+  float height = 1.75f;  // metres, feet to the top of the head
+  vec3 skin{0.6f}, shirt{0.5f}, trousers{0.1f};
+  Carried carried = Carried::nothing;
+  vec3 carried_color{0.0f};
+};
+
+// `count` visitors for a hall (room, gallery, atrium, none), from the seed.
+std::vector<VisitorPlan> planVisitors(int count, std::uint64_t seed, const std::string& hall);
+
+struct VisitorPose {
+  vec3 feet;            // world position of the point between the feet (on the floor)
+  vec3 forward;         // unit walking direction in the floor plane
+  float stride = 0.0f;  // leg swing angle, radians
+  vec3 head;            // world centre of the head
+};
+VisitorPose poseAt(const VisitorPlan& plan, float t);
+
+// The visitors at time t, one mesh per visitor and material (skin, shirt, trousers, carried).
+Model buildVisitors(const std::vector<VisitorPlan>& plans, float t);
+
+}  // namespace holo::sim

@@ -1,0 +1,173 @@
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "holo/core/equirect.hpp"
+#include "holo/core/error.hpp"
+#include "holo/core/image.hpp"
+#include "holo/sim/halls.hpp"
+#include "holo/sim/museum.hpp"
+#include "shared_data.hpp"
+
+namespace holo::sim {
+namespace {
+
+SceneDescription small(const std::string& name, int width = 96, int height = 54) {
+  SceneDescription d = loadScene(name);
+  d.camera.width = width;
+  d.camera.height = height;
+  return d;
+}
+
+bool identical(const cv::Mat& a, const cv::Mat& b) {
+  return a.size() == b.size() && a.type() == b.type() && cv::norm(a, b, cv::NORM_INF) == 0.0;
+}
+
+TEST(Museum, SameDescriptionGivesBitIdenticalFrames) {
+  const Museum a(small("museum")), b(small("museum"));
+  for (int cam = 0; cam < 4; cam += 3) {
+    const SimulatedFrame fa = a.renderCamera(cam, 7), fb = b.renderCamera(cam, 7);
+    EXPECT_TRUE(identical(fa.frame.color, fb.frame.color));
+    EXPECT_TRUE(identical(fa.frame.depth, fb.frame.depth));
+    EXPECT_TRUE(identical(fa.true_depth, fb.true_depth));
+    EXPECT_TRUE(identical(fa.foreground, fb.foreground));
+  }
+  EXPECT_TRUE(identical(a.renderPanorama(64, 32), b.renderPanorama(64, 32)));
+}
+
+TEST(Museum, DifferentSeedsDiffer) {
+  SceneDescription d = small("museum");
+  const Museum a(d);
+  d.seed = 2;
+  const Museum b(d);
+  EXPECT_NE(a.visitorHeads(0)[0], b.visitorHeads(0)[0]);
+  // Same visitors aside, the sensor noise itself differs with the seed.
+  const RgbdFrame ba = a.backgroundFrame(0), bb = b.backgroundFrame(0);
+  EXPECT_FALSE(identical(ba.depth, bb.depth));
+}
+
+TEST(Museum, FramesAreValidRgbdFrames) {
+  const Museum m(small("museum"));
+  const SimulatedFrame f = m.renderCamera(2, 3);
+  EXPECT_NO_THROW(f.frame.validate());
+  EXPECT_EQ(f.frame.camera_id, 2);
+  EXPECT_EQ(f.frame.sequence, 3u);
+  EXPECT_EQ(f.frame.device_time.count(), 100'000'000);  // frame 3 at 30 fps
+  EXPECT_EQ(f.true_depth.type(), CV_32FC1);
+  EXPECT_EQ(f.foreground.type(), CV_8UC1);
+  EXPECT_GT(cv::countNonZero(f.true_depth), f.true_depth.total() * 9 / 10);  // a closed hall
+}
+
+// Camera 1 looks along +X at the gallery's east wall (x = 8): where a pixel's ray reaches that
+// wall unobstructed (above the bench, between the paintings), the true depth is analytic.
+TEST(Museum, TrueDepthMatchesAnalyticWall) {
+  SceneDescription d = small("empty", 160, 90);
+  const Museum m(d);
+  const SimulatedFrame f = m.renderCamera(1, 0, false);
+  const CameraModel& cam = m.camera(1);
+  int checked = 0;
+  for (int y = 0; y < cam.height(); ++y)
+    for (int x = 0; x < cam.width(); ++x) {
+      const Ray ray = cam.ray({float(x), float(y)});
+      if (ray.direction.x <= 0.0f || ray.direction.y <= 0.02f) continue;
+      const float t = (8.0f - ray.origin.x) / ray.direction.x;
+      const vec3 p = ray.origin + t * ray.direction;
+      if (std::abs(p.z) > 2.0f || p.y > 3.0f) continue;
+      const float z = glm::dot(p - cam.position(), vec3(cam.T_world_camera()[2]));  // camera-frame depth
+      EXPECT_NEAR(f.true_depth.at<float>(y, x), z, 1e-3f * z) << x << "," << y;
+      ++checked;
+    }
+  EXPECT_GT(checked, 300);
+}
+
+TEST(Museum, ForegroundMaskIsWhereVisitorsAre) {
+  SceneDescription d = small("museum", 160, 90);
+  const Museum m(d);
+  int with_people = 0;
+  for (int cam = 0; cam < 4; ++cam) {
+    const SimulatedFrame f = m.renderCamera(cam, 0);
+    const SimulatedFrame empty = m.renderCamera(cam, 0, false);
+    EXPECT_EQ(cv::countNonZero(empty.foreground), 0);
+    // Foreground pixels are nearer than the empty hall behind them; background pixels are not.
+    for (int y = 0; y < f.foreground.rows; ++y)
+      for (int x = 0; x < f.foreground.cols; ++x) {
+        const float zf = f.true_depth.at<float>(y, x), ze = empty.true_depth.at<float>(y, x);
+        if (f.foreground.at<std::uint8_t>(y, x)) {
+          if (zf > 0 && ze > 0) {
+            EXPECT_LT(zf, ze);
+          }
+        } else {
+          EXPECT_EQ(zf, ze);
+        }
+      }
+    // A visitor whose head projects into this camera shows up in its mask near that pixel's column.
+    for (const vec3& head : m.visitorHeads(0)) {
+      float depth = 0;
+      const auto px = m.camera(cam).project(head, &depth);
+      if (!px || depth <= 0.3f || px->x < 2 || px->y < 2 || px->x > 157 || px->y > 87) continue;
+      const cv::Rect window(int(px->x) - 2, int(px->y) - 2, 5, 5);
+      if (cv::countNonZero(f.foreground(window)) > 0) ++with_people;
+    }
+  }
+  EXPECT_GE(with_people, 1);
+}
+
+TEST(Museum, VisitorsWalkAroundThePyramidOutsideTheBase) {
+  const Museum m(small("atrium"));
+  for (int frame = 0; frame < 300; frame += 25)
+    for (const vec3& head : m.visitorHeads(frame)) {
+      const float r = std::hypot(head.x, head.z);
+      EXPECT_GT(r, 1.0f);
+      EXPECT_LT(r, 3.5f);
+      EXPECT_GT(head.y, 0.3f);  // 1.55-1.9 m tall, floor at -1
+    }
+  // They move: 2 s later every head is somewhere else.
+  const auto a = m.visitorHeads(0), b = m.visitorHeads(60);
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_GT(glm::length(a[i] - b[i]), 0.3f);
+}
+
+// The gallery's east wall (+X) is blue and its west wall (-X) red; a ceiling lamp hangs at
+// x = 1, y = 3.5, z = 0. Each must appear where core/equirect.hpp says.
+TEST(Museum, PanoramaFollowsTheEquirectConvention) {
+  const Museum m(small("empty"));
+  const int W = 256, H = 128;
+  const cv::Mat pano = m.renderPanorama(W, H);
+  auto at = [&](const vec3& direction) {
+    const vec2 uv = equirect::directionToUv(glm::normalize(direction));
+    return rgbAt(pano, std::min(int(uv.x * W), W - 1), std::min(int(uv.y * H), H - 1));
+  };
+  const vec3 east = at({1, 0, 0}), west = at({-1, 0, 0});
+  EXPECT_GT(east.b, 3.0f * east.r);
+  EXPECT_GT(west.r, 3.0f * west.b);
+  const vec3 lamp = at(vec3(1.0f, 3.49f, 0.0f) - m.description().panorama_position);
+  EXPECT_GT(luminance(lamp), 20.0f);
+  // Next to the lamp, the ceiling is dim.
+  EXPECT_LT(luminance(at(vec3(2.0f, 3.49f, 0.0f) - m.description().panorama_position)), 1.0f);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) ASSERT_TRUE(isFinite(rgbAt(pano, x, y)));
+}
+
+TEST(Museum, EveryBuiltinSceneRenders) {
+  for (const auto& name : builtinSceneNames()) {
+    SCOPED_TRACE(name);
+    const Museum m(small(name, 48, 27));
+    EXPECT_GT(m.relic().triangleCount(), 100u);
+    const Bounds3 b = m.relic().bounds();
+    EXPECT_NEAR(b.lo.y, 0.0f, 1e-4f);
+    EXPECT_LE(b.hi.y, 0.2801f);
+    const SimulatedFrame f = m.renderCamera(0, 0);
+    EXPECT_GT(cv::mean(f.frame.color)[0] + cv::mean(f.frame.color)[1] + cv::mean(f.frame.color)[2], 10.0);
+  }
+}
+
+TEST(Museum, UnknownSceneNameListsTheNames) {
+  try {
+    loadScene("no-such-scene");
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("museum"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("no-such-scene"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace holo::sim

@@ -1,0 +1,91 @@
+#include <gtest/gtest.h>
+#include <fstream>
+
+#include "holo/core/error.hpp"
+#include "holo/core/gltf_io.hpp"
+#include "holo/sim/museum.hpp"
+#include "holo/sim/relics.hpp"
+#include "shared_data.hpp"
+
+namespace holo::sim {
+namespace {
+
+std::filesystem::path write(const std::filesystem::path& dir, const std::string& name,
+                            const std::string& text) {
+  const auto path = dir / name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(SceneFile, ReadsEveryField) {
+  const auto dir = test::scratchDir("sim_scene_ok");
+  saveGltf(dir / "pot.glb", makeRelic("kettle"));
+  const auto path = write(dir, "hall.yaml", R"(base: museum
+hall: atrium
+relic: pot.glb
+relic_roughness: 0.25
+visitors: 5
+seed: 42
+camera: {width: 320, height: 180, hfov_deg: 90, max_range: 12, fps: 15}
+noise: {sigma_0: 0.002, k_z2: 0.004, enabled: true}
+panorama_position: [0, 0.5, 0]
+)");
+  const SceneDescription d = loadScene(path.string());
+  EXPECT_EQ(d.name, "hall");
+  EXPECT_EQ(d.source, path.string());
+  EXPECT_EQ(d.hall, "atrium");
+  EXPECT_EQ(d.relic, (dir / "pot.glb").string());
+  EXPECT_FLOAT_EQ(d.relic_roughness, 0.25f);
+  EXPECT_EQ(d.visitors, 5);
+  EXPECT_EQ(d.seed, 42u);
+  EXPECT_EQ(d.camera.width, 320);
+  EXPECT_FLOAT_EQ(d.camera.hfov_deg, 90.0f);
+  EXPECT_FLOAT_EQ(d.camera.vfov_deg, 70.0f);  // kept from the default
+  EXPECT_FLOAT_EQ(d.noise.k_z2, 0.004f);
+  EXPECT_FLOAT_EQ(d.panorama_position.y, 0.5f);
+  SceneDescription tiny = d;
+  tiny.camera.width = 32;
+  tiny.camera.height = 18;
+  const Museum m(tiny);
+  EXPECT_EQ(m.visitorHeads(0).size(), 5u);
+  for (const auto& mat : m.relic().materials) EXPECT_FLOAT_EQ(mat.roughness, 0.25f);
+}
+
+// Each bad field gives an InputError naming the file and that field.
+TEST(SceneFile, BadFieldsNameTheField) {
+  const auto dir = test::scratchDir("sim_scene_bad");
+  const std::pair<std::string, std::string> cases[] = {
+      {"hall: cellar\n", "hall"},
+      {"relic: missing.glb\n", "relic"},
+      {"visitors: many\n", "visitors"},
+      {"visitors: -2\n", "visitors"},
+      {"seed: 1.5\n", "seed"},
+      {"colour: red\n", "colour"},
+      {"camera: {width: 2}\n", "camera.width"},
+      {"camera: {hfov_deg: 400}\n", "camera.hfov_deg"},
+      {"camera: {zoom: 2}\n", "camera.zoom"},
+      {"noise: {k_z2: -1}\n", "noise.k_z2"},
+      {"noise: {enabled: maybe}\n", "noise.enabled"},
+      {"panorama_position: [0, 1]\n", "panorama_position"},
+      {"base: cathedral\n", "base"},
+      {"hall: [unclosed\n", ""},
+  };
+  int i = 0;
+  for (const auto& [text, field] : cases) {
+    SCOPED_TRACE(text);
+    const auto path = write(dir, "bad" + std::to_string(i++) + ".yaml", text);
+    try {
+      loadScene(path.string());
+      ADD_FAILURE() << "expected InputError";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), path.string());
+      if (!field.empty()) {
+        EXPECT_EQ(e.field().substr(0, e.field().find(' ')), field) << e.what();
+      }
+    }
+  }
+  EXPECT_THROW(loadScene((dir / "absent.yaml").string()), InputError);
+}
+
+}  // namespace
+}  // namespace holo::sim
