@@ -12,10 +12,12 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "command.hpp"
+#include "holo/calib/auto_calibration.hpp"
 #include "holo/calib/board.hpp"
 #include "holo/calib/calibration_io.hpp"
 #include "holo/calib/intrinsics.hpp"
 #include "holo/calib/quality.hpp"
+#include "holo/calib/simulated_rig.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/files.hpp"
 #include "holo/core/log.hpp"
@@ -132,6 +134,45 @@ int runIntrinsics(const IntrinsicsOptions& options) {
   return verdict.pass ? 0 : 3;
 }
 
+struct AutoOptions {
+  bool enabled = false;
+  std::string scene = "museum";
+  std::string out = "calibration";
+  std::string intrinsics_board = "charuco:7x5:0.04:0.03:DICT_5X5_100";
+  std::string placement_board = "charuco:7x5:0.08:0.06:DICT_5X5_100";
+  int background_frames = 9;
+  bool quiet = false;
+};
+
+// Real cameras are driven by the wizard once the capture module lands; today --auto runs on the
+// simulated museum, whose truth it also prints so a run can be checked at a glance.
+int runAuto(const AutoOptions& options) {
+  calib::AutoCalibrationConfig config;
+  config.intrinsics_board = calib::BoardSpec::parse(options.intrinsics_board, "--intrinsics-board");
+  config.placement_board = calib::BoardSpec::parse(options.placement_board, "--placement-board");
+  if (options.background_frames < 1)
+    throw InputError("--background-frames", "frames", "at least 1",
+                     std::to_string(options.background_frames));
+  config.background_frames = options.background_frames;
+  config.placements = calib::defaultBoardPlacements(config.placement_board, sim::kFaceCount);
+  const calib::SimulatedRig rig(options.scene, config);
+  std::cout << "calibrating the simulated museum (scene " << options.scene << ") into " << options.out
+            << "\n";
+  const calib::AutoCalibrationReport report =
+      calib::runAutoCalibration(rig, config, options.out, std::cout, options.quiet);
+  std::cout << "truth check (simulation):\n";
+  for (int c = 0; c < rig.cameraCount(); ++c) {
+    const auto& truth = rig.trueCamera(c);
+    const auto& got = report.cameras[static_cast<std::size_t>(c)];
+    const glm::vec3 dp = vec3(got.T_world_camera[3]) - truth.position();
+    std::cout << "  camera " << c << ": fx " << got.intrinsics.fx << " (true " << truth.intrinsics().fx
+              << "), position error " << glm::length(dp) * 1000.0f << " mm\n";
+  }
+  std::cout << "  panorama yaw " << report.pyramid.panorama_yaw_rad * 180.0f / kPi << " deg (true "
+            << rig.truePanoramaYaw() * 180.0f / kPi << ")\n";
+  return report.allPassed() ? 0 : 3;
+}
+
 }  // namespace
 
 HOLO_REGISTER_COMMAND(Command{
@@ -150,8 +191,22 @@ HOLO_REGISTER_COMMAND(Command{
       intr->add_option("--serial", intrinsics->serial,
                        "Camera serial (default: kept from --out, else its name)");
       intr->add_flag("--quiet", intrinsics->quiet, "No progress output");
-      return std::function<int()>([intr, intrinsics, parent = &sub]() -> int {
+      auto automatic = std::make_shared<AutoOptions>();
+      sub.add_flag("--auto", automatic->enabled, "Run every step without a window (on the simulated museum)");
+      sub.add_option("--scene", automatic->scene, "Simulated scene for --auto")->capture_default_str();
+      sub.add_option("--out", automatic->out, "Folder for the calibration files (--auto)")
+          ->capture_default_str();
+      sub.add_option("--intrinsics-board", automatic->intrinsics_board, "Board for intrinsics (--auto)")
+          ->capture_default_str();
+      sub.add_option("--placement-board", automatic->placement_board,
+                     "Board at the marked placements (--auto)")
+          ->capture_default_str();
+      sub.add_option("--background-frames", automatic->background_frames, "Frames per background (--auto)")
+          ->capture_default_str();
+      sub.add_flag("--quiet", automatic->quiet, "No progress output");
+      return std::function<int()>([intr, intrinsics, automatic, parent = &sub]() -> int {
         if (intr->parsed()) return runIntrinsics(*intrinsics);
+        if (automatic->enabled) return runAuto(*automatic);
         std::cerr << parent->help();
         return 2;
       });
