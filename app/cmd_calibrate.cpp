@@ -138,7 +138,7 @@ struct AutoOptions {
   bool enabled = false;
   std::string scene = "museum";
   std::string out = "calibration";
-  std::string intrinsics_board = "charuco:7x5:0.04:0.03:DICT_5X5_100";
+  std::string intrinsics_board = "charuco:7x5:0.05:0.03:DICT_5X5_100";
   std::string placement_board = "charuco:7x5:0.08:0.06:DICT_5X5_100";
   int background_frames = 9;
   bool quiet = false;
