@@ -243,7 +243,7 @@ cv::Mat drawDetection(const BoardSpec& board, const cv::Mat& image, const BoardD
       detection.image_points.size() == static_cast<std::size_t>(board.cols * board.rows))
     cv::drawChessboardCorners(out, cv::Size(board.cols, board.rows), detection.image_points, true);
   else
-    cv::aruco::drawDetectedCornersCharuco(out, detection.image_points, detection.ids, {0, 255, 0});
+    cv::aruco::drawDetectedCornersCharuco(out, detection.image_points, cv::noArray(), {0, 255, 0});
   return out;
 }
 
