@@ -1,0 +1,216 @@
+// `holopyramid calibrate`: the calibration steps without a window.
+//   holopyramid calibrate intrinsics --images 'GLOB' --board SPEC --out FILE.yml
+// calibrates one camera from photos of a board, prints fx, fy, cx, cy and the RMS reprojection
+// error with a pass/fail verdict, and writes FILE.yml (atomically, the old one kept as .bak)
+// and FILE.corners.png (every photo with its detected corners).
+#include <glob.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <opencv2/imgcodecs.hpp>
+
+#include "command.hpp"
+#include "holo/calib/auto_calibration.hpp"
+#include "holo/calib/board.hpp"
+#include "holo/calib/calibration_io.hpp"
+#include "holo/calib/intrinsics.hpp"
+#include "holo/calib/quality.hpp"
+#include "holo/calib/simulated_rig.hpp"
+#include "holo/core/error.hpp"
+#include "holo/core/files.hpp"
+#include "holo/core/log.hpp"
+#include "holo/core/progress.hpp"
+
+namespace holo::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> expandGlob(const std::string& pattern) {
+  glob_t found{};
+  const int rc = ::glob(pattern.c_str(), 0, nullptr, &found);
+  std::vector<std::string> files;
+  if (rc == 0)
+    for (std::size_t i = 0; i < found.gl_pathc; ++i) files.emplace_back(found.gl_pathv[i]);
+  ::globfree(&found);
+  std::sort(files.begin(), files.end());
+  if (files.empty()) throw InputError(pattern, "--images", "a pattern matching image files", "no match");
+  return files;
+}
+
+// A serial usable as camera_name: the output file's stem, reduced to the allowed characters.
+std::string serialFromPath(const fs::path& out) {
+  std::string serial = out.stem().string();
+  for (auto& ch : serial)
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_' && ch != '.') ch = '_';
+  return serial.empty() ? "camera" : serial;
+}
+
+struct IntrinsicsOptions {
+  std::string images;
+  std::string board;
+  std::string out;
+  std::string serial;
+  bool quiet = false;
+};
+
+int runIntrinsics(const IntrinsicsOptions& options) {
+  const calib::BoardSpec board = calib::BoardSpec::parse(options.board);
+  const std::vector<std::string> files = expandGlob(options.images);
+  std::vector<calib::BoardView> views;
+  std::vector<cv::Mat> drawn;
+  std::vector<double> fractions;
+  cv::Size size;
+  {
+    ProgressReporter progress(static_cast<std::int64_t>(files.size()), "detecting " + board.describe(),
+                              options.quiet);
+    for (const std::string& file : files) {
+      const cv::Mat image = cv::imread(file, cv::IMREAD_COLOR);
+      progress.update();
+      if (image.empty()) {
+        HOLO_LOG_WARN("{}: not a readable image, skipped", file);
+        continue;
+      }
+      if (size.area() == 0) size = image.size();
+      if (image.size() != size)
+        throw InputError(
+            file, "image size",
+            std::to_string(size.width) + "x" + std::to_string(size.height) + " like " + files.front(),
+            std::to_string(image.cols) + "x" + std::to_string(image.rows));
+      calib::BoardView view{fs::path(file).filename().string(), calib::detectBoard(board, image)};
+      if (view.detection.usable()) fractions.push_back(view.detection.widthFraction(image.cols));
+      drawn.push_back(calib::drawDetection(board, image, view.detection));
+      views.push_back(std::move(view));
+    }
+  }
+  const calib::IntrinsicsResult result = calib::calibrateIntrinsics(board, views, size, options.images);
+
+  const fs::path out = options.out;
+  calib::CameraCalibration calibration;
+  // Recalibrating intrinsics keeps a pose calibrated earlier.
+  if (fs::exists(out)) {
+    try {
+      calibration = calib::loadCameraCalibration(out);
+    } catch (const InputError& e) {
+      HOLO_LOG_WARN("{}: previous calibration unreadable ({}); its pose is not kept", out.string(), e.what());
+    }
+  }
+  calibration.serial = !options.serial.empty()       ? options.serial
+                       : !calibration.serial.empty() ? calibration.serial
+                                                     : serialFromPath(out);
+  calibration.intrinsics = result.intrinsics;
+  calibration.rms = result.rms;
+  calibration.date.clear();
+  calib::saveCameraCalibration(out, calibration);
+
+  fs::path sheet_path = out;
+  sheet_path.replace_extension(".corners.png");
+  const cv::Mat sheet = calib::detectionContactSheet(drawn);
+  writeAtomically(sheet_path, [&](const fs::path& tmp) {
+    if (!cv::imwrite(tmp.string(), sheet)) throw Error("could not write " + tmp.string());
+  });
+
+  std::sort(fractions.begin(), fractions.end());
+  const double median_fraction = fractions.empty() ? 0.0 : fractions[fractions.size() / 2];
+  const calib::StepVerdict verdict = calib::judgeIntrinsics("intrinsics " + calibration.serial, result.rms,
+                                                            static_cast<int>(result.used_views.size()),
+                                                            static_cast<int>(files.size()), median_fraction);
+  const Intrinsics& K = result.intrinsics;
+  std::cout << std::fixed << std::setprecision(3) << "camera: " << calibration.serial << "\n"
+            << "board: " << board.describe() << "\n"
+            << "views: " << result.used_views.size() << " of " << files.size() << "\n"
+            << "image: " << K.width << "x" << K.height << "\n"
+            << "fx: " << K.fx << "\nfy: " << K.fy << "\ncx: " << K.cx << "\ncy: " << K.cy << "\n"
+            << "distortion: " << K.distortion[0] << " " << K.distortion[1] << " " << K.distortion[2] << " "
+            << K.distortion[3] << " " << K.distortion[4] << "\n"
+            << "rms: " << result.rms << " px\n";
+  for (std::size_t i = 0; i < result.used_views.size(); ++i)
+    std::cout << "  " << result.used_views[i] << ": " << result.view_rms[i] << " px\n";
+  for (const auto& name : result.skipped_views) std::cout << "  " << name << ": board not found, skipped\n";
+  std::cout << "saved: " << out.string() << "\ncorners: " << sheet_path.string() << "\n"
+            << calib::formatVerdict(verdict) << "\n";
+  return verdict.pass ? 0 : 3;
+}
+
+struct AutoOptions {
+  bool enabled = false;
+  std::string scene = "museum";
+  std::string out = "calibration";
+  std::string intrinsics_board = "charuco:7x5:0.05:0.03:DICT_5X5_100";
+  std::string placement_board = "charuco:7x5:0.08:0.06:DICT_5X5_100";
+  int background_frames = 9;
+  bool quiet = false;
+};
+
+// Real cameras are driven by the wizard once the capture module lands; today --auto runs on the
+// simulated museum, whose truth it also prints so a run can be checked at a glance.
+int runAuto(const AutoOptions& options) {
+  calib::AutoCalibrationConfig config;
+  config.intrinsics_board = calib::BoardSpec::parse(options.intrinsics_board, "--intrinsics-board");
+  config.placement_board = calib::BoardSpec::parse(options.placement_board, "--placement-board");
+  if (options.background_frames < 1)
+    throw InputError("--background-frames", "frames", "at least 1",
+                     std::to_string(options.background_frames));
+  config.background_frames = options.background_frames;
+  config.placements = calib::defaultBoardPlacements(config.placement_board, sim::kFaceCount);
+  const calib::SimulatedRig rig(options.scene, config);
+  std::cout << "calibrating the simulated museum (scene " << options.scene << ") into " << options.out
+            << "\n";
+  const calib::AutoCalibrationReport report =
+      calib::runAutoCalibration(rig, config, options.out, std::cout, options.quiet);
+  std::cout << "truth check (simulation):\n";
+  for (int c = 0; c < rig.cameraCount(); ++c) {
+    const auto& truth = rig.trueCamera(c);
+    const auto& got = report.cameras[static_cast<std::size_t>(c)];
+    const glm::vec3 dp = vec3(got.T_world_camera[3]) - truth.position();
+    std::cout << "  camera " << c << ": fx " << got.intrinsics.fx << " (true " << truth.intrinsics().fx
+              << "), position error " << glm::length(dp) * 1000.0f << " mm\n";
+  }
+  std::cout << "  panorama yaw " << report.pyramid.panorama_yaw_rad * 180.0f / kPi << " deg (true "
+            << rig.truePanoramaYaw() * 180.0f / kPi << ")\n";
+  return report.allPassed() ? 0 : 3;
+}
+
+}  // namespace
+
+HOLO_REGISTER_COMMAND(Command{
+    "calibrate",
+    [](CLI::App& sub) {
+      auto intrinsics = std::make_shared<IntrinsicsOptions>();
+      CLI::App* intr =
+          sub.add_subcommand("intrinsics", "Calibrate one camera's intrinsics from photos of a board");
+      intr->add_option("--images", intrinsics->images, "Photos, as a quoted glob ('photos/left*.jpg')")
+          ->required();
+      intr->add_option("--board", intrinsics->board,
+                       "chessboard:COLSxROWS:SQUARE_M (inner corners) or "
+                       "charuco:COLSxROWS:SQUARE_M:MARKER_M:DICT (squares)")
+          ->required();
+      intr->add_option("--out", intrinsics->out, "Calibration file to write (FileStorage YAML)")->required();
+      intr->add_option("--serial", intrinsics->serial,
+                       "Camera serial (default: kept from --out, else its name)");
+      intr->add_flag("--quiet", intrinsics->quiet, "No progress output");
+      auto automatic = std::make_shared<AutoOptions>();
+      sub.add_flag("--auto", automatic->enabled, "Run every step without a window (on the simulated museum)");
+      sub.add_option("--scene", automatic->scene, "Simulated scene for --auto")->capture_default_str();
+      sub.add_option("--out", automatic->out, "Folder for the calibration files (--auto)")
+          ->capture_default_str();
+      sub.add_option("--intrinsics-board", automatic->intrinsics_board, "Board for intrinsics (--auto)")
+          ->capture_default_str();
+      sub.add_option("--placement-board", automatic->placement_board,
+                     "Board at the marked placements (--auto)")
+          ->capture_default_str();
+      sub.add_option("--background-frames", automatic->background_frames, "Frames per background (--auto)")
+          ->capture_default_str();
+      sub.add_flag("--quiet", automatic->quiet, "No progress output");
+      return std::function<int()>([intr, intrinsics, automatic, parent = &sub]() -> int {
+        if (intr->parsed()) return runIntrinsics(*intrinsics);
+        if (automatic->enabled) return runAuto(*automatic);
+        std::cerr << parent->help();
+        return 2;
+      });
+    },
+    "Calibrate cameras, panorama and display (subcommands; --auto runs every step)"});
+
+}  // namespace holo::app

@@ -1,0 +1,45 @@
+// Pass/fail verdicts of the calibration steps, with the plain-language hint a museum technician
+// gets when a step fails. Thresholds (docs/calib.md explains them):
+//   intrinsics   RMS reprojection error < 0.5 px over >= 8 views
+//   extrinsics   RMS reprojection error < 1.0 px per camera, >= 12 corners
+//   background   invalid depth < 20 % of pixels, colour noise (median absolute deviation) < 6 levels
+//   panorama     normalised correlation of the camera view with the panorama >= 0.5
+//   display      test pattern residual < 2 px
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace holo::calib {
+
+struct StepVerdict {
+  std::string step;    // "intrinsics camera 0", ...
+  std::string figure;  // what was measured, e.g. "RMS reprojection error (px)"
+  double value = 0.0;
+  double threshold = 0.0;
+  bool pass = false;
+  std::string hint;  // empty when passed
+};
+
+// One line: "intrinsics camera 0: RMS reprojection error (px) 0.21 (< 0.5) PASS" and the hint.
+std::string formatVerdict(const StepVerdict& verdict);
+
+inline constexpr double kIntrinsicsMaxRms = 0.5;
+inline constexpr int kIntrinsicsMinViews = 8;
+inline constexpr double kExtrinsicsMaxRms = 1.0;
+inline constexpr int kExtrinsicsMinCorners = 12;
+inline constexpr double kBackgroundMaxInvalid = 0.2;
+inline constexpr double kBackgroundMaxColorMad = 6.0;
+inline constexpr double kPanoramaMinCorrelation = 0.5;
+inline constexpr double kDisplayMaxResidualPx = 2.0;
+
+// `views` used and `offered`; `board_fraction` is the median share of the image width the board
+// spans (small boards mean "board too far").
+StepVerdict judgeIntrinsics(const std::string& step, double rms, int views, int offered,
+                            double board_fraction);
+StepVerdict judgeExtrinsics(const std::string& step, double rms, int corners, double board_fraction);
+StepVerdict judgeBackground(const std::string& step, double invalid_fraction, double color_mad);
+StepVerdict judgePanorama(const std::string& step, double correlation);
+StepVerdict judgeDisplay(const std::string& step, double residual_px);
+
+}  // namespace holo::calib

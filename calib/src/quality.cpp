@@ -1,0 +1,86 @@
+#include "holo/calib/quality.hpp"
+
+#include <cstdio>
+
+namespace holo::calib {
+
+namespace {
+std::string number(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.3g", v);
+  return buffer;
+}
+}  // namespace
+
+std::string formatVerdict(const StepVerdict& v) {
+  std::string line = v.step + ": " + v.figure + " " + number(v.value) + " (" +
+                     (v.figure.find("correlation") != std::string::npos ? ">= " : "< ") +
+                     number(v.threshold) + ") " + (v.pass ? "PASS" : "FAIL");
+  if (!v.pass && !v.hint.empty()) line += "\n  hint: " + v.hint;
+  return line;
+}
+
+StepVerdict judgeIntrinsics(const std::string& step, double rms, int views, int offered,
+                            double board_fraction) {
+  StepVerdict v{step, "RMS reprojection error (px)", rms, kIntrinsicsMaxRms, false, {}};
+  if (views < kIntrinsicsMinViews)
+    v.hint = "too few views: the board was found in " + std::to_string(views) + " of " +
+             std::to_string(offered) + " photos; take at least " + std::to_string(kIntrinsicsMinViews) +
+             ", tilting the board and moving it into every corner of the picture";
+  else if (rms >= kIntrinsicsMaxRms && board_fraction < 0.25)
+    v.hint = "board too far: it covers only " + number(100 * board_fraction) +
+             "% of the picture width; bring it closer so it fills about half";
+  else if (rms >= kIntrinsicsMaxRms)
+    v.hint = "corners are imprecise: hold the board still (motion blur), light it evenly, keep it flat";
+  v.pass = v.hint.empty();
+  return v;
+}
+
+StepVerdict judgeExtrinsics(const std::string& step, double rms, int corners, double board_fraction) {
+  StepVerdict v{step, "RMS reprojection error (px)", rms, kExtrinsicsMaxRms, false, {}};
+  if (corners < kExtrinsicsMinCorners)
+    v.hint = "the camera sees too little of the board (" + std::to_string(corners) +
+             " corners): check the board lies on its marked spot and nothing covers it";
+  else if (rms >= kExtrinsicsMaxRms && board_fraction < 0.15)
+    v.hint = "board too far from the camera: use the nearer marked spot or a larger board";
+  else if (rms >= kExtrinsicsMaxRms)
+    v.hint =
+        "the board's corners do not fit one pose: it may have moved (motion blur), be bent, or the "
+        "camera's intrinsics may be wrong; recalibrate intrinsics first";
+  v.pass = v.hint.empty();
+  return v;
+}
+
+StepVerdict judgeBackground(const std::string& step, double invalid_fraction, double color_mad) {
+  StepVerdict v{step, "invalid depth fraction", invalid_fraction, kBackgroundMaxInvalid, false, {}};
+  if (invalid_fraction >= kBackgroundMaxInvalid)
+    v.hint = "too much missing depth: remove shiny or black objects near the camera, avoid direct sunlight";
+  else if (color_mad >= kBackgroundMaxColorMad)
+    v.hint = "the scene changed while capturing (colour varies by " + number(color_mad) +
+             " levels): make sure nobody walks in front of the cameras and the lights are steady";
+  v.pass = v.hint.empty();
+  return v;
+}
+
+StepVerdict judgePanorama(const std::string& step, double correlation) {
+  StepVerdict v{step, "normalised correlation with the panorama", correlation, kPanoramaMinCorrelation, false,
+                {}};
+  if (correlation < kPanoramaMinCorrelation)
+    v.hint =
+        "the camera's view does not match the panorama: was the panorama taken in this hall, with the "
+        "same furniture? Retake it from the pyramid's position";
+  v.pass = v.hint.empty();
+  return v;
+}
+
+StepVerdict judgeDisplay(const std::string& step, double residual_px) {
+  StepVerdict v{step, "test pattern residual (px)", residual_px, kDisplayMaxResidualPx, false, {}};
+  if (residual_px >= kDisplayMaxResidualPx)
+    v.hint =
+        "the face's picture is distorted, not just shifted or turned: check the monitor's own scaling "
+        "(set it to native resolution, no overscan)";
+  v.pass = v.hint.empty();
+  return v;
+}
+
+}  // namespace holo::calib

@@ -1,0 +1,54 @@
+// The whole calibration without a window on the simulated museum: every step passes, and what it
+// saved agrees with the simulation's truth.
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "holo/calib/auto_calibration.hpp"
+#include "holo/calib/pose.hpp"
+#include "holo/calib/simulated_rig.hpp"
+#include "shared_data.hpp"
+
+namespace holo::calib {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(AutoCalibration, SimulatedMuseumRecoversTheTruth) {
+  AutoCalibrationConfig config;
+  config.intrinsics_board = BoardSpec::parse("charuco:7x5:0.05:0.03:DICT_5X5_100");
+  config.placement_board = BoardSpec::parse("charuco:7x5:0.08:0.06:DICT_5X5_100");
+  config.placements = defaultBoardPlacements(config.placement_board, sim::kFaceCount);
+  config.background_frames = 3;
+  const SimulatedRig rig("museum", config);
+  const fs::path dir = holo::test::scratchDir("calib_auto");
+  std::ostringstream log;
+  const AutoCalibrationReport report = runAutoCalibration(rig, config, dir, log, true);
+  std::cout << log.str();
+  EXPECT_TRUE(report.allPassed());
+  EXPECT_EQ(report.verdicts.size(), 4u * 3u + 1u + 4u);  // intrinsics, pose, background; yaw; faces
+
+  for (int c = 0; c < rig.cameraCount(); ++c) {
+    const CameraCalibration saved = loadCameraCalibration(cameraCalibrationPath(dir, rig.serial(c)));
+    const Intrinsics& truth = rig.trueCamera(c).intrinsics();
+    EXPECT_NEAR(saved.intrinsics.fx, truth.fx, 0.005 * truth.fx) << "camera " << c;
+    EXPECT_NEAR(saved.intrinsics.fy, truth.fy, 0.005 * truth.fy) << "camera " << c;
+    const cv::Matx44d got = toMatx(saved.T_world_camera), want = toMatx(rig.trueCamera(c).T_world_camera());
+    EXPECT_LT(translationError(got, want), 0.003) << "camera " << c;
+    EXPECT_LT(rotationErrorDeg(got, want), 0.3) << "camera " << c;
+    EXPECT_TRUE(fs::exists(dir / ("background_camera" + std::to_string(c) + ".png")));
+    EXPECT_TRUE(fs::exists(dir / ("intrinsics_camera" + std::to_string(c) + ".png")));
+  }
+  const PyramidCalibration pyramid = loadPyramidCalibration(pyramidCalibrationPath(dir));
+  // Parallax between the cameras and the panorama's centre limits the yaw to a fraction of a degree.
+  EXPECT_NEAR(pyramid.panorama_yaw_rad * 180.0f / kPi, rig.truePanoramaYaw() * 180.0f / kPi, 0.5f);
+  for (int f = 0; f < kPyramidFaces; ++f) {
+    const FaceAlignment truth = rig.trueFaceAlignment(f);
+    EXPECT_EQ(pyramid.faces[f].mirror, truth.mirror);
+    EXPECT_NEAR(std::remainder(pyramid.faces[f].rotation_deg - truth.rotation_deg, 360.0f), 0.0f, 0.2f);
+    EXPECT_NEAR(pyramid.faces[f].scale, truth.scale, 0.005f);
+  }
+}
+
+}  // namespace
+}  // namespace holo::calib
