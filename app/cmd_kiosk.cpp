@@ -2,11 +2,12 @@
 // (packaging/holopyramid.service, docs/kiosk.md). The kiosk module does the supervision; this
 // file wires it to a frame source.
 //
-// Frame source: until the live frame loop (`holopyramid run`) lands, the kiosk presents the
-// display module's alignment test pattern through the real presenters (EGL headless or GLFW
-// windows), at a view resolution that follows the degradation level. Plugging in the frame
-// loop is one line: makeFrameSource() returns its RenderFrame callback instead.
+// Frame sources: `pipeline` (the default) is the live frame loop of `holopyramid run`, at the
+// view size and camera mode the degradation policy asks for; `test-pattern` presents the display
+// module's alignment pattern through the same presenters, for checking the supervision itself
+// (the process tests) without the cost of rendering.
 #include <array>
+#include <cmath>
 #include <chrono>
 #include <memory>
 #include <optional>
@@ -19,7 +20,8 @@
 #include "holo/core/error.hpp"
 #include "holo/core/log.hpp"
 #include "holo/display/display_config.hpp"
-#include "holo/display/presenter.hpp"
+#include "holo/display/quad_view_presenter.hpp"
+#include "frame_loop.hpp"
 #include "holo/display/test_pattern.hpp"
 #include "holo/kiosk/fault_injector.hpp"
 #include "holo/kiosk/kiosk_loop.hpp"
@@ -78,7 +80,7 @@ class TestPatternSource {
   }
 
  private:
-  std::shared_ptr<display::Presenter> presenter_;  // shared: RenderFrame is copyable
+  std::shared_ptr<display::QuadViewPresenter> presenter_;  // shared: RenderFrame is copyable
   bool headless_;
   std::shared_ptr<kiosk::FaultInjector> faults_;
   display::FaceImages patterns_;
@@ -89,14 +91,75 @@ std::string displaySection(const ConfigNode& root) {
   return root.has("display") ? YAML::Dump(root.yaml()["display"]) : std::string();
 }
 
-kiosk::RenderFrame makeFrameSource(const kiosk::LoadedConfig& config, bool headless) {
-  return TestPatternSource(displayConfigOf(config.root), headless);
+// The product: the live frame loop on the simulated museum (real cameras plug in through the
+// capture configuration), at the view size and camera mode the degradation policy asks for.
+class PipelineSource {
+ public:
+  PipelineSource(const display::DisplayConfig& config, bool headless, const std::string& scene)
+      : headless_(headless) {
+    FrameLoopOptions options;
+    options.scene = scene;
+    options.live = true;
+    full_view_size_ = options.view_size;
+    loop_ = std::make_shared<FrameLoop>(
+        options, headless ? display::makeHeadlessPresenter(config) : display::makeWindowPresenter(config));
+  }
+
+  kiosk::FrameReport operator()(const kiosk::FrameRequest& request) {
+    kiosk::FrameReport report;
+    if (request.blank) {
+      loop_->presenter()->present(display::FaceImages{});  // never given: black
+      report.presented = loop_->presenter()->isOpen();
+      return report;
+    }
+    // Each quality level below the best renders views 1.25x smaller (0.64x the pixels).
+    const int view_size = std::max(64, static_cast<int>(full_view_size_ / std::pow(1.25, request.quality)));
+    loop_->setQuality(view_size, request.mode != kiosk::RenderMode::IblOnly);
+    const FrameReport frame = loop_->step();
+    report.presented = frame.presented;
+    report.stage_ms = {{"acquisition", frame.times.acquisition}, {"foreground", frame.times.foreground},
+                       {"dynamic_reflections", frame.times.dynamic}, {"static_reflections", frame.times.statics},
+                       {"composition", frame.times.composition}, {"display", frame.times.display}};
+    report.foreground_share = frame.foreground_points > 0 ? std::optional<double>(
+        std::min(1.0, static_cast<double>(frame.foreground_points) / (4.0 * 640 * 360))) : 0.0;
+    const std::vector<capture::CameraHealth> health = loop_->cameraHealth();
+    for (std::size_t i = 0; i < health.size(); ++i) {
+      kiosk::CameraHealth camera;
+      camera.name = "camera " + std::to_string(i);
+      camera.alive = health[i].connected && health[i].last_frame_age_s >= 0 && health[i].last_frame_age_s < 1.0;
+      camera.frames = health[i].frames_completed;
+      camera.dropped = health[i].frames_failed + health[i].frames_incomplete + health[i].frames_timed_out;
+      camera.reconnects = health[i].reconnects;
+      camera.last_frame_age_s = health[i].last_frame_age_s;
+      report.cameras.push_back(camera);
+    }
+    if (!report.presented) report.errors.push_back("display window closed");
+    if (headless_ && request.index % 30 == 0) {
+      cv::Mat grey;
+      cv::cvtColor(loop_->presenter()->readBack(), grey, cv::COLOR_BGR2GRAY);
+      if (cv::countNonZero(grey) == 0) report.errors.push_back("black frame presented during opening hours");
+    }
+    return report;
+  }
+
+ private:
+  std::shared_ptr<FrameLoop> loop_;  // shared: RenderFrame is copyable
+  bool headless_;
+  int full_view_size_ = 320;
+};
+
+kiosk::RenderFrame makeFrameSource(const kiosk::LoadedConfig& config, bool headless, const std::string& source,
+                                   const std::string& scene) {
+  if (source == "test-pattern") return TestPatternSource(displayConfigOf(config.root), headless);
+  return PipelineSource(displayConfigOf(config.root), headless, scene);
 }
 
 struct KioskOptions {
   std::string config = "/etc/holopyramid/holopyramid.yaml";
   std::string state_dir = "/var/lib/holopyramid";
   bool headless = false;
+  std::string source = "pipeline";
+  std::string scene = "museum";
   std::int64_t frames = 0;
   std::optional<int> health_port;
   std::optional<std::string> health_file;
@@ -119,7 +182,7 @@ int runKiosk(const KioskOptions& options) {
   kiosk::LoadedConfig loaded = load();
   HOLO_LOG_INFO("kiosk starting with configuration from {}", loaded.source);
   std::shared_ptr<kiosk::RenderFrame> source =
-      std::make_shared<kiosk::RenderFrame>(makeFrameSource(loaded, options.headless));
+      std::make_shared<kiosk::RenderFrame>(makeFrameSource(loaded, options.headless, options.source, options.scene));
   kiosk::KioskLoop loop(
       loaded, [source](const kiosk::FrameRequest& r) { return (*source)(r); },
       [&] {
@@ -129,7 +192,7 @@ int runKiosk(const KioskOptions& options) {
         if (displaySection(reloaded.root) != displaySection(loaded.root)) {
           HOLO_LOG_INFO("display settings changed: restarting the presenter");
           *source = {};
-          *source = makeFrameSource(reloaded, options.headless);
+          *source = makeFrameSource(reloaded, options.headless, options.source, options.scene);
         }
         loaded = reloaded;
         return reloaded;
@@ -146,6 +209,12 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--config", options->config, "YAML configuration (kiosk: and display: sections)")
           ->capture_default_str();
       sub.add_flag("--headless", options->headless, "Render offscreen through EGL, no windows");
+      sub.add_option("--source", options->source,
+                     "pipeline (the product) | test-pattern (the alignment pattern, for supervision checks)")
+          ->check(CLI::IsMember({"pipeline", "test-pattern"}))
+          ->capture_default_str();
+      sub.add_option("--scene", options->scene, "Scene of the simulated museum the pipeline shows")
+          ->capture_default_str();
       sub.add_option("--state-dir", options->state_dir,
                      "Where the last good configuration is kept ('' = nowhere)")
           ->capture_default_str();

@@ -36,6 +36,10 @@ int main(int argc, char** argv) {
   std::function<int()> run;
   // A name with a space ("eval depth") is a subcommand of a group ("eval"), made on first use.
   std::map<std::string, CLI::App*> groups;
+  const std::map<std::string, std::string> group_descriptions = {
+      {"eval", "Measure error against ground truth and its cost in time (subcommands)"},
+      {"bench", "Measure speed: medians and ratios from one run (subcommands)"},
+  };
   for (auto& [name, command] : app::registry()) {
     CLI::App* parent = &cli;
     std::string leaf = name;
@@ -44,7 +48,9 @@ int main(int argc, char** argv) {
       leaf = name.substr(space + 1);
       auto& g = groups[group];
       if (!g) {
-        g = cli.add_subcommand(group, "Group of subcommands: " + group);
+        const auto described = group_descriptions.find(group);
+        g = cli.add_subcommand(group, described != group_descriptions.end() ? described->second
+                                                                            : "Subcommands of " + group);
         g->require_subcommand(1);
       }
       parent = g;

@@ -40,8 +40,9 @@ class KioskProcess {
  public:
   // `env` entries are "NAME=value" added to the kiosk's environment.
   KioskProcess(const std::string& name, const std::string& config_text, const std::string& faults = {},
-               std::vector<std::string> env = {}, long watchdog_usec = 1'000'000)
-      : dir_(holo::test::scratchDir("kiosk_process_" + name)) {
+               std::vector<std::string> env = {}, long watchdog_usec = 1'000'000,
+               std::string source = "test-pattern")
+      : dir_(holo::test::scratchDir("kiosk_process_" + name)), source_(std::move(source)) {
     holo::writeFileAtomically(dir_ / "site.yaml", config_text);
     setFaults(faults);
     env.push_back("HOLO_KIOSK_TEST_FAULTS=" + (dir_ / "faults.txt").string());
@@ -66,7 +67,7 @@ class KioskProcess {
       const std::string config = (dir_ / "site.yaml").string();
       const std::string state = (dir_ / "state").string();
       const std::string health = (dir_ / "health.json").string();
-      execl(HOLO_APP_BINARY, HOLO_APP_BINARY, "kiosk", "--headless", "--config", config.c_str(),
+      execl(HOLO_APP_BINARY, HOLO_APP_BINARY, "kiosk", "--headless", "--source", source_.c_str(), "--config", config.c_str(),
             "--state-dir", state.c_str(), "--health-port", "0", "--health-file", health.c_str(),
             static_cast<char*>(nullptr));
       _exit(127);
@@ -156,6 +157,7 @@ class KioskProcess {
  private:
   std::filesystem::path dir_;
   std::string socket_path_;
+  std::string source_;  // --source of the kiosk: test-pattern (cheap) or pipeline
   int fd_ = -1;
   pid_t pid_ = -1;
   bool exited_ = false;

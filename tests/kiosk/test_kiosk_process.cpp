@@ -148,6 +148,21 @@ display: {output_size: [128, 128]}
   EXPECT_EQ(kiosk.wait(15s), 0) << kiosk.log();
 }
 
+// The product itself under the kiosk: the live pipeline on the simulated museum reaches the
+// screen (READY=1 only after a presented quad frame) with its four cameras counted in STATUS and
+// the Table 3 stages in the health JSON, and stops cleanly on SIGTERM.
+TEST(KioskProcess, RunsTheLivePipelineOnTheSimulatedMuseum) {
+  KioskProcess kiosk("pipeline", kConfig, {}, {}, 0, "pipeline");
+  ASSERT_TRUE(kiosk.readUntilContains("READY=1", 240s)) << kiosk.log();
+  ASSERT_TRUE(kiosk.readUntilContains("STATUS=cameras 4/4", 60s)) << kiosk.log();
+  const std::string response = httpGet(kiosk.healthPort(), "/health");
+  const auto health = nlohmann::json::parse(response.substr(response.find("\r\n\r\n") + 4));
+  EXPECT_EQ(health["cameras"].size(), 4u);
+  EXPECT_GT(health["stage_ms"]["static_reflections"].get<double>(), 0.0);
+  kill(kiosk.pid(), SIGTERM);
+  EXPECT_EQ(kiosk.wait(60s), 0) << kiosk.log();
+}
+
 }  // namespace
 
 }  // namespace holo::test
