@@ -27,8 +27,8 @@ struct BenchFrameOptions {
 
 // One primary ray per pixel of every view against the relic and, where it hits, one
 // prefiltered-IBL lookup at the mirror direction. Returns milliseconds.
-double floorFrameMs(const FrameLoop& loop, const std::vector<CameraModel>& views, const reflect::PrefilteredIbl& ibl,
-                    std::uint64_t& hits) {
+double floorFrameMs(const FrameLoop& loop, const std::vector<CameraModel>& views,
+                    const reflect::PrefilteredIbl& ibl, std::uint64_t& hits) {
   const auto t0 = Clock::now();
   std::atomic<std::uint64_t> hit_count{0};
   float sink = 0;

@@ -7,8 +7,8 @@
 // module's alignment pattern through the same presenters, for checking the supervision itself
 // (the process tests) without the cost of rendering.
 #include <array>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <string>
@@ -16,12 +16,12 @@
 #include <opencv2/imgproc.hpp>
 
 #include "command.hpp"
+#include "frame_loop.hpp"
 #include "holo/core/config.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/log.hpp"
 #include "holo/display/display_config.hpp"
 #include "holo/display/quad_view_presenter.hpp"
-#include "frame_loop.hpp"
 #include "holo/display/test_pattern.hpp"
 #include "holo/kiosk/fault_injector.hpp"
 #include "holo/kiosk/kiosk_loop.hpp"
@@ -117,16 +117,21 @@ class PipelineSource {
     loop_->setQuality(view_size, request.mode != kiosk::RenderMode::IblOnly);
     const FrameReport frame = loop_->step();
     report.presented = frame.presented;
-    report.stage_ms = {{"acquisition", frame.times.acquisition}, {"foreground", frame.times.foreground},
-                       {"dynamic_reflections", frame.times.dynamic}, {"static_reflections", frame.times.statics},
-                       {"composition", frame.times.composition}, {"display", frame.times.display}};
-    report.foreground_share = frame.foreground_points > 0 ? std::optional<double>(
-        std::min(1.0, static_cast<double>(frame.foreground_points) / (4.0 * 640 * 360))) : 0.0;
+    report.stage_ms = {
+        {"acquisition", frame.times.acquisition},     {"foreground", frame.times.foreground},
+        {"dynamic_reflections", frame.times.dynamic}, {"static_reflections", frame.times.statics},
+        {"composition", frame.times.composition},     {"display", frame.times.display}};
+    report.foreground_share =
+        frame.foreground_points > 0
+            ? std::optional<double>(
+                  std::min(1.0, static_cast<double>(frame.foreground_points) / (4.0 * 640 * 360)))
+            : 0.0;
     const std::vector<capture::CameraHealth> health = loop_->cameraHealth();
     for (std::size_t i = 0; i < health.size(); ++i) {
       kiosk::CameraHealth camera;
       camera.name = "camera " + std::to_string(i);
-      camera.alive = health[i].connected && health[i].last_frame_age_s >= 0 && health[i].last_frame_age_s < 1.0;
+      camera.alive =
+          health[i].connected && health[i].last_frame_age_s >= 0 && health[i].last_frame_age_s < 1.0;
       camera.frames = health[i].frames_completed;
       camera.dropped = health[i].frames_failed + health[i].frames_incomplete + health[i].frames_timed_out;
       camera.reconnects = health[i].reconnects;
@@ -148,8 +153,8 @@ class PipelineSource {
   int full_view_size_ = 320;
 };
 
-kiosk::RenderFrame makeFrameSource(const kiosk::LoadedConfig& config, bool headless, const std::string& source,
-                                   const std::string& scene) {
+kiosk::RenderFrame makeFrameSource(const kiosk::LoadedConfig& config, bool headless,
+                                   const std::string& source, const std::string& scene) {
   if (source == "test-pattern") return TestPatternSource(displayConfigOf(config.root), headless);
   return PipelineSource(displayConfigOf(config.root), headless, scene);
 }
@@ -181,8 +186,8 @@ int runKiosk(const KioskOptions& options) {
   };
   kiosk::LoadedConfig loaded = load();
   HOLO_LOG_INFO("kiosk starting with configuration from {}", loaded.source);
-  std::shared_ptr<kiosk::RenderFrame> source =
-      std::make_shared<kiosk::RenderFrame>(makeFrameSource(loaded, options.headless, options.source, options.scene));
+  std::shared_ptr<kiosk::RenderFrame> source = std::make_shared<kiosk::RenderFrame>(
+      makeFrameSource(loaded, options.headless, options.source, options.scene));
   kiosk::KioskLoop loop(
       loaded, [source](const kiosk::FrameRequest& r) { return (*source)(r); },
       [&] {

@@ -27,10 +27,10 @@ struct RunOptions {
 };
 
 int runPipeline(RunOptions options) {
-  display::DisplayConfig display_config =
-      options.config_file.empty() ? display::DisplayConfig{} : display::loadDisplayConfig(options.config_file);
-  if (!options.layout.empty())
-    display_config.layout = display::parseLayoutKind(options.layout, "--layout");
+  display::DisplayConfig display_config = options.config_file.empty()
+                                              ? display::DisplayConfig{}
+                                              : display::loadDisplayConfig(options.config_file);
+  if (!options.layout.empty()) display_config.layout = display::parseLayoutKind(options.layout, "--layout");
   const int frames = options.frames > 0 ? options.frames : (options.headless ? 30 : 0);
   if (options.headless && !options.loop.live) {
     // Deterministic: the same scene always gives the same frames, whatever the machine's speed.

@@ -24,5 +24,6 @@ bool registerCommand(Command command);
 
 #define HOLO_CONCAT_INNER(a, b) a##b
 #define HOLO_CONCAT(a, b) HOLO_CONCAT_INNER(a, b)
-#define HOLO_REGISTER_COMMAND(...) \
-  static const bool HOLO_CONCAT(holo_command_registered_, __LINE__) = ::holo::app::registerCommand(__VA_ARGS__)
+#define HOLO_REGISTER_COMMAND(...)                                    \
+  static const bool HOLO_CONCAT(holo_command_registered_, __LINE__) = \
+      ::holo::app::registerCommand(__VA_ARGS__)

@@ -1,11 +1,11 @@
 #include "frame_loop.hpp"
 
+#include <tbb/parallel_for.h>
 #include <algorithm>
 #include <chrono>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
-#include <tbb/parallel_for.h>
 
 #include "holo/capture/simulated_source.hpp"
 #include "holo/core/error.hpp"
@@ -18,7 +18,9 @@ namespace {
 
 using Ms = std::chrono::duration<double, std::milli>;
 
-double msSince(Clock::time_point t0) { return Ms(Clock::now() - t0).count(); }
+double msSince(Clock::time_point t0) {
+  return Ms(Clock::now() - t0).count();
+}
 
 double passMs(const std::vector<reflect::PassTiming>& timings, std::initializer_list<reflect::Pass> passes) {
   double sum = 0;
@@ -55,7 +57,8 @@ FrameLoop::FrameLoop(FrameLoopOptions options, std::unique_ptr<display::QuadView
 
   // The background gamma_s each camera learns its mask against (DESIGN.md step 2).
   std::vector<RgbdFrame> backgrounds(static_cast<std::size_t>(n));
-  tbb::parallel_for(0, n, [&](int i) { backgrounds[static_cast<std::size_t>(i)] = museum_->backgroundFrame(i); });
+  tbb::parallel_for(0, n,
+                    [&](int i) { backgrounds[static_cast<std::size_t>(i)] = museum_->backgroundFrame(i); });
   foreground_.learnBackground(backgrounds);
 
   const int pw = std::max(64, options_.panorama_width);
@@ -77,9 +80,8 @@ FrameLoop::FrameLoop(FrameLoopOptions options, std::unique_ptr<display::QuadView
   } else {
     next_frames_ = std::async(std::launch::async, [this] { return grabDeterministic(0); });
   }
-  HOLO_LOG_INFO("frame loop ready: scene '{}', {} cameras, {} mode, views {}x{}",
-                museum_->description().name, n, options_.live ? "live" : "deterministic",
-                options_.view_size, options_.view_size);
+  HOLO_LOG_INFO("frame loop ready: scene '{}', {} cameras, {} mode, views {}x{}", museum_->description().name,
+                n, options_.live ? "live" : "deterministic", options_.view_size, options_.view_size);
 }
 
 FrameLoop::~FrameLoop() {
@@ -101,14 +103,16 @@ std::vector<RgbdFrame> FrameLoop::acquire(double& wait_ms) {
   std::vector<RgbdFrame> frames;
   if (!options_.live) {
     frames = next_frames_.get();
-    next_frames_ = std::async(std::launch::async, [this, next = index_ + 1] { return grabDeterministic(next); });
+    next_frames_ =
+        std::async(std::launch::async, [this, next = index_ + 1] { return grabDeterministic(next); });
   } else {
     const auto now = Clock::now();
     frames.resize(latest_.size());
     for (std::size_t i = 0; i < latest_.size(); ++i) {
       if (auto fresh = mailboxes_[i]->take()) latest_[i] = std::move(*fresh);
-      const bool stale = latest_[i].color.empty() ||
-                         std::chrono::duration<double>(now - latest_[i].host_time).count() > options_.stale_camera_s;
+      const bool stale =
+          latest_[i].color.empty() ||
+          std::chrono::duration<double>(now - latest_[i].host_time).count() > options_.stale_camera_s;
       if (!stale) frames[i] = latest_[i];  // an empty frame tells the pipeline the camera is missing
     }
   }
@@ -116,7 +120,8 @@ std::vector<RgbdFrame> FrameLoop::acquire(double& wait_ms) {
   return frames;
 }
 
-std::vector<reflect::ForegroundCameraImage> FrameLoop::cameraImages(const std::vector<RgbdFrame>& frames) const {
+std::vector<reflect::ForegroundCameraImage> FrameLoop::cameraImages(
+    const std::vector<RgbdFrame>& frames) const {
   std::vector<reflect::ForegroundCameraImage> images(frames.size());
   const float exposure = museum_->description().camera.exposure;
   for (std::size_t i = 0; i < frames.size(); ++i) {
@@ -162,7 +167,8 @@ FrameReport FrameLoop::step() {
   report.times.dynamic += passMs(last_result_.frame_timings, {reflect::Pass::Pyramids});
   for (const reflect::ViewImages& view : last_result_.views) {
     report.times.dynamic += passMs(view.timings, {reflect::Pass::ForegroundWalk});
-    report.times.statics += passMs(view.timings, {reflect::Pass::HitPoints, reflect::Pass::StaticReflections});
+    report.times.statics +=
+        passMs(view.timings, {reflect::Pass::HitPoints, reflect::Pass::StaticReflections});
     report.times.composition += passMs(view.timings, {reflect::Pass::Composition, reflect::Pass::ToneMap});
   }
   report.plan = last_result_.plan.describe();
@@ -199,8 +205,8 @@ std::vector<CameraModel> FrameLoop::faceViews() const {
   const vec3 target = bounds.empty() ? vec3(0.0f) : bounds.center();
   std::vector<CameraModel> views;
   for (const vec3& eye : eyes_)
-    views.push_back(reflect::lookAtCamera(eye, target, reflect::framingFovDeg(eye, bounds), options_.view_size,
-                                          options_.view_size));
+    views.push_back(reflect::lookAtCamera(eye, target, reflect::framingFovDeg(eye, bounds),
+                                          options_.view_size, options_.view_size));
   return views;
 }
 
@@ -250,25 +256,31 @@ std::string formatTimingTable(const StageTimes& m, std::size_t frames) {
   std::ostringstream out;
   char line[128];
   out << "stage                      median ms   (over " << frames << " frames)\n";
-  const std::pair<const char*, double> rows[] = {
-      {"acquisition (wait)", m.acquisition}, {"foreground point cloud", m.foreground},
-      {"dynamic reflections", m.dynamic},    {"static reflections", m.statics},
-      {"composition", m.composition},        {"display", m.display},
-      {"whole frame", m.total}};
+  const std::pair<const char*, double> rows[] = {{"acquisition (wait)", m.acquisition},
+                                                 {"foreground point cloud", m.foreground},
+                                                 {"dynamic reflections", m.dynamic},
+                                                 {"static reflections", m.statics},
+                                                 {"composition", m.composition},
+                                                 {"display", m.display},
+                                                 {"whole frame", m.total}};
   for (const auto& [name, ms] : rows) {
     std::snprintf(line, sizeof line, "%-26s %9.2f\n", name, ms);
     out << line;
   }
-  std::snprintf(line, sizeof line, "%-26s %9.2f\n", "frames per second", m.total > 0 ? 1000.0 / m.total : 0.0);
+  std::snprintf(line, sizeof line, "%-26s %9.2f\n", "frames per second",
+                m.total > 0 ? 1000.0 / m.total : 0.0);
   out << line;
   return out.str();
 }
 
 std::string timingJson(const StageTimes& m, const std::vector<FrameReport>& reports) {
   auto stages = [](const StageTimes& t) {
-    return nlohmann::json{{"acquisition_ms", t.acquisition}, {"foreground_ms", t.foreground},
-                          {"dynamic_reflections_ms", t.dynamic}, {"static_reflections_ms", t.statics},
-                          {"composition_ms", t.composition},     {"display_ms", t.display},
+    return nlohmann::json{{"acquisition_ms", t.acquisition},
+                          {"foreground_ms", t.foreground},
+                          {"dynamic_reflections_ms", t.dynamic},
+                          {"static_reflections_ms", t.statics},
+                          {"composition_ms", t.composition},
+                          {"display_ms", t.display},
                           {"frame_ms", t.total}};
   };
   nlohmann::json j;

@@ -59,8 +59,8 @@ struct FrameReport {
   std::int64_t index = 0;
   StageTimes times;
   std::size_t foreground_points = 0;
-  int cameras_live = 0;       // cameras whose frame reached the foreground stage
-  std::string plan;           // the effect plan of face 0 ("HitPoints,... (reason)")
+  int cameras_live = 0;  // cameras whose frame reached the foreground stage
+  std::string plan;      // the effect plan of face 0 ("HitPoints,... (reason)")
   std::array<bool, 4> eyes_tracked{};
   bool presented = false;
 };
@@ -98,8 +98,8 @@ class FrameLoop {
   FrameLoopOptions options_;
   std::shared_ptr<const sim::Museum> museum_;
   std::vector<CameraModel> cameras_;
-  std::vector<std::unique_ptr<capture::CameraSource>> sources_;  // deterministic mode
-  std::future<std::vector<RgbdFrame>> next_frames_;               // deterministic prefetch
+  std::vector<std::unique_ptr<capture::CameraSource>> sources_;          // deterministic mode
+  std::future<std::vector<RgbdFrame>> next_frames_;                      // deterministic prefetch
   std::vector<std::unique_ptr<capture::LatestFrameMailbox>> mailboxes_;  // live mode
   std::vector<std::unique_ptr<capture::CaptureThread>> threads_;         // live mode
   std::vector<RgbdFrame> latest_;                                        // live: per camera

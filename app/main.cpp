@@ -49,8 +49,8 @@ int main(int argc, char** argv) {
       auto& g = groups[group];
       if (!g) {
         const auto described = group_descriptions.find(group);
-        g = cli.add_subcommand(group, described != group_descriptions.end() ? described->second
-                                                                            : "Subcommands of " + group);
+        g = cli.add_subcommand(
+            group, described != group_descriptions.end() ? described->second : "Subcommands of " + group);
         g->require_subcommand(1);
       }
       parent = g;

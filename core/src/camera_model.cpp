@@ -54,8 +54,8 @@ std::optional<vec2> CameraModel::project(const vec3& p_world, float* depth) cons
 vec3 CameraModel::unprojectToPlane(const vec2& pixel) const {
   if (!K_.hasDistortion()) return {(pixel.x - K_.cx) / K_.fx, (pixel.y - K_.cy) / K_.fy, 1.0f};
   const cv::Matx33d K(K_.fx, 0, K_.cx, 0, K_.fy, K_.cy, 0, 0, 1);
-  const cv::Vec<double, 5> dist(K_.distortion[0], K_.distortion[1], K_.distortion[2],
-                                K_.distortion[3], K_.distortion[4]);
+  const cv::Vec<double, 5> dist(K_.distortion[0], K_.distortion[1], K_.distortion[2], K_.distortion[3],
+                                K_.distortion[4]);
   std::vector<cv::Point2f> in{{pixel.x, pixel.y}}, out;
   // OpenCV's default of 5 iterations leaves ~1e-3 px error at wide-angle corners; 20 converges.
   cv::undistortPoints(in, out, K, dist, cv::noArray(), cv::noArray(),
@@ -77,8 +77,7 @@ std::vector<vec3> CameraModel::planeDirectionTable() const {
   if (!K_.hasDistortion()) {
     for (int v = 0; v < K_.height; ++v)
       for (int u = 0; u < K_.width; ++u)
-        table[static_cast<std::size_t>(v * K_.width + u)] = {(u - K_.cx) / K_.fx,
-                                                             (v - K_.cy) / K_.fy, 1.0f};
+        table[static_cast<std::size_t>(v * K_.width + u)] = {(u - K_.cx) / K_.fx, (v - K_.cy) / K_.fy, 1.0f};
     return table;
   }
   std::vector<cv::Point2f> in(static_cast<std::size_t>(n)), out;
@@ -86,8 +85,8 @@ std::vector<vec3> CameraModel::planeDirectionTable() const {
     for (int u = 0; u < K_.width; ++u)
       in[static_cast<std::size_t>(v * K_.width + u)] = cv::Point2f(float(u), float(v));
   const cv::Matx33d K(K_.fx, 0, K_.cx, 0, K_.fy, K_.cy, 0, 0, 1);
-  const cv::Vec<double, 5> dist(K_.distortion[0], K_.distortion[1], K_.distortion[2],
-                                K_.distortion[3], K_.distortion[4]);
+  const cv::Vec<double, 5> dist(K_.distortion[0], K_.distortion[1], K_.distortion[2], K_.distortion[3],
+                                K_.distortion[4]);
   cv::undistortPoints(in, out, K, dist, cv::noArray(), cv::noArray(),
                       cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 20, 1e-8));
   for (std::size_t i = 0; i < out.size(); ++i) table[i] = {out[i].x, out[i].y, 1.0f};

@@ -24,9 +24,10 @@ ConfigNode ConfigNode::loadFile(const std::filesystem::path& path) {
   } catch (const YAML::BadFile&) {
     throw InputError(path.string(), "", "a readable YAML file", "cannot open");
   } catch (const YAML::ParserException& e) {
-    throw InputError(path.string(), "line " + std::to_string(e.mark.line + 1) + ", column " +
-                                        std::to_string(e.mark.column + 1),
-                     "valid YAML", e.msg);
+    throw InputError(
+        path.string(),
+        "line " + std::to_string(e.mark.line + 1) + ", column " + std::to_string(e.mark.column + 1),
+        "valid YAML", e.msg);
   }
 }
 
@@ -61,7 +62,9 @@ std::optional<ConfigNode> ConfigNode::find(const std::string& key) const {
   return (*this)[key];
 }
 
-std::size_t ConfigNode::size() const { return node_.IsSequence() ? node_.size() : 0; }
+std::size_t ConfigNode::size() const {
+  return node_.IsSequence() ? node_.size() : 0;
+}
 
 std::vector<std::string> ConfigNode::keys() const {
   std::vector<std::string> out;

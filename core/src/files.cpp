@@ -1,9 +1,9 @@
 #include "holo/core/files.hpp"
 
 #include <fcntl.h>
+#include <unistd.h>
 #include <fstream>
 #include <sstream>
-#include <unistd.h>
 
 #include "holo/core/error.hpp"
 

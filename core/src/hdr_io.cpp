@@ -36,9 +36,10 @@ cv::Mat readExr(const fs::path& path) {
   if (!rgb && !grey) throw InputError(path.string(), "channels", "R, G and B (or Y) channels");
 
   cv::Mat bgr(height, width, CV_32FC3, cv::Scalar::all(0));
-  auto* base = reinterpret_cast<char*>(bgr.ptr<float>()) -
-               (static_cast<std::ptrdiff_t>(window.min.x) + static_cast<std::ptrdiff_t>(window.min.y) * width) *
-                   static_cast<std::ptrdiff_t>(sizeof(float) * 3);
+  auto* base =
+      reinterpret_cast<char*>(bgr.ptr<float>()) -
+      (static_cast<std::ptrdiff_t>(window.min.x) + static_cast<std::ptrdiff_t>(window.min.y) * width) *
+          static_cast<std::ptrdiff_t>(sizeof(float) * 3);
   const std::size_t xs = sizeof(float) * 3, ys = xs * static_cast<std::size_t>(width);
   Imf::FrameBuffer frame;
   if (rgb) {
@@ -83,7 +84,8 @@ HdrImage loadHdr(const fs::path& path) {
       out.pixels = readExr(path);
     } else if (ext == ".hdr" || ext == ".pic") {
       out.pixels = cv::imread(path.string(), cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR);
-      if (out.pixels.empty()) throw InputError(path.string(), "", "a Radiance RGBE (.hdr) image", "unreadable");
+      if (out.pixels.empty())
+        throw InputError(path.string(), "", "a Radiance RGBE (.hdr) image", "unreadable");
       out.pixels.convertTo(out.pixels, CV_32FC3);
     } else {
       throw InputError(path.string(), "extension", ".hdr or .exr", ext.empty() ? "none" : ext);

@@ -1,8 +1,8 @@
 #include "holo/core/log.hpp"
 
-#include <cstdlib>
 #include <spdlog/pattern_formatter.h>
 #include <spdlog/sinks/stdout_sinks.h>
+#include <cstdlib>
 
 #include "holo/core/error.hpp"
 
@@ -12,7 +12,7 @@ namespace {
 // "%*" expands to the syslog priority of the message, which journald reads from "<N>" at the
 // start of each line of a stream it captures (sd-daemon(3)).
 class SyslogPriorityFlag : public spdlog::custom_flag_formatter {
-public:
+ public:
   void format(const spdlog::details::log_msg& msg, const std::tm&, spdlog::memory_buf_t& dest) override {
     static constexpr char priorities[] = {'7', '7', '6', '4', '3', '2', '6'};
     dest.push_back(priorities[static_cast<int>(msg.level)]);

@@ -1,7 +1,7 @@
 #include "holo/core/progress.hpp"
 
-#include <cstdio>
 #include <unistd.h>
+#include <cstdio>
 
 namespace holo {
 
@@ -12,10 +12,13 @@ ProgressReporter::ProgressReporter(std::int64_t total_work, std::string title, b
       tty_(::isatty(STDERR_FILENO) == 1),
       start_(std::chrono::steady_clock::now()),
       last_draw_(start_) {
-  if (!quiet_ && !tty_) std::fprintf(stderr, "%s: started (%lld steps)\n", title_.c_str(), static_cast<long long>(total_));
+  if (!quiet_ && !tty_)
+    std::fprintf(stderr, "%s: started (%lld steps)\n", title_.c_str(), static_cast<long long>(total_));
 }
 
-ProgressReporter::~ProgressReporter() { done(); }
+ProgressReporter::~ProgressReporter() {
+  done();
+}
 
 double ProgressReporter::elapsedSeconds() const {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();

@@ -34,7 +34,9 @@ RTCRayHit makeRayHit(const Ray& ray, float tmin, float tmax) {
 RTCDevice embreeDevice() {
   static RTCDevice device = [] {
     RTCDevice d = rtcNewDevice(nullptr);
-    if (!d) throw Error("Embree: could not create a device (error " + std::to_string(rtcGetDeviceError(nullptr)) + ")");
+    if (!d)
+      throw Error("Embree: could not create a device (error " + std::to_string(rtcGetDeviceError(nullptr)) +
+                  ")");
     rtcSetDeviceErrorFunction(d, embreeError, nullptr);
     return d;
   }();
@@ -59,10 +61,10 @@ std::uint32_t RayScene::addMesh(const TriangleMesh& mesh) {
   // Embree may read up to 16 bytes past the last vertex with SSE loads: vec3 arrays need one
   // float of padding, which the vector's capacity provides.
   stored.positions.reserve(stored.positions.size() + 1);
-  rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                             stored.positions.data(), 0, sizeof(vec3), stored.positions.size());
-  rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                             stored.triangles.data(), 0, sizeof(uvec3), stored.triangles.size());
+  rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, stored.positions.data(),
+                             0, sizeof(vec3), stored.positions.size());
+  rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, stored.triangles.data(), 0,
+                             sizeof(uvec3), stored.triangles.size());
   rtcCommitGeometry(geometry);
   const std::uint32_t id = rtcAttachGeometry(scene_, geometry);
   geometries_.push_back(geometry);
@@ -78,7 +80,9 @@ void RayScene::updatePositions(std::uint32_t geometry, const std::vector<vec3>& 
   rtcCommitGeometry(geometries_[geometry]);
 }
 
-void RayScene::commit() { rtcCommitScene(scene_); }
+void RayScene::commit() {
+  rtcCommitScene(scene_);
+}
 
 RayHit RayScene::intersect(const Ray& ray, float tmin, float tmax) const {
   RTCIntersectContext context;

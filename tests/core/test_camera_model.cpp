@@ -26,11 +26,10 @@ TEST(CameraModel, ProjectMatchesOpenCv) {
     points.emplace_back(xy(rng) * depth, xy(rng) * depth * 0.6f, depth);
   }
   std::vector<cv::Point2f> expected;
-  cv::projectPoints(points, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0),
-                    cv::Matx33d(K.fx, 0, K.cx, 0, K.fy, K.cy, 0, 0, 1),
-                    cv::Vec<double, 5>(K.distortion[0], K.distortion[1], K.distortion[2], K.distortion[3],
-                                       K.distortion[4]),
-                    expected);
+  cv::projectPoints(
+      points, cv::Vec3d(0, 0, 0), cv::Vec3d(0, 0, 0), cv::Matx33d(K.fx, 0, K.cx, 0, K.fy, K.cy, 0, 0, 1),
+      cv::Vec<double, 5>(K.distortion[0], K.distortion[1], K.distortion[2], K.distortion[3], K.distortion[4]),
+      expected);
   for (std::size_t i = 0; i < points.size(); ++i) {
     const auto px = cam.projectCamera({points[i].x, points[i].y, points[i].z});
     ASSERT_TRUE(px.has_value());

@@ -18,7 +18,8 @@ std::string errorOf(const std::function<void()>& f) {
 }
 
 TEST(Config, ReadsNestedValues) {
-  const auto c = ConfigNode::parse("camera:\n  fov: [110, 70]\n  pos: [1, 2.5, -3]\n  name: left\n", "inline");
+  const auto c =
+      ConfigNode::parse("camera:\n  fov: [110, 70]\n  pos: [1, 2.5, -3]\n  name: left\n", "inline");
   EXPECT_EQ(c["camera"]["fov"].as<vec2>(), vec2(110, 70));
   EXPECT_EQ(c["camera"]["pos"].as<vec3>(), vec3(1, 2.5f, -3));
   EXPECT_EQ(c["camera"]["name"].as<std::string>(), "left");
@@ -50,7 +51,8 @@ TEST(Config, SyntaxErrorGivesLine) {
   const std::string e = errorOf([&] { ConfigNode::loadFile(dir / "bad.yaml"); });
   EXPECT_NE(e.find("bad.yaml"), std::string::npos) << e;
   EXPECT_NE(e.find("line"), std::string::npos) << e;
-  EXPECT_NE(errorOf([&] { ConfigNode::loadFile(dir / "absent.yaml"); }).find("absent.yaml"), std::string::npos);
+  EXPECT_NE(errorOf([&] { ConfigNode::loadFile(dir / "absent.yaml"); }).find("absent.yaml"),
+            std::string::npos);
 }
 
 TEST(Files, AtomicWriteReplacesWholeFileAndLeavesNoTemporary) {

@@ -9,7 +9,8 @@ namespace {
 
 TEST(Image, SrgbRoundTripWithinOneStep) {
   cv::Mat bgr8(16, 16, CV_8UC3);
-  for (int i = 0; i < 256; ++i) bgr8.at<cv::Vec3b>(i / 16, i % 16) = cv::Vec3b(uchar(i), uchar(255 - i), uchar(i / 2));
+  for (int i = 0; i < 256; ++i)
+    bgr8.at<cv::Vec3b>(i / 16, i % 16) = cv::Vec3b(uchar(i), uchar(255 - i), uchar(i / 2));
   const cv::Mat back = linearToSrgb8(srgb8ToLinear(bgr8));
   EXPECT_LE(cv::norm(back, bgr8, cv::NORM_INF), 1.0);
 }
@@ -22,7 +23,7 @@ TEST(Image, LinearToSrgbClampsAndSurvivesNonFinite) {
   const cv::Mat out = linearToSrgb8(hdr, 2.0f);
   EXPECT_EQ(out.at<cv::Vec3b>(0, 0), cv::Vec3b(0, 255, 0));
   EXPECT_EQ(out.at<cv::Vec3b>(0, 1), cv::Vec3b(255, 255, 255));  // 0.5 x exposure 2 = 1
-  EXPECT_EQ(out.at<cv::Vec3b>(0, 2)[0], 188);                      // sRGB(0.5) = 0.7354
+  EXPECT_EQ(out.at<cv::Vec3b>(0, 2)[0], 188);                    // sRGB(0.5) = 0.7354
 }
 
 TEST(Image, RgbHelpersSwapChannelOrder) {

@@ -67,9 +67,9 @@ class KioskProcess {
       const std::string config = (dir_ / "site.yaml").string();
       const std::string state = (dir_ / "state").string();
       const std::string health = (dir_ / "health.json").string();
-      execl(HOLO_APP_BINARY, HOLO_APP_BINARY, "kiosk", "--headless", "--source", source_.c_str(), "--config", config.c_str(),
-            "--state-dir", state.c_str(), "--health-port", "0", "--health-file", health.c_str(),
-            static_cast<char*>(nullptr));
+      execl(HOLO_APP_BINARY, HOLO_APP_BINARY, "kiosk", "--headless", "--source", source_.c_str(), "--config",
+            config.c_str(), "--state-dir", state.c_str(), "--health-port", "0", "--health-file",
+            health.c_str(), static_cast<char*>(nullptr));
       _exit(127);
     }
   }

@@ -3,9 +3,9 @@
 // clear message when the file is absent (a user's fresh clone has no ../shared).
 #pragma once
 
+#include <gtest/gtest.h>
 #include <cstdlib>
 #include <filesystem>
-#include <gtest/gtest.h>
 
 namespace holo::test {
 
@@ -14,7 +14,9 @@ inline std::filesystem::path sharedDataDir() {
   return std::filesystem::path(HOLO_SOURCE_DIR).parent_path() / "shared" / "data";
 }
 
-inline std::filesystem::path sharedData(const std::string& relative) { return sharedDataDir() / relative; }
+inline std::filesystem::path sharedData(const std::string& relative) {
+  return sharedDataDir() / relative;
+}
 
 // A fresh, empty folder under the build tree for one test's files.
 inline std::filesystem::path scratchDir(const std::string& name) {
@@ -26,9 +28,9 @@ inline std::filesystem::path scratchDir(const std::string& name) {
 
 }  // namespace holo::test
 
-#define HOLO_REQUIRE_SHARED_DATA(relative)                                                      \
-  do {                                                                                          \
-    if (!std::filesystem::exists(::holo::test::sharedData(relative)))                           \
+#define HOLO_REQUIRE_SHARED_DATA(relative)                                                       \
+  do {                                                                                           \
+    if (!std::filesystem::exists(::holo::test::sharedData(relative)))                            \
       GTEST_SKIP() << "shared test data absent: " << ::holo::test::sharedData(relative).string() \
-                   << " (set HOLO_SHARED_DATA or place ../shared/data beside the repository)";  \
+                   << " (set HOLO_SHARED_DATA or place ../shared/data beside the repository)";   \
   } while (0)

@@ -24,7 +24,7 @@ struct Intrinsics {
 };
 
 class CameraModel {
-public:
+ public:
   CameraModel() = default;
   CameraModel(const Intrinsics& intrinsics, const mat4& T_world_camera);
 
@@ -53,7 +53,7 @@ public:
   // back-projecting a depth image is then a multiply per pixel.
   std::vector<vec3> planeDirectionTable() const;
 
-private:
+ private:
   Intrinsics K_;
   mat4 T_world_camera_{1.0f};
   mat4 T_camera_world_{1.0f};

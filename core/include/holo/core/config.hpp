@@ -2,11 +2,11 @@
 // file and its dotted path ("cameras[2].pose.position"), so every failed conversion says where.
 #pragma once
 
+#include <yaml-cpp/yaml.h>
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
-#include <yaml-cpp/yaml.h>
 
 #include "holo/core/error.hpp"
 #include "holo/core/math.hpp"
@@ -14,7 +14,7 @@
 namespace holo {
 
 class ConfigNode {
-public:
+ public:
   // Parses a file; a syntax error throws InputError with the line and column.
   static ConfigNode loadFile(const std::filesystem::path& path);
   // Parses text (embedded defaults); `origin` stands in for the file name in errors.
@@ -43,7 +43,7 @@ public:
   [[noreturn]] void fail(const std::string& expected, const std::string& got = {}) const;
   const YAML::Node& yaml() const { return node_; }
 
-private:
+ private:
   ConfigNode(YAML::Node node, std::string file, std::string path)
       : node_(std::move(node)), file_(std::move(file)), path_(std::move(path)) {}
   YAML::Node node_;

@@ -16,7 +16,7 @@
 namespace holo::equirect {
 
 vec2 directionToUv(const vec3& direction, float yaw = 0.0f);  // u, v in [0, 1]
-vec3 uvToDirection(const vec2& uv, float yaw = 0.0f);          // unit direction
+vec3 uvToDirection(const vec2& uv, float yaw = 0.0f);         // unit direction
 // Bilinear lookup of a CV_32FC3 BGR panorama (wraps in u, clamps in v); returns RGB.
 vec3 sample(const cv::Mat& panorama, const vec3& direction, float yaw = 0.0f);
 // Solid angle of one pixel in row y (steradians): (2 pi / W) * (pi / H) * sin(theta).

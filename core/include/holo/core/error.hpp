@@ -13,19 +13,19 @@
 namespace holo {
 
 class Error : public std::runtime_error {
-public:
+ public:
   using std::runtime_error::runtime_error;
 };
 
 // "FILE: FIELD: expected WHAT[, got GOT]". Any part may be empty and is then left out.
 class InputError : public Error {
-public:
+ public:
   InputError(std::string file, std::string field, std::string expected, std::string got = {});
 
   const std::string& file() const { return file_; }
   const std::string& field() const { return field_; }
 
-private:
+ private:
   std::string file_;
   std::string field_;
 };

@@ -25,8 +25,12 @@ struct Ray {
   vec3 direction{0.0f, 0.0f, 1.0f};  // unit length
 };
 
-inline vec3 transformPoint(const mat4& T, const vec3& p) { return vec3(T * vec4(p, 1.0f)); }
-inline vec3 transformDirection(const mat4& T, const vec3& d) { return mat3(T) * d; }
+inline vec3 transformPoint(const mat4& T, const vec3& p) {
+  return vec3(T * vec4(p, 1.0f));
+}
+inline vec3 transformDirection(const mat4& T, const vec3& d) {
+  return mat3(T) * d;
+}
 
 // Inverse of a rigid transform (rotation + translation), exact and cheaper than glm::inverse.
 inline mat4 rigidInverse(const mat4& T) {

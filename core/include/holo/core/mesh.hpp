@@ -3,9 +3,9 @@
 // present) have one entry per position; every triangle index < positions.size().
 #pragma once
 
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-#include <opencv2/core.hpp>
 
 #include "holo/core/math.hpp"
 
@@ -13,10 +13,10 @@ namespace holo {
 
 struct Material {
   std::string name;
-  vec3 base_color{0.8f};  // linear RGB factor (glTF baseColorFactor)
-  float metallic = 0.0f;  // [0,1]
-  float roughness = 1.0f; // [0,1] perceptual roughness; GGX alpha = roughness^2; 0 = mirror
-  vec3 emission{0.0f};    // linear radiance emitted (glTF emissiveFactor x strength)
+  vec3 base_color{0.8f};                // linear RGB factor (glTF baseColorFactor)
+  float metallic = 0.0f;                // [0,1]
+  float roughness = 1.0f;               // [0,1] perceptual roughness; GGX alpha = roughness^2; 0 = mirror
+  vec3 emission{0.0f};                  // linear radiance emitted (glTF emissiveFactor x strength)
   int base_color_texture = -1;          // index into Model::textures, sRGB-encoded
   int metallic_roughness_texture = -1;  // index into Model::textures, linear (G rough, B metal)
 };

@@ -12,7 +12,7 @@
 namespace holo {
 
 class ProgressReporter {
-public:
+ public:
   ProgressReporter(std::int64_t total_work, std::string title, bool quiet = false);
   ~ProgressReporter();  // calls done() if the caller did not
   ProgressReporter(const ProgressReporter&) = delete;
@@ -22,7 +22,7 @@ public:
   void done();
   double elapsedSeconds() const;
 
-private:
+ private:
   void draw(bool final);
   std::int64_t total_;
   std::string title_;

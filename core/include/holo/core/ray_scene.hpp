@@ -3,25 +3,25 @@
 // caller's meshes may go away. Thread-safe for queries after commit(); not for edits.
 #pragma once
 
+#include <embree3/rtcore.h>
 #include <cstdint>
 #include <deque>
-#include <embree3/rtcore.h>
 
 #include "holo/core/mesh.hpp"
 
 namespace holo {
 
 struct RayHit {
-  float t = 0;                 // distance along the (unit) ray direction
+  float t = 0;                                       // distance along the (unit) ray direction
   std::uint32_t geometry = RTC_INVALID_GEOMETRY_ID;  // id returned by addMesh
   std::uint32_t primitive = 0;
-  vec2 barycentric{0};         // Embree's (u, v): p = (1-u-v) p0 + u p1 + v p2
-  vec3 geometric_normal{0};    // unit, facing against the ray
+  vec2 barycentric{0};       // Embree's (u, v): p = (1-u-v) p0 + u p1 + v p2
+  vec3 geometric_normal{0};  // unit, facing against the ray
   bool hit() const { return geometry != RTC_INVALID_GEOMETRY_ID; }
 };
 
 class RayScene {
-public:
+ public:
   RayScene();
   ~RayScene();
   RayScene(const RayScene&) = delete;
@@ -44,7 +44,7 @@ public:
   vec2 uv(const RayHit& hit) const;  // (0,0) when the mesh has no uvs
   vec3 position(const Ray& ray, const RayHit& hit) const { return ray.origin + hit.t * ray.direction; }
 
-private:
+ private:
   RTCScene scene_ = nullptr;
   std::deque<TriangleMesh> meshes_;  // deque: stable addresses for Embree's shared buffers
   std::vector<RTCGeometry> geometries_;

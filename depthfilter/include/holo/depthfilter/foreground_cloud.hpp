@@ -12,12 +12,12 @@
 namespace holo::depthfilter {
 
 struct ForegroundPoint {
-  vec3 position{0.0f};   // world frame, metres
-  vec3 radiance{0.0f};   // linear RGB: the camera's sRGB colour linearised and divided by exposure
-  float weight = 1.0f;   // mask value phi in (0, 1]; below 1 on the expanded border
+  vec3 position{0.0f};  // world frame, metres
+  vec3 radiance{0.0f};  // linear RGB: the camera's sRGB colour linearised and divided by exposure
+  float weight = 1.0f;  // mask value phi in (0, 1]; below 1 on the expanded border
   std::uint16_t camera = 0;
-  std::uint16_t x = 0;   // source pixel column
-  std::uint16_t y = 0;   // source pixel row
+  std::uint16_t x = 0;  // source pixel column
+  std::uint16_t y = 0;  // source pixel row
 };
 
 // Invariant: every position and radiance is finite; weights lie in (0, 1].
