@@ -1,4 +1,5 @@
-// `holopyramid calibrate`: the calibration steps without a window.
+// `holopyramid calibrate`: the calibration steps without a window, and the wizard window
+// (`calibrate wizard`, cmd_calibrate_wizard.cpp).
 //   holopyramid calibrate intrinsics --images 'GLOB' --board SPEC --out FILE.yml
 // calibrates one camera from photos of a board, prints fx, fy, cx, cy and the RMS reprojection
 // error with a pass/fail verdict, and writes FILE.yml (atomically, the old one kept as .bak)
@@ -11,6 +12,7 @@
 #include <iostream>
 #include <opencv2/imgcodecs.hpp>
 
+#include "cmd_calibrate_wizard.hpp"
 #include "command.hpp"
 #include "holo/calib/auto_calibration.hpp"
 #include "holo/calib/board.hpp"
@@ -138,8 +140,8 @@ struct AutoOptions {
   bool enabled = false;
   std::string scene = "museum";
   std::string out = "calibration";
-  std::string intrinsics_board = "charuco:7x5:0.05:0.03:DICT_5X5_100";
-  std::string placement_board = "charuco:7x5:0.08:0.06:DICT_5X5_100";
+  std::string intrinsics_board = calib::kDefaultIntrinsicsBoard;
+  std::string placement_board = calib::kDefaultPlacementBoard;
   int background_frames = 9;
   bool quiet = false;
 };
@@ -204,13 +206,16 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--background-frames", automatic->background_frames, "Frames per background (--auto)")
           ->capture_default_str();
       sub.add_flag("--quiet", automatic->quiet, "No progress output");
-      return std::function<int()>([intr, intrinsics, automatic, parent = &sub]() -> int {
+      const WizardSubcommand wizard = addWizardSubcommand(sub);
+      return std::function<int()>([intr, intrinsics, automatic, wizard, parent = &sub]() -> int {
         if (intr->parsed()) return runIntrinsics(*intrinsics);
+        if (wizard.app->parsed()) return wizard.run();
         if (automatic->enabled) return runAuto(*automatic);
         std::cerr << parent->help();
         return 2;
       });
     },
-    "Calibrate cameras, panorama and display (subcommands; --auto runs every step)"});
+    "Calibrate cameras, panorama and display (subcommands; wizard opens the window, --auto runs every "
+    "step)"});
 
 }  // namespace holo::app

@@ -40,7 +40,7 @@ void preview(StepOutcome& out, const CalibrationSession::PreviewCallback& on_pre
 
 // The linear HDR panorama as an 8-bit picture (Reinhard, then sRGB-like gamma) for the preview.
 cv::Mat panoramaPicture(const cv::Mat& panorama) {
-  cv::Mat mapped = panorama / (panorama + 1.0);
+  cv::Mat mapped = panorama / (panorama + cv::Scalar::all(1.0));
   cv::pow(mapped, 1.0 / 2.2, mapped);
   cv::Mat out;
   mapped.convertTo(out, CV_8UC3, 255.0);

@@ -40,6 +40,12 @@ class CalibrationRig {
   virtual std::vector<cv::Point2f> observedTestPattern(int face, cv::Size view) const = 0;
 };
 
+// The boards the appliance ships with (BoardSpec::parse text): a hand-held one for intrinsics
+// (50 mm squares keep ChArUco's refinement gap wide enough on the wide cameras, docs/calib.md)
+// and a larger one for the easel at the marked placements.
+inline constexpr const char* kDefaultIntrinsicsBoard = "charuco:7x5:0.05:0.03:DICT_5X5_100";
+inline constexpr const char* kDefaultPlacementBoard = "charuco:7x5:0.08:0.06:DICT_5X5_100";
+
 struct AutoCalibrationConfig {
   BoardSpec intrinsics_board;
   BoardSpec placement_board;

@@ -1,0 +1,126 @@
+// `holopyramid calibrate wizard [--scene museum] [--out DIR]` opens the calibration wizard.
+// `--script next,back,retry,...` presses its buttons in order (each once the step on screen has
+// finished measuring) and `--screenshot-dir DIR` writes the window as each step looks just before
+// a scripted press (wizard_N_STEP.png, the last press on a step wins): the docs' pictures and the
+// Xvfb test come from these. Exit code 0 when the calibration was saved with every step passed,
+// 3 otherwise, 2 on bad input.
+#include "cmd_calibrate_wizard.hpp"
+
+#include <chrono>
+#include <iostream>
+#include <sstream>
+#include <thread>
+
+#include "calibration_wizard.hpp"
+#include "holo/calib/simulated_rig.hpp"
+#include "holo/core/error.hpp"
+
+namespace holo::app {
+namespace {
+
+namespace fs = std::filesystem;
+using Button = CalibrationWizard::Button;
+
+struct WizardOptions {
+  std::string scene = "museum";
+  std::string out = "calibration";
+  std::string intrinsics_board = calib::kDefaultIntrinsicsBoard;
+  std::string placement_board = calib::kDefaultPlacementBoard;
+  int background_frames = 9;
+  std::string script;
+  std::string screenshot_dir;
+};
+
+std::vector<Button> parseScript(const std::string& script) {
+  std::vector<Button> buttons;
+  std::stringstream in(script);
+  std::string word;
+  while (std::getline(in, word, ',')) {
+    bool known = false;
+    for (const Button b : {Button::Back, Button::Retry, Button::Next, Button::Save, Button::Close})
+      if (word == buttonName(b)) {
+        buttons.push_back(b);
+        known = true;
+      }
+    if (!known)
+      throw InputError("--script", "action " + std::to_string(buttons.size() + 1),
+                       "back, retry, next, save or close", word);
+  }
+  return buttons;
+}
+
+std::string screenshotName(int index, calib::CalibrationStep step) {
+  std::string slug = calib::stepTitle(step);
+  for (char& ch : slug)
+    if (ch == ' ') ch = '_';
+  return "wizard_" + std::to_string(index) + "_" + slug + ".png";
+}
+
+// Draws frames until the step on screen has finished measuring, then a few more so the finished
+// step's layout has settled (ImGui sizes some items from the previous frame).
+void settle(CalibrationWizard& wizard) {
+  while (wizard.busy()) {
+    if (!wizard.frame()) return;
+    std::this_thread::sleep_for(std::chrono::milliseconds(30));
+  }
+  for (int k = 0; k < 3; ++k) wizard.frame();
+}
+
+int runWizard(const WizardOptions& options) {
+  calib::AutoCalibrationConfig config;
+  config.intrinsics_board = calib::BoardSpec::parse(options.intrinsics_board, "--intrinsics-board");
+  config.placement_board = calib::BoardSpec::parse(options.placement_board, "--placement-board");
+  if (options.background_frames < 1)
+    throw InputError("--background-frames", "frames", "at least 1",
+                     std::to_string(options.background_frames));
+  config.background_frames = options.background_frames;
+  config.placements = calib::defaultBoardPlacements(config.placement_board, sim::kFaceCount);
+  const std::vector<Button> script = parseScript(options.script);
+  const calib::SimulatedRig rig(options.scene, config);
+  calib::CalibrationSession session(rig, config);
+  CalibrationWizard wizard(session, {options.out, "simulated museum (scene " + options.scene + ")"});
+  if (script.empty()) {
+    while (wizard.frame()) {
+    }
+  } else {
+    for (std::size_t i = 0; i < script.size(); ++i) {
+      settle(wizard);
+      if (!options.screenshot_dir.empty())
+        wizard.frame(fs::path(options.screenshot_dir) /
+                     screenshotName(static_cast<int>(wizard.step()) + 1, wizard.step()));
+      wizard.press(script[i], "--script action " + std::to_string(i + 1));
+      wizard.frame();
+    }
+    settle(wizard);
+  }
+  std::cout << wizard.log();
+  const calib::AutoCalibrationReport report = session.report();
+  std::cout << "verdicts:\n";
+  for (const calib::StepVerdict& verdict : report.verdicts)
+    std::cout << calib::formatVerdict(verdict) << "\n";
+  std::cout << (wizard.saved() ? "saved into " + options.out : std::string("closed without saving")) << "\n";
+  return wizard.saved() && report.allPassed() ? 0 : 3;
+}
+
+}  // namespace
+
+WizardSubcommand addWizardSubcommand(CLI::App& calibrate) {
+  auto options = std::make_shared<WizardOptions>();
+  CLI::App* sub = calibrate.add_subcommand("wizard", "Open the calibration wizard window (simulated museum)");
+  sub->add_option("--scene", options->scene, "Simulated scene")->capture_default_str();
+  sub->add_option("--out", options->out, "Folder Save writes the calibration into")->capture_default_str();
+  sub->add_option("--intrinsics-board", options->intrinsics_board, "Board for intrinsics")
+      ->capture_default_str();
+  sub->add_option("--placement-board", options->placement_board, "Board at the marked placements")
+      ->capture_default_str();
+  sub->add_option("--background-frames", options->background_frames, "Frames per background")
+      ->capture_default_str();
+  sub->add_option("--script", options->script,
+                  "Press these buttons in order, each once the step has been measured: "
+                  "comma-separated back, retry, next, save, close");
+  sub->add_option("--screenshot-dir", options->screenshot_dir,
+                  "With --script: write the window as each step looks before a press (PNG)");
+  return {sub, [options] { return runWizard(*options); }};
+}
+
+}  // namespace holo::app
