@@ -22,24 +22,50 @@ namespace {
 
 namespace fs = std::filesystem;
 
-TEST(CalibrationWizard, ScriptedRunPassesEveryStepAndSavesTheTruth) {
-  if (!std::getenv("DISPLAY")) GTEST_SKIP() << "no X display; ctest runs this under xvfb-run";
-  const fs::path dir = holo::test::scratchDir("calib_wizard");
-  const fs::path out = dir / "calibration", shots = dir / "screenshots", log_path = dir / "wizard.log";
-  const std::string command = std::string(HOLO_HOLOPYRAMID) + " calibrate wizard --out " + out.string() +
-                              " --background-frames 3 --screenshot-dir " + shots.string() +
-                              " --script retry,next,next,back,next,next,next,next,save,close > " +
-                              log_path.string() + " 2>&1";
+struct WizardRun {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr
+};
+
+// Runs `holopyramid calibrate wizard ARGS --out DIR/calibration --screenshot-dir DIR/screenshots`.
+WizardRun runWizard(const fs::path& dir, const std::string& args) {
+  const fs::path log_path = dir / "wizard.log";
+  const std::string command = std::string(HOLO_HOLOPYRAMID) + " calibrate wizard --out " +
+                              (dir / "calibration").string() + " --screenshot-dir " +
+                              (dir / "screenshots").string() + " " + args + " > " + log_path.string() +
+                              " 2>&1";
   const int status = std::system(command.c_str());
   std::ifstream log_file(log_path);
   std::stringstream log;
   log << log_file.rdbuf();
   std::cout << log.str();
-  ASSERT_TRUE(WIFEXITED(status));
-  ASSERT_EQ(WEXITSTATUS(status), 0) << "the wizard did not save a passing calibration";
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, log.str()};
+}
+
+// Pixels of the verdict column (right of the table, below the pictures) in the verdict colours:
+// {green PASS, red FAIL}. The layout is the intrinsics page's.
+std::pair<int, int> verdictPixels(const cv::Mat& shot) {
+  int green = 0, red = 0;
+  for (int y = 270; y < 420; ++y)
+    for (int x = 900; x < shot.cols; ++x) {
+      const cv::Vec3b p = shot.at<cv::Vec3b>(y, x);  // BGR
+      if (p[1] > 180 && p[2] < 140 && p[0] < 140) ++green;
+      if (p[2] > 200 && p[1] < 140 && p[0] < 120) ++red;
+    }
+  std::cout << "verdict column: " << green << " green, " << red << " red pixels\n";
+  return {green, red};
+}
+
+TEST(CalibrationWizard, ScriptedRunPassesEveryStepAndSavesTheTruth) {
+  if (!std::getenv("DISPLAY")) GTEST_SKIP() << "no X display; ctest runs this under xvfb-run";
+  const fs::path dir = holo::test::scratchDir("calib_wizard");
+  const fs::path out = dir / "calibration", shots = dir / "screenshots";
+  const WizardRun run =
+      runWizard(dir, "--background-frames 3 --script retry,next,next,back,next,next,next,next,save,close");
+  ASSERT_EQ(run.exit_code, 0) << "the wizard did not save a passing calibration";
 
   // Every step's final verdict: 4 intrinsics, 4 poses, 4 backgrounds, the panorama, 4 faces.
-  const std::string text = log.str();
+  const std::string& text = run.output;
   const auto summary_at = text.find("verdicts:\n");
   ASSERT_NE(summary_at, std::string::npos);
   const std::string summary = text.substr(summary_at);
@@ -102,6 +128,36 @@ TEST(CalibrationWizard, ScriptedRunPassesEveryStepAndSavesTheTruth) {
     EXPECT_GT(stddev[0], 15.0) << png;
     EXPECT_GT(band_stddev[0], 20.0) << png;
   }
+  const auto [green, red] = verdictPixels(cv::imread((shots / "wizard_1_intrinsics.png").string()));
+  EXPECT_GT(green, 20) << "PASS drawn in green";
+  EXPECT_EQ(red, 0) << "no FAIL drawn";
+}
+
+// A board too small for the wide cameras: the intrinsics fail with the "too few views" hint,
+// Next stays disabled (the scripted press is refused, naming the action) and nothing is saved.
+TEST(CalibrationWizard, FailedStepShowsItsHintAndKeepsNextDisabled) {
+  if (!std::getenv("DISPLAY")) GTEST_SKIP() << "no X display; ctest runs this under xvfb-run";
+  const fs::path dir = holo::test::scratchDir("calib_wizard_fail");
+  const WizardRun run =
+      runWizard(dir, "--intrinsics-board charuco:7x5:0.02:0.012:DICT_5X5_100 --script next");
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.output.find("--script action 1: next"), std::string::npos);
+  EXPECT_NE(run.output.find("the step has not passed"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir / "calibration" / "pyramid.yml"));
+  const cv::Mat shot = cv::imread((dir / "screenshots" / "wizard_1_intrinsics.png").string());
+  ASSERT_FALSE(shot.empty());
+  const auto [green, red] = verdictPixels(shot);
+  EXPECT_GT(red, 20) << "FAIL drawn in red";
+  EXPECT_EQ(green, 0) << "no PASS drawn";
+  // The hint is drawn in orange below the table.
+  int orange = 0;
+  for (int y = 360; y < 480; ++y)
+    for (int x = 0; x < shot.cols; ++x) {
+      const cv::Vec3b p = shot.at<cv::Vec3b>(y, x);
+      if (p[2] > 200 && p[1] > 150 && p[1] < 210 && p[0] < 110) ++orange;
+    }
+  std::cout << "hint: " << orange << " orange pixels\n";
+  EXPECT_GT(orange, 200) << "hint text";
 }
 
 }  // namespace
