@@ -237,14 +237,18 @@ struct CalibrationWizard::Impl {
     }
   }
 
-  void drawStepList() {
+  // While busy() the measuring thread owns the step being measured and the ones after it (it
+  // resets them); they show as pending. Earlier steps are only read by both.
+  void drawStepList(bool is_busy) {
     for (int s = 0; s < calib::kCalibrationSteps; ++s) {
       if (s > 0) ImGui::SameLine(0.0f, 14.0f);
-      const auto& outcome = session.outcome(static_cast<CalibrationStep>(s));
-      const ImVec4 colour = s == calib::kCalibrationSteps - 1 ? (saved_files.empty() ? kPending : kPass)
-                            : !outcome                        ? kPending
-                            : outcome->passed()               ? kPass
-                                                              : kFail;
+      ImVec4 colour = kPending;
+      if (s == calib::kCalibrationSteps - 1) {
+        colour = saved_files.empty() ? kPending : kPass;
+      } else if (!is_busy || s < step) {
+        if (const auto& outcome = session.outcome(static_cast<CalibrationStep>(s)))
+          colour = outcome->passed() ? kPass : kFail;
+      }
       const std::string text =
           std::to_string(s + 1) + " " + calib::stepTitle(static_cast<CalibrationStep>(s));
       ImGui::TextColored(colour, s == step ? "[%s]" : " %s ", text.c_str());
@@ -323,23 +327,22 @@ struct CalibrationWizard::Impl {
     ImGui::SetNextWindowSize(viewport->WorkSize);
     ImGui::Begin("wizard", nullptr,
                  ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings);
+    const bool is_busy = busy();
     ImGui::Text("Holopyramid calibration - %s", options.source.c_str());
-    drawStepList();
+    drawStepList(is_busy);
     ImGui::Separator();
     ImGui::Text("Step %d of %d: %s", step + 1, calib::kCalibrationSteps, calib::stepTitle(current()));
     ImGui::TextWrapped("%s", calib::stepInstructions(current()));
     ImGui::Separator();
 
-    const bool is_busy = busy();
     if (current() == CalibrationStep::Save) {
       drawSaveStep();
     } else {
       drawPreviews();
       ImGui::Separator();
-      const auto& outcome = session.outcome(current());
-      if (is_busy)
+      if (is_busy) {
         ImGui::TextColored(kHint, "Measuring... the pictures above are the cameras' as they arrive.");
-      else if (outcome) {
+      } else if (const auto& outcome = session.outcome(current())) {
         verdictTable(outcome->verdicts);
         drawHints(*outcome);
         if (outcome->passed()) ImGui::TextColored(kPass, "This step passed: press Next.");
@@ -405,7 +408,9 @@ CalibrationWizard::~CalibrationWizard() {
 
 bool CalibrationWizard::frame(const fs::path& screenshot) {
   if (impl_->closed) return false;
-  glfwPollEvents();
+  // Waiting for input (at most a frame at 30 Hz) rather than polling leaves the CPU to the
+  // measuring thread; there is no vsync to pace the loop under Xvfb.
+  glfwWaitEventsTimeout(1.0 / 30.0);
   if (glfwWindowShouldClose(impl_->window) || glfwGetKey(impl_->window, GLFW_KEY_ESCAPE) == GLFW_PRESS)
     impl_->closed = true;
   impl_->collect();

@@ -6,10 +6,8 @@
 // 3 otherwise, 2 on bad input.
 #include "cmd_calibrate_wizard.hpp"
 
-#include <chrono>
 #include <iostream>
 #include <sstream>
-#include <thread>
 
 #include "calibration_wizard.hpp"
 #include "holo/calib/simulated_rig.hpp"
@@ -59,10 +57,8 @@ std::string screenshotName(int index, calib::CalibrationStep step) {
 // Draws frames until the step on screen has finished measuring, then a few more so the finished
 // step's layout has settled (ImGui sizes some items from the previous frame).
 void settle(CalibrationWizard& wizard) {
-  while (wizard.busy()) {
+  while (wizard.busy())
     if (!wizard.frame()) return;
-    std::this_thread::sleep_for(std::chrono::milliseconds(30));
-  }
   for (int k = 0; k < 3; ++k) wizard.frame();
 }
 

@@ -62,8 +62,6 @@ class CalibrationSession {
   // returns the files written.
   std::vector<std::filesystem::path> save(const std::filesystem::path& out_dir, std::ostream& log) const;
 
-  const CalibrationRig& rig() const { return rig_; }
-  const AutoCalibrationConfig& config() const { return config_; }
   // Every step's verdicts and the results so far (a report of a finished session).
   AutoCalibrationReport report() const;
 
