@@ -197,6 +197,7 @@ struct CalibrationWizard::Impl {
         if (current() != CalibrationStep::Save && !session.measured(current())) startMeasuring();
         break;
       case Button::Save:
+        save_error.clear();
         try {
           saved_files = session.save(options.out_dir, log);
         } catch (const std::exception& e) {
@@ -463,6 +464,11 @@ CalibrationStep CalibrationWizard::step() const {
 }
 std::string CalibrationWizard::log() const {
   return busy() ? std::string() : impl_->log.str();
+}
+int CalibrationWizard::livePictureCount() const {
+  std::lock_guard lock(impl_->live.mutex);
+  return static_cast<int>(std::count_if(impl_->live.pictures.begin(), impl_->live.pictures.end(),
+                                        [](const auto& picture) { return !picture.second.empty(); }));
 }
 bool CalibrationWizard::saved() const {
   return !impl_->saved_files.empty();

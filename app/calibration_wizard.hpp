@@ -46,6 +46,8 @@ class CalibrationWizard {
   bool enabled(Button button) const;
 
   bool busy() const;  // a step is being measured
+  // Cameras (faces) whose picture has arrived during the current measurement.
+  int livePictureCount() const;
   calib::CalibrationStep step() const;
   bool saved() const;
   // What the steps measured, line by line (fx, poses, verdicts); empty while a step is measuring.

@@ -1,9 +1,9 @@
 // `holopyramid calibrate wizard [--scene museum] [--out DIR]` opens the calibration wizard.
 // `--script next,back,retry,...` presses its buttons in order (each once the step on screen has
 // finished measuring) and `--screenshot-dir DIR` writes the window as each step looks just before
-// a scripted press (wizard_N_STEP.png, the last press on a step wins): the docs' pictures and the
-// Xvfb test come from these. Exit code 0 when the calibration was saved with every step passed,
-// 3 otherwise, 2 on bad input.
+// a scripted press (wizard_N_STEP.png, the last press on a step wins) and once while it measures
+// (wizard_N_STEP_measuring.png): the docs' pictures and the Xvfb test come from these. Exit code 0 when the
+// calibration was saved with every step passed, 3 otherwise, 2 on bad input.
 #include "cmd_calibrate_wizard.hpp"
 
 #include <iostream>
@@ -55,10 +55,22 @@ std::string screenshotName(int index, calib::CalibrationStep step) {
 }
 
 // Draws frames until the step on screen has finished measuring, then a few more so the finished
-// step's layout has settled (ImGui sizes some items from the previous frame).
-void settle(CalibrationWizard& wizard) {
-  while (wizard.busy())
-    if (!wizard.frame()) return;
+// step's layout has settled (ImGui sizes some items from the previous frame). With `screenshots`,
+// the window is also saved once mid-measurement, when two cameras' live pictures are on screen
+// (wizard_N_STEP_measuring.png; quick steps may finish before).
+void settle(CalibrationWizard& wizard, const std::string& screenshots) {
+  bool measuring_shot = screenshots.empty();
+  while (wizard.busy()) {
+    if (!measuring_shot && wizard.livePictureCount() >= 2) {
+      fs::path png =
+          fs::path(screenshots) / screenshotName(static_cast<int>(wizard.step()) + 1, wizard.step());
+      png.replace_filename(png.stem().string() + "_measuring.png");
+      if (!wizard.frame(png)) return;
+      measuring_shot = true;
+    } else if (!wizard.frame()) {
+      return;
+    }
+  }
   for (int k = 0; k < 3; ++k) wizard.frame();
 }
 
@@ -80,14 +92,14 @@ int runWizard(const WizardOptions& options) {
     }
   } else {
     for (std::size_t i = 0; i < script.size(); ++i) {
-      settle(wizard);
+      settle(wizard, options.screenshot_dir);
       if (!options.screenshot_dir.empty())
         wizard.frame(fs::path(options.screenshot_dir) /
                      screenshotName(static_cast<int>(wizard.step()) + 1, wizard.step()));
       wizard.press(script[i], "--script action " + std::to_string(i + 1));
       wizard.frame();
     }
-    settle(wizard);
+    settle(wizard, options.screenshot_dir);
   }
   std::cout << wizard.log();
   const calib::AutoCalibrationReport report = session.report();
