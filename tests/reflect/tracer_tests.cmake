@@ -14,3 +14,7 @@ endif()
 holo_benchmark(bench_frame_renderer
   SOURCES bench_frame_renderer.cpp
   DEPS holo::reflect holo::depthfilter holo_test_support)
+# The evaluation's baselines: SSRT and the voxel emitters of the MCPT baseline.
+holo_test(test_baselines
+  SOURCES test_ssrt.cpp
+  DEPS holo::reflect holo::depthfilter holo_test_support)
