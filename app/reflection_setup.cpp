@@ -12,6 +12,7 @@
 #include "holo/core/hdr_io.hpp"
 #include "holo/core/image.hpp"
 #include "holo/reflect/foreground_environment.hpp"
+#include "holo/reflect/hit_points.hpp"
 #include "holo/reflect/ibl_renderer.hpp"
 #include "holo/reflect/path_tracer.hpp"
 #include "holo/reflect/ssrt.hpp"
@@ -168,25 +169,37 @@ ReflectionScene loadReflectionScene(const SceneOptions& o) {
   return s;
 }
 
-ClosestVisitor closestVisitor(const SceneOptions& o) {
-  ClosestVisitor best;
+VisitorView visitorView(const SceneOptions& o) {
+  VisitorView best;
   if (o.scene == "empty") return best;
   const sim::Museum museum(sceneDescription(o));
-  float best_d = 1e30f;
-  constexpr int kFrames = 150, kStride = 5;  // five seconds at 30 fps
-  for (int frame = 0; frame < kFrames; frame += kStride)
-    for (const vec3& head : museum.visitorHeads(frame)) {
-      const float d = glm::length(vec2(head.x, head.z));
-      if (d >= best_d || d < 1e-3f) continue;
-      best_d = d;
-      best.frame = frame;
-      best.distance_m = d;
-      float best_dot = -2.0f;
-      for (int f = 0; f < 4; ++f) {
-        const float dot = glm::dot(reflect::faceDirection(f), vec3(head.x, 0.0f, head.z) / d);
-        if (dot > best_dot) best_dot = dot, best.face = f;
+  const reflect::RenderScene relic(museum.relic(), {});
+  const Bounds3 bounds = museum.relic().bounds();
+  constexpr int kFrames = 300, kStride = 10, kSize = 48;  // ten seconds at 30 fps
+  std::vector<CameraModel> faces;
+  for (int f = 0; f < 4; ++f) {
+    const vec3 eye = reflect::defaultFaceEye(f, bounds, -sim::kBaseHeight);
+    faces.push_back(
+        reflect::lookAtCamera(eye, bounds.center(), reflect::framingFovDeg(eye, bounds), kSize, kSize));
+  }
+  std::vector<reflect::HitPointBuffer> hits;
+  for (const CameraModel& c : faces) hits.push_back(reflect::traceHitPoints(relic, c, 1));
+  float best_score = -1.0f;
+  for (int frame = 0; frame < kFrames; frame += kStride) {
+    const reflect::RenderScene visitors(Model{}, {museum.visitors(frame)});
+    for (int f = 0; f < 4; ++f) {
+      int relic_pixels = 0, met = 0;
+      const reflect::HitPointBuffer& h = hits[std::size_t(f)];
+      for (std::size_t i = 0; i < h.hits.size(); ++i) {
+        if (!h.valid[i]) continue;
+        ++relic_pixels;
+        const reflect::HitPoint& hp = h.hits[i];
+        met += visitors.all().intersect(Ray{hp.position + hp.normal * 1e-3f, hp.reflected}).hit();
       }
+      const float fraction = relic_pixels > 0 ? float(met) / float(relic_pixels) : 0.0f;
+      if (fraction > best_score) best_score = fraction, best = {frame, f, fraction};
     }
+  }
   return best;
 }
 

@@ -51,13 +51,16 @@ struct ReflectionScene {
 
 ReflectionScene loadReflectionScene(const SceneOptions& options);
 
-// The frame of the first five seconds with a visitor nearest the pyramid axis, and the face whose
-// viewer stands on that visitor's side (the relic reflects what is behind its viewer largest).
-struct ClosestVisitor {
+// The view where visitors matter most: among the frames of the first ten seconds (every third of
+// a second) and the four faces, the one where the most mirror-reflected rays from the relic (one
+// per pixel of a 48^2 face view) meet the real visitors' geometry. Neutral to every method (true
+// geometry, no renderer); "the face on the nearest visitor's side" left most views with no
+// foreground reflection at all (docs/tracer.md).
+struct VisitorView {
   int frame = 0, face = 0;
-  float distance_m = 0.0f;  // of that visitor's head from the axis
+  float reflected_fraction = 0.0f;  // of the relic's pixels whose mirror ray meets a visitor
 };
-ClosestVisitor closestVisitor(const SceneOptions& options);
+VisitorView visitorView(const SceneOptions& options);
 CameraModel viewCamera(const ViewOptions& view, const ReflectionScene& scene);
 
 inline const std::vector<std::string>& reflectionMethods() {
