@@ -37,6 +37,7 @@
 #include "holo/reflect/path_tracer.hpp"
 #include "holo/reflect/tone_map.hpp"
 #include "holo/reflect/voxel_emitters.hpp"
+#include "holo/sim/museum.hpp"
 #include "reflection_setup.hpp"
 
 namespace holo::app {
@@ -429,6 +430,14 @@ void writeOutputs(const std::vector<SceneResult>& results, const TracerEvalOptio
 }
 
 int evalTracer(const TracerEvalOptions& o) {
+  // Each hall is also the built-in scene that brings its visitors.
+  for (const std::string& hall : o.halls)
+    if (hall != "room" && hall != "gallery" && hall != "atrium")
+      throw InputError("command line", "--halls", "room, gallery or atrium", hall);
+  const std::vector<std::string> relics = sim::builtinRelicNames();
+  for (const std::string& relic : o.relics)
+    if (std::find(relics.begin(), relics.end(), relic) == relics.end())
+      throw InputError("command line", "--relics", "built-in relics (vase, kettle, tripod, sphere)", relic);
   std::vector<SceneResult> results;
   for (const std::string& hall : o.halls)
     for (const std::string& relic : o.relics) results.push_back(evalScene(hall, relic, o));
