@@ -80,13 +80,15 @@ struct MethodSettings {
   std::shared_ptr<const reflect::PrefilteredIbl> static_ibl;
 };
 
+// The static panorama prefiltered with settings' levels and samples (what static_ibl holds).
 std::shared_ptr<const reflect::PrefilteredIbl> staticIbl(const ReflectionScene& scene,
                                                          const MethodSettings& settings);
 
 struct MethodResult {
   cv::Mat image;        // linear HDR CV_32FC3 BGR
-  double ms = 0;        // render time of the view (IBL: prefilter build included; ours: the
-                        // frame's voxel grid and pyramids included; mcpt: voxel scene build included)
+  double ms = 0;        // render time of the view (ibl-baseline, and ibl without static_ibl: the
+                        // prefilter build included; ours: the frame's voxel grid and pyramids
+                        // included; mcpt: the voxel scene's build included)
   double build_ms = 0;  // IBL, mcpt: part of ms spent building maps or the scene; ours, ssrt:
                         // the static IBL built here when settings.static_ibl was null (not in ms)
   std::vector<std::pair<std::string, double>> passes;  // ours: ms per pass (frame passes first)
