@@ -60,6 +60,18 @@ std::vector<Point> plannedPoints(bool full, int gt_spp) {
   const std::vector<std::pair<int, int>> ibl =
       full ? std::vector<std::pair<int, int>>{{9, 64}, {5, 16}, {9, 16}, {17, 128}, {17, 256}}
            : std::vector<std::pair<int, int>>{{9, 64}, {5, 16}};
+  add("ours", "aa=4,levels=7", {});
+  for (int rays : full ? std::vector<int>{1, 4, 16} : std::vector<int>{1, 4}) {
+    MethodSettings s;
+    s.spp = rays;
+    add("ssrt", "rays=" + std::to_string(rays), s);
+  }
+  for (int spp : full ? std::vector<int>{4, 1, 16, 64, 256} : std::vector<int>{4, 1}) {
+    MethodSettings s;
+    s.spp = spp;
+    s.seed = 7;
+    add("mcpt", "spp=" + std::to_string(spp), s);
+  }
   for (const std::string method : {"ibl", "ibl-baseline"})
     for (auto [levels, samples] : ibl) {
       MethodSettings s;
@@ -68,37 +80,6 @@ std::vector<Point> plannedPoints(bool full, int gt_spp) {
       add(method, "levels=" + std::to_string(levels) + ",samples=" + std::to_string(samples), s);
     }
   return points;
-}
-
-std::string hex(std::uint64_t v) {
-  std::ostringstream s;
-  s << std::hex << v;
-  return s.str();
-}
-
-// The ground truth of this scene and view, from the cache when it is there.
-cv::Mat groundTruth(const ReflectionScene& scene, const CameraModel& camera, int spp, bool with_visitors,
-                    const std::filesystem::path& cache) {
-  // The view enters the key through its pose and intrinsics, bit for bit.
-  const mat4& pose = camera.T_world_camera();
-  const Intrinsics& K = camera.intrinsics();
-  std::string view(reinterpret_cast<const char*>(&pose[0][0]), sizeof(mat4));
-  view.append(reinterpret_cast<const char*>(&K.fx), 4 * sizeof(float));
-  const std::string key = hex(scene.hash) + "-" + std::to_string(camera.width()) + "x" +
-                          std::to_string(camera.height()) + "-" + hex(std::hash<std::string>{}(view)) +
-                          "-spp" + std::to_string(spp) + (with_visitors ? "" : "-novisitors");
-  const std::filesystem::path file = cache / ("gt-" + key + ".exr");
-  if (std::filesystem::exists(file)) {
-    const cv::Mat cached = loadHdr(file).pixels;
-    if (cached.cols == camera.width() && cached.rows == camera.height()) return cached;
-  }
-  MethodSettings s;
-  s.spp = spp;
-  s.with_visitors = with_visitors;
-  const cv::Mat image = renderMethod("gt", scene, camera, s, false).image;
-  std::filesystem::create_directories(cache);
-  saveHdr(file, image);
-  return image;
 }
 
 void writeCsv(const std::string& path, const std::vector<Point>& points) {
@@ -141,8 +122,9 @@ void writeSvg(const std::string& path, const std::vector<Point>& points, const s
       << "'>1e" << d << "</text>\n";
   s << "<text x='" << (L + W - R) / 2 - 60 << "' y='" << H - 12 << "'>time per view (ms)</text>\n"
     << "<text x='14' y='" << T - 8 << "'>MSE</text>\n";
-  const std::map<std::string, std::string> colours = {
-      {"gt", "#1f77b4"}, {"ibl", "#2ca02c"}, {"ibl-baseline", "#d62728"}};
+  const std::map<std::string, std::string> colours = {{"gt", "#1f77b4"},           {"ibl", "#2ca02c"},
+                                                      {"ibl-baseline", "#d62728"}, {"ours", "#000000"},
+                                                      {"ssrt", "#9467bd"},         {"mcpt", "#ff7f0e"}};
   int legend = 0;
   for (const auto& [method, colour] : colours) {
     std::vector<const Point*> ps;
@@ -169,21 +151,14 @@ void writeSvg(const std::string& path, const std::vector<Point>& points, const s
   writeFileAtomically(path, s.str());
 }
 
-void writePng(const std::filesystem::path& path, const cv::Mat& bgr8) {
-  writeAtomically(path, [&](const std::filesystem::path& tmp) {
-    if (!cv::imwrite(tmp.string() + ".png", bgr8)) throw Error("could not write " + path.string());
-    std::filesystem::rename(tmp.string() + ".png", tmp);
-  });
-}
-
 int evalReflections(EvalOptions o) {
   if (const char* f = std::getenv("HOLO_FULL_EVAL"); f && std::string(f) == "1") o.full = true;
   const ReflectionScene scene = loadReflectionScene(o.scene);
   const CameraModel camera = viewCamera(o.view, scene);
-  const cv::Mat gt = groundTruth(scene, camera, o.gt_spp, true, o.cache);
+  const cv::Mat gt = cachedGroundTruth(scene, camera, o.gt_spp, true, o.cache);
   cv::Mat region(gt.size(), CV_8UC1, cv::Scalar(0));
   if (!scene.visitors.meshes.empty())
-    region = reflect::foregroundRegion(gt, groundTruth(scene, camera, o.gt_spp, false, o.cache));
+    region = reflect::foregroundRegion(gt, cachedGroundTruth(scene, camera, o.gt_spp, false, o.cache));
   const int fg_pixels = cv::countNonZero(region);
 
   std::vector<Point> points = plannedPoints(o.full, o.gt_spp);

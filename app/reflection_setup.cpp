@@ -12,10 +12,14 @@
 #include "holo/core/hdr_io.hpp"
 #include "holo/core/image.hpp"
 #include "holo/reflect/foreground_environment.hpp"
+#include "holo/reflect/hit_points.hpp"
 #include "holo/reflect/ibl_renderer.hpp"
 #include "holo/reflect/path_tracer.hpp"
+#include "holo/reflect/ssrt.hpp"
 #include "holo/reflect/tone_map.hpp"
 #include "holo/reflect/view.hpp"
+#include "holo/reflect/voxel_emitters.hpp"
+#include "holo/sim/halls.hpp"
 #include "holo/sim/museum.hpp"
 #include "holo/sim/relics.hpp"
 
@@ -48,32 +52,54 @@ vec3 parseVec3(const std::string& text, const std::string& field) {
 }
 
 // The visitors as the four depth cameras see them: every foreground pixel with a true depth,
-// back-projected into the world with its linear radiance (what a perfect depth filter gives).
-depthfilter::ForegroundCloud foregroundFromCameras(const sim::Museum& museum, int frame) {
-  depthfilter::ForegroundCloud cloud;
+// back-projected into the world with its linear radiance (what a perfect depth filter gives),
+// and each camera's linear colour and true foreground mask (what ours' pyramids are built from).
+void foregroundFromCameras(const sim::Museum& museum, int frame, ReflectionScene& s) {
+  depthfilter::ForegroundCloud& cloud = s.foreground;
   cloud.sequence = frame;
   cloud.time_s = museum.frameTime(frame);
-  const float exposure = museum.description().camera.exposure;
+  const float exposure = std::max(museum.description().camera.exposure, 1e-6f);
   for (int c = 0; c < museum.cameraCount(); ++c) {
     const sim::SimulatedFrame f = museum.renderCamera(c, frame, true);
-    const CameraModel& camera = museum.camera(c);
+    reflect::ForegroundCameraImage image;
+    image.camera = museum.camera(c);
+    image.colour_bgr = srgb8ToLinear(f.frame.color) / exposure;
+    image.mask = f.foreground;
     for (int y = 0; y < f.true_depth.rows; ++y)
       for (int x = 0; x < f.true_depth.cols; ++x) {
         const float z = f.true_depth.at<float>(y, x);
         if (f.foreground.at<uchar>(y, x) == 0 || !(z > 0.0f)) continue;
-        const cv::Vec3b bgr = f.frame.color.at<cv::Vec3b>(y, x);
         depthfilter::ForegroundPoint p;
-        p.position = camera.unproject(vec2(x, y), z);
-        p.radiance = vec3(srgbToLinear(bgr[2] / 255.0f), srgbToLinear(bgr[1] / 255.0f),
-                          srgbToLinear(bgr[0] / 255.0f)) /
-                     std::max(exposure, 1e-6f);
+        p.position = image.camera.unproject(vec2(x, y), z);
+        p.radiance = rgbAt(image.colour_bgr, x, y);
         p.camera = std::uint16_t(c);
         p.x = std::uint16_t(x);
         p.y = std::uint16_t(y);
         cloud.points.push_back(p);
       }
+    s.foreground_cameras.push_back(std::move(image));
   }
-  return cloud;
+}
+
+sim::SceneDescription sceneDescription(const SceneOptions& o) {
+  sim::SceneDescription d = sim::loadScene(o.scene);
+  if (!o.relic.empty()) {
+    d.relic = o.relic;
+    d.fit_relic = isBuiltinRelic(o.relic) || o.fit;
+  }
+  if (!o.hall.empty()) {
+    const auto halls = sim::hallNames();
+    if (std::find(halls.begin(), halls.end(), o.hall) == halls.end())
+      throw InputError("command line", "--hall", "one of room, gallery, atrium, none", o.hall);
+    d.hall = o.hall;
+  }
+  return d;
+}
+
+std::string hex(std::uint64_t v) {
+  std::ostringstream s;
+  s << std::hex << v;
+  return s.str();
 }
 
 double msSince(std::chrono::steady_clock::time_point t0) {
@@ -86,6 +112,7 @@ void SceneOptions::addTo(CLI::App& app) {
   app.add_option("--scene", scene, "Built-in scene name or YAML file; 'empty' = relic alone")
       ->capture_default_str();
   app.add_option("--relic", relic, "Built-in relic name or glTF file (default: the scene's)");
+  app.add_option("--hall", hall, "Built-in hall (room, gallery, atrium) instead of the scene's");
   app.add_option("--panorama", panorama,
                  "HDR/EXR panorama (default: the museum hall rendered from the pyramid)");
   app.add_flag("--fit", fit, "Scale and centre a relic file on the pedestal");
@@ -123,26 +150,57 @@ ReflectionScene loadReflectionScene(const SceneOptions& o) {
       museum.emplace(sim::loadScene("empty"));  // the empty hall, for its panorama only
     }
   } else {
-    sim::SceneDescription d = sim::loadScene(o.scene);
-    if (!o.relic.empty()) {
-      d.relic = o.relic;
-      d.fit_relic = isBuiltinRelic(o.relic) || o.fit;
-    }
+    const sim::SceneDescription d = sceneDescription(o);
     museum.emplace(d);
     s.relic_name = d.relic;
     s.relic = museum->relic();
     s.static_emitters.push_back(museum->hall());
     s.visitors = museum->visitors(o.frame);
-    s.foreground = foregroundFromCameras(*museum, o.frame);
+    foregroundFromCameras(*museum, o.frame, s);
   }
   s.panorama = o.panorama.empty() ? museum->renderPanorama(kPanoramaWidth, kPanoramaHeight)
                                   : loadHdr(o.panorama).pixels;
   std::uint64_t h = 1469598103934665603ull;
-  h = fnv1a(h, o.scene + "|" + s.relic_name + "|" + std::to_string(o.fit) + "|" + std::to_string(o.frame));
+  h = fnv1a(h, o.scene + "|" + s.relic_name + "|" + std::to_string(o.fit) + "|" + std::to_string(o.frame) +
+                   (o.hall.empty() ? "" : "|" + o.hall));
   const cv::Mat pano = s.panorama.isContinuous() ? s.panorama : s.panorama.clone();
   h = fnv1a(h, pano.data, pano.total() * pano.elemSize());
   s.hash = h;
   return s;
+}
+
+VisitorView visitorView(const SceneOptions& o) {
+  VisitorView best;
+  if (o.scene == "empty") return best;
+  const sim::Museum museum(sceneDescription(o));
+  const reflect::RenderScene relic(museum.relic(), {});
+  const Bounds3 bounds = museum.relic().bounds();
+  constexpr int kFrames = 300, kStride = 10, kSize = 48;  // ten seconds at 30 fps
+  std::vector<CameraModel> faces;
+  for (int f = 0; f < 4; ++f) {
+    const vec3 eye = reflect::defaultFaceEye(f, bounds, -sim::kBaseHeight);
+    faces.push_back(
+        reflect::lookAtCamera(eye, bounds.center(), reflect::framingFovDeg(eye, bounds), kSize, kSize));
+  }
+  std::vector<reflect::HitPointBuffer> hits;
+  for (const CameraModel& c : faces) hits.push_back(reflect::traceHitPoints(relic, c, 1));
+  float best_score = -1.0f;
+  for (int frame = 0; frame < kFrames; frame += kStride) {
+    const reflect::RenderScene visitors(Model{}, {museum.visitors(frame)});
+    for (int f = 0; f < 4; ++f) {
+      int relic_pixels = 0, met = 0;
+      const reflect::HitPointBuffer& h = hits[std::size_t(f)];
+      for (std::size_t i = 0; i < h.hits.size(); ++i) {
+        if (!h.valid[i]) continue;
+        ++relic_pixels;
+        const reflect::HitPoint& hp = h.hits[i];
+        met += visitors.all().intersect(Ray{hp.position + hp.normal * 1e-3f, hp.reflected}).hit();
+      }
+      const float fraction = relic_pixels > 0 ? float(met) / float(relic_pixels) : 0.0f;
+      if (fraction > best_score) best_score = fraction, best = {frame, f, fraction};
+    }
+  }
+  return best;
 }
 
 CameraModel viewCamera(const ViewOptions& v, const ReflectionScene& scene) {
@@ -155,6 +213,15 @@ CameraModel viewCamera(const ViewOptions& v, const ReflectionScene& scene) {
     throw InputError("command line", "--eye", "an eye apart from the target", v.eye);
   const float fov = v.fov_deg > 0.0f ? v.fov_deg : reflect::framingFovDeg(eye, bounds);
   return reflect::lookAtCamera(eye, target, fov, v.width, v.height);
+}
+
+std::shared_ptr<const reflect::PrefilteredIbl> staticIbl(const ReflectionScene& scene,
+                                                         const MethodSettings& settings) {
+  const reflect::Environment env(scene.panorama);
+  reflect::PrefilterOptions po;
+  po.levels = settings.ibl_levels;
+  po.samples_per_texel = settings.ibl_samples;
+  return std::make_shared<const reflect::PrefilteredIbl>(env, po);
 }
 
 MethodResult renderMethod(const std::string& method, const ReflectionScene& scene, const CameraModel& camera,
@@ -170,6 +237,14 @@ MethodResult renderMethod(const std::string& method, const ReflectionScene& scen
     options.seed = settings.seed;
     const reflect::PathTracer tracer(rs, env, options);
     r.image = reflect::renderPathTraced(tracer, camera, std::max(1, settings.spp), nullptr, quiet);
+  } else if (method == "ibl" && settings.static_ibl) {
+    // The static map is built once per scene: the per-view cost is the shading alone (the
+    // relic's Embree scene is built once too, as for ours).
+    const reflect::RenderScene rs(scene.relic, {});
+    const auto t1 = std::chrono::steady_clock::now();
+    r.image = reflect::renderIbl(rs, *settings.static_ibl, camera);
+    r.ms = msSince(t1);
+    return r;
   } else if (method == "ibl" || method == "ibl-baseline") {
     const reflect::RenderScene rs(scene.relic, {});
     const bool merge = method == "ibl-baseline" && settings.with_visitors;
@@ -184,6 +259,46 @@ MethodResult renderMethod(const std::string& method, const ReflectionScene& scen
     const reflect::PrefilteredIbl ibl(env, po);
     r.build_ms = msSince(t0);
     r.image = reflect::renderIbl(rs, ibl, camera);
+  } else if (method == "ours" || method == "ssrt") {
+    const reflect::RenderScene rs(scene.relic, {});
+    std::shared_ptr<const reflect::PrefilteredIbl> ibl = settings.static_ibl;
+    if (!ibl) {
+      ibl = staticIbl(scene, settings);
+      r.build_ms = msSince(t0);
+    }
+    static const depthfilter::ForegroundCloud kNobody;
+    const depthfilter::ForegroundCloud& cloud = settings.with_visitors ? scene.foreground : kNobody;
+    if (method == "ours") {
+      reflect::FrameRenderer renderer(rs, *ibl);
+      const auto t1 = std::chrono::steady_clock::now();
+      reflect::FrameResult fr = renderer.render(cloud, scene.foreground_cameras, {camera});
+      r.ms = msSince(t1);
+      for (const reflect::PassTiming& p : fr.frame_timings)
+        r.passes.emplace_back(reflect::passName(p.pass), p.ms);
+      for (const reflect::PassTiming& p : fr.views.at(0).timings)
+        r.passes.emplace_back(reflect::passName(p.pass), p.ms);
+      r.image = std::move(fr.views.at(0).hdr);
+    } else {
+      reflect::SsrtSettings ss;
+      ss.rays = std::max(1, settings.spp);
+      ss.seed = settings.seed;
+      const auto t1 = std::chrono::steady_clock::now();
+      r.image = reflect::renderSsrt(rs, *ibl, cloud, camera, ss);
+      r.ms = msSince(t1);
+    }
+    return r;
+  } else if (method == "mcpt") {
+    depthfilter::VoxelGrid grid;
+    if (settings.with_visitors) grid.build(scene.foreground);
+    std::vector<Model> emitters;
+    if (!grid.empty()) emitters.push_back(reflect::voxelEmitters(grid));
+    const reflect::RenderScene rs(scene.relic, emitters);
+    const reflect::Environment env(scene.panorama);
+    reflect::PathTracerOptions options;
+    options.seed = settings.seed;
+    const reflect::PathTracer tracer(rs, env, options);
+    r.build_ms = msSince(t0);
+    r.image = reflect::renderPathTraced(tracer, camera, std::max(1, settings.spp), nullptr, quiet);
   } else {
     std::string names;
     for (const auto& m : reflectionMethods()) names += (names.empty() ? "" : ", ") + m;
@@ -193,14 +308,41 @@ MethodResult renderMethod(const std::string& method, const ReflectionScene& scen
   return r;
 }
 
+cv::Mat cachedGroundTruth(const ReflectionScene& scene, const CameraModel& camera, int spp,
+                          bool with_visitors, const std::filesystem::path& cache) {
+  // The view enters the key through its pose and intrinsics, bit for bit.
+  const mat4& pose = camera.T_world_camera();
+  const Intrinsics& K = camera.intrinsics();
+  std::string view(reinterpret_cast<const char*>(&pose[0][0]), sizeof(mat4));
+  view.append(reinterpret_cast<const char*>(&K.fx), 4 * sizeof(float));
+  const std::string key = hex(scene.hash) + "-" + std::to_string(camera.width()) + "x" +
+                          std::to_string(camera.height()) + "-" + hex(std::hash<std::string>{}(view)) +
+                          "-spp" + std::to_string(spp) + (with_visitors ? "" : "-novisitors");
+  const std::filesystem::path file = cache / ("gt-" + key + ".exr");
+  if (std::filesystem::exists(file)) {
+    const cv::Mat cached = loadHdr(file).pixels;
+    if (cached.cols == camera.width() && cached.rows == camera.height()) return cached;
+  }
+  MethodSettings s;
+  s.spp = spp;
+  s.with_visitors = with_visitors;
+  const cv::Mat image = renderMethod("gt", scene, camera, s, false).image;
+  std::filesystem::create_directories(cache);
+  saveHdr(file, image);
+  return image;
+}
+
+void writePng(const std::filesystem::path& path, const cv::Mat& bgr8) {
+  writeAtomically(path, [&](const std::filesystem::path& tmp) {
+    if (!cv::imwrite(tmp.string() + ".png", bgr8)) throw Error("could not write " + path.string());
+    std::filesystem::rename(tmp.string() + ".png", tmp);
+  });
+}
+
 void writeImagePair(const std::string& exr_path, const cv::Mat& hdr, float exposure) {
   saveHdr(exr_path, hdr);
   const std::filesystem::path png = std::filesystem::path(exr_path).replace_extension(".png");
-  const cv::Mat ldr = reflect::toneMap(hdr, exposure > 0.0f ? exposure : reflect::autoExposure(hdr));
-  writeAtomically(png, [&](const std::filesystem::path& tmp) {
-    if (!cv::imwrite(tmp.string() + ".png", ldr)) throw Error("could not write " + png.string());
-    std::filesystem::rename(tmp.string() + ".png", tmp);
-  });
+  writePng(png, reflect::toneMap(hdr, exposure > 0.0f ? exposure : reflect::autoExposure(hdr)));
 }
 
 }  // namespace holo::app

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
@@ -12,12 +13,15 @@
 #include "holo/core/camera_model.hpp"
 #include "holo/core/mesh.hpp"
 #include "holo/depthfilter/foreground_cloud.hpp"
+#include "holo/reflect/frame_renderer.hpp"
+#include "holo/reflect/prefiltered_ibl.hpp"
 
 namespace holo::app {
 
 struct SceneOptions {
   std::string scene = "empty";  // built-in scene name or YAML file; "empty" = relic alone
   std::string relic;            // built-in relic name or glTF file; empty = the scene's
+  std::string hall;             // built-in hall name; empty = the scene's
   std::string panorama;         // HDR/EXR file; empty = the museum's rendered hall panorama
   bool fit = false;             // scale and centre a relic file on the pedestal
   int frame = 0;                // museum frame (visitor poses)
@@ -40,36 +44,68 @@ struct ReflectionScene {
   Model visitors;                           // visitors and what they carry at the frame (may be empty)
   cv::Mat panorama;                         // linear HDR CV_32FC3 BGR, the static environment
   depthfilter::ForegroundCloud foreground;  // the visitors as the depth cameras see them
+  std::vector<reflect::ForegroundCameraImage> foreground_cameras;  // their colour and mask, per camera
   float floor_y = -1.0f;
   std::uint64_t hash = 0;  // of everything that changes the ground truth (for caching)
 };
 
 ReflectionScene loadReflectionScene(const SceneOptions& options);
+
+// The view where visitors matter most: among the frames of the first ten seconds (every third of
+// a second) and the four faces, the one where the most mirror-reflected rays from the relic (one
+// per pixel of a 48^2 face view) meet the real visitors' geometry. Neutral to every method (true
+// geometry, no renderer); "the face on the nearest visitor's side" left most views with no
+// foreground reflection at all (docs/tracer.md).
+struct VisitorView {
+  int frame = 0, face = 0;
+  float reflected_fraction = 0.0f;  // of the relic's pixels whose mirror ray meets a visitor
+};
+VisitorView visitorView(const SceneOptions& options);
 CameraModel viewCamera(const ViewOptions& view, const ReflectionScene& scene);
 
 inline const std::vector<std::string>& reflectionMethods() {
-  static const std::vector<std::string> methods = {"gt", "ibl", "ibl-baseline"};
+  static const std::vector<std::string> methods = {"gt", "ibl", "ibl-baseline", "ours", "ssrt", "mcpt"};
   return methods;
 }
 
 struct MethodSettings {
-  int spp = 256;         // gt: samples per pixel
+  int spp = 256;         // gt, mcpt: samples per pixel; ssrt: reflected rays per hit point
   int ibl_levels = 9;    // ibl*: roughness levels
   int ibl_samples = 64;  // ibl*: FIS samples per texel
   bool with_visitors = true;
   std::uint64_t seed = 1;
+  // ours, ssrt: the static hall's prefiltered panorama. The hall does not move, so it is built once
+  // per scene (staticIbl) and not counted in the per-view time; null = build it here (reported
+  // in build_ms, outside ms).
+  std::shared_ptr<const reflect::PrefilteredIbl> static_ibl;
 };
+
+// The static panorama prefiltered with settings' levels and samples (what static_ibl holds).
+std::shared_ptr<const reflect::PrefilteredIbl> staticIbl(const ReflectionScene& scene,
+                                                         const MethodSettings& settings);
 
 struct MethodResult {
   cv::Mat image;        // linear HDR CV_32FC3 BGR
-  double ms = 0;        // render time of the view (IBL: prefilter build included)
-  double build_ms = 0;  // part of ms spent building maps (IBL) or 0
+  double ms = 0;        // render time of the view (ibl-baseline, and ibl without static_ibl: the
+                        // prefilter build included; ours: the frame's voxel grid and pyramids
+                        // included; mcpt: the voxel scene's build included)
+  double build_ms = 0;  // IBL, mcpt: part of ms spent building maps or the scene; ours, ssrt:
+                        // the static IBL built here when settings.static_ibl was null (not in ms)
+  std::vector<std::pair<std::string, double>> passes;  // ours: ms per pass (frame passes first)
 };
 
 // Throws InputError(field "method") for an unknown method.
 MethodResult renderMethod(const std::string& method, const ReflectionScene& scene, const CameraModel& camera,
                           const MethodSettings& settings, bool quiet = true);
 
+// The path-traced ground truth ("gt", seed 1) of this scene and view, from the cache folder when
+// it is there (keyed by the scene hash, the view bit for bit, the spp and the visitors), else
+// rendered and stored there.
+cv::Mat cachedGroundTruth(const ReflectionScene& scene, const CameraModel& camera, int spp,
+                          bool with_visitors, const std::filesystem::path& cache);
+
+// Writes a CV_8UC3 PNG atomically.
+void writePng(const std::filesystem::path& path, const cv::Mat& bgr8);
 // Writes FILE.exr and, beside it, FILE.png (tone mapped with `exposure`, auto when <= 0).
 void writeImagePair(const std::string& exr_path, const cv::Mat& hdr, float exposure = 0.0f);
 

@@ -14,3 +14,16 @@ endif()
 holo_benchmark(bench_frame_renderer
   SOURCES bench_frame_renderer.cpp
   DEPS holo::reflect holo::depthfilter holo_test_support)
+# The evaluation's baselines: SSRT and the voxel emitters of the MCPT baseline.
+holo_test(test_baselines
+  SOURCES test_ssrt.cpp
+  DEPS holo::reflect holo::depthfilter holo_test_support)
+# Issue 5's fg_mse bars on one small scene (gallery, bronze vase, 96^2, paper's region threshold):
+# ours at most a quarter of IBL's and below SSRT's (fixed rays: the equal-time pick would depend
+# on the load). The nine scenes: holopyramid eval tracer (docs/tracer.md).
+add_test(NAME reflect_eval_tracer_small
+  COMMAND $<TARGET_FILE:holopyramid> eval tracer --halls gallery --relics vase --size 96 --gt-spp 256
+          --mcpt-max-spp 16 --repeats 1 --ssrt-rays 1 --require-fg-bars
+          --out ${CMAKE_CURRENT_BINARY_DIR}/eval_tracer --cache ${CMAKE_CURRENT_BINARY_DIR}/gt-cache
+  WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+set_tests_properties(reflect_eval_tracer_small PROPERTIES LABELS reflect TIMEOUT 300)
