@@ -20,8 +20,10 @@ namespace {
 
 struct BenchFrameOptions {
   FrameLoopOptions loop;
+  std::string aa = "edges";  // --aa
   int warmup = 3;
   int frames = 10;
+  bool preload = true;
   std::string json;
 };
 
@@ -62,8 +64,13 @@ double medianOf(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-int runBenchFrame(const BenchFrameOptions& options) {
+int runBenchFrame(BenchFrameOptions options) {
+  setAntiAliasing(options.loop.tracer, reflect::parseAntiAliasing(options.aa, "--aa"));
+  if (options.preload)
+    options.loop.preload_frames = options.warmup + options.frames + 1;  // + the last prefetch
+  const auto preload_start = Clock::now();
   FrameLoop loop(options.loop, nullptr);
+  const double setup_s = std::chrono::duration<double>(Clock::now() - preload_start).count();
   ProgressReporter progress(options.warmup + options.frames, "bench frame");
   for (int i = 0; i < options.warmup; ++i) {
     loop.step();
@@ -82,17 +89,25 @@ int runBenchFrame(const BenchFrameOptions& options) {
   // The acquisition of the next frame overlaps processing; what the loop waits for is counted.
   const double processing = median.total;
   const double floor = medianOf(floor_ms);
-  std::cout << formatTimingTable(median, reports.size());
+  std::cout << formatTimingTable(median, reports, loop.cameraFrameCounts());
+  if (options.preload)
+    std::cout << fmt::format(
+        "camera frames simulated before timing and replayed (setup incl. simulation {:.1f} s); "
+        "--no-preload simulates them during the run\n",
+        setup_s);
   std::cout << fmt::format(
       "floor (1 primary ray + 1 IBL lookup per pixel, 4 views of {}x{}, {} relic pixels): {:.2f} ms\n"
       "frame / floor: {:.1f}x\n",
       options.loop.view_size, options.loop.view_size, hits, floor, floor > 0 ? processing / floor : 0.0);
   if (!options.json.empty()) {
-    nlohmann::json j = nlohmann::json::parse(timingJson(median, reports));
+    nlohmann::json j = nlohmann::json::parse(timingJson(median, reports, loop.cameraFrameCounts()));
     j["floor_ms"] = floor;
     j["frame_over_floor"] = floor > 0 ? processing / floor : 0.0;
     j["view_size"] = options.loop.view_size;
     j["scene"] = options.loop.scene;
+    j["cameras_preloaded"] = options.preload;
+    j["anti_aliasing"] = options.aa;
+    j["static_reuse_m"] = options.loop.tracer.static_reuse_distance;
     writeFileAtomically(options.json, j.dump(2));
   }
   return 0;
@@ -108,7 +123,15 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--view-size", options->loop.view_size, "Pixels per face view")->capture_default_str();
       sub.add_option("--frames", options->frames, "Measured frames")->capture_default_str();
       sub.add_option("--warmup", options->warmup, "Frames run before measuring")->capture_default_str();
+      sub.add_option("--aa", options->aa, "Anti-aliasing: none | edges (4 sub-samples at silhouettes) | full")
+          ->capture_default_str();
+      sub.add_option("--static-reuse", options->loop.tracer.static_reuse_distance,
+                     "Metres an eye may move before a view's hit points are traced again (0: identical only)")
+          ->capture_default_str();
       sub.add_flag("!--no-foreground", options->loop.tracer.foreground_enabled, "IBL only");
+      sub.add_flag("!--no-preload", options->preload,
+                   "Simulate the cameras during the run (competes with the frame for the cores) instead of "
+                   "before it");
       sub.add_option("--json", options->json, "Write medians, per-frame times and the floor here");
       return [options] { return runBenchFrame(*options); };
     },

@@ -33,6 +33,13 @@
 
 namespace holo::app {
 
+// The tracer as the live loop runs it: one sample per pixel plus four at silhouette and crease
+// pixels (instead of four everywhere), and each view's static passes reused while its eye moves
+// less than 1 cm. Their (time, error) points: docs/frame_loop.md.
+reflect::TracerSettings liveTracerSettings();
+// The tracer's samples for an anti-aliasing mode (hit_points.hpp).
+void setAntiAliasing(reflect::TracerSettings& tracer, reflect::AntiAliasing mode);
+
 struct FrameLoopOptions {
   std::string scene = "museum";  // built-in name or YAML file (sim::loadScene)
   bool live = false;             // capture threads at the cameras' rate; else deterministic
@@ -40,7 +47,12 @@ struct FrameLoopOptions {
   int panorama_width = 512;      // of the simulated hall panorama the IBL is built from
   double stale_camera_s = 0.5;   // live: a camera silent this long leaves the foreground
   bool track_eyes = true;        // eyes follow visitors' heads; else default standing eyes
-  reflect::TracerSettings tracer;
+  // Deterministic mode: simulate the first N frames of every camera before the first step and
+  // replay them from memory (later frames are simulated while the previous one is processed).
+  // For benchmarks: real cameras deliver their frames, while simulating four of them costs as
+  // much CPU as a frame and would compete with it on 2 cores. About 6.5 MB per frame.
+  int preload_frames = 0;
+  reflect::TracerSettings tracer = liveTracerSettings();
   display::EyeTrackerSettings eyes;
 };
 
@@ -63,6 +75,25 @@ struct FrameReport {
   std::string plan;      // the effect plan of face 0 ("HitPoints,... (reason)")
   std::array<bool, 4> eyes_tracked{};
   bool presented = false;
+  // HDR pixels of the four views with a NaN or infinite channel (the composition guarantees 0;
+  // counted, not assumed, so a run proves it).
+  std::int64_t non_finite_pixels = 0;
+  // Camera frames overwritten in the mailboxes since the previous step, all cameras: produced by
+  // a capture thread, never consumed by the loop. Live mode only; deterministic mode renders
+  // exactly the frames it consumes, so 0 by construction.
+  std::int64_t dropped_frames = 0;
+  int static_reused_views = 0;  // views whose hit points and static shading came from the cache
+};
+
+// Camera frames over the whole run, all cameras. Live: from the mailboxes' counters, and
+// `unconsumed` = produced - consumed (the drops plus frames still waiting in a mailbox).
+// Deterministic: produced = consumed = frames x cameras.
+struct CameraFrameCounts {
+  bool live = false;
+  std::int64_t produced = 0;
+  std::int64_t consumed = 0;
+  std::int64_t dropped = 0;
+  std::int64_t unconsumed = 0;
 };
 
 class FrameLoop {
@@ -86,6 +117,7 @@ class FrameLoop {
   std::vector<CameraModel> faceViews() const;  // the four views of the last frame
   const reflect::FrameResult& lastResult() const { return last_result_; }
   std::vector<capture::CameraHealth> cameraHealth() const;
+  CameraFrameCounts cameraFrameCounts() const;
   display::QuadViewPresenter* presenter() { return presenter_.get(); }
   const reflect::RenderScene& renderScene() const { return *render_scene_; }
   const reflect::PrefilteredIbl& ibl() const { return ibl_; }
@@ -98,7 +130,7 @@ class FrameLoop {
   FrameLoopOptions options_;
   std::shared_ptr<const sim::Museum> museum_;
   std::vector<CameraModel> cameras_;
-  std::vector<std::unique_ptr<capture::CameraSource>> sources_;          // deterministic mode
+  std::vector<std::vector<RgbdFrame>> preloaded_;                        // deterministic, per frame
   std::future<std::vector<RgbdFrame>> next_frames_;                      // deterministic prefetch
   std::vector<std::unique_ptr<capture::LatestFrameMailbox>> mailboxes_;  // live mode
   std::vector<std::unique_ptr<capture::CaptureThread>> threads_;         // live mode
@@ -115,12 +147,16 @@ class FrameLoop {
   std::optional<float> exposure_;  // fixed after the first frame so the image does not pump
   reflect::FrameResult last_result_;
   std::int64_t index_ = 0;
+  std::int64_t dropped_before_ = 0;  // mailbox drops counted up to the previous step
 };
 
 // Median of each stage over the reports, and frames per second from the median total.
 StageTimes medianTimes(const std::vector<FrameReport>& reports);
-// The Table 3 style text table and its JSON form.
-std::string formatTimingTable(const StageTimes& median, std::size_t frames);
-std::string timingJson(const StageTimes& median, const std::vector<FrameReport>& reports);
+// The Table 3 style text table (with the run's non-finite pixels and dropped camera frames) and
+// its JSON form.
+std::string formatTimingTable(const StageTimes& median, const std::vector<FrameReport>& reports,
+                              const CameraFrameCounts& cameras);
+std::string timingJson(const StageTimes& median, const std::vector<FrameReport>& reports,
+                       const CameraFrameCounts& cameras);
 
 }  // namespace holo::app
