@@ -90,6 +90,9 @@ int runBenchFrame(BenchFrameOptions options) {
   const double processing = median.total;
   const double floor = medianOf(floor_ms);
   std::cout << formatTimingTable(median, reports, loop.cameraFrameCounts());
+  std::cout << "tracer passes, median ms (all views):";
+  for (const auto& [name, ms] : medianPasses(reports)) std::cout << fmt::format(" {} {:.2f}", name, ms);
+  std::cout << "\n";
   if (options.preload)
     std::cout << fmt::format(
         "camera frames simulated before timing and replayed (setup incl. simulation {:.1f} s); "
@@ -106,6 +109,7 @@ int runBenchFrame(BenchFrameOptions options) {
     j["view_size"] = options.loop.view_size;
     j["scene"] = options.loop.scene;
     j["cameras_preloaded"] = options.preload;
+    for (const auto& [name, ms] : medianPasses(reports)) j["passes_ms"][name] = ms;
     j["anti_aliasing"] = options.aa;
     j["static_reuse_m"] = options.loop.tracer.static_reuse_distance;
     writeFileAtomically(options.json, j.dump(2));

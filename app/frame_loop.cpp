@@ -150,15 +150,26 @@ std::vector<RgbdFrame> FrameLoop::acquire(double& wait_ms) {
   return frames;
 }
 
-std::vector<reflect::ForegroundCameraImage> FrameLoop::cameraImages(
-    const std::vector<RgbdFrame>& frames) const {
-  std::vector<reflect::ForegroundCameraImage> images(frames.size());
+std::vector<reflect::ForegroundCameraImage> FrameLoop::cameraImages(const std::vector<RgbdFrame>& frames) {
+  // sRGB bytes -> linear radiance in one table read per channel (the camera's exposure folded in).
   const float exposure = museum_->description().camera.exposure;
+  std::array<float, 256> table{};
+  for (int i = 0; i < 256; ++i) table[std::size_t(i)] = srgbToLinear(float(i) / 255.0f) / exposure;
+  linear_colour_.resize(frames.size());
+  std::vector<reflect::ForegroundCameraImage> images(frames.size());
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const depthfilter::CameraForeground& result = foreground_.lastResult(i);
     if (!result.present || frames[i].color.empty()) continue;  // no image: its points are ignored
+    const cv::Mat& srgb = frames[i].color;
+    cv::Mat& linear = linear_colour_[i];
+    linear.create(srgb.size(), CV_32FC3);
+    tbb::parallel_for(0, srgb.rows, [&](int y) {
+      const std::uint8_t* in = srgb.ptr<std::uint8_t>(y);
+      float* out = linear.ptr<float>(y);
+      for (int k = 0; k < 3 * srgb.cols; ++k) out[k] = table[in[k]];
+    });
     images[i].camera = cameras_[i];
-    images[i].colour_bgr = srgb8ToLinear(frames[i].color) * (1.0f / exposure);
+    images[i].colour_bgr = linear;
     images[i].mask = result.mask;
   }
   return images;
@@ -192,7 +203,17 @@ FrameReport FrameLoop::step() {
   const std::vector<CameraModel> views = faceViews();
   const double eyes_ms = msSince(t0);
 
-  last_result_ = renderer_->render(cloud_, cameraImages(frames), views);
+  t0 = Clock::now();
+  const bool foreground_passes = options_.tracer.foreground_enabled && !cloud_.empty();
+  const std::vector<reflect::ForegroundCameraImage> images =
+      foreground_passes ? cameraImages(frames) : std::vector<reflect::ForegroundCameraImage>(frames.size());
+  report.camera_images_ms = msSince(t0);
+  report.times.dynamic += report.camera_images_ms;
+
+  last_result_ = renderer_->render(cloud_, images, views);
+  for (const reflect::PassTiming& t : last_result_.frame_timings) report.pass_ms[std::size_t(t.pass)] += t.ms;
+  for (const reflect::ViewImages& view : last_result_.views)
+    for (const reflect::PassTiming& t : view.timings) report.pass_ms[std::size_t(t.pass)] += t.ms;
   report.times.foreground += passMs(last_result_.frame_timings, {reflect::Pass::VoxelGrid});
   report.times.dynamic += passMs(last_result_.frame_timings, {reflect::Pass::Pyramids});
   for (const reflect::ViewImages& view : last_result_.views) {
@@ -310,6 +331,17 @@ StageTimes medianTimes(const std::vector<FrameReport>& reports) {
   return m;
 }
 
+std::vector<std::pair<std::string, double>> medianPasses(const std::vector<FrameReport>& reports) {
+  std::vector<std::pair<std::string, double>> out;
+  for (std::size_t p = 0; p <= kPassCount; ++p) {
+    std::vector<double> values;
+    for (const FrameReport& r : reports) values.push_back(p < kPassCount ? r.pass_ms[p] : r.camera_images_ms);
+    out.emplace_back(p < kPassCount ? reflect::passName(static_cast<reflect::Pass>(p)) : "CameraImages",
+                     median(values));
+  }
+  return out;
+}
+
 std::int64_t totalNonFinite(const std::vector<FrameReport>& reports) {
   std::int64_t n = 0;
   for (const FrameReport& r : reports) n += r.non_finite_pixels;
@@ -378,6 +410,11 @@ std::string timingJson(const StageTimes& m, const std::vector<FrameReport>& repo
     f["non_finite_pixels"] = r.non_finite_pixels;
     f["dropped_frames"] = r.dropped_frames;
     f["static_reused_views"] = r.static_reused_views;
+    nlohmann::json passes;
+    for (std::size_t p = 0; p < kPassCount; ++p)
+      passes[reflect::passName(static_cast<reflect::Pass>(p))] = r.pass_ms[p];
+    passes["CameraImages"] = r.camera_images_ms;
+    f["passes_ms"] = passes;
     per_frame.push_back(f);
   }
   j["per_frame"] = per_frame;

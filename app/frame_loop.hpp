@@ -33,6 +33,8 @@
 
 namespace holo::app {
 
+inline constexpr std::size_t kPassCount = static_cast<std::size_t>(reflect::Pass::ToneMap) + 1;
+
 // The tracer as the live loop runs it: one sample per pixel plus four at silhouette and crease
 // pixels (instead of four everywhere), and each view's static passes reused while its eye moves
 // less than 1 cm. Their (time, error) points: docs/frame_loop.md.
@@ -83,6 +85,10 @@ struct FrameReport {
   // exactly the frames it consumes, so 0 by construction.
   std::int64_t dropped_frames = 0;
   int static_reused_views = 0;  // views whose hit points and static shading came from the cache
+  // Milliseconds per reflect::Pass (index = the enum's value), summed over the views; plus the
+  // camera images' conversion to linear colour for the pyramids (part of `dynamic`).
+  std::array<double, kPassCount> pass_ms{};
+  double camera_images_ms = 0;
 };
 
 // Camera frames over the whole run, all cameras. Live: from the mailboxes' counters, and
@@ -125,7 +131,7 @@ class FrameLoop {
  private:
   std::vector<RgbdFrame> acquire(double& wait_ms);
   std::vector<RgbdFrame> grabDeterministic(std::int64_t frame);
-  std::vector<reflect::ForegroundCameraImage> cameraImages(const std::vector<RgbdFrame>& frames) const;
+  std::vector<reflect::ForegroundCameraImage> cameraImages(const std::vector<RgbdFrame>& frames);
 
   FrameLoopOptions options_;
   std::shared_ptr<const sim::Museum> museum_;
@@ -135,6 +141,7 @@ class FrameLoop {
   std::vector<std::unique_ptr<capture::LatestFrameMailbox>> mailboxes_;  // live mode
   std::vector<std::unique_ptr<capture::CaptureThread>> threads_;         // live mode
   std::vector<RgbdFrame> latest_;                                        // live: per camera
+  std::vector<cv::Mat> linear_colour_;  // per camera, reused: the pyramids copy what they keep
   depthfilter::ForegroundPipeline foreground_;
   depthfilter::ForegroundCloud cloud_;
   reflect::Environment environment_;
@@ -152,6 +159,8 @@ class FrameLoop {
 
 // Median of each stage over the reports, and frames per second from the median total.
 StageTimes medianTimes(const std::vector<FrameReport>& reports);
+// Median milliseconds per reflect::Pass over the reports, by pass name, plus "CameraImages".
+std::vector<std::pair<std::string, double>> medianPasses(const std::vector<FrameReport>& reports);
 // The Table 3 style text table (with the run's non-finite pixels and dropped camera frames) and
 // its JSON form.
 std::string formatTimingTable(const StageTimes& median, const std::vector<FrameReport>& reports,

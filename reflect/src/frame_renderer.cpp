@@ -87,6 +87,7 @@ FrameRenderer::FrameRenderer(const RenderScene& scene, const PrefilteredIbl& ibl
   for (const Material& m : scene_.relic().materials)
     if (m.roughness < kGlossyRoughnessLimit || m.metallic_roughness_texture >= 0) relic_glossy_ = true;
   if (scene_.relic().materials.empty()) relic_glossy_ = true;  // default material: be safe
+  relic_bounds_ = scene_.relicBounds();
 }
 
 EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
@@ -139,9 +140,11 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
     pyramids_.resize(cameras.size());
     // A camera without an image this frame (live: it dropped out) keeps an empty pyramid; the
     // walk ignores the voxels it saw.
-    for (std::size_t c = 0; c < cameras.size(); ++c)
+    // One camera per task: a pyramid's levels are sequential, the cameras independent.
+    tbb::parallel_for(std::size_t(0), cameras.size(), [&](std::size_t c) {
       if (!cameras[c].colour_bgr.empty())
         pyramids_[c] = ForegroundPyramid(cameras[c].colour_bgr, cameras[c].mask, settings_.pyramid_levels);
+    });
   }
   while (caches_.size() < views.size()) caches_.push_back(std::make_unique<ViewCache>());
   for (std::size_t v = 0; v < views.size(); ++v)
@@ -219,7 +222,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       const AntiAliasing aa = settings_.aa_samples == 4 ? AntiAliasing::Full
                               : settings_.edge_aa       ? AntiAliasing::Edges
                                                         : AntiAliasing::None;
-      traceHitPoints(scene_, view, aa, cache.hits);
+      traceHitPoints(scene_, view, aa, cache.hits, relic_bounds_);
     }
     PassTimer t(out.timings, Pass::StaticReflections);
     const HitPointBuffer& hits = cache.hits;
@@ -248,11 +251,13 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
   }
   if (fixed_exposure && cache.display_exposure != settings_.exposure) {
     PassTimer t(out.timings, Pass::ToneMap);
-    cache.display = cv::Mat(h, w, CV_8UC3);
+    // Black where the relic is not (toneMapPixel(0) is black), tone-mapped where it is.
+    cache.display = cv::Mat(h, w, CV_8UC3, cv::Scalar::all(0));
     tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
       for (int y = rows.begin(); y < rows.end(); ++y)
         for (int x = 0; x < w; ++x)
-          cache.display.at<cv::Vec3b>(y, x) = toneMapPixel(rgbAt(cache.hdr, x, y), settings_.exposure);
+          if (cache.coverage.at<float>(y, x) > 0.0f)
+            cache.display.at<cv::Vec3b>(y, x) = toneMapPixel(rgbAt(cache.hdr, x, y), settings_.exposure);
     });
     cache.display_exposure = settings_.exposure;
   }

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <opencv2/core.hpp>
+#include <optional>
 
 #include "holo/core/error.hpp"
 #include "holo/reflect/view.hpp"
@@ -41,6 +43,29 @@ bool differ(const HitPointBuffer& b, std::size_t p, std::size_t q) {
   if (std::abs(a.material.roughness - c.material.roughness) > kMaterialStep) return true;
   const vec3 d = glm::abs(a.material.base_color - c.material.base_color);
   return std::max(d.x, std::max(d.y, d.z)) > kMaterialStep;
+}
+
+// The pixels whose rays (and sub-sample rays) may hit the box; the whole image when that
+// cannot be bounded cheaply.
+cv::Rect candidatePixels(const CameraModel& view, const Bounds3& box) {
+  const cv::Rect all(0, 0, view.width(), view.height());
+  if (box.empty() || view.intrinsics().hasDistortion()) return all;
+  float x0 = 1e30f, y0 = 1e30f, x1 = -1e30f, y1 = -1e30f;
+  for (int corner = 0; corner < 8; ++corner) {
+    const vec3 p((corner & 1) ? box.hi.x : box.lo.x, (corner & 2) ? box.hi.y : box.lo.y,
+                 (corner & 4) ? box.hi.z : box.lo.z);
+    float depth = 0.0f;
+    const std::optional<vec2> px = view.project(p, &depth);
+    if (!px || !(depth > 0.0f)) return all;
+    x0 = std::min(x0, px->x);
+    y0 = std::min(y0, px->y);
+    x1 = std::max(x1, px->x);
+    y1 = std::max(y1, px->y);
+  }
+  // One pixel of margin covers the sub-sample offsets (< 0.5 pixel) and round-off.
+  const int left = int(std::floor(x0)) - 1, top = int(std::floor(y0)) - 1;
+  const int right = int(std::ceil(x1)) + 2, bottom = int(std::ceil(y1)) + 2;
+  return cv::Rect(left, top, right - left, bottom - top) & all;
 }
 
 }  // namespace
@@ -80,7 +105,8 @@ float HitPointBuffer::coverage(int x, int y) const {
   return float(n) / float(count);
 }
 
-void traceHitPoints(const RenderScene& scene, const CameraModel& view, AntiAliasing aa, HitPointBuffer& buf) {
+void traceHitPoints(const RenderScene& scene, const CameraModel& view, AntiAliasing aa, HitPointBuffer& buf,
+                    const Bounds3& relic_bounds) {
   const int w = view.width(), h = view.height();
   buf.width = w;
   buf.height = h;
@@ -90,34 +116,41 @@ void traceHitPoints(const RenderScene& scene, const CameraModel& view, AntiAlias
   buf.valid.assign(pixels, 0);
   buf.first_sub.assign(pixels, HitPointBuffer::kCentreOnly);
   buf.refined.clear();
+  const cv::Rect traced = candidatePixels(view, relic_bounds);
 
   if (aa == AntiAliasing::Full) {
-    buf.refined.resize(pixels);
-    for (std::size_t p = 0; p < pixels; ++p) buf.refined[p] = static_cast<std::uint32_t>(p);
+    for (int y = traced.y; y < traced.y + traced.height; ++y)
+      for (int x = traced.x; x < traced.x + traced.width; ++x)
+        buf.refined.push_back(static_cast<std::uint32_t>(std::size_t(y) * std::size_t(w) + std::size_t(x)));
   } else {
-    tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
-      for (int y = rows.begin(); y < rows.end(); ++y)
-        for (int x = 0; x < w; ++x) {
-          const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
-          buf.valid[p] = traceSample(scene, relic, view, vec2(float(x), float(y)), buf.hits[p]) ? 1 : 0;
-        }
-    });
+    tbb::parallel_for(
+        tbb::blocked_range<int>(traced.y, traced.y + traced.height),
+        [&](const tbb::blocked_range<int>& rows) {
+          for (int y = rows.begin(); y < rows.end(); ++y)
+            for (int x = traced.x; x < traced.x + traced.width; ++x) {
+              const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
+              buf.valid[p] = traceSample(scene, relic, view, vec2(float(x), float(y)), buf.hits[p]) ? 1 : 0;
+            }
+        });
     if (aa == AntiAliasing::Edges) {
       // first_sub doubles as the edge flag here (any value but kCentreOnly), rows in parallel.
-      tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
-        for (int y = rows.begin(); y < rows.end(); ++y)
-          for (int x = 0; x < w; ++x) {
-            const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
-            bool edge = false;
-            for (int dy = -1; dy <= 1 && !edge; ++dy)
-              for (int dx = -1; dx <= 1 && !edge; ++dx) {
-                const int nx = x + dx, ny = y + dy;
-                if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-                edge = differ(buf, p, std::size_t(ny) * std::size_t(w) + std::size_t(nx));
-              }
-            if (edge) buf.first_sub[p] = 0;
-          }
-      });
+      // Outside the traced rectangle everything misses: no edges there.
+      tbb::parallel_for(tbb::blocked_range<int>(traced.y, traced.y + traced.height),
+                        [&](const tbb::blocked_range<int>& rows) {
+                          for (int y = rows.begin(); y < rows.end(); ++y)
+                            for (int x = traced.x; x < traced.x + traced.width; ++x) {
+                              const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
+                              bool edge = false;
+                              for (int dy = -1; dy <= 1 && !edge; ++dy)
+                                for (int dx = -1; dx <= 1 && !edge; ++dx) {
+                                  const int nx = x + dx, ny = y + dy;
+                                  if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= w || ny >= h)
+                                    continue;
+                                  edge = differ(buf, p, std::size_t(ny) * std::size_t(w) + std::size_t(nx));
+                                }
+                              if (edge) buf.first_sub[p] = 0;
+                            }
+                        });
       for (std::size_t p = 0; p < pixels; ++p)
         if (buf.first_sub[p] != HitPointBuffer::kCentreOnly)
           buf.refined.push_back(static_cast<std::uint32_t>(p));

@@ -109,6 +109,28 @@ TEST(HitPoints, EdgeAntiAliasingRefinesEveryPartlyCoveredPixel) {
   EXPECT_LT(edges.refined.size(), std::size_t(hit) / 2) << edges.refined.size() << " of " << hit;
 }
 
+TEST(HitPoints, CullingToTheRelicsProjectedBoxChangesNothing) {
+  const SphereScene s;
+  for (const vec3& eye : {kEye, vec3(0.9f, 0.9f, 0.4f), vec3(0.0f, 0.3f, 0.4f)})
+    for (AntiAliasing aa : {AntiAliasing::None, AntiAliasing::Edges, AntiAliasing::Full}) {
+      const CameraModel view = s.view(eye);
+      HitPointBuffer all, culled;
+      traceHitPoints(s.scene, view, aa, all);
+      traceHitPoints(s.scene, view, aa, culled, s.scene.relicBounds());
+      int hits = 0;
+      for (int y = 0; y < view.height(); ++y)
+        for (int x = 0; x < view.width(); ++x) {
+          EXPECT_EQ(culled.coverage(x, y), all.coverage(x, y))
+              << antiAliasingName(aa) << " " << x << "," << y;
+          hits += all.coverage(x, y) > 0.0f ? 1 : 0;
+        }
+      EXPECT_GT(hits, 100);
+      if (aa != AntiAliasing::Full) {
+        EXPECT_EQ(culled.refined, all.refined) << antiAliasingName(aa);
+      }
+    }
+}
+
 TEST(FrameRenderer, EdgeAntiAliasingIsCloseToFourSamplesEverywhere) {
   const SphereScene s;
   const CameraModel view = s.view(kEye);

@@ -109,6 +109,7 @@ class FrameRenderer {
   const PrefilteredIbl& ibl_;
   TracerSettings settings_;
   bool relic_glossy_ = false;
+  Bounds3 relic_bounds_;  // of the static relic, for culling primary rays
   depthfilter::VoxelGrid grid_;
   std::vector<ForegroundPyramid> pyramids_;
   std::vector<std::unique_ptr<ViewCache>> caches_;  // per view slot

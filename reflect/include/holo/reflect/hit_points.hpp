@@ -58,7 +58,10 @@ struct HitPointBuffer {
 };
 
 // Traces the view into `out`, reusing its storage (no allocation once it has held a view this
-// size).
-void traceHitPoints(const RenderScene& scene, const CameraModel& view, AntiAliasing aa, HitPointBuffer& out);
+// size). With the relic's bounds (not empty) and a distortion-free view that has the whole box in
+// front of it, only the pixels inside the box's projected rectangle are traced: the rest cannot
+// hit the relic (a pinhole projects the box into the hull of its projected corners).
+void traceHitPoints(const RenderScene& scene, const CameraModel& view, AntiAliasing aa, HitPointBuffer& out,
+                    const Bounds3& relic_bounds = {});
 
 }  // namespace holo::reflect
