@@ -211,6 +211,7 @@ FrameReport FrameLoop::step() {
   report.times.dynamic += report.camera_images_ms;
 
   last_result_ = renderer_->render(cloud_, images, views);
+  last_images_ = images;
   for (const reflect::PassTiming& t : last_result_.frame_timings) report.pass_ms[std::size_t(t.pass)] += t.ms;
   for (const reflect::ViewImages& view : last_result_.views)
     for (const reflect::PassTiming& t : view.timings) report.pass_ms[std::size_t(t.pass)] += t.ms;
@@ -232,8 +233,12 @@ FrameReport FrameLoop::step() {
   report.dropped_frames = counts.dropped - dropped_before_;
   dropped_before_ = counts.dropped;
   report.plan = last_result_.plan.describe();
-  for (const reflect::ViewImages& view : last_result_.views)
+  for (const reflect::ViewImages& view : last_result_.views) {
     report.static_reused_views += view.static_reused ? 1 : 0;
+    report.refined_pixels += view.refined_pixels;
+    if (!view.coverage.empty())
+      report.relic_pixels += static_cast<std::size_t>(cv::countNonZero(view.coverage));
+  }
 
   // Exposure: fixed from the first frame's automatic choice, so the relic does not pump as
   // visitors come and go.
@@ -270,6 +275,12 @@ std::vector<CameraModel> FrameLoop::faceViews() const {
     views.push_back(reflect::lookAtCamera(eye, target, reflect::framingFovDeg(eye, bounds),
                                           options_.view_size, options_.view_size));
   return views;
+}
+
+reflect::FrameResult FrameLoop::renderReference(reflect::TracerSettings settings) {
+  settings.exposure = options_.tracer.exposure;
+  reflect::FrameRenderer reference(*render_scene_, ibl_, settings);
+  return reference.render(cloud_, last_images_, faceViews());
 }
 
 void FrameLoop::setQuality(int view_size, bool foreground_enabled) {
@@ -410,6 +421,8 @@ std::string timingJson(const StageTimes& m, const std::vector<FrameReport>& repo
     f["non_finite_pixels"] = r.non_finite_pixels;
     f["dropped_frames"] = r.dropped_frames;
     f["static_reused_views"] = r.static_reused_views;
+    f["refined_pixels"] = r.refined_pixels;
+    f["relic_pixels"] = r.relic_pixels;
     nlohmann::json passes;
     for (std::size_t p = 0; p < kPassCount; ++p)
       passes[reflect::passName(static_cast<reflect::Pass>(p))] = r.pass_ms[p];

@@ -84,7 +84,9 @@ struct FrameReport {
   // a capture thread, never consumed by the loop. Live mode only; deterministic mode renders
   // exactly the frames it consumes, so 0 by construction.
   std::int64_t dropped_frames = 0;
-  int static_reused_views = 0;  // views whose hit points and static shading came from the cache
+  int static_reused_views = 0;     // views whose hit points and static shading came from the cache
+  std::size_t refined_pixels = 0;  // pixels with 4 sub-samples (edge anti-aliasing), all views
+  std::size_t relic_pixels = 0;    // pixels with some relic coverage, all views
   // Milliseconds per reflect::Pass (index = the enum's value), summed over the views; plus the
   // camera images' conversion to linear colour for the pyramids (part of `dynamic`).
   std::array<double, kPassCount> pass_ms{};
@@ -113,6 +115,9 @@ class FrameLoop {
 
   // Renders and presents one frame.
   FrameReport step();
+  // The last frame again, from the eyes of that frame, with other tracer settings (and the
+  // loop's exposure): the reference a quality knob's error is measured against (bench frame).
+  reflect::FrameResult renderReference(reflect::TracerSettings settings);
   // Lower quality for the kiosk's degradation: view size and whether the foreground runs.
   void setQuality(int view_size, bool foreground_enabled);
   // Closes the presenter's outputs (the MP4 is renamed into place).
@@ -142,6 +147,7 @@ class FrameLoop {
   std::vector<std::unique_ptr<capture::CaptureThread>> threads_;         // live mode
   std::vector<RgbdFrame> latest_;                                        // live: per camera
   std::vector<cv::Mat> linear_colour_;  // per camera, reused: the pyramids copy what they keep
+  std::vector<reflect::ForegroundCameraImage> last_images_;  // the last frame's, for renderReference
   depthfilter::ForegroundPipeline foreground_;
   depthfilter::ForegroundCloud cloud_;
   reflect::Environment environment_;

@@ -9,7 +9,7 @@
 //  * Edges: the centre everywhere, then the four sub-samples at pixels whose centre differs from
 //    one of its 8 neighbours' (hit vs miss: the silhouette; normals more than ~18 degrees apart: a
 //    crease; roughness or base colour apart: a material edge); such a pixel is the mean of its
-//    four sub-samples, exactly as with Full. About 3% of the relic's pixels in the museum;
+//    four sub-samples, exactly as with Full. About 12% of the relic's pixels in the museum;
 //  * Full: the four sub-samples at every pixel (4x the rays).
 // Units: metres, world frame.
 #pragma once
