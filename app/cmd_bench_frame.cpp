@@ -20,8 +20,11 @@ namespace {
 
 struct BenchFrameOptions {
   FrameLoopOptions loop;
+  std::string aa = "edges";  // --aa
   int warmup = 3;
   int frames = 10;
+  bool preload = true;
+  bool reference = false;  // --reference: error against 4 samples everywhere, traced fresh
   std::string json;
 };
 
@@ -56,24 +59,45 @@ double floorFrameMs(const FrameLoop& loop, const std::vector<CameraModel>& views
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
+// Mean absolute difference in 8-bit sRGB code values over the four faces' displayed images.
+double meanAbsCodes(const reflect::FrameResult& a, const reflect::FrameResult& b) {
+  double sum = 0;
+  std::size_t n = 0;
+  for (std::size_t v = 0; v < a.views.size() && v < b.views.size(); ++v) {
+    sum += cv::norm(a.views[v].display, b.views[v].display, cv::NORM_L1);
+    n += a.views[v].display.total() * 3;
+  }
+  return n > 0 ? sum / double(n) : 0.0;
+}
+
 double medianOf(std::vector<double> v) {
   if (v.empty()) return 0;
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
   return v[v.size() / 2];
 }
 
-int runBenchFrame(const BenchFrameOptions& options) {
+int runBenchFrame(BenchFrameOptions options) {
+  setAntiAliasing(options.loop.tracer, reflect::parseAntiAliasing(options.aa, "--aa"));
+  if (options.preload)
+    options.loop.preload_frames = options.warmup + options.frames + 1;  // + the last prefetch
+  const auto preload_start = Clock::now();
   FrameLoop loop(options.loop, nullptr);
+  const double setup_s = std::chrono::duration<double>(Clock::now() - preload_start).count();
   ProgressReporter progress(options.warmup + options.frames, "bench frame");
   for (int i = 0; i < options.warmup; ++i) {
     loop.step();
     progress.update(1);
   }
   std::vector<FrameReport> reports;
-  std::vector<double> floor_ms;
+  std::vector<double> floor_ms, error_codes;
   std::uint64_t hits = 0;
+  reflect::TracerSettings reference_settings = options.loop.tracer;
+  setAntiAliasing(reference_settings, reflect::AntiAliasing::Full);
+  reference_settings.static_reuse_distance = 0.0f;
   for (int i = 0; i < options.frames; ++i) {
     reports.push_back(loop.step());
+    if (options.reference)
+      error_codes.push_back(meanAbsCodes(loop.lastResult(), loop.renderReference(reference_settings)));
     floor_ms.push_back(floorFrameMs(loop, loop.faceViews(), loop.ibl(), hits));
     progress.update(1);
   }
@@ -82,17 +106,35 @@ int runBenchFrame(const BenchFrameOptions& options) {
   // The acquisition of the next frame overlaps processing; what the loop waits for is counted.
   const double processing = median.total;
   const double floor = medianOf(floor_ms);
-  std::cout << formatTimingTable(median, reports.size());
+  std::cout << formatTimingTable(median, reports, loop.cameraFrameCounts());
+  std::cout << "tracer passes, median ms (all views):";
+  for (const auto& [name, ms] : medianPasses(reports)) std::cout << fmt::format(" {} {:.2f}", name, ms);
+  std::cout << "\n";
+  if (options.reference)
+    std::cout << fmt::format(
+        "error against the same frames traced fresh with 4 samples per pixel: median {:.3f} sRGB codes "
+        "(mean absolute, 8-bit, four faces)\n",
+        medianOf(error_codes));
+  if (options.preload)
+    std::cout << fmt::format(
+        "camera frames simulated before timing and replayed (setup incl. simulation {:.1f} s); "
+        "--no-preload simulates them during the run\n",
+        setup_s);
   std::cout << fmt::format(
       "floor (1 primary ray + 1 IBL lookup per pixel, 4 views of {}x{}, {} relic pixels): {:.2f} ms\n"
       "frame / floor: {:.1f}x\n",
       options.loop.view_size, options.loop.view_size, hits, floor, floor > 0 ? processing / floor : 0.0);
   if (!options.json.empty()) {
-    nlohmann::json j = nlohmann::json::parse(timingJson(median, reports));
+    nlohmann::json j = nlohmann::json::parse(timingJson(median, reports, loop.cameraFrameCounts()));
     j["floor_ms"] = floor;
     j["frame_over_floor"] = floor > 0 ? processing / floor : 0.0;
     j["view_size"] = options.loop.view_size;
     j["scene"] = options.loop.scene;
+    j["cameras_preloaded"] = options.preload;
+    if (options.reference) j["error_vs_full_aa_codes"] = medianOf(error_codes);
+    for (const auto& [name, ms] : medianPasses(reports)) j["passes_ms"][name] = ms;
+    j["anti_aliasing"] = options.aa;
+    j["static_reuse_m"] = options.loop.tracer.static_reuse_distance;
     writeFileAtomically(options.json, j.dump(2));
   }
   return 0;
@@ -108,7 +150,18 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--view-size", options->loop.view_size, "Pixels per face view")->capture_default_str();
       sub.add_option("--frames", options->frames, "Measured frames")->capture_default_str();
       sub.add_option("--warmup", options->warmup, "Frames run before measuring")->capture_default_str();
+      sub.add_option("--aa", options->aa, "Anti-aliasing: none | edges (4 sub-samples at silhouettes) | full")
+          ->capture_default_str();
+      sub.add_option("--static-reuse", options->loop.tracer.static_reuse_distance,
+                     "Metres an eye may move before a view's hit points are traced again (0: identical only)")
+          ->capture_default_str();
       sub.add_flag("!--no-foreground", options->loop.tracer.foreground_enabled, "IBL only");
+      sub.add_flag("--reference", options->reference,
+                   "Also render every measured frame with 4 samples per pixel and no reuse (untimed) and "
+                   "report the displayed images' difference");
+      sub.add_flag("!--no-preload", options->preload,
+                   "Simulate the cameras during the run (competes with the frame for the cores) instead of "
+                   "before it");
       sub.add_option("--json", options->json, "Write medians, per-frame times and the floor here");
       return [options] { return runBenchFrame(*options); };
     },

@@ -17,6 +17,7 @@ namespace {
 
 struct RunOptions {
   FrameLoopOptions loop;
+  std::string aa = "edges";  // --aa
   std::string config_file;
   std::string layout;
   bool headless = false;
@@ -27,6 +28,7 @@ struct RunOptions {
 };
 
 int runPipeline(RunOptions options) {
+  setAntiAliasing(options.loop.tracer, reflect::parseAntiAliasing(options.aa, "--aa"));
   display::DisplayConfig display_config = options.config_file.empty()
                                               ? display::DisplayConfig{}
                                               : display::loadDisplayConfig(options.config_file);
@@ -62,14 +64,15 @@ int runPipeline(RunOptions options) {
   loop.finish();
 
   const StageTimes median = medianTimes(reports);
-  const std::string table = formatTimingTable(median, reports.size());
+  const CameraFrameCounts cameras = loop.cameraFrameCounts();
+  const std::string table = formatTimingTable(median, reports, cameras);
   std::cout << table;
   if (options.headless) {
     writeFileAtomically(out / "timing.txt", table);
-    writeFileAtomically(out / "timing.json", timingJson(median, reports));
+    writeFileAtomically(out / "timing.json", timingJson(median, reports, cameras));
     std::cout << fmt::format("wrote {} (quadview.mp4, frame_*.png, timing.txt, timing.json)\n", out.string());
   }
-  if (!options.json.empty()) writeFileAtomically(options.json, timingJson(median, reports));
+  if (!options.json.empty()) writeFileAtomically(options.json, timingJson(median, reports, cameras));
   return 0;
 }
 
@@ -91,6 +94,11 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--png-every", options->png_every, "Headless: write every Nth frame as PNG (0: none)")
           ->capture_default_str();
       sub.add_option("--view-size", options->loop.view_size, "Pixels per face view (square)")
+          ->capture_default_str();
+      sub.add_option("--aa", options->aa, "Anti-aliasing: none | edges (4 sub-samples at silhouettes) | full")
+          ->capture_default_str();
+      sub.add_option("--static-reuse", options->loop.tracer.static_reuse_distance,
+                     "Metres an eye may move before a view's hit points are traced again (0: identical only)")
           ->capture_default_str();
       sub.add_flag("!--no-foreground", options->loop.tracer.foreground_enabled,
                    "Static IBL reflections only (the foreground effect off)");

@@ -3,6 +3,8 @@
 #include <tbb/parallel_for.h>
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -29,6 +31,18 @@ double passMs(const std::vector<reflect::PassTiming>& timings, std::initializer_
   return sum;
 }
 
+std::int64_t countNonFinite(const cv::Mat& hdr) {
+  std::int64_t count = 0;
+  for (int y = 0; y < hdr.rows; ++y) {
+    const float* row = hdr.ptr<float>(y);
+    for (int x = 0; x < hdr.cols; ++x) {
+      const float* p = row + 3 * x;
+      count += (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2])) ? 0 : 1;
+    }
+  }
+  return count;
+}
+
 double median(std::vector<double> values) {
   if (values.empty()) return 0.0;
   const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
@@ -37,6 +51,19 @@ double median(std::vector<double> values) {
 }
 
 }  // namespace
+
+reflect::TracerSettings liveTracerSettings() {
+  reflect::TracerSettings settings;
+  settings.aa_samples = 1;
+  settings.edge_aa = true;
+  settings.static_reuse_distance = 0.01f;
+  return settings;
+}
+
+void setAntiAliasing(reflect::TracerSettings& tracer, reflect::AntiAliasing mode) {
+  tracer.aa_samples = mode == reflect::AntiAliasing::Full ? 4 : 1;
+  tracer.edge_aa = mode == reflect::AntiAliasing::Edges;
+}
 
 FrameLoop::FrameLoop(FrameLoopOptions options, std::unique_ptr<display::QuadViewPresenter> presenter)
     : options_(std::move(options)),
@@ -78,6 +105,7 @@ FrameLoop::FrameLoop(FrameLoopOptions options, std::unique_ptr<display::QuadView
           std::make_unique<capture::SimulatedSource>(museum_, i), *mailboxes_.back(), capture_options));
     }
   } else {
+    for (int f = 0; f < options_.preload_frames; ++f) preloaded_.push_back(grabDeterministic(f));
     next_frames_ = std::async(std::launch::async, [this] { return grabDeterministic(0); });
   }
   HOLO_LOG_INFO("frame loop ready: scene '{}', {} cameras, {} mode, views {}x{}", museum_->description().name,
@@ -90,6 +118,8 @@ FrameLoop::~FrameLoop() {
 }
 
 std::vector<RgbdFrame> FrameLoop::grabDeterministic(std::int64_t frame) {
+  if (frame < static_cast<std::int64_t>(preloaded_.size()))
+    return preloaded_[static_cast<std::size_t>(frame)];
   const int n = museum_->cameraCount();
   std::vector<RgbdFrame> frames(static_cast<std::size_t>(n));
   tbb::parallel_for(0, n, [&](int i) {
@@ -120,15 +150,26 @@ std::vector<RgbdFrame> FrameLoop::acquire(double& wait_ms) {
   return frames;
 }
 
-std::vector<reflect::ForegroundCameraImage> FrameLoop::cameraImages(
-    const std::vector<RgbdFrame>& frames) const {
-  std::vector<reflect::ForegroundCameraImage> images(frames.size());
+std::vector<reflect::ForegroundCameraImage> FrameLoop::cameraImages(const std::vector<RgbdFrame>& frames) {
+  // sRGB bytes -> linear radiance in one table read per channel (the camera's exposure folded in).
   const float exposure = museum_->description().camera.exposure;
+  std::array<float, 256> table{};
+  for (int i = 0; i < 256; ++i) table[std::size_t(i)] = srgbToLinear(float(i) / 255.0f) / exposure;
+  linear_colour_.resize(frames.size());
+  std::vector<reflect::ForegroundCameraImage> images(frames.size());
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const depthfilter::CameraForeground& result = foreground_.lastResult(i);
     if (!result.present || frames[i].color.empty()) continue;  // no image: its points are ignored
+    const cv::Mat& srgb = frames[i].color;
+    cv::Mat& linear = linear_colour_[i];
+    linear.create(srgb.size(), CV_32FC3);
+    tbb::parallel_for(0, srgb.rows, [&](int y) {
+      const std::uint8_t* in = srgb.ptr<std::uint8_t>(y);
+      float* out = linear.ptr<float>(y);
+      for (int k = 0; k < 3 * srgb.cols; ++k) out[k] = table[in[k]];
+    });
     images[i].camera = cameras_[i];
-    images[i].colour_bgr = srgb8ToLinear(frames[i].color) * (1.0f / exposure);
+    images[i].colour_bgr = linear;
     images[i].mask = result.mask;
   }
   return images;
@@ -162,7 +203,18 @@ FrameReport FrameLoop::step() {
   const std::vector<CameraModel> views = faceViews();
   const double eyes_ms = msSince(t0);
 
-  last_result_ = renderer_->render(cloud_, cameraImages(frames), views);
+  t0 = Clock::now();
+  const bool foreground_passes = options_.tracer.foreground_enabled && !cloud_.empty();
+  const std::vector<reflect::ForegroundCameraImage> images =
+      foreground_passes ? cameraImages(frames) : std::vector<reflect::ForegroundCameraImage>(frames.size());
+  report.camera_images_ms = msSince(t0);
+  report.times.dynamic += report.camera_images_ms;
+
+  last_result_ = renderer_->render(cloud_, images, views);
+  last_images_ = images;
+  for (const reflect::PassTiming& t : last_result_.frame_timings) report.pass_ms[std::size_t(t.pass)] += t.ms;
+  for (const reflect::ViewImages& view : last_result_.views)
+    for (const reflect::PassTiming& t : view.timings) report.pass_ms[std::size_t(t.pass)] += t.ms;
   report.times.foreground += passMs(last_result_.frame_timings, {reflect::Pass::VoxelGrid});
   report.times.dynamic += passMs(last_result_.frame_timings, {reflect::Pass::Pyramids});
   for (const reflect::ViewImages& view : last_result_.views) {
@@ -171,7 +223,22 @@ FrameReport FrameLoop::step() {
         passMs(view.timings, {reflect::Pass::HitPoints, reflect::Pass::StaticReflections});
     report.times.composition += passMs(view.timings, {reflect::Pass::Composition, reflect::Pass::ToneMap});
   }
+  t0 = Clock::now();
+  for (const reflect::ViewImages& view : last_result_.views)
+    report.non_finite_pixels += countNonFinite(view.hdr);
+  report.times.composition += msSince(t0);
+  if (report.non_finite_pixels > 0)
+    HOLO_LOG_WARN("frame {}: {} non-finite HDR pixels", index_, report.non_finite_pixels);
+  const CameraFrameCounts counts = cameraFrameCounts();
+  report.dropped_frames = counts.dropped - dropped_before_;
+  dropped_before_ = counts.dropped;
   report.plan = last_result_.plan.describe();
+  for (const reflect::ViewImages& view : last_result_.views) {
+    report.static_reused_views += view.static_reused ? 1 : 0;
+    report.refined_pixels += view.refined_pixels;
+    if (!view.coverage.empty())
+      report.relic_pixels += static_cast<std::size_t>(cv::countNonZero(view.coverage));
+  }
 
   // Exposure: fixed from the first frame's automatic choice, so the relic does not pump as
   // visitors come and go.
@@ -180,7 +247,7 @@ FrameReport FrameLoop::step() {
     for (const reflect::ViewImages& v : last_result_.views) chosen.push_back(v.exposure);
     exposure_ = static_cast<float>(median(chosen));
     options_.tracer.exposure = *exposure_;
-    renderer_ = std::make_unique<reflect::FrameRenderer>(*render_scene_, ibl_, options_.tracer);
+    renderer_->setExposure(*exposure_);
   }
 
   t0 = Clock::now();
@@ -210,6 +277,12 @@ std::vector<CameraModel> FrameLoop::faceViews() const {
   return views;
 }
 
+reflect::FrameResult FrameLoop::renderReference(reflect::TracerSettings settings) {
+  settings.exposure = options_.tracer.exposure;
+  reflect::FrameRenderer reference(*render_scene_, ibl_, settings);
+  return reference.render(cloud_, last_images_, faceViews());
+}
+
 void FrameLoop::setQuality(int view_size, bool foreground_enabled) {
   if (view_size == options_.view_size && foreground_enabled == options_.tracer.foreground_enabled) return;
   options_.view_size = std::clamp(view_size, 16, 4096);
@@ -235,6 +308,23 @@ std::vector<capture::CameraHealth> FrameLoop::cameraHealth() const {
   return health;
 }
 
+CameraFrameCounts FrameLoop::cameraFrameCounts() const {
+  CameraFrameCounts counts;
+  counts.live = options_.live;
+  if (!options_.live) {
+    counts.produced = counts.consumed = index_ * static_cast<std::int64_t>(cameras_.size());
+    return counts;
+  }
+  for (const auto& mailbox : mailboxes_) {
+    const capture::MailboxCounts c = mailbox->counts();
+    counts.produced += c.published;
+    counts.consumed += c.taken;
+    counts.dropped += c.dropped;
+  }
+  counts.unconsumed = counts.produced - counts.consumed;
+  return counts;
+}
+
 StageTimes medianTimes(const std::vector<FrameReport>& reports) {
   auto pick = [&](double StageTimes::*field) {
     std::vector<double> values;
@@ -252,10 +342,28 @@ StageTimes medianTimes(const std::vector<FrameReport>& reports) {
   return m;
 }
 
-std::string formatTimingTable(const StageTimes& m, std::size_t frames) {
+std::vector<std::pair<std::string, double>> medianPasses(const std::vector<FrameReport>& reports) {
+  std::vector<std::pair<std::string, double>> out;
+  for (std::size_t p = 0; p <= kPassCount; ++p) {
+    std::vector<double> values;
+    for (const FrameReport& r : reports) values.push_back(p < kPassCount ? r.pass_ms[p] : r.camera_images_ms);
+    out.emplace_back(p < kPassCount ? reflect::passName(static_cast<reflect::Pass>(p)) : "CameraImages",
+                     median(values));
+  }
+  return out;
+}
+
+std::int64_t totalNonFinite(const std::vector<FrameReport>& reports) {
+  std::int64_t n = 0;
+  for (const FrameReport& r : reports) n += r.non_finite_pixels;
+  return n;
+}
+
+std::string formatTimingTable(const StageTimes& m, const std::vector<FrameReport>& reports,
+                              const CameraFrameCounts& cameras) {
   std::ostringstream out;
-  char line[128];
-  out << "stage                      median ms   (over " << frames << " frames)\n";
+  char line[160];
+  out << "stage                      median ms   (over " << reports.size() << " frames)\n";
   const std::pair<const char*, double> rows[] = {{"acquisition (wait)", m.acquisition},
                                                  {"foreground point cloud", m.foreground},
                                                  {"dynamic reflections", m.dynamic},
@@ -270,10 +378,20 @@ std::string formatTimingTable(const StageTimes& m, std::size_t frames) {
   std::snprintf(line, sizeof line, "%-26s %9.2f\n", "frames per second",
                 m.total > 0 ? 1000.0 / m.total : 0.0);
   out << line;
+  std::snprintf(line, sizeof line, "%-26s %9lld\n", "non-finite HDR pixels",
+                static_cast<long long>(totalNonFinite(reports)));
+  out << line;
+  std::snprintf(line, sizeof line,
+                "camera frames (%s): %lld produced, %lld consumed, %lld dropped, %lld never consumed\n",
+                cameras.live ? "live" : "deterministic: none dropped by construction",
+                static_cast<long long>(cameras.produced), static_cast<long long>(cameras.consumed),
+                static_cast<long long>(cameras.dropped), static_cast<long long>(cameras.unconsumed));
+  out << line;
   return out.str();
 }
 
-std::string timingJson(const StageTimes& m, const std::vector<FrameReport>& reports) {
+std::string timingJson(const StageTimes& m, const std::vector<FrameReport>& reports,
+                       const CameraFrameCounts& cameras) {
   auto stages = [](const StageTimes& t) {
     return nlohmann::json{{"acquisition_ms", t.acquisition},
                           {"foreground_ms", t.foreground},
@@ -287,6 +405,12 @@ std::string timingJson(const StageTimes& m, const std::vector<FrameReport>& repo
   j["frames"] = reports.size();
   j["median"] = stages(m);
   j["fps"] = m.total > 0 ? 1000.0 / m.total : 0.0;
+  j["non_finite_pixels"] = totalNonFinite(reports);
+  j["camera_frames"] = {{"mode", cameras.live ? "live" : "deterministic"},
+                        {"produced", cameras.produced},
+                        {"consumed", cameras.consumed},
+                        {"dropped", cameras.dropped},
+                        {"unconsumed", cameras.unconsumed}};
   nlohmann::json per_frame = nlohmann::json::array();
   for (const FrameReport& r : reports) {
     nlohmann::json f = stages(r.times);
@@ -294,6 +418,16 @@ std::string timingJson(const StageTimes& m, const std::vector<FrameReport>& repo
     f["foreground_points"] = r.foreground_points;
     f["cameras_live"] = r.cameras_live;
     f["plan"] = r.plan;
+    f["non_finite_pixels"] = r.non_finite_pixels;
+    f["dropped_frames"] = r.dropped_frames;
+    f["static_reused_views"] = r.static_reused_views;
+    f["refined_pixels"] = r.refined_pixels;
+    f["relic_pixels"] = r.relic_pixels;
+    nlohmann::json passes;
+    for (std::size_t p = 0; p < kPassCount; ++p)
+      passes[reflect::passName(static_cast<reflect::Pass>(p))] = r.pass_ms[p];
+    passes["CameraImages"] = r.camera_images_ms;
+    f["passes_ms"] = passes;
     per_frame.push_back(f);
   }
   j["per_frame"] = per_frame;

@@ -33,6 +33,15 @@
 
 namespace holo::app {
 
+inline constexpr std::size_t kPassCount = static_cast<std::size_t>(reflect::Pass::ToneMap) + 1;
+
+// The tracer as the live loop runs it: one sample per pixel plus four at silhouette and crease
+// pixels (instead of four everywhere), and each view's static passes reused while its eye moves
+// less than 1 cm. Their (time, error) points: docs/frame_loop.md.
+reflect::TracerSettings liveTracerSettings();
+// The tracer's samples for an anti-aliasing mode (hit_points.hpp).
+void setAntiAliasing(reflect::TracerSettings& tracer, reflect::AntiAliasing mode);
+
 struct FrameLoopOptions {
   std::string scene = "museum";  // built-in name or YAML file (sim::loadScene)
   bool live = false;             // capture threads at the cameras' rate; else deterministic
@@ -40,7 +49,12 @@ struct FrameLoopOptions {
   int panorama_width = 512;      // of the simulated hall panorama the IBL is built from
   double stale_camera_s = 0.5;   // live: a camera silent this long leaves the foreground
   bool track_eyes = true;        // eyes follow visitors' heads; else default standing eyes
-  reflect::TracerSettings tracer;
+  // Deterministic mode: simulate the first N frames of every camera before the first step and
+  // replay them from memory (later frames are simulated while the previous one is processed).
+  // For benchmarks: real cameras deliver their frames, while simulating four of them costs as
+  // much CPU as a frame and would compete with it on 2 cores. About 6.5 MB per frame.
+  int preload_frames = 0;
+  reflect::TracerSettings tracer = liveTracerSettings();
   display::EyeTrackerSettings eyes;
 };
 
@@ -63,6 +77,31 @@ struct FrameReport {
   std::string plan;      // the effect plan of face 0 ("HitPoints,... (reason)")
   std::array<bool, 4> eyes_tracked{};
   bool presented = false;
+  // HDR pixels of the four views with a NaN or infinite channel (the composition guarantees 0;
+  // counted, not assumed, so a run proves it).
+  std::int64_t non_finite_pixels = 0;
+  // Camera frames overwritten in the mailboxes since the previous step, all cameras: produced by
+  // a capture thread, never consumed by the loop. Live mode only; deterministic mode renders
+  // exactly the frames it consumes, so 0 by construction.
+  std::int64_t dropped_frames = 0;
+  int static_reused_views = 0;     // views whose hit points and static shading came from the cache
+  std::size_t refined_pixels = 0;  // pixels with 4 sub-samples (edge anti-aliasing), all views
+  std::size_t relic_pixels = 0;    // pixels with some relic coverage, all views
+  // Milliseconds per reflect::Pass (index = the enum's value), summed over the views; plus the
+  // camera images' conversion to linear colour for the pyramids (part of `dynamic`).
+  std::array<double, kPassCount> pass_ms{};
+  double camera_images_ms = 0;
+};
+
+// Camera frames over the whole run, all cameras. Live: from the mailboxes' counters, and
+// `unconsumed` = produced - consumed (the drops plus frames still waiting in a mailbox).
+// Deterministic: produced = consumed = frames x cameras.
+struct CameraFrameCounts {
+  bool live = false;
+  std::int64_t produced = 0;
+  std::int64_t consumed = 0;
+  std::int64_t dropped = 0;
+  std::int64_t unconsumed = 0;
 };
 
 class FrameLoop {
@@ -76,6 +115,9 @@ class FrameLoop {
 
   // Renders and presents one frame.
   FrameReport step();
+  // The last frame again, from the eyes of that frame, with other tracer settings (and the
+  // loop's exposure): the reference a quality knob's error is measured against (bench frame).
+  reflect::FrameResult renderReference(reflect::TracerSettings settings);
   // Lower quality for the kiosk's degradation: view size and whether the foreground runs.
   void setQuality(int view_size, bool foreground_enabled);
   // Closes the presenter's outputs (the MP4 is renamed into place).
@@ -86,6 +128,7 @@ class FrameLoop {
   std::vector<CameraModel> faceViews() const;  // the four views of the last frame
   const reflect::FrameResult& lastResult() const { return last_result_; }
   std::vector<capture::CameraHealth> cameraHealth() const;
+  CameraFrameCounts cameraFrameCounts() const;
   display::QuadViewPresenter* presenter() { return presenter_.get(); }
   const reflect::RenderScene& renderScene() const { return *render_scene_; }
   const reflect::PrefilteredIbl& ibl() const { return ibl_; }
@@ -93,16 +136,18 @@ class FrameLoop {
  private:
   std::vector<RgbdFrame> acquire(double& wait_ms);
   std::vector<RgbdFrame> grabDeterministic(std::int64_t frame);
-  std::vector<reflect::ForegroundCameraImage> cameraImages(const std::vector<RgbdFrame>& frames) const;
+  std::vector<reflect::ForegroundCameraImage> cameraImages(const std::vector<RgbdFrame>& frames);
 
   FrameLoopOptions options_;
   std::shared_ptr<const sim::Museum> museum_;
   std::vector<CameraModel> cameras_;
-  std::vector<std::unique_ptr<capture::CameraSource>> sources_;          // deterministic mode
+  std::vector<std::vector<RgbdFrame>> preloaded_;                        // deterministic, per frame
   std::future<std::vector<RgbdFrame>> next_frames_;                      // deterministic prefetch
   std::vector<std::unique_ptr<capture::LatestFrameMailbox>> mailboxes_;  // live mode
   std::vector<std::unique_ptr<capture::CaptureThread>> threads_;         // live mode
   std::vector<RgbdFrame> latest_;                                        // live: per camera
+  std::vector<cv::Mat> linear_colour_;  // per camera, reused: the pyramids copy what they keep
+  std::vector<reflect::ForegroundCameraImage> last_images_;  // the last frame's, for renderReference
   depthfilter::ForegroundPipeline foreground_;
   depthfilter::ForegroundCloud cloud_;
   reflect::Environment environment_;
@@ -115,12 +160,18 @@ class FrameLoop {
   std::optional<float> exposure_;  // fixed after the first frame so the image does not pump
   reflect::FrameResult last_result_;
   std::int64_t index_ = 0;
+  std::int64_t dropped_before_ = 0;  // mailbox drops counted up to the previous step
 };
 
 // Median of each stage over the reports, and frames per second from the median total.
 StageTimes medianTimes(const std::vector<FrameReport>& reports);
-// The Table 3 style text table and its JSON form.
-std::string formatTimingTable(const StageTimes& median, std::size_t frames);
-std::string timingJson(const StageTimes& median, const std::vector<FrameReport>& reports);
+// Median milliseconds per reflect::Pass over the reports, by pass name, plus "CameraImages".
+std::vector<std::pair<std::string, double>> medianPasses(const std::vector<FrameReport>& reports);
+// The Table 3 style text table (with the run's non-finite pixels and dropped camera frames) and
+// its JSON form.
+std::string formatTimingTable(const StageTimes& median, const std::vector<FrameReport>& reports,
+                              const CameraFrameCounts& cameras);
+std::string timingJson(const StageTimes& median, const std::vector<FrameReport>& reports,
+                       const CameraFrameCounts& cameras);
 
 }  // namespace holo::app

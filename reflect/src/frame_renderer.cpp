@@ -12,7 +12,6 @@
 #include "holo/core/image.hpp"
 #include "holo/reflect/composition.hpp"
 #include "holo/reflect/dfg_table.hpp"
-#include "holo/reflect/hit_points.hpp"
 #include "holo/reflect/tone_map.hpp"
 
 namespace holo::reflect {
@@ -76,6 +75,10 @@ void TracerSettings::validate() const {
   if (!std::isfinite(ray_offset) || ray_offset < 0.0f || ray_offset > 0.1f)
     throw InputError(src, "ray_offset", "0..0.1 metres", std::to_string(ray_offset));
   if (!std::isfinite(exposure)) throw InputError(src, "exposure", "a finite number (<= 0 for automatic)");
+  if (!std::isfinite(static_reuse_distance) || static_reuse_distance < 0.0f)
+    throw InputError(src, "static_reuse_distance", "a finite distance >= 0 (metres)",
+                     std::to_string(static_reuse_distance));
+  if (edge_aa && aa_samples != 1) throw InputError(src, "edge_aa", "only with aa_samples 1", "aa_samples 4");
   grid.validate(src + " grid");
 }
 
@@ -84,6 +87,7 @@ FrameRenderer::FrameRenderer(const RenderScene& scene, const PrefilteredIbl& ibl
   for (const Material& m : scene_.relic().materials)
     if (m.roughness < kGlossyRoughnessLimit || m.metallic_roughness_texture >= 0) relic_glossy_ = true;
   if (scene_.relic().materials.empty()) relic_glossy_ = true;  // default material: be safe
+  relic_bounds_ = scene_.relicBounds();
 }
 
 EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
@@ -100,6 +104,25 @@ EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
   return planEffects(in);
 }
 
+struct FrameRenderer::ViewCache {
+  CameraModel camera;
+  bool ready = false;
+  HitPointBuffer hits;
+  std::vector<Shading> shading;      // per entry of hits.hits
+  std::vector<ForegroundSample> fg;  // per entry of hits.hits, this frame's walk (scratch)
+  // The static result. Never written once handed out: a rebuild allocates new images, so a
+  // caller's FrameResult keeps the pixels it was given.
+  cv::Mat hdr, coverage, display, zero_weight;
+  float display_exposure = 0.0f;  // the exposure `display` was tone-mapped at; 0: none
+};
+
+FrameRenderer::~FrameRenderer() = default;
+
+void FrameRenderer::setExposure(float exposure) {
+  settings_.exposure = exposure;
+  for (auto& cache : caches_) cache->display_exposure = 0.0f;
+}
+
 FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
                                   const std::vector<ForegroundCameraImage>& cameras,
                                   const std::vector<CameraModel>& views) {
@@ -114,38 +137,142 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
   pyramids_.clear();
   if (result.plan.has(Pass::Pyramids)) {
     PassTimer t(result.frame_timings, Pass::Pyramids);
-    for (const ForegroundCameraImage& c : cameras)
-      pyramids_.emplace_back(c.colour_bgr, c.mask, settings_.pyramid_levels);
+    pyramids_.resize(cameras.size());
+    // A camera without an image this frame (live: it dropped out) keeps an empty pyramid; the
+    // walk ignores the voxels it saw.
+    // One camera per task: a pyramid's levels are sequential, the cameras independent.
+    tbb::parallel_for(std::size_t(0), cameras.size(), [&](std::size_t c) {
+      if (!cameras[c].colour_bgr.empty())
+        pyramids_[c] = ForegroundPyramid(cameras[c].colour_bgr, cameras[c].mask, settings_.pyramid_levels);
+    });
   }
-  for (const CameraModel& v : views) result.views.push_back(renderView(result.plan, cameras, v));
+  while (caches_.size() < views.size()) caches_.push_back(std::make_unique<ViewCache>());
+  for (std::size_t v = 0; v < views.size(); ++v)
+    result.views.push_back(renderView(result.plan, cameras, views[v], *caches_[v]));
   return result;
 }
 
+namespace {
+
+bool reusable(const CameraModel& cached, const CameraModel& wanted, float distance) {
+  if (cached.width() != wanted.width() || cached.height() != wanted.height()) return false;
+  if (distance <= 0.0f)
+    return cached.T_world_camera() == wanted.T_world_camera() &&
+           cached.intrinsics().fx == wanted.intrinsics().fx &&
+           cached.intrinsics().fy == wanted.intrinsics().fy &&
+           cached.intrinsics().cx == wanted.intrinsics().cx &&
+           cached.intrinsics().cy == wanted.intrinsics().cy &&
+           cached.intrinsics().distortion == wanted.intrinsics().distortion;
+  // A moved eye: the position within `distance`, the optical axis turned by less than a point
+  // half a metre ahead moves, the focal length within 1%.
+  const vec3 axis_a = glm::normalize(vec3(cached.T_world_camera()[2]));
+  const vec3 axis_b = glm::normalize(vec3(wanted.T_world_camera()[2]));
+  return glm::distance(cached.position(), wanted.position()) <= distance &&
+         glm::length(axis_a - axis_b) <= distance / 0.5f &&
+         std::abs(cached.intrinsics().fx - wanted.intrinsics().fx) <= 0.01f * wanted.intrinsics().fx &&
+         std::abs(cached.intrinsics().fy - wanted.intrinsics().fy) <= 0.01f * wanted.intrinsics().fy;
+}
+
+// psi_f of one pixel: the mean over its samples of the composed specular plus the diffuse,
+// misses black; also the mean foreground weight. `fg` null: no foreground (w = 0).
+vec3 composePixel(const HitPointBuffer& hits, const std::vector<Shading>& shading,
+                  const std::vector<ForegroundSample>* fg, std::size_t p, float& weight) {
+  const std::size_t first = hits.firstSample(p);
+  const int count = hits.sampleCount(p);
+  vec3 sum(0.0f);
+  float wsum = 0.0f;
+  for (std::size_t i = first; i < first + std::size_t(count); ++i) {
+    if (!hits.valid[i]) continue;
+    const Shading& sh = shading[i];
+    const vec3 psi_s = sh.specular_scale * sh.environment;
+    const float w = fg ? (*fg)[i].weight : 0.0f;
+    const vec3 psi_d = fg ? sh.specular_scale * (*fg)[i].radiance : vec3(0.0f);
+    sum += composeReflection(psi_d, psi_s, w) + composeReflection(sh.diffuse, vec3(0.0f), 1.0f);
+    wsum += w;
+  }
+  const float inv = 1.0f / float(count);
+  weight = std::clamp(wsum * inv, 0.0f, 1.0f);
+  return sum * inv;
+}
+
+}  // namespace
+
 ViewImages FrameRenderer::renderView(const EffectPlan& plan,
                                      const std::vector<ForegroundCameraImage>& cameras,
-                                     const CameraModel& view) const {
+                                     const CameraModel& view, ViewCache& cache) const {
   ViewImages out;
   const int w = view.width(), h = view.height();
-  out.hdr = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
-  out.weight = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
-  out.coverage = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
-  if (plan.has(Pass::HitPoints)) {
-    HitPointBuffer hits;
+  const bool fixed_exposure = settings_.exposure > 0.0f;
+  if (!plan.has(Pass::HitPoints)) {
+    cache.ready = false;
+    out.camera = view;
+    out.hdr = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
+    out.weight = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
+    out.coverage = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
+    PassTimer t(out.timings, Pass::ToneMap);
+    out.exposure = fixed_exposure ? settings_.exposure : 1.0f;
+    out.display = cv::Mat(h, w, CV_8UC3, cv::Scalar::all(0));
+    return out;
+  }
+
+  out.static_reused = cache.ready && reusable(cache.camera, view, settings_.static_reuse_distance);
+  if (!out.static_reused) {
     {
       PassTimer t(out.timings, Pass::HitPoints);
-      hits = traceHitPoints(scene_, view, settings_.aa_samples);
+      const AntiAliasing aa = settings_.aa_samples == 4 ? AntiAliasing::Full
+                              : settings_.edge_aa       ? AntiAliasing::Edges
+                                                        : AntiAliasing::None;
+      traceHitPoints(scene_, view, aa, cache.hits, relic_bounds_);
     }
+    PassTimer t(out.timings, Pass::StaticReflections);
+    const HitPointBuffer& hits = cache.hits;
+    cache.shading.resize(hits.hits.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.hits.size()),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i < r.end(); ++i)
+                          if (hits.valid[i]) cache.shading[i] = shadeStatic(ibl_, hits.hits[i]);
+                      });
+    // New images (see ViewCache): the previous ones may still be held by a caller.
+    cache.hdr = cv::Mat(h, w, CV_32FC3);
+    cache.coverage = cv::Mat(h, w, CV_32FC1);
+    cache.zero_weight = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
+    tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
+      for (int y = rows.begin(); y < rows.end(); ++y)
+        for (int x = 0; x < w; ++x) {
+          float weight = 0.0f;
+          const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
+          setRgb(cache.hdr, x, y, composePixel(hits, cache.shading, nullptr, p, weight));
+          cache.coverage.at<float>(y, x) = hits.coverage(x, y);
+        }
+    });
+    cache.camera = view;
+    cache.display_exposure = 0.0f;
+    cache.ready = true;
+  }
+  if (fixed_exposure && cache.display_exposure != settings_.exposure) {
+    PassTimer t(out.timings, Pass::ToneMap);
+    // Black where the relic is not (toneMapPixel(0) is black), tone-mapped where it is.
+    cache.display = cv::Mat(h, w, CV_8UC3, cv::Scalar::all(0));
+    tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
+      for (int y = rows.begin(); y < rows.end(); ++y)
+        for (int x = 0; x < w; ++x)
+          if (cache.coverage.at<float>(y, x) > 0.0f)
+            cache.display.at<cv::Vec3b>(y, x) = toneMapPixel(rgbAt(cache.hdr, x, y), settings_.exposure);
+    });
+    cache.display_exposure = settings_.exposure;
+  }
+  const HitPointBuffer& hits = cache.hits;
+  out.camera = cache.camera;
+  out.refined_pixels = hits.refined.size();
+  out.coverage = cache.coverage;
+
+  if (!plan.has(Pass::ForegroundWalk)) {
+    out.hdr = cache.hdr;
+    out.weight = cache.zero_weight;
+  } else {
     const std::size_t n = hits.hits.size();
-    std::vector<Shading> shading(n);
+    cache.fg.assign(n, ForegroundSample{});
     {
-      PassTimer t(out.timings, Pass::StaticReflections);
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t i = r.begin(); i < r.end(); ++i)
-          if (hits.valid[i]) shading[i] = shadeStatic(ibl_, hits.hits[i]);
-      });
-    }
-    std::vector<ForegroundSample> fg(n);
-    if (plan.has(Pass::ForegroundWalk)) {
       PassTimer t(out.timings, Pass::ForegroundWalk);
       std::atomic<std::uint64_t> walked{0}, found{0};
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
@@ -158,7 +285,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
           const VoxelHit vh = firstOccupiedVoxel(grid_, ray, settings_.max_reflection_distance);
           if (!vh.hit()) continue;
           const depthfilter::VoxelSample& vs = grid_.sample(vh.sample);
-          if (vs.camera >= pyramids_.size()) continue;
+          if (vs.camera >= pyramids_.size() || pyramids_[vs.camera].empty()) continue;
           const CameraModel& cam = cameras[vs.camera].camera;
           // The point the ray reaches: half a voxel into the one it entered.
           const vec3 p = ray.origin + ray.direction * (vh.t + 0.5f * grid_.voxelSize());
@@ -167,7 +294,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
           const vec2 pixel = px ? *px : vec2(vs.x, vs.y);
           const float level = foregroundLevel(hp.material.roughness, vh.t, glm::length(p - cam.position()),
                                               cam.intrinsics().fx, settings_.pyramid_levels);
-          fg[i] = pyramids_[vs.camera].sample(pixel, level);
+          cache.fg[i] = pyramids_[vs.camera].sample(pixel, level);
           ++local_found;
         }
         walked += local_walked;
@@ -176,36 +303,41 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       out.walked_rays = walked;
       out.foreground_hits = found;
     }
-    {
-      // Composition (or, without foreground, the static result alone) and anti-aliasing: the
-      // mean over sub-samples, misses black.
-      PassTimer t(out.timings, plan.has(Pass::Composition) ? Pass::Composition : Pass::StaticReflections);
-      const float inv_s = 1.0f / float(hits.samples);
-      tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
-        for (int y = rows.begin(); y < rows.end(); ++y)
-          for (int x = 0; x < w; ++x) {
-            vec3 sum(0.0f);
-            float wsum = 0.0f;
-            for (int s = 0; s < hits.samples; ++s) {
-              const std::size_t i = hits.index(x, y, s);
-              if (!hits.valid[i]) continue;
-              const Shading& sh = shading[i];
-              const vec3 psi_s = sh.specular_scale * sh.environment;
-              const vec3 psi_d = sh.specular_scale * fg[i].radiance;
-              sum += composeReflection(psi_d, psi_s, fg[i].weight) +
-                     composeReflection(sh.diffuse, vec3(0.0f), 1.0f);
-              wsum += fg[i].weight;
-            }
-            setRgb(out.hdr, x, y, sum * inv_s);
-            out.weight.at<float>(y, x) = std::clamp(wsum * inv_s, 0.0f, 1.0f);
-            out.coverage.at<float>(y, x) = hits.coverage(x, y);
-          }
-      });
-    }
+    // Composition over a copy of the static image, only where some foreground was reached (the
+    // rest is the static result already), tone-mapping those pixels too when the exposure is
+    // fixed.
+    PassTimer t(out.timings, Pass::Composition);
+    out.hdr = cache.hdr.clone();
+    out.weight = cache.zero_weight.clone();
+    if (fixed_exposure) out.display = cache.display.clone();
+    std::atomic<std::size_t> composed{0};
+    tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
+      std::size_t local = 0;
+      for (int y = rows.begin(); y < rows.end(); ++y)
+        for (int x = 0; x < w; ++x) {
+          const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
+          const std::size_t first = hits.firstSample(p);
+          bool reached = false;
+          for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i)
+            reached = reached || cache.fg[i].weight > 0.0f;
+          if (!reached) continue;
+          float weight = 0.0f;
+          const vec3 c = composePixel(hits, cache.shading, &cache.fg, p, weight);
+          setRgb(out.hdr, x, y, c);
+          out.weight.at<float>(y, x) = weight;
+          if (fixed_exposure) out.display.at<cv::Vec3b>(y, x) = toneMapPixel(c, settings_.exposure);
+          ++local;
+        }
+      composed += local;
+    });
+    out.composed_pixels = composed;
   }
-  {
+  if (fixed_exposure) {
+    out.exposure = settings_.exposure;
+    if (out.display.empty()) out.display = cache.display;
+  } else {
     PassTimer t(out.timings, Pass::ToneMap);
-    out.exposure = settings_.exposure > 0.0f ? settings_.exposure : autoExposure(out.hdr);
+    out.exposure = autoExposure(out.hdr);
     out.display = toneMap(out.hdr, out.exposure);
   }
   return out;

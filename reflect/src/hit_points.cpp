@@ -3,10 +3,91 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+#include <cmath>
+#include <opencv2/core.hpp>
+#include <optional>
+
 #include "holo/core/error.hpp"
 #include "holo/reflect/view.hpp"
 
 namespace holo::reflect {
+namespace {
+
+// Below this cosine two neighbouring normals are a crease (~18 degrees): the reflected image
+// jumps there, and a single centre sample would alias it.
+constexpr float kCreaseCos = 0.95f;
+// Roughness or base colour apart by more than this: a material edge.
+constexpr float kMaterialStep = 0.1f;
+
+// Traces one sample; returns whether it hit the relic (h is written only then).
+bool traceSample(const RenderScene& scene, const RayScene& relic, const CameraModel& view, const vec2& pixel,
+                 HitPoint& h) {
+  const Ray ray = primaryRay(view, pixel);
+  const RayHit hit = relic.intersect(ray);
+  if (!hit.hit()) return false;
+  h.position = relic.position(ray, hit);
+  h.normal = relic.shadingNormal(hit, ray.direction);
+  h.to_viewer = -ray.direction;
+  h.reflected = glm::reflect(ray.direction, h.normal);
+  h.material = scene.relicMaterial(hit, relic);
+  return isFinite(h.position) && isFinite(h.normal) && isFinite(h.reflected);
+}
+
+bool differ(const HitPointBuffer& b, std::size_t p, std::size_t q) {
+  if (b.valid[p] != b.valid[q]) return true;
+  if (!b.valid[p]) return false;
+  const HitPoint& a = b.hits[p];
+  const HitPoint& c = b.hits[q];
+  if (glm::dot(a.normal, c.normal) < kCreaseCos) return true;
+  if (std::abs(a.material.roughness - c.material.roughness) > kMaterialStep) return true;
+  const vec3 d = glm::abs(a.material.base_color - c.material.base_color);
+  return std::max(d.x, std::max(d.y, d.z)) > kMaterialStep;
+}
+
+// The pixels whose rays (and sub-sample rays) may hit the box; the whole image when that
+// cannot be bounded cheaply.
+cv::Rect candidatePixels(const CameraModel& view, const Bounds3& box) {
+  const cv::Rect all(0, 0, view.width(), view.height());
+  if (box.empty() || view.intrinsics().hasDistortion()) return all;
+  float x0 = 1e30f, y0 = 1e30f, x1 = -1e30f, y1 = -1e30f;
+  for (int corner = 0; corner < 8; ++corner) {
+    const vec3 p((corner & 1) ? box.hi.x : box.lo.x, (corner & 2) ? box.hi.y : box.lo.y,
+                 (corner & 4) ? box.hi.z : box.lo.z);
+    float depth = 0.0f;
+    const std::optional<vec2> px = view.project(p, &depth);
+    if (!px || !(depth > 0.0f)) return all;
+    x0 = std::min(x0, px->x);
+    y0 = std::min(y0, px->y);
+    x1 = std::max(x1, px->x);
+    y1 = std::max(y1, px->y);
+  }
+  // One pixel of margin covers the sub-sample offsets (< 0.5 pixel) and round-off.
+  const int left = int(std::floor(x0)) - 1, top = int(std::floor(y0)) - 1;
+  const int right = int(std::ceil(x1)) + 2, bottom = int(std::ceil(y1)) + 2;
+  return cv::Rect(left, top, right - left, bottom - top) & all;
+}
+
+}  // namespace
+
+AntiAliasing parseAntiAliasing(const std::string& text, const std::string& field) {
+  if (text == "none") return AntiAliasing::None;
+  if (text == "edges") return AntiAliasing::Edges;
+  if (text == "full") return AntiAliasing::Full;
+  throw InputError(field, "anti-aliasing", "none, edges or full", text);
+}
+
+const char* antiAliasingName(AntiAliasing mode) {
+  switch (mode) {
+    case AntiAliasing::None:
+      return "none";
+    case AntiAliasing::Edges:
+      return "edges";
+    case AntiAliasing::Full:
+      return "full";
+  }
+  return "?";
+}
 
 std::vector<vec2> subsamplePattern(int samples) {
   if (samples == 1) return {vec2(0.0f)};
@@ -16,39 +97,84 @@ std::vector<vec2> subsamplePattern(int samples) {
 }
 
 float HitPointBuffer::coverage(int x, int y) const {
+  const std::size_t p = std::size_t(y) * std::size_t(width) + std::size_t(x);
+  const std::size_t first = firstSample(p);
+  const int count = sampleCount(p);
   int n = 0;
-  for (int s = 0; s < samples; ++s) n += valid[index(x, y, s)];
-  return float(n) / float(samples);
+  for (int s = 0; s < count; ++s) n += valid[first + std::size_t(s)];
+  return float(n) / float(count);
 }
 
-HitPointBuffer traceHitPoints(const RenderScene& scene, const CameraModel& view, int samples) {
-  const std::vector<vec2> pattern = subsamplePattern(samples);
-  HitPointBuffer buf;
-  buf.width = view.width();
-  buf.height = view.height();
-  buf.samples = samples;
-  const std::size_t n = std::size_t(buf.width) * std::size_t(buf.height) * std::size_t(samples);
-  buf.hits.resize(n);
-  buf.valid.assign(n, 0);
+void traceHitPoints(const RenderScene& scene, const CameraModel& view, AntiAliasing aa, HitPointBuffer& buf,
+                    const Bounds3& relic_bounds) {
+  const int w = view.width(), h = view.height();
+  buf.width = w;
+  buf.height = h;
+  const std::size_t pixels = buf.pixelCount();
   const RayScene& relic = scene.relicOnly();
-  tbb::parallel_for(tbb::blocked_range<int>(0, buf.height), [&](const tbb::blocked_range<int>& rows) {
-    for (int y = rows.begin(); y < rows.end(); ++y)
-      for (int x = 0; x < buf.width; ++x)
-        for (int s = 0; s < samples; ++s) {
-          const Ray ray = primaryRay(view, vec2(float(x), float(y)) + pattern[std::size_t(s)]);
-          const RayHit hit = relic.intersect(ray);
-          if (!hit.hit()) continue;
-          HitPoint& h = buf.hits[buf.index(x, y, s)];
-          h.position = relic.position(ray, hit);
-          h.normal = relic.shadingNormal(hit, ray.direction);
-          h.to_viewer = -ray.direction;
-          h.reflected = glm::reflect(ray.direction, h.normal);
-          h.material = scene.relicMaterial(hit, relic);
-          if (!isFinite(h.position) || !isFinite(h.normal) || !isFinite(h.reflected)) continue;
-          buf.valid[buf.index(x, y, s)] = 1;
-        }
-  });
-  return buf;
+  buf.hits.resize(pixels);
+  buf.valid.assign(pixels, 0);
+  buf.first_sub.assign(pixels, HitPointBuffer::kCentreOnly);
+  buf.refined.clear();
+  const cv::Rect traced = candidatePixels(view, relic_bounds);
+
+  if (aa == AntiAliasing::Full) {
+    for (int y = traced.y; y < traced.y + traced.height; ++y)
+      for (int x = traced.x; x < traced.x + traced.width; ++x)
+        buf.refined.push_back(static_cast<std::uint32_t>(std::size_t(y) * std::size_t(w) + std::size_t(x)));
+  } else {
+    tbb::parallel_for(
+        tbb::blocked_range<int>(traced.y, traced.y + traced.height),
+        [&](const tbb::blocked_range<int>& rows) {
+          for (int y = rows.begin(); y < rows.end(); ++y)
+            for (int x = traced.x; x < traced.x + traced.width; ++x) {
+              const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
+              buf.valid[p] = traceSample(scene, relic, view, vec2(float(x), float(y)), buf.hits[p]) ? 1 : 0;
+            }
+        });
+    if (aa == AntiAliasing::Edges) {
+      // first_sub doubles as the edge flag here (any value but kCentreOnly), rows in parallel.
+      // Outside the traced rectangle everything misses: no edges there.
+      tbb::parallel_for(tbb::blocked_range<int>(traced.y, traced.y + traced.height),
+                        [&](const tbb::blocked_range<int>& rows) {
+                          for (int y = rows.begin(); y < rows.end(); ++y)
+                            for (int x = traced.x; x < traced.x + traced.width; ++x) {
+                              const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
+                              bool edge = false;
+                              for (int dy = -1; dy <= 1 && !edge; ++dy)
+                                for (int dx = -1; dx <= 1 && !edge; ++dx) {
+                                  const int nx = x + dx, ny = y + dy;
+                                  if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= w || ny >= h)
+                                    continue;
+                                  edge = differ(buf, p, std::size_t(ny) * std::size_t(w) + std::size_t(nx));
+                                }
+                              if (edge) buf.first_sub[p] = 0;
+                            }
+                        });
+      for (std::size_t p = 0; p < pixels; ++p)
+        if (buf.first_sub[p] != HitPointBuffer::kCentreOnly)
+          buf.refined.push_back(static_cast<std::uint32_t>(p));
+    }
+  }
+
+  const std::size_t total = pixels + 4 * buf.refined.size();
+  buf.hits.resize(total);
+  buf.valid.resize(total, 0);
+  std::fill(buf.valid.begin() + std::ptrdiff_t(pixels), buf.valid.end(), std::uint8_t(0));
+  const std::vector<vec2> pattern = subsamplePattern(4);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, buf.refined.size(), 64),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                        const std::size_t p = buf.refined[k];
+                        const std::size_t first = pixels + 4 * k;
+                        buf.first_sub[p] = static_cast<std::uint32_t>(first);
+                        const vec2 centre(float(p % std::size_t(w)), float(p / std::size_t(w)));
+                        for (std::size_t s = 0; s < 4; ++s)
+                          buf.valid[first + s] =
+                              traceSample(scene, relic, view, centre + pattern[s], buf.hits[first + s]) ? 1
+                                                                                                        : 0;
+                      }
+                    });
 }
 
 }  // namespace holo::reflect

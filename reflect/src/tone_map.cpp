@@ -1,10 +1,35 @@
 #include "holo/reflect/tone_map.hpp"
 
+#include <array>
 #include <cmath>
 
 #include "holo/core/image.hpp"
 
 namespace holo::reflect {
+namespace {
+
+constexpr int kSrgbSteps = 1 << 14;
+
+// sRGB code values of linear [0, 1] in kSrgbSteps steps, rounded: the exact curve costs a pow
+// per channel, the table a load; the steepest part (slope 12.92 near black) moves less than 0.2
+// of a code value per step.
+const std::array<std::uint8_t, kSrgbSteps + 1>& srgbTable() {
+  static const std::array<std::uint8_t, kSrgbSteps + 1> table = [] {
+    std::array<std::uint8_t, kSrgbSteps + 1> t{};
+    for (int i = 0; i <= kSrgbSteps; ++i)
+      t[std::size_t(i)] =
+          cv::saturate_cast<uchar>(linearToSrgb(float(i) / float(kSrgbSteps)) * 255.0f + 0.5f);
+    return t;
+  }();
+  return table;
+}
+
+std::uint8_t encode(const std::array<std::uint8_t, kSrgbSteps + 1>& table, float linear) {
+  const float clamped = std::min(std::max(linear, 0.0f), 1.0f);
+  return table[std::size_t(clamped * float(kSrgbSteps) + 0.5f)];
+}
+
+}  // namespace
 
 float autoExposure(const cv::Mat& hdr) {
   double log_sum = 0;
@@ -21,19 +46,20 @@ float autoExposure(const cv::Mat& hdr) {
   return float(0.18 / std::exp(log_sum / double(count)));
 }
 
+cv::Vec3b toneMapPixel(const vec3& rgb, float exposure) {
+  vec3 c = rgb * exposure;
+  if (!isFinite(c)) c = vec3(0.0f);
+  c = glm::max(c, vec3(0.0f));
+  const float l = luminance(c);
+  if (l > 0.0f) c *= (1.0f / (1.0f + l));
+  const auto& table = srgbTable();
+  return {encode(table, c.b), encode(table, c.g), encode(table, c.r)};
+}
+
 cv::Mat toneMap(const cv::Mat& hdr, float exposure) {
   cv::Mat out(hdr.rows, hdr.cols, CV_8UC3);
   for (int y = 0; y < hdr.rows; ++y)
-    for (int x = 0; x < hdr.cols; ++x) {
-      vec3 c = rgbAt(hdr, x, y) * exposure;
-      if (!isFinite(c)) c = vec3(0.0f);
-      c = glm::max(c, vec3(0.0f));
-      const float l = luminance(c);
-      if (l > 0.0f) c *= (1.0f / (1.0f + l));
-      out.at<cv::Vec3b>(y, x) = cv::Vec3b(cv::saturate_cast<uchar>(linearToSrgb(c.b) * 255.0f + 0.5f),
-                                          cv::saturate_cast<uchar>(linearToSrgb(c.g) * 255.0f + 0.5f),
-                                          cv::saturate_cast<uchar>(linearToSrgb(c.r) * 255.0f + 0.5f));
-    }
+    for (int x = 0; x < hdr.cols; ++x) out.at<cv::Vec3b>(y, x) = toneMapPixel(rgbAt(hdr, x, y), exposure);
   return out;
 }
 

@@ -6,9 +6,18 @@
 // the ray's travel distance), composes psi_f = psi_d w + psi_s (1 - w) in HDR (specular part;
 // the diffuse irradiance is added to both), and tone-maps to sRGB. Which passes run comes from
 // the effect plan (effect_plan.hpp); every pass is timed.
+//
+// The relic and the hall do not move, only the eyes: per view slot (the index in `views`) the
+// renderer keeps the hit points, their static shading and the static image (psi_s + diffuse, and
+// its tone-mapped form when the exposure is fixed), and reuses them while that view's camera stays
+// within static_reuse_distance of the one they were traced from (the result is then rendered from
+// the cached camera). A frame then costs only the foreground: the walk over the cached hit
+// points and the composition of the pixels some foreground reached, written over a copy of the
+// static image.
 // Units: metres, linear radiance; images CV_32FC3 linear BGR (HDR) and CV_8UC3 sRGB BGR.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "holo/core/camera_model.hpp"
@@ -16,6 +25,7 @@
 #include "holo/depthfilter/voxel_grid.hpp"
 #include "holo/reflect/effect_plan.hpp"
 #include "holo/reflect/foreground_pyramid.hpp"
+#include "holo/reflect/hit_points.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
 #include "holo/reflect/render_scene.hpp"
 #include "holo/reflect/voxel_walk.hpp"
@@ -24,8 +34,12 @@ namespace holo::reflect {
 
 struct TracerSettings {
   bool foreground_enabled = true;
-  int pyramid_levels = 7;                // l_max, 1..kMaxPyramidLevels
-  int aa_samples = 4;                    // sub-samples per pixel: 1 or 4
+  int pyramid_levels = 7;  // l_max, 1..kMaxPyramidLevels
+  int aa_samples = 4;      // sub-samples per pixel: 1 or 4
+  bool edge_aa = false;    // with 1 sample: 4 at silhouette and crease pixels (hit_points.hpp)
+  // Metres an eye may move before a view's cached hit points and static shading are traced
+  // again; 0 reuses them only for the identical camera (no error at all).
+  float static_reuse_distance = 0.0f;
   float max_reflection_distance = 3.0f;  // metres a reflected ray may travel through the grid
   float ray_offset = 1e-3f;              // metres along the normal, against self-intersection
   float exposure = 0.0f;                 // <= 0: automatic (tone_map.hpp's autoExposure)
@@ -54,6 +68,10 @@ struct ViewImages {
   float exposure = 1.0f;
   std::vector<PassTiming> timings;  // this view's passes
   std::uint64_t walked_rays = 0, foreground_hits = 0;
+  CameraModel camera;               // the camera the images are from (the cached one when reused)
+  bool static_reused = false;       // hit points and static shading came from the cache
+  std::size_t refined_pixels = 0;   // pixels with 4 sub-samples
+  std::size_t composed_pixels = 0;  // pixels some foreground reached, composed this frame
 };
 
 struct FrameResult {
@@ -66,6 +84,9 @@ class FrameRenderer {
  public:
   // The scene and IBL must outlive the renderer. Throws InputError on invalid settings.
   FrameRenderer(const RenderScene& scene, const PrefilteredIbl& ibl, TracerSettings settings = {});
+  ~FrameRenderer();
+  FrameRenderer(const FrameRenderer&) = delete;
+  FrameRenderer& operator=(const FrameRenderer&) = delete;
 
   EffectPlan plan(const depthfilter::ForegroundCloud& cloud,
                   const std::vector<ForegroundCameraImage>& cameras) const;
@@ -76,17 +97,22 @@ class FrameRenderer {
 
   const depthfilter::VoxelGrid& grid() const { return grid_; }
   const TracerSettings& settings() const { return settings_; }
+  // Fixes the exposure (> 0) or makes it automatic (<= 0) from the next frame on.
+  void setExposure(float exposure);
 
  private:
+  struct ViewCache;
   ViewImages renderView(const EffectPlan& plan, const std::vector<ForegroundCameraImage>& cameras,
-                        const CameraModel& view) const;
+                        const CameraModel& view, ViewCache& cache) const;
 
   const RenderScene& scene_;
   const PrefilteredIbl& ibl_;
   TracerSettings settings_;
   bool relic_glossy_ = false;
+  Bounds3 relic_bounds_;  // of the static relic, for culling primary rays
   depthfilter::VoxelGrid grid_;
   std::vector<ForegroundPyramid> pyramids_;
+  std::vector<std::unique_ptr<ViewCache>> caches_;  // per view slot
 };
 
 }  // namespace holo::reflect

@@ -4,12 +4,18 @@
 
 #include <opencv2/core.hpp>
 
+#include "holo/core/math.hpp"
+
 namespace holo::reflect {
 
 // Exposure that maps the log-average luminance of the non-zero pixels to 0.18 (1 when the
 // image is black). Non-finite pixels are ignored.
 float autoExposure(const cv::Mat& hdr_bgr32f);
-// CV_32FC3 linear BGR -> CV_8UC3 sRGB BGR: L' = L e / (1 + L e) applied through the luminance.
+// One linear RGB radiance -> sRGB BGR bytes: L' = L e / (1 + L e) applied through the luminance;
+// non-finite -> black. The sRGB curve is read from a table of 2^14 steps over [0, 1] (within 0.1
+// of a code value of the exact curve), so the renderer can tone-map single pixels cheaply.
+cv::Vec3b toneMapPixel(const vec3& rgb, float exposure);
+// CV_32FC3 linear BGR -> CV_8UC3 sRGB BGR, toneMapPixel per pixel.
 cv::Mat toneMap(const cv::Mat& hdr_bgr32f, float exposure);
 
 }  // namespace holo::reflect

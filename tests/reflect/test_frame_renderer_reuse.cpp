@@ -1,0 +1,214 @@
+// The frame renderer's savings for the live loop: edge anti-aliasing (four sub-samples only where
+// a pixel's centre differs from a neighbour's) against four everywhere, and the per-view cache of
+// hit points and static shading against rendering from scratch.
+#include <gtest/gtest.h>
+
+#include <opencv2/core.hpp>
+
+#include "holo/core/error.hpp"
+#include "holo/core/image.hpp"
+#include "holo/reflect/frame_renderer.hpp"
+#include "holo/reflect/hit_points.hpp"
+#include "holo/reflect/tone_map.hpp"
+#include "holo/reflect/view.hpp"
+#include "reflect_test_scenes.hpp"
+
+namespace holo::reflect {
+namespace {
+
+using depthfilter::ForegroundCloud;
+using depthfilter::ForegroundPoint;
+
+// A glossy sphere under a sky that varies with direction (so the reflection has structure to
+// alias), a red wall of foreground points behind the viewer, one camera that sees the wall.
+struct SphereScene {
+  SphereScene()
+      : scene(holo::test::sphereModel({vec3(0.9f), 1.0f, 0.1f, 1.0f}, 0.15f, vec3(0.0f, 0.3f, 0.0f), 24, 48),
+              {}),
+        ibl(Environment(gradientSky()), PrefilterOptions{5, 16, 16}) {
+    camera.camera = lookAtCamera(vec3(0.0f, 0.3f, -0.2f), vec3(0.0f, 0.3f, 0.6f), 100.0f, 64, 64);
+    camera.colour_bgr = cv::Mat(64, 64, CV_32FC3, cv::Scalar(0, 0, 2));
+    camera.mask = cv::Mat(64, 64, CV_32FC1, cv::Scalar(1));
+    for (int i = 0; i <= 40; ++i)
+      for (int j = 0; j <= 40; ++j) {
+        ForegroundPoint p;
+        p.position = vec3(-0.2f + 0.01f * float(i), 0.1f + 0.01f * float(j), 0.6f);
+        p.radiance = vec3(2.0f, 0.0f, 0.0f);
+        const auto px = camera.camera.project(p.position);
+        p.x = std::uint16_t(std::clamp(px ? px->x : 0.0f, 0.0f, 63.0f));
+        p.y = std::uint16_t(std::clamp(px ? px->y : 0.0f, 0.0f, 63.0f));
+        wall.points.push_back(p);
+      }
+  }
+  static cv::Mat gradientSky() {
+    cv::Mat sky(32, 64, CV_32FC3);
+    for (int y = 0; y < sky.rows; ++y)
+      for (int x = 0; x < sky.cols; ++x)
+        sky.at<cv::Vec3f>(y, x) = cv::Vec3f(0.1f + 0.02f * float(x % 16), 0.2f + 0.03f * float(y), 0.5f);
+    return sky;
+  }
+  CameraModel view(const vec3& eye, int size = 64) const {
+    return lookAtCamera(eye, vec3(0.0f, 0.3f, 0.0f), 16.0f, size, size);
+  }
+  RenderScene scene;
+  PrefilteredIbl ibl;
+  ForegroundCameraImage camera;
+  ForegroundCloud wall;
+};
+
+TracerSettings settings(int samples, bool edges, float reuse = 0.0f) {
+  TracerSettings s;
+  s.grid.bounds = {vec3(-1.0f, 0.0f, -1.0f), vec3(1.0f, 1.5f, 1.0f)};
+  s.grid.voxel_size = 0.02f;
+  s.aa_samples = samples;
+  s.edge_aa = edges;
+  s.static_reuse_distance = reuse;
+  s.exposure = 1.5f;
+  return s;
+}
+
+double meanAbsDifference(const cv::Mat& a, const cv::Mat& b) {
+  return cv::norm(a, b, cv::NORM_L1) / double(a.total() * std::size_t(a.channels()));
+}
+
+bool hasPass(const ViewImages& v, Pass pass) {
+  for (const PassTiming& t : v.timings)
+    if (t.pass == pass) return true;
+  return false;
+}
+
+const vec3 kEye(0.0f, 0.3f, 1.2f);
+
+TEST(HitPoints, EdgeAntiAliasingRefinesEveryPartlyCoveredPixel) {
+  const SphereScene s;
+  const CameraModel view = s.view(kEye);
+  HitPointBuffer none, edges, full;
+  traceHitPoints(s.scene, view, AntiAliasing::None, none);
+  traceHitPoints(s.scene, view, AntiAliasing::Edges, edges);
+  traceHitPoints(s.scene, view, AntiAliasing::Full, full);
+  EXPECT_TRUE(none.refined.empty());
+  EXPECT_EQ(full.refined.size(), full.pixelCount());
+  int partial = 0, hit = 0;
+  for (int y = 0; y < view.height(); ++y)
+    for (int x = 0; x < view.width(); ++x) {
+      const std::size_t p = std::size_t(y * view.width() + x);
+      const float c = full.coverage(x, y);
+      hit += c > 0.0f ? 1 : 0;
+      const float n = none.coverage(x, y);
+      EXPECT_TRUE(n == 0.0f || n == 1.0f);
+      if (c > 0.0f && c < 1.0f) {
+        ++partial;
+        EXPECT_EQ(edges.sampleCount(p), 4) << "silhouette pixel " << x << "," << y << " not refined";
+      }
+      if (edges.sampleCount(p) == 4) {
+        EXPECT_EQ(edges.coverage(x, y), c) << x << "," << y;
+      }
+    }
+  EXPECT_GT(partial, 20);
+  // Refined: the silhouette ring and the sphere's facet creases, far fewer than the relic's pixels.
+  EXPECT_LT(edges.refined.size(), std::size_t(hit) / 2) << edges.refined.size() << " of " << hit;
+}
+
+TEST(HitPoints, CullingToTheRelicsProjectedBoxChangesNothing) {
+  const SphereScene s;
+  for (const vec3& eye : {kEye, vec3(0.9f, 0.9f, 0.4f), vec3(0.0f, 0.3f, 0.4f)})
+    for (AntiAliasing aa : {AntiAliasing::None, AntiAliasing::Edges, AntiAliasing::Full}) {
+      const CameraModel view = s.view(eye);
+      HitPointBuffer all, culled;
+      traceHitPoints(s.scene, view, aa, all);
+      traceHitPoints(s.scene, view, aa, culled, s.scene.relicBounds());
+      int hits = 0;
+      for (int y = 0; y < view.height(); ++y)
+        for (int x = 0; x < view.width(); ++x) {
+          EXPECT_EQ(culled.coverage(x, y), all.coverage(x, y))
+              << antiAliasingName(aa) << " " << x << "," << y;
+          hits += all.coverage(x, y) > 0.0f ? 1 : 0;
+        }
+      EXPECT_GT(hits, 100);
+      if (aa != AntiAliasing::Full) {
+        EXPECT_EQ(culled.refined, all.refined) << antiAliasingName(aa);
+      }
+    }
+}
+
+TEST(FrameRenderer, EdgeAntiAliasingIsCloseToFourSamplesEverywhere) {
+  const SphereScene s;
+  const CameraModel view = s.view(kEye);
+  auto render = [&](int samples, bool edges) {
+    FrameRenderer renderer(s.scene, s.ibl, settings(samples, edges));
+    return renderer.render(s.wall, {s.camera}, {view}).views.at(0).display;
+  };
+  const cv::Mat full = render(4, false), edges = render(1, true), none = render(1, false);
+  const double e_edges = meanAbsDifference(edges, full), e_none = meanAbsDifference(none, full);
+  RecordProperty("mean_abs_8bit_edges_vs_full", std::to_string(e_edges));
+  RecordProperty("mean_abs_8bit_none_vs_full", std::to_string(e_none));
+  EXPECT_GT(e_none, 0.05);  // one sample aliases the silhouette: a real difference to remove
+  EXPECT_LT(e_edges, e_none / 3.0) << "edges " << e_edges << ", none " << e_none;
+}
+
+TEST(FrameRenderer, ReusedStaticPassesGiveExactlyTheFreshImage) {
+  const SphereScene s;
+  const CameraModel view = s.view(kEye);
+  FrameRenderer renderer(s.scene, s.ibl, settings(1, true));
+  const FrameResult first = renderer.render(ForegroundCloud{}, {s.camera}, {view});
+  const cv::Mat first_hdr = first.views.at(0).hdr.clone(), first_display = first.views.at(0).display.clone();
+  EXPECT_FALSE(first.views.at(0).static_reused);
+  const FrameResult second = renderer.render(s.wall, {s.camera}, {view});
+  const ViewImages& v = second.views.at(0);
+  ASSERT_TRUE(second.plan.has(Pass::ForegroundWalk)) << second.plan.describe();
+  EXPECT_TRUE(v.static_reused);
+  EXPECT_FALSE(hasPass(v, Pass::HitPoints));
+  EXPECT_FALSE(hasPass(v, Pass::StaticReflections));
+  EXPECT_GT(v.composed_pixels, 0u);
+
+  FrameRenderer fresh(s.scene, s.ibl, settings(1, true));
+  const ViewImages f = fresh.render(s.wall, {s.camera}, {view}).views.at(0);
+  EXPECT_EQ(cv::norm(v.hdr, f.hdr, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(v.display, f.display, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(v.weight, f.weight, cv::NORM_INF), 0.0);
+  // The fused tone map is the tone map of the composed HDR image, pixel for pixel.
+  EXPECT_EQ(cv::norm(v.display, toneMap(v.hdr, v.exposure), cv::NORM_INF), 0.0);
+  // The visitor is in the reflection: the second frame differs from the first where he is.
+  EXPECT_GT(cv::norm(v.hdr, first_hdr, cv::NORM_INF), 0.1);
+  // The first frame's images were not written over by the second.
+  EXPECT_EQ(cv::norm(first.views.at(0).hdr, first_hdr, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(first.views.at(0).display, first_display, cv::NORM_INF), 0.0);
+
+  // Without foreground the cached static image is the frame, and it matches the first.
+  const ViewImages third = renderer.render(ForegroundCloud{}, {s.camera}, {view}).views.at(0);
+  EXPECT_TRUE(third.static_reused);
+  EXPECT_EQ(cv::norm(third.hdr, first_hdr, cv::NORM_INF), 0.0);
+}
+
+TEST(FrameRenderer, AMovedEyeRetracesBeyondTheReuseDistance) {
+  const SphereScene s;
+  FrameRenderer renderer(s.scene, s.ibl, settings(1, true, 0.01f));
+  const ViewImages a = renderer.render(s.wall, {s.camera}, {s.view(kEye)}).views.at(0);
+  EXPECT_FALSE(a.static_reused);
+  // 5 mm: within the distance, rendered from the cached eye.
+  const ViewImages b =
+      renderer.render(s.wall, {s.camera}, {s.view(kEye + vec3(0.005f, 0.0f, 0.0f))}).views.at(0);
+  EXPECT_TRUE(b.static_reused);
+  EXPECT_EQ(b.camera.position(), kEye);
+  // 5 cm: traced again from the new eye.
+  const vec3 moved = kEye + vec3(0.05f, 0.0f, 0.0f);
+  const ViewImages c = renderer.render(s.wall, {s.camera}, {s.view(moved)}).views.at(0);
+  EXPECT_FALSE(c.static_reused);
+  EXPECT_TRUE(hasPass(c, Pass::HitPoints));
+  EXPECT_EQ(c.camera.position(), moved);
+  // Another size is another view.
+  const ViewImages d = renderer.render(s.wall, {s.camera}, {s.view(moved, 48)}).views.at(0);
+  EXPECT_FALSE(d.static_reused);
+  EXPECT_EQ(d.display.cols, 48);
+}
+
+TEST(FrameRenderer, RejectsBadReuseAndEdgeSettings) {
+  const SphereScene s;
+  TracerSettings bad = settings(1, true, -1.0f);
+  EXPECT_THROW(FrameRenderer(s.scene, s.ibl, bad), InputError);
+  bad = settings(4, true);
+  EXPECT_THROW(FrameRenderer(s.scene, s.ibl, bad), InputError);
+}
+
+}  // namespace
+}  // namespace holo::reflect
