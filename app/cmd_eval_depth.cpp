@@ -34,9 +34,10 @@ struct Options {
 };
 
 nlohmann::json toJson(const DepthMethodMetrics& m) {
-  return {{"temporal_mse_cm2", m.temporal_mse_cm2}, {"depth_rmse_cm", m.depth_rmse_cm},
-          {"hole_fill_ratio", m.hole_fill_ratio},   {"ghost_ratio", m.ghost_ratio},
-          {"ms_per_frame", m.ms_per_frame},         {"scored_frames", m.scored_frames}};
+  return {{"temporal_mse_cm2", m.temporal_mse_cm2}, {"depth_change_cm2", m.depth_change_cm2},
+          {"depth_rmse_cm", m.depth_rmse_cm},       {"hole_fill_ratio", m.hole_fill_ratio},
+          {"ghost_ratio", m.ghost_ratio},           {"ms_per_frame", m.ms_per_frame},
+          {"scored_frames", m.scored_frames}};
 }
 
 cv::Mat labelled(cv::Mat picture, const std::string& label) {
@@ -108,13 +109,15 @@ int run(const Options& o) {
   nlohmann::json methods;
   for (DepthMethod m : kDepthMethods)
     methods[depthMethodName(m)] = toJson(DepthFilterEvaluation::combined(streams, m));
-  const nlohmann::json report = {{"scene", description.name},
-                                 {"frames", o.frames},
-                                 {"learning_frames", o.learning_frames},
-                                 {"cameras", museum.cameraCount()},
-                                 {"width", description.camera.width},
-                                 {"height", description.camera.height},
-                                 {"methods", methods}};
+  const nlohmann::json report = {
+      {"scene", description.name},
+      {"frames", o.frames},
+      {"learning_frames", o.learning_frames},
+      {"cameras", museum.cameraCount()},
+      {"width", description.camera.width},
+      {"height", description.camera.height},
+      {"methods", methods},
+      {"truth_depth_change_cm2", DepthFilterEvaluation::combinedTruth(streams).depth_change_cm2}};
   std::cout << report.dump(2) << "\n";
   if (!o.json.empty()) writeFileAtomically(o.json, report.dump(2) + "\n");
   if (!o.images.empty())

@@ -32,6 +32,85 @@ void DepthFilterEvaluation::learnBackground(const RgbdFrame& background) {
   masker_.learnBackground(background);
 }
 
+void DepthScorer::add(const cv::Mat& out, const cv::Mat& mask, const GroundTruthFrame& truth,
+                      double seconds) {
+  if (out.type() != CV_32FC1 || out.size() != truth.true_depth.size() || mask.type() != CV_8UC1 ||
+      mask.size() != out.size())
+    throw Error("DepthScorer: expected a CV_32FC1 output and a CV_8UC1 mask of the true depth's size");
+  seconds_ += seconds;
+  ++frames_;
+  const bool has_previous = !previous_output_.empty() && previous_output_.size() == out.size();
+  double error_change = 0.0, depth_change = 0.0;
+  long changes = 0;
+  for (int y = 0; y < out.rows; ++y) {
+    const float* d = out.ptr<float>(y);
+    const float* td = truth.true_depth.ptr<float>(y);
+    const std::uint8_t* tf = truth.true_foreground.ptr<std::uint8_t>(y);
+    const std::uint8_t* m = mask.ptr<std::uint8_t>(y);
+    const float* prev = has_previous ? previous_output_.ptr<float>(y) : nullptr;
+    const float* prev_td = has_previous ? previous_true_depth_.ptr<float>(y) : nullptr;
+    const std::uint8_t* prev_tf = has_previous ? previous_true_foreground_.ptr<std::uint8_t>(y) : nullptr;
+    for (int x = 0; x < out.cols; ++x) {
+      const bool has = d[x] > 0.0f;
+      if (tf[x] && m[x]) {
+        ++fill_n_;
+        fill_hits_ += has;
+      }
+      if (!has) continue;
+      ++outputs_;
+      if (!tf[x]) {
+        ++ghosts_;
+        continue;
+      }
+      if (!(td[x] > 0.0f)) continue;
+      const double e = 100.0 * (double(d[x]) - td[x]);
+      error_sq_sum_ += e * e;
+      ++error_n_;
+      if (prev && prev[x] > 0.0f && prev_tf[x] && prev_td[x] > 0.0f) {
+        const double c = 100.0 * (double(d[x]) - prev[x]);
+        const double ce = e - 100.0 * (double(prev[x]) - prev_td[x]);
+        depth_change += c * c;
+        error_change += ce * ce;
+        ++changes;
+      }
+    }
+  }
+  if (changes > 0) {
+    depth_change_sum_ += depth_change / double(changes);
+    error_change_sum_ += error_change / double(changes);
+    ++pairs_;
+  }
+  previous_output_ = out.clone();
+  previous_true_depth_ = truth.true_depth.clone();
+  previous_true_foreground_ = truth.true_foreground.clone();
+}
+
+DepthMethodMetrics DepthScorer::metrics() const {
+  DepthMethodMetrics m;
+  m.temporal_mse_cm2 = pairs_ > 0 ? error_change_sum_ / double(pairs_) : 0.0;
+  m.depth_change_cm2 = pairs_ > 0 ? depth_change_sum_ / double(pairs_) : 0.0;
+  m.depth_rmse_cm = error_n_ > 0 ? std::sqrt(error_sq_sum_ / double(error_n_)) : 0.0;
+  m.hole_fill_ratio = fill_n_ > 0 ? double(fill_hits_) / double(fill_n_) : 1.0;
+  m.ghost_ratio = outputs_ > 0 ? double(ghosts_) / double(outputs_) : 0.0;
+  m.ms_per_frame = frames_ > 0 ? 1000.0 * seconds_ / double(frames_) : 0.0;
+  m.scored_frames = frames_;
+  return m;
+}
+
+void DepthScorer::merge(const DepthScorer& o) {
+  error_change_sum_ += o.error_change_sum_;
+  depth_change_sum_ += o.depth_change_sum_;
+  pairs_ += o.pairs_;
+  error_sq_sum_ += o.error_sq_sum_;
+  error_n_ += o.error_n_;
+  fill_hits_ += o.fill_hits_;
+  fill_n_ += o.fill_n_;
+  ghosts_ += o.ghosts_;
+  outputs_ += o.outputs_;
+  seconds_ += o.seconds_;
+  frames_ += o.frames_;
+}
+
 void DepthFilterEvaluation::addFrame(const GroundTruthFrame& truth) {
   const RgbdFrame& frame = truth.frame;
   if (truth.true_depth.type() != CV_32FC1 || truth.true_depth.size() != frame.depth.size() ||
@@ -68,83 +147,33 @@ void DepthFilterEvaluation::addFrame(const GroundTruthFrame& truth) {
         break;
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (score) {
-      Sums& s = state.sums;
-      s.seconds += seconds;
-      ++s.frames;
-      double change_sum = 0.0;
-      long change_n = 0;
-      for (int y = 0; y < out.rows; ++y) {
-        const float* d = out.ptr<float>(y);
-        const float* td = truth.true_depth.ptr<float>(y);
-        const std::uint8_t* tf = truth.true_foreground.ptr<std::uint8_t>(y);
-        const std::uint8_t* m = last_mask_.ptr<std::uint8_t>(y);
-        const float* prev = state.last_scored ? state.last_output.ptr<float>(y) : nullptr;
-        for (int x = 0; x < out.cols; ++x) {
-          const bool has = d[x] > 0.0f;
-          if (tf[x] && m[x]) {
-            ++s.fill_n;
-            s.fill_hits += has;
-          }
-          if (!has) continue;
-          ++s.outputs;
-          if (!tf[x]) {
-            ++s.ghosts;
-          } else if (td[x] > 0.0f) {
-            const double e = 100.0 * (double(d[x]) - td[x]);
-            s.error_sq_sum += e * e;
-            ++s.error_n;
-          }
-          if (prev && prev[x] > 0.0f) {
-            const double c = 100.0 * (double(d[x]) - prev[x]);
-            change_sum += c * c;
-            ++change_n;
-          }
-        }
-      }
-      if (change_n > 0) {
-        s.temporal_sum += change_sum / double(change_n);
-        ++s.temporal_pairs;
-      }
-    }
+    if (score) state.scorer.add(out, last_mask_, truth, seconds);
     state.last_output = out;
-    state.last_scored = score;
+  }
+  if (score) {
+    cv::Mat true_output = cv::Mat::zeros(frame.depth.size(), CV_32FC1);
+    truth.true_depth.copyTo(true_output, last_mask_ & truth.true_foreground);
+    truth_.scorer.add(true_output, last_mask_, truth);
+    truth_.last_output = true_output;
   }
 }
 
-DepthMethodMetrics DepthFilterEvaluation::toMetrics(const Sums& s) {
-  DepthMethodMetrics m;
-  m.temporal_mse_cm2 = s.temporal_pairs > 0 ? s.temporal_sum / double(s.temporal_pairs) : 0.0;
-  m.depth_rmse_cm = s.error_n > 0 ? std::sqrt(s.error_sq_sum / double(s.error_n)) : 0.0;
-  m.hole_fill_ratio = s.fill_n > 0 ? double(s.fill_hits) / double(s.fill_n) : 1.0;
-  m.ghost_ratio = s.outputs > 0 ? double(s.ghosts) / double(s.outputs) : 0.0;
-  m.ms_per_frame = s.frames > 0 ? 1000.0 * s.seconds / double(s.frames) : 0.0;
-  m.scored_frames = s.frames;
-  return m;
-}
-
 DepthMethodMetrics DepthFilterEvaluation::metrics(DepthMethod method) const {
-  return toMetrics(methods_[std::size_t(method)].sums);
+  return methods_[std::size_t(method)].scorer.metrics();
 }
 
 DepthMethodMetrics DepthFilterEvaluation::combined(std::span<const DepthFilterEvaluation> streams,
                                                    DepthMethod method) {
-  Sums total;
-  for (const DepthFilterEvaluation& e : streams) {
-    const Sums& s = e.methods_[std::size_t(method)].sums;
-    total.temporal_sum += s.temporal_sum;
-    total.temporal_pairs += s.temporal_pairs;
-    total.error_sq_sum += s.error_sq_sum;
-    total.error_n += s.error_n;
-    total.fill_hits += s.fill_hits;
-    total.fill_n += s.fill_n;
-    total.ghosts += s.ghosts;
-    total.outputs += s.outputs;
-    total.seconds += s.seconds;
-    total.frames += s.frames;
-  }
+  DepthScorer total;
+  for (const DepthFilterEvaluation& e : streams) total.merge(e.methods_[std::size_t(method)].scorer);
   // Frames are counted per stream; time per frame is per camera frame.
-  return toMetrics(total);
+  return total.metrics();
+}
+
+DepthMethodMetrics DepthFilterEvaluation::combinedTruth(std::span<const DepthFilterEvaluation> streams) {
+  DepthScorer total;
+  for (const DepthFilterEvaluation& e : streams) total.merge(e.truth_.scorer);
+  return total.metrics();
 }
 
 }  // namespace holo::depthfilter

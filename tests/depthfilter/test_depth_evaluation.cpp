@@ -13,6 +13,7 @@ TEST(DepthFilterEvaluation, ScoresEveryMethodOnTheSyntheticSequence) {
   empty.objects = false;
   DepthEvaluationConfig config;
   config.filter.learning_frames = 10;
+  config.filter.levels = 6;  // the 12x10 hole in the box needs l_max >= 5; edges here are simple
   std::vector<DepthFilterEvaluation> streams;
   streams.emplace_back(config);
   for (int t = 0; t < 10; ++t) streams[0].learnBackground(empty.render(t, 50).frame);

@@ -2,7 +2,10 @@
 // filters the depth of the foreground pixels of the current frame gamma_i using the previous
 // frame's filtered depth gamma_{i-1}, reached through the optical flow lambda_i.
 //
-// Per foreground pixel px with precursor px_pre = px + lambda_i(px):
+// Measurements first lose flying pixels: a depth with fewer than `min_support` of its 8
+// neighbours on its surface counts as missing. Per foreground pixel px with precursor
+// px_pre = px + lambda_i(px), whose depth is shifted by the local mean depth change (the motion
+// in depth that the image flow does not carry):
 //   alpha = |rgb(px) - rgb(px_pre)| (Equation 1), |d| = |px.d - px_pre.d|,
 //   during the first C frames: only PDF_alpha and PDF_|d| learn, the frame passes unfiltered;
 //   afterwards: d_hat = (1 - P_|d|) px.d + P_|d| px_pre.d with confidence c = P_alpha,
@@ -12,7 +15,8 @@
 // only). Push: from the top level down, a pixel without a pair takes its parent's unless the
 // parent's block straddles a depth edge; a pixel with one is blended with its parent by their
 // reliabilities (1 - c) unless their depths differ by more than the same-surface tolerance (a
-// depth edge, kept sharp). Only foreground pixels (phi_i) receive output.
+// depth edge, kept sharp). Only foreground pixels (phi_i) receive output, and a hole within
+// `edge_radius` of a depth edge stays a hole (it could belong to either surface).
 // The choices where the paper is silent are listed, with reasons, in docs/depthfilter.md.
 //
 // Units: metres; depth 0 = invalid. Invariant: the output is CV_32FC1, finite, 0 outside phi_i,
@@ -27,7 +31,9 @@
 namespace holo::depthfilter {
 
 struct TemporalDepthFilterConfig {
-  int levels = 6;  // l_max, levels including full resolution (>= 1); fills holes up to ~2^(l_max-1) px
+  // l_max, levels including full resolution (>= 1); fills holes up to ~2^(l_max-1) px. 2 by
+  // measurement: deeper pyramids fill more but their fills flicker (docs/depthfilter.md).
+  int levels = 2;
   int learning_frames = 30;                  // C: frames that only learn the PDFs (1 s at 30 fps)
   std::int64_t min_learning_samples = 1000;  // learning also lasts until each PDF has this many
   int pdf_bins = 256;                        // discrete values of each PDF
@@ -40,6 +46,14 @@ struct TemporalDepthFilterConfig {
   // push, a parent farther than T is across a depth edge and not blended, so edges stay sharp.
   float surface_tolerance_m = 0.03f;
   float surface_tolerance_z2 = 0.0075f;  // 1/metres
+  // A measured depth needs this many of its 8 neighbours within T(z), else it is a flying pixel
+  // (between two surfaces) or a speck and is treated as missing.
+  int min_support = 2;
+  // Side (pixels) of the window whose mean depth change d - d_pre is added to d_pre: the motion
+  // in depth that the image flow cannot see. 1 turns it off.
+  int motion_window = 9;
+  // A hole whose measured neighbours within this radius (pixels) span a depth edge stays a hole.
+  int edge_radius = 2;
 
   float surfaceTolerance(float depth_m) const {
     return surface_tolerance_m + surface_tolerance_z2 * depth_m * depth_m;
