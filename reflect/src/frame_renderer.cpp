@@ -114,8 +114,12 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
   pyramids_.clear();
   if (result.plan.has(Pass::Pyramids)) {
     PassTimer t(result.frame_timings, Pass::Pyramids);
+    // A camera without an image this frame (it dropped out) gets an empty pyramid: its points
+    // are ignored, as the header promises, and the other cameras still give reflections.
     for (const ForegroundCameraImage& c : cameras)
-      pyramids_.emplace_back(c.colour_bgr, c.mask, settings_.pyramid_levels);
+      pyramids_.push_back(c.colour_bgr.empty()
+                              ? ForegroundPyramid()
+                              : ForegroundPyramid(c.colour_bgr, c.mask, settings_.pyramid_levels));
   }
   for (const CameraModel& v : views) result.views.push_back(renderView(result.plan, cameras, v));
   return result;
@@ -158,7 +162,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
           const VoxelHit vh = firstOccupiedVoxel(grid_, ray, settings_.max_reflection_distance);
           if (!vh.hit()) continue;
           const depthfilter::VoxelSample& vs = grid_.sample(vh.sample);
-          if (vs.camera >= pyramids_.size()) continue;
+          if (vs.camera >= pyramids_.size() || pyramids_[vs.camera].empty()) continue;
           const CameraModel& cam = cameras[vs.camera].camera;
           // The point the ray reaches: half a voxel into the one it entered.
           const vec3 p = ray.origin + ray.direction * (vh.t + 0.5f * grid_.voxelSize());
