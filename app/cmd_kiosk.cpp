@@ -128,6 +128,10 @@ class PipelineSource {
     for (const CameraModel& camera : loop_->cameras())
       camera_pixels_ += static_cast<double>(camera.width()) * camera.height();
     was_alive_.assign(loop_->cameras().size(), true);
+    // A source made on reload inherits cameras a fault switched off, so the fault file can still
+    // switch them on.
+    for (int i = 0; i < static_cast<int>(loop_->cameras().size()); ++i)
+      if (!capture::SimulatedSource::powered(i)) cameras_off_.push_back(i);
   }
 
   kiosk::FrameReport operator()(const kiosk::FrameRequest& request) {
@@ -141,7 +145,8 @@ class PipelineSource {
       return report;
     }
     // Each quality level below the best renders views 1.25x smaller (0.64x the pixels).
-    const int view_size = std::max(64, static_cast<int>(full_view_size_ / std::pow(1.25, request.quality)));
+    const int view_size = std::max(std::min(64, full_view_size_),
+                                   static_cast<int>(full_view_size_ / std::pow(1.25, request.quality)));
     loop_->setQuality(view_size, request.mode != kiosk::RenderMode::IblOnly);
     const FrameReport frame = loop_->step();
     if (faults.black) loop_->presenter()->present(blackFaces());  // a broken source: black over it
@@ -166,10 +171,13 @@ class PipelineSource {
       camera.last_frame_age_s = health[i].last_frame_age_s;
       // Each loss and each return, once, named: the mode change alone does not say which camera.
       if (i < was_alive_.size() && camera.alive != was_alive_[i]) {
-        report.errors.push_back(
-            camera.alive
-                ? fmt::format("{} back ({} reconnects)", camera.name, camera.reconnects)
-                : fmt::format("{} lost: no frame for {:.1f} s", camera.name, camera.last_frame_age_s));
+        if (camera.alive)
+          report.errors.push_back(fmt::format("{} back ({} reconnects)", camera.name, camera.reconnects));
+        else if (camera.last_frame_age_s < 0)
+          report.errors.push_back(camera.name + " lost: no frame yet");
+        else
+          report.errors.push_back(
+              fmt::format("{} lost: no frame for {:.1f} s", camera.name, camera.last_frame_age_s));
         was_alive_[i] = camera.alive;
       }
       report.cameras.push_back(camera);
