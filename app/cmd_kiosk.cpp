@@ -6,17 +6,20 @@
 // view size and camera mode the degradation policy asks for; `test-pattern` presents the display
 // module's alignment pattern through the same presenters, for checking the supervision itself
 // (the process tests) without the cost of rendering.
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <opencv2/imgproc.hpp>
 
 #include "command.hpp"
 #include "frame_loop.hpp"
+#include "holo/capture/simulated_source.hpp"
 #include "holo/core/config.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/log.hpp"
@@ -40,9 +43,26 @@ display::DisplayConfig displayConfigOf(const ConfigNode& root) {
   return section ? display::parseDisplayConfig(*section) : display::DisplayConfig{};
 }
 
-// The stand-in frame source: the four faces' test pattern, presented for real. Every 30th
-// frame (headless) the presented picture is read back and checked for black, the fault the
-// kiosk exists to prevent.
+// Black faces. Empty images would not do: the presenter keeps showing a face's last image when
+// it gets none (a late renderer must not flash black), so blanking needs real black pixels.
+display::FaceImages blackFaces() {
+  display::FaceImages faces;
+  for (cv::Mat& face : faces) face = cv::Mat::zeros(16, 16, CV_8UC3);
+  return faces;
+}
+
+// Reads the presented picture back and reports the fault the kiosk exists to prevent (a black
+// screen while the museum is open) and its opposite (a picture left on while it is closed).
+void checkPicture(display::QuadViewPresenter& presenter, bool blank, kiosk::FrameReport& report) {
+  cv::Mat grey;
+  cv::cvtColor(presenter.readBack(), grey, cv::COLOR_BGR2GRAY);
+  const bool black = cv::countNonZero(grey) == 0;
+  if (!blank && black) report.errors.push_back("black frame presented during opening hours");
+  if (blank && !black) report.errors.push_back("picture shown outside opening hours");
+}
+
+// The stand-in frame source: the four faces' test pattern, presented for real. Headless, every
+// 30th frame and every blanked one is read back and checked (checkPicture).
 class TestPatternSource {
  public:
   TestPatternSource(const display::DisplayConfig& config, bool headless)
@@ -54,7 +74,7 @@ class TestPatternSource {
     kiosk::FrameReport report;
     auto t0 = Clock::now();
     const kiosk::InjectedFaults faults = faults_->beginFrame(request.index, request.quality, request.blank);
-    display::FaceImages faces;  // empty images present black
+    display::FaceImages faces = blackFaces();
     if (!request.blank && !faults.black) {
       // Lower quality levels halve the view resolution, as the real renderer will.
       const int side = std::max(40, 320 >> request.quality);
@@ -71,11 +91,8 @@ class TestPatternSource {
     report.stage_ms["present"] = msSince(t0);
     report.presented = presenter_->isOpen();
     if (!report.presented) report.errors.push_back("display window closed");
-    if (headless_ && !request.blank && request.index % 30 == 0) {
-      cv::Mat grey;
-      cv::cvtColor(presenter_->readBack(), grey, cv::COLOR_BGR2GRAY);
-      if (cv::countNonZero(grey) == 0) report.errors.push_back("black frame presented during opening hours");
-    }
+    if (headless_ && (request.blank || request.index % 30 == 0))
+      checkPicture(*presenter_, request.blank, report);
     return report;
   }
 
@@ -93,39 +110,55 @@ std::string displaySection(const ConfigNode& root) {
 
 // The product: the live frame loop on the simulated museum (real cameras plug in through the
 // capture configuration), at the view size and camera mode the degradation policy asks for.
+// Headless, every frame is read back and checked (checkPicture). Injected faults (tests, soak runs)
+// act on the real pipeline: `camera_off` switches a simulated camera off, so its capture thread
+// loses it and the frame loop drops it as stale, exactly as with a pulled cable.
 class PipelineSource {
  public:
-  PipelineSource(const display::DisplayConfig& config, bool headless, const std::string& scene)
-      : headless_(headless) {
+  PipelineSource(const display::DisplayConfig& config, bool headless, const std::string& scene, int view_size)
+      : headless_(headless),
+        faults_(std::make_shared<kiosk::FaultInjector>(kiosk::FaultInjector::fromEnvironment())) {
     FrameLoopOptions options;
     options.scene = scene;
     options.live = true;
+    options.view_size = view_size;
     full_view_size_ = options.view_size;
     loop_ = std::make_shared<FrameLoop>(
         options, headless ? display::makeHeadlessPresenter(config) : display::makeWindowPresenter(config));
+    for (const CameraModel& camera : loop_->cameras())
+      camera_pixels_ += static_cast<double>(camera.width()) * camera.height();
+    was_alive_.assign(loop_->cameras().size(), true);
+    // A source made on reload inherits cameras a fault switched off, so the fault file can still
+    // switch them on.
+    for (int i = 0; i < static_cast<int>(loop_->cameras().size()); ++i)
+      if (!capture::SimulatedSource::powered(i)) cameras_off_.push_back(i);
   }
 
   kiosk::FrameReport operator()(const kiosk::FrameRequest& request) {
     kiosk::FrameReport report;
+    const kiosk::InjectedFaults faults = faults_->beginFrame(request.index, request.quality, request.blank);
+    if (faults_->active()) switchCameras(faults.cameras_off, report);
     if (request.blank) {
-      loop_->presenter()->present(display::FaceImages{});  // never given: black
+      loop_->presenter()->present(blackFaces());
       report.presented = loop_->presenter()->isOpen();
+      if (headless_) checkPicture(*loop_->presenter(), true, report);
       return report;
     }
     // Each quality level below the best renders views 1.25x smaller (0.64x the pixels).
-    const int view_size = std::max(64, static_cast<int>(full_view_size_ / std::pow(1.25, request.quality)));
+    const int view_size = std::max(std::min(64, full_view_size_),
+                                   static_cast<int>(full_view_size_ / std::pow(1.25, request.quality)));
     loop_->setQuality(view_size, request.mode != kiosk::RenderMode::IblOnly);
     const FrameReport frame = loop_->step();
+    if (faults.black) loop_->presenter()->present(blackFaces());  // a broken source: black over it
     report.presented = frame.presented;
     report.stage_ms = {
         {"acquisition", frame.times.acquisition},     {"foreground", frame.times.foreground},
         {"dynamic_reflections", frame.times.dynamic}, {"static_reflections", frame.times.statics},
         {"composition", frame.times.composition},     {"display", frame.times.display}};
+    // Foreground points are at most one per camera pixel.
     report.foreground_share =
-        frame.foreground_points > 0
-            ? std::optional<double>(
-                  std::min(1.0, static_cast<double>(frame.foreground_points) / (4.0 * 640 * 360)))
-            : 0.0;
+        camera_pixels_ > 0 ? std::min(1.0, static_cast<double>(frame.foreground_points) / camera_pixels_)
+                           : 0.0;
     const std::vector<capture::CameraHealth> health = loop_->cameraHealth();
     for (std::size_t i = 0; i < health.size(); ++i) {
       kiosk::CameraHealth camera;
@@ -136,28 +169,49 @@ class PipelineSource {
       camera.dropped = health[i].frames_failed + health[i].frames_incomplete + health[i].frames_timed_out;
       camera.reconnects = health[i].reconnects;
       camera.last_frame_age_s = health[i].last_frame_age_s;
+      // Each loss and each return, once, named: the mode change alone does not say which camera.
+      if (i < was_alive_.size() && camera.alive != was_alive_[i]) {
+        if (camera.alive)
+          report.errors.push_back(fmt::format("{} back ({} reconnects)", camera.name, camera.reconnects));
+        else if (camera.last_frame_age_s < 0)
+          report.errors.push_back(camera.name + " lost: no frame yet");
+        else
+          report.errors.push_back(
+              fmt::format("{} lost: no frame for {:.1f} s", camera.name, camera.last_frame_age_s));
+        was_alive_[i] = camera.alive;
+      }
       report.cameras.push_back(camera);
     }
     if (!report.presented) report.errors.push_back("display window closed");
-    if (headless_ && request.index % 30 == 0) {
-      cv::Mat grey;
-      cv::cvtColor(loop_->presenter()->readBack(), grey, cv::COLOR_BGR2GRAY);
-      if (cv::countNonZero(grey) == 0) report.errors.push_back("black frame presented during opening hours");
-    }
+    if (headless_) checkPicture(*loop_->presenter(), false, report);
     return report;
   }
 
  private:
+  void switchCameras(const std::vector<int>& off, kiosk::FrameReport& report) {
+    if (off == cameras_off_) return;
+    for (int i = 0; i < static_cast<int>(loop_->cameras().size()); ++i) {
+      const bool now_off = std::find(off.begin(), off.end(), i) != off.end();
+      const bool was_off = std::find(cameras_off_.begin(), cameras_off_.end(), i) != cameras_off_.end();
+      if (now_off == was_off) continue;
+      capture::SimulatedSource::setPowered(i, !now_off);
+      report.errors.push_back("injected fault: camera " + std::to_string(i) +
+                              (now_off ? " switched off" : " switched on"));
+    }
+    for (const int i : off)
+      if (i < 0 || i >= static_cast<int>(loop_->cameras().size()))
+        HOLO_LOG_WARN("test faults: no camera {} to switch off", i);
+    cameras_off_ = off;
+  }
+
   std::shared_ptr<FrameLoop> loop_;  // shared: RenderFrame is copyable
   bool headless_;
+  std::shared_ptr<kiosk::FaultInjector> faults_;
   int full_view_size_ = 320;
+  double camera_pixels_ = 0;     // all cameras together
+  std::vector<bool> was_alive_;  // per camera, as last reported
+  std::vector<int> cameras_off_;
 };
-
-kiosk::RenderFrame makeFrameSource(const kiosk::LoadedConfig& config, bool headless,
-                                   const std::string& source, const std::string& scene) {
-  if (source == "test-pattern") return TestPatternSource(displayConfigOf(config.root), headless);
-  return PipelineSource(displayConfigOf(config.root), headless, scene);
-}
 
 struct KioskOptions {
   std::string config = "/etc/holopyramid/holopyramid.yaml";
@@ -165,10 +219,17 @@ struct KioskOptions {
   bool headless = false;
   std::string source = "pipeline";
   std::string scene = "museum";
+  int view_size = FrameLoopOptions{}.view_size;
   std::int64_t frames = 0;
   std::optional<int> health_port;
   std::optional<std::string> health_file;
 };
+
+kiosk::RenderFrame makeFrameSource(const kiosk::LoadedConfig& config, const KioskOptions& options) {
+  if (options.source == "test-pattern")
+    return TestPatternSource(displayConfigOf(config.root), options.headless);
+  return PipelineSource(displayConfigOf(config.root), options.headless, options.scene, options.view_size);
+}
 
 int runKiosk(const KioskOptions& options) {
   // Before any thread starts (health server, presenters), so all threads inherit the block.
@@ -186,8 +247,8 @@ int runKiosk(const KioskOptions& options) {
   };
   kiosk::LoadedConfig loaded = load();
   HOLO_LOG_INFO("kiosk starting with configuration from {}", loaded.source);
-  std::shared_ptr<kiosk::RenderFrame> source = std::make_shared<kiosk::RenderFrame>(
-      makeFrameSource(loaded, options.headless, options.source, options.scene));
+  std::shared_ptr<kiosk::RenderFrame> source =
+      std::make_shared<kiosk::RenderFrame>(makeFrameSource(loaded, options));
   kiosk::KioskLoop loop(
       loaded, [source](const kiosk::FrameRequest& r) { return (*source)(r); },
       [&] {
@@ -197,7 +258,7 @@ int runKiosk(const KioskOptions& options) {
         if (displaySection(reloaded.root) != displaySection(loaded.root)) {
           HOLO_LOG_INFO("display settings changed: restarting the presenter");
           *source = {};
-          *source = makeFrameSource(reloaded, options.headless, options.source, options.scene);
+          *source = makeFrameSource(reloaded, options);
         }
         loaded = reloaded;
         return reloaded;
@@ -219,6 +280,10 @@ HOLO_REGISTER_COMMAND(Command{
           ->check(CLI::IsMember({"pipeline", "test-pattern"}))
           ->capture_default_str();
       sub.add_option("--scene", options->scene, "Scene of the simulated museum the pipeline shows")
+          ->capture_default_str();
+      sub.add_option("--view-size", options->view_size,
+                     "Pixels of each square face view at full quality (pipeline source)")
+          ->check(CLI::Range(16, 4096))
           ->capture_default_str();
       sub.add_option("--state-dir", options->state_dir,
                      "Where the last good configuration is kept ('' = nowhere)")

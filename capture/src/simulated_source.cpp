@@ -1,5 +1,7 @@
 #include "holo/capture/simulated_source.hpp"
 
+#include <array>
+#include <atomic>
 #include <cmath>
 #include <thread>
 
@@ -7,6 +9,24 @@
 #include "holo/sim/museum.hpp"
 
 namespace holo::capture {
+namespace {
+
+std::atomic<bool>& powerSwitch(int camera) {
+  static std::array<std::atomic<bool>, sim::kFaceCount> switches{true, true, true, true};
+  if (camera < 0 || camera >= sim::kFaceCount)
+    throw InputError("", "camera", "0.." + std::to_string(sim::kFaceCount - 1), std::to_string(camera));
+  return switches[static_cast<std::size_t>(camera)];
+}
+
+}  // namespace
+
+void SimulatedSource::setPowered(int camera, bool powered) {
+  powerSwitch(camera) = powered;
+}
+
+bool SimulatedSource::powered(int camera) {
+  return powerSwitch(camera);
+}
 
 SimulatedSource::SimulatedSource(std::shared_ptr<const sim::Museum> museum, int camera,
                                  SimulationOptions options)
@@ -26,12 +46,20 @@ std::string SimulatedSource::serial() const {
   return "SIM-" + museum_->description().name + "-" + std::to_string(camera_);
 }
 
+void SimulatedSource::open() {
+  if (!powered(camera_)) throw Error(name() + ": switched off (injected fault)");
+}
+
 void SimulatedSource::start() {
   next_frame_ = options_.first_frame;
   start_ = Clock::now();
 }
 
 GrabResult SimulatedSource::grab(Nanoseconds timeout) {
+  if (!powered(camera_)) {
+    std::this_thread::sleep_for(timeout);
+    return {GrabStatus::Timeout, {}, "switched off (injected fault)"};
+  }
   const int index = next_frame_ - options_.first_frame;
   if (options_.frame_count >= 0 && index >= options_.frame_count)
     return {GrabStatus::EndOfStream, {}, "end of simulation"};

@@ -1,5 +1,6 @@
 #include "holo/kiosk/fault_injector.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -50,12 +51,22 @@ void FaultInjector::reload() {
       faults.freeze_s = value;
     else if (key == "black")
       faults.black = value != 0;
+    else if (key == "camera_off")
+      faults.cameras_off.push_back(static_cast<int>(value));
     else
       HOLO_LOG_WARN("test faults {}: unknown fault '{}'", file_->string(), key);
   }
+  std::sort(faults.cameras_off.begin(), faults.cameras_off.end());
+  faults.cameras_off.erase(std::unique(faults.cameras_off.begin(), faults.cameras_off.end()),
+                           faults.cameras_off.end());
   faults_ = faults;
-  HOLO_LOG_WARN("test faults now: slow_ms {} fail_every {} freeze_s {} black {}", faults_.slow_ms,
-                faults_.fail_every, faults_.freeze_s, faults_.black);
+  std::string off;
+  for (const int camera : faults_.cameras_off) {
+    if (!off.empty()) off += ',';
+    off += std::to_string(camera);
+  }
+  HOLO_LOG_WARN("test faults now: slow_ms {} fail_every {} freeze_s {} black {} cameras_off [{}]",
+                faults_.slow_ms, faults_.fail_every, faults_.freeze_s, faults_.black, off);
 }
 
 InjectedFaults FaultInjector::beginFrame(std::int64_t frame_index, int quality_level, bool blank) {

@@ -104,6 +104,10 @@ void KioskLoop::frame(SystemdNotifier& notifier) {
     report.presented = false;
     report.errors.push_back(std::string("frame failed: ") + e.what());
     stats::add("Kiosk/Frames failed");
+    // A failed frame says nothing about the cameras: keep the last known states, or a single
+    // render error would count as every camera lost and drop the foreground.
+    std::lock_guard lock(mutex_);
+    report.cameras = health_.cameras;
   }
   const auto t1 = Clock::now();
   const double frame_ms = msBetween(t0, t1);

@@ -39,9 +39,10 @@ struct Message {
 class KioskProcess {
  public:
   // `env` entries are "NAME=value" added to the kiosk's environment.
+  // `args` are added to the kiosk's command line (--scene, --view-size for the pipeline).
   KioskProcess(const std::string& name, const std::string& config_text, const std::string& faults = {},
                std::vector<std::string> env = {}, long watchdog_usec = 1'000'000,
-               std::string source = "test-pattern")
+               std::string source = "test-pattern", std::vector<std::string> args = {})
       : dir_(holo::test::scratchDir("kiosk_process_" + name)), source_(std::move(source)) {
     holo::writeFileAtomically(dir_ / "site.yaml", config_text);
     setFaults(faults);
@@ -67,9 +68,14 @@ class KioskProcess {
       const std::string config = (dir_ / "site.yaml").string();
       const std::string state = (dir_ / "state").string();
       const std::string health = (dir_ / "health.json").string();
-      execl(HOLO_APP_BINARY, HOLO_APP_BINARY, "kiosk", "--headless", "--source", source_.c_str(), "--config",
-            config.c_str(), "--state-dir", state.c_str(), "--health-port", "0", "--health-file",
-            health.c_str(), static_cast<char*>(nullptr));
+      std::vector<std::string> argv = {
+          HOLO_APP_BINARY, "kiosk", "--headless",    "--source", source_,         "--config", config,
+          "--state-dir",   state,   "--health-port", "0",        "--health-file", health};
+      argv.insert(argv.end(), args.begin(), args.end());
+      std::vector<char*> pointers;
+      for (auto& a : argv) pointers.push_back(a.data());
+      pointers.push_back(nullptr);
+      execv(HOLO_APP_BINARY, pointers.data());
       _exit(127);
     }
   }
@@ -182,6 +188,21 @@ std::string httpGet(int port, const std::string& path) {
   }
   close(fd);
   return response;
+}
+
+// The simulated museum with small, slow cameras (160x90 at 10 fps): the whole live pipeline,
+// cheap enough for a 2-core CI machine. Returns the --scene/--view-size arguments for the kiosk.
+inline std::vector<std::string> smallMuseumArgs(const std::string& name, int view_size = 96) {
+  const auto scene = holo::test::scratchDir("kiosk_scene_" + name) / "small_museum.yaml";
+  holo::writeFileAtomically(scene, "base: museum\ncamera: {width: 160, height: 90, fps: 10}\n");
+  return {"--scene", scene.string(), "--view-size", std::to_string(view_size)};
+}
+
+// The body of a /health response as JSON (throws when it does not parse).
+inline nlohmann::json healthJson(int port) {
+  const std::string response = httpGet(port, "/health");
+  const auto body = response.find("\r\n\r\n");
+  return nlohmann::json::parse(response.substr(body == std::string::npos ? 0 : body + 4));
 }
 
 }  // namespace holo::test

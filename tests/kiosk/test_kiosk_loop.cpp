@@ -2,6 +2,7 @@
 // frame, cameras that drop out and return, a frame source that throws.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <thread>
 
 #include "holo/kiosk/kiosk_loop.hpp"
@@ -106,6 +107,31 @@ TEST(KioskLoop, AThrowingFrameSourceIsReportedNotFatalAndNotRepeatedInTheLog) {
   int reports = 0;
   for (const auto& e : h.last_errors) reports += e == "frame failed: GPU lost" ? 1 : 0;
   EXPECT_EQ(reports, 1);
+}
+
+TEST(KioskLoop, AFailedFrameKeepsTheCameraModeItCannotKnow) {
+  // A render error is no camera fault: with all cameras delivering, failing frames must neither
+  // switch to ibl-only nor report lost cameras.
+  SignalEvents signals;
+  SystemdNotifier notifier;
+  std::vector<RenderMode> modes;
+  KioskLoop loop(
+      testConfig(),
+      [&](const FrameRequest& r) -> FrameReport {
+        modes.push_back(r.mode);
+        if (r.index % 4 == 3) throw std::runtime_error("render error");
+        FrameReport report;
+        report.presented = true;
+        report.cameras = cameras(4);
+        return report;
+      },
+      [] { return testConfig(); });
+  EXPECT_EQ(loop.run(signals, notifier, 30), 0);
+  EXPECT_EQ(std::count(modes.begin(), modes.end(), RenderMode::Full), 30);
+  const HealthStatus h = loop.health();
+  EXPECT_EQ(h.camerasAlive(), 4);
+  EXPECT_FALSE(hasError(h, "mode '"));
+  EXPECT_TRUE(hasError(h, "frame failed: render error"));
 }
 
 }  // namespace

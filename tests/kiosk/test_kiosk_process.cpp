@@ -148,19 +148,63 @@ display: {output_size: [128, 128]}
   EXPECT_EQ(kiosk.wait(15s), 0) << kiosk.log();
 }
 
+TEST(KioskProcess, ClosingTimeBlanksAPictureAlreadyOnScreen) {
+  // The presenter keeps a face's last image when given none, so blanking must present black
+  // pixels; the kiosk reads the blanked frames back and reports any picture left on.
+  KioskProcess kiosk("closing", "kiosk: {status_interval_s: 0.2}\ndisplay: {output_size: [128, 128]}\n");
+  ASSERT_TRUE(kiosk.readUntilContains("READY=1", 30s)) << kiosk.log();
+  kiosk.readUntil(1s);
+  holo::writeFileAtomically(kiosk.dir() / "site.yaml",
+                            R"(kiosk: {opening_hours: "Mon 00:00-00:01", status_interval_s: 0.2}
+display: {output_size: [128, 128]}
+)");
+  kiosk.signal(SIGHUP);
+  ASSERT_TRUE(kiosk.readUntil(10s, [](const Message& m) {
+    return m.text.find("blanked") != std::string::npos;
+  })) << kiosk.log();
+  kiosk.readUntil(2s);  // a few blanked frames (2 per second), each read back
+  kiosk.signal(SIGTERM);
+  EXPECT_EQ(kiosk.wait(15s), 0) << kiosk.log();
+  const auto health = nlohmann::json::parse(holo::readFile(kiosk.dir() / "health.json"));
+  for (const auto& e : health["last_errors"])
+    EXPECT_EQ(e.get<std::string>().find("picture shown outside opening hours"), std::string::npos) << e;
+  EXPECT_EQ(kiosk.log().find("picture shown outside opening hours"), std::string::npos) << kiosk.log();
+}
+
 // The product itself under the kiosk: the live pipeline on the simulated museum reaches the
 // screen (READY=1 only after a presented quad frame) with its four cameras counted in STATUS and
-// the Table 3 stages in the health JSON, and stops cleanly on SIGTERM.
+// the Table 3 stages in the health JSON; WATCHDOG=1 comes at the configured rate from the
+// pipeline's own frames and stops while a frame hangs; SIGTERM stops it cleanly.
 TEST(KioskProcess, RunsTheLivePipelineOnTheSimulatedMuseum) {
-  KioskProcess kiosk("pipeline", kConfig, {}, {}, 0, "pipeline");
-  ASSERT_TRUE(kiosk.readUntilContains("READY=1", 240s)) << kiosk.log();
+  // WATCHDOG_USEC = 2 s: pings every 1 s, slack for a pipeline frame on a busy 2-core machine.
+  KioskProcess kiosk("pipeline", kConfig, {}, {}, 2'000'000, "pipeline", smallMuseumArgs("pipeline", 64));
+  ASSERT_TRUE(kiosk.readUntilContains("READY=1", 120s)) << kiosk.log();
+  const double ready_at = kiosk.times("READY=1").front();
   ASSERT_TRUE(kiosk.readUntilContains("STATUS=cameras 4/4", 60s)) << kiosk.log();
-  const std::string response = httpGet(kiosk.healthPort(), "/health");
-  const auto health = nlohmann::json::parse(response.substr(response.find("\r\n\r\n") + 4));
+  const auto health = healthJson(kiosk.healthPort());
   EXPECT_EQ(health["cameras"].size(), 4u);
   EXPECT_GT(health["stage_ms"]["static_reflections"].get<double>(), 0.0);
+  EXPECT_GT(health["foreground_share"].get<double>(), 0.0) << "no visitor seen by the cameras";
+
+  kiosk.readUntil(5s);
+  const double freeze_at = kiosk.messages.back().t;
+  kiosk.setFaults("freeze_s 5\n");
+  kiosk.readUntil(9s);
   kill(kiosk.pid(), SIGTERM);
   EXPECT_EQ(kiosk.wait(60s), 0) << kiosk.log();
+
+  const auto pets = kiosk.times("WATCHDOG=1", ready_at);
+  const auto before = kiosk.times("WATCHDOG=1", ready_at, freeze_at);
+  ASSERT_GE(before.size(), 4u) << kiosk.log();
+  for (std::size_t i = 1; i < before.size(); ++i) {
+    EXPECT_GE(before[i] - before[i - 1], 0.95);
+    EXPECT_LE(before[i] - before[i - 1], 2.5);  // 1 s plus a slow frame
+  }
+  double longest = 0;
+  for (std::size_t i = 1; i < pets.size(); ++i) longest = std::max(longest, pets[i] - pets[i - 1]);
+  EXPECT_GE(longest, 4.5) << "pings continued through the hang";
+  EXPECT_LE(longest, 8.0);
+  EXPECT_GE(pets.back() - freeze_at, longest) << "pings did not resume after the hang";
 }
 
 }  // namespace

@@ -6,6 +6,12 @@
 //
 // The museum is shared (read-only) between the four sources of one scene; renderCamera is const
 // and safe to call from several capture threads at once.
+//
+// Fault injection (the kiosk's tests and soak runs, never a configuration): setPowered(i, false)
+// switches camera i of every simulated museum in the process off, as if its power were cut. It
+// goes quiet (grab times out, so the capture thread declares it disconnected after its silence
+// timeout) and open() fails until it is switched on again; then it restarts at first_frame, as a
+// rebooted camera would.
 #pragma once
 
 #include <memory>
@@ -32,7 +38,11 @@ class SimulatedSource : public CameraSource {
 
   std::string name() const override;    // "sim:<scene>/cam<i>"
   std::string serial() const override;  // "SIM-<scene>-<i>"
-  void open() override {}
+  // Throws InputError when `camera` is not 0..sim::kFaceCount-1. Thread-safe.
+  static void setPowered(int camera, bool powered);
+  static bool powered(int camera);
+
+  void open() override;
   void start() override;
   void stop() override {}
   GrabResult grab(Nanoseconds timeout) override;

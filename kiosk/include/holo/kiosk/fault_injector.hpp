@@ -8,6 +8,8 @@
 //   fail_every 50   every 50th frame throws (a render error)
 //   freeze_s 4      the next frame hangs for 4 s (a hung render), once per change of the file
 //   black 1         frames are presented black although the museum is open (a broken source)
+//   camera_off 2    camera 2 is switched off (a pulled cable, a camera that lost power) until a
+//                   version of the file without the line; one line per camera
 //
 // A line that does not parse is logged and ignored: the test sees it in the log.
 #pragma once
@@ -16,6 +18,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <vector>
 
 namespace holo::kiosk {
 
@@ -24,6 +27,7 @@ struct InjectedFaults {
   std::int64_t fail_every = 0;  // 0 = never
   double freeze_s = 0;          // pending hang, consumed by the next frame
   bool black = false;
+  std::vector<int> cameras_off;  // camera indices, ascending, each once; the frame source applies them
 };
 
 class FaultInjector {
