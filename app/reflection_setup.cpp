@@ -183,7 +183,10 @@ VisitorView visitorView(const SceneOptions& o) {
         reflect::lookAtCamera(eye, bounds.center(), reflect::framingFovDeg(eye, bounds), kSize, kSize));
   }
   std::vector<reflect::HitPointBuffer> hits;
-  for (const CameraModel& c : faces) hits.push_back(reflect::traceHitPoints(relic, c, 1));
+  for (const CameraModel& c : faces) {
+    hits.emplace_back();
+    reflect::traceHitPoints(relic, c, reflect::AntiAliasing::None, hits.back());
+  }
   float best_score = -1.0f;
   for (int frame = 0; frame < kFrames; frame += kStride) {
     const reflect::RenderScene visitors(Model{}, {museum.visitors(frame)});

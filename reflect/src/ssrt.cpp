@@ -112,7 +112,8 @@ cv::Mat renderSsrt(const RenderScene& scene, const PrefilteredIbl& ibl,
                    const SsrtSettings& settings, SsrtStats* stats) {
   settings.validate();
   const ReprojectedRgbd map(cloud, settings.origin, settings.map_width);
-  const HitPointBuffer hits = traceHitPoints(scene, view, settings.aa_samples);
+  HitPointBuffer hits;
+  traceHitPoints(scene, view, settings.aa_samples == 4 ? AntiAliasing::Full : AntiAliasing::None, hits);
   const int w = view.width(), h = view.height();
   cv::Mat out(h, w, CV_32FC3, cv::Scalar::all(0));
   std::atomic<std::uint64_t> all_rays{0}, all_hits{0};
@@ -121,8 +122,10 @@ cv::Mat renderSsrt(const RenderScene& scene, const PrefilteredIbl& ibl,
     for (int y = rows.begin(); y < rows.end(); ++y)
       for (int x = 0; x < w; ++x) {
         vec3 sum(0.0f);
-        for (int s = 0; s < hits.samples; ++s) {
-          const std::size_t i = hits.index(x, y, s);
+        const std::size_t pixel = std::size_t(y) * std::size_t(w) + std::size_t(x);
+        const int samples = hits.sampleCount(pixel);
+        for (int s = 0; s < samples; ++s) {
+          const std::size_t i = hits.firstSample(pixel) + std::size_t(s);
           if (!hits.valid[i]) continue;
           const HitPoint& hp = hits.hits[i];
           const float nv = glm::dot(hp.normal, hp.to_viewer);
@@ -169,7 +172,7 @@ cv::Mat renderSsrt(const RenderScene& scene, const PrefilteredIbl& ibl,
           const vec3 psi_d = n_hit > 0 ? scale * found / float(n_hit) : vec3(0.0f);
           sum += composeReflection(psi_d, psi_s, weight) + composeReflection(diffuse, vec3(0.0f), 1.0f);
         }
-        setRgb(out, x, y, sum / float(hits.samples));
+        setRgb(out, x, y, sum / float(samples));
       }
     all_rays += local_rays;
     all_hits += local_hits;
