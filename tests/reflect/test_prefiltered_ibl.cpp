@@ -6,6 +6,8 @@
 #include <tbb/parallel_for.h>
 
 #include <cstdio>
+#include <cstdlib>
+#include <string>
 
 #include "holo/core/equirect.hpp"
 #include "holo/core/error.hpp"
@@ -85,9 +87,9 @@ std::vector<vec3> bruteForceLobe(const Environment& env, const std::vector<vec3>
   return out;
 }
 
-// Mean relative error (of luminance) of the prefiltered lookups over 24 directions.
-double meanRelativeError(const Environment& env, const PrefilteredIbl& ibl, float roughness) {
-  const std::vector<vec3> dirs = fibonacciDirections(24);
+// Mean relative error (of luminance) of the prefiltered lookups over `count` directions.
+double meanRelativeError(const Environment& env, const PrefilteredIbl& ibl, float roughness, int count) {
+  const std::vector<vec3> dirs = fibonacciDirections(count);
   const std::vector<vec3> ref = bruteForceLobe(env, dirs, roughness);
   double sum = 0;
   for (std::size_t k = 0; k < dirs.size(); ++k) {
@@ -97,26 +99,30 @@ double meanRelativeError(const Environment& env, const PrefilteredIbl& ibl, floa
   return sum / double(dirs.size());
 }
 
-void expectIblMatchesBruteForce(const char* hdri, double bound) {
+// The bar: within 2% for roughness 0.1..1, on level roughnesses and between them. CI
+// checks 24 directions; HOLO_FULL_EVAL=1 checks 200 (about a minute).
+void expectIblMatchesBruteForce(const char* hdri) {
   const Environment env(loadHdr(test::sharedData(std::string("hdri/") + hdri)).pixels);
   const PrefilteredIbl ibl(env);
-  for (float roughness : {0.1f, 0.25f, 0.5f, 0.75f, 1.0f}) {
-    const double error = meanRelativeError(env, ibl, roughness);
-    // The bar is 2%; the default prefilter (64 FIS samples per texel, 9 levels) measured
-    // 2-4% (interior) and 4-7% (hard sun), docs/reflect.md; these bounds catch regressions.
-    EXPECT_LT(error, bound) << hdri << " roughness " << roughness;
-    std::printf("IBL vs brute force, %s roughness %.2f: mean relative error %.4f\n", hdri, roughness, error);
+  const bool full =
+      std::getenv("HOLO_FULL_EVAL") != nullptr && std::string(std::getenv("HOLO_FULL_EVAL")) == "1";
+  const int count = full ? 200 : 24;
+  for (float roughness : {0.1f, 0.2f, 0.3f, 0.4f, 0.5f, 0.6f, 0.7f, 0.8f, 0.9f, 1.0f}) {
+    const double error = meanRelativeError(env, ibl, roughness, count);
+    EXPECT_LE(error, 0.02) << hdri << " roughness " << roughness;
+    std::printf("IBL vs brute force, %s roughness %.2f: mean relative error %.4f over %d directions\n", hdri,
+                roughness, error, count);
   }
 }
 
 TEST(PrefilteredIbl, MatchesBruteForceLobeOnInterior) {
   HOLO_REQUIRE_SHARED_DATA("hdri/st_fagans_interior_1k.hdr");
-  expectIblMatchesBruteForce("st_fagans_interior_1k.hdr", 0.045);
+  expectIblMatchesBruteForce("st_fagans_interior_1k.hdr");
 }
 
 TEST(PrefilteredIbl, MatchesBruteForceLobeOnHardSun) {
   HOLO_REQUIRE_SHARED_DATA("hdri/rooitou_park_1k.hdr");
-  expectIblMatchesBruteForce("rooitou_park_1k.hdr", 0.075);
+  expectIblMatchesBruteForce("rooitou_park_1k.hdr");
 }
 
 TEST(PrefilteredIbl, UniformEnvironmentStaysUniformAtEveryLevel) {
