@@ -8,6 +8,10 @@
 
 namespace holo::reflect {
 
+namespace {
+constexpr int kCoarsestHeight = 4;
+}  // namespace
+
 GgxLobeIntegral::GgxLobeIntegral(const cv::Mat& pano, float yaw, LobeQuadratureOptions options)
     : options_(options) {
   if (pano.empty()) return;
@@ -28,7 +32,7 @@ GgxLobeIntegral::GgxLobeIntegral(const cv::Mat& pano, float yaw, LobeQuadratureO
     }
   }
   levels_.push_back(std::move(base));
-  while (levels_.back().height > 8 && levels_.back().width > 16) {
+  while (levels_.back().height > kCoarsestHeight && levels_.back().width > 2 * kCoarsestHeight) {
     const Level& fine = levels_.back();
     Level coarse;
     coarse.width = (fine.width + 1) / 2;
@@ -64,7 +68,10 @@ GgxLobeIntegral::Lobe GgxLobeIntegral::lobe(float alpha) const {
   while (lobe.finest + 1 < levelCount() && levels_[std::size_t(lobe.finest + 1)].extent <= core)
     ++lobe.finest;
   for (int k = lobe.finest + 1; k < levelCount(); ++k) {
-    const float reach = options_.tail_ratio * levels_[std::size_t(k)].extent;
+    // Split near pixels (the tail rule) and any pixel overlapping the lobe's core (about 2 alpha
+    // radians), where the weight does not fall as angle^-4 and coarse pixels would blur it.
+    const float extent = levels_[std::size_t(k)].extent;
+    const float reach = std::max(options_.tail_ratio * extent, 2.0f * alpha + extent);
     lobe.split_cos[std::size_t(k)] = reach >= kPi ? -2.0f : std::cos(reach);
   }
   return lobe;
@@ -104,8 +111,10 @@ vec3 GgxLobeIntegral::integrate(const vec3& n, const Lobe& lobe) const {
               stack[std::size_t(depth++)] = {it.level - 1, i, j};
           continue;
         }
-        norm += weight(c) * p.omega;
-        sum += weight(glm::dot(n, p.power_dir)) * p.power;
+        const float wc = weight(c);
+        norm += wc * p.omega;
+        // A panorama pixel's radiance is constant over it: its power centroid is its centroid.
+        sum += (it.level == 0 ? wc : weight(glm::dot(n, p.power_dir))) * p.power;
       }
     }
   return norm > 0.0f ? sum / norm : vec3(0.0f);

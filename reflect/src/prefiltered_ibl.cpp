@@ -13,6 +13,8 @@ namespace holo::reflect {
 
 namespace {
 
+constexpr int kMinLevelSize = 48;
+
 int floorPow2(int v) {
   int p = 1;
   while (p * 2 <= v) p *= 2;
@@ -84,9 +86,10 @@ PrefilteredIbl::PrefilteredIbl(const Environment& env, PrefilterOptions options)
   for (int l = 1; l < levels; ++l) {
     const float roughness = levelRoughness(l);
     const auto lobe = integral.lobe(roughnessToAlpha(roughness));
-    // Bilinear lookups between texel centres stay within ~0.5% of the lobe integral when a texel
-    // is about roughness / 26 radians wide (measured, docs/reflect.md).
-    const int size = std::clamp(int(std::ceil(density / roughness)), 8, 2 * base);
+    // Texels about roughness / texel_density * 3.5 radians wide keep bilinear lookups within
+    // ~1% of the lobe integral; rough levels keep kMinLevelSize so that a sun's wide lobe is
+    // still resolved (measured, docs/reflect.md).
+    const int size = std::clamp(int(std::ceil(density / roughness)), kMinLevelSize, 2 * base);
     OctahedralMap& out = levels_[std::size_t(l)];
     out = OctahedralMap(size);
     tbb::parallel_for(tbb::blocked_range<int>(0, size), [&](const tbb::blocked_range<int>& rows) {

@@ -4,9 +4,9 @@
 //    from `min_roughness` to 1, each texel the exact integral of the GGX lobe with normal = view
 //    = reflected direction (Karis' split-sum assumption) over the panorama's pixels
 //    (lobe_integral.hpp: adaptive quadrature on a pyramid of the panorama; a sun is integrated
-//    where it is, not smeared). A level of roughness r is ceil(texel_density / r) texels wide,
-//    so its texels are about r / texel_density * 3.5 radians across, fine enough for bilinear
-//    lookups. Lookups blend the two levels around r linearly in alpha = r^2.
+//    where it is, not smeared). A level of roughness r is max(48, ceil(texel_density / r))
+//    texels wide, fine enough for bilinear lookups. Lookups blend the two levels around r
+//    linearly in alpha = r^2.
 //    Accuracy against brute force (tests/reflect/test_prefiltered_ibl.cpp, docs/reflect.md):
 //    within 2% mean relative error for roughness 0.1..1 on the shared interior and hard-sun
 //    panoramas.
@@ -28,9 +28,9 @@ namespace holo::reflect {
 struct PrefilterOptions {
   int levels = 10;             // roughness levels including the mirror, >= 2
   int base_size = 0;           // octahedral size of level 0; 0 = from the panorama width
-  int texel_density = 26;      // a level of roughness r is ceil(texel_density / r) texels wide
+  int texel_density = 16;      // a level of roughness r is max(48, ceil(texel_density / r)) wide
   float min_roughness = 0.1f;  // roughness of level 1 (below it lookups blend with the mirror)
-  float tail_ratio = 2.0f;     // LobeQuadratureOptions::tail_ratio (accuracy against time)
+  float tail_ratio = 1.5f;     // LobeQuadratureOptions::tail_ratio (accuracy against time)
 };
 
 class PrefilteredIbl {
