@@ -28,7 +28,7 @@ namespace holo::reflect {
 struct PrefilterOptions {
   int levels = 10;             // roughness levels including the mirror, >= 2
   int base_size = 0;           // octahedral size of level 0; 0 = from the panorama width
-  int texel_density = 16;      // a level of roughness r is max(48, ceil(texel_density / r)) wide
+  int texel_density = 20;      // a level of roughness r is max(48, ceil(texel_density / r)) wide
   float min_roughness = 0.1f;  // roughness of level 1 (below it lookups blend with the mirror)
   float tail_ratio = 1.5f;     // LobeQuadratureOptions::tail_ratio (accuracy against time)
 };
