@@ -15,6 +15,7 @@
 #include "holo/core/image.hpp"
 #include "holo/reflect/foreground_environment.hpp"
 #include "holo/reflect/ibl_renderer.hpp"
+#include "holo/reflect/lobe_integral.hpp"
 #include "holo/reflect/path_tracer.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
 #include "holo/reflect/view.hpp"
@@ -123,6 +124,57 @@ TEST(PrefilteredIbl, MatchesBruteForceLobeOnInterior) {
 TEST(PrefilteredIbl, MatchesBruteForceLobeOnHardSun) {
   HOLO_REQUIRE_SHARED_DATA("hdri/rooitou_park_1k.hdr");
   expectIblMatchesBruteForce("rooitou_park_1k.hdr");
+}
+
+TEST(GgxLobeIntegral, MatchesThePixelSumOnTheHardSun) {
+  // The quadrature alone (no texels, no level blending) at its default tail ratio.
+  HOLO_REQUIRE_SHARED_DATA("hdri/rooitou_park_1k.hdr");
+  const Environment env(loadHdr(test::sharedData("hdri/rooitou_park_1k.hdr")).pixels);
+  const GgxLobeIntegral integral(env.panorama(), env.yaw());
+  const std::vector<vec3> dirs = fibonacciDirections(12);
+  for (float roughness : {0.1f, 0.45f, 1.0f}) {
+    const std::vector<vec3> ref = bruteForceLobe(env, dirs, roughness);
+    const auto lobe = integral.lobe(roughnessToAlpha(roughness));
+    double sum = 0;
+    for (std::size_t k = 0; k < dirs.size(); ++k) {
+      const double r = luminance(ref[k]);
+      sum += std::abs(double(luminance(integral.integrate(dirs[k], lobe))) - r) / r;
+    }
+    EXPECT_LT(sum / double(dirs.size()), 0.005) << "roughness " << roughness;
+  }
+}
+
+TEST(GgxLobeIntegral, UniformPanoramaAndSinglePointAreExact) {
+  const Environment uniform = Environment::uniform(vec3(2.0f, 1.0f, 0.5f), 256, 128);
+  const GgxLobeIntegral flat(uniform.panorama(), 0.0f);
+  for (float alpha : {0.003f, 0.05f, 0.4f, 1.0f}) {
+    const auto lobe = flat.lobe(alpha);
+    for (const vec3& d : fibonacciDirections(16)) {
+      const vec3 v = flat.integrate(d, lobe);
+      EXPECT_NEAR(v.r, 2.0f, 1e-4f);
+      EXPECT_NEAR(v.b, 0.5f, 1e-4f);
+    }
+  }
+  // One lit pixel (a sun): at whatever pyramid level it is summed, it counts from its own
+  // direction, so every direction matches the pixel sum, near the sun and far from it.
+  cv::Mat pano(128, 256, CV_32FC3, cv::Scalar::all(0));
+  pano.at<cv::Vec3f>(40, 100) = cv::Vec3f(1e4f, 1e4f, 1e4f);
+  const Environment sun(pano);
+  const GgxLobeIntegral point(sun.panorama(), 0.0f);
+  const std::vector<vec3> dirs = fibonacciDirections(32);
+  const std::vector<vec3> ref = bruteForceLobe(sun, dirs, 0.6f);
+  const auto lobe = point.lobe(roughnessToAlpha(0.6f));
+  int lit = 0;
+  for (std::size_t k = 0; k < dirs.size(); ++k) {
+    const float v = point.integrate(dirs[k], lobe).g;
+    if (ref[k].g == 0.0f) {
+      EXPECT_EQ(v, 0.0f);  // the sun is below this direction's horizon
+    } else {
+      ++lit;
+      EXPECT_NEAR(v, ref[k].g, 0.01f * ref[k].g) << "direction " << k;
+    }
+  }
+  EXPECT_GT(lit, 8);
 }
 
 TEST(PrefilteredIbl, UniformEnvironmentStaysUniformAtEveryLevel) {
