@@ -258,7 +258,6 @@ MethodResult renderMethod(const std::string& method, const ReflectionScene& scen
     const reflect::Environment env(pano);
     reflect::PrefilterOptions po;
     po.levels = settings.ibl_levels;
-    po.samples_per_texel = settings.ibl_samples;
     const reflect::PrefilteredIbl ibl(env, po);
     r.build_ms = msSince(t0);
     r.image = reflect::renderIbl(rs, ibl, camera);

@@ -7,19 +7,17 @@
 
 #include "holo/core/equirect.hpp"
 #include "holo/reflect/dfg_table.hpp"
+#include "holo/reflect/lobe_integral.hpp"
 
 namespace holo::reflect {
 
 namespace {
 
+constexpr int kMinLevelSize = 48;
+
 int floorPow2(int v) {
   int p = 1;
   while (p * 2 <= v) p *= 2;
-  return p;
-}
-int ceilPow2(int v) {
-  int p = 1;
-  while (p < v) p *= 2;
   return p;
 }
 
@@ -58,112 +56,6 @@ OctahedralMap resamplePanorama(const cv::Mat& pano, float yaw, int size) {
   return map;
 }
 
-// The panorama's few very bright pixels (a sun, a lamp), which a sample-based prefilter would
-// either miss or, read from a blurred MIP level, smear across the horizon. They are taken out of
-// the panorama and integrated exactly for every texel (2 x 2 point lights per pixel).
-struct BrightLight {
-  vec3 direction;
-  vec3 power;  // radiance * solid angle / 4 (one of the 4 sub-points), RGB
-};
-constexpr int kMaxBrightPixels = 512;
-constexpr float kBrightFactor = 32.0f;  // "bright" = luminance above 32 x the sphere's mean
-
-std::vector<BrightLight> extractBrightPixels(cv::Mat& pano, float yaw, const vec3& integral) {
-  const int w = pano.cols, h = pano.rows;
-  const float threshold = kBrightFactor * luminance(integral) / (4.0f * kPi);
-  struct Candidate {
-    double power;
-    int x, y;
-  };
-  std::vector<Candidate> candidates;
-  for (int y = 0; y < h; ++y) {
-    const double omega = Environment::pixelSolidAngle(y, w, h);
-    for (int x = 0; x < w; ++x) {
-      const float lum = luminance(rgbAt(pano, x, y));
-      if (threshold > 0.0f && lum > threshold) candidates.push_back({lum * omega, x, y});
-    }
-  }
-  if (candidates.size() > std::size_t(kMaxBrightPixels)) {
-    std::nth_element(candidates.begin(), candidates.begin() + kMaxBrightPixels, candidates.end(),
-                     [](const Candidate& a, const Candidate& b) { return a.power > b.power; });
-    candidates.resize(std::size_t(kMaxBrightPixels));
-  }
-  std::vector<BrightLight> lights;
-  for (const Candidate& c : candidates) {
-    const vec3 radiance = rgbAt(pano, c.x, c.y);
-    const float quarter = float(Environment::pixelSolidAngle(c.y, w, h)) * 0.25f;
-    for (int j = 0; j < 2; ++j)
-      for (int i = 0; i < 2; ++i)
-        lights.push_back({equirect::uvToDirection({(float(c.x) + 0.25f + 0.5f * float(i)) / float(w),
-                                                   (float(c.y) + 0.25f + 0.5f * float(j)) / float(h)},
-                                                  yaw),
-                          radiance * quarter});
-    setRgb(pano, c.x, c.y, vec3(0.0f));
-  }
-  return lights;
-}
-
-// The prefilter's lobe weight W(l) = pdf(l) * n.l with n = v: pdf(l) = D(h) / 4, n.h =
-// sqrt((1 + n.l) / 2).
-float lobeWeight(float n_dot_l, float alpha) {
-  if (n_dot_l <= 0.0f) return 0.0f;
-  return ggx::D(std::sqrt(0.5f * (1.0f + n_dot_l)), alpha) * 0.25f * n_dot_l;
-}
-
-vec3 trilinear(const std::vector<OctahedralMap>& chain, const vec3& d, float lod) {
-  const float l = std::clamp(lod, 0.0f, float(chain.size() - 1));
-  const int l0 = std::min(int(l), int(chain.size()) - 1);
-  const int l1 = std::min(l0 + 1, int(chain.size()) - 1);
-  const float t = l - float(l0);
-  const vec3 a = chain[std::size_t(l0)].bilinear(d);
-  if (t <= 0.0f || l1 == l0) return a;
-  return (1.0f - t) * a + t * chain[std::size_t(l1)].bilinear(d);
-}
-
-float hammersley(std::uint32_t i) {
-  i = (i << 16u) | (i >> 16u);
-  i = ((i & 0x55555555u) << 1u) | ((i & 0xAAAAAAAAu) >> 1u);
-  i = ((i & 0x33333333u) << 2u) | ((i & 0xCCCCCCCCu) >> 2u);
-  i = ((i & 0x0F0F0F0Fu) << 4u) | ((i & 0xF0F0F0F0u) >> 4u);
-  i = ((i & 0x00FF00FFu) << 8u) | ((i & 0xFF00FF00u) >> 8u);
-  return float(i) * 2.3283064365386963e-10f;
-}
-
-struct LobeSample {
-  vec3 l;     // local direction (normal = view = +Z)
-  float nol;  // weight
-  float lod;  // source MIP level
-};
-
-std::vector<LobeSample> lobeSamples(float alpha, int count, int base_size, float lod_bias) {
-  std::vector<LobeSample> out;
-  const float omega_p = 4.0f * kPi / float(base_size * base_size);
-  for (int k = 0; k < count; ++k) {
-    const vec2 u((float(k) + 0.5f) / float(count), hammersley(std::uint32_t(k)));
-    const vec3 hv = ggx::sampleNormal(alpha, u);
-    const vec3 l = 2.0f * hv.z * hv - vec3(0, 0, 1);
-    if (l.z <= 0.0f) continue;
-    // pdf of l with n = v: D(h) (n.h) / (4 v.h) = D(h) / 4.
-    const float pdf = ggx::D(hv.z, alpha) * 0.25f;
-    const float omega_s = 1.0f / (float(count) * std::max(pdf, 1e-20f));
-    const float lod = std::max(0.0f, 0.5f * std::log2(omega_s / omega_p) + lod_bias);
-    out.push_back({l, l.z, lod});
-  }
-  return out;
-}
-
-// Integral of the lobe weight over the sphere (the FIS estimate's denominator), by 4096
-// Hammersley samples of the lobe's own distribution.
-double lobeNormalisation(float alpha) {
-  constexpr int kSamples = 4096;
-  double sum = 0;
-  for (int k = 0; k < kSamples; ++k) {
-    const vec3 hv = ggx::sampleNormal(alpha, {(float(k) + 0.5f) / kSamples, hammersley(std::uint32_t(k))});
-    sum += std::max(0.0f, 2.0f * hv.z * hv.z - 1.0f);  // n.l
-  }
-  return sum / kSamples;
-}
-
 }  // namespace
 
 PrefilteredIbl::PrefilteredIbl(const Environment& env, PrefilterOptions options)
@@ -174,62 +66,52 @@ PrefilteredIbl::PrefilteredIbl(const Environment& env, PrefilterOptions options)
   base = floorPow2(std::max(base, 4));
 
   levels_.resize(std::size_t(levels));
-  std::vector<OctahedralMap> chain;  // MIP chain of the panorama without its bright pixels
-  std::vector<BrightLight> lights;
-  if (env.panorama().empty()) {
-    chain.emplace_back(base);
-    levels_[0] = chain[0];
-  } else {
-    levels_[0] = resamplePanorama(env.panorama(), env.yaw(), base);
-    cv::Mat residual = env.panorama().clone();
-    lights = extractBrightPixels(residual, env.yaw(), env.integral());
-    chain.push_back(lights.empty() ? levels_[0] : resamplePanorama(residual, env.yaw(), base));
+  // Level 0 is the mirror; levels 1.. are evenly spaced in sqrt(roughness) from min_roughness
+  // to 1, which keeps the error of interpolating between neighbours about even (measured).
+  const float s0 = std::sqrt(std::clamp(options.min_roughness, 0.01f, 1.0f));
+  level_roughness_.assign(std::size_t(levels), 0.0f);
+  for (int l = 1; l < levels; ++l) {
+    const float s = levels == 2 ? 1.0f : s0 + (1.0f - s0) * float(l - 1) / float(levels - 2);
+    level_roughness_[std::size_t(l)] = s * s;
   }
-  while (chain.back().size() > 1) chain.push_back(chain.back().downsampled());
-
+  if (env.panorama().empty()) {
+    for (auto& level : levels_) level = OctahedralMap(16);
+    return;
+  }
+  levels_[0] = resamplePanorama(env.panorama(), env.yaw(), base);
+  LobeQuadratureOptions quadrature;
+  quadrature.tail_ratio = options.tail_ratio;
+  const GgxLobeIntegral integral(env.panorama(), env.yaw(), quadrature);
+  const float density = float(std::max(1, options.texel_density));
   for (int l = 1; l < levels; ++l) {
     const float roughness = levelRoughness(l);
-    const float alpha = std::max(roughnessToAlpha(roughness), 1e-4f);
-    // Texels about half the lobe's angular width (~2 alpha radians) wide; bilinear lookups
-    // interpolate between them.
-    const int size = std::clamp(ceilPow2(int(std::ceil(2.0f / alpha))), 16, base);
-    const float bright_scale = lights.empty() ? 0.0f : float(1.0 / lobeNormalisation(alpha));
-    const auto samples = lobeSamples(alpha, std::max(1, options.samples_per_texel), base, options.lod_bias);
+    const auto lobe = integral.lobe(roughnessToAlpha(roughness));
+    // Texels about roughness / texel_density * 3.5 radians wide keep bilinear lookups within
+    // ~1% of the lobe integral; rough levels keep kMinLevelSize so that a sun's wide lobe is
+    // still resolved (measured, docs/reflect.md).
+    const int size = std::clamp(int(std::ceil(density / roughness)), kMinLevelSize, 2 * base);
     OctahedralMap& out = levels_[std::size_t(l)];
     out = OctahedralMap(size);
     tbb::parallel_for(tbb::blocked_range<int>(0, size), [&](const tbb::blocked_range<int>& rows) {
       for (int y = rows.begin(); y < rows.end(); ++y)
-        for (int x = 0; x < size; ++x) {
-          const Frame frame(out.texelDirection(x, y));
-          vec3 sum(0.0f);
-          float wsum = 0.0f;
-          for (const LobeSample& s : samples) {
-            sum += s.nol * trilinear(chain, frame.toWorld(s.l), s.lod);
-            wsum += s.nol;
-          }
-          vec3 texel = wsum > 0.0f ? sum / wsum : vec3(0.0f);
-          vec3 bright(0.0f);
-          for (const BrightLight& light : lights)
-            bright += light.power * lobeWeight(glm::dot(frame.n, light.direction), alpha);
-          out.at(x, y) = texel + bright * bright_scale;
-        }
+        for (int x = 0; x < size; ++x) out.at(x, y) = integral.integrate(out.texelDirection(x, y), lobe);
     });
   }
 }
 
-float PrefilteredIbl::levelRoughness(int level) const {
-  return float(level) / float(std::max(1, levelCount() - 1));
-}
-
 vec3 PrefilteredIbl::specular(const vec3& direction, float roughness) const {
   if (levels_.empty()) return vec3(0.0f);
-  const float l = std::clamp(roughness, 0.0f, 1.0f) * float(levelCount() - 1);
-  const int l0 = std::min(int(l), levelCount() - 1);
-  const int l1 = std::min(l0 + 1, levelCount() - 1);
-  const float t = l - float(l0);
-  const vec3 a = levels_[std::size_t(l0)].bilinear(direction);
-  if (t <= 0.0f || l1 == l0) return a;
-  return (1.0f - t) * a + t * levels_[std::size_t(l1)].bilinear(direction);
+  const float r = std::clamp(roughness, 0.0f, 1.0f);
+  // Find the two levels around r and blend linearly in GGX alpha (= r^2), which follows the
+  // lobe's width better than r does (measured).
+  int l1 = 1;
+  while (l1 < levelCount() - 1 && level_roughness_[std::size_t(l1)] < r) ++l1;
+  const float r0 = level_roughness_[std::size_t(l1 - 1)], r1 = level_roughness_[std::size_t(l1)];
+  const float t = std::clamp((r * r - r0 * r0) / std::max(r1 * r1 - r0 * r0, 1e-12f), 0.0f, 1.0f);
+  const vec3 a = levels_[std::size_t(l1 - 1)].bilinear(direction);
+  if (t <= 0.0f) return a;
+  const vec3 b = levels_[std::size_t(l1)].bilinear(direction);
+  return (1.0f - t) * a + t * b;
 }
 
 vec3 PrefilteredIbl::shade(const SurfaceMaterial& m, const vec3& n, const vec3& wo) const {
