@@ -58,8 +58,8 @@ std::vector<Point> plannedPoints(bool full, int gt_spp) {
     add("gt", "spp=" + std::to_string(spp), s);
   }
   const std::vector<std::pair<int, int>> ibl =
-      full ? std::vector<std::pair<int, int>>{{9, 64}, {5, 16}, {9, 16}, {17, 128}, {17, 256}}
-           : std::vector<std::pair<int, int>>{{9, 64}, {5, 16}};
+      full ? std::vector<std::pair<int, int>>{{10, 20}, {5, 8}, {10, 8}, {10, 40}, {17, 40}}
+           : std::vector<std::pair<int, int>>{{10, 20}, {5, 8}};
   add("ours", "aa=4,levels=7", {});
   for (int rays : full ? std::vector<int>{1, 4, 16} : std::vector<int>{1, 4}) {
     MethodSettings s;
@@ -73,11 +73,11 @@ std::vector<Point> plannedPoints(bool full, int gt_spp) {
     add("mcpt", "spp=" + std::to_string(spp), s);
   }
   for (const std::string method : {"ibl", "ibl-baseline"})
-    for (auto [levels, samples] : ibl) {
+    for (auto [levels, density] : ibl) {
       MethodSettings s;
       s.ibl_levels = levels;
-      s.ibl_samples = samples;
-      add(method, "levels=" + std::to_string(levels) + ",samples=" + std::to_string(samples), s);
+      s.ibl_texel_density = density;
+      add(method, "levels=" + std::to_string(levels) + ",density=" + std::to_string(density), s);
     }
   return points;
 }

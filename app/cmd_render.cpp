@@ -52,9 +52,10 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--ibl-levels", o->settings.ibl_levels, "ibl: roughness levels")
           ->capture_default_str()
           ->check(CLI::Range(2, 64));
-      sub.add_option("--ibl-samples", o->settings.ibl_samples, "ibl: FIS samples per texel")
+      sub.add_option("--ibl-texel-density", o->settings.ibl_texel_density,
+                     "ibl: a level of roughness r is max(48, density / r) texels wide")
           ->capture_default_str()
-          ->check(CLI::Range(1, 4096));
+          ->check(CLI::Range(1, 1024));
       sub.add_flag("--no-visitors", o->no_visitors, "Leave the visitors out");
       sub.add_option("--out", o->out, "Output FILE.exr (a tone-mapped FILE.png is written beside it)")
           ->required();

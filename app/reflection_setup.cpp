@@ -223,7 +223,7 @@ std::shared_ptr<const reflect::PrefilteredIbl> staticIbl(const ReflectionScene& 
   const reflect::Environment env(scene.panorama);
   reflect::PrefilterOptions po;
   po.levels = settings.ibl_levels;
-  po.samples_per_texel = settings.ibl_samples;
+  po.texel_density = settings.ibl_texel_density;
   return std::make_shared<const reflect::PrefilteredIbl>(env, po);
 }
 
