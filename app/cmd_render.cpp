@@ -44,7 +44,8 @@ HOLO_REGISTER_COMMAND(Command{
       auto o = std::make_shared<RenderOptions>();
       o->scene.addTo(sub);
       o->view.addTo(sub);
-      sub.add_option("--method", o->method, "gt | ibl | ibl-baseline")->capture_default_str();
+      sub.add_option("--method", o->method, "gt | ibl | ibl-baseline | ours | ssrt | mcpt")
+          ->capture_default_str();
       sub.add_option("--spp", o->settings.spp, "gt: samples per pixel")
           ->capture_default_str()
           ->check(CLI::Range(1, 1 << 20));

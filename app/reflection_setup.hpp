@@ -69,9 +69,9 @@ inline const std::vector<std::string>& reflectionMethods() {
 }
 
 struct MethodSettings {
-  int spp = 256;         // gt, mcpt: samples per pixel; ssrt: reflected rays per hit point
-  int ibl_levels = 10;          // ibl*: roughness levels (PrefilterOptions::levels)
-  int ibl_texel_density = 20;   // ibl*: PrefilterOptions::texel_density
+  int spp = 256;               // gt, mcpt: samples per pixel; ssrt: reflected rays per hit point
+  int ibl_levels = 10;         // ibl*: roughness levels (PrefilterOptions::levels)
+  int ibl_texel_density = 20;  // ibl*: PrefilterOptions::texel_density
   bool with_visitors = true;
   std::uint64_t seed = 1;
   // ours, ssrt: the static hall's prefiltered panorama. The hall does not move, so it is built once
