@@ -403,7 +403,8 @@ std::string timingJson(const StageTimes& m, const std::vector<FrameReport>& repo
   };
   nlohmann::json j;
   j["frames"] = reports.size();
-  j["median"] = stages(m);
+  j["stages_ms"] = stages(m);  // medians over the frames
+  j["frame_ms"] = m.total;
   j["fps"] = m.total > 0 ? 1000.0 / m.total : 0.0;
   j["non_finite_pixels"] = totalNonFinite(reports);
   j["camera_frames"] = {{"mode", cameras.live ? "live" : "deterministic"},

@@ -138,3 +138,27 @@ TEST(RunHeadless, LiveModeAccountsForEveryCameraFrame) {
 }
 
 }  // namespace
+
+namespace {
+
+// `holopyramid bench frame --json` in the schema ({fps, stages_ms, floor_ms, frame_ms}),
+// with the floor measured in the same run: a frame does the floor's work (one primary ray and one
+// IBL lookup per relic pixel) and more, so it cannot take less time.
+TEST(BenchFrame, JsonHasTheStagesAndAFloorBelowTheFrame) {
+  const fs::path out = holo::test::scratchDir("app_bench_frame");
+  const fs::path json = out / "bench.json";
+  const int rc = runHolopyramid("bench frame --frames 3 --warmup 1 --view-size 64 --json " + json.string(),
+                                out / "log.txt");
+  ASSERT_EQ(rc, 0) << logText(out / "log.txt");
+  const nlohmann::json j = readJson(json);
+  for (const char* key : {"fps", "stages_ms", "floor_ms", "frame_ms"}) ASSERT_TRUE(j.contains(key)) << key;
+  for (const char* stage : {"acquisition_ms", "foreground_ms", "dynamic_reflections_ms",
+                            "static_reflections_ms", "composition_ms"})
+    EXPECT_GE(j["stages_ms"][stage].get<double>(), 0.0) << stage;
+  const double floor = j["floor_ms"].get<double>(), frame = j["frame_ms"].get<double>();
+  EXPECT_GT(floor, 0.0);
+  EXPECT_GT(frame, floor);
+  EXPECT_NEAR(j["fps"].get<double>(), 1000.0 / frame, 1e-6 * j["fps"].get<double>() + 1e-9);
+}
+
+}  // namespace
