@@ -149,14 +149,8 @@ struct AutoOptions {
 // Real cameras are driven by the wizard once the capture module lands; today --auto runs on the
 // simulated museum, whose truth it also prints so a run can be checked at a glance.
 int runAuto(const AutoOptions& options) {
-  calib::AutoCalibrationConfig config;
-  config.intrinsics_board = calib::BoardSpec::parse(options.intrinsics_board, "--intrinsics-board");
-  config.placement_board = calib::BoardSpec::parse(options.placement_board, "--placement-board");
-  if (options.background_frames < 1)
-    throw InputError("--background-frames", "frames", "at least 1",
-                     std::to_string(options.background_frames));
-  config.background_frames = options.background_frames;
-  config.placements = calib::defaultBoardPlacements(config.placement_board, sim::kFaceCount);
+  const calib::AutoCalibrationConfig config =
+      calibrationConfig(options.intrinsics_board, options.placement_board, options.background_frames);
   const calib::SimulatedRig rig(options.scene, config);
   std::cout << "calibrating the simulated museum (scene " << options.scene << ") into " << options.out
             << "\n";

@@ -74,15 +74,25 @@ void settle(CalibrationWizard& wizard, const std::string& screenshots) {
   for (int k = 0; k < 3; ++k) wizard.frame();
 }
 
-int runWizard(const WizardOptions& options) {
+}  // namespace
+
+calib::AutoCalibrationConfig calibrationConfig(const std::string& intrinsics_board,
+                                               const std::string& placement_board, int background_frames) {
   calib::AutoCalibrationConfig config;
-  config.intrinsics_board = calib::BoardSpec::parse(options.intrinsics_board, "--intrinsics-board");
-  config.placement_board = calib::BoardSpec::parse(options.placement_board, "--placement-board");
-  if (options.background_frames < 1)
-    throw InputError("--background-frames", "frames", "at least 1",
-                     std::to_string(options.background_frames));
-  config.background_frames = options.background_frames;
+  config.intrinsics_board = calib::BoardSpec::parse(intrinsics_board, "--intrinsics-board");
+  config.placement_board = calib::BoardSpec::parse(placement_board, "--placement-board");
+  if (background_frames < 1)
+    throw InputError("--background-frames", "frames", "at least 1", std::to_string(background_frames));
+  config.background_frames = background_frames;
   config.placements = calib::defaultBoardPlacements(config.placement_board, sim::kFaceCount);
+  return config;
+}
+
+namespace {
+
+int runWizard(const WizardOptions& options) {
+  const calib::AutoCalibrationConfig config =
+      calibrationConfig(options.intrinsics_board, options.placement_board, options.background_frames);
   const std::vector<Button> script = parseScript(options.script);
   const calib::SimulatedRig rig(options.scene, config);
   calib::CalibrationSession session(rig, config);

@@ -5,6 +5,9 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <string>
+
+#include "holo/calib/auto_calibration.hpp"
 
 namespace holo::app {
 
@@ -14,5 +17,11 @@ struct WizardSubcommand {
 };
 
 WizardSubcommand addWizardSubcommand(CLI::App& calibrate);
+
+// What `calibrate --auto` and the wizard share: the boards from their command-line specs
+// (InputError naming the flag otherwise), the background frame count (>= 1) and the default
+// board placements in front of the four faces.
+calib::AutoCalibrationConfig calibrationConfig(const std::string& intrinsics_board,
+                                               const std::string& placement_board, int background_frames);
 
 }  // namespace holo::app

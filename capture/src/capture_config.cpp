@@ -82,20 +82,27 @@ const std::vector<PixelFormat> kAravisDepth{PixelFormat::Mono16, PixelFormat::Co
 const std::vector<PixelFormat> kV4l2Colour{PixelFormat::YUYV, PixelFormat::MJPEG};
 const std::vector<PixelFormat> kV4l2Depth{PixelFormat::Z16};
 
-AravisStreamConfig parseAravisStream(const ConfigNode& node, bool depth) {
-  rejectUnknownKeys(node, {"serial", "pixel_format", "width", "height", "frame_rate", "depth_scale",
-                           "buffers", "packet_socket", "features"});
-  AravisStreamConfig s;
-  s.serial = node["serial"].as<std::string>();
-  if (s.serial.empty()) node["serial"].fail("the camera's serial number (see `holopyramid devices`)");
-  if (node.has("pixel_format"))
-    s.pixel_format = toString(pixelFormat(node, depth, depth ? kAravisDepth : kAravisColour));
+// The fields every backend's stream shares: format (from the backend's accepted list), size,
+// rate, depth scale and buffer count.
+template <typename Stream>
+void parseStreamFormat(const ConfigNode& node, const std::vector<PixelFormat>& accepted, bool depth,
+                       Stream& s) {
+  if (node.has("pixel_format")) s.pixel_format = toString(pixelFormat(node, depth, accepted));
   s.width = positive(node, "width", 0);
   s.height = positive(node, "height", 0);
   if ((s.width == 0) != (s.height == 0)) node.fail("width and height together (or neither)");
   s.frame_rate = rate(node, "frame_rate");
   s.depth_scale = depthScale(node);
   s.buffers = positive(node, "buffers", s.buffers);
+}
+
+AravisStreamConfig parseAravisStream(const ConfigNode& node, bool depth) {
+  rejectUnknownKeys(node, {"serial", "pixel_format", "width", "height", "frame_rate", "depth_scale",
+                           "buffers", "packet_socket", "features"});
+  AravisStreamConfig s;
+  s.serial = node["serial"].as<std::string>();
+  if (s.serial.empty()) node["serial"].fail("the camera's serial number (see `holopyramid devices`)");
+  parseStreamFormat(node, depth ? kAravisDepth : kAravisColour, depth, s);
   if (node.has("packet_socket")) {
     const std::string mode = node["packet_socket"].as<std::string>();
     if (mode == "auto")
@@ -121,14 +128,7 @@ V4l2StreamConfig parseV4l2Stream(const ConfigNode& node, bool depth) {
   V4l2StreamConfig s;
   s.device = node["device"].as<std::string>();
   if (s.device.empty()) node["device"].fail("/dev/videoN, bus:BUS_INFO or serial:SERIAL");
-  if (node.has("pixel_format"))
-    s.pixel_format = toString(pixelFormat(node, depth, depth ? kV4l2Depth : kV4l2Colour));
-  s.width = positive(node, "width", 0);
-  s.height = positive(node, "height", 0);
-  if ((s.width == 0) != (s.height == 0)) node.fail("width and height together (or neither)");
-  s.frame_rate = rate(node, "frame_rate");
-  s.depth_scale = depthScale(node);
-  s.buffers = positive(node, "buffers", s.buffers);
+  parseStreamFormat(node, depth ? kV4l2Depth : kV4l2Colour, depth, s);
   return s;
 }
 

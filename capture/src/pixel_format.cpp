@@ -26,21 +26,6 @@ constexpr std::array<std::pair<PixelFormat, const char*>, 12> kNames{{
     {PixelFormat::Coord3D_C16, "Coord3D_C16"},
 }};
 
-int bytesPerPixel(PixelFormat f) {
-  switch (f) {
-    case PixelFormat::Mono16:
-    case PixelFormat::YUYV:
-    case PixelFormat::Z16:
-    case PixelFormat::Coord3D_C16:
-      return 2;
-    case PixelFormat::RGB8:
-    case PixelFormat::BGR8:
-      return 3;
-    default:
-      return 1;
-  }
-}
-
 // A cv::Mat header over the raw bytes (no copy), after checking they are all there.
 cv::Mat wrap(PixelFormat f, const RawImage& raw, int type) {
   if (raw.width <= 0 || raw.height <= 0 || raw.data == nullptr)
@@ -56,6 +41,21 @@ cv::Mat wrap(PixelFormat f, const RawImage& raw, int type) {
 }
 
 }  // namespace
+
+int bytesPerPixel(PixelFormat f) {
+  switch (f) {
+    case PixelFormat::Mono16:
+    case PixelFormat::YUYV:
+    case PixelFormat::Z16:
+    case PixelFormat::Coord3D_C16:
+      return 2;
+    case PixelFormat::RGB8:
+    case PixelFormat::BGR8:
+      return 3;
+    default:
+      return 1;
+  }
+}
 
 PixelFormat pixelFormatFromName(const std::string& name) {
   for (const auto& [format, text] : kNames)

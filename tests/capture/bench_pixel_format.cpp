@@ -12,21 +12,6 @@ using namespace holo::capture;
 
 namespace {
 
-int bytesPerPixel(PixelFormat f) {
-  switch (f) {
-    case PixelFormat::Mono16:
-    case PixelFormat::YUYV:
-    case PixelFormat::Z16:
-    case PixelFormat::Coord3D_C16:
-      return 2;
-    case PixelFormat::RGB8:
-    case PixelFormat::BGR8:
-      return 3;
-    default:
-      return 1;
-  }
-}
-
 // A camera-like buffer: seeded noise (so JPEG does not compress to nothing) for raw formats, a
 // quality-90 JPEG of a noisy image for MJPG.
 std::vector<std::uint8_t> makeBuffer(PixelFormat format, int width, int height) {

@@ -34,6 +34,9 @@ PixelFormat pixelFormatFromName(const std::string& name);
 std::string toString(PixelFormat format);
 std::vector<std::string> pixelFormatNames();
 bool isDepthFormat(PixelFormat format);  // Z16, Coord3D_C16 (Mono16 can be either, by config)
+// Bytes per pixel of a packed buffer; MJPEG has no fixed size and counts 1 (its buffer is at
+// most width x height bytes in practice).
+int bytesPerPixel(PixelFormat format);
 
 struct RawImage {
   const void* data = nullptr;
