@@ -11,7 +11,6 @@
 #include "holo/core/error.hpp"
 #include "holo/core/image.hpp"
 #include "holo/reflect/composition.hpp"
-#include "holo/reflect/dfg_table.hpp"
 #include "holo/reflect/tone_map.hpp"
 
 namespace holo::reflect {
@@ -33,32 +32,6 @@ class PassTimer {
   Pass pass_;
   std::chrono::steady_clock::time_point start_;
 };
-
-// The split-sum shading of PrefilteredIbl::shade, kept in two parts so the foreground can replace
-// the environment radiance in the specular part: radiance = specular_scale * L + diffuse.
-struct Shading {
-  vec3 specular_scale{0.0f};  // F0 * A + F90 * B (DFG table)
-  vec3 diffuse{0.0f};         // SH irradiance diffuse, radiance
-  vec3 environment{0.0f};     // prefiltered environment radiance along the reflected direction
-};
-
-Shading shadeStatic(const PrefilteredIbl& ibl, const HitPoint& h) {
-  Shading s;
-  const float nv = glm::dot(h.normal, h.to_viewer);
-  if (!(nv > 0.0f)) return s;
-  const SurfaceMaterial& m = h.material;
-  const float metallic = std::clamp(m.metallic, 0.0f, 1.0f);
-  const float spec = std::clamp(m.specular, 0.0f, 1.0f);
-  const vec3 base = glm::clamp(m.base_color, vec3(0.0f), vec3(1.0f));
-  const vec2 ab = dfg(nv, m.roughness);
-  const vec3 f0 = (1.0f - metallic) * kDielectricF0 * spec + metallic * base;
-  const float f90 = (1.0f - metallic) * spec + metallic;
-  s.specular_scale = f0 * ab.x + f90 * ab.y;
-  s.environment = ibl.specular(h.reflected, m.roughness);
-  const float dielectric_reflectance = kDielectricF0 * spec * ab.x + spec * ab.y;
-  s.diffuse = (1.0f - metallic) * (1.0f - dielectric_reflectance) * base * ibl.irradiance(h.normal) / kPi;
-  return s;
-}
 
 }  // namespace
 
@@ -108,8 +81,8 @@ struct FrameRenderer::ViewCache {
   CameraModel camera;
   bool ready = false;
   HitPointBuffer hits;
-  std::vector<Shading> shading;      // per entry of hits.hits
-  std::vector<ForegroundSample> fg;  // per entry of hits.hits, this frame's walk (scratch)
+  std::vector<SplitSumShading> shading;  // per entry of hits.hits
+  std::vector<ForegroundSample> fg;      // per entry of hits.hits, this frame's walk (scratch)
   // The static result. Never written once handed out: a rebuild allocates new images, so a
   // caller's FrameResult keeps the pixels it was given.
   cv::Mat hdr, coverage, display, zero_weight;
@@ -175,7 +148,7 @@ bool reusable(const CameraModel& cached, const CameraModel& wanted, float distan
 
 // psi_f of one pixel: the mean over its samples of the composed specular plus the diffuse,
 // misses black; also the mean foreground weight. `fg` null: no foreground (w = 0).
-vec3 composePixel(const HitPointBuffer& hits, const std::vector<Shading>& shading,
+vec3 composePixel(const HitPointBuffer& hits, const std::vector<SplitSumShading>& shading,
                   const std::vector<ForegroundSample>* fg, std::size_t p, float& weight) {
   const std::size_t first = hits.firstSample(p);
   const int count = hits.sampleCount(p);
@@ -183,7 +156,7 @@ vec3 composePixel(const HitPointBuffer& hits, const std::vector<Shading>& shadin
   float wsum = 0.0f;
   for (std::size_t i = first; i < first + std::size_t(count); ++i) {
     if (!hits.valid[i]) continue;
-    const Shading& sh = shading[i];
+    const SplitSumShading& sh = shading[i];
     const vec3 psi_s = sh.specular_scale * sh.environment;
     const float w = fg ? (*fg)[i].weight : 0.0f;
     const vec3 psi_d = fg ? sh.specular_scale * (*fg)[i].radiance : vec3(0.0f);
@@ -227,11 +200,14 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     PassTimer t(out.timings, Pass::StaticReflections);
     const HitPointBuffer& hits = cache.hits;
     cache.shading.resize(hits.hits.size());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.hits.size()),
-                      [&](const tbb::blocked_range<std::size_t>& r) {
-                        for (std::size_t i = r.begin(); i < r.end(); ++i)
-                          if (hits.valid[i]) cache.shading[i] = shadeStatic(ibl_, hits.hits[i]);
-                      });
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, hits.hits.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+          for (std::size_t i = r.begin(); i < r.end(); ++i) {
+            if (!hits.valid[i]) continue;
+            const HitPoint& hp = hits.hits[i];
+            cache.shading[i] = ibl_.shadeParts(hp.material, hp.normal, hp.to_viewer, hp.reflected);
+          }
+        });
     // New images (see ViewCache): the previous ones may still be held by a caller.
     cache.hdr = cv::Mat(h, w, CV_32FC3);
     cache.coverage = cv::Mat(h, w, CV_32FC1);

@@ -114,20 +114,27 @@ vec3 PrefilteredIbl::specular(const vec3& direction, float roughness) const {
   return (1.0f - t) * a + t * b;
 }
 
-vec3 PrefilteredIbl::shade(const SurfaceMaterial& m, const vec3& n, const vec3& wo) const {
+SplitSumShading PrefilteredIbl::shadeParts(const SurfaceMaterial& m, const vec3& n, const vec3& wo,
+                                           const vec3& reflected) const {
+  SplitSumShading parts;
   const float nv = glm::dot(n, wo);
-  if (!(nv > 0.0f)) return vec3(0.0f);
+  if (!(nv > 0.0f)) return parts;
   const float metallic = std::clamp(m.metallic, 0.0f, 1.0f);
   const float s = std::clamp(m.specular, 0.0f, 1.0f);
   const vec3 base = glm::clamp(m.base_color, vec3(0.0f), vec3(1.0f));
   const vec2 ab = dfg(nv, m.roughness);
   const vec3 f0 = (1.0f - metallic) * kDielectricF0 * s + metallic * base;
   const float f90 = (1.0f - metallic) * s + metallic;
-  const vec3 r = glm::reflect(-wo, n);
-  const vec3 spec = specular(r, m.roughness) * (f0 * ab.x + f90 * ab.y);
+  parts.specular_scale = f0 * ab.x + f90 * ab.y;
+  parts.environment = specular(reflected, m.roughness);
   const float dielectric_reflectance = kDielectricF0 * s * ab.x + s * ab.y;
-  const vec3 diffuse = (1.0f - metallic) * (1.0f - dielectric_reflectance) * base * irradiance(n) / kPi;
-  return spec + diffuse;
+  parts.diffuse = (1.0f - metallic) * (1.0f - dielectric_reflectance) * base * irradiance(n) / kPi;
+  return parts;
+}
+
+vec3 PrefilteredIbl::shade(const SurfaceMaterial& m, const vec3& n, const vec3& wo) const {
+  const SplitSumShading parts = shadeParts(m, n, wo, glm::reflect(-wo, n));
+  return parts.environment * parts.specular_scale + parts.diffuse;
 }
 
 const PrefilteredIbl& IblCache::get(const Environment& environment) {

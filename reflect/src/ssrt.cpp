@@ -12,7 +12,6 @@
 #include "holo/core/image.hpp"
 #include "holo/reflect/bsdf.hpp"
 #include "holo/reflect/composition.hpp"
-#include "holo/reflect/dfg_table.hpp"
 #include "holo/reflect/hit_points.hpp"
 #include "holo/reflect/sampler.hpp"
 
@@ -130,19 +129,12 @@ cv::Mat renderSsrt(const RenderScene& scene, const PrefilteredIbl& ibl,
           const HitPoint& hp = hits.hits[i];
           const float nv = glm::dot(hp.normal, hp.to_viewer);
           if (!(nv > 0.0f)) continue;
-          // The split-sum shading of the static IBL (as ours): specular scale, diffuse, psi_s.
+          // The split-sum shading of the static IBL, as ours.
           const SurfaceMaterial& m = hp.material;
-          const float metallic = std::clamp(m.metallic, 0.0f, 1.0f);
-          const float spec = std::clamp(m.specular, 0.0f, 1.0f);
-          const vec3 base = glm::clamp(m.base_color, vec3(0.0f), vec3(1.0f));
-          const vec2 ab = dfg(nv, m.roughness);
-          const vec3 f0 = (1.0f - metallic) * kDielectricF0 * spec + metallic * base;
-          const float f90 = (1.0f - metallic) * spec + metallic;
-          const vec3 scale = f0 * ab.x + f90 * ab.y;
-          const float dielectric = kDielectricF0 * spec * ab.x + spec * ab.y;
-          const vec3 diffuse =
-              (1.0f - metallic) * (1.0f - dielectric) * base * ibl.irradiance(hp.normal) / kPi;
-          const vec3 psi_s = scale * ibl.specular(hp.reflected, m.roughness);
+          const SplitSumShading shading = ibl.shadeParts(m, hp.normal, hp.to_viewer, hp.reflected);
+          const vec3& scale = shading.specular_scale;
+          const vec3& diffuse = shading.diffuse;
+          const vec3 psi_s = scale * shading.environment;
 
           const bool mirror = m.roughness < 0.01f;
           const float alpha = roughnessToAlpha(m.roughness);

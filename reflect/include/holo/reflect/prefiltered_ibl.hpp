@@ -33,6 +33,15 @@ struct PrefilterOptions {
   float tail_ratio = 1.5f;     // LobeQuadratureOptions::tail_ratio (accuracy against time)
 };
 
+// The split-sum shading in parts, so a renderer can put the foreground's radiance in place of
+// the environment's in the specular part: radiance = specular_scale * L + diffuse, with
+// L = environment for the static hall alone.
+struct SplitSumShading {
+  vec3 specular_scale{0.0f};  // F0 * A + F90 * B (DFG table), in [0, 1]
+  vec3 diffuse{0.0f};         // SH irradiance diffuse, radiance
+  vec3 environment{0.0f};     // prefiltered environment radiance along `reflected`
+};
+
 class PrefilteredIbl {
  public:
   PrefilteredIbl() = default;
@@ -43,6 +52,10 @@ class PrefilteredIbl {
   vec3 irradiance(const vec3& normal) const { return sh_.irradiance(normal); }
   // Radiance leaving a surface towards `wo` (split-sum specular + SH diffuse).
   vec3 shade(const SurfaceMaterial& material, const vec3& normal, const vec3& wo) const;
+  // shade() in parts; `reflected` is wo mirrored about the normal. All zero when wo is not in
+  // front of the surface.
+  SplitSumShading shadeParts(const SurfaceMaterial& material, const vec3& normal, const vec3& wo,
+                             const vec3& reflected) const;
 
   int levelCount() const { return static_cast<int>(levels_.size()); }
   float levelRoughness(int level) const { return level_roughness_.at(static_cast<std::size_t>(level)); }
