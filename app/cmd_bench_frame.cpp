@@ -12,6 +12,7 @@
 #include "frame_loop.hpp"
 #include "holo/core/files.hpp"
 #include "holo/core/log.hpp"
+#include "holo/core/median.hpp"
 #include "holo/core/progress.hpp"
 #include "holo/reflect/view.hpp"
 
@@ -70,12 +71,6 @@ double meanAbsCodes(const reflect::FrameResult& a, const reflect::FrameResult& b
   return n > 0 ? sum / double(n) : 0.0;
 }
 
-double medianOf(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
-
 int runBenchFrame(BenchFrameOptions options) {
   setAntiAliasing(options.loop.tracer, reflect::parseAntiAliasing(options.aa, "--aa"));
   if (options.preload)
@@ -105,7 +100,7 @@ int runBenchFrame(BenchFrameOptions options) {
   const StageTimes median = medianTimes(reports);
   // The acquisition of the next frame overlaps processing; what the loop waits for is counted.
   const double processing = median.total;
-  const double floor = medianOf(floor_ms);
+  const double floor = holo::median(floor_ms);
   std::cout << formatTimingTable(median, reports, loop.cameraFrameCounts());
   std::cout << "tracer passes, median ms (all views):";
   for (const auto& [name, ms] : medianPasses(reports)) std::cout << fmt::format(" {} {:.2f}", name, ms);
@@ -114,7 +109,7 @@ int runBenchFrame(BenchFrameOptions options) {
     std::cout << fmt::format(
         "error against the same frames traced fresh with 4 samples per pixel: median {:.3f} sRGB codes "
         "(mean absolute, 8-bit, four faces)\n",
-        medianOf(error_codes));
+        holo::median(error_codes));
   if (options.preload)
     std::cout << fmt::format(
         "camera frames simulated before timing and replayed (setup incl. simulation {:.1f} s); "
@@ -131,7 +126,7 @@ int runBenchFrame(BenchFrameOptions options) {
     j["view_size"] = options.loop.view_size;
     j["scene"] = options.loop.scene;
     j["cameras_preloaded"] = options.preload;
-    if (options.reference) j["error_vs_full_aa_codes"] = medianOf(error_codes);
+    if (options.reference) j["error_vs_full_aa_codes"] = holo::median(error_codes);
     for (const auto& [name, ms] : medianPasses(reports)) j["passes_ms"][name] = ms;
     j["anti_aliasing"] = options.aa;
     j["static_reuse_m"] = options.loop.tracer.static_reuse_distance;

@@ -13,6 +13,7 @@
 #include "holo/core/error.hpp"
 #include "holo/core/image.hpp"
 #include "holo/core/log.hpp"
+#include "holo/core/median.hpp"
 #include "holo/reflect/view.hpp"
 
 namespace holo::app {
@@ -41,13 +42,6 @@ std::int64_t countNonFinite(const cv::Mat& hdr) {
     }
   }
   return count;
-}
-
-double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), mid, values.end());
-  return *mid;
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include "holo/calib/pose.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/files.hpp"
+#include "holo/core/median.hpp"
 #include "holo/core/progress.hpp"
 
 namespace holo::calib {
@@ -19,13 +20,6 @@ namespace holo::calib {
 namespace fs = std::filesystem;
 
 namespace {
-
-double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2),
-                   values.end());
-  return values[values.size() / 2];
-}
 
 void addVerdict(StepOutcome& out, std::ostream& log, StepVerdict verdict) {
   log << formatVerdict(verdict) << "\n";
