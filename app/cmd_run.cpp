@@ -1,5 +1,7 @@
-// `holopyramid run`: the product's main job. The live pipeline on a scene of the simulated
-// museum, on the monitors (GLFW) or headless (EGL) into PNG frames, an MP4 and a timing table.
+// `holopyramid run`: the product's main job. The live pipeline on the cameras, relic and panorama
+// of a configuration file (--config with capture: and exhibit: sections, installation.hpp) or on a
+// scene of the simulated museum, on the monitors (GLFW) or headless (EGL) into PNG frames, an MP4
+// and a timing table.
 #include <fmt/format.h>
 
 #include <filesystem>
@@ -8,7 +10,9 @@
 
 #include "command.hpp"
 #include "frame_loop.hpp"
+#include "holo/core/config.hpp"
 #include "holo/core/files.hpp"
+#include "holo/core/log.hpp"
 #include "holo/core/progress.hpp"
 #include "holo/display/display_config.hpp"
 
@@ -32,6 +36,10 @@ int runPipeline(RunOptions options) {
   display::DisplayConfig display_config = options.config_file.empty()
                                               ? display::DisplayConfig{}
                                               : display::loadDisplayConfig(options.config_file);
+  // A configuration that names cameras runs on them; one with only a display: section lays out
+  // the simulated scene.
+  if (!options.config_file.empty() && describesCameras(ConfigNode::loadFile(options.config_file)))
+    options.loop.config = options.config_file;
   if (!options.layout.empty()) display_config.layout = display::parseLayoutKind(options.layout, "--layout");
   const int frames = options.frames > 0 ? options.frames : (options.headless ? 30 : 0);
   if (options.headless && !options.loop.live) {
@@ -40,23 +48,33 @@ int runPipeline(RunOptions options) {
     options.loop.live = true;
   }
 
+  // The installation first: the recording's frame rate is the cameras'.
+  Installation installation =
+      options.loop.config.empty()
+          ? simulatedInstallation(options.loop.scene, options.loop.live, options.loop.panorama_width)
+          : loadInstallation(ConfigNode::loadFile(options.loop.config));
   std::unique_ptr<display::QuadViewPresenter> presenter;
   const std::filesystem::path out(options.out);
   if (options.headless) {
     display::RecordingSettings recording;
     recording.out_dir = out;
-    recording.fps = sim::loadScene(options.loop.scene).camera.fps;
+    recording.fps = installation.fps;
     recording.png_every = options.png_every;
     presenter = display::makeRecordingPresenter(display::makeHeadlessPresenter(display_config), recording);
   } else {
     presenter = display::makeWindowPresenter(display_config);
   }
 
-  FrameLoop loop(options.loop, std::move(presenter));
+  FrameLoop loop(options.loop, std::move(installation), std::move(presenter));
   std::vector<FrameReport> reports;
   ProgressReporter progress(frames > 0 ? frames : 0, "frames");
   while (frames == 0 || static_cast<int>(reports.size()) < frames) {
-    reports.push_back(loop.step());
+    FrameReport report = loop.step();
+    if (report.cameras_ended) {
+      HOLO_LOG_INFO("every camera's stream ended after {} frames", reports.size());
+      break;
+    }
+    reports.push_back(std::move(report));
     progress.update(1);
     if (!reports.back().presented && !options.headless) break;  // the window was closed
   }
@@ -84,7 +102,9 @@ HOLO_REGISTER_COMMAND(Command{
       auto options = std::make_shared<RunOptions>();
       sub.add_option("--scene", options->loop.scene, "Built-in scene (see `holopyramid scenes`) or YAML file")
           ->capture_default_str();
-      sub.add_option("--config", options->config_file, "YAML configuration (its display: section)");
+      sub.add_option("--config", options->config_file,
+                     "YAML configuration: display: section; with capture: and exhibit: sections, runs on "
+                     "those cameras, calibration, relic and panorama instead of --scene");
       sub.add_option("--layout", options->layout, "monitors | cross (overrides the configuration)");
       sub.add_flag("--headless", options->headless, "Render offscreen through EGL into --out, no windows");
       sub.add_flag("--live", options->loop.live,

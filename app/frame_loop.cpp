@@ -9,11 +9,11 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
-#include "holo/capture/simulated_source.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/image.hpp"
 #include "holo/core/log.hpp"
 #include "holo/core/median.hpp"
+#include "holo/core/progress.hpp"
 #include "holo/reflect/view.hpp"
 
 namespace holo::app {
@@ -59,94 +59,172 @@ void setAntiAliasing(reflect::TracerSettings& tracer, reflect::AntiAliasing mode
   tracer.edge_aa = mode == reflect::AntiAliasing::Edges;
 }
 
+namespace {
+
+Installation installationFor(const FrameLoopOptions& options) {
+  if (options.config.empty())
+    return simulatedInstallation(options.scene, options.live, options.panorama_width);
+  const ConfigNode root = ConfigNode::loadFile(options.config);
+  if (!describesCameras(root))
+    throw InputError(options.config, "capture",
+                     "a capture: section naming the cameras (and an exhibit: section naming the relic and "
+                     "panorama) to run on them");
+  return loadInstallation(root);
+}
+
+}  // namespace
+
 FrameLoop::FrameLoop(FrameLoopOptions options, std::unique_ptr<display::QuadViewPresenter> presenter)
+    : FrameLoop(options, installationFor(options), std::move(presenter)) {}
+
+FrameLoop::FrameLoop(FrameLoopOptions options, Installation installation,
+                     std::unique_ptr<display::QuadViewPresenter> presenter)
     : options_(std::move(options)),
-      museum_(std::make_shared<sim::Museum>(sim::loadScene(options_.scene))),
+      installation_name_(installation.name),
+      fps_(installation.fps),
+      cameras_(installation.cameras),
       foreground_([&] {
-        std::vector<CameraModel> cameras;
-        for (int i = 0; i < museum_->cameraCount(); ++i) cameras.push_back(museum_->camera(i));
+        if (installation.cameras.empty())
+          throw InputError(installation.name, "cameras", "at least one camera");
         depthfilter::ForegroundPipelineConfig config;
-        config.exposure = museum_->description().camera.exposure;
-        return depthfilter::ForegroundPipeline(cameras, config);
+        config.exposure = installation.camera_exposure;
+        return depthfilter::ForegroundPipeline(installation.cameras, config);
       }()),
+      camera_exposure_(installation.camera_exposure),
       eye_tracker_(options_.eyes),
       presenter_(std::move(presenter)) {
   if (options_.view_size < 16 || options_.view_size > 4096)
     throw InputError("frame loop", "view_size", "16..4096 pixels", std::to_string(options_.view_size));
-  const int n = museum_->cameraCount();
-  for (int i = 0; i < n; ++i) cameras_.push_back(museum_->camera(i));
+  const std::size_t n = cameras_.size();
+  if (installation.sources.size() != n || installation.capture_options.size() != n)
+    throw Error("installation " + installation.name + ": one source and capture setting per camera expected");
 
-  // The background gamma_s each camera learns its mask against (DESIGN.md step 2).
-  std::vector<RgbdFrame> backgrounds(static_cast<std::size_t>(n));
-  tbb::parallel_for(0, n,
-                    [&](int i) { backgrounds[static_cast<std::size_t>(i)] = museum_->backgroundFrame(i); });
-  foreground_.learnBackground(backgrounds);
-
-  const int pw = std::max(64, options_.panorama_width);
-  environment_ = reflect::Environment(museum_->renderPanorama(pw, pw / 2));
+  environment_ = reflect::Environment(installation.panorama, installation.panorama_yaw_rad);
   ibl_ = reflect::PrefilteredIbl(environment_);
-  render_scene_ = std::make_unique<reflect::RenderScene>(museum_->relic(), std::vector<Model>{});
+  render_scene_ = std::make_unique<reflect::RenderScene>(installation.relic, std::vector<Model>{});
   renderer_ = std::make_unique<reflect::FrameRenderer>(*render_scene_, ibl_, options_.tracer);
   for (int f = 0; f < 4; ++f) eyes_[static_cast<std::size_t>(f)] = display::defaultEye(f, options_.eyes);
 
+  capture_options_ = installation.capture_options;
   if (options_.live) {
-    latest_.resize(static_cast<std::size_t>(n));
-    for (int i = 0; i < n; ++i) {
+    latest_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
       mailboxes_.push_back(std::make_unique<capture::LatestFrameMailbox>());
-      capture::CaptureOptions capture_options;
-      capture_options.camera_id = i;
-      threads_.push_back(std::make_unique<capture::CaptureThread>(
-          std::make_unique<capture::SimulatedSource>(museum_, i), *mailboxes_.back(), capture_options));
+      threads_.push_back(std::make_unique<capture::CaptureThread>(std::move(installation.sources[i]),
+                                                                  *mailboxes_.back(), capture_options_[i]));
     }
   } else {
-    for (int f = 0; f < options_.preload_frames; ++f) preloaded_.push_back(grabDeterministic(f));
-    next_frames_ = std::async(std::launch::async, [this] { return grabDeterministic(0); });
+    sources_ = std::move(installation.sources);
+    source_ended_.assign(n, 0);
+    for (auto& source : sources_) {
+      source->open();
+      source->start();
+    }
   }
-  HOLO_LOG_INFO("frame loop ready: scene '{}', {} cameras, {} mode, views {}x{}", museum_->description().name,
-                n, options_.live ? "live" : "deterministic", options_.view_size, options_.view_size);
+  learnBackground(installation);
+  if (!options_.live) {
+    for (int f = 0; f < options_.preload_frames; ++f) preloaded_.push_back(grabDeterministic());
+    next_frames_ = std::async(std::launch::async, [this] { return grabDeterministic(); });
+  }
+  HOLO_LOG_INFO("frame loop ready: {}, {} cameras, {} mode, views {}x{}", installation_name_, n,
+                options_.live ? "live" : "deterministic", options_.view_size, options_.view_size);
 }
 
 FrameLoop::~FrameLoop() {
   for (auto& thread : threads_) thread->stop();
   if (next_frames_.valid()) next_frames_.wait();
+  for (auto& source : sources_) source->stop();
 }
 
-std::vector<RgbdFrame> FrameLoop::grabDeterministic(std::int64_t frame) {
-  if (frame < static_cast<std::int64_t>(preloaded_.size()))
-    return preloaded_[static_cast<std::size_t>(frame)];
-  const int n = museum_->cameraCount();
-  std::vector<RgbdFrame> frames(static_cast<std::size_t>(n));
-  tbb::parallel_for(0, n, [&](int i) {
-    frames[static_cast<std::size_t>(i)] = museum_->renderCamera(i, static_cast<int>(frame)).frame;
-  });
+void FrameLoop::learnBackground(const Installation& installation) {
+  // The background gamma_s each camera learns its mask against (DESIGN.md step 2).
+  if (!installation.background.empty()) foreground_.learnBackground(installation.background);
+  if (installation.background_frames <= 0) return;
+  ProgressReporter progress(installation.background_frames, "learning the background");
+  for (int k = 0; k < installation.background_frames; ++k) {
+    const std::vector<RgbdFrame> frames = options_.live ? waitLive() : grabDeterministic().frames;
+    foreground_.learnBackground(frames);
+    progress.update(1);
+  }
+  progress.done();
+}
+
+RgbdFrame FrameLoop::grabFrom(std::size_t camera) {
+  if (source_ended_[camera]) return {};
+  capture::CameraSource& source = *sources_[camera];
+  const capture::CaptureOptions& options = capture_options_[camera];
+  const auto give_up = Clock::now() + options.silence_timeout;
+  for (;;) {
+    capture::GrabResult result = source.grab(options.grab_timeout);
+    switch (result.status) {
+      case capture::GrabStatus::Ok:
+        result.frame.camera_id = static_cast<int>(camera);
+        return std::move(result.frame);
+      case capture::GrabStatus::EndOfStream:
+        HOLO_LOG_INFO("camera {}: end of stream", source.name());
+        source_ended_[camera] = 1;
+        return {};
+      case capture::GrabStatus::Disconnected:
+        HOLO_LOG_WARN("camera {}: disconnected ({}); missing this frame", source.name(), result.message);
+        return {};
+      default:
+        if (Clock::now() > give_up) {
+          HOLO_LOG_WARN("camera {}: no frame within {} ms ({}); missing this frame", source.name(),
+                        options.silence_timeout.count(), result.message);
+          return {};
+        }
+    }
+  }
+}
+
+FrameLoop::CameraFrames FrameLoop::grabDeterministic() {
+  CameraFrames out;
+  out.frames.resize(sources_.size());
+  tbb::parallel_for(std::size_t(0), sources_.size(), [&](std::size_t i) { out.frames[i] = grabFrom(i); });
+  out.ended = std::all_of(source_ended_.begin(), source_ended_.end(), [](std::uint8_t e) { return e != 0; });
+  return out;
+}
+
+std::vector<RgbdFrame> FrameLoop::waitLive() {
+  std::vector<RgbdFrame> frames(mailboxes_.size());
+  for (std::size_t i = 0; i < mailboxes_.size(); ++i)
+    if (!threads_[i]->finished())
+      if (auto fresh = mailboxes_[i]->waitAndTake(capture_options_[i].silence_timeout))
+        frames[i] = std::move(*fresh);
   return frames;
 }
 
-std::vector<RgbdFrame> FrameLoop::acquire(double& wait_ms) {
+FrameLoop::CameraFrames FrameLoop::acquire(double& wait_ms) {
   const auto t0 = Clock::now();
-  std::vector<RgbdFrame> frames;
+  CameraFrames out;
   if (!options_.live) {
-    frames = next_frames_.get();
-    next_frames_ =
-        std::async(std::launch::async, [this, next = index_ + 1] { return grabDeterministic(next); });
+    if (!preloaded_.empty()) {
+      out = std::move(preloaded_.front());
+      preloaded_.pop_front();
+    } else {
+      out = next_frames_.get();
+      next_frames_ = std::async(std::launch::async, [this] { return grabDeterministic(); });
+    }
   } else {
     const auto now = Clock::now();
-    frames.resize(latest_.size());
+    out.frames.resize(latest_.size());
+    out.ended = true;
     for (std::size_t i = 0; i < latest_.size(); ++i) {
       if (auto fresh = mailboxes_[i]->take()) latest_[i] = std::move(*fresh);
       const bool stale =
           latest_[i].color.empty() ||
           std::chrono::duration<double>(now - latest_[i].host_time).count() > options_.stale_camera_s;
-      if (!stale) frames[i] = latest_[i];  // an empty frame tells the pipeline the camera is missing
+      if (!stale) out.frames[i] = latest_[i];  // an empty frame tells the pipeline the camera is missing
+      out.ended = out.ended && threads_[i]->finished() && !mailboxes_[i]->peekLatest();
     }
   }
   wait_ms = msSince(t0);
-  return frames;
+  return out;
 }
 
 std::vector<reflect::ForegroundCameraImage> FrameLoop::cameraImages(const std::vector<RgbdFrame>& frames) {
   // sRGB bytes -> linear radiance in one table read per channel (the camera's exposure folded in).
-  const float exposure = museum_->description().camera.exposure;
+  const float exposure = camera_exposure_;
   std::array<float, 256> table{};
   for (int i = 0; i < 256; ++i) table[std::size_t(i)] = srgbToLinear(float(i) / 255.0f) / exposure;
   linear_colour_.resize(frames.size());
@@ -175,14 +253,19 @@ FrameReport FrameLoop::step() {
   const auto frame_start = Clock::now();
 
   double wait_ms = 0;
-  const std::vector<RgbdFrame> frames = acquire(wait_ms);
+  CameraFrames acquired = acquire(wait_ms);
+  const std::vector<RgbdFrame>& frames = acquired.frames;
   report.times.acquisition = wait_ms;
   for (const RgbdFrame& f : frames) report.cameras_live += f.color.empty() ? 0 : 1;
+  if (acquired.ended && report.cameras_live == 0) {  // nothing more will come: no frame to render
+    report.cameras_ended = true;
+    return report;
+  }
 
   auto t0 = Clock::now();
   cloud_ = foreground_.process(frames);
   cloud_.sequence = index_;
-  cloud_.time_s = museum_->frameTime(static_cast<int>(index_));
+  cloud_.time_s = static_cast<double>(index_) / fps_;
   report.foreground_points = cloud_.points.size();
   report.times.foreground = msSince(t0);
 

@@ -1,12 +1,19 @@
-// The live frame loop (DESIGN.md "One frame of the live pipeline"): four cameras -> foreground
-// point cloud -> reflections per face view -> composition -> the quad view.
+// The live frame loop (DESIGN.md "One frame of the live pipeline"): the cameras -> foreground
+// point cloud -> reflections per face view -> composition -> the quad view, on an Installation
+// (installation.hpp): the simulated museum or the cameras, calibration, relic and panorama of a
+// configuration file.
+//
+// Start-up: the foreground pipeline learns the background from the installation's background
+// frames and then from the first `background_frames` frames of every camera (not rendered).
 //
 // Acquisition overlaps processing in both modes:
 //  * live: one capture thread per camera publishes into a latest-frame mailbox; the loop takes
 //    the newest frame of each camera and never waits for one. A camera silent for longer than
 //    stale_camera_s is dropped from the foreground (the others go on; with none, IBL only).
-//  * deterministic (headless runs, tests, benchmarks): frame n+1 of every camera is grabbed on a
-//    worker while frame n is processed, so the same scene always gives the same images.
+//  * deterministic (headless runs, tests, benchmarks): every camera's next frame is grabbed in
+//    turn on a worker while the current one is processed, so the same scene or recording always
+//    gives the same images. A camera that gives no frame within its silence timeout is missing
+//    for that frame; a recording that ended stays missing.
 //
 // Units: seconds for times, milliseconds in StageTimes, metres in the world (pyramid) frame.
 // Threads: construct and step() on one thread (a window presenter needs the main thread).
@@ -14,6 +21,7 @@
 
 #include <array>
 #include <cstdint>
+#include <deque>
 #include <future>
 #include <memory>
 #include <optional>
@@ -29,7 +37,7 @@
 #include "holo/reflect/frame_renderer.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
 #include "holo/reflect/render_scene.hpp"
-#include "holo/sim/museum.hpp"
+#include "installation.hpp"
 
 namespace holo::app {
 
@@ -44,13 +52,16 @@ void setAntiAliasing(reflect::TracerSettings& tracer, reflect::AntiAliasing mode
 
 struct FrameLoopOptions {
   std::string scene = "museum";  // built-in name or YAML file (sim::loadScene)
-  bool live = false;             // capture threads at the cameras' rate; else deterministic
-  int view_size = 320;           // pixels, square face views
-  int panorama_width = 512;      // of the simulated hall panorama the IBL is built from
-  double stale_camera_s = 0.5;   // live: a camera silent this long leaves the foreground
-  bool track_eyes = true;        // eyes follow visitors' heads; else default standing eyes
-  // Deterministic mode: simulate the first N frames of every camera before the first step and
-  // replay them from memory (later frames are simulated while the previous one is processed).
+  // A configuration file with `capture:` and `exhibit:` sections (installation.hpp): its cameras,
+  // calibration, relic and panorama instead of the simulated scene. Empty: `scene`.
+  std::string config;
+  bool live = false;            // capture threads at the cameras' rate; else deterministic
+  int view_size = 320;          // pixels, square face views
+  int panorama_width = 512;     // of the simulated hall panorama the IBL is built from (scene)
+  double stale_camera_s = 0.5;  // live: a camera silent this long leaves the foreground
+  bool track_eyes = true;       // eyes follow visitors' heads; else default standing eyes
+  // Deterministic mode: grab (simulate) the first N frames of every camera before the first step
+  // and replay them from memory (later frames are grabbed while the previous one is processed).
   // For benchmarks: real cameras deliver their frames, while simulating four of them costs as
   // much CPU as a frame and would compete with it on 2 cores. About 6.5 MB per frame.
   int preload_frames = 0;
@@ -84,6 +95,9 @@ struct FrameReport {
   // a capture thread, never consumed by the loop. Live mode only; deterministic mode renders
   // exactly the frames it consumes, so 0 by construction.
   std::int64_t dropped_frames = 0;
+  // Every camera's stream has ended (recordings played to their end): nothing more will come,
+  // and this report is not a frame (nothing was rendered or presented).
+  bool cameras_ended = false;
   int static_reused_views = 0;     // views whose hit points and static shading came from the cache
   std::size_t refined_pixels = 0;  // pixels with 4 sub-samples (edge anti-aliasing), all views
   std::size_t relic_pixels = 0;    // pixels with some relic coverage, all views
@@ -106,9 +120,13 @@ struct CameraFrameCounts {
 
 class FrameLoop {
  public:
-  // Builds the museum, the cameras, the IBL and the renderers. Throws InputError for a bad scene
+  // Builds the installation (options.config, else options.scene), opens its cameras, learns the
+  // background, builds the IBL and the renderers. Throws InputError for a bad scene, configuration
   // or settings. `presenter` may be null (benchmarks: render without showing).
   FrameLoop(FrameLoopOptions options, std::unique_ptr<display::QuadViewPresenter> presenter);
+  // The same on an installation built by the caller (options.scene and .config are not used).
+  FrameLoop(FrameLoopOptions options, Installation installation,
+            std::unique_ptr<display::QuadViewPresenter> presenter);
   ~FrameLoop();
   FrameLoop(const FrameLoop&) = delete;
   FrameLoop& operator=(const FrameLoop&) = delete;
@@ -123,7 +141,8 @@ class FrameLoop {
   // Closes the presenter's outputs (the MP4 is renamed into place).
   void finish();
 
-  const sim::Museum& museum() const { return *museum_; }
+  const std::string& installationName() const { return installation_name_; }
+  double cameraFps() const { return fps_; }
   const std::vector<CameraModel>& cameras() const { return cameras_; }
   std::vector<CameraModel> faceViews() const;  // the four views of the last frame
   const reflect::FrameResult& lastResult() const { return last_result_; }
@@ -134,15 +153,29 @@ class FrameLoop {
   const reflect::PrefilteredIbl& ibl() const { return ibl_; }
 
  private:
-  std::vector<RgbdFrame> acquire(double& wait_ms);
-  std::vector<RgbdFrame> grabDeterministic(std::int64_t frame);
+  // One frame of every camera (empty where a camera gave none) and whether all streams ended.
+  struct CameraFrames {
+    std::vector<RgbdFrame> frames;
+    bool ended = false;
+  };
+  CameraFrames acquire(double& wait_ms);
+  CameraFrames grabDeterministic();  // the next frame of every source, in parallel
+  RgbdFrame grabFrom(std::size_t camera);
+  std::vector<RgbdFrame> waitLive();  // live: a fresh frame of every camera (bounded wait)
+  void learnBackground(const Installation& installation);
   std::vector<reflect::ForegroundCameraImage> cameraImages(const std::vector<RgbdFrame>& frames);
 
   FrameLoopOptions options_;
-  std::shared_ptr<const sim::Museum> museum_;
+  std::string installation_name_;
+  double fps_ = 30.0;
   std::vector<CameraModel> cameras_;
-  std::vector<std::vector<RgbdFrame>> preloaded_;                        // deterministic, per frame
-  std::future<std::vector<RgbdFrame>> next_frames_;                      // deterministic prefetch
+  // Deterministic mode: the sources, grabbed by one task at a time (the prefetch), and which of
+  // them reported the end of their stream.
+  std::vector<std::unique_ptr<capture::CameraSource>> sources_;
+  std::vector<capture::CaptureOptions> capture_options_;
+  std::vector<std::uint8_t> source_ended_;
+  std::deque<CameraFrames> preloaded_;                                   // deterministic
+  std::future<CameraFrames> next_frames_;                                // deterministic prefetch
   std::vector<std::unique_ptr<capture::LatestFrameMailbox>> mailboxes_;  // live mode
   std::vector<std::unique_ptr<capture::CaptureThread>> threads_;         // live mode
   std::vector<RgbdFrame> latest_;                                        // live: per camera
@@ -150,6 +183,7 @@ class FrameLoop {
   std::vector<reflect::ForegroundCameraImage> last_images_;  // the last frame's, for renderReference
   depthfilter::ForegroundPipeline foreground_;
   depthfilter::ForegroundCloud cloud_;
+  float camera_exposure_ = 1.0f;  // the cameras': radiance = srgbToLinear(colour) / exposure
   reflect::Environment environment_;
   reflect::PrefilteredIbl ibl_;
   std::unique_ptr<reflect::RenderScene> render_scene_;

@@ -1,0 +1,69 @@
+// What the frame loop runs on: the cameras (their sources and calibrated models), the relic and
+// the hall's panorama. Two origins:
+//  * the simulated museum (`--scene`, the default): its four simulated cameras with their true
+//    models, its relic and its rendered hall panorama, and its empty hall as the background;
+//  * a configuration file (`--config FILE` with a `capture:` section): the configured cameras
+//    (capture_config.hpp: Aravis, V4L2, recordings, simulated scenes), each camera's model from
+//    the calibration folder (calibration_io.hpp: camera_SERIAL.yml, pyramid.yml for the
+//    panorama's yaw), and the `exhibit:` section:
+//
+//   exhibit:
+//     relic: relics/amphora.glb   # glTF 2.0 file (relative to this file) or vase|kettle|tripod|sphere
+//     fit_relic: false            # scale and centre a relic file on the pedestal (built-in: always)
+//     panorama: hall.hdr          # equirectangular linear HDR of the hall (.hdr or .exr)
+//     camera_exposure: 1.0        # the cameras' exposure: radiance = linear(sRGB) / exposure
+//     background_frames: 30       # first frames of every camera that only teach the background
+//     fps: 30                     # the cameras' frame rate (timing of the MP4, eye smoothing)
+//
+// A camera's model comes from DIR/camera_SERIAL.yml when the calibration folder has it, else
+// from the source itself when it knows it (a recording, the simulation); a camera with neither
+// is an error. Every error is a holo::InputError naming the file and the field.
+// Units: metres in the world (pyramid) frame, radians for the yaw.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "holo/capture/camera_source.hpp"
+#include "holo/capture/capture_thread.hpp"
+#include "holo/core/camera_model.hpp"
+#include "holo/core/config.hpp"
+#include "holo/core/mesh.hpp"
+#include "holo/core/rgbd_frame.hpp"
+
+namespace holo::app {
+
+struct Installation {
+  std::string name;  // for logs and reports: the scene's name or the configuration file
+  // One entry per camera, in the same order: the source (not opened yet), its model in the world
+  // frame, and its capture thread's settings (live mode).
+  std::vector<std::unique_ptr<capture::CameraSource>> sources;
+  std::vector<CameraModel> cameras;
+  std::vector<capture::CaptureOptions> capture_options;
+  // Background frames gamma_s given directly, one per camera (the simulated museum's empty hall);
+  // may be empty. Then, or in addition, the first `background_frames` frames of every camera only
+  // teach the foreground pipeline the background.
+  std::vector<RgbdFrame> background;
+  int background_frames = 0;
+  float camera_exposure = 1.0f;  // radiance = srgbToLinear(colour) / camera_exposure
+  double fps = 30.0;             // the cameras' frame rate
+  Model relic;                   // world frame, standing on the base
+  cv::Mat panorama;              // CV_32FC3 linear BGR, equirectangular
+  float panorama_yaw_rad = 0.0f;
+};
+
+// The simulated museum's scene `scene` (built-in name or YAML file). `paced`: the cameras deliver
+// frames at the scene's rate (live mode); else as fast as they are asked for (deterministic).
+Installation simulatedInstallation(const std::string& scene, bool paced, int panorama_width);
+
+// The installation a configuration document describes (`root` is the whole document; its
+// `capture:` and `exhibit:` sections are read). Throws InputError naming the file and field.
+Installation loadInstallation(const ConfigNode& root);
+
+// True when the document has a `capture:` section (then it describes real cameras).
+bool describesCameras(const ConfigNode& root);
+
+}  // namespace holo::app
