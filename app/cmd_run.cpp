@@ -123,6 +123,8 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_flag("!--no-foreground", options->loop.tracer.foreground_enabled,
                    "Static IBL reflections only (the foreground effect off)");
       sub.add_flag("!--no-eye-tracking", options->loop.track_eyes, "Default standing eyes for every face");
+      sub.add_flag("!--no-overlap", options->loop.overlap,
+                   "Compute each frame's foreground after the previous frame instead of during it");
       sub.add_option("--json", options->json, "Also write the timing report (medians, per frame) here");
       return [options] { return runPipeline(*options); };
     },

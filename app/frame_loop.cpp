@@ -1,5 +1,6 @@
 #include "frame_loop.hpp"
 
+#include <fmt/format.h>
 #include <tbb/parallel_for.h>
 #include <algorithm>
 #include <chrono>
@@ -106,6 +107,7 @@ FrameLoop::FrameLoop(FrameLoopOptions options, Installation installation,
   for (int f = 0; f < 4; ++f) eyes_[static_cast<std::size_t>(f)] = display::defaultEye(f, options_.eyes);
 
   capture_options_ = installation.capture_options;
+  rejected_.assign(n, std::string());
   if (options_.live) {
     latest_.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
@@ -131,6 +133,7 @@ FrameLoop::FrameLoop(FrameLoopOptions options, Installation installation,
 }
 
 FrameLoop::~FrameLoop() {
+  if (next_foreground_.valid()) next_foreground_.wait();
   for (auto& thread : threads_) thread->stop();
   if (next_frames_.valid()) next_frames_.wait();
   for (auto& source : sources_) source->stop();
@@ -142,7 +145,8 @@ void FrameLoop::learnBackground(const Installation& installation) {
   if (installation.background_frames <= 0) return;
   ProgressReporter progress(installation.background_frames, "learning the background");
   for (int k = 0; k < installation.background_frames; ++k) {
-    const std::vector<RgbdFrame> frames = options_.live ? waitLive() : grabDeterministic().frames;
+    std::vector<RgbdFrame> frames = options_.live ? waitLive() : grabDeterministic().frames;
+    rejectUnusable(frames);
     foreground_.learnBackground(frames);
     progress.update(1);
   }
@@ -222,7 +226,8 @@ FrameLoop::CameraFrames FrameLoop::acquire(double& wait_ms) {
   return out;
 }
 
-std::vector<reflect::ForegroundCameraImage> FrameLoop::cameraImages(const std::vector<RgbdFrame>& frames) {
+std::vector<reflect::ForegroundCameraImage> FrameLoop::cameraImages(const std::vector<RgbdFrame>& frames,
+                                                                    const std::vector<cv::Mat>& masks) {
   // sRGB bytes -> linear radiance in one table read per channel (the camera's exposure folded in).
   const float exposure = camera_exposure_;
   std::array<float, 256> table{};
@@ -230,8 +235,7 @@ std::vector<reflect::ForegroundCameraImage> FrameLoop::cameraImages(const std::v
   linear_colour_.resize(frames.size());
   std::vector<reflect::ForegroundCameraImage> images(frames.size());
   for (std::size_t i = 0; i < frames.size(); ++i) {
-    const depthfilter::CameraForeground& result = foreground_.lastResult(i);
-    if (!result.present || frames[i].color.empty()) continue;  // no image: its points are ignored
+    if (masks[i].empty() || frames[i].color.empty()) continue;  // no image: its points are ignored
     const cv::Mat& srgb = frames[i].color;
     cv::Mat& linear = linear_colour_[i];
     linear.create(srgb.size(), CV_32FC3);
@@ -242,9 +246,50 @@ std::vector<reflect::ForegroundCameraImage> FrameLoop::cameraImages(const std::v
     });
     images[i].camera = cameras_[i];
     images[i].colour_bgr = linear;
-    images[i].mask = result.mask;
+    images[i].mask = masks[i];
   }
   return images;
+}
+
+void FrameLoop::rejectUnusable(std::vector<RgbdFrame>& frames) {
+  for (std::size_t i = 0; i < frames.size() && i < cameras_.size(); ++i) {
+    RgbdFrame& frame = frames[i];
+    if (frame.color.empty() && frame.depth.empty()) continue;  // missing, nothing to say
+    const cv::Size size(cameras_[i].width(), cameras_[i].height());
+    std::string problem;
+    if (frame.color.type() != CV_8UC3 || frame.color.size() != size)
+      problem = fmt::format("colour {}x{} type {} (expected {}x{} 8-bit BGR)", frame.color.cols,
+                            frame.color.rows, frame.color.type(), size.width, size.height);
+    else if (frame.depth.type() != CV_32FC1 || frame.depth.size() != size)
+      problem = fmt::format("depth {}x{} type {} (expected {}x{} float metres, as calibrated)",
+                            frame.depth.cols, frame.depth.rows, frame.depth.type(), size.width, size.height);
+    if (problem.empty()) continue;
+    // Once per camera and kind of problem: a camera that keeps sending such frames is missing.
+    if (rejected_[i] != problem)
+      HOLO_LOG_WARN("camera {}: frame not usable, treated as missing: {}", i, problem);
+    rejected_[i] = problem;
+    ++rejected_frames_;
+    frame = RgbdFrame{};
+  }
+}
+
+FrameLoop::ForegroundFrame FrameLoop::runForeground() {
+  ForegroundFrame out;
+  out.acquired = acquire(out.acquisition_ms);
+  rejectUnusable(out.acquired.frames);
+  for (const RgbdFrame& f : out.acquired.frames) out.cameras_live += f.color.empty() ? 0 : 1;
+  if (out.acquired.ended && out.cameras_live == 0) return out;  // nothing more will come
+  const auto t0 = Clock::now();
+  out.cloud = foreground_.process(out.acquired.frames);
+  // The pipeline overwrites its results with the next frame's, which may be processed while this
+  // one is rendered: the renderer gets copies of the masks.
+  out.masks.resize(out.acquired.frames.size());
+  for (std::size_t i = 0; i < out.masks.size(); ++i) {
+    const depthfilter::CameraForeground& result = foreground_.lastResult(i);
+    if (result.present && !out.acquired.frames[i].color.empty()) out.masks[i] = result.mask.clone();
+  }
+  out.foreground_ms = msSince(t0);
+  return out;
 }
 
 FrameReport FrameLoop::step() {
@@ -252,24 +297,26 @@ FrameReport FrameLoop::step() {
   report.index = index_;
   const auto frame_start = Clock::now();
 
-  double wait_ms = 0;
-  CameraFrames acquired = acquire(wait_ms);
-  const std::vector<RgbdFrame>& frames = acquired.frames;
-  report.times.acquisition = wait_ms;
-  for (const RgbdFrame& f : frames) report.cameras_live += f.color.empty() ? 0 : 1;
-  if (acquired.ended && report.cameras_live == 0) {  // nothing more will come: no frame to render
+  // This frame's foreground: computed while the previous frame was rendered (overlap), else now.
+  ForegroundFrame fg = next_foreground_.valid() ? next_foreground_.get() : runForeground();
+  report.times.pipeline_wait = msSince(frame_start);
+  const std::vector<RgbdFrame>& frames = fg.acquired.frames;
+  report.times.acquisition = fg.acquisition_ms;
+  report.cameras_live = fg.cameras_live;
+  if (fg.acquired.ended && fg.cameras_live == 0) {  // nothing more will come: no frame to render
     report.cameras_ended = true;
     return report;
   }
+  // The next frame's acquisition and foreground run on a worker while this one is rendered.
+  if (options_.overlap) next_foreground_ = std::async(std::launch::async, [this] { return runForeground(); });
 
-  auto t0 = Clock::now();
-  cloud_ = foreground_.process(frames);
+  cloud_ = std::move(fg.cloud);
   cloud_.sequence = index_;
   cloud_.time_s = static_cast<double>(index_) / fps_;
   report.foreground_points = cloud_.points.size();
-  report.times.foreground = msSince(t0);
+  report.times.foreground = fg.foreground_ms;
 
-  t0 = Clock::now();
+  auto t0 = Clock::now();
   if (options_.track_eyes) {
     const auto& eyes = eye_tracker_.update(cloud_);
     for (std::size_t f = 0; f < 4; ++f) {
@@ -283,7 +330,8 @@ FrameReport FrameLoop::step() {
   t0 = Clock::now();
   const bool foreground_passes = options_.tracer.foreground_enabled && !cloud_.empty();
   const std::vector<reflect::ForegroundCameraImage> images =
-      foreground_passes ? cameraImages(frames) : std::vector<reflect::ForegroundCameraImage>(frames.size());
+      foreground_passes ? cameraImages(frames, fg.masks)
+                        : std::vector<reflect::ForegroundCameraImage>(frames.size());
   report.camera_images_ms = msSince(t0);
   report.times.dynamic += report.camera_images_ms;
 
@@ -344,6 +392,10 @@ FrameReport FrameLoop::step() {
   return report;
 }
 
+void FrameLoop::waitForWorker() const {
+  if (next_foreground_.valid()) next_foreground_.wait();
+}
+
 std::vector<CameraModel> FrameLoop::faceViews() const {
   const Bounds3 bounds = render_scene_->relicBounds();
   const vec3 target = bounds.empty() ? vec3(0.0f) : bounds.center();
@@ -388,6 +440,7 @@ std::vector<capture::CameraHealth> FrameLoop::cameraHealth() const {
 CameraFrameCounts FrameLoop::cameraFrameCounts() const {
   CameraFrameCounts counts;
   counts.live = options_.live;
+  counts.rejected = rejected_frames_.load();
   if (!options_.live) {
     counts.produced = counts.consumed = index_ * static_cast<std::int64_t>(cameras_.size());
     return counts;
@@ -416,6 +469,7 @@ StageTimes medianTimes(const std::vector<FrameReport>& reports) {
   m.composition = pick(&StageTimes::composition);
   m.display = pick(&StageTimes::display);
   m.total = pick(&StageTimes::total);
+  m.pipeline_wait = pick(&StageTimes::pipeline_wait);
   return m;
 }
 
@@ -447,6 +501,7 @@ std::string formatTimingTable(const StageTimes& m, const std::vector<FrameReport
                                                  {"static reflections", m.statics},
                                                  {"composition", m.composition},
                                                  {"display", m.display},
+                                                 {"waiting for the foreground", m.pipeline_wait},
                                                  {"whole frame", m.total}};
   for (const auto& [name, ms] : rows) {
     std::snprintf(line, sizeof line, "%-26s %9.2f\n", name, ms);
@@ -459,10 +514,12 @@ std::string formatTimingTable(const StageTimes& m, const std::vector<FrameReport
                 static_cast<long long>(totalNonFinite(reports)));
   out << line;
   std::snprintf(line, sizeof line,
-                "camera frames (%s): %lld produced, %lld consumed, %lld dropped, %lld never consumed\n",
+                "camera frames (%s): %lld produced, %lld consumed, %lld dropped, %lld never consumed, %lld "
+                "unusable\n",
                 cameras.live ? "live" : "deterministic: none dropped by construction",
                 static_cast<long long>(cameras.produced), static_cast<long long>(cameras.consumed),
-                static_cast<long long>(cameras.dropped), static_cast<long long>(cameras.unconsumed));
+                static_cast<long long>(cameras.dropped), static_cast<long long>(cameras.unconsumed),
+                static_cast<long long>(cameras.rejected));
   out << line;
   return out.str();
 }
@@ -470,13 +527,10 @@ std::string formatTimingTable(const StageTimes& m, const std::vector<FrameReport
 std::string timingJson(const StageTimes& m, const std::vector<FrameReport>& reports,
                        const CameraFrameCounts& cameras) {
   auto stages = [](const StageTimes& t) {
-    return nlohmann::json{{"acquisition_ms", t.acquisition},
-                          {"foreground_ms", t.foreground},
-                          {"dynamic_reflections_ms", t.dynamic},
-                          {"static_reflections_ms", t.statics},
-                          {"composition_ms", t.composition},
-                          {"display_ms", t.display},
-                          {"frame_ms", t.total}};
+    return nlohmann::json{{"acquisition_ms", t.acquisition},     {"foreground_ms", t.foreground},
+                          {"dynamic_reflections_ms", t.dynamic}, {"static_reflections_ms", t.statics},
+                          {"composition_ms", t.composition},     {"display_ms", t.display},
+                          {"pipeline_wait_ms", t.pipeline_wait}, {"frame_ms", t.total}};
   };
   nlohmann::json j;
   j["frames"] = reports.size();
@@ -488,7 +542,8 @@ std::string timingJson(const StageTimes& m, const std::vector<FrameReport>& repo
                         {"produced", cameras.produced},
                         {"consumed", cameras.consumed},
                         {"dropped", cameras.dropped},
-                        {"unconsumed", cameras.unconsumed}};
+                        {"unconsumed", cameras.unconsumed},
+                        {"rejected", cameras.rejected}};
   nlohmann::json per_frame = nlohmann::json::array();
   for (const FrameReport& r : reports) {
     nlohmann::json f = stages(r.times);

@@ -20,6 +20,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <deque>
 #include <future>
@@ -65,19 +66,26 @@ struct FrameLoopOptions {
   // For benchmarks: real cameras deliver their frames, while simulating four of them costs as
   // much CPU as a frame and would compete with it on 2 cores. About 6.5 MB per frame.
   int preload_frames = 0;
+  // The next frame's acquisition and foreground point cloud run on a worker thread while this
+  // frame's reflections are rendered and presented. Results are the same either way (the
+  // foreground and the rendering each keep their own order); only the time differs.
+  bool overlap = true;
   reflect::TracerSettings tracer = liveTracerSettings();
   display::EyeTrackerSettings eyes;
 };
 
 // The paper's Table 3 stages of one frame, milliseconds.
 struct StageTimes {
-  double acquisition = 0;  // waiting for and converting camera frames (overlapped: the wait)
+  double acquisition = 0;  // waiting for camera frames (their grabbing overlaps processing)
   double foreground = 0;   // masks, flow, temporal filter, back-projection, voxel grid
   double dynamic = 0;      // Kawase pyramids and voxel walk
   double statics = 0;      // hit points and prefiltered IBL
   double composition = 0;  // composition, tone mapping
   double display = 0;      // eye tracking, quad layout, presentation
-  double total = 0;
+  double total = 0;        // the frame's wall time on the loop's thread (the frame period)
+  // Overlap: how long the frame waited for its foreground, computed on the worker while the
+  // previous frame was rendered (about 0 when it was ready); without: acquisition + foreground.
+  double pipeline_wait = 0;
 };
 
 struct FrameReport {
@@ -116,6 +124,7 @@ struct CameraFrameCounts {
   std::int64_t consumed = 0;
   std::int64_t dropped = 0;
   std::int64_t unconsumed = 0;
+  std::int64_t rejected = 0;  // taken but unusable (no depth, wrong size): treated as missing
 };
 
 class FrameLoop {
@@ -131,8 +140,11 @@ class FrameLoop {
   FrameLoop(const FrameLoop&) = delete;
   FrameLoop& operator=(const FrameLoop&) = delete;
 
-  // Renders and presents one frame.
+  // Renders and presents one frame (and, with overlap, starts the next frame's foreground).
   FrameReport step();
+  // Waits until the worker has finished the next frame's foreground (benchmarks: nothing runs
+  // beside what they measure next).
+  void waitForWorker() const;
   // The last frame again, from the eyes of that frame, with other tracer settings (and the
   // loop's exposure): the reference a quality knob's error is measured against (bench frame).
   reflect::FrameResult renderReference(reflect::TracerSettings settings);
@@ -163,7 +175,20 @@ class FrameLoop {
   RgbdFrame grabFrom(std::size_t camera);
   std::vector<RgbdFrame> waitLive();  // live: a fresh frame of every camera (bounded wait)
   void learnBackground(const Installation& installation);
-  std::vector<reflect::ForegroundCameraImage> cameraImages(const std::vector<RgbdFrame>& frames);
+  // Acquisition and the foreground stage of one frame (on the loop's worker when overlapped).
+  struct ForegroundFrame {
+    CameraFrames acquired;
+    depthfilter::ForegroundCloud cloud;
+    std::vector<cv::Mat> masks;  // per camera, copied from the pipeline; empty: no image
+    int cameras_live = 0;
+    double acquisition_ms = 0, foreground_ms = 0;
+  };
+  ForegroundFrame runForeground();
+  // Frames the foreground cannot use (no depth, a size other than the calibrated camera's) become
+  // missing ones, with a warning per camera and problem: a camera never stops the loop.
+  void rejectUnusable(std::vector<RgbdFrame>& frames);
+  std::vector<reflect::ForegroundCameraImage> cameraImages(const std::vector<RgbdFrame>& frames,
+                                                           const std::vector<cv::Mat>& masks);
 
   FrameLoopOptions options_;
   std::string installation_name_;
@@ -179,7 +204,10 @@ class FrameLoop {
   std::vector<std::unique_ptr<capture::LatestFrameMailbox>> mailboxes_;  // live mode
   std::vector<std::unique_ptr<capture::CaptureThread>> threads_;         // live mode
   std::vector<RgbdFrame> latest_;                                        // live: per camera
-  std::vector<cv::Mat> linear_colour_;  // per camera, reused: the pyramids copy what they keep
+  std::future<ForegroundFrame> next_foreground_;  // overlap: the next frame's, in flight
+  std::vector<std::string> rejected_;             // per camera: the last unusable frame's problem
+  std::atomic<std::int64_t> rejected_frames_{0};  // camera frames rejectUnusable dropped (worker)
+  std::vector<cv::Mat> linear_colour_;            // per camera, reused: the pyramids copy what they keep
   std::vector<reflect::ForegroundCameraImage> last_images_;  // the last frame's, for renderReference
   depthfilter::ForegroundPipeline foreground_;
   depthfilter::ForegroundCloud cloud_;
