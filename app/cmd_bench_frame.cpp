@@ -70,6 +70,14 @@ double processCpuSeconds() {
   return seconds(usage.ru_utime) + seconds(usage.ru_stime);
 }
 
+// Minor page faults of the process so far: memory freshly mapped and zeroed by the kernel (large
+// buffers allocated per frame instead of reused).
+long pageFaults() {
+  rusage usage{};
+  ::getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_minflt;
+}
+
 // Mean absolute difference in 8-bit sRGB code values over the four faces' displayed images.
 double meanAbsCodes(const reflect::FrameResult& a, const reflect::FrameResult& b) {
   double sum = 0;
@@ -104,6 +112,7 @@ int runBenchFrame(BenchFrameOptions options) {
   // floor of each frame's views is measured after the frames, with the worker idle.
   std::vector<std::vector<CameraModel>> views;
   const double cpu_start = processCpuSeconds();
+  const long faults_start = pageFaults();
   const auto wall_start = Clock::now();
   for (int i = 0; i < options.frames; ++i) {
     reports.push_back(loop.step());
@@ -116,6 +125,7 @@ int runBenchFrame(BenchFrameOptions options) {
   // How many cores the frames kept busy on average (both: the stages left none idle).
   const double busy_cores = (processCpuSeconds() - cpu_start) /
                             std::max(1e-9, std::chrono::duration<double>(Clock::now() - wall_start).count());
+  const double faults_per_frame = double(pageFaults() - faults_start) / std::max(1, options.frames);
   for (const std::vector<CameraModel>& frame_views : views)
     floor_ms.push_back(floorFrameMs(loop, frame_views, loop.ibl(), hits));
   progress.done();
@@ -140,10 +150,10 @@ int runBenchFrame(BenchFrameOptions options) {
   std::cout << fmt::format(
       "floor (1 primary ray + 1 IBL lookup per pixel, 4 views of {}x{}, {} relic pixels): {:.2f} ms\n"
       "frame / floor: {:.1f}x\n"
-      "cores busy during the frames: {:.2f} of {} ({})\n",
+      "cores busy during the frames: {:.2f} of {} ({}); {:.0f} page faults per frame\n",
       options.loop.view_size, options.loop.view_size, hits, floor, floor > 0 ? processing / floor : 0.0,
       busy_cores, std::thread::hardware_concurrency(),
-      options.loop.overlap ? "next frame's foreground overlapped" : "no overlap");
+      options.loop.overlap ? "next frame's foreground overlapped" : "no overlap", faults_per_frame);
   if (!options.json.empty()) {
     nlohmann::json j = nlohmann::json::parse(timingJson(median, reports, loop.cameraFrameCounts()));
     j["floor_ms"] = floor;
@@ -153,6 +163,7 @@ int runBenchFrame(BenchFrameOptions options) {
     j["cameras_preloaded"] = options.preload;
     j["overlap"] = options.loop.overlap;
     j["busy_cores"] = busy_cores;
+    j["page_faults_per_frame"] = faults_per_frame;
     if (options.reference) j["error_vs_full_aa_codes"] = holo::median(error_codes);
     for (const auto& [name, ms] : medianPasses(reports)) j["passes_ms"][name] = ms;
     j["anti_aliasing"] = options.aa;

@@ -2,10 +2,12 @@
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -34,15 +36,19 @@ double passMs(const std::vector<reflect::PassTiming>& timings, std::initializer_
 }
 
 std::int64_t countNonFinite(const cv::Mat& hdr) {
-  std::int64_t count = 0;
-  for (int y = 0; y < hdr.rows; ++y) {
-    const float* row = hdr.ptr<float>(y);
-    for (int x = 0; x < hdr.cols; ++x) {
-      const float* p = row + 3 * x;
-      count += (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2])) ? 0 : 1;
-    }
-  }
-  return count;
+  return tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, hdr.rows), std::int64_t(0),
+      [&](const tbb::blocked_range<int>& rows, std::int64_t count) {
+        for (int y = rows.begin(); y < rows.end(); ++y) {
+          const float* row = hdr.ptr<float>(y);
+          for (int x = 0; x < hdr.cols; ++x) {
+            const float* p = row + 3 * x;
+            count += (std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2])) ? 0 : 1;
+          }
+        }
+        return count;
+      },
+      std::plus<>());
 }
 
 }  // namespace
@@ -126,7 +132,6 @@ FrameLoop::FrameLoop(FrameLoopOptions options, Installation installation,
   learnBackground(installation);
   if (!options_.live) {
     for (int f = 0; f < options_.preload_frames; ++f) preloaded_.push_back(grabDeterministic());
-    next_frames_ = std::async(std::launch::async, [this] { return grabDeterministic(); });
   }
   HOLO_LOG_INFO("frame loop ready: {}, {} cameras, {} mode, views {}x{}", installation_name_, n,
                 options_.live ? "live" : "deterministic", options_.view_size, options_.view_size);
@@ -202,11 +207,13 @@ FrameLoop::CameraFrames FrameLoop::acquire(double& wait_ms) {
   const auto t0 = Clock::now();
   CameraFrames out;
   if (!options_.live) {
+    // The preloaded frames first; then each frame's grab was started when the previous one was
+    // taken (the first one is grabbed now).
     if (!preloaded_.empty()) {
       out = std::move(preloaded_.front());
       preloaded_.pop_front();
     } else {
-      out = next_frames_.get();
+      out = next_frames_.valid() ? next_frames_.get() : grabDeterministic();
       next_frames_ = std::async(std::launch::async, [this] { return grabDeterministic(); });
     }
   } else {

@@ -1,5 +1,7 @@
 #include "holo/display/eye_tracker.hpp"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <unordered_map>
@@ -128,12 +130,16 @@ const std::array<FaceEye, kFaceCount>& EyeTracker::update(const depthfilter::For
   if (last_time_s_ && !(std::isfinite(now) && now > *last_time_s_)) now = *last_time_s_ + kFallbackFrameS;
   if (!std::isfinite(now)) now = 0.0;
   last_time_s_ = now;
-  for (int f = 0; f < kFaceCount; ++f) {
+  // The faces' detections are independent (each reads the whole cloud): in parallel. The
+  // filter updates after them, in face order, so the result does not depend on the threads.
+  std::array<std::optional<vec3>, kFaceCount> detections;
+  tbb::parallel_for(0, kFaceCount, [&](int f) {
     const FaceEye& eye = eyes_[static_cast<std::size_t>(f)];
     std::optional<vec3> predicted;
     if (eye.tracked) predicted = eye.position + eye.velocity * static_cast<float>(now - eye.last_seen_s);
-    updateFace(f, detectEye(cloud, f, settings_, predicted), now);
-  }
+    detections[static_cast<std::size_t>(f)] = detectEye(cloud, f, settings_, predicted);
+  });
+  for (int f = 0; f < kFaceCount; ++f) updateFace(f, detections[static_cast<std::size_t>(f)], now);
   return eyes_;
 }
 
