@@ -139,6 +139,27 @@ TEST_F(RunConfig, RunsOnTheRecordedCamerasUntilTheRecordingEnds) {
   EXPECT_GT(fs::file_size(out / "quadview.mp4"), 0u);
 }
 
+// The next frame's foreground computed during this frame's rendering (the default) or after it
+// (--no-overlap): the same pictures, byte for byte.
+TEST_F(RunConfig, OverlappedStagesGiveTheSameFramesAsSequentialOnes) {
+  const fs::path config = writeConfig("same.yaml", goodExhibit());
+  for (const std::string mode : {"overlap", "sequential"}) {
+    const fs::path log = *dir_ / (mode + ".log");
+    const int rc = runHolopyramid("run --headless --frames 50 --view-size 48 --png-every 1 --config " +
+                                      config.string() + " --out " + (*dir_ / ("out_" + mode)).string() +
+                                      (mode == "sequential" ? " --no-overlap" : ""),
+                                  log);
+    ASSERT_EQ(rc, 0) << readText(log);
+  }
+  for (int frame = 0; frame < kVisitorFrames; ++frame) {
+    const std::string name =
+        "frame_" + std::string(frame < 10 ? "0000" : "000") + std::to_string(frame) + ".png";
+    const std::string overlapped = readText(*dir_ / "out_overlap" / name);
+    ASSERT_FALSE(overlapped.empty()) << name;
+    EXPECT_EQ(overlapped, readText(*dir_ / "out_sequential" / name)) << name << " differs";
+  }
+}
+
 // Each bad configuration exits non-zero and names the file and the field.
 TEST_F(RunConfig, BadConfigurationsNameTheFileAndTheField) {
   struct Case {
