@@ -3,7 +3,9 @@
 // file wires it to a frame source.
 //
 // Frame sources: `pipeline` (the default) is the live frame loop of `holopyramid run`, at the
-// view size and camera mode the degradation policy asks for; `test-pattern` presents the display
+// view size and camera mode the degradation policy asks for, on the configuration's cameras,
+// relic and panorama when it has a `capture:` section (installation.hpp), else on the simulated
+// museum; `test-pattern` presents the display
 // module's alignment pattern through the same presenters, for checking the supervision itself
 // (the process tests) without the cost of rendering.
 #include <algorithm>
@@ -108,23 +110,24 @@ std::string displaySection(const ConfigNode& root) {
   return root.has("display") ? YAML::Dump(root.yaml()["display"]) : std::string();
 }
 
-// The product: the live frame loop on the simulated museum (real cameras plug in through the
-// capture configuration), at the view size and camera mode the degradation policy asks for.
+// The product: the live frame loop on the installation (the configured cameras, or the simulated
+// museum), at the view size and camera mode the degradation policy asks for.
 // Headless, every frame is read back and checked (checkPicture). Injected faults (tests, soak runs)
 // act on the real pipeline: `camera_off` switches a simulated camera off, so its capture thread
 // loses it and the frame loop drops it as stale, exactly as with a pulled cable.
 class PipelineSource {
  public:
-  PipelineSource(const display::DisplayConfig& config, bool headless, const std::string& scene, int view_size)
+  PipelineSource(const display::DisplayConfig& config, bool headless, Installation installation,
+                 int view_size)
       : headless_(headless),
         faults_(std::make_shared<kiosk::FaultInjector>(kiosk::FaultInjector::fromEnvironment())) {
     FrameLoopOptions options;
-    options.scene = scene;
     options.live = true;
     options.view_size = view_size;
     full_view_size_ = options.view_size;
     loop_ = std::make_shared<FrameLoop>(
-        options, headless ? display::makeHeadlessPresenter(config) : display::makeWindowPresenter(config));
+        options, std::move(installation),
+        headless ? display::makeHeadlessPresenter(config) : display::makeWindowPresenter(config));
     for (const CameraModel& camera : loop_->cameras())
       camera_pixels_ += static_cast<double>(camera.width()) * camera.height();
     was_alive_.assign(loop_->cameras().size(), true);
@@ -228,7 +231,20 @@ struct KioskOptions {
 kiosk::RenderFrame makeFrameSource(const kiosk::LoadedConfig& config, const KioskOptions& options) {
   if (options.source == "test-pattern")
     return TestPatternSource(displayConfigOf(config.root), options.headless);
-  return PipelineSource(displayConfigOf(config.root), options.headless, options.scene, options.view_size);
+  Installation installation =
+      describesCameras(config.root)
+          ? loadInstallation(config.root)
+          : simulatedInstallation(options.scene, /*paced=*/true, FrameLoopOptions{}.panorama_width);
+  return PipelineSource(displayConfigOf(config.root), options.headless, std::move(installation),
+                        options.view_size);
+}
+
+// A configuration is usable when its display settings parse and, if it names cameras, its
+// installation loads (cameras, calibration, relic, panorama): a broken one falls back to the
+// last good copy instead of leaving the screen black.
+void validateConfig(const ConfigNode& root) {
+  displayConfigOf(root);
+  if (describesCameras(root)) loadInstallation(root);
 }
 
 int runKiosk(const KioskOptions& options) {
@@ -239,8 +255,7 @@ int runKiosk(const KioskOptions& options) {
                                               ? std::filesystem::path()
                                               : std::filesystem::path(options.state_dir) / "last-good.yaml";
   const auto load = [&] {
-    kiosk::LoadedConfig loaded = kiosk::loadConfigWithFallback(
-        options.config, last_good, [](const ConfigNode& root) { displayConfigOf(root); });
+    kiosk::LoadedConfig loaded = kiosk::loadConfigWithFallback(options.config, last_good, validateConfig);
     if (options.health_port) loaded.kiosk.health_port = *options.health_port;
     if (options.health_file) loaded.kiosk.health_file = *options.health_file;
     return loaded;
@@ -272,14 +287,17 @@ HOLO_REGISTER_COMMAND(Command{
     "kiosk",
     [](CLI::App& sub) {
       auto options = std::make_shared<KioskOptions>();
-      sub.add_option("--config", options->config, "YAML configuration (kiosk: and display: sections)")
+      sub.add_option("--config", options->config,
+                     "YAML configuration (kiosk:, display:, and capture: and exhibit: for real cameras)")
           ->capture_default_str();
       sub.add_flag("--headless", options->headless, "Render offscreen through EGL, no windows");
       sub.add_option("--source", options->source,
                      "pipeline (the product) | test-pattern (the alignment pattern, for supervision checks)")
           ->check(CLI::IsMember({"pipeline", "test-pattern"}))
           ->capture_default_str();
-      sub.add_option("--scene", options->scene, "Scene of the simulated museum the pipeline shows")
+      sub.add_option(
+             "--scene", options->scene,
+             "Scene of the simulated museum the pipeline shows when the configuration names no cameras")
           ->capture_default_str();
       sub.add_option("--view-size", options->view_size,
                      "Pixels of each square face view at full quality (pipeline source)")

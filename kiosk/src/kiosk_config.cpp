@@ -119,8 +119,10 @@ LoadedConfig loadConfigWithFallback(const std::filesystem::path& path, const std
   HOLO_LOG_ERROR("configuration {} not used: {}", path.string(), warning);
   if (!last_good.empty() && std::filesystem::exists(last_good)) {
     try {
-      LoadedConfig loaded =
-          tryLoad(ConfigNode::loadFile(last_good), "last good copy (" + last_good.string() + ")");
+      // Read as if it stood where the configuration stands: its relative paths (relic, panorama,
+      // recordings, calibration folder) name the same files as when it was saved.
+      LoadedConfig loaded = tryLoad(ConfigNode::parse(readFile(last_good), path.string()),
+                                    "last good copy (" + last_good.string() + ")");
       loaded.warning = "using last good config: " + warning;
       HOLO_LOG_WARN("running with the last good configuration {}", last_good.string());
       return loaded;

@@ -3,7 +3,8 @@
 // empty hall, then visitors), a relic saved as glTF, a panorama saved as EXR, a calibration folder
 // with camera files for some cameras and a pyramid file. Checks that the run used those cameras
 // (four live in every frame, foreground points once visitors come), stopped when the recording
-// ended, and that bad configurations fail with the file and the field named.
+// ended, and that bad configurations fail with the file and the field named; the kiosk runs the
+// same configuration.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -196,6 +197,37 @@ TEST_F(RunConfig, BadConfigurationsNameTheFileAndTheField) {
     EXPECT_NE(text.find(c.field), std::string::npos) << c.name << ": " << text;
     EXPECT_EQ(text.find("terminate"), std::string::npos) << c.name << ": " << text;
   }
+}
+
+// The kiosk runs the same installation: its configuration's cameras, relic and panorama. When the
+// configuration later breaks, it falls back to the last good copy, whose relative paths still
+// name the files next to the configuration.
+TEST_F(RunConfig, KioskRunsOnTheConfiguredCamerasAndFallsBackToTheLastGoodCopy) {
+  const fs::path config = writeConfig("kiosk.yaml", goodExhibit());
+  const fs::path state = *dir_ / "kiosk_state";
+  const std::string arguments =
+      "kiosk --headless --frames 6 --view-size 32 --health-port -1 --health-file '' "
+      "--state-dir " +
+      state.string() + " --config " + config.string();
+  const fs::path good_log = *dir_ / "kiosk_good.log";
+  int rc = runHolopyramid(arguments, good_log);
+  std::string text = readText(good_log);
+  ASSERT_EQ(rc, 0) << text;
+  EXPECT_NE(text.find("camera_REC-0.yml"), std::string::npos)
+      << "the configured cameras were not used: " << text;
+  EXPECT_EQ(text.find("last good"), std::string::npos) << text;
+  ASSERT_TRUE(fs::exists(state / "last-good.yaml"));
+
+  writeConfig("kiosk.yaml", "  relic: relic.glb\n  panorama: missing.hdr\n");
+  const fs::path broken_log = *dir_ / "kiosk_broken.log";
+  rc = runHolopyramid(arguments, broken_log);
+  text = readText(broken_log);
+  ASSERT_EQ(rc, 0) << text;
+  EXPECT_NE(text.find("exhibit.panorama"), std::string::npos) << "the broken field is not named: " << text;
+  EXPECT_NE(text.find("last good configuration"), std::string::npos) << text;
+  EXPECT_NE(text.find("camera_REC-0.yml"), std::string::npos)
+      << "the last good copy did not run on the configured cameras: " << text;
+  EXPECT_EQ(text.find("factory default"), std::string::npos) << text;
 }
 
 }  // namespace

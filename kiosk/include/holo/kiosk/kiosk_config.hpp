@@ -63,7 +63,8 @@ struct LoadedConfig {
 // Loads `path`; `validate` may check other sections of the same document (e.g. display:) and
 // throw InputError. On success the file's text is saved atomically to `last_good` (when not
 // empty). On failure falls back to `last_good`, then to the factory defaults. Never throws for
-// a bad or missing file.
+// a bad or missing file. The last good copy is read as if it were at `path`, so relative paths
+// in it resolve as they did when it was saved.
 LoadedConfig loadConfigWithFallback(const std::filesystem::path& path, const std::filesystem::path& last_good,
                                     const std::function<void(const ConfigNode&)>& validate = {});
 
