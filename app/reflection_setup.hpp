@@ -25,6 +25,7 @@ struct SceneOptions {
   std::string panorama;         // HDR/EXR file; empty = the museum's rendered hall panorama
   bool fit = false;             // scale and centre a relic file on the pedestal
   int frame = 0;                // museum frame (visitor poses)
+  int close_visitors = -1;      // visitors standing close to the pyramid (sim); -1 = the scene's
   void addTo(CLI::App& app);
 };
 
@@ -74,6 +75,7 @@ struct MethodSettings {
   int ibl_texel_density = 20;  // ibl*: PrefilterOptions::texel_density
   bool with_visitors = true;
   std::uint64_t seed = 1;
+  reflect::TracerSettings tracer;  // ours: anti-aliasing, pyramid levels, voxel grid
   // ours, ssrt: the static hall's prefiltered panorama. The hall does not move, so it is built once
   // per scene (staticIbl) and not counted in the per-view time; null = build it here (reported
   // in build_ms, outside ms).
@@ -92,6 +94,8 @@ struct MethodResult {
   double build_ms = 0;  // IBL, mcpt: part of ms spent building maps or the scene; ours, ssrt:
                         // the static IBL built here when settings.static_ibl was null (not in ms)
   std::vector<std::pair<std::string, double>> passes;  // ours: ms per pass (frame passes first)
+  double frame_ms = 0;  // ours: the per-frame passes (voxel grid, pyramids), shared by all views
+  double view_ms = 0;   // ours: the per-view passes (hit points, static, walk, composition, tone map)
 };
 
 // Throws InputError(field "method") for an unknown method.

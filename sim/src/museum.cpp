@@ -108,13 +108,13 @@ SceneDescription loadSceneFile(const fs::path& path) {
   const ConfigNode root = ConfigNode::loadFile(path);
   if (!root.isMap()) root.fail("a map of scene settings (hall, relic, visitors, seed, camera, noise, ...)");
   static const std::set<std::string> known = {
-      "base",     "hall", "relic",  "fit_relic", "relic_roughness",  "relic_metallic",
-      "visitors", "seed", "camera", "noise",     "panorama_position"};
+      "base",     "hall",           "relic", "fit_relic", "relic_roughness",  "relic_metallic",
+      "visitors", "close_visitors", "seed",  "camera",    "noise", "panorama_position"};
   for (const auto& key : root.keys())
     if (!known.count(key))
       root[key].fail(
-          "one of base, hall, relic, fit_relic, relic_roughness, relic_metallic, visitors, seed, "
-          "camera, noise, panorama_position",
+          "one of base, hall, relic, fit_relic, relic_roughness, relic_metallic, visitors, close_visitors, "
+          "seed, camera, noise, panorama_position",
           key);
   SceneDescription d;
   if (root.has("base")) {
@@ -153,6 +153,12 @@ SceneDescription loadSceneFile(const fs::path& path) {
     d.visitors = root["visitors"].as<int>();
     if (d.visitors < 0 || d.visitors > 16)
       root["visitors"].fail("a visitor count in [0, 16]", std::to_string(d.visitors));
+  }
+  if (root.has("close_visitors")) {
+    d.close_visitors = root["close_visitors"].as<int>();
+    if (d.close_visitors < 0 || d.close_visitors > 4)
+      root["close_visitors"].fail("a count of visitors close to the pyramid in [0, 4]",
+                                  std::to_string(d.close_visitors));
   }
   if (root.has("seed")) {
     const auto seed = root["seed"].as<double>();
@@ -244,6 +250,9 @@ Museum::Museum(SceneDescription description) : impl_(std::make_unique<Impl>()) {
   }
   if (d.fit_relic) fitOnPedestal(m.relic);
   m.plans = planVisitors(d.visitors, d.seed, d.hall);
+  if (d.close_visitors < 0 || d.close_visitors > 4)
+    throw InputError(origin, "close_visitors", "a count in [0, 4]", std::to_string(d.close_visitors));
+  for (const VisitorPlan& p : planCloseVisitors(d.close_visitors, d.seed, d.hall)) m.plans.push_back(p);
   const auto& c = d.camera;
   const Intrinsics K =
       Intrinsics::fromFov(c.width, c.height, c.hfov_deg * kPi / 180.0f, c.vfov_deg * kPi / 180.0f);

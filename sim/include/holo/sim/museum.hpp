@@ -62,6 +62,10 @@ struct SceneDescription {
   float relic_roughness = -1.0f;
   float relic_metallic = -1.0f;
   int visitors = 3;
+  // Visitors standing close to the pyramid, looking at it and reaching out to it (visitors.hpp's
+  // planCloseVisitors), after the walking ones; 0..4. None in the built-in scenes, so their
+  // walkers stay as they are; the reflection evaluation (eval tracer) adds one.
+  int close_visitors = 0;
   std::uint64_t seed = 1;
   CameraSettings camera;
   SensorNoise noise;
