@@ -61,6 +61,11 @@ struct TracerEvalOptions {
   // Visitors standing close to the pyramid (sim planCloseVisitors), besides the hall's walkers:
   // the "visitors close to the pyramid"; the walkers keep >= 1.2 m from the axis.
   int close_visitors = 1;
+  // The depth cameras: the default rig (tilt 8, vfov 70) sees a visitor within ~0.6 m of the
+  // pyramid only from the waist to the chest, and the relic mirrors the rest; tilt 20 with vfov 90
+  // keeps the far visitors' feet (bottom edge -25 degrees, was -27) and sees the close ones' heads.
+  float camera_tilt_deg = 20.0f;
+  float camera_vfov_deg = 90.0f;
 };
 
 // Views a frame renders (one per pyramid face): the per-frame work is shared by this many.
@@ -158,6 +163,8 @@ SceneResult evalScene(const std::string& hall, const std::string& relic, const T
   so.hall = hall;
   so.relic = relic;
   so.close_visitors = o.close_visitors;
+  so.camera_tilt_deg = o.camera_tilt_deg;
+  so.camera_vfov_deg = o.camera_vfov_deg;
   const VisitorView pick = visitorView(so);
   so.frame = res.frame = pick.frame;
   res.face = pick.face;
@@ -565,6 +572,12 @@ HOLO_REGISTER_COMMAND(Command{
                      "Visitors standing close to the pyramid, reaching out to it, besides the hall's walkers")
           ->capture_default_str()
           ->check(CLI::Range(0, 4));
+      sub.add_option("--camera-tilt-deg", o->camera_tilt_deg, "Depth cameras' upwards tilt, degrees")
+          ->capture_default_str()
+          ->check(CLI::Range(-60.0f, 60.0f));
+      sub.add_option("--camera-vfov-deg", o->camera_vfov_deg, "Depth cameras' vertical field of view, degrees")
+          ->capture_default_str()
+          ->check(CLI::Range(10.0f, 170.0f));
       sub.add_flag("--require-fg-bars", o->require_fg_bars,
                    "Exit 1 unless ours' fg_mse <= ibl's / 4 and < ssrt's on every scene");
       return [o] { return evalTracer(*o); };

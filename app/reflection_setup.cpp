@@ -94,6 +94,8 @@ sim::SceneDescription sceneDescription(const SceneOptions& o) {
     d.hall = o.hall;
   }
   if (o.close_visitors >= 0) d.close_visitors = o.close_visitors;
+  if (o.camera_vfov_deg > 0.0f) d.camera.vfov_deg = o.camera_vfov_deg;
+  if (o.camera_tilt_deg != 0.0f) d.camera.tilt_deg = o.camera_tilt_deg;
   return d;
 }
 
@@ -121,6 +123,11 @@ void SceneOptions::addTo(CLI::App& app) {
   app.add_option("--close-visitors", close_visitors,
                  "Visitors standing close to the pyramid, reaching out to it (default: the scene's)")
       ->check(CLI::Range(0, 4));
+  app.add_option("--camera-vfov-deg", camera_vfov_deg,
+                 "Depth cameras' vertical field of view, degrees (default: the scene's)")
+      ->check(CLI::Range(10.0f, 170.0f));
+  app.add_option("--camera-tilt-deg", camera_tilt_deg, "Depth cameras' upwards tilt, degrees (default: the scene's)")
+      ->check(CLI::Range(-60.0f, 60.0f));
 }
 
 void ViewOptions::addTo(CLI::App& app) {
@@ -167,7 +174,9 @@ ReflectionScene loadReflectionScene(const SceneOptions& o) {
   std::uint64_t h = 1469598103934665603ull;
   h = fnv1a(h, o.scene + "|" + s.relic_name + "|" + std::to_string(o.fit) + "|" + std::to_string(o.frame) +
                    (o.hall.empty() ? "" : "|" + o.hall) +
-                   (o.close_visitors < 0 ? "" : "|close" + std::to_string(o.close_visitors)));
+                   (o.close_visitors < 0 ? "" : "|close" + std::to_string(o.close_visitors)) +
+                   (o.camera_vfov_deg > 0.0f ? "|vfov" + std::to_string(o.camera_vfov_deg) : "") +
+                   (o.camera_tilt_deg != 0.0f ? "|tilt" + std::to_string(o.camera_tilt_deg) : ""));
   const cv::Mat pano = s.panorama.isContinuous() ? s.panorama : s.panorama.clone();
   h = fnv1a(h, pano.data, pano.total() * pano.elemSize());
   s.hash = h;

@@ -101,12 +101,13 @@ std::vector<VisitorPlan> planCloseVisitors(int count, std::uint64_t seed, const 
     p.skin = kSkins[rng.next() % 4];
     p.shirt = kShirts[rng.next() % 8];
     p.trousers = kTrousers[rng.next() % 4];
-    // The hand comes to 0.36 m from the axis (the base's edge is at 0.3, the relic within 0.18)
-    // at the mean lean; the arm is 0.36 height long (buildVisitors).
+    // The hand comes to 0.55 m from the axis, a quarter metre from the glass, at the mean lean
+    // (the arm is 0.36 height long, buildVisitors): nearer, it would be inside the depth cameras'
+    // 0.2 m minimum range, which no camera could see.
     const float arm = 0.36f * p.height;
-    p.reach = std::asin(std::clamp((p.lane_radius - 0.36f) / arm, 0.0f, 1.0f));
-    if (i == 0) {
-      p.carried = Carried::book;
+    p.reach = std::asin(std::clamp((p.lane_radius - 0.55f) / arm, 0.0f, 1.0f));
+    if (i == 0) {  // a bag: a book held up in front would reach into the pyramid
+      p.carried = Carried::bag;
       p.carried_color = kCarried[rng.next() % 6];
     }
     plans.push_back(p);
