@@ -360,13 +360,15 @@ std::string markdownTable(const std::vector<SceneResult>& results, const TracerE
        "foreground (ours' hit points at the same anti-aliasing, static shading, tone map). ibl: the paper's "
        "IBL, frame = reprojecting the visitors into the panorama + prefiltering it, view = 1-sample shading. "
        "ibl_static: the prebuilt static map, 1-sample shading.\n\n"
-    << "| scene | ours frame | ours view | ours per view | ibl_same_aa view | ours/ibl_same_aa view | ibl frame | "
+    << "| scene | ours frame | ours view | ours per view | ibl_same_aa view | ours/ibl_same_aa view | ibl "
+       "frame | "
        "ibl view | ibl per view | ours/ibl per view | ibl_static view | ssrt (rays) | mcpt_et (spp) | "
        "mcpt_eq (spp) |\n"
     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const SceneResult& r : results) {
-    const Entry &ours = r.at("ours"), &same = r.at("ibl_same_aa"), &ibl = r.at("ibl"), &st = r.at("ibl_static"),
-                &ssrt = r.at("ssrt"), &et = r.at("mcpt_equal_time"), &eq = r.at("mcpt_equal_quality");
+    const Entry &ours = r.at("ours"), &same = r.at("ibl_same_aa"), &ibl = r.at("ibl"),
+                &st = r.at("ibl_static"), &ssrt = r.at("ssrt"), &et = r.at("mcpt_equal_time"),
+                &eq = r.at("mcpt_equal_quality");
     s << "| " << r.hall << " x " << r.relic << " | " << fmt(ours.frame_ms, 1) << " | " << fmt(ours.view_ms, 2)
       << " | " << fmt(ours.ms, 2) << " | " << fmt(same.view_ms, 2) << " | "
       << fmt(ours.view_ms / std::max(same.view_ms, 1e-9), 2) << " | " << fmt(ibl.frame_ms, 1) << " | "
@@ -414,8 +416,8 @@ bool reportBars(const std::vector<SceneResult>& results, std::ostream& out) {
   }
   for (const Bar* b : {&ibl, &ssrt, &eq, &et, &time_view, &time_ibl}) {
     out << (b->ok && b->scenes == static_cast<int>(results.size()) ? "MET     " : "NOT MET ") << b->what
-        << ": worst " << fmt(b->worst, 2) << " (" << b->where << "), " << b->scenes << " of " << results.size()
-        << " scenes with a foreground region or timed\n";
+        << ": worst " << fmt(b->worst, 2) << " (" << b->where << "), " << b->scenes << " of "
+        << results.size() << " scenes with a foreground region or timed\n";
   }
   return ibl.ok && ssrt.ok;
 }
@@ -439,11 +441,11 @@ void writeOutputs(const std::vector<SceneResult>& results, const TracerEvalOptio
                          {"gt_spp", o.gt_spp}};
     for (const Entry& e : r.entries) {
       csv << r.hall << "," << r.relic << "," << r.frame << "," << r.face << "," << r.fg_pixels << ","
-          << e.method << ",\"" << e.knob << "\"," << e.ms << "," << e.frame_ms << "," << e.view_ms << "," << e.fg_mse << "," << e.mse << ","
-          << e.reached << "\n";
-      sj["methods"][e.method] = {
-          {"knob", e.knob},     {"ms", e.ms},         {"frame_ms", e.frame_ms},
-          {"view_ms", e.view_ms}, {"fg_mse", e.fg_mse}, {"mse", e.mse}, {"reached", e.reached}};
+          << e.method << ",\"" << e.knob << "\"," << e.ms << "," << e.frame_ms << "," << e.view_ms << ","
+          << e.fg_mse << "," << e.mse << "," << e.reached << "\n";
+      sj["methods"][e.method] = {{"knob", e.knob},       {"ms", e.ms},         {"frame_ms", e.frame_ms},
+                                 {"view_ms", e.view_ms}, {"fg_mse", e.fg_mse}, {"mse", e.mse},
+                                 {"reached", e.reached}};
     }
     for (const auto& [name, ms] : r.ours_passes) sj["ours_passes_ms"][name] = ms;
     j.push_back(sj);
@@ -575,7 +577,8 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--camera-tilt-deg", o->camera_tilt_deg, "Depth cameras' upwards tilt, degrees")
           ->capture_default_str()
           ->check(CLI::Range(-60.0f, 60.0f));
-      sub.add_option("--camera-vfov-deg", o->camera_vfov_deg, "Depth cameras' vertical field of view, degrees")
+      sub.add_option("--camera-vfov-deg", o->camera_vfov_deg,
+                     "Depth cameras' vertical field of view, degrees")
           ->capture_default_str()
           ->check(CLI::Range(10.0f, 170.0f));
       sub.add_flag("--require-fg-bars", o->require_fg_bars,

@@ -126,7 +126,8 @@ void SceneOptions::addTo(CLI::App& app) {
   app.add_option("--camera-vfov-deg", camera_vfov_deg,
                  "Depth cameras' vertical field of view, degrees (default: the scene's)")
       ->check(CLI::Range(10.0f, 170.0f));
-  app.add_option("--camera-tilt-deg", camera_tilt_deg, "Depth cameras' upwards tilt, degrees (default: the scene's)")
+  app.add_option("--camera-tilt-deg", camera_tilt_deg,
+                 "Depth cameras' upwards tilt, degrees (default: the scene's)")
       ->check(CLI::Range(-60.0f, 60.0f));
 }
 

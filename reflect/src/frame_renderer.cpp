@@ -51,6 +51,9 @@ void TracerSettings::validate() const {
   if (!std::isfinite(static_reuse_distance) || static_reuse_distance < 0.0f)
     throw InputError(src, "static_reuse_distance", "a finite distance >= 0 (metres)",
                      std::to_string(static_reuse_distance));
+  if (!std::isfinite(walk_per_pixel_roughness) || walk_per_pixel_roughness < 0.0f)
+    throw InputError(src, "walk_per_pixel_roughness", "a roughness >= 0 (> 1: never)",
+                     std::to_string(walk_per_pixel_roughness));
   if (edge_aa && aa_samples != 1) throw InputError(src, "edge_aa", "only with aa_samples 1", "aa_samples 4");
   grid.validate(src + " grid");
 }
@@ -251,31 +254,74 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     {
       PassTimer t(out.timings, Pass::ForegroundWalk);
       std::atomic<std::uint64_t> walked{0}, found{0};
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
-        std::uint64_t local_walked = 0, local_found = 0;
-        for (std::size_t i = r.begin(); i < r.end(); ++i) {
-          if (!hits.valid[i]) continue;
-          const HitPoint& hp = hits.hits[i];
-          ++local_walked;
-          const Ray ray{hp.position + hp.normal * settings_.ray_offset, hp.reflected};
-          const VoxelHit vh = firstOccupiedVoxel(grid_, ray, settings_.max_reflection_distance);
-          if (!vh.hit()) continue;
-          const depthfilter::VoxelSample& vs = grid_.sample(vh.sample);
-          if (vs.camera >= pyramids_.size() || pyramids_[vs.camera].empty()) continue;
-          const CameraModel& cam = cameras[vs.camera].camera;
-          // The point the ray reaches: half a voxel into the one it entered.
-          const vec3 p = ray.origin + ray.direction * (vh.t + 0.5f * grid_.voxelSize());
-          float depth = 0.0f;
-          const std::optional<vec2> px = cam.project(p, &depth);
-          const vec2 pixel = px ? *px : vec2(vs.x, vs.y);
-          const float level = foregroundLevel(hp.material.roughness, vh.t, glm::length(p - cam.position()),
-                                              cam.intrinsics().fx, settings_.pyramid_levels);
-          cache.fg[i] = pyramids_[vs.camera].sample(pixel, level);
-          ++local_found;
-        }
-        walked += local_walked;
-        found += local_found;
-      });
+      // The foreground of one reflected ray: the first occupied voxel, read from the pyramid of
+      // the camera that saw it at the level of the lobe's footprint there.
+      const auto walk = [&](const vec3& position, const vec3& normal, const vec3& reflected, float roughness,
+                            ForegroundSample& sample) {
+        const Ray ray{position + normal * settings_.ray_offset, reflected};
+        const VoxelHit vh = firstOccupiedVoxel(grid_, ray, settings_.max_reflection_distance);
+        if (!vh.hit()) return false;
+        const depthfilter::VoxelSample& vs = grid_.sample(vh.sample);
+        if (vs.camera >= pyramids_.size() || pyramids_[vs.camera].empty()) return false;
+        const CameraModel& cam = cameras[vs.camera].camera;
+        // The point the ray reaches: half a voxel into the one it entered.
+        const vec3 p = ray.origin + ray.direction * (vh.t + 0.5f * grid_.voxelSize());
+        float depth = 0.0f;
+        const std::optional<vec2> px = cam.project(p, &depth);
+        const vec2 pixel = px ? *px : vec2(vs.x, vs.y);
+        const float level = foregroundLevel(roughness, vh.t, glm::length(p - cam.position()),
+                                            cam.intrinsics().fx, settings_.pyramid_levels);
+        sample = pyramids_[vs.camera].sample(pixel, level);
+        return true;
+      };
+      const std::size_t pixels = hits.pixelCount();
+      tbb::parallel_for(
+          tbb::blocked_range<std::size_t>(0, pixels, 256), [&](const tbb::blocked_range<std::size_t>& r) {
+            std::uint64_t local_walked = 0, local_found = 0;
+            for (std::size_t p = r.begin(); p < r.end(); ++p) {
+              const std::size_t first = hits.firstSample(p);
+              const std::size_t count = std::size_t(hits.sampleCount(p));
+              bool rough = count > 1;
+              for (std::size_t i = first; i < first + count && rough; ++i)
+                rough =
+                    !hits.valid[i] || hits.hits[i].material.roughness >= settings_.walk_per_pixel_roughness;
+              if (!rough) {
+                for (std::size_t i = first; i < first + count; ++i) {
+                  if (!hits.valid[i]) continue;
+                  const HitPoint& hp = hits.hits[i];
+                  ++local_walked;
+                  local_found +=
+                      walk(hp.position, hp.normal, hp.reflected, hp.material.roughness, cache.fg[i]);
+                }
+                continue;
+              }
+              // The mean ray of the valid sub-samples, walked once.
+              vec3 position(0.0f), normal(0.0f), reflected(0.0f);
+              float roughness = 0.0f;
+              int valid = 0;
+              for (std::size_t i = first; i < first + count; ++i) {
+                if (!hits.valid[i]) continue;
+                const HitPoint& hp = hits.hits[i];
+                position += hp.position;
+                normal += hp.normal;
+                reflected += hp.reflected;
+                roughness += hp.material.roughness;
+                ++valid;
+              }
+              if (valid == 0) continue;
+              const float inv = 1.0f / float(valid);
+              const float nl = glm::length(normal), rl = glm::length(reflected);
+              if (!(nl > 1e-6f) || !(rl > 1e-6f)) continue;  // opposite sub-samples: no mean ray
+              ForegroundSample sample;
+              ++local_walked;
+              if (!walk(position * inv, normal / nl, reflected / rl, roughness * inv, sample)) continue;
+              ++local_found;
+              for (std::size_t i = first; i < first + count; ++i)
+                if (hits.valid[i]) cache.fg[i] = sample;
+            }
+            walked += local_walked;
+            found += local_found;
+          });
       out.walked_rays = walked;
       out.foreground_hits = found;
     }

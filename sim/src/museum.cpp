@@ -52,8 +52,8 @@ void readCamera(const ConfigNode& node, CameraSettings& c) {
                                               "min_range", "max_range", "fps",      "exposure"};
   for (const auto& key : node.keys())
     if (!known.count(key))
-      node[key].fail("one of width, height, hfov_deg, vfov_deg, tilt_deg, min_range, max_range, fps, exposure",
-                     key);
+      node[key].fail(
+          "one of width, height, hfov_deg, vfov_deg, tilt_deg, min_range, max_range, fps, exposure", key);
   if (node.has("width")) {
     c.width = node["width"].as<int>();
     if (c.width < 8 || c.width > 8192)
@@ -109,8 +109,8 @@ SceneDescription loadSceneFile(const fs::path& path) {
   const ConfigNode root = ConfigNode::loadFile(path);
   if (!root.isMap()) root.fail("a map of scene settings (hall, relic, visitors, seed, camera, noise, ...)");
   static const std::set<std::string> known = {
-      "base",     "hall",           "relic", "fit_relic", "relic_roughness",  "relic_metallic",
-      "visitors", "close_visitors", "seed",  "camera",    "noise", "panorama_position"};
+      "base",     "hall",           "relic", "fit_relic", "relic_roughness", "relic_metallic",
+      "visitors", "close_visitors", "seed",  "camera",    "noise",           "panorama_position"};
   for (const auto& key : root.keys())
     if (!known.count(key))
       root[key].fail(

@@ -33,7 +33,8 @@ float angleAt(const VisitorPlan& p, float t) {
 const vec3 kShirts[] = {{0.55f, 0.08f, 0.06f}, {0.08f, 0.35f, 0.1f}, {0.1f, 0.15f, 0.55f},
                         {0.6f, 0.45f, 0.05f},  {0.45f, 0.1f, 0.4f},  {0.05f, 0.4f, 0.45f},
                         {0.6f, 0.6f, 0.58f},   {0.6f, 0.25f, 0.05f}};
-const vec3 kTrousers[] = {{0.04f, 0.05f, 0.12f}, {0.08f, 0.08f, 0.08f}, {0.2f, 0.17f, 0.12f}, {0.02f, 0.02f, 0.02f}};
+const vec3 kTrousers[] = {
+    {0.04f, 0.05f, 0.12f}, {0.08f, 0.08f, 0.08f}, {0.2f, 0.17f, 0.12f}, {0.02f, 0.02f, 0.02f}};
 const vec3 kSkins[] = {{0.7f, 0.5f, 0.38f}, {0.45f, 0.3f, 0.2f}, {0.25f, 0.15f, 0.1f}, {0.75f, 0.6f, 0.5f}};
 const vec3 kCarried[] = {{0.85f, 0.02f, 0.02f}, {0.9f, 0.8f, 0.0f}, {0.0f, 0.7f, 0.1f},
                          {0.8f, 0.0f, 0.6f},    {0.0f, 0.6f, 0.8f}, {0.95f, 0.35f, 0.0f}};
@@ -83,7 +84,8 @@ std::vector<VisitorPlan> planCloseVisitors(int count, std::uint64_t seed, const 
   const std::vector<int> faces = hall == "room" ? std::vector<int>{0, 3} : std::vector<int>{0, 1, 2, 3};
   const int n = std::clamp(count, 0, static_cast<int>(faces.size()));
   std::vector<VisitorPlan> plans;
-  const std::size_t first_face = static_cast<std::size_t>(PixelRng(seed, 0xC105E0ull, 0, 0).next() % faces.size());
+  const std::size_t first_face =
+      static_cast<std::size_t>(PixelRng(seed, 0xC105E0ull, 0, 0).next() % faces.size());
   for (int i = 0; i < n; ++i) {
     PixelRng rng(seed, 0xC105E1ull, i, 0);
     VisitorPlan p;

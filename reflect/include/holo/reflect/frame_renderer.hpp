@@ -40,6 +40,13 @@ struct TracerSettings {
   // Metres an eye may move before a view's cached hit points and static shading are traced
   // again; 0 reuses them only for the identical camera (no error at all).
   float static_reuse_distance = 0.0f;
+  // One walk per pixel where the relic is at least this rough: a pixel with four sub-samples walks
+  // the mean of their reflected rays once and composes every sub-sample with that foreground (each
+  // keeps its own static shading and coverage). A rough lobe's footprint spans many sub-pixel
+  // offsets, so the four walks would read nearly the same blurred texel; on a mirror the four
+  // walks anti-alias the reflected visitors' edges (one walk per pixel there raised gallery x
+  // vase's fg_mse 1.75x, docs/tracer.md). > 1: every sub-sample walks.
+  float walk_per_pixel_roughness = 0.3f;
   float max_reflection_distance = 3.0f;  // metres a reflected ray may travel through the grid
   float ray_offset = 1e-3f;              // metres along the normal, against self-intersection
   float exposure = 0.0f;                 // <= 0: automatic (tone_map.hpp's autoExposure)
