@@ -66,6 +66,13 @@ struct TracerEvalOptions {
   // keeps the far visitors' feet (bottom edge -25 degrees, was -27) and sees the close ones' heads.
   float camera_tilt_deg = 20.0f;
   float camera_vfov_deg = 90.0f;
+  // Ours' knobs (--aa, --levels, --level-bias, --voxel-size). 9 levels: with 7 the rough relics'
+  // reads (kettle, 0.35) sat at the top level, blurred less than their lobe (docs/tracer.md).
+  reflect::TracerSettings tracer = [] {
+    reflect::TracerSettings t;
+    t.pyramid_levels = 9;
+    return t;
+  }();
 };
 
 // Views a frame renders (one per pyramid face): the per-frame work is shared by this many.
@@ -190,6 +197,7 @@ SceneResult evalScene(const std::string& hall, const std::string& relic, const T
 
   MethodSettings base;
   base.static_ibl = staticIbl(scene, base);
+  base.tracer = o.tracer;
 
   // ours and the IBL at ours' anti-aliasing (the same renderer with no foreground: the same hit
   // points, static shading and tone map, no grid, pyramids, walk or composition), timed
@@ -581,6 +589,19 @@ HOLO_REGISTER_COMMAND(Command{
                      "Depth cameras' vertical field of view, degrees")
           ->capture_default_str()
           ->check(CLI::Range(10.0f, 170.0f));
+      sub.add_option("--aa", o->tracer.aa_samples, "Ours: sub-samples per pixel (1 or 4)")
+          ->capture_default_str()
+          ->check(CLI::IsMember({1, 4}));
+      sub.add_option("--levels", o->tracer.pyramid_levels, "Ours: pyramid levels")
+          ->capture_default_str()
+          ->check(CLI::Range(1, reflect::kMaxPyramidLevels));
+      sub.add_option("--level-bias", o->tracer.level_bias,
+                     "Ours: added to the derived pyramid level (checks)")
+          ->capture_default_str()
+          ->check(CLI::Range(-8.0f, 8.0f));
+      sub.add_option("--voxel-size", o->tracer.grid.voxel_size, "Ours: voxel size, metres")
+          ->capture_default_str()
+          ->check(CLI::Range(0.005f, 0.5f));
       sub.add_flag("--require-fg-bars", o->require_fg_bars,
                    "Exit 1 unless ours' fg_mse <= ibl's / 4 and < ssrt's on every scene");
       return [o] { return evalTracer(*o); };
