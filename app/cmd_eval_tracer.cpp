@@ -116,11 +116,7 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 // (CV_32FC3, so image_metrics' clamp leaves it as it is).
 struct Display {
   float exposure;
-  cv::Mat operator()(const cv::Mat& hdr) const {
-    cv::Mat out;
-    reflect::toneMap(hdr, exposure).convertTo(out, CV_32FC3, 1.0 / 255.0);
-    return out;
-  }
+  cv::Mat operator()(const cv::Mat& hdr) const { return displayedImage(hdr, exposure); }
 };
 
 struct Scorer {
@@ -422,10 +418,16 @@ bool reportBars(const std::vector<SceneResult>& results, std::ostream& out) {
     check(time_view, r.at("ibl_same_aa").view_ms / ours.view_ms, 1.0 / 1.1, where);
     check(time_ibl, r.at("ibl").ms / ours.ms, 1.0 / 1.1, where);
   }
+  // The fg_mse bars hold on "every one of the scenes": a scene without a foreground region (the
+  // visitors change no displayed pixel by the threshold) cannot show them, so it fails them.
   for (const Bar* b : {&ibl, &ssrt, &eq, &et, &time_view, &time_ibl}) {
-    out << (b->ok && b->scenes == static_cast<int>(results.size()) ? "MET     " : "NOT MET ") << b->what
-        << ": worst " << fmt(b->worst, 2) << " (" << b->where << "), " << b->scenes << " of "
-        << results.size() << " scenes with a foreground region or timed\n";
+    const bool all = b->scenes == static_cast<int>(results.size());
+    out << (b->ok && all ? "MET     " : "NOT MET ") << b->what << ": worst " << fmt(b->worst, 2) << " ("
+        << b->where << ")";
+    if (!all)
+      out << "; " << (b->ok ? "holds on" : "measured on") << " the " << b->scenes << " of " << results.size()
+          << " scenes with a foreground region";
+    out << "\n";
   }
   return ibl.ok && ssrt.ok;
 }

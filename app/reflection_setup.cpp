@@ -353,6 +353,12 @@ cv::Mat cachedGroundTruth(const ReflectionScene& scene, const CameraModel& camer
   return image;
 }
 
+cv::Mat displayedImage(const cv::Mat& hdr, float exposure) {
+  cv::Mat out;
+  reflect::toneMap(hdr, exposure).convertTo(out, CV_32FC3, 1.0 / 255.0);
+  return out;
+}
+
 void writePng(const std::filesystem::path& path, const cv::Mat& bgr8) {
   writeAtomically(path, [&](const std::filesystem::path& tmp) {
     if (!cv::imwrite(tmp.string() + ".png", bgr8)) throw Error("could not write " + path.string());

@@ -110,6 +110,10 @@ MethodResult renderMethod(const std::string& method, const ReflectionScene& scen
 cv::Mat cachedGroundTruth(const ReflectionScene& scene, const CameraModel& camera, int spp,
                           bool with_visitors, const std::filesystem::path& cache);
 
+// An HDR image as the pyramid displays it: tone-mapped (Reinhard, sRGB) at `exposure`, as floats
+// in [0, 1] (CV_32FC3), the form fg_mse is computed on (eval tracer, bench accuracy).
+cv::Mat displayedImage(const cv::Mat& hdr, float exposure);
+
 // Writes a CV_8UC3 PNG atomically.
 void writePng(const std::filesystem::path& path, const cv::Mat& bgr8);
 // Writes FILE.exr and, beside it, FILE.png (tone mapped with `exposure`, auto when <= 0).
