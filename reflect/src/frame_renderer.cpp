@@ -125,8 +125,10 @@ struct FrameRenderer::ViewCache {
   CameraModel camera;
   bool ready = false;
   HitPointBuffer hits;
-  std::vector<SplitSumShading> shading;  // per entry of hits.hits
-  std::vector<ForegroundSample> fg;      // per entry of hits.hits, this frame's walk (scratch)
+  std::vector<SplitSumShading> shading;    // per entry of hits.hits
+  std::vector<ForegroundSample> fg;        // per entry of hits.hits, this frame's walk (scratch)
+  std::vector<ForegroundSample> pixel_fg;  // per pixel, the walk of its centre or mean ray (scratch)
+  std::vector<std::uint8_t> pixel_state;   // per pixel: 0 no relic, 1 walk missed, 2 met (scratch)
   // The static result. Never written once handed out: a rebuild allocates new images, so a
   // caller's FrameResult keeps the pixels it was given.
   cv::Mat hdr, coverage, display, zero_weight;
@@ -347,27 +349,16 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
         return true;
       };
       const std::size_t pixels = hits.pixelCount();
+      // Pass 1: one walk per pixel (its centre, or the mean ray of its valid sub-samples).
+      // Pixel states: 0 nothing of the relic, 1 its walk missed, 2 it met the foreground.
+      cache.pixel_fg.assign(pixels, ForegroundSample{});
+      cache.pixel_state.assign(pixels, 0);
       tbb::parallel_for(
           tbb::blocked_range<std::size_t>(0, pixels, 256), [&](const tbb::blocked_range<std::size_t>& r) {
             std::uint64_t local_walked = 0, local_found = 0;
             for (std::size_t p = r.begin(); p < r.end(); ++p) {
               const std::size_t first = hits.firstSample(p);
               const std::size_t count = std::size_t(hits.sampleCount(p));
-              bool rough = count > 1;
-              for (std::size_t i = first; i < first + count && rough; ++i)
-                rough =
-                    !hits.valid[i] || hits.hits[i].material.roughness >= settings_.walk_per_pixel_roughness;
-              if (!rough) {
-                for (std::size_t i = first; i < first + count; ++i) {
-                  if (!hits.valid[i]) continue;
-                  const HitPoint& hp = hits.hits[i];
-                  ++local_walked;
-                  local_found +=
-                      walk(hp.position, hp.normal, hp.reflected, hp.material.roughness, cache.fg[i]);
-                }
-                continue;
-              }
-              // The mean ray of the valid sub-samples, walked once.
               vec3 position(0.0f), normal(0.0f), reflected(0.0f);
               float roughness = 0.0f;
               int valid = 0;
@@ -383,13 +374,61 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
               if (valid == 0) continue;
               const float inv = 1.0f / float(valid);
               const float nl = glm::length(normal), rl = glm::length(reflected);
+              cache.pixel_state[p] = 1;
               if (!(nl > 1e-6f) || !(rl > 1e-6f)) continue;  // opposite sub-samples: no mean ray
-              ForegroundSample sample;
               ++local_walked;
-              if (!walk(position * inv, normal / nl, reflected / rl, roughness * inv, sample)) continue;
+              if (!walk(position * inv, normal / nl, reflected / rl, roughness * inv, cache.pixel_fg[p]))
+                continue;
               ++local_found;
+              cache.pixel_state[p] = 2;
+            }
+            walked += local_walked;
+            found += local_found;
+          });
+      // Pass 2: a pixel with four sub-samples keeps its one walk where its lobe is rough, or where
+      // the foreground it met (or missed) matches its 8 neighbours'; at the reflected foreground's
+      // edges (a neighbour met it and this one did not, or their weights differ by more than
+      // kEdgeWeightStep) each sub-sample walks, which anti-aliases those edges as four walks
+      // everywhere would.
+      constexpr float kEdgeWeightStep = 0.2f;
+      const int w_px = hits.width, h_px = hits.height;
+      tbb::parallel_for(
+          tbb::blocked_range<std::size_t>(0, pixels, 256), [&](const tbb::blocked_range<std::size_t>& r) {
+            std::uint64_t local_walked = 0, local_found = 0;
+            for (std::size_t p = r.begin(); p < r.end(); ++p) {
+              if (cache.pixel_state[p] == 0) continue;
+              const std::size_t first = hits.firstSample(p);
+              const std::size_t count = std::size_t(hits.sampleCount(p));
+              bool rough = true;
+              for (std::size_t i = first; i < first + count && rough; ++i)
+                rough =
+                    !hits.valid[i] || hits.hits[i].material.roughness >= settings_.walk_per_pixel_roughness;
+              bool edge = false;
+              if (count > 1 && !rough && settings_.walk_edges_only) {
+                const int x = int(p % std::size_t(w_px)), y = int(p / std::size_t(w_px));
+                for (int dy = -1; dy <= 1 && !edge; ++dy)
+                  for (int dx = -1; dx <= 1 && !edge; ++dx) {
+                    const int nx = x + dx, ny = y + dy;
+                    if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= w_px || ny >= h_px) continue;
+                    const std::size_t q = std::size_t(ny) * std::size_t(w_px) + std::size_t(nx);
+                    if (cache.pixel_state[q] == 0) continue;  // beyond the relic's silhouette
+                    edge = cache.pixel_state[q] != cache.pixel_state[p] ||
+                           std::abs(cache.pixel_fg[q].weight - cache.pixel_fg[p].weight) > kEdgeWeightStep;
+                  }
+              }
+              if (count > 1 && !rough && (edge || !settings_.walk_edges_only)) {
+                for (std::size_t i = first; i < first + count; ++i) {
+                  if (!hits.valid[i]) continue;
+                  const HitPoint& hp = hits.hits[i];
+                  ++local_walked;
+                  local_found +=
+                      walk(hp.position, hp.normal, hp.reflected, hp.material.roughness, cache.fg[i]);
+                }
+                continue;
+              }
+              if (cache.pixel_state[p] != 2) continue;
               for (std::size_t i = first; i < first + count; ++i)
-                if (hits.valid[i]) cache.fg[i] = sample;
+                if (hits.valid[i]) cache.fg[i] = cache.pixel_fg[p];
             }
             walked += local_walked;
             found += local_found;

@@ -47,6 +47,11 @@ struct TracerSettings {
   // walks anti-alias the reflected visitors' edges (one walk per pixel there raised gallery x
   // vase's fg_mse 1.75x, docs/tracer.md). > 1: every sub-sample walks.
   float walk_per_pixel_roughness = 0.3f;
+  // Below that roughness, walk each sub-sample only at the reflected foreground's edges: every
+  // pixel first walks its mean ray once; where a neighbour's walk met the foreground and this
+  // one's did not (or their weights differ by more than 0.2) the four sub-samples walk, elsewhere
+  // they share the pixel's walk. false: every sub-sample walks (4x the rays).
+  bool walk_edges_only = true;
   // Rough lobes that miss: a reflected ray whose mirror direction meets no voxel may still pass
   // within its lobe's footprint of a visitor, and the truth then shows a soft halo where a hit/miss
   // decision would cut a hard edge. From this roughness on, such a ray marches the brick
