@@ -19,13 +19,13 @@
 namespace holo::app {
 
 struct SceneOptions {
-  std::string scene = "empty";  // built-in scene name or YAML file; "empty" = relic alone
-  std::string relic;            // built-in relic name or glTF file; empty = the scene's
-  std::string hall;             // built-in hall name; empty = the scene's
-  std::string panorama;         // HDR/EXR file; empty = the museum's rendered hall panorama
-  bool fit = false;             // scale and centre a relic file on the pedestal
-  int frame = 0;                // museum frame (visitor poses)
-  int close_visitors = -1;      // visitors standing close to the pyramid (sim); -1 = the scene's
+  std::string scene = "empty";   // built-in scene name or YAML file; "empty" = relic alone
+  std::string relic;             // built-in relic name or glTF file; empty = the scene's
+  std::string hall;              // built-in hall name; empty = the scene's
+  std::string panorama;          // HDR/EXR file; empty = the museum's rendered hall panorama
+  bool fit = false;              // scale and centre a relic file on the pedestal
+  int frame = 0;                 // museum frame (visitor poses)
+  int close_visitors = -1;       // visitors standing close to the pyramid (sim); -1 = the scene's
   float camera_vfov_deg = 0.0f;  // the depth cameras' vertical field of view; 0 = the scene's
   float camera_tilt_deg = 0.0f;  // the depth cameras' upwards tilt; 0 = the scene's
   void addTo(CLI::App& app);
