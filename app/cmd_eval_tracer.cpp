@@ -58,11 +58,33 @@ struct TracerEvalOptions {
   // gives them a region, mostly silhouette and grazing pixels (docs/tracer.md).
   float fg_threshold = reflect::kForegroundDistance;
   int ssrt_rays = 0;  // 0: the equal-time search; > 0: fixed (deterministic, for CI)
+  // Visitors standing close to the pyramid (sim planCloseVisitors), besides the hall's walkers:
+  // the "visitors close to the pyramid"; the walkers keep >= 1.2 m from the axis.
+  int close_visitors = 1;
+  // The depth cameras: the default rig (tilt 8, vfov 70) sees a visitor within ~0.6 m of the
+  // pyramid only from the waist to the chest, and the relic mirrors the rest; tilt 20 with vfov 90
+  // keeps the far visitors' feet (bottom edge -25 degrees, was -27) and sees the close ones' heads.
+  float camera_tilt_deg = 20.0f;
+  float camera_vfov_deg = 90.0f;
+  // Ours' knobs (--aa, --levels, --level-bias, --voxel-size). 9 levels: with 7 the rough relics'
+  // reads (kettle, 0.35) sat at the top level, blurred less than their lobe (docs/tracer.md).
+  reflect::TracerSettings tracer = [] {
+    reflect::TracerSettings t;
+    t.pyramid_levels = 9;
+    return t;
+  }();
 };
+
+// Views a frame renders (one per pyramid face): the per-frame work is shared by this many.
+constexpr int kViewsPerFrame = 4;
 
 struct Entry {
   std::string method, knob;
+  // ms: per view at frame time, = view_ms + frame_ms / kViewsPerFrame; frame_ms: the work done
+  // once per frame for all views (ours: voxel grid + pyramids; ibl: reprojecting the visitors
+  // into the panorama + prefiltering it); view_ms: the work per view.
   double ms = 0, mse = 0, fg_mse = 0;
+  double frame_ms = 0, view_ms = 0;
   bool reached = true;  // mcpt_equal_quality: our fg_mse was reached
   cv::Mat image;
 };
@@ -72,7 +94,6 @@ struct SceneResult {
   int frame = 0, face = 0, fg_pixels = 0;
   float reflected_fraction = 0;  // of the relic's mirror rays meeting a visitor (the view pick)
   double mcpt_build_ms = 0;      // the voxel scene's Embree build, not in the mcpt times
-  double ours_view_ms = 0;       // ours' per-view passes alone (without the per-frame grid and pyramids)
   std::vector<Entry> entries;
   std::vector<std::pair<std::string, double>> ours_passes;  // median ms per pass
   const Entry& at(const std::string& method) const {
@@ -95,11 +116,7 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 // (CV_32FC3, so image_metrics' clamp leaves it as it is).
 struct Display {
   float exposure;
-  cv::Mat operator()(const cv::Mat& hdr) const {
-    cv::Mat out;
-    reflect::toneMap(hdr, exposure).convertTo(out, CV_32FC3, 1.0 / 255.0);
-    return out;
-  }
+  cv::Mat operator()(const cv::Mat& hdr) const { return displayedImage(hdr, exposure); }
 };
 
 struct Scorer {
@@ -118,15 +135,25 @@ struct Scorer {
 Entry timed(const std::string& method, const std::string& knob, const ReflectionScene& scene,
             const CameraModel& camera, const MethodSettings& s, int repeats,
             std::vector<std::vector<std::pair<std::string, double>>>* passes = nullptr) {
-  Entry e{method, knob, 0, 0, 0, true, {}};
-  std::vector<double> ms;
+  Entry e;
+  e.method = method;
+  e.knob = knob;
+  std::vector<double> frame, view;
   for (int i = 0; i < repeats; ++i) {
     MethodResult r = renderMethod(method == "ibl_static" ? "ibl" : method, scene, camera, s);
-    ms.push_back(r.ms);
+    if (method == "ours") {
+      frame.push_back(r.frame_ms);
+      view.push_back(r.view_ms);
+    } else {  // ibl-baseline: the map build is per frame; the rest (and every other method) per view
+      frame.push_back(r.build_ms);
+      view.push_back(r.ms - r.build_ms);
+    }
     if (passes) passes->push_back(r.passes);
     if (i == 0) e.image = r.image;
   }
-  e.ms = median(ms);
+  e.frame_ms = median(frame);
+  e.view_ms = median(view);
+  e.ms = e.view_ms + e.frame_ms / kViewsPerFrame;
   return e;
 }
 
@@ -138,6 +165,9 @@ SceneResult evalScene(const std::string& hall, const std::string& relic, const T
   so.scene = hall;  // the built-in scene of that hall: its visitors
   so.hall = hall;
   so.relic = relic;
+  so.close_visitors = o.close_visitors;
+  so.camera_tilt_deg = o.camera_tilt_deg;
+  so.camera_vfov_deg = o.camera_vfov_deg;
   const VisitorView pick = visitorView(so);
   so.frame = res.frame = pick.frame;
   res.face = pick.face;
@@ -163,11 +193,39 @@ SceneResult evalScene(const std::string& hall, const std::string& relic, const T
 
   MethodSettings base;
   base.static_ibl = staticIbl(scene, base);
+  base.tracer = o.tracer;
 
-  // ours: the per-pass medians say where the time goes.
+  // ours and the IBL at ours' anti-aliasing (the same renderer with no foreground: the same hit
+  // points, static shading and tone map, no grid, pyramids, walk or composition), timed
+  // alternately so that the load of the shared machine falls on both alike. The per-pass medians
+  // say where ours' time goes.
   std::vector<std::vector<std::pair<std::string, double>>> passes;
-  Entry ours = timed("ours", "aa=4,levels=7", scene, camera, base, o.repeats, &passes);
+  MethodSettings no_visitors = base;
+  no_visitors.with_visitors = false;
+  const std::string ours_knob = "aa=" + std::to_string(base.tracer.aa_samples) +
+                                ",levels=" + std::to_string(base.tracer.pyramid_levels);
+  Entry ours, ibl_same_aa;
+  {
+    std::vector<Entry> a, b;
+    for (int i = 0; i < o.repeats; ++i) {
+      a.push_back(timed("ours", ours_knob, scene, camera, base, 1, &passes));
+      b.push_back(timed("ours", ours_knob, scene, camera, no_visitors, 1));
+    }
+    const auto combine = [](std::vector<Entry>& runs, const std::string& name) {
+      Entry e = runs.front();
+      e.method = name;
+      std::vector<double> f, v;
+      for (const Entry& r : runs) f.push_back(r.frame_ms), v.push_back(r.view_ms);
+      e.frame_ms = median(f);
+      e.view_ms = median(v);
+      e.ms = e.view_ms + e.frame_ms / kViewsPerFrame;
+      return e;
+    };
+    ours = combine(a, "ours");
+    ibl_same_aa = combine(b, "ibl_same_aa");
+  }
   score(ours);
+  score(ibl_same_aa);
   if (!passes.empty())
     for (std::size_t p = 0; p < passes.front().size(); ++p) {
       std::vector<double> v;
@@ -176,8 +234,7 @@ SceneResult evalScene(const std::string& hall, const std::string& relic, const T
       res.ours_passes.emplace_back(passes.front()[p].first, median(v));
     }
   res.entries.push_back(ours);
-  for (const auto& [name, ms] : res.ours_passes)
-    if (name != std::string("VoxelGrid") && name != std::string("Pyramids")) res.ours_view_ms += ms;
+  res.entries.push_back(ibl_same_aa);
 
   Entry ibl = timed("ibl-baseline", "levels=9,samples=64", scene, camera, base, std::max(1, o.repeats / 2));
   ibl.method = "ibl";
@@ -223,15 +280,20 @@ SceneResult evalScene(const std::string& hall, const std::string& relic, const T
       render.addSamples(1);
       spent = msSince(t0);
     } while (spent + spent / render.samplesPerPixel() <= ours.ms);
-    Entry e{"mcpt_equal_time", "spp=" + std::to_string(render.samplesPerPixel()), spent, 0, 0, true,
-            render.image()};
+    Entry e;
+    e.method = "mcpt_equal_time";
+    e.knob = "spp=" + std::to_string(render.samplesPerPixel());
+    e.ms = e.view_ms = spent;
+    e.image = render.image();
     score(e);
     res.entries.push_back(e);
   }
   {  // equal quality: 1, 2, 4, ... spp until fg_mse <= ours'
     reflect::ProgressiveRender render(tracer, camera);
     double sampling_ms = 0;
-    Entry e{"mcpt_equal_quality", "", 0, 0, 0, false, {}};
+    Entry e;
+    e.method = "mcpt_equal_quality";
+    e.reached = false;
     for (int spp = 1; spp <= o.mcpt_max_spp; spp *= 2) {
       const auto t_pass = std::chrono::steady_clock::now();
       render.addSamples(spp - render.samplesPerPixel());
@@ -243,7 +305,7 @@ SceneResult evalScene(const std::string& hall, const std::string& relic, const T
         break;
       }
     }
-    e.ms = sampling_ms;
+    e.ms = e.view_ms = sampling_ms;
     e.knob = "spp=" + std::to_string(render.samplesPerPixel()) + (e.reached ? "" : " (not reached)");
     res.entries.push_back(e);
   }
@@ -276,28 +338,48 @@ std::string fmt(double v, int precision) {
   return s.str();
 }
 
-// fg_mse x 1e-2 as the paper's Table 1, then the ratios and times.
+// fg_mse x 1e-2 as the paper's Table 1 with the ratios, then the times.
 std::string markdownTable(const std::vector<SceneResult>& results, const TracerEvalOptions& o) {
   std::ostringstream s;
   s << "fg_mse x 1e-2 (paper Table 1 units) on the displayed images (tone-mapped at the ground truth's "
-       "exposure, sRGB); ms = median wall time per view; "
-    << o.size << "^2 views, gt " << o.gt_spp
-    << " spp, foreground region: displayed RGB distance >= " << o.fg_threshold << "\n\n"
-    << "| scene | fg px | ours | ibl | ssrt | mcpt_et | ibl/ours | ssrt/ours | mcpt_et/ours | ours ms | "
-       "ours view-pass ms | ibl ms | ibl_static ms | ssrt ms (rays) | mcpt_et ms (spp) | mcpt_eq ms (spp) | "
+       "exposure, sRGB); "
+    << o.size << "^2 views, gt " << o.gt_spp << " spp, " << o.close_visitors
+    << " visitor(s) close to the pyramid, foreground region: displayed RGB distance >= " << o.fg_threshold
+    << "\n\n"
+    << "| scene | fg px | ours | ibl | ssrt | mcpt_et | ibl/ours | ssrt/ours | mcpt_et/ours | mcpt_eq spp | "
        "mcpt_eq/ours time |\n"
-    << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    << "|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const SceneResult& r : results) {
     const Entry &ours = r.at("ours"), &ibl = r.at("ibl"), &ssrt = r.at("ssrt"), &et = r.at("mcpt_equal_time"),
-                &eq = r.at("mcpt_equal_quality"), &st = r.at("ibl_static");
+                &eq = r.at("mcpt_equal_quality");
     const auto ratio = [&](double a) { return ours.fg_mse > 0 ? fmt(a / ours.fg_mse, 1) : std::string("-"); };
     s << "| " << r.hall << " x " << r.relic << " | " << r.fg_pixels << " | " << fmt(100 * ours.fg_mse, 3)
       << " | " << fmt(100 * ibl.fg_mse, 3) << " | " << fmt(100 * ssrt.fg_mse, 3) << " | "
       << fmt(100 * et.fg_mse, 3) << " | " << ratio(ibl.fg_mse) << " | " << ratio(ssrt.fg_mse) << " | "
-      << ratio(et.fg_mse) << " | " << fmt(ours.ms, 1) << " | " << fmt(r.ours_view_ms, 1) << " | "
-      << fmt(ibl.ms, 1) << " | " << fmt(st.ms, 1) << " | " << fmt(ssrt.ms, 1) << " (" << ssrt.knob.substr(5)
-      << ") | " << fmt(et.ms, 1) << " (" << et.knob.substr(4) << ") | " << fmt(eq.ms, 0) << " ("
-      << eq.knob.substr(4) << ") | " << (eq.reached ? "" : ">") << fmt(eq.ms / ours.ms, 1) << " |\n";
+      << ratio(et.fg_mse) << " | " << eq.knob.substr(4) << " | " << (eq.reached ? "" : ">")
+      << fmt(eq.ms / ours.ms, 1) << " |\n";
+  }
+  s << "\nTimes, median ms. Per view at frame time = view + frame / " << kViewsPerFrame
+    << " (the per-frame work is shared by the four face views). ibl_same_aa: the same renderer with no "
+       "foreground (ours' hit points at the same anti-aliasing, static shading, tone map). ibl: the paper's "
+       "IBL, frame = reprojecting the visitors into the panorama + prefiltering it, view = 1-sample shading. "
+       "ibl_static: the prebuilt static map, 1-sample shading.\n\n"
+    << "| scene | ours frame | ours view | ours per view | ibl_same_aa view | ours/ibl_same_aa view | ibl "
+       "frame | "
+       "ibl view | ibl per view | ours/ibl per view | ibl_static view | ssrt (rays) | mcpt_et (spp) | "
+       "mcpt_eq (spp) |\n"
+    << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const SceneResult& r : results) {
+    const Entry &ours = r.at("ours"), &same = r.at("ibl_same_aa"), &ibl = r.at("ibl"),
+                &st = r.at("ibl_static"), &ssrt = r.at("ssrt"), &et = r.at("mcpt_equal_time"),
+                &eq = r.at("mcpt_equal_quality");
+    s << "| " << r.hall << " x " << r.relic << " | " << fmt(ours.frame_ms, 1) << " | " << fmt(ours.view_ms, 2)
+      << " | " << fmt(ours.ms, 2) << " | " << fmt(same.view_ms, 2) << " | "
+      << fmt(ours.view_ms / std::max(same.view_ms, 1e-9), 2) << " | " << fmt(ibl.frame_ms, 1) << " | "
+      << fmt(ibl.view_ms, 2) << " | " << fmt(ibl.ms, 1) << " | " << fmt(ours.ms / std::max(ibl.ms, 1e-9), 2)
+      << " | " << fmt(st.view_ms, 2) << " | " << fmt(ssrt.ms, 1) << " (" << ssrt.knob.substr(5) << ") | "
+      << fmt(et.ms, 1) << " (" << et.knob.substr(4) << ") | " << fmt(eq.ms, 0) << " (" << eq.knob.substr(4)
+      << ") |\n";
   }
   return s.str();
 }
@@ -311,13 +393,15 @@ bool reportBars(const std::vector<SceneResult>& results, std::ostream& out) {
     double worst = 1e30;
     std::string where;
     bool ok = true;
+    int scenes = 0;
   };
   Bar ibl{"ours fg_mse <= ibl / 4 (ibl/ours >= 4)"}, ssrt{"ours fg_mse < ssrt's (ssrt/ours > 1)"},
-      eq{"ours >= 10x faster than mcpt_equal_quality"}, et{"ours fg_mse >= 4x lower than mcpt_equal_time"},
-      time_ibl{"ours ms <= 1.1x ibl's (ibl/ours time >= 0.91)"},
-      time_static{"ours ms <= 1.1x ibl_static's (ibl_static/ours time >= 0.91)"},
-      time_view{"ours per-view passes <= 1.1x ibl_static's (ratio >= 0.91)"};
+      eq{"ours (per view) >= 10x faster than mcpt_equal_quality"},
+      et{"ours fg_mse >= 4x lower than mcpt_equal_time (ours' per-view time)"},
+      time_view{"ours per-view passes <= 1.1x ibl_same_aa's (ratio ibl/ours >= 0.91)"},
+      time_ibl{"ours per view <= 1.1x the paper ibl's per view, frame work amortised (ratio >= 0.91)"};
   const auto check = [](Bar& b, double value, double bar, const std::string& where) {
+    ++b.scenes;
     if (value < b.worst) b.worst = value, b.where = where;
     if (!(value >= bar)) b.ok = false;
   };
@@ -331,13 +415,19 @@ bool reportBars(const std::vector<SceneResult>& results, std::ostream& out) {
       check(et, r.at("mcpt_equal_time").fg_mse / ours.fg_mse, 4.0, where);
       check(eq, eqe.ms / ours.ms, 10.0, where + (eqe.reached ? "" : " (quality not reached)"));
     }
+    check(time_view, r.at("ibl_same_aa").view_ms / ours.view_ms, 1.0 / 1.1, where);
     check(time_ibl, r.at("ibl").ms / ours.ms, 1.0 / 1.1, where);
-    check(time_static, r.at("ibl_static").ms / ours.ms, 1.0 / 1.1, where);
-    check(time_view, r.at("ibl_static").ms / r.ours_view_ms, 1.0 / 1.1, where);
   }
-  for (const Bar* b : {&ibl, &ssrt, &eq, &et, &time_ibl, &time_static, &time_view}) {
-    out << (b->ok ? "MET     " : "NOT MET ") << b->what << ": worst " << fmt(b->worst, 2) << " (" << b->where
-        << ")\n";
+  // The fg_mse bars hold on "every one of the scenes": a scene without a foreground region (the
+  // visitors change no displayed pixel by the threshold) cannot show them, so it fails them.
+  for (const Bar* b : {&ibl, &ssrt, &eq, &et, &time_view, &time_ibl}) {
+    const bool all = b->scenes == static_cast<int>(results.size());
+    out << (b->ok && all ? "MET     " : "NOT MET ") << b->what << ": worst " << fmt(b->worst, 2) << " ("
+        << b->where << ")";
+    if (!all)
+      out << "; " << (b->ok ? "holds on" : "measured on") << " the " << b->scenes << " of " << results.size()
+          << " scenes with a foreground region";
+    out << "\n";
   }
   return ibl.ok && ssrt.ok;
 }
@@ -347,7 +437,7 @@ void writeOutputs(const std::vector<SceneResult>& results, const TracerEvalOptio
   const std::filesystem::path dir = o.out;
   std::filesystem::create_directories(dir);
   std::ostringstream csv;
-  csv << "hall,relic,frame,face,fg_pixels,method,knob,ms,fg_mse,mse,reached\n";
+  csv << "hall,relic,frame,face,fg_pixels,method,knob,ms,frame_ms,view_ms,fg_mse,mse,reached\n";
   nlohmann::json j = nlohmann::json::array();
   for (const SceneResult& r : results) {
     nlohmann::json sj = {{"hall", r.hall},
@@ -361,10 +451,11 @@ void writeOutputs(const std::vector<SceneResult>& results, const TracerEvalOptio
                          {"gt_spp", o.gt_spp}};
     for (const Entry& e : r.entries) {
       csv << r.hall << "," << r.relic << "," << r.frame << "," << r.face << "," << r.fg_pixels << ","
-          << e.method << ",\"" << e.knob << "\"," << e.ms << "," << e.fg_mse << "," << e.mse << ","
-          << e.reached << "\n";
-      sj["methods"][e.method] = {
-          {"knob", e.knob}, {"ms", e.ms}, {"fg_mse", e.fg_mse}, {"mse", e.mse}, {"reached", e.reached}};
+          << e.method << ",\"" << e.knob << "\"," << e.ms << "," << e.frame_ms << "," << e.view_ms << ","
+          << e.fg_mse << "," << e.mse << "," << e.reached << "\n";
+      sj["methods"][e.method] = {{"knob", e.knob},       {"ms", e.ms},         {"frame_ms", e.frame_ms},
+                                 {"view_ms", e.view_ms}, {"fg_mse", e.fg_mse}, {"mse", e.mse},
+                                 {"reached", e.reached}};
     }
     for (const auto& [name, ms] : r.ours_passes) sj["ours_passes_ms"][name] = ms;
     j.push_back(sj);
@@ -408,6 +499,7 @@ void writeOutputs(const std::vector<SceneResult>& results, const TracerEvalOptio
   const std::vector<std::pair<std::string, std::string>> colours = {{"ours", "#000000"},
                                                                     {"ibl", "#d62728"},
                                                                     {"ibl_static", "#2ca02c"},
+                                                                    {"ibl_same_aa", "#8c564b"},
                                                                     {"ssrt", "#9467bd"},
                                                                     {"mcpt_equal_time", "#ff7f0e"},
                                                                     {"mcpt_equal_quality", "#1f77b4"}};
@@ -488,6 +580,30 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--ssrt-rays", o->ssrt_rays, "SSRT rays per hit point; 0 = as many as fit in ours' time")
           ->capture_default_str()
           ->check(CLI::Range(0, 1024));
+      sub.add_option("--close-visitors", o->close_visitors,
+                     "Visitors standing close to the pyramid, reaching out to it, besides the hall's walkers")
+          ->capture_default_str()
+          ->check(CLI::Range(0, 4));
+      sub.add_option("--camera-tilt-deg", o->camera_tilt_deg, "Depth cameras' upwards tilt, degrees")
+          ->capture_default_str()
+          ->check(CLI::Range(-60.0f, 60.0f));
+      sub.add_option("--camera-vfov-deg", o->camera_vfov_deg,
+                     "Depth cameras' vertical field of view, degrees")
+          ->capture_default_str()
+          ->check(CLI::Range(10.0f, 170.0f));
+      sub.add_option("--aa", o->tracer.aa_samples, "Ours: sub-samples per pixel (1 or 4)")
+          ->capture_default_str()
+          ->check(CLI::IsMember({1, 4}));
+      sub.add_option("--levels", o->tracer.pyramid_levels, "Ours: pyramid levels")
+          ->capture_default_str()
+          ->check(CLI::Range(1, reflect::kMaxPyramidLevels));
+      sub.add_option("--level-bias", o->tracer.level_bias,
+                     "Ours: added to the derived pyramid level (checks)")
+          ->capture_default_str()
+          ->check(CLI::Range(-8.0f, 8.0f));
+      sub.add_option("--voxel-size", o->tracer.grid.voxel_size, "Ours: voxel size, metres")
+          ->capture_default_str()
+          ->check(CLI::Range(0.005f, 0.5f));
       sub.add_flag("--require-fg-bars", o->require_fg_bars,
                    "Exit 1 unless ours' fg_mse <= ibl's / 4 and < ssrt's on every scene");
       return [o] { return evalTracer(*o); };

@@ -93,6 +93,9 @@ sim::SceneDescription sceneDescription(const SceneOptions& o) {
       throw InputError("command line", "--hall", "one of room, gallery, atrium, none", o.hall);
     d.hall = o.hall;
   }
+  if (o.close_visitors >= 0) d.close_visitors = o.close_visitors;
+  if (o.camera_vfov_deg > 0.0f) d.camera.vfov_deg = o.camera_vfov_deg;
+  if (o.camera_tilt_deg != 0.0f) d.camera.tilt_deg = o.camera_tilt_deg;
   return d;
 }
 
@@ -117,6 +120,15 @@ void SceneOptions::addTo(CLI::App& app) {
                  "HDR/EXR panorama (default: the museum hall rendered from the pyramid)");
   app.add_flag("--fit", fit, "Scale and centre a relic file on the pedestal");
   app.add_option("--frame", frame, "Museum frame (visitor poses)")->capture_default_str();
+  app.add_option("--close-visitors", close_visitors,
+                 "Visitors standing close to the pyramid, reaching out to it (default: the scene's)")
+      ->check(CLI::Range(0, 4));
+  app.add_option("--camera-vfov-deg", camera_vfov_deg,
+                 "Depth cameras' vertical field of view, degrees (default: the scene's)")
+      ->check(CLI::Range(10.0f, 170.0f));
+  app.add_option("--camera-tilt-deg", camera_tilt_deg,
+                 "Depth cameras' upwards tilt, degrees (default: the scene's)")
+      ->check(CLI::Range(-60.0f, 60.0f));
 }
 
 void ViewOptions::addTo(CLI::App& app) {
@@ -162,7 +174,10 @@ ReflectionScene loadReflectionScene(const SceneOptions& o) {
                                   : loadHdr(o.panorama).pixels;
   std::uint64_t h = 1469598103934665603ull;
   h = fnv1a(h, o.scene + "|" + s.relic_name + "|" + std::to_string(o.fit) + "|" + std::to_string(o.frame) +
-                   (o.hall.empty() ? "" : "|" + o.hall));
+                   (o.hall.empty() ? "" : "|" + o.hall) +
+                   (o.close_visitors < 0 ? "" : "|close" + std::to_string(o.close_visitors)) +
+                   (o.camera_vfov_deg > 0.0f ? "|vfov" + std::to_string(o.camera_vfov_deg) : "") +
+                   (o.camera_tilt_deg != 0.0f ? "|tilt" + std::to_string(o.camera_tilt_deg) : ""));
   const cv::Mat pano = s.panorama.isContinuous() ? s.panorama : s.panorama.clone();
   h = fnv1a(h, pano.data, pano.total() * pano.elemSize());
   s.hash = h;
@@ -271,14 +286,18 @@ MethodResult renderMethod(const std::string& method, const ReflectionScene& scen
     static const depthfilter::ForegroundCloud kNobody;
     const depthfilter::ForegroundCloud& cloud = settings.with_visitors ? scene.foreground : kNobody;
     if (method == "ours") {
-      reflect::FrameRenderer renderer(rs, *ibl);
+      reflect::FrameRenderer renderer(rs, *ibl, settings.tracer);
       const auto t1 = std::chrono::steady_clock::now();
       reflect::FrameResult fr = renderer.render(cloud, scene.foreground_cameras, {camera});
       r.ms = msSince(t1);
-      for (const reflect::PassTiming& p : fr.frame_timings)
+      for (const reflect::PassTiming& p : fr.frame_timings) {
         r.passes.emplace_back(reflect::passName(p.pass), p.ms);
-      for (const reflect::PassTiming& p : fr.views.at(0).timings)
+        r.frame_ms += p.ms;
+      }
+      for (const reflect::PassTiming& p : fr.views.at(0).timings) {
         r.passes.emplace_back(reflect::passName(p.pass), p.ms);
+        r.view_ms += p.ms;
+      }
       r.image = std::move(fr.views.at(0).hdr);
     } else {
       reflect::SsrtSettings ss;
@@ -332,6 +351,12 @@ cv::Mat cachedGroundTruth(const ReflectionScene& scene, const CameraModel& camer
   std::filesystem::create_directories(cache);
   saveHdr(file, image);
   return image;
+}
+
+cv::Mat displayedImage(const cv::Mat& hdr, float exposure) {
+  cv::Mat out;
+  reflect::toneMap(hdr, exposure).convertTo(out, CV_32FC3, 1.0 / 255.0);
+  return out;
 }
 
 void writePng(const std::filesystem::path& path, const cv::Mat& bgr8) {

@@ -19,12 +19,15 @@
 namespace holo::app {
 
 struct SceneOptions {
-  std::string scene = "empty";  // built-in scene name or YAML file; "empty" = relic alone
-  std::string relic;            // built-in relic name or glTF file; empty = the scene's
-  std::string hall;             // built-in hall name; empty = the scene's
-  std::string panorama;         // HDR/EXR file; empty = the museum's rendered hall panorama
-  bool fit = false;             // scale and centre a relic file on the pedestal
-  int frame = 0;                // museum frame (visitor poses)
+  std::string scene = "empty";   // built-in scene name or YAML file; "empty" = relic alone
+  std::string relic;             // built-in relic name or glTF file; empty = the scene's
+  std::string hall;              // built-in hall name; empty = the scene's
+  std::string panorama;          // HDR/EXR file; empty = the museum's rendered hall panorama
+  bool fit = false;              // scale and centre a relic file on the pedestal
+  int frame = 0;                 // museum frame (visitor poses)
+  int close_visitors = -1;       // visitors standing close to the pyramid (sim); -1 = the scene's
+  float camera_vfov_deg = 0.0f;  // the depth cameras' vertical field of view; 0 = the scene's
+  float camera_tilt_deg = 0.0f;  // the depth cameras' upwards tilt; 0 = the scene's
   void addTo(CLI::App& app);
 };
 
@@ -74,6 +77,7 @@ struct MethodSettings {
   int ibl_texel_density = 20;  // ibl*: PrefilterOptions::texel_density
   bool with_visitors = true;
   std::uint64_t seed = 1;
+  reflect::TracerSettings tracer;  // ours: anti-aliasing, pyramid levels, voxel grid
   // ours, ssrt: the static hall's prefiltered panorama. The hall does not move, so it is built once
   // per scene (staticIbl) and not counted in the per-view time; null = build it here (reported
   // in build_ms, outside ms).
@@ -92,6 +96,8 @@ struct MethodResult {
   double build_ms = 0;  // IBL, mcpt: part of ms spent building maps or the scene; ours, ssrt:
                         // the static IBL built here when settings.static_ibl was null (not in ms)
   std::vector<std::pair<std::string, double>> passes;  // ours: ms per pass (frame passes first)
+  double frame_ms = 0;  // ours: the per-frame passes (voxel grid, pyramids), shared by all views
+  double view_ms = 0;   // ours: the per-view passes (hit points, static, walk, composition, tone map)
 };
 
 // Throws InputError(field "method") for an unknown method.
@@ -103,6 +109,10 @@ MethodResult renderMethod(const std::string& method, const ReflectionScene& scen
 // rendered and stored there.
 cv::Mat cachedGroundTruth(const ReflectionScene& scene, const CameraModel& camera, int spp,
                           bool with_visitors, const std::filesystem::path& cache);
+
+// An HDR image as the pyramid displays it: tone-mapped (Reinhard, sRGB) at `exposure`, as floats
+// in [0, 1] (CV_32FC3), the form fg_mse is computed on (eval tracer, bench accuracy).
+cv::Mat displayedImage(const cv::Mat& hdr, float exposure);
 
 // Writes a CV_8UC3 PNG atomically.
 void writePng(const std::filesystem::path& path, const cv::Mat& bgr8);

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -33,6 +34,40 @@ class PassTimer {
   std::chrono::steady_clock::time_point start_;
 };
 
+// Where a ray that misses every voxel first passes within `radius_per_m * t` metres of an occupied
+// brick, for t in (0, t_max]; none when it never does. Marches the brick level by steps of half a
+// brick, jumping where the brick distance proves the space around empty: a brick at Chebyshev
+// distance k (in bricks) from the nearest occupied one is at least (k - 1) bricks from any
+// occupied voxel.
+std::optional<float> nearMissT(const depthfilter::VoxelGrid& grid, const Ray& ray, float t_max,
+                               float radius_per_m) {
+  const float brick_m = grid.voxelSize() * float(grid.brickSize());
+  const Bounds3 box{grid.origin(), grid.origin() + vec3(grid.dims()) * grid.voxelSize()};
+  float t0 = 0.0f, t1 = t_max;
+  for (int a = 0; a < 3; ++a) {
+    if (ray.direction[a] == 0.0f) {
+      if (!(ray.origin[a] >= box.lo[a] && ray.origin[a] < box.hi[a])) return std::nullopt;
+      continue;
+    }
+    const float inv = 1.0f / ray.direction[a];
+    float ta = (box.lo[a] - ray.origin[a]) * inv, tb = (box.hi[a] - ray.origin[a]) * inv;
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  const glm::ivec3 bricks = grid.brickDims();
+  // Every iteration advances t by at least half a brick: the loop is bounded by the box.
+  for (float t = std::max(t0, 0.5f * brick_m); t <= t1;) {
+    const glm::ivec3 b = grid.voxelOf(ray.origin + ray.direction * t) / grid.brickSize();
+    if (glm::any(glm::lessThan(b, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(b, bricks))) break;
+    const float gap = float(std::max(int(grid.brickDistance(b)) - 1, 0)) * brick_m;
+    const float radius = radius_per_m * t;
+    if (grid.brickCount(b) > 0 || gap <= radius) return t;
+    t += std::max(0.5f * brick_m, gap - radius_per_m * (t + gap));
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 void TracerSettings::validate() const {
@@ -51,6 +86,15 @@ void TracerSettings::validate() const {
   if (!std::isfinite(static_reuse_distance) || static_reuse_distance < 0.0f)
     throw InputError(src, "static_reuse_distance", "a finite distance >= 0 (metres)",
                      std::to_string(static_reuse_distance));
+  if (!std::isfinite(level_bias) || std::abs(level_bias) > float(kMaxPyramidLevels))
+    throw InputError(src, "level_bias", "a finite level offset within +-" + std::to_string(kMaxPyramidLevels),
+                     std::to_string(level_bias));
+  if (!std::isfinite(lobe_fallback_roughness) || lobe_fallback_roughness < 0.0f)
+    throw InputError(src, "lobe_fallback_roughness", "a roughness >= 0 (> 1: never)",
+                     std::to_string(lobe_fallback_roughness));
+  if (!std::isfinite(walk_per_pixel_roughness) || walk_per_pixel_roughness < 0.0f)
+    throw InputError(src, "walk_per_pixel_roughness", "a roughness >= 0 (> 1: never)",
+                     std::to_string(walk_per_pixel_roughness));
   if (edge_aa && aa_samples != 1) throw InputError(src, "edge_aa", "only with aa_samples 1", "aa_samples 4");
   grid.validate(src + " grid");
 }
@@ -81,8 +125,10 @@ struct FrameRenderer::ViewCache {
   CameraModel camera;
   bool ready = false;
   HitPointBuffer hits;
-  std::vector<SplitSumShading> shading;  // per entry of hits.hits
-  std::vector<ForegroundSample> fg;      // per entry of hits.hits, this frame's walk (scratch)
+  std::vector<SplitSumShading> shading;    // per entry of hits.hits
+  std::vector<ForegroundSample> fg;        // per entry of hits.hits, this frame's walk (scratch)
+  std::vector<ForegroundSample> pixel_fg;  // per pixel, the walk of its centre or mean ray (scratch)
+  std::vector<std::uint8_t> pixel_state;   // per pixel: 0 no relic, 1 walk missed, 2 met (scratch)
   // The static result. Never written once handed out: a rebuild allocates new images, so a
   // caller's FrameResult keeps the pixels it was given.
   cv::Mat hdr, coverage, display, zero_weight;
@@ -251,31 +297,142 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     {
       PassTimer t(out.timings, Pass::ForegroundWalk);
       std::atomic<std::uint64_t> walked{0}, found{0};
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n), [&](const tbb::blocked_range<std::size_t>& r) {
-        std::uint64_t local_walked = 0, local_found = 0;
-        for (std::size_t i = r.begin(); i < r.end(); ++i) {
-          if (!hits.valid[i]) continue;
-          const HitPoint& hp = hits.hits[i];
-          ++local_walked;
-          const Ray ray{hp.position + hp.normal * settings_.ray_offset, hp.reflected};
-          const VoxelHit vh = firstOccupiedVoxel(grid_, ray, settings_.max_reflection_distance);
-          if (!vh.hit()) continue;
-          const depthfilter::VoxelSample& vs = grid_.sample(vh.sample);
-          if (vs.camera >= pyramids_.size() || pyramids_[vs.camera].empty()) continue;
-          const CameraModel& cam = cameras[vs.camera].camera;
-          // The point the ray reaches: half a voxel into the one it entered.
-          const vec3 p = ray.origin + ray.direction * (vh.t + 0.5f * grid_.voxelSize());
-          float depth = 0.0f;
-          const std::optional<vec2> px = cam.project(p, &depth);
-          const vec2 pixel = px ? *px : vec2(vs.x, vs.y);
-          const float level = foregroundLevel(hp.material.roughness, vh.t, glm::length(p - cam.position()),
-                                              cam.intrinsics().fx, settings_.pyramid_levels);
-          cache.fg[i] = pyramids_[vs.camera].sample(pixel, level);
-          ++local_found;
+      const auto biasedLevel = [&](float level) {
+        return std::clamp(level + settings_.level_bias, 0.0f, float(settings_.pyramid_levels - 1));
+      };
+      // The foreground of one reflected ray: the first occupied voxel, read from the pyramid of
+      // the camera that saw it at the level of the lobe's footprint there.
+      const auto walk = [&](const vec3& position, const vec3& normal, const vec3& reflected, float roughness,
+                            ForegroundSample& sample) {
+        const Ray ray{position + normal * settings_.ray_offset, reflected};
+        const VoxelHit vh = firstOccupiedVoxel(grid_, ray, settings_.max_reflection_distance);
+        if (!vh.hit()) {
+          if (roughness < settings_.lobe_fallback_roughness) return false;
+          const float tan_sigma = std::tan(reflectedLobeSigma(roughness));
+          const std::optional<float> t_near =
+              nearMissT(grid_, ray, settings_.max_reflection_distance, 2.0f * tan_sigma);
+          if (!t_near) return false;
+          // The camera looking most along the ray that sees the point.
+          const vec3 p = ray.origin + ray.direction * *t_near;
+          int best = -1;
+          float best_dot = -2.0f;
+          vec2 best_px(0.0f);
+          for (std::size_t c = 0; c < pyramids_.size(); ++c) {
+            if (pyramids_[c].empty()) continue;
+            const CameraModel& cam = cameras[c].camera;
+            float depth = 0.0f;
+            const std::optional<vec2> px = cam.project(p, &depth);
+            if (!px || !(depth > 0.0f) || px->x < 0.0f || px->y < 0.0f || px->x > float(cam.width() - 1) ||
+                px->y > float(cam.height() - 1))
+              continue;
+            const float d = glm::dot(ray.direction, glm::normalize(vec3(cam.T_world_camera()[2])));
+            if (d > best_dot) best_dot = d, best = int(c), best_px = *px;
+          }
+          if (best < 0) return false;
+          const CameraModel& cam = cameras[std::size_t(best)].camera;
+          const float level = biasedLevel(foregroundLevel(roughness, *t_near, glm::length(p - cam.position()),
+                                                          cam.intrinsics().fx, settings_.pyramid_levels));
+          sample = pyramids_[std::size_t(best)].sample(best_px, level);
+          return sample.weight > 0.0f;
         }
-        walked += local_walked;
-        found += local_found;
-      });
+        const depthfilter::VoxelSample& vs = grid_.sample(vh.sample);
+        if (vs.camera >= pyramids_.size() || pyramids_[vs.camera].empty()) return false;
+        const CameraModel& cam = cameras[vs.camera].camera;
+        // The point the ray reaches: half a voxel into the one it entered.
+        const vec3 p = ray.origin + ray.direction * (vh.t + 0.5f * grid_.voxelSize());
+        float depth = 0.0f;
+        const std::optional<vec2> px = cam.project(p, &depth);
+        const vec2 pixel = px ? *px : vec2(vs.x, vs.y);
+        const float level = biasedLevel(foregroundLevel(roughness, vh.t, glm::length(p - cam.position()),
+                                                        cam.intrinsics().fx, settings_.pyramid_levels));
+        sample = pyramids_[vs.camera].sample(pixel, level);
+        return true;
+      };
+      const std::size_t pixels = hits.pixelCount();
+      // Pass 1: one walk per pixel (its centre, or the mean ray of its valid sub-samples).
+      // Pixel states: 0 nothing of the relic, 1 its walk missed, 2 it met the foreground.
+      cache.pixel_fg.assign(pixels, ForegroundSample{});
+      cache.pixel_state.assign(pixels, 0);
+      tbb::parallel_for(
+          tbb::blocked_range<std::size_t>(0, pixels, 256), [&](const tbb::blocked_range<std::size_t>& r) {
+            std::uint64_t local_walked = 0, local_found = 0;
+            for (std::size_t p = r.begin(); p < r.end(); ++p) {
+              const std::size_t first = hits.firstSample(p);
+              const std::size_t count = std::size_t(hits.sampleCount(p));
+              vec3 position(0.0f), normal(0.0f), reflected(0.0f);
+              float roughness = 0.0f;
+              int valid = 0;
+              for (std::size_t i = first; i < first + count; ++i) {
+                if (!hits.valid[i]) continue;
+                const HitPoint& hp = hits.hits[i];
+                position += hp.position;
+                normal += hp.normal;
+                reflected += hp.reflected;
+                roughness += hp.material.roughness;
+                ++valid;
+              }
+              if (valid == 0) continue;
+              const float inv = 1.0f / float(valid);
+              const float nl = glm::length(normal), rl = glm::length(reflected);
+              cache.pixel_state[p] = 1;
+              if (!(nl > 1e-6f) || !(rl > 1e-6f)) continue;  // opposite sub-samples: no mean ray
+              ++local_walked;
+              if (!walk(position * inv, normal / nl, reflected / rl, roughness * inv, cache.pixel_fg[p]))
+                continue;
+              ++local_found;
+              cache.pixel_state[p] = 2;
+            }
+            walked += local_walked;
+            found += local_found;
+          });
+      // Pass 2: a pixel with four sub-samples keeps its one walk where its lobe is rough, or where
+      // the foreground it met (or missed) matches its 8 neighbours'; at the reflected foreground's
+      // edges (a neighbour met it and this one did not, or their weights differ by more than
+      // kEdgeWeightStep) each sub-sample walks, which anti-aliases those edges as four walks
+      // everywhere would.
+      constexpr float kEdgeWeightStep = 0.2f;
+      const int w_px = hits.width, h_px = hits.height;
+      tbb::parallel_for(
+          tbb::blocked_range<std::size_t>(0, pixels, 256), [&](const tbb::blocked_range<std::size_t>& r) {
+            std::uint64_t local_walked = 0, local_found = 0;
+            for (std::size_t p = r.begin(); p < r.end(); ++p) {
+              if (cache.pixel_state[p] == 0) continue;
+              const std::size_t first = hits.firstSample(p);
+              const std::size_t count = std::size_t(hits.sampleCount(p));
+              bool rough = true;
+              for (std::size_t i = first; i < first + count && rough; ++i)
+                rough =
+                    !hits.valid[i] || hits.hits[i].material.roughness >= settings_.walk_per_pixel_roughness;
+              bool edge = false;
+              if (count > 1 && !rough && settings_.walk_edges_only) {
+                const int x = int(p % std::size_t(w_px)), y = int(p / std::size_t(w_px));
+                for (int dy = -1; dy <= 1 && !edge; ++dy)
+                  for (int dx = -1; dx <= 1 && !edge; ++dx) {
+                    const int nx = x + dx, ny = y + dy;
+                    if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= w_px || ny >= h_px) continue;
+                    const std::size_t q = std::size_t(ny) * std::size_t(w_px) + std::size_t(nx);
+                    if (cache.pixel_state[q] == 0) continue;  // beyond the relic's silhouette
+                    edge = cache.pixel_state[q] != cache.pixel_state[p] ||
+                           std::abs(cache.pixel_fg[q].weight - cache.pixel_fg[p].weight) > kEdgeWeightStep;
+                  }
+              }
+              if (count > 1 && !rough && (edge || !settings_.walk_edges_only)) {
+                for (std::size_t i = first; i < first + count; ++i) {
+                  if (!hits.valid[i]) continue;
+                  const HitPoint& hp = hits.hits[i];
+                  ++local_walked;
+                  local_found +=
+                      walk(hp.position, hp.normal, hp.reflected, hp.material.roughness, cache.fg[i]);
+                }
+                continue;
+              }
+              if (cache.pixel_state[p] != 2) continue;
+              for (std::size_t i = first; i < first + count; ++i)
+                if (hits.valid[i]) cache.fg[i] = cache.pixel_fg[p];
+            }
+            walked += local_walked;
+            found += local_found;
+          });
       out.walked_rays = walked;
       out.foreground_hits = found;
     }

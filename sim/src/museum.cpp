@@ -23,7 +23,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr float kCameraDrop = 0.12f;               // camera centres sit this far below the base top
-constexpr float kCameraTiltDeg = 8.0f;             // tilted up, to see heads near the pyramid
 constexpr std::uint64_t kBackgroundFrame = ~0ull;  // noise stream of the background frames
 
 struct Builtin {
@@ -49,11 +48,12 @@ bool isRelicName(const std::string& relic) {
 }
 
 void readCamera(const ConfigNode& node, CameraSettings& c) {
-  static const std::set<std::string> known = {"width",     "height",    "hfov_deg", "vfov_deg",
+  static const std::set<std::string> known = {"width",     "height",    "hfov_deg", "vfov_deg", "tilt_deg",
                                               "min_range", "max_range", "fps",      "exposure"};
   for (const auto& key : node.keys())
     if (!known.count(key))
-      node[key].fail("one of width, height, hfov_deg, vfov_deg, min_range, max_range, fps, exposure", key);
+      node[key].fail(
+          "one of width, height, hfov_deg, vfov_deg, tilt_deg, min_range, max_range, fps, exposure", key);
   if (node.has("width")) {
     c.width = node["width"].as<int>();
     if (c.width < 8 || c.width > 8192)
@@ -66,6 +66,7 @@ void readCamera(const ConfigNode& node, CameraSettings& c) {
   }
   c.hfov_deg = node.getInRange("hfov_deg", c.hfov_deg, 10.0f, 170.0f);
   c.vfov_deg = node.getInRange("vfov_deg", c.vfov_deg, 10.0f, 170.0f);
+  c.tilt_deg = node.getInRange("tilt_deg", c.tilt_deg, -60.0f, 60.0f);
   c.min_range = node.getInRange("min_range", c.min_range, 0.0f, 100.0f);
   c.max_range = node.getInRange("max_range", c.max_range, 0.01f, 1000.0f);
   if (c.max_range <= c.min_range)
@@ -108,13 +109,13 @@ SceneDescription loadSceneFile(const fs::path& path) {
   const ConfigNode root = ConfigNode::loadFile(path);
   if (!root.isMap()) root.fail("a map of scene settings (hall, relic, visitors, seed, camera, noise, ...)");
   static const std::set<std::string> known = {
-      "base",     "hall", "relic",  "fit_relic", "relic_roughness",  "relic_metallic",
-      "visitors", "seed", "camera", "noise",     "panorama_position"};
+      "base",     "hall",           "relic", "fit_relic", "relic_roughness", "relic_metallic",
+      "visitors", "close_visitors", "seed",  "camera",    "noise",           "panorama_position"};
   for (const auto& key : root.keys())
     if (!known.count(key))
       root[key].fail(
-          "one of base, hall, relic, fit_relic, relic_roughness, relic_metallic, visitors, seed, "
-          "camera, noise, panorama_position",
+          "one of base, hall, relic, fit_relic, relic_roughness, relic_metallic, visitors, close_visitors, "
+          "seed, camera, noise, panorama_position",
           key);
   SceneDescription d;
   if (root.has("base")) {
@@ -154,6 +155,12 @@ SceneDescription loadSceneFile(const fs::path& path) {
     if (d.visitors < 0 || d.visitors > 16)
       root["visitors"].fail("a visitor count in [0, 16]", std::to_string(d.visitors));
   }
+  if (root.has("close_visitors")) {
+    d.close_visitors = root["close_visitors"].as<int>();
+    if (d.close_visitors < 0 || d.close_visitors > 4)
+      root["close_visitors"].fail("a count of visitors close to the pyramid in [0, 4]",
+                                  std::to_string(d.close_visitors));
+  }
   if (root.has("seed")) {
     const auto seed = root["seed"].as<double>();
     if (seed < 0 || seed != std::floor(seed) || seed > 9.007e15)
@@ -169,11 +176,11 @@ SceneDescription loadSceneFile(const fs::path& path) {
   return d;
 }
 
-mat4 cameraPose(int face) {
+mat4 cameraPose(int face, float tilt_deg) {
   const float a = static_cast<float>(face) * 0.5f * kPi;
   const vec3 out{std::sin(a), 0.0f, std::cos(a)};
   const vec3 eye = (kBaseHalfWidth + 0.005f) * out - vec3(0.0f, kCameraDrop, 0.0f);
-  const float tilt = kCameraTiltDeg * kPi / 180.0f;
+  const float tilt = tilt_deg * kPi / 180.0f;
   return lookAtCameraToWorld(eye, eye + std::cos(tilt) * out + vec3(0.0f, std::sin(tilt), 0.0f));
 }
 
@@ -244,10 +251,13 @@ Museum::Museum(SceneDescription description) : impl_(std::make_unique<Impl>()) {
   }
   if (d.fit_relic) fitOnPedestal(m.relic);
   m.plans = planVisitors(d.visitors, d.seed, d.hall);
+  if (d.close_visitors < 0 || d.close_visitors > 4)
+    throw InputError(origin, "close_visitors", "a count in [0, 4]", std::to_string(d.close_visitors));
+  for (const VisitorPlan& p : planCloseVisitors(d.close_visitors, d.seed, d.hall)) m.plans.push_back(p);
   const auto& c = d.camera;
   const Intrinsics K =
       Intrinsics::fromFov(c.width, c.height, c.hfov_deg * kPi / 180.0f, c.vfov_deg * kPi / 180.0f);
-  for (int f = 0; f < kFaceCount; ++f) m.cameras.emplace_back(K, cameraPose(f));
+  for (int f = 0; f < kFaceCount; ++f) m.cameras.emplace_back(K, cameraPose(f, c.tilt_deg));
   m.plane_directions = m.cameras.front().planeDirectionTable();
   for (const auto& mesh : m.hall.meshes) m.hall_scene.addMesh(mesh);
   m.hall_scene.commit();

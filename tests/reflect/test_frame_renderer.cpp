@@ -207,6 +207,53 @@ TEST(FrameRenderer, StaysFiniteInHardCases) {
   }
 }
 
+TEST(FrameRenderer, EdgeWalkMatchesAWalkPerSubSample) {
+  MirrorScene m(0.0f);
+  TracerSettings every = smallGridSettings();
+  every.walk_edges_only = false;
+  TracerSettings edges = smallGridSettings();  // aa 4, edges only: the default
+  FrameRenderer a(m.scene, m.ibl, every), b(m.scene, m.ibl, edges);
+  const ViewImages va = a.render(m.wall, {m.camera}, {m.view}).views.at(0);
+  const ViewImages vb = b.render(m.wall, {m.camera}, {m.view}).views.at(0);
+  expectFiniteAndBounded(vb);
+  // The same image (the wall's edge pixels walk each sub-sample in both) from far fewer walks.
+  double diff = 0.0;
+  for (int y = 0; y < va.hdr.rows; ++y)
+    for (int x = 0; x < va.hdr.cols; ++x) diff += glm::length(rgbAt(va.hdr, x, y) - rgbAt(vb.hdr, x, y));
+  EXPECT_LT(diff / double(va.hdr.total()), 2e-3);
+  EXPECT_LT(double(vb.walked_rays), 0.6 * double(va.walked_rays));
+  EXPECT_GT(vb.foreground_hits, 0u);
+}
+
+TEST(FrameRenderer, RoughLobesThatMissTheVoxelsStillReadTheirHalo) {
+  for (float roughness : {0.1f, 0.5f}) {
+    MirrorScene m(roughness);
+    // The camera's mask covers the wall only, so a blurred read beside it is partial.
+    m.camera.mask = cv::Mat(64, 64, CV_32FC1, cv::Scalar(0));
+    for (const auto& p : m.wall.points) m.camera.mask.at<float>(p.y, p.x) = 1.0f;
+    TracerSettings on = smallGridSettings();
+    on.aa_samples = 1;
+    TracerSettings off = on;
+    off.lobe_fallback_roughness = 2.0f;
+    FrameRenderer a(m.scene, m.ibl, on), b(m.scene, m.ibl, off);
+    const ViewImages with = a.render(m.wall, {m.camera}, {m.view}).views.at(0);
+    const ViewImages without = b.render(m.wall, {m.camera}, {m.view}).views.at(0);
+    expectFiniteAndBounded(with);
+    int more = 0, changed_hits = 0;
+    for (int y = 0; y < with.weight.rows; ++y)
+      for (int x = 0; x < with.weight.cols; ++x) {
+        const float w1 = with.weight.at<float>(y, x), w0 = without.weight.at<float>(y, x);
+        if (w0 > 0.0f && w1 != w0) ++changed_hits;  // a ray that met a voxel reads as before
+        if (w0 == 0.0f && w1 > 0.0f) ++more;
+      }
+    EXPECT_EQ(changed_hits, 0) << roughness;
+    if (roughness < on.lobe_fallback_roughness)
+      EXPECT_EQ(more, 0) << "below the fallback's roughness nothing changes";
+    else
+      EXPECT_GT(more, 0) << "the rough sphere's rim rays pass beside the wall and read its halo";
+  }
+}
+
 TEST(FrameRenderer, FullGridStaysBounded) {
   MirrorScene m(0.2f);
   TracerSettings s;
@@ -241,6 +288,15 @@ TEST(FrameRenderer, RejectsBadSettings) {
   EXPECT_THROW(FrameRenderer(m.scene, m.ibl, s), InputError);
   s = TracerSettings{};
   s.grid.voxel_size = -1.0f;
+  EXPECT_THROW(FrameRenderer(m.scene, m.ibl, s), InputError);
+  s = TracerSettings{};
+  s.walk_per_pixel_roughness = kNan;
+  EXPECT_THROW(FrameRenderer(m.scene, m.ibl, s), InputError);
+  s = TracerSettings{};
+  s.lobe_fallback_roughness = -0.1f;
+  EXPECT_THROW(FrameRenderer(m.scene, m.ibl, s), InputError);
+  s = TracerSettings{};
+  s.level_bias = kInf;
   EXPECT_THROW(FrameRenderer(m.scene, m.ibl, s), InputError);
 }
 

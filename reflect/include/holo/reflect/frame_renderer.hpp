@@ -40,6 +40,28 @@ struct TracerSettings {
   // Metres an eye may move before a view's cached hit points and static shading are traced
   // again; 0 reuses them only for the identical camera (no error at all).
   float static_reuse_distance = 0.0f;
+  // One walk per pixel where the relic is at least this rough: a pixel with four sub-samples walks
+  // the mean of their reflected rays once and composes every sub-sample with that foreground (each
+  // keeps its own static shading and coverage). A rough lobe's footprint spans many sub-pixel
+  // offsets, so the four walks would read nearly the same blurred texel; on a mirror the four
+  // walks anti-alias the reflected visitors' edges (one walk per pixel there raised gallery x
+  // vase's fg_mse 1.75x, docs/tracer.md). > 1: every sub-sample walks.
+  float walk_per_pixel_roughness = 0.3f;
+  // Below that roughness, walk each sub-sample only at the reflected foreground's edges: every
+  // pixel first walks its mean ray once; where a neighbour's walk met the foreground and this
+  // one's did not (or their weights differ by more than 0.2) the four sub-samples walk, elsewhere
+  // they share the pixel's walk. false: every sub-sample walks (4x the rays).
+  bool walk_edges_only = true;
+  // Rough lobes that miss: a reflected ray whose mirror direction meets no voxel may still pass
+  // within its lobe's footprint of a visitor, and the truth then shows a soft halo where a hit/miss
+  // decision would cut a hard edge. From this roughness on, such a ray marches the brick
+  // distances to the first point within two lobe sigmas of an occupied brick and reads the
+  // blurred pyramids there (the camera looking most along the ray): the blurred mask gives the
+  // partial weight. > 1: never.
+  float lobe_fallback_roughness = 0.2f;
+  // Added to the derived pyramid level (foregroundLevel) of every read, for checking the
+  // derivation against path-traced truth (bench accuracy); 0 in use.
+  float level_bias = 0.0f;
   float max_reflection_distance = 3.0f;  // metres a reflected ray may travel through the grid
   float ray_offset = 1e-3f;              // metres along the normal, against self-intersection
   float exposure = 0.0f;                 // <= 0: automatic (tone_map.hpp's autoExposure)

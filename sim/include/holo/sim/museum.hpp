@@ -46,6 +46,10 @@ struct CameraSettings {
   int height = 360;
   float hfov_deg = 110.0f;
   float vfov_deg = 70.0f;
+  // Upwards tilt of the optical axis. 8 degrees sees the heads of visitors >= ~1 m away; a visitor
+  // standing within ~0.6 m of the pyramid shows only from the waist to the chest: a rig for close
+  // visitors needs more (eval tracer uses 20 degrees with vfov 90).
+  float tilt_deg = 8.0f;
   float min_range = 0.2f;
   float max_range = 20.0f;
   float fps = 30.0f;
@@ -62,6 +66,10 @@ struct SceneDescription {
   float relic_roughness = -1.0f;
   float relic_metallic = -1.0f;
   int visitors = 3;
+  // Visitors standing close to the pyramid, looking at it and reaching out to it (visitors.hpp's
+  // planCloseVisitors), after the walking ones; 0..4. None in the built-in scenes, so their
+  // walkers stay as they are; the reflection evaluation (eval tracer) adds one.
+  int close_visitors = 0;
   std::uint64_t seed = 1;
   CameraSettings camera;
   SensorNoise noise;

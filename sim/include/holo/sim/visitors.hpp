@@ -30,10 +30,24 @@ struct VisitorPlan {
   vec3 skin{0.6f}, shirt{0.5f}, trousers{0.1f};
   Carried carried = Carried::nothing;
   vec3 carried_color{0.0f};
+  // A close visitor (planCloseVisitors) stands facing the pyramid's axis instead of walking: the
+  // legs stay still, the azimuth shuffles by +-drift radians around start_angle (angular_speed
+  // 0), and the free arm is raised forward by `reach` radians (0: it swings as usual).
+  bool faces_pyramid = false;
+  float drift = 0.0f;  // radians
+  float drift_hz = 0.0f;
+  float reach = 0.0f;  // radians from hanging down, towards the pyramid
 };
 
 // `count` visitors for a hall (room, gallery, atrium, none), from the seed.
 std::vector<VisitorPlan> planVisitors(int count, std::uint64_t seed, const std::string& hall);
+
+// `count` visitors who stand close to the pyramid looking at it (feet 0.45-0.6 m from the base's
+// side, i.e. 0.75-0.9 m from the axis, leaning in and out by 5 cm), one arm reaching out towards
+// it (the hand ~0.25 m from the glass), the first one carrying a bag in the other hand. Each
+// stands in front of its own face, away from the hall's furniture near the pyramid; at most 4.
+// Their random stream is apart from planVisitors', so adding them changes no walking visitor.
+std::vector<VisitorPlan> planCloseVisitors(int count, std::uint64_t seed, const std::string& hall);
 
 struct VisitorPose {
   vec3 feet;            // world position of the point between the feet (on the floor)
