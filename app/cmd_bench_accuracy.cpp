@@ -27,6 +27,7 @@
 #include "holo/reflect/path_tracer.hpp"
 #include "holo/reflect/tone_map.hpp"
 #include "holo/reflect/voxel_emitters.hpp"
+#include "loglog_plot.hpp"
 #include "reflection_setup.hpp"
 
 namespace holo::app {
@@ -76,62 +77,28 @@ void markPareto(std::vector<Point>& points) {
 }
 
 std::string svgPlot(const std::vector<Point>& points, const std::string& title) {
-  constexpr double W = 720, H = 460, L = 70, R = 170, T = 40, B = 50;
-  double t_lo = 1e30, t_hi = 0, e_lo = 1e30, e_hi = 0;
-  for (const Point& p : points)
-    if (p.ms > 0 && p.fg_mse > 0)
-      t_lo = std::min(t_lo, p.ms), t_hi = std::max(t_hi, p.ms), e_lo = std::min(e_lo, p.fg_mse),
-      e_hi = std::max(e_hi, p.fg_mse);
-  if (!(t_hi > 0)) t_lo = 1, t_hi = 10, e_lo = 1e-4, e_hi = 1e-2;
-  const double lt0 = std::floor(std::log10(t_lo)), lt1 = std::ceil(std::log10(t_hi) + 1e-9);
-  const double le0 = std::floor(std::log10(e_lo)), le1 = std::ceil(std::log10(e_hi) + 1e-9);
-  const auto px = [&](double t) {
-    return L + (std::log10(t) - lt0) / std::max(lt1 - lt0, 1.0) * (W - L - R);
-  };
-  const auto py = [&](double e) {
-    return H - B - (std::log10(e) - le0) / std::max(le1 - le0, 1.0) * (H - T - B);
-  };
-  std::ostringstream s;
-  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='" << H
-    << "' font-family='sans-serif' font-size='12'>\n<rect width='100%' height='100%' fill='white'/>\n<text "
-       "x='"
-    << L << "' y='22' font-size='14'>" << title << "</text>\n";
-  for (double d = lt0; d <= lt1; ++d)
-    s << "<line x1='" << px(std::pow(10, d)) << "' y1='" << T << "' x2='" << px(std::pow(10, d)) << "' y2='"
-      << H - B << "' stroke='#ddd'/><text x='" << px(std::pow(10, d)) - 12 << "' y='" << H - B + 16 << "'>1e"
-      << d << "</text>\n";
-  for (double d = le0; d <= le1; ++d)
-    s << "<line x1='" << L << "' y1='" << py(std::pow(10, d)) << "' x2='" << W - R << "' y2='"
-      << py(std::pow(10, d)) << "' stroke='#ddd'/><text x='20' y='" << py(std::pow(10, d)) + 4 << "'>1e" << d
-      << "</text>\n";
-  s << "<text x='" << (L + W - R) / 2 - 90 << "' y='" << H - 12
-    << "'>ms per view (frame work / 4 included)</text>\n<text x='14' y='" << T - 8 << "'>fg_mse</text>\n";
+  LogLogPlot plot{title, "ms per view (frame work / 4 included)", "fg_mse", "filled: Pareto front", 720, 460,
+                  {}};
   // The front: the Pareto points in time order, joined.
   std::vector<const Point*> front;
   for (const Point& p : points)
-    if (p.pareto && p.ms > 0 && p.fg_mse > 0) front.push_back(&p);
+    if (p.pareto) front.push_back(&p);
   std::sort(front.begin(), front.end(), [](const Point* a, const Point* b) { return a->ms < b->ms; });
-  s << "<polyline fill='none' stroke='#888' stroke-dasharray='4 3' points='";
-  for (const Point* p : front) s << px(p->ms) << "," << py(p->fg_mse) << " ";
-  s << "'/>\n";
+  PlotSeries front_line{"Pareto front", "#888", {}, true, true, 0, false};
+  for (const Point* p : front) front_line.markers.push_back({p->ms, p->fg_mse, "", true});
+  plot.series.push_back(std::move(front_line));
   const std::vector<std::pair<std::string, std::string>> colours = {
       {"ours", "#000000"}, {"ibl", "#d62728"}, {"ssrt", "#9467bd"}, {"mcpt", "#1f77b4"}};
-  int legend = 0;
   for (const auto& [method, colour] : colours) {
-    for (const Point& p : points) {
-      if (p.method != method || !(p.ms > 0 && p.fg_mse > 0)) continue;
-      s << "<circle cx='" << px(p.ms) << "' cy='" << py(p.fg_mse) << "' r='" << (p.pareto ? 5 : 3.5)
-        << "' fill='" << (p.pareto ? colour : "white") << "' stroke='" << colour << "'><title>" << p.method
-        << " " << p.knob << ": " << fmt(p.ms, 3) << " ms, fg_mse " << fmt(p.fg_mse, 3)
-        << "</title></circle>\n";
-    }
-    const double ly = T + 18 * legend++;
-    s << "<circle cx='" << W - R + 18 << "' cy='" << ly << "' r='4' fill='" << colour << "'/><text x='"
-      << W - R + 30 << "' y='" << ly + 4 << "'>" << method << "</text>\n";
+    PlotSeries series{method, colour, {}, false, false, 3.5, true};
+    for (const Point& p : points)
+      if (p.method == method)
+        series.markers.push_back(
+            {p.ms, p.fg_mse,
+             p.method + " " + p.knob + ": " + fmt(p.ms, 3) + " ms, fg_mse " + fmt(p.fg_mse, 3), p.pareto});
+    plot.series.push_back(std::move(series));
   }
-  s << "<text x='" << W - R + 10 << "' y='" << T + 18 * legend + 4
-    << "'>filled: Pareto front</text>\n</svg>\n";
-  return s.str();
+  return svgOf(plot);
 }
 
 int benchAccuracy(const AccuracyOptions& o) {

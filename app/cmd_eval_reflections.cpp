@@ -22,6 +22,7 @@
 #include "holo/core/hdr_io.hpp"
 #include "holo/reflect/image_metrics.hpp"
 #include "holo/reflect/tone_map.hpp"
+#include "loglog_plot.hpp"
 #include "reflection_setup.hpp"
 
 namespace holo::app {
@@ -92,63 +93,26 @@ void writeCsv(const std::string& path, const std::vector<Point>& points) {
 
 // Log-log plot of error (MSE, and foreground MSE dashed) against time per view.
 void writeSvg(const std::string& path, const std::vector<Point>& points, const std::string& title) {
-  constexpr double W = 640, H = 420, L = 70, R = 160, T = 40, B = 50;
-  double t_lo = 1e30, t_hi = 0, e_lo = 1e30, e_hi = 0;
-  for (const Point& p : points) {
-    t_lo = std::min(t_lo, p.ms), t_hi = std::max(t_hi, p.ms);
-    for (double e : {p.mse, p.fg_mse})
-      if (e > 0) e_lo = std::min(e_lo, e), e_hi = std::max(e_hi, e);
-  }
-  if (!(t_hi > 0) || !(e_hi > 0)) t_lo = 1, t_hi = 10, e_lo = 1e-4, e_hi = 1e-2;
-  const double lt0 = std::floor(std::log10(std::max(t_lo, 1e-3))), lt1 = std::ceil(std::log10(t_hi) + 1e-9);
-  const double le0 = std::floor(std::log10(e_lo)), le1 = std::ceil(std::log10(e_hi) + 1e-9);
-  const auto px = [&](double t) {
-    return L + (std::log10(std::max(t, 1e-3)) - lt0) / std::max(lt1 - lt0, 1.0) * (W - L - R);
-  };
-  const auto py = [&](double e) {
-    return H - B - (std::log10(std::max(e, 1e-30)) - le0) / std::max(le1 - le0, 1.0) * (H - T - B);
-  };
-  std::ostringstream s;
-  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='" << H
-    << "' font-family='sans-serif' font-size='12'>\n<rect width='100%' height='100%' fill='white'/>\n"
-    << "<text x='" << L << "' y='22' font-size='14'>" << title << "</text>\n";
-  for (double d = lt0; d <= lt1; ++d)
-    s << "<line x1='" << px(std::pow(10, d)) << "' y1='" << T << "' x2='" << px(std::pow(10, d)) << "' y2='"
-      << H - B << "' stroke='#ddd'/><text x='" << px(std::pow(10, d)) - 12 << "' y='" << H - B + 16 << "'>1e"
-      << d << "</text>\n";
-  for (double d = le0; d <= le1; ++d)
-    s << "<line x1='" << L << "' y1='" << py(std::pow(10, d)) << "' x2='" << W - R << "' y2='"
-      << py(std::pow(10, d)) << "' stroke='#ddd'/><text x='" << 20 << "' y='" << py(std::pow(10, d)) + 4
-      << "'>1e" << d << "</text>\n";
-  s << "<text x='" << (L + W - R) / 2 - 60 << "' y='" << H - 12 << "'>time per view (ms)</text>\n"
-    << "<text x='14' y='" << T - 8 << "'>MSE</text>\n";
-  const std::map<std::string, std::string> colours = {{"gt", "#1f77b4"},           {"ibl", "#2ca02c"},
-                                                      {"ibl-baseline", "#d62728"}, {"ours", "#000000"},
-                                                      {"ssrt", "#9467bd"},         {"mcpt", "#ff7f0e"}};
-  int legend = 0;
+  LogLogPlot plot{title, "time per view (ms)", "MSE", "dashed: foreground MSE", 640, 420, {}};
+  const std::vector<std::pair<std::string, std::string>> colours = {
+      {"gt", "#1f77b4"},   {"ibl", "#2ca02c"},  {"ibl-baseline", "#d62728"},
+      {"ours", "#000000"}, {"ssrt", "#9467bd"}, {"mcpt", "#ff7f0e"}};
   for (const auto& [method, colour] : colours) {
     std::vector<const Point*> ps;
     for (const Point& p : points)
       if (p.method == method) ps.push_back(&p);
     if (ps.empty()) continue;
     std::sort(ps.begin(), ps.end(), [](const Point* a, const Point* b) { return a->ms < b->ms; });
-    for (int fg = 0; fg < 2; ++fg) {
-      s << "<polyline fill='none' stroke='" << colour << "'" << (fg ? " stroke-dasharray='4,3'" : "")
-        << " points='";
-      for (const Point* p : ps) s << px(p->ms) << "," << py(fg ? p->fg_mse : p->mse) << " ";
-      s << "'/>\n";
-      for (const Point* p : ps)
-        s << "<circle cx='" << px(p->ms) << "' cy='" << py(fg ? p->fg_mse : p->mse) << "' r='3' fill='"
-          << colour << "'><title>" << p->method << " " << p->knob << "</title></circle>\n";
+    PlotSeries all{method, colour, {}, true, false, 3, true};
+    PlotSeries foreground{method + " foreground", colour, {}, true, true, 3, false};
+    for (const Point* p : ps) {
+      all.markers.push_back({p->ms, p->mse, p->method + " " + p->knob, true});
+      foreground.markers.push_back({p->ms, p->fg_mse, p->method + " " + p->knob + " (foreground)", true});
     }
-    const double ly = T + 18 * legend++;
-    s << "<line x1='" << W - R + 10 << "' y1='" << ly << "' x2='" << W - R + 30 << "' y2='" << ly
-      << "' stroke='" << colour << "'/><text x='" << W - R + 35 << "' y='" << ly + 4 << "'>" << method
-      << "</text>\n";
+    plot.series.push_back(std::move(all));
+    plot.series.push_back(std::move(foreground));
   }
-  s << "<text x='" << W - R + 10 << "' y='" << T + 18 * legend + 4
-    << "'>dashed: foreground MSE</text>\n</svg>\n";
-  writeFileAtomically(path, s.str());
+  writeFileAtomically(path, svgOf(plot));
 }
 
 int evalReflections(EvalOptions o) {

@@ -38,6 +38,7 @@
 #include "holo/reflect/tone_map.hpp"
 #include "holo/reflect/voxel_emitters.hpp"
 #include "holo/sim/museum.hpp"
+#include "loglog_plot.hpp"
 #include "reflection_setup.hpp"
 
 namespace holo::app {
@@ -465,37 +466,14 @@ void writeOutputs(const std::vector<SceneResult>& results, const TracerEvalOptio
   writeFileAtomically(dir / "table.md", table + "\n" + bars);
 
   // fg_mse against time, log-log, one marker per scene and method.
-  constexpr double W = 680, H = 440, L = 70, R = 190, T = 40, B = 50;
-  double t_lo = 1e30, t_hi = 0, e_lo = 1e30, e_hi = 0;
-  for (const SceneResult& r : results)
-    for (const Entry& e : r.entries)
-      if (e.fg_mse > 0 && e.ms > 0)
-        t_lo = std::min(t_lo, e.ms), t_hi = std::max(t_hi, e.ms), e_lo = std::min(e_lo, e.fg_mse),
-        e_hi = std::max(e_hi, e.fg_mse);
-  if (!(t_hi > 0)) t_lo = 1, t_hi = 10, e_lo = 1e-4, e_hi = 1e-2;
-  const double lt0 = std::floor(std::log10(t_lo)), lt1 = std::ceil(std::log10(t_hi) + 1e-9);
-  const double le0 = std::floor(std::log10(e_lo)), le1 = std::ceil(std::log10(e_hi) + 1e-9);
-  const auto px = [&](double t) {
-    return L + (std::log10(t) - lt0) / std::max(lt1 - lt0, 1.0) * (W - L - R);
-  };
-  const auto py = [&](double e) {
-    return H - B - (std::log10(e) - le0) / std::max(le1 - le0, 1.0) * (H - T - B);
-  };
-  std::ostringstream s;
-  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << W << "' height='" << H
-    << "' font-family='sans-serif' font-size='12'>\n<rect width='100%' height='100%' fill='white'/>\n"
-    << "<text x='" << L << "' y='22' font-size='14'>Foreground reflection MSE vs time per view ("
-    << results.size() << " scenes)</text>\n";
-  for (double d = lt0; d <= lt1; ++d)
-    s << "<line x1='" << px(std::pow(10, d)) << "' y1='" << T << "' x2='" << px(std::pow(10, d)) << "' y2='"
-      << H - B << "' stroke='#ddd'/><text x='" << px(std::pow(10, d)) - 12 << "' y='" << H - B + 16 << "'>1e"
-      << d << "</text>\n";
-  for (double d = le0; d <= le1; ++d)
-    s << "<line x1='" << L << "' y1='" << py(std::pow(10, d)) << "' x2='" << W - R << "' y2='"
-      << py(std::pow(10, d)) << "' stroke='#ddd'/><text x='20' y='" << py(std::pow(10, d)) + 4 << "'>1e" << d
-      << "</text>\n";
-  s << "<text x='" << (L + W - R) / 2 - 60 << "' y='" << H - 12 << "'>time per view (ms)</text>\n"
-    << "<text x='14' y='" << T - 8 << "'>fg_mse</text>\n";
+  LogLogPlot plot{
+      "Foreground reflection MSE vs time per view (" + std::to_string(results.size()) + " scenes)",
+      "time per view (ms)",
+      "fg_mse",
+      "hollow: quality not reached",
+      680,
+      440,
+      {}};
   const std::vector<std::pair<std::string, std::string>> colours = {{"ours", "#000000"},
                                                                     {"ibl", "#d62728"},
                                                                     {"ibl_static", "#2ca02c"},
@@ -503,22 +481,16 @@ void writeOutputs(const std::vector<SceneResult>& results, const TracerEvalOptio
                                                                     {"ssrt", "#9467bd"},
                                                                     {"mcpt_equal_time", "#ff7f0e"},
                                                                     {"mcpt_equal_quality", "#1f77b4"}};
-  int legend = 0;
   for (const auto& [method, colour] : colours) {
+    PlotSeries series{method, colour, {}, false, false, 4, true};
     for (const SceneResult& r : results) {
       const Entry& e = r.at(method);
-      if (!(e.fg_mse > 0 && e.ms > 0)) continue;
-      s << "<circle cx='" << px(e.ms) << "' cy='" << py(e.fg_mse) << "' r='4' fill='"
-        << (e.reached ? colour : "white") << "' stroke='" << colour << "'><title>" << method << " " << r.hall
-        << " x " << r.relic << " " << e.knob << "</title></circle>\n";
+      series.markers.push_back(
+          {e.ms, e.fg_mse, method + " " + r.hall + " x " + r.relic + " " + e.knob, e.reached});
     }
-    const double ly = T + 18 * legend++;
-    s << "<circle cx='" << W - R + 18 << "' cy='" << ly << "' r='4' fill='" << colour << "'/><text x='"
-      << W - R + 30 << "' y='" << ly + 4 << "'>" << method << "</text>\n";
+    plot.series.push_back(std::move(series));
   }
-  s << "<text x='" << W - R + 10 << "' y='" << T + 18 * legend + 4
-    << "'>hollow: quality not reached</text>\n</svg>\n";
-  writeFileAtomically(dir / "plot.svg", s.str());
+  writeFileAtomically(dir / "plot.svg", svgOf(plot));
 }
 
 int evalTracer(const TracerEvalOptions& o) {
