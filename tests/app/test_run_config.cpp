@@ -7,7 +7,6 @@
 // same configuration.
 #include <gtest/gtest.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -18,6 +17,7 @@
 #include "holo/core/gltf_io.hpp"
 #include "holo/core/hdr_io.hpp"
 #include "holo/sim/museum.hpp"
+#include "run_command.hpp"
 #include "shared_data.hpp"
 
 namespace {
@@ -25,9 +25,7 @@ namespace {
 namespace fs = std::filesystem;
 
 int runHolopyramid(const std::string& arguments, const fs::path& log) {
-  const std::string command = std::string(HOLO_APP_BINARY) + " " + arguments + " > " + log.string() + " 2>&1";
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return holo::test::runCommand(std::string(HOLO_APP_BINARY) + " " + arguments, log);
 }
 
 std::string readText(const fs::path& path) {

@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -14,17 +13,15 @@
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 
+#include "run_command.hpp"
 #include "shared_data.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-// Runs the command; returns its exit status (output goes to `log`).
 int runHolopyramid(const std::string& arguments, const fs::path& log) {
-  const std::string command = std::string(HOLO_APP_BINARY) + " " + arguments + " > " + log.string() + " 2>&1";
-  const int status = std::system(command.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return holo::test::runCommand(std::string(HOLO_APP_BINARY) + " " + arguments, log);
 }
 
 nlohmann::json readJson(const fs::path& path) {
