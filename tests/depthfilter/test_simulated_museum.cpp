@@ -18,14 +18,15 @@ struct MaskScore {
 };
 
 // The bars of issue 3 that this CI-sized run is held to: ours' temporal MSE' 100x below the
-// median's and 50x below TAA's, depth RMSE no worse than raw. Two bars are relaxed to what the
-// filter reaches (docs/depthfilter.md, "Simulated halls"): the issue asks hole_fill >= 0.95 and
-// ghost_ratio < 0.005; measured here 0.92 (holes next to depth edges stay holes) and 0.011 (ghosts
-// come from the shared mask; ours has fewer than raw).
+// median's and 50x below TAA's, depth RMSE no worse than raw. Two bars are relaxed at this size
+// (docs/depthfilter.md, "Simulated halls"): the issue asks hole_fill >= 0.95 and ghost_ratio <
+// 0.005 at 640x360; measured here 0.936 (at half the resolution, the holes along depth edges that
+// stay holes are a larger share of the visitors) and 0.011 (ghosts come from the shared mask;
+// ours has fewer than raw).
 struct Bars {
   double below_median = 100.0;
   double below_taa = 50.0;
-  double fill = 0.90;
+  double fill = 0.92;
 };
 
 bool meetsBars(const DepthMethodMetrics& m, const DepthMethodMetrics& raw, const DepthMethodMetrics& median,
