@@ -102,9 +102,11 @@ class SimulatedMuseum : public ::testing::Test {
 };
 
 void print(const char* name, const DepthMethodMetrics& r) {
-  std::printf("%-8s temporal %9.3f cm2 change %9.3f cm2 rmse %6.3f cm fill %.4f ghost %.4f %.2f ms\n", name,
-              r.temporal_mse_cm2, r.depth_change_cm2, r.depth_rmse_cm, r.hole_fill_ratio, r.ghost_ratio,
-              r.ms_per_frame);
+  std::printf(
+      "%-8s temporal %9.3f cm2 change %9.3f cm2 rmse %6.3f cm fill %.4f (raw holes %.3f) ghost %.4f %.2f "
+      "ms\n",
+      name, r.temporal_mse_cm2, r.depth_change_cm2, r.depth_rmse_cm, r.hole_fill_ratio, r.raw_holes_filled,
+      r.ghost_ratio, r.ms_per_frame);
 }
 
 TEST_F(SimulatedMuseum, MaskFindsTheVisitors) {
