@@ -12,7 +12,9 @@
 
 namespace holo::depthfilter {
 
-namespace {
+// The pyramid's types live outside the anonymous namespace: the filter keeps a pyramid between
+// frames (TemporalDepthFilter::Scratch).
+namespace pyramid_detail {
 
 // One (depth, confidence) pair of the pyramid rho_pa; depth 0 = no pair.
 struct Pair {
@@ -29,6 +31,18 @@ struct Level {
   Pair& at(int x, int y) { return pairs[static_cast<std::size_t>(y) * std::size_t(width) + std::size_t(x)]; }
 };
 
+}  // namespace pyramid_detail
+
+struct TemporalDepthFilter::Scratch {
+  cv::Mat clean, measured, pre_depth, alphas, pre_age, motion, motion_weight, inner, age;
+  std::vector<pyramid_detail::Level> pyramid;
+};
+
+namespace {
+
+using pyramid_detail::Level;
+using pyramid_detail::Pair;
+
 float sanitisedDepth(float d) {
   return std::isfinite(d) && d > 0.0f ? d : 0.0f;
 }
@@ -44,35 +58,39 @@ void checkInput(const DepthFilterInput& in) {
     throw Error("TemporalDepthFilter: expected CV_32FC2 flow of the depth's size");
 }
 
-// The measured depth with flying pixels removed: a foreground depth counts only when at least
-// `min_support` of its 8 neighbours lie on the same surface (within T(z)). A flying pixel lies
-// between two surfaces and matches neither; a pixel of a real surface, even a 1-2 px wide arm,
-// has neighbours along it.
-cv::Mat supportedDepth(const cv::Mat& depth, const cv::Mat& mask, const TemporalDepthFilterConfig& config) {
+// The measured depth (into `out`, with `clean` as scratch) with flying pixels removed: a foreground depth
+// counts only when at least `min_support` of its 8 neighbours lie on the same surface (within T(z)). A flying
+// pixel lies between two surfaces and matches neither; a pixel of a real surface, even a 1-2 px wide arm, has
+// neighbours along it.
+void supportedDepth(const cv::Mat& depth, const cv::Mat& mask, const TemporalDepthFilterConfig& config,
+                    cv::Mat& clean, cv::Mat& out) {
   const int width = depth.cols, height = depth.rows;
-  cv::Mat clean(depth.size(), CV_32FC1);
+  clean.create(depth.size(), CV_32FC1);
   for (int y = 0; y < height; ++y) {
-    float* out = clean.ptr<float>(y);
-    for (int x = 0; x < width; ++x) out[x] = sanitisedDepth(depth.at<float>(y, x));
+    const float* in = depth.ptr<float>(y);
+    float* c = clean.ptr<float>(y);
+    for (int x = 0; x < width; ++x) c[x] = sanitisedDepth(in[x]);
   }
-  cv::Mat out = cv::Mat::zeros(depth.size(), CV_32FC1);
+  out.create(depth.size(), CV_32FC1);
+  out.setTo(0.0f);
   for (int y = 0; y < height; ++y) {
     const std::uint8_t* m = mask.ptr<std::uint8_t>(y);
+    const float* rows[3] = {y > 0 ? clean.ptr<float>(y - 1) : nullptr, clean.ptr<float>(y),
+                            y + 1 < height ? clean.ptr<float>(y + 1) : nullptr};
+    float* o = out.ptr<float>(y);
     for (int x = 0; x < width; ++x) {
-      const float d = clean.at<float>(y, x);
+      const float d = rows[1][x];
       if (m[x] == 0 || d <= 0.0f) continue;
       const float tolerance = config.surfaceTolerance(d);
       int support = 0;
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int nx = x + dx, ny = y + dy;
-          if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
-          support += std::abs(clean.at<float>(ny, nx) - d) <= tolerance;
-        }
-      if (support >= config.min_support) out.at<float>(y, x) = d;
+      for (int r = 0; r < 3; ++r) {
+        if (rows[r] == nullptr) continue;
+        for (int nx = std::max(0, x - 1); nx <= std::min(width - 1, x + 1); ++nx)
+          support += (r != 1 || nx != x) && std::abs(rows[r][nx] - d) <= tolerance;
+      }
+      if (support >= config.min_support) o[x] = d;
     }
   }
-  return out;
 }
 
 // True when the measurements within `edge_radius` pixels of (x, y) span more than T(z): a hole
@@ -232,13 +250,18 @@ void push(const Level& parent, Level& child, const TemporalDepthFilterConfig& co
 TemporalDepthFilter::TemporalDepthFilter(TemporalDepthFilterConfig config)
     : config_(config),
       pdf_alpha_(config.pdf_bins, config.alpha_max),
-      pdf_depth_diff_(config.pdf_bins, config.depth_diff_max_m) {
+      pdf_depth_diff_(config.pdf_bins, config.depth_diff_max_m),
+      scratch_ptr_(std::make_unique<Scratch>()) {
   if (config_.levels < 1) throw Error("TemporalDepthFilter: levels (l_max) must be >= 1");
   if (config_.learning_frames < 0) throw Error("TemporalDepthFilter: learning_frames (C) must be >= 0");
   if (config_.fill_radius < 0 || config_.fill_radius > TemporalDepthFilterConfig::kMaxFillRadius)
     throw Error("TemporalDepthFilter: fill_radius must be in [0, " +
                 std::to_string(TemporalDepthFilterConfig::kMaxFillRadius) + "]");
 }
+
+TemporalDepthFilter::~TemporalDepthFilter() = default;
+TemporalDepthFilter::TemporalDepthFilter(TemporalDepthFilter&&) noexcept = default;
+TemporalDepthFilter& TemporalDepthFilter::operator=(TemporalDepthFilter&&) noexcept = default;
 
 bool TemporalDepthFilter::learning() const {
   return frame_ < config_.learning_frames || pdf_alpha_.samples() < config_.min_learning_samples ||
@@ -258,34 +281,47 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
   if (!previous_depth_.empty() && previous_depth_.size() != in.depth.size()) resetHistory();
   const bool has_previous = !previous_depth_.empty();
   const bool learn = learning();
+  Scratch& scratch = *scratch_ptr_;
 
-  const cv::Mat measured = supportedDepth(in.depth, in.mask, config_);
+  supportedDepth(in.depth, in.mask, config_, scratch.clean, scratch.measured);
+  const cv::Mat& measured = scratch.measured;
   // GetPrePx (line 7) for every foreground pixel: the precursor must lie in the image, on the
   // previous foreground and carry a depth; it is used only on the same surface (within T(z)).
-  cv::Mat pre_depth = cv::Mat::zeros(height, width, CV_32FC1);
-  cv::Mat alphas = cv::Mat::zeros(height, width, CV_32FC1);
-  cv::Mat pre_age(height, width, CV_8UC1, cv::Scalar(kNoDepth));
-  cv::Mat motion = cv::Mat::zeros(height, width, CV_32FC1);  // d - d_pre where both exist
-  cv::Mat motion_weight = cv::Mat::zeros(height, width, CV_32FC1);
+  cv::Mat& pre_depth = scratch.pre_depth;
+  cv::Mat& alphas = scratch.alphas;
+  cv::Mat& pre_age = scratch.pre_age;
+  cv::Mat& motion = scratch.motion;  // d - d_pre where both exist
+  cv::Mat& motion_weight = scratch.motion_weight;
+  for (cv::Mat* m : {&pre_depth, &alphas, &motion, &motion_weight}) {
+    m->create(height, width, CV_32FC1);
+    m->setTo(0.0f);
+  }
+  pre_age.create(height, width, CV_8UC1);
+  pre_age.setTo(kNoDepth);
   for (int y = 0; has_previous && y < height; ++y) {
     const float* depth = measured.ptr<float>(y);
     const std::uint8_t* mask = in.mask.ptr<std::uint8_t>(y);
     const cv::Vec3b* color = in.color.ptr<cv::Vec3b>(y);
     const cv::Vec2f* flow = in.flow.ptr<cv::Vec2f>(y);
+    float* pre_row = pre_depth.ptr<float>(y);
+    float* alpha_row = alphas.ptr<float>(y);
+    std::uint8_t* pre_age_row = pre_age.ptr<std::uint8_t>(y);
+    float* motion_row = motion.ptr<float>(y);
+    float* motion_weight_row = motion_weight.ptr<float>(y);
     for (int x = 0; x < width; ++x) {
       if (mask[x] == 0 || !std::isfinite(flow[x][0]) || !std::isfinite(flow[x][1])) continue;
       const int px = static_cast<int>(std::lround(float(x) + flow[x][0]));
       const int py = static_cast<int>(std::lround(float(y) + flow[x][1]));
-      if (px < 0 || py < 0 || px >= width || py >= height || previous_mask_.at<std::uint8_t>(py, px) == 0)
+      if (px < 0 || py < 0 || px >= width || py >= height || previous_mask_.ptr<std::uint8_t>(py)[px] == 0)
         continue;
-      const float d_pre = previous_depth_.at<float>(py, px);
+      const float d_pre = previous_depth_.ptr<float>(py)[px];
       if (!(d_pre > 0.0f)) continue;
-      pre_depth.at<float>(y, x) = d_pre;
-      pre_age.at<std::uint8_t>(y, x) = previous_age_.at<std::uint8_t>(py, px);
-      alphas.at<float>(y, x) = precursorConfidence(color[x], previous_color_.at<cv::Vec3b>(py, px));
+      pre_row[x] = d_pre;
+      pre_age_row[x] = previous_age_.ptr<std::uint8_t>(py)[px];
+      alpha_row[x] = precursorConfidence(color[x], previous_color_.ptr<cv::Vec3b>(py)[px]);
       if (depth[x] > 0.0f && std::abs(depth[x] - d_pre) <= config_.surfaceTolerance(d_pre)) {
-        motion.at<float>(y, x) = depth[x] - d_pre;
-        motion_weight.at<float>(y, x) = 1.0f;
+        motion_row[x] = depth[x] - d_pre;
+        motion_weight_row[x] = 1.0f;
       }
     }
   }
@@ -298,30 +334,41 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
     cv::boxFilter(motion_weight, motion_weight, -1, window, cv::Point(-1, -1), false);
   }
 
-  Level base{width, height, std::vector<Pair>(std::size_t(width) * std::size_t(height))};
+  std::vector<Level>& pyramid = scratch.pyramid;
+  pyramid.resize(1);
+  Level& base = pyramid.front();
+  base.width = width;
+  base.height = height;
+  base.pairs.assign(std::size_t(width) * std::size_t(height), Pair{});
   cv::Mat output = cv::Mat::zeros(height, width, CV_32FC1);
-  // Frames since each output depth was last measured (0: measured or filled from this frame's
-  // measurements); while learning, every passed-through depth counts as measured.
-  cv::Mat age(height, width, CV_8UC1, cv::Scalar(learn ? 0 : kNoDepth));
+  // Frames since each output depth was last measured (0: measured in this frame); while
+  // learning, every passed-through depth counts as measured.
+  cv::Mat& age = scratch.age;
+  age.create(height, width, CV_8UC1);
+  age.setTo(learn ? 0 : kNoDepth);
   for (int y = 0; y < height; ++y) {
     const float* depth = measured.ptr<float>(y);
     const std::uint8_t* mask = in.mask.ptr<std::uint8_t>(y);
+    float* pre_row = pre_depth.ptr<float>(y);
+    const float* alpha_row = alphas.ptr<float>(y);
+    const float* motion_row = motion.ptr<float>(y);
+    const float* motion_weight_row = motion_weight.ptr<float>(y);
     for (int x = 0; x < width; ++x) {
       if (mask[x] == 0) continue;
       const float d = depth[x];
-      float d_pre = pre_depth.at<float>(y, x);
-      const float weight = motion_weight.at<float>(y, x);
-      if (d_pre > 0.0f && weight > 0.0f) d_pre += motion.at<float>(y, x) / weight;
-      pre_depth.at<float>(y, x) = d_pre;  // motion-compensated, for the hole fill below
+      float d_pre = pre_row[x];
+      const float weight = motion_weight_row[x];
+      if (d_pre > 0.0f && weight > 0.0f) d_pre += motion_row[x] / weight;
+      pre_row[x] = d_pre;  // motion-compensated, for the hole fill below
       const bool has_pre = d_pre > 0.0f && d > 0.0f && std::abs(d - d_pre) <= config_.surfaceTolerance(d_pre);
       const float diff = std::abs(d - d_pre);
-      const float alpha = alphas.at<float>(y, x);
+      const float alpha = alpha_row[x];
       if (learn) {  // lines 11-16: learn the PDFs, pass the frame through
         if (has_pre) {
           pdf_depth_diff_.add(diff);
           pdf_alpha_.add(alpha);
         }
-        output.at<float>(y, x) = sanitisedDepth(in.depth.at<float>(y, x));  // gamma_i as it came
+        output.ptr<float>(y)[x] = sanitisedDepth(in.depth.ptr<float>(y)[x]);  // gamma_i as it came
         continue;
       }
       // A pixel without a measurement gets no pair and is filled by the push from the current
@@ -338,14 +385,11 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
   }
 
   if (!learn) {
-    std::vector<Level> pyramid;
-    pyramid.push_back(std::move(base));
     for (int l = 1; l < config_.levels; ++l) {
-      const Level& child = pyramid.back();
-      if (child.width == 1 && child.height == 1) break;
-      Level parent{(child.width + 1) / 2, (child.height + 1) / 2, {}};
+      if (pyramid.back().width == 1 && pyramid.back().height == 1) break;
+      Level parent{(pyramid.back().width + 1) / 2, (pyramid.back().height + 1) / 2, {}};
       parent.pairs.resize(std::size_t(parent.width) * std::size_t(parent.height));
-      pull(child, parent, config_);
+      pull(pyramid.back(), parent, config_);
       pyramid.push_back(std::move(parent));
     }
     for (std::size_t l = pyramid.size() - 1; l > 0; --l) push(pyramid[l], pyramid[l - 1], config_);
@@ -353,7 +397,7 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
     // Pixels farther than edge_radius inside the mask: a hole there lies within the measured
     // surface around it. Nearer the mask's edge, the surface may continue unmeasured (a body's
     // side turning away at a grazing angle) and a fill needs a trusted precursor.
-    cv::Mat inner;
+    cv::Mat& inner = scratch.inner;
     const int side = 2 * config_.edge_radius + 1;
     cv::erode(in.mask, inner, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)),
               cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
@@ -394,10 +438,10 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
     }
   }
 
-  previous_color_ = in.color.clone();
-  previous_depth_ = output.clone();
-  previous_mask_ = in.mask.clone();
-  previous_age_ = age;
+  in.color.copyTo(previous_color_);
+  output.copyTo(previous_depth_);
+  in.mask.copyTo(previous_mask_);
+  std::swap(previous_age_, age);
   ++frame_;
   return output;
 }

@@ -28,6 +28,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <opencv2/core.hpp>
 
 #include "holo/depthfilter/empirical_cdf.hpp"
@@ -88,6 +89,9 @@ struct DepthFilterInput {
 class TemporalDepthFilter {
  public:
   explicit TemporalDepthFilter(TemporalDepthFilterConfig config = {});
+  ~TemporalDepthFilter();
+  TemporalDepthFilter(TemporalDepthFilter&&) noexcept;
+  TemporalDepthFilter& operator=(TemporalDepthFilter&&) noexcept;
 
   // Filters one frame and remembers it (with its output depth) as gamma_{i-1} for the next.
   // Throws holo::Error on mismatched image types or sizes.
@@ -110,6 +114,9 @@ class TemporalDepthFilter {
   cv::Mat previous_depth_;  // filtered output of the previous frame
   cv::Mat previous_mask_;
   cv::Mat previous_age_;  // CV_8UC1 frames since each previous output depth was measured, 255 = none
+  // Per-frame working images, kept so that a frame allocates (and page-faults) almost nothing.
+  struct Scratch;
+  std::unique_ptr<Scratch> scratch_ptr_;
 };
 
 }  // namespace holo::depthfilter
