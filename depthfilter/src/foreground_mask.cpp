@@ -72,10 +72,16 @@ cv::Mat ForegroundMasker::apply(const RgbdFrame& frame) {
   checkSize(frame);
   cv::Mat colour_mask;
   mog2_->apply(colourForModel(frame.color), colour_labels_, config_.learning_rate_live);
-  if (colour_labels_.size() == frame.color.size())
+  if (colour_labels_.size() == frame.color.size()) {
     colour_mask = colour_labels_;
-  else
-    cv::resize(colour_labels_, colour_mask, frame.color.size(), 0, 0, cv::INTER_NEAREST);
+  } else {
+    // Nearest upsampling turns each small foreground pixel into a block that overhangs the
+    // visitor's outline by up to downscale - 1 px; those overhangs, where the sensor has no
+    // depth, were ghosts. Shrinking the upsampled foreground by that much removes them.
+    cv::resize(colour_labels_ == 255, colour_mask, frame.color.size(), 0, 0, cv::INTER_NEAREST);
+    const int side = 2 * (config_.colour_model_downscale - 1) + 1;
+    cv::erode(colour_mask, colour_mask, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)));
+  }
 
   cv::Mat mask(frame.depth.size(), CV_8UC1);
   for (int y = 0; y < mask.rows; ++y) {
