@@ -334,8 +334,9 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
     cv::boxFilter(motion_weight, motion_weight, -1, window, cv::Point(-1, -1), false);
   }
 
+  // The pyramid's levels keep their storage from frame to frame.
   std::vector<Level>& pyramid = scratch.pyramid;
-  pyramid.resize(1);
+  if (pyramid.empty()) pyramid.resize(1);
   Level& base = pyramid.front();
   base.width = width;
   base.height = height;
@@ -385,14 +386,18 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
   }
 
   if (!learn) {
+    std::size_t top = 0;
     for (int l = 1; l < config_.levels; ++l) {
-      if (pyramid.back().width == 1 && pyramid.back().height == 1) break;
-      Level parent{(pyramid.back().width + 1) / 2, (pyramid.back().height + 1) / 2, {}};
+      if (pyramid[top].width == 1 && pyramid[top].height == 1) break;
+      if (pyramid.size() == top + 1) pyramid.emplace_back();
+      Level& parent = pyramid[top + 1];
+      parent.width = (pyramid[top].width + 1) / 2;
+      parent.height = (pyramid[top].height + 1) / 2;
       parent.pairs.resize(std::size_t(parent.width) * std::size_t(parent.height));
-      pull(pyramid.back(), parent, config_);
-      pyramid.push_back(std::move(parent));
+      pull(pyramid[top], parent, config_);
+      ++top;
     }
-    for (std::size_t l = pyramid.size() - 1; l > 0; --l) push(pyramid[l], pyramid[l - 1], config_);
+    for (std::size_t l = top; l > 0; --l) push(pyramid[l], pyramid[l - 1], config_);
     const Level& filtered = pyramid.front();
     // Pixels farther than edge_radius inside the mask: a hole there lies within the measured
     // surface around it. Nearer the mask's edge, the surface may continue unmeasured (a body's
