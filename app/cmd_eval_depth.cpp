@@ -36,8 +36,8 @@ struct Options {
 nlohmann::json toJson(const DepthMethodMetrics& m) {
   return {{"temporal_mse_cm2", m.temporal_mse_cm2}, {"depth_change_cm2", m.depth_change_cm2},
           {"depth_rmse_cm", m.depth_rmse_cm},       {"hole_fill_ratio", m.hole_fill_ratio},
-          {"ghost_ratio", m.ghost_ratio},           {"ms_per_frame", m.ms_per_frame},
-          {"scored_frames", m.scored_frames}};
+          {"raw_holes_filled", m.raw_holes_filled}, {"ghost_ratio", m.ghost_ratio},
+          {"ms_per_frame", m.ms_per_frame},         {"scored_frames", m.scored_frames}};
 }
 
 cv::Mat labelled(cv::Mat picture, const std::string& label) {

@@ -49,12 +49,29 @@ BorderLayer expandBorder(const cv::Mat& mask, const cv::Mat& depth, const Border
   BorderLayer layer{cv::Mat::zeros(mask.size(), CV_32FC1), cv::Mat::zeros(mask.size(), CV_32FC1)};
   if (config.levels <= 0 || mask.empty() || cv::countNonZero(mask) == 0) return layer;
 
+  // Border pixels lie within reach of the blurred mask: the Gaussian pyramid spreads the mask by
+  // 2 px per level at that level's scale (2^(levels+1) - 2 px in all), and the upsampling by
+  // about one coarse pixel more (2^levels), so less than 4 * 2^levels px. Everything below works
+  // on the mask's bounding box grown by that.
+  const int reach = 4 << std::min(config.levels, 10);
+  cv::Rect roi = cv::boundingRect(mask);
+  roi = cv::Rect(roi.x - reach, roi.y - reach, roi.width + 2 * reach, roi.height + 2 * reach) &
+        cv::Rect(0, 0, mask.cols, mask.rows);
+  const cv::Mat mask_roi = mask(roi), depth_roi = depth(roi);
+
   // Foreground pixels with a valid depth: the sources of border depth.
-  cv::Mat sources = mask.clone();
-  for (int y = 0; y < mask.rows; ++y)
-    for (int x = 0; x < mask.cols; ++x)
-      if (!validDepth(depth.at<float>(y, x))) sources.at<std::uint8_t>(y, x) = 0;
-  if (cv::countNonZero(sources) == 0) return layer;
+  cv::Mat sources(roi.size(), CV_8UC1);
+  int source_count = 0;
+  for (int y = 0; y < roi.height; ++y) {
+    const std::uint8_t* m = mask_roi.ptr<std::uint8_t>(y);
+    const float* d = depth_roi.ptr<float>(y);
+    std::uint8_t* s = sources.ptr<std::uint8_t>(y);
+    for (int x = 0; x < roi.width; ++x) {
+      s[x] = m[x] != 0 && validDepth(d[x]) ? 255 : 0;
+      source_count += s[x] != 0;
+    }
+  }
+  if (source_count == 0) return layer;
 
   const cv::Mat blurred = blurredMask(mask, config.levels);
   float mean_edge = 0.0f;
@@ -69,27 +86,34 @@ BorderLayer expandBorder(const cv::Mat& mask, const cv::Mat& depth, const Border
     cv::Mat not_sources = sources == 0, distance;
     cv::distanceTransform(not_sources, distance, nearest_labels, cv::DIST_L2, cv::DIST_MASK_5,
                           cv::DIST_LABEL_PIXEL);
-    label_pixel.resize(std::size_t(cv::countNonZero(sources)) + 1);
-    for (int y = 0; y < mask.rows; ++y)
-      for (int x = 0; x < mask.cols; ++x)
-        if (sources.at<std::uint8_t>(y, x) != 0)
-          label_pixel[std::size_t(nearest_labels.at<int>(y, x))] = {x, y};
+    label_pixel.resize(std::size_t(source_count) + 1);
+    for (int y = 0; y < roi.height; ++y) {
+      const std::uint8_t* s = sources.ptr<std::uint8_t>(y);
+      const int* label = nearest_labels.ptr<int>(y);
+      for (int x = 0; x < roi.width; ++x)
+        if (s[x] != 0) label_pixel[std::size_t(label[x])] = {x, y};
+    }
   }
 
-  for (int y = 0; y < mask.rows; ++y)
-    for (int x = 0; x < mask.cols; ++x) {
-      if (mask.at<std::uint8_t>(y, x) != 0) continue;
-      const float w = blurred.at<float>(y, x);
+  for (int y = 0; y < roi.height; ++y) {
+    const std::uint8_t* m = mask_roi.ptr<std::uint8_t>(y);
+    const float* weight = blurred.ptr<float>(y + roi.y) + roi.x;
+    float* out_weight = layer.weight.ptr<float>(y + roi.y) + roi.x;
+    float* out_depth = layer.depth.ptr<float>(y + roi.y) + roi.x;
+    for (int x = 0; x < roi.width; ++x) {
+      if (m[x] != 0) continue;
+      const float w = weight[x];
       if (!(w >= config.min_weight) || w >= 1.0f) continue;
       float d = mean_edge;
       if (config.depth == BorderDepth::Nearest) {
-        const cv::Point p = label_pixel[std::size_t(nearest_labels.at<int>(y, x))];
-        d = depth.at<float>(p.y, p.x);
+        const cv::Point p = label_pixel[std::size_t(nearest_labels.ptr<int>(y)[x])];
+        d = depth_roi.ptr<float>(p.y)[p.x];
       }
       if (!validDepth(d)) continue;
-      layer.weight.at<float>(y, x) = w;
-      layer.depth.at<float>(y, x) = d;
+      out_weight[x] = w;
+      out_depth[x] = d;
     }
+  }
   return layer;
 }
 

@@ -35,8 +35,12 @@ void DepthFilterEvaluation::learnBackground(const RgbdFrame& background) {
 void DepthScorer::add(const cv::Mat& out, const cv::Mat& mask, const GroundTruthFrame& truth,
                       double seconds) {
   if (out.type() != CV_32FC1 || out.size() != truth.true_depth.size() || mask.type() != CV_8UC1 ||
-      mask.size() != out.size())
-    throw Error("DepthScorer: expected a CV_32FC1 output and a CV_8UC1 mask of the true depth's size");
+      mask.size() != out.size() || truth.frame.depth.type() != CV_32FC1 ||
+      truth.frame.depth.size() != out.size())
+    throw Error(
+        "DepthScorer: expected a CV_32FC1 output, a CV_8UC1 mask and a CV_32FC1 measured depth of the true "
+        "depth's "
+        "size");
   seconds_ += seconds;
   ++frames_;
   const bool has_previous = !previous_output_.empty() && previous_output_.size() == out.size();
@@ -47,6 +51,7 @@ void DepthScorer::add(const cv::Mat& out, const cv::Mat& mask, const GroundTruth
     const float* td = truth.true_depth.ptr<float>(y);
     const std::uint8_t* tf = truth.true_foreground.ptr<std::uint8_t>(y);
     const std::uint8_t* m = mask.ptr<std::uint8_t>(y);
+    const float* raw = truth.frame.depth.ptr<float>(y);
     const float* prev = has_previous ? previous_output_.ptr<float>(y) : nullptr;
     const float* prev_td = has_previous ? previous_true_depth_.ptr<float>(y) : nullptr;
     const std::uint8_t* prev_tf = has_previous ? previous_true_foreground_.ptr<std::uint8_t>(y) : nullptr;
@@ -55,6 +60,10 @@ void DepthScorer::add(const cv::Mat& out, const cv::Mat& mask, const GroundTruth
       if (tf[x] && m[x]) {
         ++fill_n_;
         fill_hits_ += has;
+        if (!(std::isfinite(raw[x]) && raw[x] > 0.0f)) {
+          ++raw_holes_;
+          raw_holes_filled_ += has;
+        }
       }
       if (!has) continue;
       ++outputs_;
@@ -91,6 +100,7 @@ DepthMethodMetrics DepthScorer::metrics() const {
   m.depth_change_cm2 = pairs_ > 0 ? depth_change_sum_ / double(pairs_) : 0.0;
   m.depth_rmse_cm = error_n_ > 0 ? std::sqrt(error_sq_sum_ / double(error_n_)) : 0.0;
   m.hole_fill_ratio = fill_n_ > 0 ? double(fill_hits_) / double(fill_n_) : 1.0;
+  m.raw_holes_filled = raw_holes_ > 0 ? double(raw_holes_filled_) / double(raw_holes_) : 1.0;
   m.ghost_ratio = outputs_ > 0 ? double(ghosts_) / double(outputs_) : 0.0;
   m.ms_per_frame = frames_ > 0 ? 1000.0 * seconds_ / double(frames_) : 0.0;
   m.scored_frames = frames_;
@@ -105,6 +115,8 @@ void DepthScorer::merge(const DepthScorer& o) {
   error_n_ += o.error_n_;
   fill_hits_ += o.fill_hits_;
   fill_n_ += o.fill_n_;
+  raw_holes_filled_ += o.raw_holes_filled_;
+  raw_holes_ += o.raw_holes_;
   ghosts_ += o.ghosts_;
   outputs_ += o.outputs_;
   seconds_ += o.seconds_;

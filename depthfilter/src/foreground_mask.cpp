@@ -22,7 +22,18 @@ cv::Mat disc(int radius) {
 ForegroundMasker::ForegroundMasker(ForegroundMaskConfig config)
     : config_(std::move(config)),
       mog2_(cv::createBackgroundSubtractorMOG2(config_.mog2_history, config_.mog2_var_threshold,
-                                               config_.detect_shadows)) {}
+                                               config_.detect_shadows)) {
+  if (config_.colour_model_downscale < 1)
+    throw Error("ForegroundMasker: colour_model_downscale must be >= 1");
+}
+
+const cv::Mat& ForegroundMasker::colourForModel(const cv::Mat& colour) {
+  if (config_.colour_model_downscale == 1) return colour;
+  const int f = config_.colour_model_downscale;
+  cv::resize(colour, small_colour_, cv::Size((colour.cols + f - 1) / f, (colour.rows + f - 1) / f), 0, 0,
+             cv::INTER_AREA);
+  return small_colour_;
+}
 
 void ForegroundMasker::checkSize(const RgbdFrame& frame) {
   if (frame.color.type() != CV_8UC3 || frame.depth.type() != CV_32FC1 ||
@@ -43,8 +54,7 @@ void ForegroundMasker::checkSize(const RgbdFrame& frame) {
 
 void ForegroundMasker::learnBackground(const RgbdFrame& frame) {
   checkSize(frame);
-  cv::Mat ignored;
-  mog2_->apply(frame.color, ignored, config_.learning_rate_background);
+  mog2_->apply(colourForModel(frame.color), colour_labels_, config_.learning_rate_background);
   for (int y = 0; y < frame.depth.rows; ++y) {
     const float* d = frame.depth.ptr<float>(y);
     float* mean = background_depth_.ptr<float>(y);
@@ -61,7 +71,17 @@ void ForegroundMasker::learnBackground(const RgbdFrame& frame) {
 cv::Mat ForegroundMasker::apply(const RgbdFrame& frame) {
   checkSize(frame);
   cv::Mat colour_mask;
-  mog2_->apply(frame.color, colour_mask, config_.learning_rate_live);
+  mog2_->apply(colourForModel(frame.color), colour_labels_, config_.learning_rate_live);
+  if (colour_labels_.size() == frame.color.size()) {
+    colour_mask = colour_labels_;
+  } else {
+    // Nearest upsampling turns each small foreground pixel into a block that overhangs the
+    // visitor's outline by up to downscale - 1 px; those overhangs, where the sensor has no
+    // depth, were ghosts. Shrinking the upsampled foreground by that much removes them.
+    cv::resize(colour_labels_ == 255, colour_mask, frame.color.size(), 0, 0, cv::INTER_NEAREST);
+    const int side = 2 * (config_.colour_model_downscale - 1) + 1;
+    cv::erode(colour_mask, colour_mask, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)));
+  }
 
   cv::Mat mask(frame.depth.size(), CV_8UC1);
   for (int y = 0; y < mask.rows; ++y) {

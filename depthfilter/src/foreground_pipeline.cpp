@@ -143,7 +143,7 @@ ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> frames) {
     result.flow = stage.flow.compute(frame.color, stage.previous_color);
     result.depth = stage.filter.apply({frame.color, frame.depth, result.mask, result.flow});
     result.border = expandBorder(result.mask, result.depth, config_.border);
-    stage.previous_color = frame.color.clone();
+    frame.color.copyTo(stage.previous_color);  // reuses the buffer of the frame before
     appendPoints(cameras_[i], static_cast<std::uint16_t>(i), stage.plane_directions, frame.color, result,
                  config_.exposure, stage.points);
   };

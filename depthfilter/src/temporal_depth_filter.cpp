@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
@@ -11,7 +12,9 @@
 
 namespace holo::depthfilter {
 
-namespace {
+// The pyramid's types live outside the anonymous namespace: the filter keeps a pyramid between
+// frames (TemporalDepthFilter::Scratch).
+namespace pyramid_detail {
 
 // One (depth, confidence) pair of the pyramid rho_pa; depth 0 = no pair.
 struct Pair {
@@ -28,6 +31,18 @@ struct Level {
   Pair& at(int x, int y) { return pairs[static_cast<std::size_t>(y) * std::size_t(width) + std::size_t(x)]; }
 };
 
+}  // namespace pyramid_detail
+
+struct TemporalDepthFilter::Scratch {
+  cv::Mat clean, measured, pre_depth, alphas, pre_age, motion, motion_weight, inner, age;
+  std::vector<pyramid_detail::Level> pyramid;
+};
+
+namespace {
+
+using pyramid_detail::Level;
+using pyramid_detail::Pair;
+
 float sanitisedDepth(float d) {
   return std::isfinite(d) && d > 0.0f ? d : 0.0f;
 }
@@ -43,35 +58,39 @@ void checkInput(const DepthFilterInput& in) {
     throw Error("TemporalDepthFilter: expected CV_32FC2 flow of the depth's size");
 }
 
-// The measured depth with flying pixels removed: a foreground depth counts only when at least
-// `min_support` of its 8 neighbours lie on the same surface (within T(z)). A flying pixel lies
-// between two surfaces and matches neither; a pixel of a real surface, even a 1-2 px wide arm,
-// has neighbours along it.
-cv::Mat supportedDepth(const cv::Mat& depth, const cv::Mat& mask, const TemporalDepthFilterConfig& config) {
+// The measured depth (into `out`, with `clean` as scratch) with flying pixels removed: a foreground depth
+// counts only when at least `min_support` of its 8 neighbours lie on the same surface (within T(z)). A flying
+// pixel lies between two surfaces and matches neither; a pixel of a real surface, even a 1-2 px wide arm, has
+// neighbours along it.
+void supportedDepth(const cv::Mat& depth, const cv::Mat& mask, const TemporalDepthFilterConfig& config,
+                    cv::Mat& clean, cv::Mat& out) {
   const int width = depth.cols, height = depth.rows;
-  cv::Mat clean(depth.size(), CV_32FC1);
+  clean.create(depth.size(), CV_32FC1);
   for (int y = 0; y < height; ++y) {
-    float* out = clean.ptr<float>(y);
-    for (int x = 0; x < width; ++x) out[x] = sanitisedDepth(depth.at<float>(y, x));
+    const float* in = depth.ptr<float>(y);
+    float* c = clean.ptr<float>(y);
+    for (int x = 0; x < width; ++x) c[x] = sanitisedDepth(in[x]);
   }
-  cv::Mat out = cv::Mat::zeros(depth.size(), CV_32FC1);
+  out.create(depth.size(), CV_32FC1);
+  out.setTo(0.0f);
   for (int y = 0; y < height; ++y) {
     const std::uint8_t* m = mask.ptr<std::uint8_t>(y);
+    const float* rows[3] = {y > 0 ? clean.ptr<float>(y - 1) : nullptr, clean.ptr<float>(y),
+                            y + 1 < height ? clean.ptr<float>(y + 1) : nullptr};
+    float* o = out.ptr<float>(y);
     for (int x = 0; x < width; ++x) {
-      const float d = clean.at<float>(y, x);
+      const float d = rows[1][x];
       if (m[x] == 0 || d <= 0.0f) continue;
       const float tolerance = config.surfaceTolerance(d);
       int support = 0;
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int nx = x + dx, ny = y + dy;
-          if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
-          support += std::abs(clean.at<float>(ny, nx) - d) <= tolerance;
-        }
-      if (support >= config.min_support) out.at<float>(y, x) = d;
+      for (int r = 0; r < 3; ++r) {
+        if (rows[r] == nullptr) continue;
+        for (int nx = std::max(0, x - 1); nx <= std::min(width - 1, x + 1); ++nx)
+          support += (r != 1 || nx != x) && std::abs(rows[r][nx] - d) <= tolerance;
+      }
+      if (support >= config.min_support) o[x] = d;
     }
   }
-  return out;
 }
 
 // True when the measurements within `edge_radius` pixels of (x, y) span more than T(z): a hole
@@ -87,6 +106,71 @@ bool nearDepthEdge(const cv::Mat& measured, int x, int y, const TemporalDepthFil
       hi = std::max(hi, d);
     }
   return hi > 0.0f && hi - lo > config.surfaceTolerance(lo);
+}
+
+// Age of an output depth: frames since the pixel's surface was last measured there (0 =
+// measured in this frame). kNoDepth marks pixels without an output depth.
+constexpr std::uint8_t kNoDepth = 255;
+
+std::uint8_t olderBy1(std::uint8_t age) {
+  return std::uint8_t(std::min<int>(kNoDepth - 1, age + 1));
+}
+
+float colourDistance(const cv::Vec3b& a, const cv::Vec3b& b) {
+  return std::abs(float(a[0]) - float(b[0])) + std::abs(float(a[1]) - float(b[1])) +
+         std::abs(float(a[2]) - float(b[2]));
+}
+
+// A hole the push could not fill safely: next to a depth edge, under a pulled block that
+// straddles one, with a fill that its precursor contradicts, or in a block without any
+// measurement. `pre` is the depth of its trusted precursor (0: none, then the hole lies inside
+// the mask, away from depth edges). The candidates are the measured neighbours within
+// `fill_radius` px; the hole's own surface usually has its colour, so a surface of another colour
+// (skin next to a shirt, the wall behind a visitor) does not count. Depth edges drop random
+// pixels each frame, so such a hole was usually measured a frame ago, and the precursor confirms
+// the surface. Returns 0 where no fill is safe.
+float guidedHoleFill(const cv::Mat& measured, const Level& filtered, const cv::Mat& color, int x, int y,
+                     float pre, const TemporalDepthFilterConfig& config) {
+  const int r = config.fill_radius;
+  const int width = measured.cols, height = measured.rows;
+  const cv::Vec3b colour = color.at<cv::Vec3b>(y, x);
+  struct Candidate {
+    float depth;
+    float colour;
+  };
+  constexpr int kMaxSide = 2 * TemporalDepthFilterConfig::kMaxFillRadius + 1;
+  Candidate candidates[kMaxSide * kMaxSide];
+  int n = 0;
+  float best_colour = INFINITY, best_depth = 0.0f;
+  for (int ny = std::max(0, y - r); ny <= std::min(height - 1, y + r); ++ny)
+    for (int nx = std::max(0, x - r); nx <= std::min(width - 1, x + r); ++nx) {
+      if (measured.at<float>(ny, nx) <= 0.0f) continue;
+      const float d = filtered.pairs[std::size_t(ny) * std::size_t(width) + std::size_t(nx)].depth;
+      if (!(d > 0.0f)) continue;
+      candidates[n] = {d, colourDistance(colour, color.at<cv::Vec3b>(ny, nx))};
+      if (candidates[n].colour < best_colour) best_colour = candidates[n].colour, best_depth = d;
+      ++n;
+    }
+  // No measured neighbour has the hole's colour: the hole shows a surface that is not measured
+  // nearby (the grazing side of a visitor half hidden behind another); any fill would be wrong.
+  if (n == 0 || best_colour > config.fill_colour_max) return 0.0f;
+  // The plausible neighbours are those about as alike in colour as the closest one. They must
+  // all lie on the surface of the precursor (or, without one, of the closest neighbour): where
+  // two surfaces of one colour meet (an arm in front of the torso), the flow's precursor picks
+  // the wrong one too often near a moving edge (measured: 14 cm RMS error on such fills in the
+  // museum, and flicker), so such a hole stays a hole.
+  const float plausible = best_colour + config.fill_colour_margin;
+  const float surface = pre > 0.0f ? pre : best_depth;
+  const float tolerance = config.surfaceTolerance(surface);
+  float sum = 0.0f;
+  int count = 0;
+  for (int k = 0; k < n; ++k) {
+    if (candidates[k].colour > plausible) continue;
+    if (std::abs(candidates[k].depth - surface) > tolerance) return 0.0f;
+    sum += candidates[k].depth;
+    ++count;
+  }
+  return count > 0 ? sum / float(count) : 0.0f;
 }
 
 // Pull (Algorithm 1, lines 23-26): each parent averages the children whose confidence is within
@@ -166,10 +250,18 @@ void push(const Level& parent, Level& child, const TemporalDepthFilterConfig& co
 TemporalDepthFilter::TemporalDepthFilter(TemporalDepthFilterConfig config)
     : config_(config),
       pdf_alpha_(config.pdf_bins, config.alpha_max),
-      pdf_depth_diff_(config.pdf_bins, config.depth_diff_max_m) {
+      pdf_depth_diff_(config.pdf_bins, config.depth_diff_max_m),
+      scratch_ptr_(std::make_unique<Scratch>()) {
   if (config_.levels < 1) throw Error("TemporalDepthFilter: levels (l_max) must be >= 1");
   if (config_.learning_frames < 0) throw Error("TemporalDepthFilter: learning_frames (C) must be >= 0");
+  if (config_.fill_radius < 0 || config_.fill_radius > TemporalDepthFilterConfig::kMaxFillRadius)
+    throw Error("TemporalDepthFilter: fill_radius must be in [0, " +
+                std::to_string(TemporalDepthFilterConfig::kMaxFillRadius) + "]");
 }
+
+TemporalDepthFilter::~TemporalDepthFilter() = default;
+TemporalDepthFilter::TemporalDepthFilter(TemporalDepthFilter&&) noexcept = default;
+TemporalDepthFilter& TemporalDepthFilter::operator=(TemporalDepthFilter&&) noexcept = default;
 
 bool TemporalDepthFilter::learning() const {
   return frame_ < config_.learning_frames || pdf_alpha_.samples() < config_.min_learning_samples ||
@@ -180,6 +272,7 @@ void TemporalDepthFilter::resetHistory() {
   previous_color_.release();
   previous_depth_.release();
   previous_mask_.release();
+  previous_age_.release();
 }
 
 cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
@@ -188,32 +281,47 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
   if (!previous_depth_.empty() && previous_depth_.size() != in.depth.size()) resetHistory();
   const bool has_previous = !previous_depth_.empty();
   const bool learn = learning();
+  Scratch& scratch = *scratch_ptr_;
 
-  const cv::Mat measured = supportedDepth(in.depth, in.mask, config_);
+  supportedDepth(in.depth, in.mask, config_, scratch.clean, scratch.measured);
+  const cv::Mat& measured = scratch.measured;
   // GetPrePx (line 7) for every foreground pixel: the precursor must lie in the image, on the
   // previous foreground and carry a depth; it is used only on the same surface (within T(z)).
-  cv::Mat pre_depth = cv::Mat::zeros(height, width, CV_32FC1);
-  cv::Mat alphas = cv::Mat::zeros(height, width, CV_32FC1);
-  cv::Mat motion = cv::Mat::zeros(height, width, CV_32FC1);  // d - d_pre where both exist
-  cv::Mat motion_weight = cv::Mat::zeros(height, width, CV_32FC1);
+  cv::Mat& pre_depth = scratch.pre_depth;
+  cv::Mat& alphas = scratch.alphas;
+  cv::Mat& pre_age = scratch.pre_age;
+  cv::Mat& motion = scratch.motion;  // d - d_pre where both exist
+  cv::Mat& motion_weight = scratch.motion_weight;
+  for (cv::Mat* m : {&pre_depth, &alphas, &motion, &motion_weight}) {
+    m->create(height, width, CV_32FC1);
+    m->setTo(0.0f);
+  }
+  pre_age.create(height, width, CV_8UC1);
+  pre_age.setTo(kNoDepth);
   for (int y = 0; has_previous && y < height; ++y) {
     const float* depth = measured.ptr<float>(y);
     const std::uint8_t* mask = in.mask.ptr<std::uint8_t>(y);
     const cv::Vec3b* color = in.color.ptr<cv::Vec3b>(y);
     const cv::Vec2f* flow = in.flow.ptr<cv::Vec2f>(y);
+    float* pre_row = pre_depth.ptr<float>(y);
+    float* alpha_row = alphas.ptr<float>(y);
+    std::uint8_t* pre_age_row = pre_age.ptr<std::uint8_t>(y);
+    float* motion_row = motion.ptr<float>(y);
+    float* motion_weight_row = motion_weight.ptr<float>(y);
     for (int x = 0; x < width; ++x) {
       if (mask[x] == 0 || !std::isfinite(flow[x][0]) || !std::isfinite(flow[x][1])) continue;
       const int px = static_cast<int>(std::lround(float(x) + flow[x][0]));
       const int py = static_cast<int>(std::lround(float(y) + flow[x][1]));
-      if (px < 0 || py < 0 || px >= width || py >= height || previous_mask_.at<std::uint8_t>(py, px) == 0)
+      if (px < 0 || py < 0 || px >= width || py >= height || previous_mask_.ptr<std::uint8_t>(py)[px] == 0)
         continue;
-      const float d_pre = previous_depth_.at<float>(py, px);
+      const float d_pre = previous_depth_.ptr<float>(py)[px];
       if (!(d_pre > 0.0f)) continue;
-      pre_depth.at<float>(y, x) = d_pre;
-      alphas.at<float>(y, x) = precursorConfidence(color[x], previous_color_.at<cv::Vec3b>(py, px));
+      pre_row[x] = d_pre;
+      pre_age_row[x] = previous_age_.ptr<std::uint8_t>(py)[px];
+      alpha_row[x] = precursorConfidence(color[x], previous_color_.ptr<cv::Vec3b>(py)[px]);
       if (depth[x] > 0.0f && std::abs(depth[x] - d_pre) <= config_.surfaceTolerance(d_pre)) {
-        motion.at<float>(y, x) = depth[x] - d_pre;
-        motion_weight.at<float>(y, x) = 1.0f;
+        motion_row[x] = depth[x] - d_pre;
+        motion_weight_row[x] = 1.0f;
       }
     }
   }
@@ -226,26 +334,42 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
     cv::boxFilter(motion_weight, motion_weight, -1, window, cv::Point(-1, -1), false);
   }
 
-  Level base{width, height, std::vector<Pair>(std::size_t(width) * std::size_t(height))};
+  // The pyramid's levels keep their storage from frame to frame.
+  std::vector<Level>& pyramid = scratch.pyramid;
+  if (pyramid.empty()) pyramid.resize(1);
+  Level& base = pyramid.front();
+  base.width = width;
+  base.height = height;
+  base.pairs.assign(std::size_t(width) * std::size_t(height), Pair{});
   cv::Mat output = cv::Mat::zeros(height, width, CV_32FC1);
+  // Frames since each output depth was last measured (0: measured in this frame); while
+  // learning, every passed-through depth counts as measured.
+  cv::Mat& age = scratch.age;
+  age.create(height, width, CV_8UC1);
+  age.setTo(learn ? 0 : kNoDepth);
   for (int y = 0; y < height; ++y) {
     const float* depth = measured.ptr<float>(y);
     const std::uint8_t* mask = in.mask.ptr<std::uint8_t>(y);
+    float* pre_row = pre_depth.ptr<float>(y);
+    const float* alpha_row = alphas.ptr<float>(y);
+    const float* motion_row = motion.ptr<float>(y);
+    const float* motion_weight_row = motion_weight.ptr<float>(y);
     for (int x = 0; x < width; ++x) {
       if (mask[x] == 0) continue;
       const float d = depth[x];
-      float d_pre = pre_depth.at<float>(y, x);
-      const float weight = motion_weight.at<float>(y, x);
-      if (d_pre > 0.0f && weight > 0.0f) d_pre += motion.at<float>(y, x) / weight;
+      float d_pre = pre_row[x];
+      const float weight = motion_weight_row[x];
+      if (d_pre > 0.0f && weight > 0.0f) d_pre += motion_row[x] / weight;
+      pre_row[x] = d_pre;  // motion-compensated, for the hole fill below
       const bool has_pre = d_pre > 0.0f && d > 0.0f && std::abs(d - d_pre) <= config_.surfaceTolerance(d_pre);
       const float diff = std::abs(d - d_pre);
-      const float alpha = alphas.at<float>(y, x);
+      const float alpha = alpha_row[x];
       if (learn) {  // lines 11-16: learn the PDFs, pass the frame through
         if (has_pre) {
           pdf_depth_diff_.add(diff);
           pdf_alpha_.add(alpha);
         }
-        output.at<float>(y, x) = sanitisedDepth(in.depth.at<float>(y, x));  // gamma_i as it came
+        output.ptr<float>(y)[x] = sanitisedDepth(in.depth.ptr<float>(y)[x]);  // gamma_i as it came
         continue;
       }
       // A pixel without a measurement gets no pair and is filled by the push from the current
@@ -262,35 +386,67 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
   }
 
   if (!learn) {
-    std::vector<Level> pyramid;
-    pyramid.push_back(std::move(base));
+    std::size_t top = 0;
     for (int l = 1; l < config_.levels; ++l) {
-      const Level& child = pyramid.back();
-      if (child.width == 1 && child.height == 1) break;
-      Level parent{(child.width + 1) / 2, (child.height + 1) / 2, {}};
+      if (pyramid[top].width == 1 && pyramid[top].height == 1) break;
+      if (pyramid.size() == top + 1) pyramid.emplace_back();
+      Level& parent = pyramid[top + 1];
+      parent.width = (pyramid[top].width + 1) / 2;
+      parent.height = (pyramid[top].height + 1) / 2;
       parent.pairs.resize(std::size_t(parent.width) * std::size_t(parent.height));
-      pull(child, parent, config_);
-      pyramid.push_back(std::move(parent));
+      pull(pyramid[top], parent, config_);
+      ++top;
     }
-    for (std::size_t l = pyramid.size() - 1; l > 0; --l) push(pyramid[l], pyramid[l - 1], config_);
+    for (std::size_t l = top; l > 0; --l) push(pyramid[l], pyramid[l - 1], config_);
     const Level& filtered = pyramid.front();
+    // Pixels farther than edge_radius inside the mask: a hole there lies within the measured
+    // surface around it. Nearer the mask's edge, the surface may continue unmeasured (a body's
+    // side turning away at a grazing angle) and a fill needs a trusted precursor.
+    cv::Mat& inner = scratch.inner;
+    const int side = 2 * config_.edge_radius + 1;
+    cv::erode(in.mask, inner, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)),
+              cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
     for (int y = 0; y < height; ++y) {
       const std::uint8_t* mask = in.mask.ptr<std::uint8_t>(y);
+      const std::uint8_t* inside = inner.ptr<std::uint8_t>(y);
+      const float* measured_row = measured.ptr<float>(y);
+      const float* pre_row = pre_depth.ptr<float>(y);
+      const std::uint8_t* pre_age_row = pre_age.ptr<std::uint8_t>(y);
       float* out = output.ptr<float>(y);
+      std::uint8_t* out_age = age.ptr<std::uint8_t>(y);
       for (int x = 0; x < width; ++x) {
+        if (mask[x] == 0) continue;
         const float d = filtered.pairs[std::size_t(y) * std::size_t(width) + std::size_t(x)].depth;
-        out[x] = mask[x] != 0 && std::isfinite(d) && d > 0.0f ? d : 0.0f;
-        // A hole next to a depth edge could belong to either surface; a fill from the wrong one
-        // flickers between them from frame to frame, so it stays a hole.
-        if (out[x] > 0.0f && measured.at<float>(y, x) <= 0.0f && nearDepthEdge(measured, x, y, config_))
-          out[x] = 0.0f;
+        if (measured_row[x] > 0.0f) {
+          out[x] = std::isfinite(d) && d > 0.0f ? d : 0.0f;
+          out_age[x] = 0;
+          continue;
+        }
+        // A hole. Its precursor is trusted when it was measured at most fill_trust_frames - 1
+        // frames ago: fills that only repeat fills would keep a wrong pick alive.
+        const float pre = pre_row[x];
+        const bool trusted = pre > 0.0f && pre_age_row[x] < config_.fill_trust_frames;
+        const bool push_fill =
+            d > 0.0f && (trusted ? std::abs(d - pre) <= config_.surfaceTolerance(pre) : inside[x] != 0) &&
+            !nearDepthEdge(measured, x, y, config_);
+        if (push_fill) {
+          out[x] = d;
+          out_age[x] = pre > 0.0f ? olderBy1(pre_age_row[x]) : std::uint8_t(config_.fill_trust_frames);
+        } else if (trusted || (d <= 0.0f && inside[x] != 0 && !nearDepthEdge(measured, x, y, config_))) {
+          // With a trusted precursor: its surface. Without one, only a hole inside a surface
+          // that the pull could not reach (a block without any measurement): the surface of the
+          // neighbours with the hole's colour.
+          out[x] = guidedHoleFill(measured, filtered, in.color, x, y, trusted ? pre : 0.0f, config_);
+          if (out[x] > 0.0f) out_age[x] = olderBy1(pre_age_row[x]);
+        }
       }
     }
   }
 
-  previous_color_ = in.color.clone();
-  previous_depth_ = output.clone();
-  previous_mask_ = in.mask.clone();
+  in.color.copyTo(previous_color_);
+  output.copyTo(previous_depth_);
+  in.mask.copyTo(previous_mask_);
+  std::swap(previous_age_, age);
   ++frame_;
   return output;
 }

@@ -42,8 +42,9 @@ void BM_Mask(benchmark::State& state) {
 }
 BENCHMARK(BM_Mask)->Unit(benchmark::kMillisecond);
 
+// Args: DIS preset, downscale (the default is ULTRAFAST on half-size frames).
 void BM_Flow(benchmark::State& state) {
-  PrecursorFlow flow({static_cast<int>(state.range(0))});
+  PrecursorFlow flow({static_cast<int>(state.range(0)), static_cast<int>(state.range(1))});
   std::size_t t = 1;
   for (auto _ : state) {
     benchmark::DoNotOptimize(flow.compute(frames()[t % frames().size()].frame.color,
@@ -52,9 +53,10 @@ void BM_Flow(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_Flow)
-    ->Arg(cv::DISOpticalFlow::PRESET_ULTRAFAST)
-    ->Arg(cv::DISOpticalFlow::PRESET_FAST)
-    ->Arg(cv::DISOpticalFlow::PRESET_MEDIUM)
+    ->Args({cv::DISOpticalFlow::PRESET_ULTRAFAST, 2})
+    ->Args({cv::DISOpticalFlow::PRESET_ULTRAFAST, 1})
+    ->Args({cv::DISOpticalFlow::PRESET_FAST, 1})
+    ->Args({cv::DISOpticalFlow::PRESET_MEDIUM, 1})
     ->Unit(benchmark::kMillisecond);
 
 void BM_TemporalFilter(benchmark::State& state) {

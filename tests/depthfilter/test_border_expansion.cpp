@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 
 #include "holo/core/error.hpp"
 #include "holo/depthfilter/border_expansion.hpp"
@@ -84,6 +85,37 @@ TEST(BorderExpansion, DegenerateMasksGiveNoBorder) {
   EXPECT_EQ(cv::countNonZero(expandBorder(some, depth, off).weight), 0);
   EXPECT_GT(cv::countNonZero(expandBorder(some, depth, {}).weight), 0);
   EXPECT_THROW(expandBorder(some, cv::Mat(10, 10, CV_32FC1), {}), Error);
+}
+
+// expandBorder works only on the mask's bounding box grown by the blur's reach. Against the
+// definition computed over the whole frame (blurred mask from the Gaussian pyramid, weight in
+// (0,1) outside the mask, depth of the nearest foreground pixel with a depth by brute force):
+// same border pixels and weights everywhere, for a mask in the middle and one at a corner.
+TEST(BorderExpansion, WorkingOnTheMasksNeighbourhoodMissesNoBorderPixel) {
+  for (const cv::Rect blob : {cv::Rect(90, 60, 30, 40), cv::Rect(0, 0, 12, 9)}) {
+    cv::Mat mask = cv::Mat::zeros(120, 200, CV_8UC1), depth = cv::Mat::zeros(120, 200, CV_32FC1);
+    mask(blob).setTo(255);
+    depth(blob).setTo(1.5f);
+    const BorderExpansionConfig config;
+    const BorderLayer layer = expandBorder(mask, depth, config);
+    cv::Mat level;
+    mask.convertTo(level, CV_32FC1, 1.0 / 255.0);
+    for (int l = 0; l < config.levels; ++l) cv::pyrDown(level, level);
+    cv::Mat blurred;
+    cv::resize(level, blurred, mask.size(), 0, 0, cv::INTER_LINEAR);
+    long border = 0;
+    for (int y = 0; y < mask.rows; ++y)
+      for (int x = 0; x < mask.cols; ++x) {
+        const float w = blurred.at<float>(y, x);
+        const bool expected = mask.at<std::uint8_t>(y, x) == 0 && w >= config.min_weight && w < 1.0f;
+        border += expected;
+        ASSERT_EQ(layer.weight.at<float>(y, x) > 0.0f, expected) << x << "," << y;
+        if (!expected) continue;
+        EXPECT_FLOAT_EQ(layer.weight.at<float>(y, x), w);
+        EXPECT_FLOAT_EQ(layer.depth.at<float>(y, x), 1.5f);
+      }
+    EXPECT_GT(border, 2L * (blob.width + blob.height));  // a ring, not a line
+  }
 }
 
 }  // namespace

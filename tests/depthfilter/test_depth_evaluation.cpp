@@ -27,9 +27,10 @@ TEST(DepthFilterEvaluation, ScoresEveryMethodOnTheSyntheticSequence) {
   const DepthMethodMetrics taa = DepthFilterEvaluation::combined(streams, DepthMethod::Taa);
   for (DepthMethod m : kDepthMethods) {
     const DepthMethodMetrics r = streams[0].metrics(m);
-    std::printf("%-6s temporal %.4f cm2 rmse %.3f cm fill %.4f ghost %.4f %.2f ms (%ld frames)\n",
-                depthMethodName(m), r.temporal_mse_cm2, r.depth_rmse_cm, r.hole_fill_ratio, r.ghost_ratio,
-                r.ms_per_frame, r.scored_frames);
+    std::printf(
+        "%-6s temporal %.4f cm2 rmse %.3f cm fill %.4f (raw holes %.4f) ghost %.4f %.2f ms (%ld frames)\n",
+        depthMethodName(m), r.temporal_mse_cm2, r.depth_rmse_cm, r.hole_fill_ratio, r.raw_holes_filled,
+        r.ghost_ratio, r.ms_per_frame, r.scored_frames);
   }
   EXPECT_EQ(ours.scored_frames, 20);
   EXPECT_EQ(raw.scored_frames, 20);
@@ -38,6 +39,8 @@ TEST(DepthFilterEvaluation, ScoresEveryMethodOnTheSyntheticSequence) {
   EXPECT_LE(ours.depth_rmse_cm, raw.depth_rmse_cm);
   EXPECT_GT(ours.hole_fill_ratio, 0.99);
   EXPECT_LT(raw.hole_fill_ratio, 0.98);
+  EXPECT_EQ(raw.raw_holes_filled, 0.0);  // raw fills none of its own holes, by definition
+  EXPECT_GT(ours.raw_holes_filled, 0.8);
   EXPECT_LT(ours.ghost_ratio, 0.02);
   EXPECT_GT(median.depth_rmse_cm, ours.depth_rmse_cm);  // the median smears the moving disc
   EXPECT_GT(taa.scored_frames, 0);

@@ -14,9 +14,16 @@ struct FlowError {
   double background_px = 0.0;
 };
 
-FlowError flowError(int preset) {
-  const test::SyntheticScene scene;
-  PrecursorFlow flow({preset});
+FlowError flowError(int preset, int downscale = 1, int width = 320, int height = 180) {
+  test::SyntheticScene scene;
+  if (width != scene.width) {  // the benchmark's 640x360 version of the scene
+    scene.width = width;
+    scene.height = height;
+    scene.focal = 500.0f;
+    scene.box = {80, 100, 120, 160};
+    scene.disc_radius_px = 56.0f;
+  }
+  PrecursorFlow flow({preset, downscale});
   const test::SyntheticFrame previous = scene.render(4, 3);
   const test::SyntheticFrame current = scene.render(5, 3);
   const cv::Mat lambda = flow.compute(current.frame.color, previous.frame.color);
@@ -66,6 +73,17 @@ TEST(PrecursorFlow, FirstFrameAndConfidence) {
   EXPECT_FLOAT_EQ(precursorConfidence({10, 20, 30}, {10, 20, 30}), 0.0f);
   EXPECT_FLOAT_EQ(precursorConfidence({0, 0, 0}, {255, 255, 255}), std::sqrt(3.0f) * 255.0f);
   EXPECT_FLOAT_EQ(precursorConfidence({3, 0, 0}, {0, 4, 0}), 5.0f);
+}
+
+TEST(PrecursorFlow, HalfSizeFlowAt640x360) {
+  // The speed option (docs/depthfilter.md, "Speed"): DIS on frames downscaled by 2.
+  for (int downscale : {1, 2}) {
+    const FlowError e = flowError(PrecursorFlowConfig{}.preset, downscale, 640, 360);
+    std::printf("640x360, downscale %d: end-point error disc %.3f px, background %.3f px\n", downscale,
+                e.disc_px, e.background_px);
+    EXPECT_LT(e.disc_px, 0.5);
+    EXPECT_LT(e.background_px, 0.2);
+  }
 }
 
 }  // namespace

@@ -18,14 +18,15 @@ struct MaskScore {
 };
 
 // The bars of issue 3 that this CI-sized run is held to: ours' temporal MSE' 100x below the
-// median's and 50x below TAA's, depth RMSE no worse than raw. Two bars are relaxed to what the
-// filter reaches (docs/depthfilter.md, "Simulated halls"): the issue asks hole_fill >= 0.95 and
-// ghost_ratio < 0.005; measured here 0.92 (holes next to depth edges stay holes) and 0.011 (ghosts
-// come from the shared mask; ours has fewer than raw).
+// median's and 50x below TAA's, depth RMSE no worse than raw. Two bars are relaxed at this size
+// (docs/depthfilter.md, "Simulated halls"): the issue asks hole_fill >= 0.95 and ghost_ratio <
+// 0.005 at 640x360; measured here 0.947 (at half the resolution, the holes along depth edges that
+// stay holes are a larger share of the visitors) and 0.006 (ghosts come from the shared mask;
+// ours has fewer than raw).
 struct Bars {
   double below_median = 100.0;
   double below_taa = 50.0;
-  double fill = 0.90;
+  double fill = 0.92;
 };
 
 bool meetsBars(const DepthMethodMetrics& m, const DepthMethodMetrics& raw, const DepthMethodMetrics& median,
@@ -101,9 +102,11 @@ class SimulatedMuseum : public ::testing::Test {
 };
 
 void print(const char* name, const DepthMethodMetrics& r) {
-  std::printf("%-8s temporal %9.3f cm2 change %9.3f cm2 rmse %6.3f cm fill %.4f ghost %.4f %.2f ms\n", name,
-              r.temporal_mse_cm2, r.depth_change_cm2, r.depth_rmse_cm, r.hole_fill_ratio, r.ghost_ratio,
-              r.ms_per_frame);
+  std::printf(
+      "%-8s temporal %9.3f cm2 change %9.3f cm2 rmse %6.3f cm fill %.4f (raw holes %.3f) ghost %.4f %.2f "
+      "ms\n",
+      name, r.temporal_mse_cm2, r.depth_change_cm2, r.depth_rmse_cm, r.hole_fill_ratio, r.raw_holes_filled,
+      r.ghost_ratio, r.ms_per_frame);
 }
 
 TEST_F(SimulatedMuseum, MaskFindsTheVisitors) {

@@ -34,12 +34,14 @@ struct Hole {
 };
 
 // Holes whose surroundings within edge_radius span more than the same-surface tolerance sit on a
-// depth edge and stay holes on purpose; they are not punched, so only the fill is measured.
+// depth edge, and holes within edge_radius of the mask's edge may continue an unmeasured surface
+// (a silhouette); without a measured precursor both stay holes on purpose. They are not punched,
+// so only the fill is measured.
 std::vector<Hole> punchableHoles(const cv::Mat& depth, const TemporalDepthFilterConfig& config) {
   const int ring = config.edge_radius;
   std::vector<Hole> holes;
-  for (int y = kChair.y + 1; y + kHoleSize + ring < kChair.br().y; y += kHoleSpacing)
-    for (int x = kChair.x + 1; x + kHoleSize + ring < kChair.br().x; x += kHoleSpacing) {
+  for (int y = kChair.y + ring + 1; y + kHoleSize + ring < kChair.br().y; y += kHoleSpacing)
+    for (int x = kChair.x + ring + 1; x + kHoleSize + ring < kChair.br().x; x += kHoleSpacing) {
       const cv::Rect around(x - ring, y - ring, kHoleSize + 2 * ring, kHoleSize + 2 * ring);
       const cv::Mat window = depth(around);
       if (cv::countNonZero(window > 0.0f) != window.rows * window.cols) continue;

@@ -12,7 +12,12 @@
 //                     motion included; reported with the truth's own value as its floor;
 //   depth_rmse_cm     RMS error against the true depth over the output pixels that truly are
 //                     foreground (a filter that freezes or smears depth loses here);
-//   hole_fill_ratio   share of pixels foreground in both truth and mask that get a depth;
+//   hole_fill_ratio   share of pixels foreground in both truth and mask that get a depth (the
+//                     output's coverage of the true foreground: a filter gains by filling holes
+//                     and loses by dropping measurements; fills outside the true foreground
+//                     count as ghosts, never as fills);
+//   raw_holes_filled  of those pixels, the ones the sensor gave no depth: the share that gets one
+//                     (raw: 0). Reported beside the bar, which is on hole_fill_ratio;
 //   ghost_ratio       share of output pixels where the truth has no foreground (trails);
 //   ms_per_frame      wall time of the method's depth filtering alone, per frame.
 #pragma once
@@ -45,6 +50,7 @@ struct DepthMethodMetrics {
   double depth_change_cm2 = 0.0;
   double depth_rmse_cm = 0.0;
   double hole_fill_ratio = 0.0;
+  double raw_holes_filled = 0.0;
   double ghost_ratio = 0.0;
   double ms_per_frame = 0.0;
   long scored_frames = 0;
@@ -68,6 +74,7 @@ class DepthScorer {
   double error_sq_sum_ = 0.0;
   long error_n_ = 0;
   long fill_hits_ = 0, fill_n_ = 0;
+  long raw_holes_filled_ = 0, raw_holes_ = 0;  // of fill_n_, pixels without a measured depth
   long ghosts_ = 0, outputs_ = 0;
   double seconds_ = 0.0;
   long frames_ = 0;

@@ -15,6 +15,9 @@ struct PrecursorFlowConfig {
   // is 0.20 px (FAST 0.34, MEDIUM 0.03) at 2.4 ms per 640x360 frame (FAST 4.2, MEDIUM 22.5), and
   // precursors are rounded to whole pixels, so MEDIUM's accuracy buys nothing.
   int preset = cv::DISOpticalFlow::PRESET_ULTRAFAST;
+  // The flow is computed on frames downscaled by this factor (area average) and scaled back
+  // (bilinear, vectors times the factor). 1 = full size. See docs/depthfilter.md, "Speed".
+  int downscale = 2;
 };
 
 class PrecursorFlow {
@@ -27,6 +30,8 @@ class PrecursorFlow {
 
  private:
   cv::Ptr<cv::DISOpticalFlow> dis_;
+  int downscale_ = 1;
+  cv::Mat current_grey_, previous_grey_, small_current_, small_previous_, small_flow_;  // scratch
 };
 
 // Confidence alpha of Equation 1: the RGB distance between a pixel and its precursor, in 8-bit

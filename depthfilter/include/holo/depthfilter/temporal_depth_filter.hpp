@@ -15,8 +15,12 @@
 // only). Push: from the top level down, a pixel without a pair takes its parent's unless the
 // parent's block straddles a depth edge; a pixel with one is blended with its parent by their
 // reliabilities (1 - c) unless their depths differ by more than the same-surface tolerance (a
-// depth edge, kept sharp). Only foreground pixels (phi_i) receive output, and a hole within
-// `edge_radius` of a depth edge stays a hole (it could belong to either surface).
+// depth edge, kept sharp). Only foreground pixels (phi_i) receive output. A hole (a foreground
+// pixel without a measurement) keeps the push's fill only where that is safe: away from depth
+// edges and, unless its precursor was measured within the last `fill_trust_frames` frames and
+// agrees, away from the mask's edge. Other holes take the surface of their measured neighbours
+// that share the hole's colour, if those lie on one surface (and on the trusted precursor's),
+// and stay holes otherwise (see guidedHoleFill in the source).
 // The choices where the paper is silent are listed, with reasons, in docs/depthfilter.md.
 //
 // Units: metres; depth 0 = invalid. Invariant: the output is CV_32FC1, finite, 0 outside phi_i,
@@ -24,6 +28,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <opencv2/core.hpp>
 
 #include "holo/depthfilter/empirical_cdf.hpp"
@@ -54,6 +59,18 @@ struct TemporalDepthFilterConfig {
   int motion_window = 9;
   // A hole whose measured neighbours within this radius (pixels) span a depth edge stays a hole.
   int edge_radius = 2;
+  // Hole fill. A hole's precursor is trusted when its depth was measured at most
+  // fill_trust_frames - 1 frames before (0 turns trust off). The push fills a hole unless it is
+  // next to a depth edge, its trusted precursor lies on another surface, or (without a trusted
+  // precursor) it is within edge_radius of the mask's edge. Otherwise, with a trusted precursor,
+  // the hole takes the mean of the measured neighbours within `fill_radius` px that lie on the
+  // precursor's surface and whose colour (sum of |B|,|G|,|R| differences) is within
+  // `fill_colour_margin` of the closest one, which must be at most `fill_colour_max`.
+  int fill_trust_frames = 3;
+  static constexpr int kMaxFillRadius = 4;
+  int fill_radius = 3;  // 0..kMaxFillRadius
+  float fill_colour_max = 30.0f;
+  float fill_colour_margin = 20.0f;
 
   float surfaceTolerance(float depth_m) const {
     return surface_tolerance_m + surface_tolerance_z2 * depth_m * depth_m;
@@ -72,6 +89,9 @@ struct DepthFilterInput {
 class TemporalDepthFilter {
  public:
   explicit TemporalDepthFilter(TemporalDepthFilterConfig config = {});
+  ~TemporalDepthFilter();
+  TemporalDepthFilter(TemporalDepthFilter&&) noexcept;
+  TemporalDepthFilter& operator=(TemporalDepthFilter&&) noexcept;
 
   // Filters one frame and remembers it (with its output depth) as gamma_{i-1} for the next.
   // Throws holo::Error on mismatched image types or sizes.
@@ -93,6 +113,10 @@ class TemporalDepthFilter {
   cv::Mat previous_color_;
   cv::Mat previous_depth_;  // filtered output of the previous frame
   cv::Mat previous_mask_;
+  cv::Mat previous_age_;  // CV_8UC1 frames since each previous output depth was measured, 255 = none
+  // Per-frame working images, kept so that a frame allocates (and page-faults) almost nothing.
+  struct Scratch;
+  std::unique_ptr<Scratch> scratch_ptr_;
 };
 
 }  // namespace holo::depthfilter
