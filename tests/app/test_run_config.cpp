@@ -6,6 +6,7 @@
 // ended, and that bad configurations fail with the file and the field named; the kiosk runs the
 // same configuration.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -44,8 +45,9 @@ constexpr int kVisitorFrames = 8;
 // The folder every test here shares, made once: recording, relic, panorama, calibration.
 class RunConfig : public ::testing::Test {
  protected:
+  // ctest runs each test in its own process, several at once: each process makes its own folder.
   static void SetUpTestSuite() {
-    dir_ = new fs::path(holo::test::scratchDir("app_run_config"));
+    dir_ = new fs::path(holo::test::scratchDir("app_run_config_" + std::to_string(getpid())));
     const fs::path& dir = *dir_;
     writeText(dir / "small_museum.yaml",
               "base: museum\ncamera: {width: 160, height: 96, hfov_deg: 110, vfov_deg: 70, fps: 30}\n");
@@ -78,7 +80,11 @@ class RunConfig : public ::testing::Test {
     pyramid.panorama_yaw_rad = 0.25f;
     holo::calib::savePyramidCalibration(holo::calib::pyramidCalibrationPath(dir / "calibration"), pyramid);
   }
-  static void TearDownTestSuite() { delete dir_; }
+  static void TearDownTestSuite() {
+    std::error_code ignored;
+    fs::remove_all(*dir_, ignored);
+    delete dir_;
+  }
 
   // A configuration with `exhibit` as its exhibit: section body (indented by 2).
   // `last_camera`: which camera of the recording face 3 shows (3 unless a test breaks it).
