@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
+#include <stdexcept>
+#include <string>
 
 #include <opencv2/imgproc.hpp>
 
@@ -28,28 +31,93 @@ T bilinear(const cv::Mat& m, float x, float y) {
 // centre is read bilinearly with weight 4/8, plus four bilinear taps one pixel out diagonally,
 // 1/8 each. Every tap is the mean of a 2x2 block, so the step is the 4x4 kernel below over input
 // pixels 2x-1..2x+2 (OpenCV's SIMD filter2D, edges replicated), sampled at even pixels.
-cv::Mat kawaseDown(const cv::Mat& in) {
+// Only the output pixels in out_box are computed: filter2D on a sub-matrix reads the parent's
+// pixels around it and replicates only at the true image border, so they equal the full build.
+void kawaseDown(const cv::Mat& in, cv::Mat& out, const cv::Rect& out_box, cv::Mat& scratch) {
   static const cv::Mat kernel = (cv::Mat_<float>(4, 4) << 1, 1, 1, 1,  //
                                  1, 5, 5, 1,                           //
                                  1, 5, 5, 1,                           //
                                  1, 1, 1, 1) /
                                 32.0f;
-  cv::Mat filtered;
-  cv::filter2D(in, filtered, -1, kernel, cv::Point(1, 1), 0.0, cv::BORDER_REPLICATE);
-  cv::Mat out(std::max(1, (in.rows + 1) / 2), std::max(1, (in.cols + 1) / 2), in.type());
+  if (out_box.empty()) return;
+  const cv::Rect in_box(2 * out_box.x, 2 * out_box.y, 2 * out_box.width - 1, 2 * out_box.height - 1);
+  // A view of the full-size scratch: filter2D's create() keeps it, so no allocation per build.
+  cv::Mat filtered = scratch(cv::Rect(0, 0, in_box.width, in_box.height));
+  cv::filter2D(in(in_box), filtered, -1, kernel, cv::Point(1, 1), 0.0, cv::BORDER_REPLICATE);
   const std::size_t pixel_bytes = in.elemSize();
-  for (int y = 0; y < out.rows; ++y) {
+  for (int y = 0; y < out_box.height; ++y) {
     const std::uint8_t* src = filtered.ptr<std::uint8_t>(2 * y);
-    std::uint8_t* dst = out.ptr<std::uint8_t>(y);
-    for (int x = 0; x < out.cols; ++x)
+    std::uint8_t* dst = out.ptr<std::uint8_t>(out_box.y + y) + std::size_t(out_box.x) * pixel_bytes;
+    for (int x = 0; x < out_box.width; ++x)
       std::memcpy(dst + std::size_t(x) * pixel_bytes, src + std::size_t(2 * x) * pixel_bytes, pixel_bytes);
   }
-  return out;
+}
+
+// The output pixels of one Kawase step that can be non-zero when the input is non-zero only in
+// `in_box`: output x reads input 2x-1..2x+2, so x in [ceil((x0-2)/2), floor((x1+1)/2)], clipped.
+cv::Rect kawaseSupport(const cv::Rect& in_box, cv::Size out_size) {
+  if (in_box.empty()) return {};
+  const int x0 = std::max(0, (in_box.x - 1) / 2), y0 = std::max(0, (in_box.y - 1) / 2);
+  const int last_x = std::min(out_size.width - 1, (in_box.x + in_box.width) / 2);
+  const int last_y = std::min(out_size.height - 1, (in_box.y + in_box.height) / 2);
+  return {x0, y0, last_x - x0 + 1, last_y - y0 + 1};
+}
+
+float repairedMask(float v) {
+  return v > 0.0f ? std::min(v, 1.0f) : 0.0f;
+}  // NaN, <0 -> 0; Inf -> 1
+float repairedMask(std::uint8_t v) {
+  return float(v) * (1.0f / 255.0f);
+}
+float repairedColour(float v) {
+  return std::isfinite(v) && v > 0.0f ? v : 0.0f;
+}
+
+// The bounding box of the repaired mask's non-zero pixels (empty when there are none).
+template <typename M>
+cv::Rect maskBox(const cv::Mat& mask) {
+  int x0 = mask.cols, y0 = mask.rows, x1 = -1, y1 = -1;
+  for (int y = 0; y < mask.rows; ++y) {
+    const M* row = mask.ptr<M>(y);
+    int first = -1, last = -1;
+    for (int x = 0; x < mask.cols; ++x)
+      if (repairedMask(row[x]) > 0.0f) {
+        if (first < 0) first = x;
+        last = x;
+      }
+    if (first < 0) continue;
+    x0 = std::min(x0, first);
+    x1 = std::max(x1, last);
+    y0 = std::min(y0, y);
+    y1 = y;
+  }
+  return x1 < 0 ? cv::Rect() : cv::Rect(x0, y0, x1 - x0 + 1, y1 - y0 + 1);
+}
+
+// Level 0 inside box: the repaired mask and the repaired colour premultiplied by it.
+template <typename M>
+void writeLevel0(const cv::Mat& colour_bgr, const cv::Mat& mask, const cv::Rect& box, cv::Mat& colour_out,
+                 cv::Mat& mask_out) {
+  for (int y = box.y; y < box.y + box.height; ++y) {
+    const M* m = mask.ptr<M>(y);
+    const cv::Vec3f* c = colour_bgr.ptr<cv::Vec3f>(y);
+    float* mo = mask_out.ptr<float>(y);
+    cv::Vec3f* co = colour_out.ptr<cv::Vec3f>(y);
+    for (int x = box.x; x < box.x + box.width; ++x) {
+      const float w = repairedMask(m[x]);
+      mo[x] = w;
+      for (int k = 0; k < 3; ++k) co[x][k] = repairedColour(c[x][k]) * w;
+    }
+  }
 }
 
 }  // namespace
 
 ForegroundPyramid::ForegroundPyramid(const cv::Mat& colour_bgr, const cv::Mat& mask, int levels) {
+  build(colour_bgr, mask, levels);
+}
+
+void ForegroundPyramid::build(const cv::Mat& colour_bgr, const cv::Mat& mask, int levels) {
   if (colour_bgr.type() != CV_32FC3 || colour_bgr.empty())
     throw InputError("ForegroundPyramid", "colour", "a non-empty CV_32FC3 linear BGR image");
   if (mask.type() != CV_32FC1 && mask.type() != CV_8UC1)
@@ -60,28 +128,54 @@ ForegroundPyramid::ForegroundPyramid(const cv::Mat& colour_bgr, const cv::Mat& m
   if (levels < 1 || levels > kMaxPyramidLevels)
     throw InputError("ForegroundPyramid", "levels", "1.." + std::to_string(kMaxPyramidLevels),
                      std::to_string(levels));
-  cv::Mat m;
-  if (mask.type() == CV_8UC1)
-    mask.convertTo(m, CV_32F, 1.0 / 255.0);
-  else
-    m = mask.clone();
-  // Repairs: NaN/Inf mask -> 0, clamp to [0, 1]; non-finite colour -> 0.
-  cv::patchNaNs(m, 0.0);
-  cv::min(cv::max(m, 0.0), 1.0, m);
-  cv::Mat c = colour_bgr.clone();
-  c.forEach<cv::Vec3f>([](cv::Vec3f& p, const int*) {
-    for (int k = 0; k < 3; ++k)
-      if (!std::isfinite(p[k]) || p[k] < 0.0f) p[k] = 0.0f;
-  });
-  cv::Mat m3;
-  cv::merge(std::vector<cv::Mat>{m, m, m}, m3);
-  c = c.mul(m3);
-  colour_.push_back(c);
-  mask_.push_back(m);
-  for (int l = 1; l < levels; ++l) {
-    colour_.push_back(kawaseDown(colour_.back()));
-    mask_.push_back(kawaseDown(mask_.back()));
+  levels_ = 0;  // empty until built (an exception below leaves it empty)
+  if (colour_.size() < std::size_t(levels)) {
+    colour_.resize(std::size_t(levels));
+    mask_.resize(std::size_t(levels));
+    support_.resize(std::size_t(levels));
   }
+  // Level sizes; a buffer of the right size keeps its storage and only its last support is
+  // cleared, any other is (re)allocated as zeros.
+  cv::Size size = colour_bgr.size();
+  for (int l = 0; l < levels; ++l) {
+    const std::size_t i = std::size_t(l);
+    if (colour_[i].size() != size || mask_[i].size() != size) {
+      colour_[i] = cv::Mat(size, CV_32FC3, cv::Scalar::all(0));
+      mask_[i] = cv::Mat(size, CV_32FC1, cv::Scalar(0));
+    } else if (!support_[i].empty()) {
+      colour_[i](support_[i]).setTo(cv::Scalar::all(0));
+      mask_[i](support_[i]).setTo(cv::Scalar(0));
+    }
+    support_[i] = {};
+    size = cv::Size(std::max(1, (size.width + 1) / 2), std::max(1, (size.height + 1) / 2));
+  }
+  if (filtered_colour_.size() != colour_bgr.size()) {
+    filtered_colour_.create(colour_bgr.size(), CV_32FC3);
+    filtered_mask_.create(colour_bgr.size(), CV_32FC1);
+  }
+
+  // Repairs (not errors): NaN/Inf mask -> 0 (+Inf -> 1), clamped to [0, 1]; non-finite or
+  // negative colour -> 0.
+  if (mask.type() == CV_8UC1) {
+    support_[0] = maskBox<std::uint8_t>(mask);
+    writeLevel0<std::uint8_t>(colour_bgr, mask, support_[0], colour_[0], mask_[0]);
+  } else {
+    support_[0] = maskBox<float>(mask);
+    writeLevel0<float>(colour_bgr, mask, support_[0], colour_[0], mask_[0]);
+  }
+  for (int l = 1; l < levels; ++l) {
+    const std::size_t i = std::size_t(l);
+    support_[i] = kawaseSupport(support_[i - 1], colour_[i].size());
+    kawaseDown(colour_[i - 1], colour_[i], support_[i], filtered_colour_);
+    kawaseDown(mask_[i - 1], mask_[i], support_[i], filtered_mask_);
+  }
+  levels_ = levels;
+}
+
+std::size_t ForegroundPyramid::checkedLevel(int level) const {
+  if (level < 0 || level >= levels_)
+    throw std::out_of_range("ForegroundPyramid: level " + std::to_string(level));
+  return std::size_t(level);
 }
 
 ForegroundSample ForegroundPyramid::sample(const vec2& pixel, float level) const {

@@ -153,16 +153,17 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
   } else {
     grid_.clear();
   }
-  pyramids_.clear();
+  // The pyramids are rebuilt in place, keeping their level images from frame to frame.
+  for (ForegroundPyramid& pyramid : pyramids_) pyramid.clear();
   if (result.plan.has(Pass::Pyramids)) {
     PassTimer t(result.frame_timings, Pass::Pyramids);
-    pyramids_.resize(cameras.size());
+    if (pyramids_.size() < cameras.size()) pyramids_.resize(cameras.size());
     // A camera without an image this frame (live: it dropped out) keeps an empty pyramid; the
     // walk ignores the voxels it saw.
     // One camera per task: a pyramid's levels are sequential, the cameras independent.
     tbb::parallel_for(std::size_t(0), cameras.size(), [&](std::size_t c) {
       if (!cameras[c].colour_bgr.empty())
-        pyramids_[c] = ForegroundPyramid(cameras[c].colour_bgr, cameras[c].mask, settings_.pyramid_levels);
+        pyramids_[c].build(cameras[c].colour_bgr, cameras[c].mask, settings_.pyramid_levels);
     });
   }
   while (caches_.size() < views.size()) caches_.push_back(std::make_unique<ViewCache>());

@@ -1,8 +1,10 @@
 // Per-view time of each pass of the frame renderer (milliseconds, as counters), with and without
 // foreground: a mirror-like sphere (roughness 0.2), three synthetic visitors around the pyramid
-// seen by four 640x360 cameras, one 256x256 face view with 4 sub-samples per pixel.
+// seen by four 640x360 cameras, one 256x256 face view with 4 sub-samples per pixel; and one
+// camera's foreground pyramid alone for masks of several sizes.
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <map>
 
 #include "holo/reflect/frame_renderer.hpp"
@@ -53,5 +55,29 @@ BENCHMARK(frame)
     ->Args({0, 4})
     ->Args({1, 1})
     ->Unit(benchmark::kMillisecond);
+
+// One camera's 7-level pyramid rebuilt per frame (the Pyramids pass per camera) for a mask that
+// covers a centred box of `coverage` percent of a 640x360 image: the build is restricted to the
+// mask's box grown by the blur, so a visitor covering a part of the image costs a part.
+void pyramid(benchmark::State& state) {
+  const double side = std::sqrt(double(state.range(0)) / 100.0);
+  const cv::Size box_size(int(640 * side), int(360 * side));
+  const cv::Mat colour(360, 640, CV_32FC3, cv::Scalar(0.2, 0.4, 0.8));
+  cv::Mat mask(360, 640, CV_8UC1, cv::Scalar(0));
+  mask(cv::Rect((640 - box_size.width) / 2, (360 - box_size.height) / 2, box_size.width, box_size.height))
+      .setTo(255);
+  ForegroundPyramid pyramid;
+  for (auto _ : state) {
+    pyramid.build(colour, mask, TracerSettings{}.pyramid_levels);
+    benchmark::DoNotOptimize(pyramid.mask(0).data);
+  }
+}
+BENCHMARK(pyramid)
+    ->ArgName("coverage_percent")
+    ->Arg(100)
+    ->Arg(25)
+    ->Arg(5)
+    ->Arg(0)
+    ->Unit(benchmark::kMicrosecond);
 
 }  // namespace

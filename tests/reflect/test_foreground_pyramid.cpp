@@ -2,7 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <limits>
+#include <utility>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
 
 #include "holo/core/error.hpp"
 
@@ -71,6 +76,101 @@ TEST(ForegroundPyramid, NonFiniteInputsAreRepairedAndReadsStayBounded) {
       EXPECT_LE(s.weight, 1.0f);
     }
   EXPECT_NEAR(pyramid.sample(vec2(4.0f), 0.0f).weight, 1.0f, 1e-6f);
+}
+
+// The full-image build the support-restricted one must equal: repair, premultiply, then every
+// level the 4x4 Kawase kernel over the whole previous level (edges replicated), even pixels kept.
+std::vector<std::pair<cv::Mat, cv::Mat>> fullImagePyramid(const cv::Mat& colour_bgr, const cv::Mat& mask,
+                                                          int levels) {
+  cv::Mat m, c = colour_bgr.clone();
+  if (mask.type() == CV_8UC1)
+    mask.convertTo(m, CV_32F, 1.0 / 255.0);
+  else
+    m = mask.clone();
+  cv::patchNaNs(m, 0.0);
+  cv::min(cv::max(m, 0.0), 1.0, m);
+  c.forEach<cv::Vec3f>([](cv::Vec3f& p, const int*) {
+    for (int k = 0; k < 3; ++k)
+      if (!std::isfinite(p[k]) || p[k] < 0.0f) p[k] = 0.0f;
+  });
+  cv::Mat m3;
+  cv::merge(std::vector<cv::Mat>{m, m, m}, m3);
+  std::vector<std::pair<cv::Mat, cv::Mat>> out{{c.mul(m3), m}};
+  const cv::Mat kernel = (cv::Mat_<float>(4, 4) << 1, 1, 1, 1, 1, 5, 5, 1, 1, 5, 5, 1, 1, 1, 1, 1) / 32.0f;
+  auto down = [&](const cv::Mat& in) {
+    cv::Mat filtered;
+    cv::filter2D(in, filtered, -1, kernel, cv::Point(1, 1), 0.0, cv::BORDER_REPLICATE);
+    cv::Mat half(std::max(1, (in.rows + 1) / 2), std::max(1, (in.cols + 1) / 2), in.type());
+    for (int y = 0; y < half.rows; ++y)
+      for (int x = 0; x < half.cols; ++x)
+        std::memcpy(half.ptr(y, x), filtered.ptr(2 * y, 2 * x), in.elemSize());
+    return half;
+  };
+  for (int l = 1; l < levels; ++l) out.emplace_back(down(out.back().first), down(out.back().second));
+  return out;
+}
+
+// Largest absolute difference, relative to the reference's largest value (1 when all zero).
+double relativeDifference(const cv::Mat& a, const cv::Mat& b) {
+  double peak = 0.0;
+  cv::minMaxLoc(b.reshape(1), nullptr, &peak);
+  return cv::norm(a, b, cv::NORM_INF) / std::max(peak, 1e-30);
+}
+
+TEST(ForegroundPyramid, SupportRestrictedBuildEqualsTheFullImageBuild) {
+  const int w = 203, h = 117, levels = 7;  // odd sizes: every level halves with a remainder
+  cv::RNG rng(7);
+  cv::Mat colour(h, w, CV_32FC3);
+  rng.fill(colour, cv::RNG::UNIFORM, 0.0, 4.0);
+  colour.at<cv::Vec3f>(5, 5) =
+      cv::Vec3f(std::numeric_limits<float>::quiet_NaN(), 1, 1);  // outside most masks
+  auto disc = [&](int cx, int cy, int r) {
+    cv::Mat m(h, w, CV_32FC1, cv::Scalar(0));
+    cv::circle(m, cv::Point(cx, cy), r, cv::Scalar(0.8), cv::FILLED);
+    return m;
+  };
+  cv::Mat soft = disc(150, 60, 20);
+  cv::GaussianBlur(soft, soft, cv::Size(9, 9), 3.0);
+  cv::Mat corner(h, w, CV_8UC1, cv::Scalar(0));
+  corner(cv::Rect(w - 9, h - 6, 9, 6)).setTo(200);  // touching the right and bottom borders
+  cv::Mat tiny(h, w, CV_32FC1, cv::Scalar(0));
+  tiny.at<float>(40, 77) = 1.0f;
+  const std::vector<std::pair<const char*, cv::Mat>> masks{
+      {"empty", cv::Mat(h, w, CV_32FC1, cv::Scalar(0))},
+      {"full", cv::Mat(h, w, CV_32FC1, cv::Scalar(1))},
+      {"disc", disc(60, 50, 25)},
+      {"soft disc", soft},
+      {"top-left border", disc(0, 0, 12)},
+      {"bottom-right border (8-bit)", corner},
+      {"tiny", tiny},
+  };
+  // One pyramid rebuilt for every mask in turn: the previous mask's support must be cleared.
+  ForegroundPyramid pyramid;
+  for (const auto& [name, mask] : masks) {
+    pyramid.build(colour, mask, levels);
+    const auto reference = fullImagePyramid(colour, mask, levels);
+    ASSERT_EQ(pyramid.levels(), levels);
+    for (int l = 0; l < levels; ++l) {
+      const auto& [ref_colour, ref_mask] = reference[std::size_t(l)];
+      ASSERT_EQ(pyramid.premultipliedColour(l).size(), ref_colour.size()) << name << " level " << l;
+      EXPECT_LE(relativeDifference(pyramid.premultipliedColour(l), ref_colour), 1e-6)
+          << name << " level " << l;
+      EXPECT_LE(relativeDifference(pyramid.mask(l), ref_mask), 1e-6) << name << " level " << l;
+      // The support is exactly the box of the reference's non-zero pixels (the kernel is positive
+      // everywhere, so every pixel whose footprint meets the mask is non-zero).
+      EXPECT_EQ(pyramid.support(l), cv::boundingRect(ref_mask > 0.0f)) << name << " level " << l;
+    }
+  }
+  // The last mask was one pixel: level 0 is that pixel; a step maps a width w to at most
+  // w / 2 + 2, so the box stays within 3x3 pixels at every level.
+  EXPECT_EQ(pyramid.support(0), cv::Rect(77, 40, 1, 1));
+  for (int l = 0; l < levels; ++l) EXPECT_LE(pyramid.support(l).area(), 9) << "level " << l;
+  pyramid.build(colour, masks.front().second, levels);  // empty mask: nothing to filter
+  EXPECT_TRUE(pyramid.support(0).empty());
+  EXPECT_TRUE(pyramid.support(levels - 1).empty());
+  pyramid.clear();
+  EXPECT_TRUE(pyramid.empty());
+  EXPECT_EQ(pyramid.sample(vec2(77.0f, 40.0f), 0.0f).weight, 0.0f);
 }
 
 TEST(ForegroundPyramid, RejectsMismatchedInputs) {

@@ -14,6 +14,11 @@
 // delivers sigma^2(L) = (5/12) 4^L - 1/4 and the level for a wanted sigma is
 // L = log2((sigma^2 + 1/4) 12/5) / 2 (clamped at 0). tests/reflect/test_foreground_pyramid.cpp
 // measures it on an impulse.
+//
+// Support: premultiplied colour and mask are exactly 0 where the blurred mask cannot reach, so
+// each level is filtered only over the mask's bounding box grown by the Kawase footprint at that
+// level (support(level)); the rest of the level stays 0. The result equals the full-image build
+// (tests/reflect/test_foreground_pyramid.cpp compares them); a small visitor costs a small box.
 // Units: pixels of the camera image (level 0), linear radiance.
 #pragma once
 
@@ -40,17 +45,32 @@ class ForegroundPyramid {
   // Throws InputError when the types or sizes disagree or levels is outside 1..kMaxPyramidLevels.
   ForegroundPyramid(const cv::Mat& colour_bgr, const cv::Mat& mask, int levels);
 
-  int levels() const { return int(colour_.size()); }
-  bool empty() const { return colour_.empty(); }
+  // Rebuilds in place (same contract as the constructor). The level images are reused when the
+  // image size and level count are unchanged, so a per-frame rebuild allocates no level images.
+  void build(const cv::Mat& colour_bgr, const cv::Mat& mask, int levels);
+  // Makes the pyramid empty (sample() returns weight 0) but keeps its buffers for the next build.
+  void clear() { levels_ = 0; }
+
+  int levels() const { return levels_; }
+  bool empty() const { return levels_ == 0; }
   // Bilinear read at a level-0 pixel position (integer = pixel centre) with a continuous level
   // clamped to [0, levels-1] (linear between the two nearest levels). Outside the image: clamped.
   ForegroundSample sample(const vec2& pixel, float level) const;
-  const cv::Mat& premultipliedColour(int level) const { return colour_.at(std::size_t(level)); }
-  const cv::Mat& mask(int level) const { return mask_.at(std::size_t(level)); }
+  // Level images, 0 <= level < levels() (throws std::out_of_range otherwise).
+  const cv::Mat& premultipliedColour(int level) const { return colour_.at(checkedLevel(level)); }
+  const cv::Mat& mask(int level) const { return mask_.at(checkedLevel(level)); }
+  // The level's pixels that may be non-zero (in that level's pixels); every pixel outside is 0.
+  // Empty when the mask is empty.
+  const cv::Rect& support(int level) const { return support_.at(checkedLevel(level)); }
 
  private:
-  std::vector<cv::Mat> colour_;  // CV_32FC3, colour * mask
-  std::vector<cv::Mat> mask_;    // CV_32FC1
+  std::size_t checkedLevel(int level) const;
+
+  int levels_ = 0;
+  std::vector<cv::Mat> colour_;    // CV_32FC3, colour * mask; may hold more than levels_ (kept buffers)
+  std::vector<cv::Mat> mask_;      // CV_32FC1
+  std::vector<cv::Rect> support_;  // per level, the region written by the last build
+  cv::Mat filtered_colour_, filtered_mask_;  // Kawase filter scratch, reused across builds
 };
 
 // The Kawase pyramid's blur: per-axis standard deviation (level-0 pixels) of a continuous level,
