@@ -43,20 +43,25 @@ float meanEdgeDepth(const cv::Mat& mask, const cv::Mat& depth) {
 
 }  // namespace
 
+cv::Rect borderBox(const cv::Mat& mask, const BorderExpansionConfig& config) {
+  const cv::Rect box = cv::boundingRect(mask);
+  if (box.empty()) return box;
+  // Border pixels lie within reach of the blurred mask: the Gaussian pyramid spreads the mask by
+  // 2 px per level at that level's scale (2^(levels+1) - 2 px in all), and the upsampling by
+  // about one coarse pixel more (2^levels), so less than 4 * 2^levels px.
+  const int reach = config.levels > 0 ? 4 << std::min(config.levels, 10) : 0;
+  return cv::Rect(box.x - reach, box.y - reach, box.width + 2 * reach, box.height + 2 * reach) &
+         cv::Rect(0, 0, mask.cols, mask.rows);
+}
+
 BorderLayer expandBorder(const cv::Mat& mask, const cv::Mat& depth, const BorderExpansionConfig& config) {
   if (mask.type() != CV_8UC1 || depth.type() != CV_32FC1 || mask.size() != depth.size())
     throw Error("expandBorder: expected a CV_8UC1 mask and CV_32FC1 depth of one size");
   BorderLayer layer{cv::Mat::zeros(mask.size(), CV_32FC1), cv::Mat::zeros(mask.size(), CV_32FC1)};
   if (config.levels <= 0 || mask.empty() || cv::countNonZero(mask) == 0) return layer;
 
-  // Border pixels lie within reach of the blurred mask: the Gaussian pyramid spreads the mask by
-  // 2 px per level at that level's scale (2^(levels+1) - 2 px in all), and the upsampling by
-  // about one coarse pixel more (2^levels), so less than 4 * 2^levels px. Everything below works
-  // on the mask's bounding box grown by that.
-  const int reach = 4 << std::min(config.levels, 10);
-  cv::Rect roi = cv::boundingRect(mask);
-  roi = cv::Rect(roi.x - reach, roi.y - reach, roi.width + 2 * reach, roi.height + 2 * reach) &
-        cv::Rect(0, 0, mask.cols, mask.rows);
+  // Everything below works on the border box.
+  const cv::Rect roi = borderBox(mask, config);
   const cv::Mat mask_roi = mask(roi), depth_roi = depth(roi);
 
   // Foreground pixels with a valid depth: the sources of border depth.

@@ -29,18 +29,20 @@ std::array<float, 256> srgbTable() {
   return table;
 }
 
+// Back-projects the filtered depth and the border layer. Both are 0 outside `box` (the filter
+// outputs only on the mask; see borderBox), so only the box is read.
 void appendPoints(const CameraModel& camera, std::uint16_t camera_index, const std::vector<vec3>& directions,
-                  const cv::Mat& color, const CameraForeground& result, float exposure,
+                  const cv::Mat& color, const CameraForeground& result, const cv::Rect& box, float exposure,
                   std::vector<ForegroundPoint>& out) {
   static const std::array<float, 256> kLinear = srgbTable();
   const mat4& T = camera.T_world_camera();
   const float inverse_exposure = 1.0f / exposure;
-  for (int y = 0; y < result.depth.rows; ++y) {
+  for (int y = box.y; y < box.y + box.height; ++y) {
     const float* depth = result.depth.ptr<float>(y);
     const float* border_weight = result.border.weight.ptr<float>(y);
     const float* border_depth = result.border.depth.ptr<float>(y);
     const cv::Vec3b* bgr = color.ptr<cv::Vec3b>(y);
-    for (int x = 0; x < result.depth.cols; ++x) {
+    for (int x = box.x; x < box.x + box.width; ++x) {
       float d = depth[x], w = 1.0f;
       if (!(d > 0.0f)) {
         d = border_depth[x];
@@ -145,7 +147,7 @@ ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> frames) {
     result.border = expandBorder(result.mask, result.depth, config_.border);
     frame.color.copyTo(stage.previous_color);  // reuses the buffer of the frame before
     appendPoints(cameras_[i], static_cast<std::uint16_t>(i), stage.plane_directions, frame.color, result,
-                 config_.exposure, stage.points);
+                 borderBox(result.mask, config_.border), config_.exposure, stage.points);
   };
   if (config_.parallel)
     tbb::parallel_for(std::size_t(0), stages_.size(), run_camera);

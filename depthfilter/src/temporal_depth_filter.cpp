@@ -61,24 +61,25 @@ void checkInput(const DepthFilterInput& in) {
 // The measured depth (into `out`, with `clean` as scratch) with flying pixels removed: a foreground depth
 // counts only when at least `min_support` of its 8 neighbours lie on the same surface (within T(z)). A flying
 // pixel lies between two surfaces and matches neither; a pixel of a real surface, even a 1-2 px wide arm, has
-// neighbours along it.
-void supportedDepth(const cv::Mat& depth, const cv::Mat& mask, const TemporalDepthFilterConfig& config,
-                    cv::Mat& clean, cv::Mat& out) {
+// neighbours along it. Works on `roi`, which holds the mask and one pixel around it (or touches the
+// image's edge); `clean` and `out` are left as they were outside it.
+void supportedDepth(const cv::Mat& depth, const cv::Mat& mask, const cv::Rect& roi,
+                    const TemporalDepthFilterConfig& config, cv::Mat& clean, cv::Mat& out) {
   const int width = depth.cols, height = depth.rows;
   clean.create(depth.size(), CV_32FC1);
-  for (int y = 0; y < height; ++y) {
+  for (int y = roi.y; y < roi.y + roi.height; ++y) {
     const float* in = depth.ptr<float>(y);
     float* c = clean.ptr<float>(y);
-    for (int x = 0; x < width; ++x) c[x] = sanitisedDepth(in[x]);
+    for (int x = roi.x; x < roi.x + roi.width; ++x) c[x] = sanitisedDepth(in[x]);
   }
   out.create(depth.size(), CV_32FC1);
-  out.setTo(0.0f);
-  for (int y = 0; y < height; ++y) {
+  out(roi).setTo(0.0f);
+  for (int y = roi.y; y < roi.y + roi.height; ++y) {
     const std::uint8_t* m = mask.ptr<std::uint8_t>(y);
     const float* rows[3] = {y > 0 ? clean.ptr<float>(y - 1) : nullptr, clean.ptr<float>(y),
                             y + 1 < height ? clean.ptr<float>(y + 1) : nullptr};
     float* o = out.ptr<float>(y);
-    for (int x = 0; x < width; ++x) {
+    for (int x = roi.x; x < roi.x + roi.width; ++x) {
       const float d = rows[1][x];
       if (m[x] == 0 || d <= 0.0f) continue;
       const float tolerance = config.surfaceTolerance(d);
@@ -174,17 +175,21 @@ float guidedHoleFill(const cv::Mat& measured, const Level& filtered, const cv::M
 }
 
 // Pull (Algorithm 1, lines 23-26): each parent averages the children whose confidence is within
-// `tolerance` of the block's minimum.
-void pull(const Level& child, Level& parent, const TemporalDepthFilterConfig& config) {
+// `tolerance` of the block's minimum. Only the parents in `parent_rect` are computed, from the
+// children in `child_rect`; children outside it count as missing (they lie outside the work box).
+void pull(const Level& child, const cv::Rect& child_rect, Level& parent, const cv::Rect& parent_rect,
+          const TemporalDepthFilterConfig& config) {
   const float tolerance = config.min_confidence_tolerance;
-  for (int y = 0; y < parent.height; ++y) {
-    for (int x = 0; x < parent.width; ++x) {
+  for (int y = parent_rect.y; y < parent_rect.y + parent_rect.height; ++y) {
+    for (int x = parent_rect.x; x < parent_rect.x + parent_rect.width; ++x) {
       Pair block[4];
       int n = 0;
       for (int dy = 0; dy < 2; ++dy)
         for (int dx = 0; dx < 2; ++dx) {
           const int cx = 2 * x + dx, cy = 2 * y + dy;
-          if (cx >= child.width || cy >= child.height) continue;
+          if (cx < child_rect.x || cy < child_rect.y || cx >= child_rect.x + child_rect.width ||
+              cy >= child_rect.y + child_rect.height)
+            continue;
           const Pair& p = child.pairs[std::size_t(cy) * std::size_t(child.width) + std::size_t(cx)];
           if (p.valid()) block[n++] = p;
         }
@@ -221,11 +226,12 @@ void pull(const Level& child, Level& parent, const TemporalDepthFilterConfig& co
 }
 
 // Push (line 28): fill a missing pair from the parent; blend a present one with the parent by
-// reliabilities (1 - c) when both lie on one surface.
-void push(const Level& parent, Level& child, const TemporalDepthFilterConfig& config) {
+// reliabilities (1 - c) when both lie on one surface. Only the children in `child_rect`.
+void push(const Level& parent, Level& child, const cv::Rect& child_rect,
+          const TemporalDepthFilterConfig& config) {
   constexpr float kEps = 1e-3f;  // keeps the weights positive when both confidences are 1
-  for (int y = 0; y < child.height; ++y) {
-    for (int x = 0; x < child.width; ++x) {
+  for (int y = child_rect.y; y < child_rect.y + child_rect.height; ++y) {
+    for (int x = child_rect.x; x < child_rect.x + child_rect.width; ++x) {
       const Pair& p = parent.pairs[std::size_t(y / 2) * std::size_t(parent.width) + std::size_t(x / 2)];
       Pair& c = child.at(x, y);
       if (!p.valid()) continue;
@@ -243,6 +249,22 @@ void push(const Level& parent, Level& child, const TemporalDepthFilterConfig& co
       c.confidence = (wc * c.confidence + wp * p.confidence) / (wc + wp);
     }
   }
+}
+
+// The part of the frame that the per-pixel passes work on. Outside the mask the output is 0,
+// and a foreground pixel's output reads at most `reach` pixels around it: its 8 neighbours (flying
+// pixels), the motion window, the depth-edge radius and the hole fill's radius. The pyramid needs
+// nothing more: a pulled block outside the box holds no foreground pixel and so no pair. The box
+// filter of the motion reflects its border within the box; twice the reach keeps the reflected
+// values zero, as outside the mask. Empty when the mask is.
+cv::Rect workBox(const cv::Mat& mask, const TemporalDepthFilterConfig& config) {
+  const cv::Rect frame(0, 0, mask.cols, mask.rows);
+  if (!config.mask_box_only) return frame;
+  const cv::Rect box = cv::boundingRect(mask);
+  if (box.empty()) return box;
+  const int reach = std::max({1, config.motion_window / 2, config.edge_radius, config.fill_radius});
+  const int margin = 2 * reach;
+  return cv::Rect(box.x - margin, box.y - margin, box.width + 2 * margin, box.height + 2 * margin) & frame;
 }
 
 }  // namespace
@@ -283,7 +305,10 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
   const bool learn = learning();
   Scratch& scratch = *scratch_ptr_;
 
-  supportedDepth(in.depth, in.mask, config_, scratch.clean, scratch.measured);
+  // Every per-pixel pass below works on `roi` only (see workBox); the scratch images hold stale
+  // values outside it, which nothing reads.
+  const cv::Rect roi = workBox(in.mask, config_);
+  supportedDepth(in.depth, in.mask, roi, config_, scratch.clean, scratch.measured);
   const cv::Mat& measured = scratch.measured;
   // GetPrePx (line 7) for every foreground pixel: the precursor must lie in the image, on the
   // previous foreground and carry a depth; it is used only on the same surface (within T(z)).
@@ -294,11 +319,11 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
   cv::Mat& motion_weight = scratch.motion_weight;
   for (cv::Mat* m : {&pre_depth, &alphas, &motion, &motion_weight}) {
     m->create(height, width, CV_32FC1);
-    m->setTo(0.0f);
+    (*m)(roi).setTo(0.0f);
   }
   pre_age.create(height, width, CV_8UC1);
-  pre_age.setTo(kNoDepth);
-  for (int y = 0; has_previous && y < height; ++y) {
+  pre_age(roi).setTo(kNoDepth);
+  for (int y = roi.y; has_previous && y < roi.y + roi.height; ++y) {
     const float* depth = measured.ptr<float>(y);
     const std::uint8_t* mask = in.mask.ptr<std::uint8_t>(y);
     const cv::Vec3b* color = in.color.ptr<cv::Vec3b>(y);
@@ -308,7 +333,7 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
     std::uint8_t* pre_age_row = pre_age.ptr<std::uint8_t>(y);
     float* motion_row = motion.ptr<float>(y);
     float* motion_weight_row = motion_weight.ptr<float>(y);
-    for (int x = 0; x < width; ++x) {
+    for (int x = roi.x; x < roi.x + roi.width; ++x) {
       if (mask[x] == 0 || !std::isfinite(flow[x][0]) || !std::isfinite(flow[x][1])) continue;
       const int px = static_cast<int>(std::lround(float(x) + flow[x][0]));
       const int py = static_cast<int>(std::lround(float(y) + flow[x][1]));
@@ -328,10 +353,12 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
   // The flow gives only the motion in the image; a visitor walking towards the camera also moves
   // in depth. The local mean of d - d_pre over the same surface is that motion, and adding it to
   // d_pre keeps the recursion from lagging one frame of depth motion behind.
-  if (has_previous && config_.motion_window > 1) {
+  if (has_previous && config_.motion_window > 1 && !roi.empty()) {
     const cv::Size window(config_.motion_window, config_.motion_window);
-    cv::boxFilter(motion, motion, -1, window, cv::Point(-1, -1), false);
-    cv::boxFilter(motion_weight, motion_weight, -1, window, cv::Point(-1, -1), false);
+    const int border = cv::BORDER_REFLECT_101 | cv::BORDER_ISOLATED;
+    cv::Mat motion_roi = motion(roi), motion_weight_roi = motion_weight(roi);
+    cv::boxFilter(motion_roi, motion_roi, -1, window, cv::Point(-1, -1), false, border);
+    cv::boxFilter(motion_weight_roi, motion_weight_roi, -1, window, cv::Point(-1, -1), false, border);
   }
 
   // The pyramid's levels keep their storage from frame to frame.
@@ -340,21 +367,25 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
   Level& base = pyramid.front();
   base.width = width;
   base.height = height;
-  base.pairs.assign(std::size_t(width) * std::size_t(height), Pair{});
+  base.pairs.resize(std::size_t(width) * std::size_t(height));
+  for (int y = roi.y; y < roi.y + roi.height; ++y) {
+    const auto row = base.pairs.begin() + std::ptrdiff_t(y) * width;
+    std::fill(row + roi.x, row + roi.x + roi.width, Pair{});
+  }
   cv::Mat output = cv::Mat::zeros(height, width, CV_32FC1);
   // Frames since each output depth was last measured (0: measured in this frame); while
   // learning, every passed-through depth counts as measured.
   cv::Mat& age = scratch.age;
   age.create(height, width, CV_8UC1);
   age.setTo(learn ? 0 : kNoDepth);
-  for (int y = 0; y < height; ++y) {
+  for (int y = roi.y; y < roi.y + roi.height; ++y) {
     const float* depth = measured.ptr<float>(y);
     const std::uint8_t* mask = in.mask.ptr<std::uint8_t>(y);
     float* pre_row = pre_depth.ptr<float>(y);
     const float* alpha_row = alphas.ptr<float>(y);
     const float* motion_row = motion.ptr<float>(y);
     const float* motion_weight_row = motion_weight.ptr<float>(y);
-    for (int x = 0; x < width; ++x) {
+    for (int x = roi.x; x < roi.x + roi.width; ++x) {
       if (mask[x] == 0) continue;
       const float d = depth[x];
       float d_pre = pre_row[x];
@@ -385,7 +416,8 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
     }
   }
 
-  if (!learn) {
+  if (!learn && !roi.empty()) {
+    std::vector<cv::Rect> rects{roi};  // the work box at each level
     std::size_t top = 0;
     for (int l = 1; l < config_.levels; ++l) {
       if (pyramid[top].width == 1 && pyramid[top].height == 1) break;
@@ -394,19 +426,26 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
       parent.width = (pyramid[top].width + 1) / 2;
       parent.height = (pyramid[top].height + 1) / 2;
       parent.pairs.resize(std::size_t(parent.width) * std::size_t(parent.height));
-      pull(pyramid[top], parent, config_);
+      const cv::Rect& child_rect = rects.back();
+      const int x0 = child_rect.x / 2, y0 = child_rect.y / 2;
+      const int x1 = (child_rect.x + child_rect.width + 1) / 2,
+                y1 = (child_rect.y + child_rect.height + 1) / 2;
+      rects.emplace_back(x0, y0, x1 - x0, y1 - y0);
+      pull(pyramid[top], child_rect, parent, rects.back(), config_);
       ++top;
     }
-    for (std::size_t l = top; l > 0; --l) push(pyramid[l], pyramid[l - 1], config_);
+    for (std::size_t l = top; l > 0; --l) push(pyramid[l], pyramid[l - 1], rects[l - 1], config_);
     const Level& filtered = pyramid.front();
     // Pixels farther than edge_radius inside the mask: a hole there lies within the measured
     // surface around it. Nearer the mask's edge, the surface may continue unmeasured (a body's
     // side turning away at a grazing angle) and a fill needs a trusted precursor.
     cv::Mat& inner = scratch.inner;
+    inner.create(height, width, CV_8UC1);
+    cv::Mat inner_roi = inner(roi);
     const int side = 2 * config_.edge_radius + 1;
-    cv::erode(in.mask, inner, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)),
+    cv::erode(in.mask(roi), inner_roi, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)),
               cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
-    for (int y = 0; y < height; ++y) {
+    for (int y = roi.y; y < roi.y + roi.height; ++y) {
       const std::uint8_t* mask = in.mask.ptr<std::uint8_t>(y);
       const std::uint8_t* inside = inner.ptr<std::uint8_t>(y);
       const float* measured_row = measured.ptr<float>(y);
@@ -414,7 +453,7 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
       const std::uint8_t* pre_age_row = pre_age.ptr<std::uint8_t>(y);
       float* out = output.ptr<float>(y);
       std::uint8_t* out_age = age.ptr<std::uint8_t>(y);
-      for (int x = 0; x < width; ++x) {
+      for (int x = roi.x; x < roi.x + roi.width; ++x) {
         if (mask[x] == 0) continue;
         const float d = filtered.pairs[std::size_t(y) * std::size_t(width) + std::size_t(x)].depth;
         if (measured_row[x] > 0.0f) {

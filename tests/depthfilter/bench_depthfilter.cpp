@@ -59,9 +59,11 @@ BENCHMARK(BM_Flow)
     ->Args({cv::DISOpticalFlow::PRESET_MEDIUM, 1})
     ->Unit(benchmark::kMillisecond);
 
+// Arg: mask_box_only (1, the default: the passes work on the mask's box; 0: the whole frame).
 void BM_TemporalFilter(benchmark::State& state) {
   TemporalDepthFilterConfig config;
   config.learning_frames = 4;
+  config.mask_box_only = state.range(0) != 0;
   TemporalDepthFilter filter(config);
   PrecursorFlow flow;
   std::vector<cv::Mat> flows;
@@ -76,7 +78,7 @@ void BM_TemporalFilter(benchmark::State& state) {
         filter.apply({frames()[i].frame.color, frames()[i].frame.depth, frames()[i].true_mask, flows[i]}));
   }
 }
-BENCHMARK(BM_TemporalFilter)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TemporalFilter)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
 
 void BM_BorderExpansion(benchmark::State& state) {
   const test::SyntheticFrame& f = frames()[8];

@@ -90,14 +90,17 @@ TEST(BorderExpansion, DegenerateMasksGiveNoBorder) {
 // expandBorder works only on the mask's bounding box grown by the blur's reach. Against the
 // definition computed over the whole frame (blurred mask from the Gaussian pyramid, weight in
 // (0,1) outside the mask, depth of the nearest foreground pixel with a depth by brute force):
-// same border pixels and weights everywhere, for a mask in the middle and one at a corner.
+// same border pixels and weights everywhere, for a mask in the middle and one at a corner. Every
+// border and mask pixel lies in borderBox (the back-projection reads only that).
 TEST(BorderExpansion, WorkingOnTheMasksNeighbourhoodMissesNoBorderPixel) {
+  EXPECT_TRUE(borderBox(cv::Mat::zeros(120, 200, CV_8UC1), {}).empty());
   for (const cv::Rect blob : {cv::Rect(90, 60, 30, 40), cv::Rect(0, 0, 12, 9)}) {
     cv::Mat mask = cv::Mat::zeros(120, 200, CV_8UC1), depth = cv::Mat::zeros(120, 200, CV_32FC1);
     mask(blob).setTo(255);
     depth(blob).setTo(1.5f);
     const BorderExpansionConfig config;
     const BorderLayer layer = expandBorder(mask, depth, config);
+    const cv::Rect box = borderBox(mask, config);
     cv::Mat level;
     mask.convertTo(level, CV_32FC1, 1.0 / 255.0);
     for (int l = 0; l < config.levels; ++l) cv::pyrDown(level, level);
@@ -109,6 +112,9 @@ TEST(BorderExpansion, WorkingOnTheMasksNeighbourhoodMissesNoBorderPixel) {
         const float w = blurred.at<float>(y, x);
         const bool expected = mask.at<std::uint8_t>(y, x) == 0 && w >= config.min_weight && w < 1.0f;
         border += expected;
+        if (expected || mask.at<std::uint8_t>(y, x) != 0) {
+          ASSERT_TRUE(box.contains({x, y})) << x << "," << y;
+        }
         ASSERT_EQ(layer.weight.at<float>(y, x) > 0.0f, expected) << x << "," << y;
         if (!expected) continue;
         EXPECT_FLOAT_EQ(layer.weight.at<float>(y, x), w);

@@ -238,6 +238,46 @@ TEST(TemporalDepthFilter, LearningFramesPassTheMeasurementThrough) {
   EXPECT_GT(filter.depthDifferencePdf().cdf(0.02f), 0.5f);
 }
 
+// The filter's per-pixel passes run on the mask's bounding box grown by their reach (the
+// default); over the whole frame they must give the same output, frame after frame (the state
+// carried between frames included), for masks that touch the image's edges, an empty mask, a full
+// mask, a single pixel and a mask far from the one before.
+TEST(TemporalDepthFilter, MaskBoxGivesTheWholeFrameOutput) {
+  test::SyntheticScene scene;
+  scene.disc_speed_px = 7.0f;  // leaves the image on the right during the run
+  TemporalDepthFilterConfig boxed_config = quickConfig(), full_config = quickConfig();
+  full_config.mask_box_only = false;
+  TemporalDepthFilter boxed(boxed_config), full(full_config);
+  PrecursorFlow flow;
+  cv::Mat previous;
+  long compared = 0;
+  for (int t = 0; t < 30; ++t) {
+    const test::SyntheticFrame f = scene.render(t, 51);
+    cv::Mat mask = f.true_mask.clone();
+    if (t == 12) mask.setTo(0);                                                    // empty
+    if (t == 13 || t == 20) mask.setTo(255);                                       // full
+    if (t == 14) mask(cv::Rect(0, 0, 40, 30)).setTo(255);                          // top-left corner too
+    if (t == 15) mask(cv::Rect(mask.cols - 17, mask.rows - 9, 17, 9)).setTo(255);  // bottom-right corner
+    if (t == 16) {                                                                 // a single pixel
+      mask.setTo(0);
+      mask.at<std::uint8_t>(91, 131) = 255;
+    }
+    const cv::Mat lambda = flow.compute(f.frame.color, previous);
+    previous = f.frame.color;
+    const DepthFilterInput in{f.frame.color, f.frame.depth, mask, lambda};
+    const cv::Mat a = boxed.apply(in), b = full.apply(in);
+    ASSERT_EQ(boxed.learning(), full.learning()) << "frame " << t;
+    ASSERT_EQ(cv::countNonZero(a), cv::countNonZero(b)) << "frame " << t;
+    EXPECT_LE(cv::norm(a, b, cv::NORM_INF), 1e-5) << "frame " << t;  // metres: float round-off
+    if (t == 12) {
+      EXPECT_EQ(cv::countNonZero(a), 0);
+    }
+    compared += cv::countNonZero(b);
+  }
+  EXPECT_EQ(boxed.confidencePdf().samples(), full.confidencePdf().samples());
+  EXPECT_GT(compared, 100000);  // the comparison covered real output, the full masks included
+}
+
 TEST(TemporalDepthFilter, HardInputsStayFinite) {
   const test::SyntheticScene scene;
   TemporalDepthFilter filter(quickConfig());

@@ -30,4 +30,8 @@ struct BorderLayer {
 // An empty mask or a mask without any valid depth gives an all-zero layer.
 BorderLayer expandBorder(const cv::Mat& mask, const cv::Mat& depth, const BorderExpansionConfig& config);
 
+// The mask's bounding box grown by the blur's reach (clipped to the image; empty for an empty
+// mask): the layer's weight is 0 outside it, and the mask lies inside it.
+cv::Rect borderBox(const cv::Mat& mask, const BorderExpansionConfig& config);
+
 }  // namespace holo::depthfilter

@@ -71,6 +71,11 @@ struct TemporalDepthFilterConfig {
   int fill_radius = 3;  // 0..kMaxFillRadius
   float fill_colour_max = 30.0f;
   float fill_colour_margin = 20.0f;
+  // Work only on the mask's bounding box grown by the filter's reach (and aligned to the
+  // pyramid's blocks): the output is the same, since every per-pixel pass reads at most that far
+  // from a foreground pixel. false runs every pass over the whole frame (the reference that the
+  // tests and the benchmark compare with).
+  bool mask_box_only = true;
 
   float surfaceTolerance(float depth_m) const {
     return surface_tolerance_m + surface_tolerance_z2 * depth_m * depth_m;
