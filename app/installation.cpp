@@ -20,29 +20,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Relative paths in a configuration are relative to the file, so the file can move along with
-// its relic, panorama and calibration (as capture: does it).
-fs::path besideConfig(const ConfigNode& node, const std::string& value) {
-  const fs::path path(value);
-  if (path.is_absolute() || node.file().empty()) return path;
-  std::error_code ec;
-  if (!fs::is_regular_file(node.file(), ec)) return path;
-  return fs::path(node.file()).parent_path() / path;
-}
-
-void rejectUnknownKeys(const ConfigNode& node, const std::vector<std::string>& known) {
-  if (!node.isMap())
-    node.fail(
-        "a map with the fields relic, panorama (required) and fit_relic, "
-        "camera_exposure, background_frames, fps");
-  for (const std::string& key : node.keys())
-    if (std::find(known.begin(), known.end(), key) == known.end()) {
-      std::string list;
-      for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
-      node[key].fail("one of the fields " + list, "an unknown field '" + key + "'");
-    }
-}
-
 Model loadRelic(const ConfigNode& exhibit) {
   const ConfigNode field = exhibit["relic"];
   const std::string value = field.as<std::string>();
@@ -52,7 +29,7 @@ Model loadRelic(const ConfigNode& exhibit) {
     sim::fitOnPedestal(relic);
     return relic;
   }
-  const fs::path path = besideConfig(exhibit, value);
+  const fs::path path = exhibit.pathBesideFile(value);
   std::error_code ec;
   if (!fs::is_regular_file(path, ec))
     field.fail(
@@ -67,7 +44,7 @@ Model loadRelic(const ConfigNode& exhibit) {
 
 cv::Mat loadPanorama(const ConfigNode& exhibit) {
   const ConfigNode field = exhibit["panorama"];
-  const fs::path path = besideConfig(exhibit, field.as<std::string>());
+  const fs::path path = exhibit.pathBesideFile(field.as<std::string>());
   std::error_code ec;
   if (!fs::is_regular_file(path, ec))
     field.fail("an equirectangular HDR panorama (.hdr or .exr, relative to the configuration)",
@@ -143,8 +120,8 @@ Installation loadInstallation(const ConfigNode& root) {
   const capture::CaptureConfig capture = capture::parseCaptureConfig(root["capture"]);
   if (capture.cameras.empty()) root["capture"].fail("at least one camera in capture.cameras");
   const ConfigNode exhibit = root["exhibit"];
-  rejectUnknownKeys(exhibit,
-                    {"relic", "fit_relic", "panorama", "camera_exposure", "background_frames", "fps"});
+  exhibit.rejectUnknownKeys(
+      {"relic", "fit_relic", "panorama", "camera_exposure", "background_frames", "fps"});
 
   Installation installation;
   installation.name = root.file();

@@ -22,23 +22,6 @@ std::string join(const std::vector<std::string>& items) {
 }
 
 // A misspelt key would otherwise be ignored silently and the default used.
-void rejectUnknownKeys(const ConfigNode& node, const std::vector<std::string>& known) {
-  if (!node.isMap()) node.fail("a map");
-  for (const auto& key : node.keys())
-    if (std::find(known.begin(), known.end(), key) == known.end())
-      node[key].fail("one of the fields " + join(known), "an unknown field '" + key + "'");
-}
-
-// Relative paths in a configuration file are relative to the file, so it can be moved along
-// with its recordings and calibration.
-fs::path resolvePath(const ConfigNode& node, const fs::path& value) {
-  if (value.is_absolute()) return value;
-  std::error_code ec;
-  const fs::path file(node.file());
-  if (!node.file().empty() && fs::is_regular_file(file, ec)) return file.parent_path() / value;
-  return value;
-}
-
 int positive(const ConfigNode& node, const std::string& key, int fallback) {
   if (!node.has(key)) return fallback;
   const int value = node[key].as<int>();
@@ -97,8 +80,8 @@ void parseStreamFormat(const ConfigNode& node, const std::vector<PixelFormat>& a
 }
 
 AravisStreamConfig parseAravisStream(const ConfigNode& node, bool depth) {
-  rejectUnknownKeys(node, {"serial", "pixel_format", "width", "height", "frame_rate", "depth_scale",
-                           "buffers", "packet_socket", "features"});
+  node.rejectUnknownKeys({"serial", "pixel_format", "width", "height", "frame_rate", "depth_scale", "buffers",
+                          "packet_socket", "features"});
   AravisStreamConfig s;
   s.serial = node["serial"].as<std::string>();
   if (s.serial.empty()) node["serial"].fail("the camera's serial number (see `holopyramid devices`)");
@@ -123,8 +106,8 @@ AravisStreamConfig parseAravisStream(const ConfigNode& node, bool depth) {
 }
 
 V4l2StreamConfig parseV4l2Stream(const ConfigNode& node, bool depth) {
-  rejectUnknownKeys(node,
-                    {"device", "pixel_format", "width", "height", "frame_rate", "depth_scale", "buffers"});
+  node.rejectUnknownKeys(
+      {"device", "pixel_format", "width", "height", "frame_rate", "depth_scale", "buffers"});
   V4l2StreamConfig s;
   s.device = node["device"].as<std::string>();
   if (s.device.empty()) node["device"].fail("/dev/videoN, bus:BUS_INFO or serial:SERIAL");
@@ -133,7 +116,7 @@ V4l2StreamConfig parseV4l2Stream(const ConfigNode& node, bool depth) {
 }
 
 CameraEntry parseCamera(const ConfigNode& node) {
-  rejectUnknownKeys(node, {"face", "backend", "name", "color", "depth", "path", "camera", "scene", "paced"});
+  node.rejectUnknownKeys({"face", "backend", "name", "color", "depth", "path", "camera", "scene", "paced"});
   CameraEntry e;
   e.face = node["face"].as<int>();
   if (e.face < 0 || e.face > 3) node["face"].fail("0, 1, 2 or 3 (the side facing +Z, +X, -Z, -X)");
@@ -151,14 +134,14 @@ CameraEntry parseCamera(const ConfigNode& node) {
     if (node.has("depth")) e.v4l2.depth = parseV4l2Stream(node["depth"], true);
   } else if (backend == "recording") {
     e.backend = Backend::Recording;
-    e.recording = resolvePath(node, node["path"].as<std::string>());
+    e.recording = node.pathBesideFile(node["path"].as<std::string>());
     e.recording_camera = node.get<int>("camera", e.face);
     if (e.recording_camera < 0) node["camera"].fail("a camera index >= 0");
   } else if (backend == "sim") {
     e.backend = Backend::Simulated;
     e.scene = node["scene"].as<std::string>();
     // A scene file is relative to the configuration; a built-in name stays as it is.
-    if (fs::path(e.scene).has_extension()) e.scene = resolvePath(node, e.scene).string();
+    if (fs::path(e.scene).has_extension()) e.scene = node.pathBesideFile(e.scene).string();
     e.sim_camera = node.get<int>("camera", e.face);
     if (e.sim_camera < 0 || e.sim_camera > 3) node["camera"].fail("a simulated camera 0..3");
     e.paced = node.get<bool>("paced", true);
@@ -198,13 +181,13 @@ const char* toString(Backend backend) {
 }
 
 CaptureConfig parseCaptureConfig(const ConfigNode& capture) {
-  rejectUnknownKeys(capture, {"calibration_dir", "grab_timeout_ms", "silence_timeout_ms",
-                              "initial_backoff_ms", "max_backoff_ms", "cameras"});
+  capture.rejectUnknownKeys({"calibration_dir", "grab_timeout_ms", "silence_timeout_ms", "initial_backoff_ms",
+                             "max_backoff_ms", "cameras"});
   CaptureConfig config;
   if (capture.has("calibration_dir"))
-    config.calibration_dir = resolvePath(capture, capture["calibration_dir"].as<std::string>());
+    config.calibration_dir = capture.pathBesideFile(capture["calibration_dir"].as<std::string>());
   else
-    config.calibration_dir = resolvePath(capture, config.calibration_dir);
+    config.calibration_dir = capture.pathBesideFile(config.calibration_dir);
   config.options.grab_timeout = millis(capture, "grab_timeout_ms", config.options.grab_timeout);
   config.options.silence_timeout = millis(capture, "silence_timeout_ms", config.options.silence_timeout);
   config.options.initial_backoff = millis(capture, "initial_backoff_ms", config.options.initial_backoff);

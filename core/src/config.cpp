@@ -1,5 +1,6 @@
 #include "holo/core/config.hpp"
 
+#include <algorithm>
 #include <sstream>
 
 namespace holo {
@@ -37,6 +38,22 @@ ConfigNode ConfigNode::parse(const std::string& text, const std::string& origin)
   } catch (const YAML::ParserException& e) {
     throw InputError(origin, "line " + std::to_string(e.mark.line + 1), "valid YAML", e.msg);
   }
+}
+
+void ConfigNode::rejectUnknownKeys(const std::vector<std::string>& known) const {
+  std::string list;
+  for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+  if (!isMap()) fail("a map with the fields " + list);
+  for (const std::string& key : keys())
+    if (std::find(known.begin(), known.end(), key) == known.end())
+      (*this)[key].fail("one of the fields " + list, "an unknown field '" + key + "'");
+}
+
+std::filesystem::path ConfigNode::pathBesideFile(const std::filesystem::path& value) const {
+  if (value.is_absolute() || file_.empty()) return value;
+  std::error_code ec;
+  const std::filesystem::path file(file_);
+  return std::filesystem::is_regular_file(file, ec) ? file.parent_path() / value : value;
 }
 
 bool ConfigNode::has(const std::string& key) const {

@@ -1,21 +1,10 @@
 #include "holo/display/display_config.hpp"
 
 #include <algorithm>
-#include <set>
 
 namespace holo::display {
 
 namespace {
-
-void rejectUnknownKeys(const ConfigNode& node, const std::set<std::string>& known) {
-  if (!node.isMap()) node.fail("a map");
-  for (const std::string& key : node.keys()) {
-    if (known.count(key)) continue;
-    std::string names;
-    for (const auto& name : known) names += (names.empty() ? "" : ", ") + name;
-    node[key].fail("one of the fields " + names, "unknown field '" + key + "'");
-  }
-}
 
 LayoutKind layoutFrom(const ConfigNode& node) {
   const std::string name = node.as<std::string>();
@@ -33,7 +22,7 @@ cv::Size sizeFrom(const ConfigNode& node) {
 }
 
 FaceSettings faceFrom(const ConfigNode& node) {
-  rejectUnknownKeys(node, {"mirror", "offset", "scale", "rotation", "monitor"});
+  node.rejectUnknownKeys({"mirror", "offset", "scale", "rotation", "monitor"});
   FaceSettings face;
   face.mirror = node.get<bool>("mirror", face.mirror);
   face.offset = node.get<vec2>("offset", face.offset);
@@ -52,21 +41,21 @@ DisplayConfig parseDisplayConfig(const ConfigNode& node) {
   DisplayConfig config;
   config.source = node.file();
   if (node.yaml().IsNull() || !node.yaml().IsDefined()) return config;
-  rejectUnknownKeys(
-      node, {"layout", "output_size", "fullscreen", "exposure", "cross", "auto_fit", "faces", "eyes"});
+  node.rejectUnknownKeys(
+      {"layout", "output_size", "fullscreen", "exposure", "cross", "auto_fit", "faces", "eyes"});
   if (node.has("layout")) config.layout = layoutFrom(node["layout"]);
   if (node.has("output_size")) config.output_size = sizeFrom(node["output_size"]);
   config.fullscreen = node.get<bool>("fullscreen", config.fullscreen);
   config.exposure = node.getInRange("exposure", config.exposure, 1e-6f, 1e6f);
   if (const auto cross = node.find("cross")) {
-    rejectUnknownKeys(*cross, {"view_size", "gap"});
+    cross->rejectUnknownKeys({"view_size", "gap"});
     config.cross_view_size = cross->getInRange("view_size", config.cross_view_size, 0.01f, 1.0f);
     config.cross_gap = cross->getInRange("gap", config.cross_gap, 0.0f, 0.5f);
     if (config.cross_view_size + config.cross_gap > 0.5f + 1e-4f)
       cross->fail("view_size + gap <= 0.5 so that the four views stay on the screen");
   }
   if (const auto fit = node.find("auto_fit")) {
-    rejectUnknownKeys(*fit, {"enabled", "margin", "threshold"});
+    fit->rejectUnknownKeys({"enabled", "margin", "threshold"});
     config.auto_fit.enabled = fit->get<bool>("enabled", config.auto_fit.enabled);
     config.auto_fit.margin = fit->getInRange("margin", config.auto_fit.margin, 0.0f, 2.0f);
     config.auto_fit.threshold = fit->getInRange("threshold", config.auto_fit.threshold, 0.0f, 1.0f);
@@ -94,10 +83,10 @@ DisplayConfig loadDisplayConfig(const std::filesystem::path& path) {
 EyeTrackerSettings parseEyeTrackerSettings(const ConfigNode& node) {
   EyeTrackerSettings e;
   if (node.yaml().IsNull() || !node.yaml().IsDefined()) return e;
-  rejectUnknownKeys(
-      node, {"floor_y", "default_eye_height", "default_distance", "min_head_top", "max_head_top",
-             "min_distance", "max_distance", "head_radius", "head_depth", "min_support", "top_band",
-             "min_top_support", "eye_below_top", "alpha", "beta", "max_speed", "gate", "lost_timeout_s"});
+  node.rejectUnknownKeys({"floor_y", "default_eye_height", "default_distance", "min_head_top", "max_head_top",
+                          "min_distance", "max_distance", "head_radius", "head_depth", "min_support",
+                          "top_band", "min_top_support", "eye_below_top", "alpha", "beta", "max_speed",
+                          "gate", "lost_timeout_s"});
   e.floor_y = node.getInRange("floor_y", e.floor_y, -10.0f, 10.0f);
   e.default_eye_height = node.getInRange("default_eye_height", e.default_eye_height, 0.3f, 2.5f);
   e.default_distance = node.getInRange("default_distance", e.default_distance, 0.1f, 10.0f);

@@ -1,22 +1,10 @@
 #include "holo/kiosk/kiosk_config.hpp"
 
-#include <set>
-
 #include "holo/core/files.hpp"
 #include "holo/core/log.hpp"
 
 namespace holo::kiosk {
 namespace {
-
-void rejectUnknown(const ConfigNode& node, const std::set<std::string>& known) {
-  for (const auto& key : node.keys()) {
-    if (!known.count(key)) {
-      std::string list;
-      for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
-      node[key].fail("one of the known fields (" + list + ")", "unknown field '" + key + "'");
-    }
-  }
-}
 
 int positiveInt(const ConfigNode& node, const std::string& key, int fallback, int minimum) {
   if (!node.has(key)) return fallback;
@@ -56,7 +44,7 @@ KioskConfig parseKioskConfig(const ConfigNode& root) {
   if (!section) return c;
   const ConfigNode& k = *section;
   if (!k.isMap()) k.fail("a map of kiosk settings");
-  rejectUnknown(k, {"opening_hours", "max_fps", "status_interval_s", "health", "degradation"});
+  k.rejectUnknownKeys({"opening_hours", "max_fps", "status_interval_s", "health", "degradation"});
   if (k.has("opening_hours")) {
     c.opening_hours_text = k["opening_hours"].as<std::string>();
     c.opening_hours = OpeningHours::parse(c.opening_hours_text, k.file(), k["opening_hours"].path());
@@ -65,15 +53,15 @@ KioskConfig parseKioskConfig(const ConfigNode& root) {
   c.status_interval_s =
       k.getInRange("status_interval_s", static_cast<float>(c.status_interval_s), 0.05f, 60.0f);
   if (const auto h = k.find("health")) {
-    rejectUnknown(*h, {"address", "port", "file"});
+    h->rejectUnknownKeys({"address", "port", "file"});
     c.health_address = h->get<std::string>("address", c.health_address);
     c.health_port = h->get<int>("port", c.health_port);
     if (c.health_port > 65535) (*h)["port"].fail("a TCP port up to 65535 (0 = any, negative = off)");
     c.health_file = h->get<std::string>("file", c.health_file.string());
   }
   if (const auto d = k.find("degradation")) {
-    rejectUnknown(*d, {"frame_budget_ms", "quality_levels", "headroom", "smoothing", "down_after_frames",
-                       "up_after_frames", "cooldown_frames", "recover_after_frames"});
+    d->rejectUnknownKeys({"frame_budget_ms", "quality_levels", "headroom", "smoothing", "down_after_frames",
+                          "up_after_frames", "cooldown_frames", "recover_after_frames"});
     auto& s = c.degradation;
     s.frame_budget_ms =
         d->getInRange("frame_budget_ms", static_cast<float>(s.frame_budget_ms), 1.0f, 10000.0f);

@@ -55,6 +55,27 @@ TEST(Config, SyntaxErrorGivesLine) {
             std::string::npos);
 }
 
+TEST(Config, UnknownKeysAreErrorsThatListTheKnownOnes) {
+  const auto c = ConfigNode::parse("exhibit:\n  relic: vase\n  panaroma: hall.hdr\nlist: [1]\n", "cfg.yaml");
+  const std::string typo = errorOf([&] { c["exhibit"].rejectUnknownKeys({"relic", "panorama"}); });
+  EXPECT_NE(typo.find("exhibit.panaroma"), std::string::npos) << typo;
+  EXPECT_NE(typo.find("relic, panorama"), std::string::npos) << typo;
+  EXPECT_EQ(errorOf([&] { c["exhibit"].rejectUnknownKeys({"relic", "panaroma"}); }), "(no error)");
+  const std::string not_map = errorOf([&] { c["list"].rejectUnknownKeys({"a"}); });
+  EXPECT_NE(not_map.find("a map"), std::string::npos) << not_map;
+}
+
+TEST(Config, RelativePathsAreBesideTheFile) {
+  const auto dir = test::scratchDir("config_paths");
+  std::ofstream(dir / "cfg.yaml") << "recording: rec\n";
+  const auto c = ConfigNode::loadFile(dir / "cfg.yaml");
+  EXPECT_EQ(c.pathBesideFile("rec"), dir / "rec");
+  EXPECT_EQ(c.pathBesideFile("/abs/rec"), std::filesystem::path("/abs/rec"));
+  // Text that came from no file (embedded defaults) keeps paths as written.
+  EXPECT_EQ(ConfigNode::parse("a: 1\n", "factory defaults").pathBesideFile("rec"),
+            std::filesystem::path("rec"));
+}
+
 TEST(Files, AtomicWriteReplacesWholeFileAndLeavesNoTemporary) {
   const auto dir = test::scratchDir("atomic");
   writeFileAtomically(dir / "a.txt", "first");

@@ -35,10 +35,17 @@ class ConfigNode {
   T get(const std::string& key, const T& fallback) const {
     return has(key) ? (*this)[key].as<T>() : fallback;
   }
+  // Fails unless this is a map whose keys are all in `known` (a typo is an error, not a field
+  // silently ignored); the error names the unknown field and lists the known ones.
+  void rejectUnknownKeys(const std::vector<std::string>& known) const;
   // A float that must lie in [lo, hi]; the error names the range.
   float getInRange(const std::string& key, float fallback, float lo, float hi) const;
 
   const std::string& file() const { return file_; }
+  // A path written in this configuration: a relative one is relative to the file's folder, so a
+  // configuration moves along with its recordings, relic and calibration. Absolute paths, and
+  // every path when the text came from no existing file, stay as written.
+  std::filesystem::path pathBesideFile(const std::filesystem::path& value) const;
   const std::string& path() const { return path_; }
   [[noreturn]] void fail(const std::string& expected, const std::string& got = {}) const;
   const YAML::Node& yaml() const { return node_; }
