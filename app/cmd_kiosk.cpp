@@ -40,11 +40,6 @@ double msSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-display::DisplayConfig displayConfigOf(const ConfigNode& root) {
-  const auto section = root.find("display");
-  return section ? display::parseDisplayConfig(*section) : display::DisplayConfig{};
-}
-
 // Black faces. Empty images would not do: the presenter keeps showing a face's last image when
 // it gets none (a late renderer must not flash black), so blanking needs real black pixels.
 display::FaceImages blackFaces() {
@@ -106,8 +101,8 @@ class TestPatternSource {
   int pattern_side_ = 0;
 };
 
-std::string displaySection(const ConfigNode& root) {
-  return root.has("display") ? YAML::Dump(root.yaml()["display"]) : std::string();
+std::string sectionText(const ConfigNode& root, const std::string& section) {
+  return root.has(section) ? YAML::Dump(root.yaml()[section]) : std::string();
 }
 
 // The product: the live frame loop on the installation (the configured cameras, or the simulated
@@ -228,23 +223,15 @@ struct KioskOptions {
   std::optional<std::string> health_file;
 };
 
-kiosk::RenderFrame makeFrameSource(const kiosk::LoadedConfig& config, const KioskOptions& options) {
-  if (options.source == "test-pattern")
-    return TestPatternSource(displayConfigOf(config.root), options.headless);
-  Installation installation =
-      describesCameras(config.root)
-          ? loadInstallation(config.root)
-          : simulatedInstallation(options.scene, /*paced=*/true, FrameLoopOptions{}.panorama_width);
-  return PipelineSource(displayConfigOf(config.root), options.headless, std::move(installation),
-                        options.view_size);
-}
-
-// A configuration is usable when its display settings parse and, if it names cameras, its
-// installation loads (cameras, calibration, relic, panorama): a broken one falls back to the
-// last good copy instead of leaving the screen black.
-void validateConfig(const ConfigNode& root) {
-  displayConfigOf(root);
-  if (describesCameras(root)) loadInstallation(root);
+// `installation`: the one the configuration describes, loaded when it was validated; none when
+// it names no cameras (then the simulated museum).
+kiosk::RenderFrame makeFrameSource(const kiosk::LoadedConfig& config, const KioskOptions& options,
+                                   std::optional<Installation> installation) {
+  const display::DisplayConfig display_config = display::displayConfigOf(config.root);
+  if (options.source == "test-pattern") return TestPatternSource(display_config, options.headless);
+  if (!installation)
+    installation = simulatedInstallation(options.scene, /*paced=*/true, FrameLoopOptions{}.panorama_width);
+  return PipelineSource(display_config, options.headless, std::move(*installation), options.view_size);
 }
 
 int runKiosk(const KioskOptions& options) {
@@ -254,8 +241,18 @@ int runKiosk(const KioskOptions& options) {
   const std::filesystem::path last_good = options.state_dir.empty()
                                               ? std::filesystem::path()
                                               : std::filesystem::path(options.state_dir) / "last-good.yaml";
+  // A configuration is usable when its display settings parse and, if it names cameras, its
+  // installation loads (cameras, calibration, relic, panorama): a broken one falls back to the
+  // last good copy instead of leaving the screen black. The installation of the configuration
+  // validated last (the one loaded) is kept for the frame source, so its files are read once.
+  std::optional<Installation> installation;
+  const auto validate = [&installation](const ConfigNode& root) {
+    installation.reset();
+    display::displayConfigOf(root);
+    if (describesCameras(root)) installation = loadInstallation(root);
+  };
   const auto load = [&] {
-    kiosk::LoadedConfig loaded = kiosk::loadConfigWithFallback(options.config, last_good, validateConfig);
+    kiosk::LoadedConfig loaded = kiosk::loadConfigWithFallback(options.config, last_good, validate);
     if (options.health_port) loaded.kiosk.health_port = *options.health_port;
     if (options.health_file) loaded.kiosk.health_file = *options.health_file;
     return loaded;
@@ -263,17 +260,21 @@ int runKiosk(const KioskOptions& options) {
   kiosk::LoadedConfig loaded = load();
   HOLO_LOG_INFO("kiosk starting with configuration from {}", loaded.source);
   std::shared_ptr<kiosk::RenderFrame> source =
-      std::make_shared<kiosk::RenderFrame>(makeFrameSource(loaded, options));
+      std::make_shared<kiosk::RenderFrame>(makeFrameSource(loaded, options, std::move(installation)));
   kiosk::KioskLoop loop(
       loaded, [source](const kiosk::FrameRequest& r) { return (*source)(r); },
       [&] {
         kiosk::LoadedConfig reloaded = load();
-        // Changed display settings need a fresh presenter. The old one goes first: two EGL
-        // presenters alive at once in one process disturb each other's context.
-        if (displaySection(reloaded.root) != displaySection(loaded.root)) {
-          HOLO_LOG_INFO("display settings changed: restarting the presenter");
+        // Changed display settings need a fresh presenter, changed cameras or exhibit a fresh
+        // frame loop. The old source goes first: two EGL presenters alive at once in one process
+        // disturb each other's context.
+        const auto changed = [&](const std::string& section) {
+          return sectionText(reloaded.root, section) != sectionText(loaded.root, section);
+        };
+        if (changed("display") || changed("capture") || changed("exhibit")) {
+          HOLO_LOG_INFO("display, camera or exhibit settings changed: restarting the frame source");
           *source = {};
-          *source = makeFrameSource(reloaded, options);
+          *source = makeFrameSource(reloaded, options, std::move(installation));
         }
         loaded = reloaded;
         return reloaded;

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "command.hpp"
 #include "frame_loop.hpp"
@@ -33,26 +34,24 @@ struct RunOptions {
 
 int runPipeline(RunOptions options) {
   setAntiAliasing(options.loop.tracer, reflect::parseAntiAliasing(options.aa, "--aa"));
-  display::DisplayConfig display_config = options.config_file.empty()
-                                              ? display::DisplayConfig{}
-                                              : display::loadDisplayConfig(options.config_file);
+  std::optional<ConfigNode> config;
+  if (!options.config_file.empty()) config = ConfigNode::loadFile(options.config_file);
+  display::DisplayConfig display_config =
+      config ? display::displayConfigOf(*config) : display::DisplayConfig{};
   // A configuration that names cameras runs on them; one with only a display: section lays out
   // the simulated scene.
-  if (!options.config_file.empty() && describesCameras(ConfigNode::loadFile(options.config_file)))
-    options.loop.config = options.config_file;
+  if (config && describesCameras(*config)) options.loop.config = options.config_file;
   if (!options.layout.empty()) display_config.layout = display::parseLayoutKind(options.layout, "--layout");
   const int frames = options.frames > 0 ? options.frames : (options.headless ? 30 : 0);
-  if (options.headless && !options.loop.live) {
-    // Deterministic: the same scene always gives the same frames, whatever the machine's speed.
-  } else {
-    options.loop.live = true;
-  }
+  // Headless runs are deterministic unless --live: the same scene always gives the same frames,
+  // whatever the machine's speed.
+  if (!options.headless) options.loop.live = true;
 
   // The installation first: the recording's frame rate is the cameras'.
   Installation installation =
       options.loop.config.empty()
           ? simulatedInstallation(options.loop.scene, options.loop.live, options.loop.panorama_width)
-          : loadInstallation(ConfigNode::loadFile(options.loop.config));
+          : loadInstallation(*config);
   std::unique_ptr<display::QuadViewPresenter> presenter;
   const std::filesystem::path out(options.out);
   if (options.headless) {

@@ -68,16 +68,19 @@ DisplayConfig parseDisplayConfig(const ConfigNode& node) {
   return config;
 }
 
-DisplayConfig loadDisplayConfig(const std::filesystem::path& path) {
-  const ConfigNode root = ConfigNode::loadFile(path);
+DisplayConfig displayConfigOf(const ConfigNode& root) {
   if (!root.isMap()) {
     if (root.yaml().IsNull()) return {};
     root.fail("a map with a 'display' section");
   }
   const auto section = root.find("display");
   DisplayConfig config = section ? parseDisplayConfig(*section) : DisplayConfig{};
-  config.source = path.string();
+  config.source = root.file();
   return config;
+}
+
+DisplayConfig loadDisplayConfig(const std::filesystem::path& path) {
+  return displayConfigOf(ConfigNode::loadFile(path));
 }
 
 EyeTrackerSettings parseEyeTrackerSettings(const ConfigNode& node) {

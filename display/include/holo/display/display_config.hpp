@@ -26,6 +26,9 @@ namespace holo::display {
 
 // Parses `node` (the value of the `display:` key) into a DisplayConfig.
 DisplayConfig parseDisplayConfig(const ConfigNode& node);
+// The `display:` section of a whole configuration document (other modules read their sections
+// from the same document); a document without one gives the defaults.
+DisplayConfig displayConfigOf(const ConfigNode& root);
 // Reads the `display:` section of a YAML file; a file without one gives the defaults.
 DisplayConfig loadDisplayConfig(const std::filesystem::path& path);
 // Parses `node` (the value of `display.eyes`) into EyeTrackerSettings.
