@@ -1,6 +1,8 @@
 #include "holo/depthfilter/foreground_mask.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 
 #include "holo/core/error.hpp"
@@ -9,8 +11,10 @@ namespace holo::depthfilter {
 
 namespace {
 
+// Positive and finite; written as two comparisons (NaN fails both) so the per-pixel loops
+// vectorise.
 bool validDepth(float d) {
-  return std::isfinite(d) && d > 0.0f;
+  return d > 0.0f && d <= std::numeric_limits<float>::max();
 }
 
 cv::Mat disc(int radius) {
@@ -98,8 +102,16 @@ cv::Mat ForegroundMasker::apply(const RgbdFrame& frame) {
       }
     }
   }
-  if (config_.open_radius > 0) cv::morphologyEx(mask, mask, cv::MORPH_OPEN, disc(config_.open_radius));
-  if (config_.close_radius > 0) cv::morphologyEx(mask, mask, cv::MORPH_CLOSE, disc(config_.close_radius));
+  // Opening and closing change nothing farther than 2 * (open + close) radii from the
+  // foreground: only that box around it is filtered (visitors cover a part of the frame).
+  const int reach = 2 * (std::max(config_.open_radius, 0) + std::max(config_.close_radius, 0));
+  const cv::Rect box = cv::boundingRect(mask);
+  if (reach > 0 && !box.empty()) {
+    cv::Mat roi = mask(cv::Rect(box.x - reach, box.y - reach, box.width + 2 * reach, box.height + 2 * reach) &
+                       cv::Rect(0, 0, mask.cols, mask.rows));
+    if (config_.open_radius > 0) cv::morphologyEx(roi, roi, cv::MORPH_OPEN, disc(config_.open_radius));
+    if (config_.close_radius > 0) cv::morphologyEx(roi, roi, cv::MORPH_CLOSE, disc(config_.close_radius));
+  }
   if (!config_.static_foreground.empty()) mask.setTo(255, config_.static_foreground);
 
   // Live update of the background depth where the pixel is background and the depth valid; a

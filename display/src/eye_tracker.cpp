@@ -91,7 +91,19 @@ std::optional<vec3> detectEye(const depthfilter::ForegroundCloud& cloud, int fac
     if (p.y >= settings.floor_y + settings.min_head_top) candidates.push_back(p);
   }
   if (non_finite > 0) stats::add("Display/Eye tracker non-finite points ignored", non_finite);
-  std::sort(candidates.begin(), candidates.end(), [](const vec3& a, const vec3& b) { return a.y > b.y; });
+  // Candidates are visited from the highest down and the first few usually make a head: a heap
+  // hands them out in that order without sorting all of them. Ties in height go by x, then z,
+  // so the order never depends on the cloud's point order.
+  const auto lower = [](const vec3& a, const vec3& b) {
+    return a.y != b.y ? a.y < b.y : a.x != b.x ? a.x < b.x : a.z < b.z;
+  };
+  std::make_heap(candidates.begin(), candidates.end(), lower);
+  std::size_t popped = 0;  // the `popped` highest sit at the end, highest last
+  const auto highest = [&](std::size_t i) -> const vec3& {
+    for (; popped <= i; ++popped)
+      std::pop_heap(candidates.begin(), candidates.end() - std::ptrdiff_t(popped), lower);
+    return candidates[candidates.size() - 1 - i];
+  };
 
   const auto headAt = [&](const vec3& top) -> std::optional<vec3> {
     std::vector<vec3> head = grid.column(top, settings.head_radius, settings.head_depth);
@@ -106,7 +118,8 @@ std::optional<vec3> detectEye(const depthfilter::ForegroundCloud& cloud, int fac
   };
   // Candidates go from the highest down; a rejected one is a stray point (too little support).
   const auto search = [&](bool gated) -> std::optional<vec3> {
-    for (const vec3& top : candidates) {
+    for (std::size_t i = 0; i < candidates.size(); ++i) {
+      const vec3& top = highest(i);
       if (gated && horizontalDistance(top, *near) > settings.gate) continue;
       if (auto eye = headAt(top)) return eye;
     }

@@ -133,21 +133,42 @@ void traceHitPoints(const RenderScene& scene, const CameraModel& view, AntiAlias
             }
         });
     if (aa == AntiAliasing::Edges) {
-      // first_sub doubles as the edge flag here (any value but kCentreOnly), rows in parallel.
-      // Outside the traced rectangle everything misses: no edges there.
+      // Each neighbour pair is compared once: pixel p keeps one bit per pair with its right,
+      // lower-left, lower and lower-right neighbours (rows in parallel, each writing its own
+      // pixels), and is an edge when any of its eight pairs differs. Pairs reach one pixel
+      // beyond the traced rectangle, where everything misses; only pixels inside it are flagged.
+      enum : std::uint8_t { kRight = 1, kDownLeft = 2, kDown = 4, kDownRight = 8 };
+      const cv::Rect paired =
+          cv::Rect(traced.x - 1, traced.y - 1, traced.width + 2, traced.height + 2) & cv::Rect(0, 0, w, h);
+      std::vector<std::uint8_t> pairs(pixels, 0);
+      tbb::parallel_for(tbb::blocked_range<int>(paired.y, paired.y + paired.height),
+                        [&](const tbb::blocked_range<int>& rows) {
+                          for (int y = rows.begin(); y < rows.end(); ++y)
+                            for (int x = paired.x; x < paired.x + paired.width; ++x) {
+                              const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
+                              std::uint8_t bits = 0;
+                              if (x + 1 < w && differ(buf, p, p + 1)) bits |= kRight;
+                              if (y + 1 < h) {
+                                const std::size_t below = p + std::size_t(w);
+                                if (x > 0 && differ(buf, p, below - 1)) bits |= kDownLeft;
+                                if (differ(buf, p, below)) bits |= kDown;
+                                if (x + 1 < w && differ(buf, p, below + 1)) bits |= kDownRight;
+                              }
+                              pairs[p] = bits;
+                            }
+                        });
+      // first_sub doubles as the edge flag here (any value but kCentreOnly).
       tbb::parallel_for(tbb::blocked_range<int>(traced.y, traced.y + traced.height),
                         [&](const tbb::blocked_range<int>& rows) {
                           for (int y = rows.begin(); y < rows.end(); ++y)
                             for (int x = traced.x; x < traced.x + traced.width; ++x) {
                               const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
-                              bool edge = false;
-                              for (int dy = -1; dy <= 1 && !edge; ++dy)
-                                for (int dx = -1; dx <= 1 && !edge; ++dx) {
-                                  const int nx = x + dx, ny = y + dy;
-                                  if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= w || ny >= h)
-                                    continue;
-                                  edge = differ(buf, p, std::size_t(ny) * std::size_t(w) + std::size_t(nx));
-                                }
+                              bool edge = pairs[p] != 0 || (x > 0 && (pairs[p - 1] & kRight));
+                              if (y > 0 && !edge) {
+                                const std::size_t above = p - std::size_t(w);
+                                edge = (pairs[above] & kDown) || (x > 0 && (pairs[above - 1] & kDownRight)) ||
+                                       (x + 1 < w && (pairs[above + 1] & kDownLeft));
+                              }
                               if (edge) buf.first_sub[p] = 0;
                             }
                         });

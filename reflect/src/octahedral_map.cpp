@@ -61,6 +61,11 @@ vec3 OctahedralMap::bilinear(const vec3& direction) const {
   const float fx = uv.x * float(size_) - 0.5f, fy = uv.y * float(size_) - 0.5f;
   const int x0 = static_cast<int>(std::floor(fx)), y0 = static_cast<int>(std::floor(fy));
   const float tx = fx - float(x0), ty = fy - float(y0);
+  if (x0 >= 0 && y0 >= 0 && x0 + 1 < size_ && y0 + 1 < size_) {  // all four inside: no folding
+    const vec3* row0 = &texels_[std::size_t(y0) * std::size_t(size_) + std::size_t(x0)];
+    const vec3* row1 = row0 + size_;
+    return (1 - ty) * ((1 - tx) * row0[0] + tx * row0[1]) + ty * ((1 - tx) * row1[0] + tx * row1[1]);
+  }
   return (1 - ty) * ((1 - tx) * wrapped(x0, y0) + tx * wrapped(x0 + 1, y0)) +
          ty * ((1 - tx) * wrapped(x0, y0 + 1) + tx * wrapped(x0 + 1, y0 + 1));
 }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <random>
 
 #include "holo/core/error.hpp"
 #include "synthetic_foreground.hpp"
@@ -132,6 +133,37 @@ TEST(VoxelGrid, BrickDistancesAreChebyshevToTheNearestOccupiedBrick) {
       }
   grid.clear();
   EXPECT_EQ(grid.brickDistance({1, 1, 1}), 255);
+}
+
+TEST(VoxelGrid, BrickDistancesMatchABruteForceSearchOnRandomOccupancy) {
+  VoxelGridSettings s;
+  s.bounds = {vec3(0.0f), vec3(1.2f, 0.6f, 0.9f)};
+  s.voxel_size = 0.05f;  // 24 x 12 x 18 voxels, bricks of 3: 8 x 4 x 6
+  s.brick_size = 3;
+  VoxelGrid grid(s);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (int round = 0; round < 5; ++round) {
+    ForegroundCloud cloud;
+    const int points = 1 + round * 3;
+    for (int i = 0; i < points; ++i)
+      cloud.points.push_back(point({1.2f * u(rng), 0.6f * u(rng), 0.9f * u(rng)}, 1.0f, 0, i));
+    grid.build(cloud);
+    const glm::ivec3 n = grid.brickDims();
+    for (int z = 0; z < n.z; ++z)
+      for (int y = 0; y < n.y; ++y)
+        for (int x = 0; x < n.x; ++x) {
+          int expected = 255;
+          for (int oz = 0; oz < n.z; ++oz)
+            for (int oy = 0; oy < n.y; ++oy)
+              for (int ox = 0; ox < n.x; ++ox)
+                if (grid.brickCount({ox, oy, oz}) > 0)
+                  expected =
+                      std::min(expected, std::max({std::abs(ox - x), std::abs(oy - y), std::abs(oz - z)}));
+          ASSERT_EQ(grid.brickDistance({x, y, z}), expected)
+              << "round " << round << " at " << x << "," << y << "," << z;
+        }
+  }
 }
 
 TEST(VoxelGrid, RejectsBadSettingsNamingTheField) {
