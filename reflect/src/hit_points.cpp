@@ -4,7 +4,9 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <limits>
 #include <opencv2/core.hpp>
 #include <optional>
 
@@ -68,6 +70,70 @@ cv::Rect candidatePixels(const CameraModel& view, const Bounds3& box) {
   return cv::Rect(left, top, right - left, bottom - top) & all;
 }
 
+// Per row y of the view, the columns [begin[y], end[y]) to trace (begin >= end: none).
+struct RowSpans {
+  std::vector<int> begin, end;
+};
+
+// The box's rectangle, narrowed per row to the union of the projected bounding boxes of the
+// relic's triangles (a pinhole ray hits a triangle only inside its projection), grown by two
+// pixels (the sub-sample offsets, round-off, and the neighbours the edge test compares) and by
+// the rows above and below. A vase seen from the side fills about 40% of its box's rectangle:
+// the rest of the rectangle's rays all missed. The rectangle alone when a vertex is not in front
+// of the view or the view has distortion; the whole image without a box.
+RowSpans candidateSpans(const RayScene& relic, const CameraModel& view, const Bounds3& box) {
+  const cv::Rect rect = candidatePixels(view, box);
+  const int h = view.height();
+  RowSpans spans{std::vector<int>(std::size_t(h), 0), std::vector<int>(std::size_t(h), 0)};
+  const auto whole_rect = [&] {
+    for (int y = rect.y; y < rect.y + rect.height; ++y) {
+      spans.begin[std::size_t(y)] = rect.x;
+      spans.end[std::size_t(y)] = rect.x + rect.width;
+    }
+    return spans;
+  };
+  if (rect.empty() || box.empty() || view.intrinsics().hasDistortion()) return whole_rect();
+  constexpr int kGrow = 2;
+  std::vector<int> lo(std::size_t(h), std::numeric_limits<int>::max()), hi(std::size_t(h), -1);
+  std::vector<vec2> projected;
+  for (std::size_t g = 0; g < relic.meshCount(); ++g) {
+    const TriangleMesh& mesh = relic.mesh(std::uint32_t(g));
+    projected.resize(mesh.positions.size());
+    std::atomic<bool> behind{false};
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, projected.size(), 1024),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                          float depth = 0.0f;
+                          const std::optional<vec2> px = view.project(mesh.positions[i], &depth);
+                          if (!px || !(depth > 0.0f) || !std::isfinite(px->x) || !std::isfinite(px->y)) {
+                            behind = true;
+                            return;
+                          }
+                          projected[i] = *px;
+                        }
+                      });
+    if (behind) return whole_rect();
+    for (const uvec3& t : mesh.triangles) {
+      const vec2 &a = projected[t.x], &b = projected[t.y], &c = projected[t.z];
+      const float y0 = std::min({a.y, b.y, c.y}), y1 = std::max({a.y, b.y, c.y});
+      const int top = std::max(int(std::floor(y0)) - kGrow, rect.y);
+      const int bottom = std::min(int(std::ceil(y1)) + kGrow, rect.y + rect.height - 1);
+      if (top > bottom) continue;
+      const int left = int(std::floor(std::min({a.x, b.x, c.x}))) - kGrow;
+      const int right = int(std::ceil(std::max({a.x, b.x, c.x}))) + kGrow + 1;
+      for (int y = top; y <= bottom; ++y) {
+        lo[std::size_t(y)] = std::min(lo[std::size_t(y)], left);
+        hi[std::size_t(y)] = std::max(hi[std::size_t(y)], right);
+      }
+    }
+  }
+  for (int y = rect.y; y < rect.y + rect.height; ++y) {
+    spans.begin[std::size_t(y)] = std::max(lo[std::size_t(y)], rect.x);
+    spans.end[std::size_t(y)] = std::min(hi[std::size_t(y)], rect.x + rect.width);
+  }
+  return spans;
+}
+
 }  // namespace
 
 AntiAliasing parseAntiAliasing(const std::string& text, const std::string& field) {
@@ -116,62 +182,66 @@ void traceHitPoints(const RenderScene& scene, const CameraModel& view, AntiAlias
   buf.valid.assign(pixels, 0);
   buf.first_sub.assign(pixels, HitPointBuffer::kCentreOnly);
   buf.refined.clear();
-  const cv::Rect traced = candidatePixels(view, relic_bounds);
+  const RowSpans traced = candidateSpans(relic, view, relic_bounds);
+  const auto begin = [&](int y) { return traced.begin[std::size_t(y)]; };
+  const auto end = [&](int y) { return traced.end[std::size_t(y)]; };
 
   if (aa == AntiAliasing::Full) {
-    for (int y = traced.y; y < traced.y + traced.height; ++y)
-      for (int x = traced.x; x < traced.x + traced.width; ++x)
+    for (int y = 0; y < h; ++y)
+      for (int x = begin(y); x < end(y); ++x)
         buf.refined.push_back(static_cast<std::uint32_t>(std::size_t(y) * std::size_t(w) + std::size_t(x)));
   } else {
-    tbb::parallel_for(
-        tbb::blocked_range<int>(traced.y, traced.y + traced.height),
-        [&](const tbb::blocked_range<int>& rows) {
-          for (int y = rows.begin(); y < rows.end(); ++y)
-            for (int x = traced.x; x < traced.x + traced.width; ++x) {
-              const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
-              buf.valid[p] = traceSample(scene, relic, view, vec2(float(x), float(y)), buf.hits[p]) ? 1 : 0;
-            }
-        });
+    tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
+      for (int y = rows.begin(); y < rows.end(); ++y)
+        for (int x = begin(y); x < end(y); ++x) {
+          const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
+          buf.valid[p] = traceSample(scene, relic, view, vec2(float(x), float(y)), buf.hits[p]) ? 1 : 0;
+        }
+    });
     if (aa == AntiAliasing::Edges) {
       // Each neighbour pair is compared once: pixel p keeps one bit per pair with its right,
       // lower-left, lower and lower-right neighbours (rows in parallel, each writing its own
-      // pixels), and is an edge when any of its eight pairs differs. Pairs reach one pixel
-      // beyond the traced rectangle, where everything misses; only pixels inside it are flagged.
+      // pixels), and is an edge when any of its eight pairs differs. Row y's pairs cover its
+      // span and the next row's, one pixel wider (everything outside the spans missed); only
+      // pixels inside the spans are flagged.
       enum : std::uint8_t { kRight = 1, kDownLeft = 2, kDown = 4, kDownRight = 8 };
-      const cv::Rect paired =
-          cv::Rect(traced.x - 1, traced.y - 1, traced.width + 2, traced.height + 2) & cv::Rect(0, 0, w, h);
       std::vector<std::uint8_t> pairs(pixels, 0);
-      tbb::parallel_for(tbb::blocked_range<int>(paired.y, paired.y + paired.height),
-                        [&](const tbb::blocked_range<int>& rows) {
-                          for (int y = rows.begin(); y < rows.end(); ++y)
-                            for (int x = paired.x; x < paired.x + paired.width; ++x) {
-                              const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
-                              std::uint8_t bits = 0;
-                              if (x + 1 < w && differ(buf, p, p + 1)) bits |= kRight;
-                              if (y + 1 < h) {
-                                const std::size_t below = p + std::size_t(w);
-                                if (x > 0 && differ(buf, p, below - 1)) bits |= kDownLeft;
-                                if (differ(buf, p, below)) bits |= kDown;
-                                if (x + 1 < w && differ(buf, p, below + 1)) bits |= kDownRight;
-                              }
-                              pairs[p] = bits;
-                            }
-                        });
+      tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
+        for (int y = rows.begin(); y < rows.end(); ++y) {
+          int x0 = begin(y), x1 = end(y);
+          if (y + 1 < h && begin(y + 1) < end(y + 1)) {
+            x0 = x0 < x1 ? std::min(x0, begin(y + 1)) : begin(y + 1);
+            x1 = std::max(x1, end(y + 1));
+          }
+          if (x0 >= x1) continue;
+          for (int x = std::max(x0 - 1, 0); x < std::min(x1 + 1, w); ++x) {
+            const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
+            std::uint8_t bits = 0;
+            if (x + 1 < w && differ(buf, p, p + 1)) bits |= kRight;
+            if (y + 1 < h) {
+              const std::size_t below = p + std::size_t(w);
+              if (x > 0 && differ(buf, p, below - 1)) bits |= kDownLeft;
+              if (differ(buf, p, below)) bits |= kDown;
+              if (x + 1 < w && differ(buf, p, below + 1)) bits |= kDownRight;
+            }
+            pairs[p] = bits;
+          }
+        }
+      });
       // first_sub doubles as the edge flag here (any value but kCentreOnly).
-      tbb::parallel_for(tbb::blocked_range<int>(traced.y, traced.y + traced.height),
-                        [&](const tbb::blocked_range<int>& rows) {
-                          for (int y = rows.begin(); y < rows.end(); ++y)
-                            for (int x = traced.x; x < traced.x + traced.width; ++x) {
-                              const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
-                              bool edge = pairs[p] != 0 || (x > 0 && (pairs[p - 1] & kRight));
-                              if (y > 0 && !edge) {
-                                const std::size_t above = p - std::size_t(w);
-                                edge = (pairs[above] & kDown) || (x > 0 && (pairs[above - 1] & kDownRight)) ||
-                                       (x + 1 < w && (pairs[above + 1] & kDownLeft));
-                              }
-                              if (edge) buf.first_sub[p] = 0;
-                            }
-                        });
+      tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
+        for (int y = rows.begin(); y < rows.end(); ++y)
+          for (int x = begin(y); x < end(y); ++x) {
+            const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
+            bool edge = pairs[p] != 0 || (x > 0 && (pairs[p - 1] & kRight));
+            if (y > 0 && !edge) {
+              const std::size_t above = p - std::size_t(w);
+              edge = (pairs[above] & kDown) || (x > 0 && (pairs[above - 1] & kDownRight)) ||
+                     (x + 1 < w && (pairs[above + 1] & kDownLeft));
+            }
+            if (edge) buf.first_sub[p] = 0;
+          }
+      });
       for (std::size_t p = 0; p < pixels; ++p)
         if (buf.first_sub[p] != HitPointBuffer::kCentreOnly)
           buf.refined.push_back(static_cast<std::uint32_t>(p));

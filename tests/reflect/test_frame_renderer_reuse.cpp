@@ -109,7 +109,7 @@ TEST(HitPoints, EdgeAntiAliasingRefinesEveryPartlyCoveredPixel) {
   EXPECT_LT(edges.refined.size(), std::size_t(hit) / 2) << edges.refined.size() << " of " << hit;
 }
 
-TEST(HitPoints, CullingToTheRelicsProjectedBoxChangesNothing) {
+TEST(HitPoints, CullingToTheRelicsProjectedBoxAndTrianglesChangesNothing) {
   const SphereScene s;
   for (const vec3& eye : {kEye, vec3(0.9f, 0.9f, 0.4f), vec3(0.0f, 0.3f, 0.4f)})
     for (AntiAliasing aa : {AntiAliasing::None, AntiAliasing::Edges, AntiAliasing::Full}) {
