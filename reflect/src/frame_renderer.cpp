@@ -247,27 +247,28 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     PassTimer t(out.timings, Pass::StaticReflections);
     const HitPointBuffer& hits = cache.hits;
     cache.shading.resize(hits.hits.size());
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, hits.hits.size()), [&](const tbb::blocked_range<std::size_t>& r) {
-          for (std::size_t i = r.begin(); i < r.end(); ++i) {
-            if (!hits.valid[i]) continue;
-            const HitPoint& hp = hits.hits[i];
-            cache.shading[i] = ibl_.shadeParts(hp.material, hp.normal, hp.to_viewer, hp.reflected);
-          }
-        });
-    // New images (see ViewCache): the previous ones may still be held by a caller.
-    cache.hdr = cv::Mat(h, w, CV_32FC3);
-    cache.coverage = cv::Mat(h, w, CV_32FC1);
+    // New images (see ViewCache): the previous ones may still be held by a caller. Only the
+    // covered pixels have anything to shade; the rest stay black.
+    cache.hdr = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
+    cache.coverage = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
     cache.zero_weight = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
-    tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
-      for (int y = rows.begin(); y < rows.end(); ++y)
-        for (int x = 0; x < w; ++x) {
-          float weight = 0.0f;
-          const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
-          setRgb(cache.hdr, x, y, composePixel(hits, cache.shading, nullptr, p, weight));
-          cache.coverage.at<float>(y, x) = hits.coverage(x, y);
-        }
-    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                          const std::size_t p = hits.covered[k];
+                          const std::size_t first = hits.firstSample(p);
+                          for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i) {
+                            if (!hits.valid[i]) continue;
+                            const HitPoint& hp = hits.hits[i];
+                            cache.shading[i] =
+                                ibl_.shadeParts(hp.material, hp.normal, hp.to_viewer, hp.reflected);
+                          }
+                          const int x = int(p % std::size_t(w)), y = int(p / std::size_t(w));
+                          float weight = 0.0f;
+                          setRgb(cache.hdr, x, y, composePixel(hits, cache.shading, nullptr, p, weight));
+                          cache.coverage.at<float>(y, x) = hits.coverage(x, y);
+                        }
+                      });
     cache.camera = view;
     cache.display_exposure = 0.0f;
     cache.ready = true;
@@ -276,12 +277,15 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     PassTimer t(out.timings, Pass::ToneMap);
     // Black where the relic is not (toneMapPixel(0) is black), tone-mapped where it is.
     cache.display = cv::Mat(h, w, CV_8UC3, cv::Scalar::all(0));
-    tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
-      for (int y = rows.begin(); y < rows.end(); ++y)
-        for (int x = 0; x < w; ++x)
-          if (cache.coverage.at<float>(y, x) > 0.0f)
+    const std::vector<std::uint32_t>& covered = cache.hits.covered;
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, covered.size(), 256),
+        [&](const tbb::blocked_range<std::size_t>& r) {
+          for (std::size_t k = r.begin(); k < r.end(); ++k) {
+            const int x = int(covered[k] % std::size_t(w)), y = int(covered[k] / std::size_t(w));
             cache.display.at<cv::Vec3b>(y, x) = toneMapPixel(rgbAt(cache.hdr, x, y), settings_.exposure);
-    });
+          }
+        });
     cache.display_exposure = settings_.exposure;
   }
   const HitPointBuffer& hits = cache.hits;
@@ -293,8 +297,8 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     out.hdr = cache.hdr;
     out.weight = cache.zero_weight;
   } else {
-    const std::size_t n = hits.hits.size();
-    cache.fg.assign(n, ForegroundSample{});
+    // Scratch sized once; only the covered pixels' entries are written and read below.
+    cache.fg.resize(hits.hits.size());
     {
       PassTimer t(out.timings, Pass::ForegroundWalk);
       std::atomic<std::uint64_t> walked{0}, found{0};
@@ -350,15 +354,22 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
         return true;
       };
       const std::size_t pixels = hits.pixelCount();
-      // Pass 1: one walk per pixel (its centre, or the mean ray of its valid sub-samples).
-      // Pixel states: 0 nothing of the relic, 1 its walk missed, 2 it met the foreground.
-      cache.pixel_fg.assign(pixels, ForegroundSample{});
+      const std::vector<std::uint32_t>& covered = hits.covered;
+      // Pass 1: one walk per covered pixel (its centre, or the mean ray of its valid
+      // sub-samples). Pixel states: 0 nothing of the relic, 1 its walk missed, 2 it met the
+      // foreground.
+      cache.pixel_fg.resize(pixels);
       cache.pixel_state.assign(pixels, 0);
       tbb::parallel_for(
-          tbb::blocked_range<std::size_t>(0, pixels, 256), [&](const tbb::blocked_range<std::size_t>& r) {
+          tbb::blocked_range<std::size_t>(0, covered.size(), 256),
+          [&](const tbb::blocked_range<std::size_t>& r) {
             std::uint64_t local_walked = 0, local_found = 0;
-            for (std::size_t p = r.begin(); p < r.end(); ++p) {
+            for (std::size_t k = r.begin(); k < r.end(); ++k) {
+              const std::size_t p = covered[k];
+              cache.pixel_fg[p] = ForegroundSample{};
               const std::size_t first = hits.firstSample(p);
+              for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i)
+                cache.fg[i] = ForegroundSample{};
               const std::size_t count = std::size_t(hits.sampleCount(p));
               vec3 position(0.0f), normal(0.0f), reflected(0.0f);
               float roughness = 0.0f;
@@ -394,9 +405,11 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       constexpr float kEdgeWeightStep = 0.2f;
       const int w_px = hits.width, h_px = hits.height;
       tbb::parallel_for(
-          tbb::blocked_range<std::size_t>(0, pixels, 256), [&](const tbb::blocked_range<std::size_t>& r) {
+          tbb::blocked_range<std::size_t>(0, covered.size(), 256),
+          [&](const tbb::blocked_range<std::size_t>& r) {
             std::uint64_t local_walked = 0, local_found = 0;
-            for (std::size_t p = r.begin(); p < r.end(); ++p) {
+            for (std::size_t k = r.begin(); k < r.end(); ++k) {
+              const std::size_t p = covered[k];
               if (cache.pixel_state[p] == 0) continue;
               const std::size_t first = hits.firstSample(p);
               const std::size_t count = std::size_t(hits.sampleCount(p));
@@ -445,25 +458,28 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     out.weight = cache.zero_weight.clone();
     if (fixed_exposure) out.display = cache.display.clone();
     std::atomic<std::size_t> composed{0};
-    tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
-      std::size_t local = 0;
-      for (int y = rows.begin(); y < rows.end(); ++y)
-        for (int x = 0; x < w; ++x) {
-          const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
-          const std::size_t first = hits.firstSample(p);
-          bool reached = false;
-          for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i)
-            reached = reached || cache.fg[i].weight > 0.0f;
-          if (!reached) continue;
-          float weight = 0.0f;
-          const vec3 c = composePixel(hits, cache.shading, &cache.fg, p, weight);
-          setRgb(out.hdr, x, y, c);
-          out.weight.at<float>(y, x) = weight;
-          if (fixed_exposure) out.display.at<cv::Vec3b>(y, x) = toneMapPixel(c, settings_.exposure);
-          ++local;
-        }
-      composed += local;
-    });
+    const std::vector<std::uint32_t>& covered = hits.covered;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, covered.size(), 256),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        std::size_t local = 0;
+                        for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                          const std::size_t p = covered[k];
+                          const int x = int(p % std::size_t(w)), y = int(p / std::size_t(w));
+                          const std::size_t first = hits.firstSample(p);
+                          bool reached = false;
+                          for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i)
+                            reached = reached || cache.fg[i].weight > 0.0f;
+                          if (!reached) continue;
+                          float weight = 0.0f;
+                          const vec3 c = composePixel(hits, cache.shading, &cache.fg, p, weight);
+                          setRgb(out.hdr, x, y, c);
+                          out.weight.at<float>(y, x) = weight;
+                          if (fixed_exposure)
+                            out.display.at<cv::Vec3b>(y, x) = toneMapPixel(c, settings_.exposure);
+                          ++local;
+                        }
+                        composed += local;
+                      });
     out.composed_pixels = composed;
   }
   if (fixed_exposure) {

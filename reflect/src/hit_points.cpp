@@ -266,6 +266,11 @@ void traceHitPoints(const RenderScene& scene, const CameraModel& view, AntiAlias
                                                                                                         : 0;
                       }
                     });
+  buf.covered.clear();
+  for (int y = 0; y < h; ++y)
+    for (int x = begin(y); x < end(y); ++x)
+      if (buf.coverage(x, y) > 0.0f)
+        buf.covered.push_back(static_cast<std::uint32_t>(std::size_t(y) * std::size_t(w) + std::size_t(x)));
 }
 
 }  // namespace holo::reflect

@@ -49,6 +49,9 @@ struct HitPointBuffer {
   std::vector<std::uint8_t> valid;       // 1 where the sample hit the relic, per entry of hits
   std::vector<std::uint32_t> refined;    // pixels (y * width + x) with four sub-samples, ascending
   std::vector<std::uint32_t> first_sub;  // per pixel: index in hits of its first sub-sample, or kCentreOnly
+  // Pixels with at least one valid sample (coverage > 0), ascending: every other pixel is empty,
+  // so passes over the relic's pixels need not visit the whole view.
+  std::vector<std::uint32_t> covered;
 
   std::size_t pixelCount() const { return std::size_t(width) * std::size_t(height); }
   // The samples pixel p (= y * width + x) is the mean of: [firstSample(p), firstSample(p) + sampleCount(p)).
