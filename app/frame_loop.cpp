@@ -246,10 +246,14 @@ std::vector<reflect::ForegroundCameraImage> FrameLoop::cameraImages(const std::v
     const cv::Mat& srgb = frames[i].color;
     cv::Mat& linear = linear_colour_[i];
     linear.create(srgb.size(), CV_32FC3);
-    tbb::parallel_for(0, srgb.rows, [&](int y) {
-      const std::uint8_t* in = srgb.ptr<std::uint8_t>(y);
-      float* out = linear.ptr<float>(y);
-      for (int k = 0; k < 3 * srgb.cols; ++k) out[k] = table[in[k]];
+    // The renderer reads the colour only inside the mask's box (ForegroundCameraImage): a
+    // visitor converts a part of the frame, not all of it.
+    const cv::Rect box =
+        masks[i].type() == CV_8UC1 ? cv::boundingRect(masks[i]) : cv::Rect(0, 0, srgb.cols, srgb.rows);
+    tbb::parallel_for(box.y, box.y + box.height, [&](int y) {
+      const std::uint8_t* in = srgb.ptr<std::uint8_t>(y) + 3 * box.x;
+      float* out = linear.ptr<float>(y) + 3 * box.x;
+      for (int k = 0; k < 3 * box.width; ++k) out[k] = table[in[k]];
     });
     images[i].camera = cameras_[i];
     images[i].colour_bgr = linear;

@@ -73,7 +73,7 @@ struct TracerSettings {
 // One foreground camera of this frame: its model and the filtered colour and mask it saw.
 struct ForegroundCameraImage {
   CameraModel camera;
-  cv::Mat colour_bgr;  // CV_32FC3 linear
+  cv::Mat colour_bgr;  // CV_32FC3 linear; read only inside the mask's non-zero bounding box
   cv::Mat mask;        // CV_32FC1 [0, 1] or CV_8UC1
 };
 
