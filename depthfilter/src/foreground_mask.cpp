@@ -14,7 +14,7 @@ namespace {
 // Positive and finite; written as two comparisons (NaN fails both) so the per-pixel loops
 // vectorise.
 bool validDepth(float d) {
-  return d > 0.0f && d <= std::numeric_limits<float>::max();
+  return (d > 0.0f) & (d <= std::numeric_limits<float>::max());
 }
 
 cv::Mat disc(int radius) {
@@ -87,19 +87,22 @@ cv::Mat ForegroundMasker::apply(const RgbdFrame& frame) {
     cv::erode(colour_mask, colour_mask, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)));
   }
 
+  // Both per-pixel loops are branch-free selects (the branches were unpredictable along a
+  // visitor's outline and cost more than the arithmetic).
   cv::Mat mask(frame.depth.size(), CV_8UC1);
+  const float margin_m = config_.depth_margin_m, margin_z2 = config_.depth_margin_z2;
+  const int cols = mask.cols;
   for (int y = 0; y < mask.rows; ++y) {
-    const float* d = frame.depth.ptr<float>(y);
-    const float* bg = background_depth_.ptr<float>(y);
-    const std::uint8_t* colour = colour_mask.ptr<std::uint8_t>(y);
-    std::uint8_t* out = mask.ptr<std::uint8_t>(y);
-    for (int x = 0; x < mask.cols; ++x) {
-      if (validDepth(d[x]) && validDepth(bg[x])) {
-        const float margin = config_.depth_margin_m + config_.depth_margin_z2 * bg[x] * bg[x];
-        out[x] = d[x] < bg[x] - margin ? 255 : 0;
-      } else {
-        out[x] = colour[x] == 255 ? 255 : 0;  // 127 = shadow -> background
-      }
+    // restrict: a byte store may alias anything, which would keep the loop scalar.
+    const float* __restrict d = frame.depth.ptr<float>(y);
+    const float* __restrict bg = background_depth_.ptr<float>(y);
+    const std::uint8_t* __restrict colour = colour_mask.ptr<std::uint8_t>(y);
+    std::uint8_t* __restrict out = mask.ptr<std::uint8_t>(y);
+    for (int x = 0; x < cols; ++x) {
+      const bool by_depth = validDepth(d[x]) & validDepth(bg[x]);
+      const bool nearer = d[x] < bg[x] - (margin_m + margin_z2 * bg[x] * bg[x]);
+      const bool by_colour = colour[x] == 255;  // 127 = shadow -> background
+      out[x] = std::uint8_t(((by_depth & nearer) | (!by_depth & by_colour)) * 255);
     }
   }
   // Opening and closing change nothing farther than 2 * (open + close) radii from the
@@ -118,12 +121,14 @@ cv::Mat ForegroundMasker::apply(const RgbdFrame& frame) {
   // pixel that sees farther than its background (a door opened) moves there at the same rate.
   const float rate = config_.background_depth_rate;
   for (int y = 0; y < mask.rows; ++y) {
-    const float* d = frame.depth.ptr<float>(y);
-    float* bg = background_depth_.ptr<float>(y);
-    const std::uint8_t* m = mask.ptr<std::uint8_t>(y);
-    for (int x = 0; x < mask.cols; ++x) {
-      if (m[x] != 0 || !validDepth(d[x])) continue;
-      bg[x] = validDepth(bg[x]) ? bg[x] + rate * (d[x] - bg[x]) : d[x];
+    const float* __restrict d = frame.depth.ptr<float>(y);
+    float* __restrict bg = background_depth_.ptr<float>(y);
+    const std::uint8_t* __restrict m = mask.ptr<std::uint8_t>(y);
+    for (int x = 0; x < cols; ++x) {
+      const float was = bg[x], now = d[x];
+      const float blended = was + rate * (now - was);
+      const float updated = validDepth(was) ? blended : now;
+      bg[x] = (m[x] == 0) & validDepth(now) ? updated : was;
     }
   }
   return mask;
