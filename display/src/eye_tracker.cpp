@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
 #include <vector>
 
 #include "holo/core/error.hpp"
@@ -16,30 +15,48 @@ namespace {
 
 constexpr double kFallbackFrameS = 1.0 / 30.0;
 
-// Horizontal grid of head_radius cells, so a head's neighbours lie in the 3x3 cells around it.
-struct ColumnGrid {
-  float cell;
-  std::unordered_map<std::int64_t, std::vector<vec3>> cells;
-  static std::int64_t key(int i, int k) {
-    return (static_cast<std::int64_t>(i) << 32) ^ static_cast<std::int64_t>(static_cast<std::uint32_t>(k));
+// Horizontal grid of head_radius cells over the square |x|, |z| <= half_extent (the tracker adds
+// only points within max_distance of the axis), so a head's neighbours lie in the 3x3 cells
+// around it. Points are bucketed by a counting sort once all are added (finish()): a cell's
+// points are contiguous, with no per-cell allocation.
+class ColumnGrid {
+ public:
+  ColumnGrid(float cell, float half_extent)
+      : cell_(cell), offset_(int(std::ceil(half_extent / cell)) + 1), side_(2 * offset_ + 1) {}
+  void add(const vec3& p) { added_.push_back(p); }
+  void finish() {
+    start_.assign(std::size_t(side_) * std::size_t(side_) + 1, 0);
+    for (const vec3& p : added_) ++start_[cellOf(p) + 1];
+    for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
+    points_.resize(added_.size());
+    std::vector<std::size_t> next(start_.begin(), start_.end() - 1);
+    for (const vec3& p : added_) points_[next[cellOf(p)]++] = p;
   }
-  int index(float v) const { return static_cast<int>(std::floor(v / cell)); }
-  void add(const vec3& p) { cells[key(index(p.x), index(p.z))].push_back(p); }
   // Points within `radius` horizontally of `top` and `depth` below it.
   std::vector<vec3> column(const vec3& top, float radius, float depth) const {
     std::vector<vec3> out;
     const int ci = index(top.x), ck = index(top.z);
-    for (int i = ci - 1; i <= ci + 1; ++i)
-      for (int k = ck - 1; k <= ck + 1; ++k) {
-        const auto it = cells.find(key(i, k));
-        if (it == cells.end()) continue;
-        for (const vec3& p : it->second) {
+    for (int i = std::max(ci - 1, 0); i <= std::min(ci + 1, side_ - 1); ++i)
+      for (int k = std::max(ck - 1, 0); k <= std::min(ck + 1, side_ - 1); ++k) {
+        const std::size_t c = std::size_t(k) * std::size_t(side_) + std::size_t(i);
+        for (std::size_t j = start_[c]; j < start_[c + 1]; ++j) {
+          const vec3& p = points_[j];
           const float dx = p.x - top.x, dz = p.z - top.z;
           if (dx * dx + dz * dz <= radius * radius && p.y <= top.y && p.y >= top.y - depth) out.push_back(p);
         }
       }
     return out;
   }
+
+ private:
+  int index(float v) const { return std::clamp(int(std::floor(v / cell_)) + offset_, 0, side_ - 1); }
+  std::size_t cellOf(const vec3& p) const {
+    return std::size_t(index(p.z)) * std::size_t(side_) + std::size_t(index(p.x));
+  }
+  float cell_;
+  int offset_, side_;
+  std::vector<vec3> added_, points_;
+  std::vector<std::size_t> start_;  // cell c's points: points_[start_[c], start_[c + 1])
 };
 
 float horizontalDistance(const vec3& a, const vec3& b) {
@@ -72,7 +89,7 @@ std::optional<vec3> detectEye(const depthfilter::ForegroundCloud& cloud, int fac
   const float y_lo = settings.floor_y + settings.min_head_top - settings.head_depth;
   const float y_hi = settings.floor_y + settings.max_head_top;
   std::vector<vec3> candidates;
-  ColumnGrid grid{settings.head_radius, {}};
+  ColumnGrid grid(settings.head_radius, settings.max_distance);
   std::int64_t non_finite = 0;
   for (const depthfilter::ForegroundPoint& point : cloud.points) {
     const vec3& p = point.position;
@@ -91,6 +108,7 @@ std::optional<vec3> detectEye(const depthfilter::ForegroundCloud& cloud, int fac
     if (p.y >= settings.floor_y + settings.min_head_top) candidates.push_back(p);
   }
   if (non_finite > 0) stats::add("Display/Eye tracker non-finite points ignored", non_finite);
+  grid.finish();
   // Candidates are visited from the highest down and the first few usually make a head: a heap
   // hands them out in that order without sorting all of them. Ties in height go by x, then z,
   // so the order never depends on the cloud's point order.
