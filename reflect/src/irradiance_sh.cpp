@@ -29,8 +29,10 @@ IrradianceSH::IrradianceSH(const Environment& environment) {
   const cv::Mat& pano = environment.panorama();
   if (pano.empty()) return;
   const int w = pano.cols, h = pano.rows;
-  const Coefficients sum = tbb::parallel_reduce(
-      tbb::blocked_range<int>(0, h), Coefficients{},
+  // Deterministic reduce: the partial sums are joined in the same order whatever the threads
+  // did, so the coefficients (and every image lit by them) are bit-identical run to run.
+  const Coefficients sum = tbb::parallel_deterministic_reduce(
+      tbb::blocked_range<int>(0, h, 16), Coefficients{},
       [&](const tbb::blocked_range<int>& rows, Coefficients acc) {
         for (int y = rows.begin(); y < rows.end(); ++y) {
           const double omega = Environment::pixelSolidAngle(y, w, h);
