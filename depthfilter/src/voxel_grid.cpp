@@ -1,6 +1,7 @@
 #include "holo/depthfilter/voxel_grid.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -133,36 +134,45 @@ void VoxelGrid::build(const ForegroundCloud& cloud) {
 // Exact Chebyshev (L-infinity, chessboard) distance transform of the brick occupancy by two
 // raster sweeps with the unit 26-neighbour mask (Rosenfeld and Pfaltz): the forward sweep takes
 // each brick's 13 neighbours already visited, the backward sweep the other 13. O(bricks), where
-// a 1-D scan per axis was O(bricks x edge) (3 ms of each frame on the default 32 x 18 x 32).
+// a 1-D scan per axis was O(bricks x edge) (3 ms of each frame on the default 32 x 18 x 32). The
+// working copy has a one-brick border that stays "far", so no neighbour needs a bounds check.
 void VoxelGrid::computeBrickDistances() {
   const glm::ivec3 n = brick_dims_;
+  const glm::ivec3 padded = n + 2;
   constexpr int kFar = 255;
+  constexpr int kUnreached = std::numeric_limits<int>::max() / 2;
+  const auto at = [&](int x, int y, int z) { return (std::ptrdiff_t(z) * padded.y + y) * padded.x + x; };
   std::vector<int>& d = distance_scratch_;
-  d.resize(brick_count_.size());
-  for (std::size_t i = 0; i < d.size(); ++i)
-    d[i] = brick_count_[i] > 0 ? 0 : std::numeric_limits<int>::max() / 2;
-  const auto sweep = [&](int step) {
-    const int x0 = step > 0 ? 0 : n.x - 1, y0 = step > 0 ? 0 : n.y - 1, z0 = step > 0 ? 0 : n.z - 1;
-    for (int z = z0; z >= 0 && z < n.z; z += step)
-      for (int y = y0; y >= 0 && y < n.y; y += step)
-        for (int x = x0; x >= 0 && x < n.x; x += step) {
-          int& here = d[std::size_t((z * n.y + y) * n.x + x)];
-          // The neighbours visited before this brick in the sweep's order: the previous slab,
-          // the previous row of this slab, the previous brick of this row.
-          for (int dz = -1; dz <= 1; ++dz)
-            for (int dy = -1; dy <= 1; ++dy)
-              for (int dx = -1; dx <= 1; ++dx) {
-                const int order = dz != 0 ? dz : dy != 0 ? dy : dx;
-                if (order != -1) continue;  // not strictly before (in sweep-direction units)
-                const int nx = x + step * dx, ny = y + step * dy, nz = z + step * dz;
-                if (nx < 0 || ny < 0 || nz < 0 || nx >= n.x || ny >= n.y || nz >= n.z) continue;
-                here = std::min(here, d[std::size_t((nz * n.y + ny) * n.x + nx)] + 1);
-              }
-        }
+  d.assign(std::size_t(padded.x) * std::size_t(padded.y) * std::size_t(padded.z), kUnreached);
+  for (int z = 0; z < n.z; ++z)
+    for (int y = 0; y < n.y; ++y)
+      for (int x = 0; x < n.x; ++x)
+        if (brick_count_[std::size_t((z * n.y + y) * n.x + x)] > 0)
+          d[std::size_t(at(x + 1, y + 1, z + 1))] = 0;
+  // The 13 neighbours before a brick in raster order (previous slab, previous row, previous
+  // brick), as offsets in the padded array; the backward sweep uses their negatives.
+  std::array<std::ptrdiff_t, 13> before{};
+  std::size_t count = 0;
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx)
+        if ((dz != 0 ? dz : dy != 0 ? dy : dx) == -1) before[count++] = at(dx, dy, dz) - at(0, 0, 0);
+  const auto relax = [&](std::ptrdiff_t i, int sign) {
+    int best = d[std::size_t(i)];
+    for (const std::ptrdiff_t o : before) best = std::min(best, d[std::size_t(i + sign * o)] + 1);
+    d[std::size_t(i)] = best;
   };
-  sweep(+1);
-  sweep(-1);
-  for (std::size_t i = 0; i < d.size(); ++i) brick_distance_[i] = std::uint8_t(std::min(d[i], kFar));
+  for (int z = 1; z <= n.z; ++z)
+    for (int y = 1; y <= n.y; ++y)
+      for (int x = 1; x <= n.x; ++x) relax(at(x, y, z), +1);
+  for (int z = n.z; z >= 1; --z)
+    for (int y = n.y; y >= 1; --y)
+      for (int x = n.x; x >= 1; --x) relax(at(x, y, z), -1);
+  for (int z = 0; z < n.z; ++z)
+    for (int y = 0; y < n.y; ++y)
+      for (int x = 0; x < n.x; ++x)
+        brick_distance_[std::size_t((z * n.y + y) * n.x + x)] =
+            std::uint8_t(std::min(d[std::size_t(at(x + 1, y + 1, z + 1))], kFar));
 }
 
 }  // namespace holo::depthfilter
