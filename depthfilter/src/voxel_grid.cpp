@@ -92,6 +92,8 @@ void VoxelGrid::clear() {
 
 void VoxelGrid::build(const ForegroundCloud& cloud) {
   clear();
+  std::int64_t last_lin = -1;
+  std::int32_t* last_slot = nullptr;
   for (const ForegroundPoint& p : cloud.points) {
     if (!isFinite(p.position)) {
       ++dropped_;
@@ -103,7 +105,11 @@ void VoxelGrid::build(const ForegroundCloud& cloud) {
       continue;
     }
     const std::int64_t lin = linearIndex(v);
-    std::int32_t& slot = cell_[std::size_t(lin)];
+    // A camera's neighbouring pixels mostly land in the voxel of the point before: its slot is
+    // kept rather than looked up again in the (cache-missing) voxel array.
+    std::int32_t& slot = lin == last_lin ? *last_slot : cell_[std::size_t(lin)];
+    last_lin = lin;
+    last_slot = &slot;
     const float weight = std::isfinite(p.weight) ? std::clamp(p.weight, 0.0f, 1.0f) : 0.0f;
     if (slot < 0) {
       slot = std::int32_t(samples_.size());
