@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -82,14 +83,15 @@ vec3 defaultEye(int face, const EyeTrackerSettings& settings) {
          vec3(0.0f, settings.floor_y + settings.default_eye_height, 0.0f);
 }
 
-std::optional<vec3> detectEye(const depthfilter::ForegroundCloud& cloud, int face,
-                              const EyeTrackerSettings& settings, const std::optional<vec3>& near) {
-  const vec3 normal = faceNormal(face);
-  const vec3 tangent(normal.z, 0.0f, -normal.x);
+namespace {
+
+// One pass over the cloud: per face, the finite points in its sector (a point on a diagonal is
+// in both), at a head's height band and within the distance ring, in cloud order.
+std::array<std::vector<vec3>, kFaceCount> headBandPoints(const depthfilter::ForegroundCloud& cloud,
+                                                         const EyeTrackerSettings& settings) {
   const float y_lo = settings.floor_y + settings.min_head_top - settings.head_depth;
   const float y_hi = settings.floor_y + settings.max_head_top;
-  std::vector<vec3> candidates;
-  ColumnGrid grid(settings.head_radius, settings.max_distance);
+  std::array<std::vector<vec3>, kFaceCount> bands;
   std::int64_t non_finite = 0;
   for (const depthfilter::ForegroundPoint& point : cloud.points) {
     const vec3& p = point.position;
@@ -98,16 +100,29 @@ std::optional<vec3> detectEye(const depthfilter::ForegroundCloud& cloud, int fac
       continue;
     }
     if (p.y < y_lo || p.y > y_hi) continue;
-    const float along = p.x * normal.x + p.z * normal.z;
-    const float across = p.x * tangent.x + p.z * tangent.z;
-    if (along <= 0.0f || along < std::abs(across)) continue;  // another face's sector
     const float distance = std::hypot(p.x, p.z);
     if (distance < settings.min_distance || distance > settings.max_distance) continue;
+    for (int f = 0; f < kFaceCount; ++f) {
+      const vec3 normal = faceNormal(f);
+      const vec3 tangent(normal.z, 0.0f, -normal.x);
+      const float along = p.x * normal.x + p.z * normal.z;
+      const float across = p.x * tangent.x + p.z * tangent.z;
+      if (along > 0.0f && along >= std::abs(across)) bands[std::size_t(f)].push_back(p);
+    }
+  }
+  if (non_finite > 0) stats::add("Display/Eye tracker non-finite points ignored", non_finite);
+  return bands;
+}
+
+std::optional<vec3> detectEyeAmong(const std::vector<vec3>& band, const EyeTrackerSettings& settings,
+                                   const std::optional<vec3>& near) {
+  std::vector<vec3> candidates;
+  ColumnGrid grid(settings.head_radius, settings.max_distance);
+  for (const vec3& p : band) {
     grid.add(p);
     // A head's top must itself be at a plausible head height.
     if (p.y >= settings.floor_y + settings.min_head_top) candidates.push_back(p);
   }
-  if (non_finite > 0) stats::add("Display/Eye tracker non-finite points ignored", non_finite);
   grid.finish();
   // Candidates are visited from the highest down and the first few usually make a head: a heap
   // hands them out in that order without sorting all of them. Ties in height go by x, then z,
@@ -149,6 +164,14 @@ std::optional<vec3> detectEye(const depthfilter::ForegroundCloud& cloud, int fac
   return search(false);
 }
 
+}  // namespace
+
+std::optional<vec3> detectEye(const depthfilter::ForegroundCloud& cloud, int face,
+                              const EyeTrackerSettings& settings, const std::optional<vec3>& near) {
+  checkFace(face);
+  return detectEyeAmong(headBandPoints(cloud, settings)[std::size_t(face)], settings, near);
+}
+
 EyeTracker::EyeTracker(EyeTrackerSettings settings) : settings_(settings) {
   if (!(settings_.alpha > 0.0f && settings_.alpha <= 1.0f) ||
       !(settings_.beta >= 0.0f && settings_.beta < 2.0f))
@@ -161,14 +184,17 @@ const std::array<FaceEye, kFaceCount>& EyeTracker::update(const depthfilter::For
   if (last_time_s_ && !(std::isfinite(now) && now > *last_time_s_)) now = *last_time_s_ + kFallbackFrameS;
   if (!std::isfinite(now)) now = 0.0;
   last_time_s_ = now;
-  // The faces' detections are independent (each reads the whole cloud): in parallel. The
-  // filter updates after them, in face order, so the result does not depend on the threads.
+  // One pass sorts the cloud's head-height points by face; the faces' detections are then
+  // independent: in parallel. The filter updates after them, in face order, so the result does
+  // not depend on the threads.
+  const std::array<std::vector<vec3>, kFaceCount> bands = headBandPoints(cloud, settings_);
   std::array<std::optional<vec3>, kFaceCount> detections;
   tbb::parallel_for(0, kFaceCount, [&](int f) {
     const FaceEye& eye = eyes_[static_cast<std::size_t>(f)];
     std::optional<vec3> predicted;
     if (eye.tracked) predicted = eye.position + eye.velocity * static_cast<float>(now - eye.last_seen_s);
-    detections[static_cast<std::size_t>(f)] = detectEye(cloud, f, settings_, predicted);
+    detections[static_cast<std::size_t>(f)] =
+        detectEyeAmong(bands[static_cast<std::size_t>(f)], settings_, predicted);
   });
   for (int f = 0; f < kFaceCount; ++f) updateFace(f, detections[static_cast<std::size_t>(f)], now);
   return eyes_;
