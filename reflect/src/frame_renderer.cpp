@@ -153,7 +153,8 @@ void FrameRenderer::shadeHit(const HitPoint& hp, SplitSumShading& shading, WalkR
   shading.specular_scale *= second.specular_scale;
   shading.environment = second.environment;
   // The two lobes widen each other: GGX alphas (roughness^2) add in quadrature.
-  const float a1 = hp.material.roughness * hp.material.roughness, a2 = material.roughness * material.roughness;
+  const float a1 = hp.material.roughness * hp.material.roughness,
+              a2 = material.roughness * material.roughness;
   walk_ray = {position, normal, reflected, std::sqrt(std::sqrt(a1 * a1 + a2 * a2)), true};
 }
 
@@ -296,11 +297,11 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     const HitPointBuffer& hits = cache.hits;
     cache.shading.resize(hits.hits.size());
     cache.walk_rays.resize(hits.hits.size());
-    tbb::parallel_for(
-        tbb::blocked_range<std::size_t>(0, hits.hits.size()), [&](const tbb::blocked_range<std::size_t>& r) {
-          for (std::size_t i = r.begin(); i < r.end(); ++i)
-            if (hits.valid[i]) shadeHit(hits.hits[i], cache.shading[i], cache.walk_rays[i]);
-        });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.hits.size()),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i < r.end(); ++i)
+                          if (hits.valid[i]) shadeHit(hits.hits[i], cache.shading[i], cache.walk_rays[i]);
+                      });
     // New images (see ViewCache): the previous ones may still be held by a caller.
     cache.hdr = cv::Mat(h, w, CV_32FC3);
     cache.coverage = cv::Mat(h, w, CV_32FC1);
@@ -443,7 +444,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       // the foreground it met (or missed) matches its 8 neighbours'; at the reflected foreground's
       // edges (a neighbour met it and this one did not, or their weights differ by more than
       // kEdgeWeightStep) each sub-sample walks, which anti-aliases those edges as four walks
-      // everywhere would.
+      // everywhere would. Where those four then disagree, the pixel is supersampled (pass 3).
       constexpr float kEdgeWeightStep = 0.2f;
       const int w_px = hits.width, h_px = hits.height;
       tbb::parallel_for(
@@ -458,8 +459,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
               for (std::size_t i = first; i < first + count && rough; ++i)
                 rough = !hits.valid[i] || cache.walk_rays[i].roughness >= settings_.walk_per_pixel_roughness;
               bool edge = false;
-              const bool supersample = settings_.edge_samples > 0 && !rough;
-              if ((count > 1 && !rough && settings_.walk_edges_only) || supersample) {
+              if (count > 1 && !rough && settings_.walk_edges_only) {
                 const int x = int(p % std::size_t(w_px)), y = int(p / std::size_t(w_px));
                 for (int dy = -1; dy <= 1 && !edge; ++dy)
                   for (int dx = -1; dx <= 1 && !edge; ++dx) {
@@ -471,17 +471,20 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
                            std::abs(cache.pixel_fg[q].weight - cache.pixel_fg[p].weight) > kEdgeWeightStep;
                   }
               }
-              if (supersample && edge) {
-                cache.edge_index[p] = 0;  // marked; numbered below
-                continue;
-              }
               if (mixed || (count > 1 && !rough && (edge || !settings_.walk_edges_only))) {
+                float lo = 1.0f, hi = 0.0f;
                 for (std::size_t i = first; i < first + count; ++i) {
                   if (!hits.valid[i]) continue;
                   const WalkRay& wr = cache.walk_rays[i];
                   ++local_walked;
                   local_found += walk(wr.position, wr.normal, wr.reflected, wr.roughness, cache.fg[i]);
+                  lo = std::min(lo, cache.fg[i].weight);
+                  hi = std::max(hi, cache.fg[i].weight);
                 }
+                // An edge of the reflected foreground crosses this pixel where its sub-samples
+                // disagree: it is supersampled (pass 3; marked here, numbered there).
+                if (settings_.edge_samples > 0 && (hi - lo > kEdgeWeightStep || (lo == 0.0f && hi > 0.0f)))
+                  cache.edge_index[p] = 0;
                 continue;
               }
               if (cache.pixel_state[p] != 2) continue;
@@ -505,33 +508,33 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
         traceSamples(scene_, cache.camera, cache.edge_pixels, pattern, cache.edge_hits, cache.edge_valid);
         cache.edge_colour.assign(cache.edge_pixels.size(), vec3(0.0f));
         cache.edge_weight.assign(cache.edge_pixels.size(), 0.0f);
-        tbb::parallel_for(
-            tbb::blocked_range<std::size_t>(0, cache.edge_pixels.size(), 4),
-            [&](const tbb::blocked_range<std::size_t>& r) {
-              std::uint64_t local_walked = 0, local_found = 0;
-              for (std::size_t k = r.begin(); k < r.end(); ++k) {
-                vec3 sum(0.0f);
-                float wsum = 0.0f;
-                for (std::size_t i = k * per_pixel; i < (k + 1) * per_pixel; ++i) {
-                  if (!cache.edge_valid[i]) continue;
-                  SplitSumShading sh;
-                  WalkRay wr;
-                  shadeHit(cache.edge_hits[i], sh, wr);
-                  ForegroundSample fg;
-                  ++local_walked;
-                  if (walk(wr.position, wr.normal, wr.reflected, wr.roughness, fg)) ++local_found;
-                  sum += composeReflection(sh.specular_scale * fg.radiance, sh.specular_scale * sh.environment,
-                                           fg.weight) +
-                         composeReflection(sh.diffuse, vec3(0.0f), 1.0f);
-                  wsum += fg.weight;
-                }
-                const float inv = 1.0f / float(per_pixel);
-                cache.edge_colour[k] = sum * inv;
-                cache.edge_weight[k] = std::clamp(wsum * inv, 0.0f, 1.0f);
-              }
-              walked += local_walked;
-              found += local_found;
-            });
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cache.edge_pixels.size(), 4),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                            std::uint64_t local_walked = 0, local_found = 0;
+                            for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                              vec3 sum(0.0f);
+                              float wsum = 0.0f;
+                              for (std::size_t i = k * per_pixel; i < (k + 1) * per_pixel; ++i) {
+                                if (!cache.edge_valid[i]) continue;
+                                SplitSumShading sh;
+                                WalkRay wr;
+                                shadeHit(cache.edge_hits[i], sh, wr);
+                                ForegroundSample fg;
+                                ++local_walked;
+                                if (walk(wr.position, wr.normal, wr.reflected, wr.roughness, fg))
+                                  ++local_found;
+                                sum += composeReflection(sh.specular_scale * fg.radiance,
+                                                         sh.specular_scale * sh.environment, fg.weight) +
+                                       composeReflection(sh.diffuse, vec3(0.0f), 1.0f);
+                                wsum += fg.weight;
+                              }
+                              const float inv = 1.0f / float(per_pixel);
+                              cache.edge_colour[k] = sum * inv;
+                              cache.edge_weight[k] = std::clamp(wsum * inv, 0.0f, 1.0f);
+                            }
+                            walked += local_walked;
+                            found += local_found;
+                          });
       }
       out.supersampled_pixels = cache.edge_pixels.size();
       out.walked_rays = walked;

@@ -180,7 +180,7 @@ void traceHitPoints(const RenderScene& scene, const CameraModel& view, AntiAlias
 std::vector<vec2> stratifiedPattern(int samples) {
   const int n = int(std::lround(std::sqrt(float(std::max(samples, 0)))));
   if (n < 1 || n > 16 || n * n != samples)
-    throw InputError("tracer settings", "edge_samples", "a square number n^2 with n in 1..16",
+    throw InputError("stratifiedPattern", "samples", "a square number n^2 with n in 1..16",
                      std::to_string(samples));
   std::vector<vec2> pattern;
   pattern.reserve(std::size_t(samples));
@@ -192,7 +192,8 @@ std::vector<vec2> stratifiedPattern(int samples) {
 }
 
 void traceSamples(const RenderScene& scene, const CameraModel& view, const std::vector<std::uint32_t>& pixels,
-                  const std::vector<vec2>& pattern, std::vector<HitPoint>& hits, std::vector<std::uint8_t>& valid) {
+                  const std::vector<vec2>& pattern, std::vector<HitPoint>& hits,
+                  std::vector<std::uint8_t>& valid) {
   const std::size_t per_pixel = pattern.size();
   hits.resize(pixels.size() * per_pixel);
   valid.assign(pixels.size() * per_pixel, 0);

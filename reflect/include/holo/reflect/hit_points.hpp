@@ -76,6 +76,7 @@ std::vector<vec2> stratifiedPattern(int samples);
 // traceHitPoints, not part of it: the frame renderer supersamples the few pixels where the
 // reflected foreground has an edge (frame_renderer.hpp, TracerSettings::edge_samples).
 void traceSamples(const RenderScene& scene, const CameraModel& view, const std::vector<std::uint32_t>& pixels,
-                  const std::vector<vec2>& pattern, std::vector<HitPoint>& hits, std::vector<std::uint8_t>& valid);
+                  const std::vector<vec2>& pattern, std::vector<HitPoint>& hits,
+                  std::vector<std::uint8_t>& valid);
 
 }  // namespace holo::reflect
