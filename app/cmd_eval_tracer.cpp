@@ -204,7 +204,9 @@ SceneResult evalScene(const std::string& hall, const std::string& relic, const T
   MethodSettings no_visitors = base;
   no_visitors.with_visitors = false;
   const std::string ours_knob = "aa=" + std::to_string(base.tracer.aa_samples) +
-                                ",levels=" + std::to_string(base.tracer.pyramid_levels);
+                                ",levels=" + std::to_string(base.tracer.pyramid_levels) +
+                                ",edge=" + std::to_string(base.tracer.edge_samples) +
+                                (base.tracer.relic_interreflection ? "" : ",no-bounce");
   Entry ours, ibl_same_aa;
   {
     std::vector<Entry> a, b;
@@ -573,6 +575,12 @@ HOLO_REGISTER_COMMAND(Command{
                      "Ours: added to the derived pyramid level (checks)")
           ->capture_default_str()
           ->check(CLI::Range(-8.0f, 8.0f));
+      sub.add_option("--edge-samples", o->tracer.edge_samples,
+                     "Ours: sub-samples at the reflected foreground's edges (n^2; 0 = off)")
+          ->capture_default_str()
+          ->check(CLI::IsMember({0, 4, 9, 16, 25, 36, 64}));
+      sub.add_flag("--no-interreflection{false}", o->tracer.relic_interreflection,
+                   "Ours: no bounce where a mirror ray meets the relic itself");
       sub.add_option("--voxel-size", o->tracer.grid.voxel_size, "Ours: voxel size, metres")
           ->capture_default_str()
           ->check(CLI::Range(0.005f, 0.5f));

@@ -95,6 +95,12 @@ void TracerSettings::validate() const {
   if (!std::isfinite(walk_per_pixel_roughness) || walk_per_pixel_roughness < 0.0f)
     throw InputError(src, "walk_per_pixel_roughness", "a roughness >= 0 (> 1: never)",
                      std::to_string(walk_per_pixel_roughness));
+  if (edge_samples != 0) {
+    const int n = int(std::lround(std::sqrt(float(std::max(edge_samples, 0)))));
+    if (n < 2 || n > 16 || n * n != edge_samples)
+      throw InputError(src, "edge_samples", "0 (off) or a square number n^2 with n in 2..16",
+                       std::to_string(edge_samples));
+  }
   if (edge_aa && aa_samples != 1) throw InputError(src, "edge_aa", "only with aa_samples 1", "aa_samples 4");
   grid.validate(src + " grid");
 }
@@ -121,14 +127,57 @@ EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
   return planEffects(in);
 }
 
+struct FrameRenderer::WalkRay {
+  vec3 position{0.0f}, normal{0.0f, 1.0f, 0.0f}, reflected{0.0f, 1.0f, 0.0f};
+  float roughness = 0.0f;
+  bool bounced = false;  // from the interreflection's second point
+};
+
+void FrameRenderer::shadeHit(const HitPoint& hp, SplitSumShading& shading, WalkRay& walk_ray) const {
+  shading = ibl_.shadeParts(hp.material, hp.normal, hp.to_viewer, hp.reflected);
+  walk_ray = {hp.position, hp.normal, hp.reflected, hp.material.roughness, false};
+  if (!settings_.relic_interreflection) return;
+  const RayScene& relic = scene_.relicOnly();
+  const Ray ray{hp.position + hp.normal * settings_.ray_offset, hp.reflected};
+  const RayHit hit = relic.intersect(ray);
+  if (!hit.hit()) return;
+  const vec3 position = relic.position(ray, hit);
+  const vec3 normal = relic.shadingNormal(hit, ray.direction);
+  const vec3 reflected = glm::reflect(ray.direction, normal);
+  if (!isFinite(position) || !isFinite(normal) || !isFinite(reflected)) return;
+  const SurfaceMaterial material = scene_.relicMaterial(hit, relic);
+  const SplitSumShading second = ibl_.shadeParts(material, normal, -ray.direction, reflected);
+  // L = diffuse_1 + s_1 L_2 and L_2 = diffuse_2 + s_2 (psi_d w + env_2 (1 - w)): the composition's
+  // form with scale s_1 s_2 and environment env_2.
+  shading.diffuse += shading.specular_scale * second.diffuse;
+  shading.specular_scale *= second.specular_scale;
+  shading.environment = second.environment;
+  // The two lobes widen each other: GGX alphas (roughness^2) add in quadrature.
+  const float a1 = hp.material.roughness * hp.material.roughness,
+              a2 = material.roughness * material.roughness;
+  walk_ray = {position, normal, reflected, std::sqrt(std::sqrt(a1 * a1 + a2 * a2)), true};
+}
+
 struct FrameRenderer::ViewCache {
   CameraModel camera;
   bool ready = false;
   HitPointBuffer hits;
   std::vector<SplitSumShading> shading;    // per entry of hits.hits
+  std::vector<WalkRay> walk_rays;          // per entry of hits.hits
   std::vector<ForegroundSample> fg;        // per entry of hits.hits, this frame's walk (scratch)
   std::vector<ForegroundSample> pixel_fg;  // per pixel, the walk of its centre or mean ray (scratch)
-  std::vector<std::uint8_t> pixel_state;   // per pixel: 0 no relic, 1 walk missed, 2 met (scratch)
+  // Per pixel: 0 no relic, 1 walk missed, 2 met, 3 no pixel walk (its sub-samples' rays reflect
+  // partly off the relic itself) (scratch).
+  std::vector<std::uint8_t> pixel_state;
+  // Supersampled edge pixels of this frame (scratch): per pixel its index in edge_pixels or
+  // kNotEdge; their edge_samples hit points each, and per edge pixel the composed mean and weight.
+  static constexpr std::uint32_t kNotEdge = 0xffffffffu;
+  std::vector<std::uint32_t> edge_index;
+  std::vector<std::uint32_t> edge_pixels;
+  std::vector<HitPoint> edge_hits;
+  std::vector<std::uint8_t> edge_valid;
+  std::vector<vec3> edge_colour;
+  std::vector<float> edge_weight;
   // The static result. Never written once handed out: a rebuild allocates new images, so a
   // caller's FrameResult keeps the pixels it was given.
   cv::Mat hdr, coverage, display, zero_weight;
@@ -247,6 +296,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     PassTimer t(out.timings, Pass::StaticReflections);
     const HitPointBuffer& hits = cache.hits;
     cache.shading.resize(hits.hits.size());
+    cache.walk_rays.resize(hits.hits.size());
     // New images (see ViewCache): the previous ones may still be held by a caller. Only the
     // covered pixels have anything to shade; the rest stay black.
     cache.hdr = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
@@ -257,12 +307,8 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
                         for (std::size_t k = r.begin(); k < r.end(); ++k) {
                           const std::size_t p = hits.covered[k];
                           const std::size_t first = hits.firstSample(p);
-                          for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i) {
-                            if (!hits.valid[i]) continue;
-                            const HitPoint& hp = hits.hits[i];
-                            cache.shading[i] =
-                                ibl_.shadeParts(hp.material, hp.normal, hp.to_viewer, hp.reflected);
-                          }
+                          for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i)
+                            if (hits.valid[i]) shadeHit(hits.hits[i], cache.shading[i], cache.walk_rays[i]);
                           const int x = int(p % std::size_t(w)), y = int(p / std::size_t(w));
                           float weight = 0.0f;
                           setRgb(cache.hdr, x, y, composePixel(hits, cache.shading, nullptr, p, weight));
@@ -355,11 +401,14 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       };
       const std::size_t pixels = hits.pixelCount();
       const std::vector<std::uint32_t>& covered = hits.covered;
+      // Pixel state of a pixel whose sub-samples reflect partly off the relic itself: no pixel walk.
+      constexpr std::uint8_t kMixedBounce = 3;
       // Pass 1: one walk per covered pixel (its centre, or the mean ray of its valid
       // sub-samples). Pixel states: 0 nothing of the relic, 1 its walk missed, 2 it met the
       // foreground.
       cache.pixel_fg.resize(pixels);
       cache.pixel_state.assign(pixels, 0);
+      cache.edge_index.assign(pixels, ViewCache::kNotEdge);
       tbb::parallel_for(
           tbb::blocked_range<std::size_t>(0, covered.size(), 256),
           [&](const tbb::blocked_range<std::size_t>& r) {
@@ -373,21 +422,25 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
               const std::size_t count = std::size_t(hits.sampleCount(p));
               vec3 position(0.0f), normal(0.0f), reflected(0.0f);
               float roughness = 0.0f;
-              int valid = 0;
+              int valid = 0, bounced = 0;
               for (std::size_t i = first; i < first + count; ++i) {
                 if (!hits.valid[i]) continue;
-                const HitPoint& hp = hits.hits[i];
-                position += hp.position;
-                normal += hp.normal;
-                reflected += hp.reflected;
-                roughness += hp.material.roughness;
+                const WalkRay& wr = cache.walk_rays[i];
+                position += wr.position;
+                normal += wr.normal;
+                reflected += wr.reflected;
+                roughness += wr.roughness;
+                bounced += wr.bounced;
                 ++valid;
               }
               if (valid == 0) continue;
               const float inv = 1.0f / float(valid);
               const float nl = glm::length(normal), rl = glm::length(reflected);
               cache.pixel_state[p] = 1;
-              if (!(nl > 1e-6f) || !(rl > 1e-6f)) continue;  // opposite sub-samples: no mean ray
+              // Opposite sub-samples, or some reflected directly and some off the relic: no mean
+              // ray (the sub-samples walk, pass 2).
+              if (bounced != 0 && bounced != valid) cache.pixel_state[p] = kMixedBounce;
+              if (!(nl > 1e-6f) || !(rl > 1e-6f) || cache.pixel_state[p] == kMixedBounce) continue;
               ++local_walked;
               if (!walk(position * inv, normal / nl, reflected / rl, roughness * inv, cache.pixel_fg[p]))
                 continue;
@@ -401,7 +454,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       // the foreground it met (or missed) matches its 8 neighbours'; at the reflected foreground's
       // edges (a neighbour met it and this one did not, or their weights differ by more than
       // kEdgeWeightStep) each sub-sample walks, which anti-aliases those edges as four walks
-      // everywhere would.
+      // everywhere would. Where those four then disagree, the pixel is supersampled (pass 3).
       constexpr float kEdgeWeightStep = 0.2f;
       const int w_px = hits.width, h_px = hits.height;
       tbb::parallel_for(
@@ -413,10 +466,10 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
               if (cache.pixel_state[p] == 0) continue;
               const std::size_t first = hits.firstSample(p);
               const std::size_t count = std::size_t(hits.sampleCount(p));
-              bool rough = true;
+              const bool mixed = cache.pixel_state[p] == kMixedBounce;
+              bool rough = !mixed;
               for (std::size_t i = first; i < first + count && rough; ++i)
-                rough =
-                    !hits.valid[i] || hits.hits[i].material.roughness >= settings_.walk_per_pixel_roughness;
+                rough = !hits.valid[i] || cache.walk_rays[i].roughness >= settings_.walk_per_pixel_roughness;
               bool edge = false;
               if (count > 1 && !rough && settings_.walk_edges_only) {
                 const int x = int(p % std::size_t(w_px)), y = int(p / std::size_t(w_px));
@@ -430,14 +483,20 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
                            std::abs(cache.pixel_fg[q].weight - cache.pixel_fg[p].weight) > kEdgeWeightStep;
                   }
               }
-              if (count > 1 && !rough && (edge || !settings_.walk_edges_only)) {
+              if (mixed || (count > 1 && !rough && (edge || !settings_.walk_edges_only))) {
+                float lo = 1.0f, hi = 0.0f;
                 for (std::size_t i = first; i < first + count; ++i) {
                   if (!hits.valid[i]) continue;
-                  const HitPoint& hp = hits.hits[i];
+                  const WalkRay& wr = cache.walk_rays[i];
                   ++local_walked;
-                  local_found +=
-                      walk(hp.position, hp.normal, hp.reflected, hp.material.roughness, cache.fg[i]);
+                  local_found += walk(wr.position, wr.normal, wr.reflected, wr.roughness, cache.fg[i]);
+                  lo = std::min(lo, cache.fg[i].weight);
+                  hi = std::max(hi, cache.fg[i].weight);
                 }
+                // An edge of the reflected foreground crosses this pixel where its sub-samples
+                // disagree: it is supersampled (pass 3; marked here, numbered there).
+                if (settings_.edge_samples > 0 && (hi - lo > kEdgeWeightStep || (lo == 0.0f && hi > 0.0f)))
+                  cache.edge_index[p] = 0;
                 continue;
               }
               if (cache.pixel_state[p] != 2) continue;
@@ -447,12 +506,55 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
             walked += local_walked;
             found += local_found;
           });
+      // Pass 3: the marked edge pixels, each traced again with edge_samples stratified
+      // sub-samples, shaded, walked and composed (misses black), in place of their own samples.
+      cache.edge_pixels.clear();
+      for (const std::uint32_t p : covered)
+        if (cache.edge_index[p] != ViewCache::kNotEdge) {
+          cache.edge_index[p] = static_cast<std::uint32_t>(cache.edge_pixels.size());
+          cache.edge_pixels.push_back(static_cast<std::uint32_t>(p));
+        }
+      if (!cache.edge_pixels.empty()) {
+        const std::vector<vec2> pattern = stratifiedPattern(settings_.edge_samples);
+        const std::size_t per_pixel = pattern.size();
+        traceSamples(scene_, cache.camera, cache.edge_pixels, pattern, cache.edge_hits, cache.edge_valid);
+        cache.edge_colour.assign(cache.edge_pixels.size(), vec3(0.0f));
+        cache.edge_weight.assign(cache.edge_pixels.size(), 0.0f);
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cache.edge_pixels.size(), 4),
+                          [&](const tbb::blocked_range<std::size_t>& r) {
+                            std::uint64_t local_walked = 0, local_found = 0;
+                            for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                              vec3 sum(0.0f);
+                              float wsum = 0.0f;
+                              for (std::size_t i = k * per_pixel; i < (k + 1) * per_pixel; ++i) {
+                                if (!cache.edge_valid[i]) continue;
+                                SplitSumShading sh;
+                                WalkRay wr;
+                                shadeHit(cache.edge_hits[i], sh, wr);
+                                ForegroundSample fg;
+                                ++local_walked;
+                                if (walk(wr.position, wr.normal, wr.reflected, wr.roughness, fg))
+                                  ++local_found;
+                                sum += composeReflection(sh.specular_scale * fg.radiance,
+                                                         sh.specular_scale * sh.environment, fg.weight) +
+                                       composeReflection(sh.diffuse, vec3(0.0f), 1.0f);
+                                wsum += fg.weight;
+                              }
+                              const float inv = 1.0f / float(per_pixel);
+                              cache.edge_colour[k] = sum * inv;
+                              cache.edge_weight[k] = std::clamp(wsum * inv, 0.0f, 1.0f);
+                            }
+                            walked += local_walked;
+                            found += local_found;
+                          });
+      }
+      out.supersampled_pixels = cache.edge_pixels.size();
       out.walked_rays = walked;
       out.foreground_hits = found;
     }
-    // Composition over a copy of the static image, only where some foreground was reached (the
-    // rest is the static result already), tone-mapping those pixels too when the exposure is
-    // fixed.
+    // Composition over a copy of the static image, only where some foreground was reached or the
+    // pixel was supersampled (the rest is the static result already), tone-mapping those pixels
+    // too when the exposure is fixed.
     PassTimer t(out.timings, Pass::Composition);
     out.hdr = cache.hdr.clone();
     out.weight = cache.zero_weight.clone();
@@ -465,13 +567,20 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
                         for (std::size_t k = r.begin(); k < r.end(); ++k) {
                           const std::size_t p = covered[k];
                           const int x = int(p % std::size_t(w)), y = int(p / std::size_t(w));
-                          const std::size_t first = hits.firstSample(p);
-                          bool reached = false;
-                          for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i)
-                            reached = reached || cache.fg[i].weight > 0.0f;
-                          if (!reached) continue;
+                          const std::uint32_t edge = cache.edge_index[p];
                           float weight = 0.0f;
-                          const vec3 c = composePixel(hits, cache.shading, &cache.fg, p, weight);
+                          vec3 c(0.0f);
+                          if (edge != ViewCache::kNotEdge) {
+                            c = cache.edge_colour[edge];
+                            weight = cache.edge_weight[edge];
+                          } else {
+                            const std::size_t first = hits.firstSample(p);
+                            bool reached = false;
+                            for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i)
+                              reached = reached || cache.fg[i].weight > 0.0f;
+                            if (!reached) continue;
+                            c = composePixel(hits, cache.shading, &cache.fg, p, weight);
+                          }
                           setRgb(out.hdr, x, y, c);
                           out.weight.at<float>(y, x) = weight;
                           if (fixed_exposure)
