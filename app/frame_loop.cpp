@@ -58,6 +58,11 @@ reflect::TracerSettings liveTracerSettings() {
   settings.aa_samples = 1;
   settings.edge_aa = true;
   settings.static_reuse_distance = 0.01f;
+  // Off in the loop, on in the tracer's evaluation: at 25 fps on 2 cores the bounce's extra ray
+  // per hit point (+6 ms a frame) and the edge supersampling (+2 ms) do not fit; their (time,
+  // error) points are in docs/frame_loop.md (`bench frame --reference`).
+  settings.relic_interreflection = false;
+  settings.edge_samples = 0;
   return settings;
 }
 
