@@ -108,7 +108,6 @@ int runBenchFrame(BenchFrameOptions options) {
   setAntiAliasing(reference_settings, reflect::AntiAliasing::Full);
   reference_settings.static_reuse_distance = 0.0f;
   reference_settings.relic_interreflection = true;
-  reference_settings.edge_samples = reflect::TracerSettings{}.edge_samples;
   // The frames run back to back, as in the product: the worker computing the next frame's
   // foreground must not compete with a floor measurement (nor get free time during one). The
   // floor of each frame's views is measured after the frames, with the worker idle.
@@ -190,17 +189,13 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--static-reuse", options->loop.tracer.static_reuse_distance,
                      "Metres an eye may move before a view's hit points are traced again (0: identical only)")
           ->capture_default_str();
-      sub.add_option(
-             "--edge-samples", options->loop.tracer.edge_samples,
-             "Sub-samples at the reflected foreground's edges (n^2, n in 2..16; 0: off, as in the live loop)")
-          ->capture_default_str();
       sub.add_flag("--interreflection", options->loop.tracer.relic_interreflection,
                    "One bounce where the relic reflects itself (off in the live loop)");
       sub.add_flag("!--no-foreground", options->loop.tracer.foreground_enabled, "IBL only");
       sub.add_flag(
           "--reference", options->reference,
-          "Also render every measured frame with 4 samples per pixel, edge supersampling, the "
-          "interreflection bounce and no reuse (untimed) and report the displayed images' difference");
+          "Also render every measured frame with 4 samples per pixel, the interreflection bounce and no "
+          "reuse (untimed) and report the displayed images' difference");
       sub.add_flag("!--no-preload", options->preload,
                    "Simulate the cameras during the run (competes with the frame for the cores) instead of "
                    "before it");

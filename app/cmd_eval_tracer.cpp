@@ -69,6 +69,7 @@ struct TracerEvalOptions {
   float camera_vfov_deg = 90.0f;
   // Ours' knobs (--aa, --levels, --level-bias, --voxel-size). 9 levels: with 7 the rough relics'
   // reads (kettle, 0.35) sat at the top level, blurred less than their lobe (docs/tracer.md).
+  bool no_interreflection = false;  // ours without TracerSettings::relic_interreflection
   reflect::TracerSettings tracer = [] {
     reflect::TracerSettings t;
     t.pyramid_levels = 9;
@@ -195,6 +196,7 @@ SceneResult evalScene(const std::string& hall, const std::string& relic, const T
   MethodSettings base;
   base.static_ibl = staticIbl(scene, base);
   base.tracer = o.tracer;
+  base.tracer.relic_interreflection = !o.no_interreflection;
 
   // ours and the IBL at ours' anti-aliasing (the same renderer with no foreground: the same hit
   // points, static shading and tone map, no grid, pyramids, walk or composition), timed
@@ -205,7 +207,6 @@ SceneResult evalScene(const std::string& hall, const std::string& relic, const T
   no_visitors.with_visitors = false;
   const std::string ours_knob = "aa=" + std::to_string(base.tracer.aa_samples) +
                                 ",levels=" + std::to_string(base.tracer.pyramid_levels) +
-                                ",edge=" + std::to_string(base.tracer.edge_samples) +
                                 (base.tracer.relic_interreflection ? "" : ",no-bounce");
   Entry ours, ibl_same_aa;
   {
@@ -575,12 +576,9 @@ HOLO_REGISTER_COMMAND(Command{
                      "Ours: added to the derived pyramid level (checks)")
           ->capture_default_str()
           ->check(CLI::Range(-8.0f, 8.0f));
-      sub.add_option("--edge-samples", o->tracer.edge_samples,
-                     "Ours: sub-samples at the reflected foreground's edges (n^2; 0 = off)")
-          ->capture_default_str()
-          ->check(CLI::IsMember({0, 4, 9, 16, 25, 36, 64}));
-      sub.add_flag("--no-interreflection{false}", o->tracer.relic_interreflection,
-                   "Ours: no bounce where a mirror ray meets the relic itself");
+      sub.add_flag(
+          "--no-interreflection", o->no_interreflection,
+          "Ours: no bounce where a mirror ray meets the relic itself (the before of docs/tracer.md)");
       sub.add_option("--voxel-size", o->tracer.grid.voxel_size, "Ours: voxel size, metres")
           ->capture_default_str()
           ->check(CLI::Range(0.005f, 0.5f));

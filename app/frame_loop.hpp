@@ -46,8 +46,8 @@ inline constexpr std::size_t kPassCount = static_cast<std::size_t>(reflect::Pass
 
 // The tracer as the live loop runs it: one sample per pixel plus four at silhouette and crease
 // pixels (instead of four everywhere), each view's static passes reused while its eye moves
-// less than 1 cm, and neither the interreflection bounce nor the edge supersampling. Their
-// (time, error) points: docs/frame_loop.md.
+// less than 1 cm, and no interreflection bounce. Their (time, error) points:
+// docs/frame_loop.md.
 reflect::TracerSettings liveTracerSettings();
 // The tracer's samples for an anti-aliasing mode (hit_points.hpp).
 void setAntiAliasing(reflect::TracerSettings& tracer, reflect::AntiAliasing mode);

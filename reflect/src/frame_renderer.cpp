@@ -95,12 +95,6 @@ void TracerSettings::validate() const {
   if (!std::isfinite(walk_per_pixel_roughness) || walk_per_pixel_roughness < 0.0f)
     throw InputError(src, "walk_per_pixel_roughness", "a roughness >= 0 (> 1: never)",
                      std::to_string(walk_per_pixel_roughness));
-  if (edge_samples != 0) {
-    const int n = int(std::lround(std::sqrt(float(std::max(edge_samples, 0)))));
-    if (n < 2 || n > 16 || n * n != edge_samples)
-      throw InputError(src, "edge_samples", "0 (off) or a square number n^2 with n in 2..16",
-                       std::to_string(edge_samples));
-  }
   if (edge_aa && aa_samples != 1) throw InputError(src, "edge_aa", "only with aa_samples 1", "aa_samples 4");
   grid.validate(src + " grid");
 }
@@ -169,15 +163,6 @@ struct FrameRenderer::ViewCache {
   // Per pixel: 0 no relic, 1 walk missed, 2 met, 3 no pixel walk (its sub-samples' rays reflect
   // partly off the relic itself) (scratch).
   std::vector<std::uint8_t> pixel_state;
-  // Supersampled edge pixels of this frame (scratch): per pixel its index in edge_pixels or
-  // kNotEdge; their edge_samples hit points each, and per edge pixel the composed mean and weight.
-  static constexpr std::uint32_t kNotEdge = 0xffffffffu;
-  std::vector<std::uint32_t> edge_index;
-  std::vector<std::uint32_t> edge_pixels;
-  std::vector<HitPoint> edge_hits;
-  std::vector<std::uint8_t> edge_valid;
-  std::vector<vec3> edge_colour;
-  std::vector<float> edge_weight;
   // The static result. Never written once handed out: a rebuild allocates new images, so a
   // caller's FrameResult keeps the pixels it was given.
   cv::Mat hdr, coverage, display, zero_weight;
@@ -405,10 +390,9 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       constexpr std::uint8_t kMixedBounce = 3;
       // Pass 1: one walk per covered pixel (its centre, or the mean ray of its valid
       // sub-samples). Pixel states: 0 nothing of the relic, 1 its walk missed, 2 it met the
-      // foreground.
+      // foreground, kMixedBounce no walk.
       cache.pixel_fg.resize(pixels);
       cache.pixel_state.assign(pixels, 0);
-      cache.edge_index.assign(pixels, ViewCache::kNotEdge);
       tbb::parallel_for(
           tbb::blocked_range<std::size_t>(0, covered.size(), 256),
           [&](const tbb::blocked_range<std::size_t>& r) {
@@ -454,7 +438,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       // the foreground it met (or missed) matches its 8 neighbours'; at the reflected foreground's
       // edges (a neighbour met it and this one did not, or their weights differ by more than
       // kEdgeWeightStep) each sub-sample walks, which anti-aliases those edges as four walks
-      // everywhere would. Where those four then disagree, the pixel is supersampled (pass 3).
+      // everywhere would.
       constexpr float kEdgeWeightStep = 0.2f;
       const int w_px = hits.width, h_px = hits.height;
       tbb::parallel_for(
@@ -484,19 +468,12 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
                   }
               }
               if (mixed || (count > 1 && !rough && (edge || !settings_.walk_edges_only))) {
-                float lo = 1.0f, hi = 0.0f;
                 for (std::size_t i = first; i < first + count; ++i) {
                   if (!hits.valid[i]) continue;
                   const WalkRay& wr = cache.walk_rays[i];
                   ++local_walked;
                   local_found += walk(wr.position, wr.normal, wr.reflected, wr.roughness, cache.fg[i]);
-                  lo = std::min(lo, cache.fg[i].weight);
-                  hi = std::max(hi, cache.fg[i].weight);
                 }
-                // An edge of the reflected foreground crosses this pixel where its sub-samples
-                // disagree: it is supersampled (pass 3; marked here, numbered there).
-                if (settings_.edge_samples > 0 && (hi - lo > kEdgeWeightStep || (lo == 0.0f && hi > 0.0f)))
-                  cache.edge_index[p] = 0;
                 continue;
               }
               if (cache.pixel_state[p] != 2) continue;
@@ -506,55 +483,12 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
             walked += local_walked;
             found += local_found;
           });
-      // Pass 3: the marked edge pixels, each traced again with edge_samples stratified
-      // sub-samples, shaded, walked and composed (misses black), in place of their own samples.
-      cache.edge_pixels.clear();
-      for (const std::uint32_t p : covered)
-        if (cache.edge_index[p] != ViewCache::kNotEdge) {
-          cache.edge_index[p] = static_cast<std::uint32_t>(cache.edge_pixels.size());
-          cache.edge_pixels.push_back(static_cast<std::uint32_t>(p));
-        }
-      if (!cache.edge_pixels.empty()) {
-        const std::vector<vec2> pattern = stratifiedPattern(settings_.edge_samples);
-        const std::size_t per_pixel = pattern.size();
-        traceSamples(scene_, cache.camera, cache.edge_pixels, pattern, cache.edge_hits, cache.edge_valid);
-        cache.edge_colour.assign(cache.edge_pixels.size(), vec3(0.0f));
-        cache.edge_weight.assign(cache.edge_pixels.size(), 0.0f);
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, cache.edge_pixels.size(), 4),
-                          [&](const tbb::blocked_range<std::size_t>& r) {
-                            std::uint64_t local_walked = 0, local_found = 0;
-                            for (std::size_t k = r.begin(); k < r.end(); ++k) {
-                              vec3 sum(0.0f);
-                              float wsum = 0.0f;
-                              for (std::size_t i = k * per_pixel; i < (k + 1) * per_pixel; ++i) {
-                                if (!cache.edge_valid[i]) continue;
-                                SplitSumShading sh;
-                                WalkRay wr;
-                                shadeHit(cache.edge_hits[i], sh, wr);
-                                ForegroundSample fg;
-                                ++local_walked;
-                                if (walk(wr.position, wr.normal, wr.reflected, wr.roughness, fg))
-                                  ++local_found;
-                                sum += composeReflection(sh.specular_scale * fg.radiance,
-                                                         sh.specular_scale * sh.environment, fg.weight) +
-                                       composeReflection(sh.diffuse, vec3(0.0f), 1.0f);
-                                wsum += fg.weight;
-                              }
-                              const float inv = 1.0f / float(per_pixel);
-                              cache.edge_colour[k] = sum * inv;
-                              cache.edge_weight[k] = std::clamp(wsum * inv, 0.0f, 1.0f);
-                            }
-                            walked += local_walked;
-                            found += local_found;
-                          });
-      }
-      out.supersampled_pixels = cache.edge_pixels.size();
       out.walked_rays = walked;
       out.foreground_hits = found;
     }
-    // Composition over a copy of the static image, only where some foreground was reached or the
-    // pixel was supersampled (the rest is the static result already), tone-mapping those pixels
-    // too when the exposure is fixed.
+    // Composition over a copy of the static image, only where some foreground was reached (the
+    // rest is the static result already), tone-mapping those pixels too when the exposure is
+    // fixed.
     PassTimer t(out.timings, Pass::Composition);
     out.hdr = cache.hdr.clone();
     out.weight = cache.zero_weight.clone();
@@ -567,20 +501,13 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
                         for (std::size_t k = r.begin(); k < r.end(); ++k) {
                           const std::size_t p = covered[k];
                           const int x = int(p % std::size_t(w)), y = int(p / std::size_t(w));
-                          const std::uint32_t edge = cache.edge_index[p];
+                          const std::size_t first = hits.firstSample(p);
+                          bool reached = false;
+                          for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i)
+                            reached = reached || cache.fg[i].weight > 0.0f;
+                          if (!reached) continue;
                           float weight = 0.0f;
-                          vec3 c(0.0f);
-                          if (edge != ViewCache::kNotEdge) {
-                            c = cache.edge_colour[edge];
-                            weight = cache.edge_weight[edge];
-                          } else {
-                            const std::size_t first = hits.firstSample(p);
-                            bool reached = false;
-                            for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i)
-                              reached = reached || cache.fg[i].weight > 0.0f;
-                            if (!reached) continue;
-                            c = composePixel(hits, cache.shading, &cache.fg, p, weight);
-                          }
+                          const vec3 c = composePixel(hits, cache.shading, &cache.fg, p, weight);
                           setRgb(out.hdr, x, y, c);
                           out.weight.at<float>(y, x) = weight;
                           if (fixed_exposure)

@@ -273,38 +273,4 @@ void traceHitPoints(const RenderScene& scene, const CameraModel& view, AntiAlias
         buf.covered.push_back(static_cast<std::uint32_t>(std::size_t(y) * std::size_t(w) + std::size_t(x)));
 }
 
-std::vector<vec2> stratifiedPattern(int samples) {
-  const int n = int(std::lround(std::sqrt(float(std::max(samples, 0)))));
-  if (n < 1 || n > 16 || n * n != samples)
-    throw InputError("stratifiedPattern", "samples", "a square number n^2 with n in 1..16",
-                     std::to_string(samples));
-  std::vector<vec2> pattern;
-  pattern.reserve(std::size_t(samples));
-  const float inv = 1.0f / float(samples);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i)  // cell (i, j); x and y each take every (k + 0.5) / n^2 once
-      pattern.emplace_back((float(i * n + j) + 0.5f) * inv - 0.5f, (float(j * n + i) + 0.5f) * inv - 0.5f);
-  return pattern;
-}
-
-void traceSamples(const RenderScene& scene, const CameraModel& view, const std::vector<std::uint32_t>& pixels,
-                  const std::vector<vec2>& pattern, std::vector<HitPoint>& hits,
-                  std::vector<std::uint8_t>& valid) {
-  const std::size_t per_pixel = pattern.size();
-  hits.resize(pixels.size() * per_pixel);
-  valid.assign(pixels.size() * per_pixel, 0);
-  const RayScene& relic = scene.relicOnly();
-  const std::size_t w = std::size_t(std::max(view.width(), 1));
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pixels.size(), 16),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t k = r.begin(); k < r.end(); ++k) {
-                        const vec2 centre(float(pixels[k] % w), float(pixels[k] / w));
-                        for (std::size_t s = 0; s < per_pixel; ++s) {
-                          const std::size_t i = k * per_pixel + s;
-                          valid[i] = traceSample(scene, relic, view, centre + pattern[s], hits[i]) ? 1 : 0;
-                        }
-                      }
-                    });
-}
-
 }  // namespace holo::reflect

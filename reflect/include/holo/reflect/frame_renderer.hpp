@@ -59,17 +59,6 @@ struct TracerSettings {
   // passes (one extra ray per hit point, cached with them). Where a visitor is seen over the
   // relic's own surface this was most of a mirror-like vase's fg_mse (docs/tracer.md).
   bool relic_interreflection = true;
-  // Supersampling of the reflected foreground's edges: a pixel with four sub-samples whose own
-  // walks disagree (one met the foreground and another did not, or their weights differ by more
-  // than 0.2; only pixels at the edges above walk their sub-samples, and only below
-  // walk_per_pixel_roughness) is traced again with this many stratified sub-samples
-  // (stratifiedPattern, hit_points.hpp): new hit points, static shading and a walk each, the pixel
-  // their mean (misses black) in place of its four. The truth integrates the whole pixel; four
-  // fixed sub-samples leave a visitor's reflected outline aliased on a mirror-like relic
-  // (docs/tracer.md: ~1.2x lower fg_mse on the vases, ~12% of the relic's pixels at 96^2).
-  // Centre-only pixels (aa_samples 1) are never supersampled: nothing tells an edge crosses them.
-  // A square number n^2, n in 2..16; 0: off.
-  int edge_samples = 9;
   // Rough lobes that miss: a reflected ray whose mirror direction meets no voxel may still pass
   // within its lobe's footprint of a visitor, and the truth then shows a soft halo where a hit/miss
   // decision would cut a hard edge. From this roughness on, such a ray marches the brick
@@ -108,11 +97,10 @@ struct ViewImages {
   float exposure = 1.0f;
   std::vector<PassTiming> timings;  // this view's passes
   std::uint64_t walked_rays = 0, foreground_hits = 0;
-  CameraModel camera;                   // the camera the images are from (the cached one when reused)
-  bool static_reused = false;           // hit points and static shading came from the cache
-  std::size_t refined_pixels = 0;       // pixels with 4 sub-samples
-  std::size_t composed_pixels = 0;      // pixels some foreground reached, composed this frame
-  std::size_t supersampled_pixels = 0;  // reflected-foreground edges traced with edge_samples
+  CameraModel camera;               // the camera the images are from (the cached one when reused)
+  bool static_reused = false;       // hit points and static shading came from the cache
+  std::size_t refined_pixels = 0;   // pixels with 4 sub-samples
+  std::size_t composed_pixels = 0;  // pixels some foreground reached, composed this frame
 };
 
 struct FrameResult {

@@ -69,19 +69,4 @@ struct HitPointBuffer {
 void traceHitPoints(const RenderScene& scene, const CameraModel& view, AntiAliasing aa, HitPointBuffer& out,
                     const Bounds3& relic_bounds = {});
 
-// n x n stratified sub-sample offsets (samples = n^2, n in 1..16; pixel centre = 0), one per cell
-// of the n x n grid and placed so that all n^2 x and all n^2 y coordinates are distinct (the
-// canonical multi-jittered arrangement, without its random shuffle: deterministic, and a fixed
-// pattern keeps edges stable from frame to frame). InputError for other counts.
-std::vector<vec2> stratifiedPattern(int samples);
-
-// Traces extra samples of the listed pixels (y * width + x) with the primary rays of
-// traceHitPoints: entry k * pattern.size() + s of `hits` and `valid` is pixel pixels[k]'s sample at
-// its centre + pattern[s] (valid 1 where it hit the relic, the hit point written only then). Beside
-// traceHitPoints, not part of it: the frame renderer supersamples the few pixels where the
-// reflected foreground has an edge (frame_renderer.hpp, TracerSettings::edge_samples).
-void traceSamples(const RenderScene& scene, const CameraModel& view, const std::vector<std::uint32_t>& pixels,
-                  const std::vector<vec2>& pattern, std::vector<HitPoint>& hits,
-                  std::vector<std::uint8_t>& valid);
-
 }  // namespace holo::reflect
