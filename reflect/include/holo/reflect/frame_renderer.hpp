@@ -1,11 +1,12 @@
 // The efficient reflection tracer's frame renderer (paper steps 3-5): per frame it bins the
 // foreground cloud into the voxel grid and builds each camera's Kawase pyramids, then per face
 // view traces hit points on the relic, shades the static reflection psi_s from the prefiltered
-// IBL, walks each reflected ray through the voxel grid for the foreground radiance psi_d and
-// weight w (the camera that saw the voxel, read at the pyramid level of the hit's roughness and
-// the ray's travel distance), composes psi_f = psi_d w + psi_s (1 - w) in HDR (specular part;
-// the diffuse irradiance is added to both), and tone-maps to sRGB. Which passes run comes from
-// the effect plan (effect_plan.hpp); every pass is timed.
+// IBL (one bounce further where the mirror ray meets the relic itself), walks each reflected ray
+// through the voxel grid for the foreground radiance psi_d and weight w (the camera that saw the
+// voxel, read at the pyramid level of the hit's roughness and the ray's travel distance), composes
+// psi_f = psi_d w + psi_s (1 - w) in HDR (specular part; the diffuse irradiance is added to
+// both), and tone-maps to sRGB. Which passes run comes from the effect plan (effect_plan.hpp);
+// every pass is timed.
 //
 // The relic and the hall do not move, only the eyes: per view slot (the index in `views`) the
 // renderer keeps the hit points, their static shading and the static image (psi_s + diffuse, and
