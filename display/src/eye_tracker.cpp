@@ -92,6 +92,11 @@ std::array<std::vector<vec3>, kFaceCount> headBandPoints(const depthfilter::Fore
   const float y_lo = settings.floor_y + settings.min_head_top - settings.head_depth;
   const float y_hi = settings.floor_y + settings.max_head_top;
   std::array<std::vector<vec3>, kFaceCount> bands;
+  std::array<vec3, kFaceCount> normals, tangents;
+  for (int f = 0; f < kFaceCount; ++f) {
+    normals[std::size_t(f)] = faceNormal(f);
+    tangents[std::size_t(f)] = vec3(normals[std::size_t(f)].z, 0.0f, -normals[std::size_t(f)].x);
+  }
   std::int64_t non_finite = 0;
   for (const depthfilter::ForegroundPoint& point : cloud.points) {
     const vec3& p = point.position;
@@ -102,12 +107,10 @@ std::array<std::vector<vec3>, kFaceCount> headBandPoints(const depthfilter::Fore
     if (p.y < y_lo || p.y > y_hi) continue;
     const float distance = std::hypot(p.x, p.z);
     if (distance < settings.min_distance || distance > settings.max_distance) continue;
-    for (int f = 0; f < kFaceCount; ++f) {
-      const vec3 normal = faceNormal(f);
-      const vec3 tangent(normal.z, 0.0f, -normal.x);
-      const float along = p.x * normal.x + p.z * normal.z;
-      const float across = p.x * tangent.x + p.z * tangent.z;
-      if (along > 0.0f && along >= std::abs(across)) bands[std::size_t(f)].push_back(p);
+    for (std::size_t f = 0; f < bands.size(); ++f) {
+      const float along = p.x * normals[f].x + p.z * normals[f].z;
+      const float across = p.x * tangents[f].x + p.z * tangents[f].z;
+      if (along > 0.0f && along >= std::abs(across)) bands[f].push_back(p);
     }
   }
   if (non_finite > 0) stats::add("Display/Eye tracker non-finite points ignored", non_finite);

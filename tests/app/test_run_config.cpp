@@ -18,16 +18,14 @@
 #include "holo/core/gltf_io.hpp"
 #include "holo/core/hdr_io.hpp"
 #include "holo/sim/museum.hpp"
-#include "run_command.hpp"
+#include "run_holopyramid.hpp"
 #include "shared_data.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-int runHolopyramid(const std::string& arguments, const fs::path& log) {
-  return holo::test::runCommand(std::string(HOLO_APP_BINARY) + " " + arguments, log);
-}
+using holo::test::runHolopyramid;
 
 std::string readText(const fs::path& path) {
   std::ifstream in(path);

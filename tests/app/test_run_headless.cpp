@@ -13,16 +13,14 @@
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 
-#include "run_command.hpp"
+#include "run_holopyramid.hpp"
 #include "shared_data.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-int runHolopyramid(const std::string& arguments, const fs::path& log) {
-  return holo::test::runCommand(std::string(HOLO_APP_BINARY) + " " + arguments, log);
-}
+using holo::test::runHolopyramid;
 
 nlohmann::json readJson(const fs::path& path) {
   std::ifstream in(path);
