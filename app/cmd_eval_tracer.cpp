@@ -576,6 +576,11 @@ HOLO_REGISTER_COMMAND(Command{
                      "Ours: added to the derived pyramid level (checks)")
           ->capture_default_str()
           ->check(CLI::Range(-8.0f, 8.0f));
+      sub.add_option("--lobe-components", o->tracer.lobe_components,
+                     "Ours: Gaussians per pyramid read standing for the GGX lobe (1: its Beckmann sigma; more: "
+                     "its heavy tail)")
+          ->capture_default_str()
+          ->check(CLI::Range(1, reflect::kMaxLobeComponents));
       sub.add_flag(
           "--no-interreflection", o->no_interreflection,
           "Ours: no bounce where a mirror ray meets the relic itself (the before of docs/tracer.md)");

@@ -223,12 +223,32 @@ float reflectedLobeSigma(float roughness) {
 }
 
 float foregroundLevel(float roughness, float travel_m, float camera_distance_m, float focal_px, int levels) {
+  return foregroundLevelForLobe(reflectedLobeSigma(roughness), travel_m, camera_distance_m, focal_px, levels);
+}
+
+float foregroundLevelForLobe(float lobe_sigma_rad, float travel_m, float camera_distance_m, float focal_px,
+                             int levels) {
   if (levels <= 1) return 0.0f;
   if (!(travel_m > 0.0f) || !(camera_distance_m > 0.0f) || !(focal_px > 0.0f) || !std::isfinite(travel_m) ||
-      !std::isfinite(camera_distance_m) || !std::isfinite(focal_px))
+      !std::isfinite(camera_distance_m) || !std::isfinite(focal_px) || !(lobe_sigma_rad >= 0.0f))
     return 0.0f;
-  const float sigma_px = travel_m * std::tan(reflectedLobeSigma(roughness)) * focal_px / camera_distance_m;
+  const float sigma_px = travel_m * std::tan(std::min(lobe_sigma_rad, 1.0f)) * focal_px / camera_distance_m;
   return std::clamp(pyramidLevelForSigma(sigma_px), 0.0f, float(levels - 1));
+}
+
+std::vector<LobeComponent> ggxLobeMixture(int components) {
+  if (components < 1 || components > kMaxLobeComponents)
+    throw InputError("ggxLobeMixture", "components", "1.." + std::to_string(kMaxLobeComponents),
+                     std::to_string(components));
+  if (components == 1) return {LobeComponent{}};
+  std::vector<LobeComponent> mixture;
+  for (int k = 0; k < components; ++k) {
+    // chi^2(2) is exponential with mean 2: the p-quantile is -2 ln(1 - p).
+    const double p = (double(k) + 0.5) / double(components);
+    const double g = -2.0 * std::log(1.0 - p);
+    mixture.push_back({float(std::sqrt(2.0 / g)), 1.0f / float(components)});
+  }
+  return mixture;
 }
 
 }  // namespace holo::reflect

@@ -96,6 +96,9 @@ void TracerSettings::validate() const {
     throw InputError(src, "walk_per_pixel_roughness", "a roughness >= 0 (> 1: never)",
                      std::to_string(walk_per_pixel_roughness));
   if (edge_aa && aa_samples != 1) throw InputError(src, "edge_aa", "only with aa_samples 1", "aa_samples 4");
+  if (lobe_components < 1 || lobe_components > kMaxLobeComponents)
+    throw InputError(src, "lobe_components", "1.." + std::to_string(kMaxLobeComponents),
+                     std::to_string(lobe_components));
   grid.validate(src + " grid");
 }
 
@@ -333,8 +336,26 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     {
       PassTimer t(out.timings, Pass::ForegroundWalk);
       std::atomic<std::uint64_t> walked{0}, found{0};
-      const auto biasedLevel = [&](float level) {
-        return std::clamp(level + settings_.level_bias, 0.0f, float(settings_.pyramid_levels - 1));
+      const std::vector<LobeComponent> lobe = ggxLobeMixture(settings_.lobe_components);
+      // The pyramid's blurred foreground at `pixel` for a lobe of `roughness` that travelled
+      // travel_m to a point camera_m from the camera: one read per Gaussian of the lobe, the
+      // premultiplied colours and the weights mixed.
+      const auto readLobe = [&](const ForegroundPyramid& pyramid, const vec2& pixel, float roughness,
+                                float travel_m, float camera_m, float focal_px) {
+        const float sigma = reflectedLobeSigma(roughness);
+        ForegroundSample mixed;
+        vec3 premultiplied(0.0f);
+        for (const LobeComponent& c : lobe) {
+          const float level = std::clamp(
+              foregroundLevelForLobe(sigma * c.sigma_scale, travel_m, camera_m, focal_px, settings_.pyramid_levels) +
+                  settings_.level_bias,
+              0.0f, float(settings_.pyramid_levels - 1));
+          const ForegroundSample s = pyramid.sample(pixel, level);
+          premultiplied += c.weight * s.weight * s.radiance;
+          mixed.weight += c.weight * s.weight;
+        }
+        if (mixed.weight > 0.0f) mixed.radiance = premultiplied / mixed.weight;
+        return mixed;
       };
       // The foreground of one reflected ray: the first occupied voxel, read from the pyramid of
       // the camera that saw it at the level of the lobe's footprint there.
@@ -366,9 +387,8 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
           }
           if (best < 0) return false;
           const CameraModel& cam = cameras[std::size_t(best)].camera;
-          const float level = biasedLevel(foregroundLevel(roughness, *t_near, glm::length(p - cam.position()),
-                                                          cam.intrinsics().fx, settings_.pyramid_levels));
-          sample = pyramids_[std::size_t(best)].sample(best_px, level);
+          sample = readLobe(pyramids_[std::size_t(best)], best_px, roughness, *t_near,
+                            glm::length(p - cam.position()), cam.intrinsics().fx);
           return sample.weight > 0.0f;
         }
         const depthfilter::VoxelSample& vs = grid_.sample(vh.sample);
@@ -379,9 +399,8 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
         float depth = 0.0f;
         const std::optional<vec2> px = cam.project(p, &depth);
         const vec2 pixel = px ? *px : vec2(vs.x, vs.y);
-        const float level = biasedLevel(foregroundLevel(roughness, vh.t, glm::length(p - cam.position()),
-                                                        cam.intrinsics().fx, settings_.pyramid_levels));
-        sample = pyramids_[vs.camera].sample(pixel, level);
+        sample = readLobe(pyramids_[vs.camera], pixel, roughness, vh.t, glm::length(p - cam.position()),
+                          cam.intrinsics().fx);
         return true;
       };
       const std::size_t pixels = hits.pixelCount();

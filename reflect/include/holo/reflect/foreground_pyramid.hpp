@@ -88,5 +88,22 @@ float reflectedLobeSigma(float roughness);
 // length focal_px, covers sigma = travel * tan(lobe) * focal_px / camera_distance pixels.
 // Non-finite or non-positive inputs give level 0 (a mirror read); the result is in [0, levels-1].
 float foregroundLevel(float roughness, float travel_m, float camera_distance_m, float focal_px, int levels);
+// The same for a lobe of per-axis angular standard deviation lobe_sigma_rad (capped at 1 rad).
+float foregroundLevelForLobe(float lobe_sigma_rad, float travel_m, float camera_distance_m, float focal_px,
+                             int levels);
+
+// GGX's lobe is heavy-tailed where one Gaussian is not: its slopes follow a 2D Student t with 2
+// degrees of freedom, P(m) = 1 / (pi alpha^2 (1 + |m|^2 / alpha^2)^2), which is a scale mixture
+// of Gaussians: per-axis slope variance alpha^2 / G with G ~ chi^2(2). reflectedLobeSigma takes
+// G's mean (2, Beckmann's alpha^2 / 2). A mixture of `components` Gaussians splits G's
+// distribution into equal-probability bins and takes each bin's median: component k has weight
+// 1 / components and sigma reflectedLobeSigma(roughness) * sqrt(2 / G_k). One component is
+// G = 2 itself (reflectedLobeSigma). components in 1..kMaxLobeComponents.
+inline constexpr int kMaxLobeComponents = 8;
+struct LobeComponent {
+  float sigma_scale = 1.0f;  // times reflectedLobeSigma
+  float weight = 1.0f;       // the weights sum to 1
+};
+std::vector<LobeComponent> ggxLobeMixture(int components);
 
 }  // namespace holo::reflect

@@ -67,6 +67,9 @@ struct TracerSettings {
   // blurred pyramids there (the camera looking most along the ray): the blurred mask gives the
   // partial weight. > 1: never.
   float lobe_fallback_roughness = 0.2f;
+  // Gaussians standing for the GGX lobe in each pyramid read (ggxLobeMixture): 1 reads the level of
+  // the lobe's Beckmann-equivalent sigma; more add the heavy tail, one read per component.
+  int lobe_components = 1;
   // Added to the derived pyramid level (foregroundLevel) of every read, for checking the
   // derivation against path-traced truth (bench accuracy); 0 in use.
   float level_bias = 0.0f;
