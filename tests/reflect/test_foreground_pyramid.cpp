@@ -202,5 +202,35 @@ TEST(ForegroundLevel, GrowsWithRoughnessAndTravelAndStaysInRange) {
   EXPECT_LE(foregroundLevel(1.0f, 100.0f, 0.01f, 600.0f, 6), 5.0f);
 }
 
+// GGX slopes (in units of alpha) are exceeded in length r with probability 1 / (1 + r^2); a
+// Gaussian mixture's slopes with probability sum_k w_k exp(-r^2 g_k / 2), g_k = 2 / scale_k^2.
+TEST(GgxLobeMixture, FollowsTheGgxLobesHeavyTail) {
+  const auto tail = [](const std::vector<LobeComponent>& mixture, double r) {
+    double p = 0.0, weights = 0.0;
+    for (const LobeComponent& c : mixture) {
+      const double g = 2.0 / (double(c.sigma_scale) * double(c.sigma_scale));
+      p += c.weight * std::exp(-r * r * g / 2.0);
+      weights += c.weight;
+    }
+    EXPECT_NEAR(weights, 1.0, 1e-6);
+    return p;
+  };
+  const auto ggx = [](double r) { return 1.0 / (1.0 + r * r); };
+  const std::vector<LobeComponent> single = ggxLobeMixture(1);
+  ASSERT_EQ(single.size(), 1u);
+  EXPECT_EQ(single[0].sigma_scale, 1.0f);  // reflectedLobeSigma itself
+  // One Gaussian loses the tail: 2 alpha out it holds 2% of the slopes where GGX holds 20%.
+  EXPECT_LT(tail(single, 2.0), 0.1 * ggx(2.0));
+  for (const int n : {2, 4, 8}) {
+    const std::vector<LobeComponent> mixture = ggxLobeMixture(n);
+    ASSERT_EQ(mixture.size(), std::size_t(n));
+    for (std::size_t k = 1; k < mixture.size(); ++k) EXPECT_LT(mixture[k].sigma_scale, mixture[k - 1].sigma_scale);
+    for (const double r : {0.5, 1.0, 2.0}) EXPECT_NEAR(tail(mixture, r), ggx(r), 0.25 * ggx(r)) << n << " " << r;
+  }
+  EXPECT_NEAR(tail(ggxLobeMixture(8), 4.0), ggx(4.0), 0.25 * ggx(4.0));
+  EXPECT_THROW(ggxLobeMixture(0), InputError);
+  EXPECT_THROW(ggxLobeMixture(kMaxLobeComponents + 1), InputError);
+}
+
 }  // namespace
 }  // namespace holo::reflect
