@@ -15,7 +15,10 @@
 //   mcpt_equal_quality   the same path tracer at 1, 2, 4, ... spp until its fg_mse is at most
 //                        ours' (searched up to --mcpt-max-spp; "not reached" and the time there
 //                        otherwise);
-// and reports per scene and method the time (median ms per view), fg_mse and mse, the bars of the
+// and two floors that every fg_mse contains: the ground truth's own noise (from the truth at a
+// quarter of its samples, which are the first quarter of its samples) and the reconstruction's
+// error (the same path tracer run on to --floor-spp, extrapolated to infinitely many samples), and
+// reports per scene and method the time (median ms per view), fg_mse and mse, the bars of the
 // issue, a Markdown table, CSV, JSON, an SVG plot (fg_mse against time) and, per scene, a strip of
 // the images (gt | ours | ibl | ssrt | mcpt_equal_time | mcpt_equal_quality).
 #include <algorithm>
@@ -50,6 +53,7 @@ struct TracerEvalOptions {
   int size = 96;
   int gt_spp = 1024;
   int mcpt_max_spp = 4096;
+  int floor_spp = 4096;  // the reconstruction floor's path tracing; 0: not measured
   int repeats = 5;
   std::string out = "eval-tracer";
   std::string cache = (std::filesystem::temp_directory_path() / "holopyramid-gt-cache").string();
@@ -96,6 +100,11 @@ struct SceneResult {
   int frame = 0, face = 0, fg_pixels = 0;
   float reflected_fraction = 0;  // of the relic's mirror rays meeting a visitor (the view pick)
   double mcpt_build_ms = 0;      // the voxel scene's Embree build, not in the mcpt times
+  // Parts of every method's fg_mse that no renderer of the reconstructed foreground can remove
+  // (both in fg_mse units, < 0: not measured): the ground truth's own noise, and the fg_mse of path
+  // tracing the reconstruction (voxels plus panorama) extrapolated to infinitely many samples,
+  // which contains that noise.
+  double gt_noise = -1, reconstruction_floor = -1;
   std::vector<Entry> entries;
   std::vector<std::pair<std::string, double>> ours_passes;  // median ms per pass
   const Entry& at(const std::string& method) const {
@@ -192,6 +201,11 @@ SceneResult evalScene(const std::string& hall, const std::string& relic, const T
       gt, display(cachedGroundTruth(scene, camera, o.gt_spp, false, o.cache)), o.fg_threshold);
   res.fg_pixels = cv::countNonZero(region);
   const Scorer score{gt, region, res.fg_pixels, display};
+  // The truth at N spp is the mean of its first N/4 samples (the truth at N/4) and 3N/4 more: their
+  // squared difference has 3 times the variance of the truth's noise.
+  if (o.gt_spp >= 4 && res.fg_pixels > 0)
+    res.gt_noise =
+        reflect::mse(display(cachedGroundTruth(scene, camera, o.gt_spp / 4, true, o.cache)), gt, region) / 3.0;
 
   MethodSettings base;
   base.static_ibl = staticIbl(scene, base);
@@ -298,12 +312,14 @@ SceneResult evalScene(const std::string& hall, const std::string& relic, const T
     Entry e;
     e.method = "mcpt_equal_quality";
     e.reached = false;
+    std::map<int, double> fg_mse_at_spp;
     for (int spp = 1; spp <= o.mcpt_max_spp; spp *= 2) {
       const auto t_pass = std::chrono::steady_clock::now();
       render.addSamples(spp - render.samplesPerPixel());
       sampling_ms += msSince(t_pass);  // scoring between passes is not the renderer's time
       e.image = render.image();
       score(e);
+      fg_mse_at_spp[spp] = e.fg_mse;
       if (res.fg_pixels == 0 || e.fg_mse <= ours.fg_mse) {
         e.reached = true;
         break;
@@ -312,12 +328,32 @@ SceneResult evalScene(const std::string& hall, const std::string& relic, const T
     e.ms = e.view_ms = sampling_ms;
     e.knob = "spp=" + std::to_string(render.samplesPerPixel()) + (e.reached ? "" : " (not reached)");
     res.entries.push_back(e);
+    // The reconstruction floor: the same samples run on to floor_spp. Path tracing's fg_mse is
+    // floor + variance / spp, so from N/4 and N spp the floor is (4 fg_mse(N) - fg_mse(N/4)) / 3.
+    if (o.floor_spp >= 4 && res.fg_pixels > 0) {
+      for (const int spp : {o.floor_spp / 4, o.floor_spp}) {
+        if (fg_mse_at_spp.count(spp)) continue;
+        if (render.samplesPerPixel() > spp) break;  // already beyond it: not measurable
+        render.addSamples(spp - render.samplesPerPixel());
+        Entry at;
+        at.image = render.image();
+        score(at);
+        fg_mse_at_spp[spp] = at.fg_mse;
+      }
+      if (fg_mse_at_spp.count(o.floor_spp / 4) && fg_mse_at_spp.count(o.floor_spp))
+        res.reconstruction_floor =
+            std::max(0.0, (4.0 * fg_mse_at_spp[o.floor_spp] - fg_mse_at_spp[o.floor_spp / 4]) / 3.0);
+    }
   }
 
   for (const Entry& e : res.entries)
     std::cout << "  " << std::left << std::setw(20) << e.method << std::setw(34) << e.knob << std::right
               << std::fixed << std::setprecision(1) << std::setw(9) << e.ms << " ms  fg_mse "
               << std::setprecision(5) << e.fg_mse << "  mse " << e.mse << std::defaultfloat << std::endl;
+  if (res.gt_noise >= 0) std::cout << "  ground truth's noise in fg_mse " << res.gt_noise << std::endl;
+  if (res.reconstruction_floor >= 0)
+    std::cout << "  reconstruction floor (path tracing of the voxels, " << o.floor_spp
+              << " spp extrapolated) fg_mse " << res.reconstruction_floor << std::endl;
   std::cout << "  ours passes:";
   for (const auto& [name, ms] : res.ours_passes) std::cout << " " << name << " " << ms;
   std::cout << " (ms)" << std::endl;
@@ -351,8 +387,8 @@ std::string markdownTable(const std::vector<SceneResult>& results, const TracerE
     << " visitor(s) close to the pyramid, foreground region: displayed RGB distance >= " << o.fg_threshold
     << "\n\n"
     << "| scene | fg px | ours | ibl | ssrt | mcpt_et | ibl/ours | ssrt/ours | mcpt_et/ours | mcpt_eq spp | "
-       "mcpt_eq/ours time |\n"
-    << "|---|---|---|---|---|---|---|---|---|---|---|\n";
+       "mcpt_eq/ours time | gt noise | recon floor |\n"
+    << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const SceneResult& r : results) {
     const Entry &ours = r.at("ours"), &ibl = r.at("ibl"), &ssrt = r.at("ssrt"), &et = r.at("mcpt_equal_time"),
                 &eq = r.at("mcpt_equal_quality");
@@ -361,8 +397,14 @@ std::string markdownTable(const std::vector<SceneResult>& results, const TracerE
       << " | " << fmt(100 * ibl.fg_mse, 3) << " | " << fmt(100 * ssrt.fg_mse, 3) << " | "
       << fmt(100 * et.fg_mse, 3) << " | " << ratio(ibl.fg_mse) << " | " << ratio(ssrt.fg_mse) << " | "
       << ratio(et.fg_mse) << " | " << eq.knob.substr(4) << " | " << (eq.reached ? "" : ">")
-      << fmt(eq.ms / ours.ms, 1) << " |\n";
+      << fmt(eq.ms / ours.ms, 1) << " | " << (r.gt_noise >= 0 ? fmt(100 * r.gt_noise, 3) : "-") << " | "
+      << (r.reconstruction_floor >= 0 ? fmt(100 * r.reconstruction_floor, 3) : "-") << " |\n";
   }
+  s << "\ngt noise: the ground truth's own noise inside every fg_mse (from the truth at " << o.gt_spp / 4
+    << " spp); recon floor: path tracing of the reconstructed scene (voxels plus panorama) extrapolated from "
+    << o.floor_spp / 4 << " and " << o.floor_spp
+    << " spp to infinitely many, the fg_mse of rendering the reconstruction exactly (it contains the gt "
+       "noise).\n";
   s << "\nTimes, median ms. Per view at frame time = view + frame / " << kViewsPerFrame
     << " (the per-frame work is shared by the four face views). ibl_same_aa: the same renderer with no "
        "foreground (ours' hit points at the same anti-aliasing, static shading, tone map). ibl: the paper's "
@@ -433,6 +475,15 @@ bool reportBars(const std::vector<SceneResult>& results, std::ostream& out) {
           << " scenes with a foreground region";
     out << "\n";
   }
+  // Where the paper's IBL is already within 4x of the reconstruction's floor, ours (which renders
+  // the same reconstruction) could meet the 4x bar only by an error below the floor's.
+  std::string below;
+  for (const SceneResult& r : results)
+    if (r.fg_pixels > 0 && r.reconstruction_floor >= 0 && r.at("ibl").fg_mse / 4.0 < r.reconstruction_floor)
+      below += (below.empty() ? "" : ", ") + r.hall + " x " + r.relic + " (ibl / 4 = " +
+               fmt(100 * r.at("ibl").fg_mse / 4.0, 3) + ", floor " + fmt(100 * r.reconstruction_floor, 3) + ")";
+  if (!below.empty())
+    out << "        ibl / 4 is below the reconstruction floor (x 1e-2) on: " << below << "\n";
   return ibl.ok && ssrt.ok;
 }
 
@@ -452,7 +503,10 @@ void writeOutputs(const std::vector<SceneResult>& results, const TracerEvalOptio
                          {"reflected_fraction", r.reflected_fraction},
                          {"mcpt_build_ms", r.mcpt_build_ms},
                          {"size", o.size},
-                         {"gt_spp", o.gt_spp}};
+                         {"gt_spp", o.gt_spp},
+                         {"gt_noise", r.gt_noise},
+                         {"reconstruction_floor", r.reconstruction_floor},
+                         {"floor_spp", o.floor_spp}};
     for (const Entry& e : r.entries) {
       csv << r.hall << "," << r.relic << "," << r.frame << "," << r.face << "," << r.fg_pixels << ","
           << e.method << ",\"" << e.knob << "\"," << e.ms << "," << e.frame_ms << "," << e.view_ms << ","
@@ -542,6 +596,11 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--mcpt-max-spp", o->mcpt_max_spp, "Largest spp of the equal-quality search")
           ->capture_default_str()
           ->check(CLI::Range(1, 1 << 16));
+      sub.add_option("--floor-spp", o->floor_spp,
+                     "Path tracing of the reconstruction run to this spp (and a quarter of it) for its floor; 0: "
+                     "not measured")
+          ->capture_default_str()
+          ->check(CLI::Range(0, 1 << 16));
       sub.add_option("--repeats", o->repeats, "Runs per timing (the median is reported)")
           ->capture_default_str()
           ->check(CLI::Range(1, 100));

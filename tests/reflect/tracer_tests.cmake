@@ -26,7 +26,7 @@ holo_test(test_baselines
 # The nine scenes: holopyramid eval tracer.
 add_test(NAME reflect_eval_tracer_small
   COMMAND $<TARGET_FILE:holopyramid> eval tracer --halls gallery --relics vase --size 96 --gt-spp 256
-          --mcpt-max-spp 16 --repeats 1 --ssrt-rays 1 --require-fg-bars
+          --mcpt-max-spp 16 --floor-spp 64 --repeats 1 --ssrt-rays 1 --require-fg-bars
           --close-visitors 0 --camera-tilt-deg 8 --camera-vfov-deg 70 --levels 7
           --out ${CMAKE_CURRENT_BINARY_DIR}/eval_tracer --cache ${CMAKE_CURRENT_BINARY_DIR}/gt-cache
   WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
