@@ -640,6 +640,11 @@ HOLO_REGISTER_COMMAND(Command{
                      "its heavy tail)")
           ->capture_default_str()
           ->check(CLI::Range(1, reflect::kMaxLobeComponents));
+      sub.add_option("--lobe-fallback-roughness", o->tracer.lobe_fallback_roughness,
+                     "Ours: from this roughness a ray that misses every voxel looks for the visitors within its "
+                     "lobe (> 1: never)")
+          ->capture_default_str()
+          ->check(CLI::Range(0.0f, 2.0f));
       sub.add_flag(
           "--no-interreflection", o->no_interreflection,
           "Ours: no bounce where a mirror ray meets the relic itself (the before of docs/tracer.md)");

@@ -56,10 +56,13 @@ std::optional<float> nearMissT(const depthfilter::VoxelGrid& grid, const Ray& ra
     t1 = std::min(t1, tb);
   }
   const glm::ivec3 bricks = grid.brickDims();
+  // The ray in brick units, so that a step's brick is one floor.
+  const vec3 origin_b = (ray.origin - box.lo) / brick_m, direction_b = ray.direction / brick_m;
   // Every iteration advances t by at least half a brick: the loop is bounded by the box.
   for (float t = std::max(t0, 0.5f * brick_m); t <= t1;) {
-    const glm::ivec3 b = grid.voxelOf(ray.origin + ray.direction * t) / grid.brickSize();
-    if (glm::any(glm::lessThan(b, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(b, bricks))) break;
+    const vec3 at = glm::floor(origin_b + direction_b * t);
+    if (glm::any(glm::lessThan(at, vec3(0.0f))) || glm::any(glm::greaterThanEqual(at, vec3(bricks)))) break;
+    const glm::ivec3 b(at);
     const float gap = float(std::max(int(grid.brickDistance(b)) - 1, 0)) * brick_m;
     const float radius = radius_per_m * t;
     if (grid.brickCount(b) > 0 || gap <= radius) return t;
