@@ -205,7 +205,8 @@ SceneResult evalScene(const std::string& hall, const std::string& relic, const T
   // squared difference has 3 times the variance of the truth's noise.
   if (o.gt_spp >= 4 && res.fg_pixels > 0)
     res.gt_noise =
-        reflect::mse(display(cachedGroundTruth(scene, camera, o.gt_spp / 4, true, o.cache)), gt, region) / 3.0;
+        reflect::mse(display(cachedGroundTruth(scene, camera, o.gt_spp / 4, true, o.cache)), gt, region) /
+        3.0;
 
   MethodSettings base;
   base.static_ibl = staticIbl(scene, base);
@@ -480,8 +481,9 @@ bool reportBars(const std::vector<SceneResult>& results, std::ostream& out) {
   std::string below;
   for (const SceneResult& r : results)
     if (r.fg_pixels > 0 && r.reconstruction_floor >= 0 && r.at("ibl").fg_mse / 4.0 < r.reconstruction_floor)
-      below += (below.empty() ? "" : ", ") + r.hall + " x " + r.relic + " (ibl / 4 = " +
-               fmt(100 * r.at("ibl").fg_mse / 4.0, 3) + ", floor " + fmt(100 * r.reconstruction_floor, 3) + ")";
+      below += (below.empty() ? "" : ", ") + r.hall + " x " + r.relic +
+               " (ibl / 4 = " + fmt(100 * r.at("ibl").fg_mse / 4.0, 3) + ", floor " +
+               fmt(100 * r.reconstruction_floor, 3) + ")";
   if (!below.empty())
     out << "        ibl / 4 is below the reconstruction floor (x 1e-2) on: " << below << "\n";
   return ibl.ok && ssrt.ok;
@@ -596,9 +598,10 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--mcpt-max-spp", o->mcpt_max_spp, "Largest spp of the equal-quality search")
           ->capture_default_str()
           ->check(CLI::Range(1, 1 << 16));
-      sub.add_option("--floor-spp", o->floor_spp,
-                     "Path tracing of the reconstruction run to this spp (and a quarter of it) for its floor; 0: "
-                     "not measured")
+      sub.add_option(
+             "--floor-spp", o->floor_spp,
+             "Path tracing of the reconstruction run to this spp (and a quarter of it) for its floor; 0: "
+             "not measured")
           ->capture_default_str()
           ->check(CLI::Range(0, 1 << 16));
       sub.add_option("--repeats", o->repeats, "Runs per timing (the median is reported)")
@@ -635,14 +638,16 @@ HOLO_REGISTER_COMMAND(Command{
                      "Ours: added to the derived pyramid level (checks)")
           ->capture_default_str()
           ->check(CLI::Range(-8.0f, 8.0f));
-      sub.add_option("--lobe-components", o->tracer.lobe_components,
-                     "Ours: Gaussians per pyramid read standing for the GGX lobe (1: its Beckmann sigma; more: "
-                     "its heavy tail)")
+      sub.add_option(
+             "--lobe-components", o->tracer.lobe_components,
+             "Ours: Gaussians per pyramid read standing for the GGX lobe (1: its Beckmann sigma; more: "
+             "its heavy tail)")
           ->capture_default_str()
           ->check(CLI::Range(1, reflect::kMaxLobeComponents));
-      sub.add_option("--lobe-fallback-roughness", o->tracer.lobe_fallback_roughness,
-                     "Ours: from this roughness a ray that misses every voxel looks for the visitors within its "
-                     "lobe (> 1: never)")
+      sub.add_option(
+             "--lobe-fallback-roughness", o->tracer.lobe_fallback_roughness,
+             "Ours: from this roughness a ray that misses every voxel looks for the visitors within its "
+             "lobe (> 1: never)")
           ->capture_default_str()
           ->check(CLI::Range(0.0f, 2.0f));
       sub.add_flag(

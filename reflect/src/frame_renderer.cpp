@@ -349,10 +349,10 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
         ForegroundSample mixed;
         vec3 premultiplied(0.0f);
         for (const LobeComponent& c : lobe) {
-          const float level = std::clamp(
-              foregroundLevelForLobe(sigma * c.sigma_scale, travel_m, camera_m, focal_px, settings_.pyramid_levels) +
-                  settings_.level_bias,
-              0.0f, float(settings_.pyramid_levels - 1));
+          const float level = std::clamp(foregroundLevelForLobe(sigma * c.sigma_scale, travel_m, camera_m,
+                                                                focal_px, settings_.pyramid_levels) +
+                                             settings_.level_bias,
+                                         0.0f, float(settings_.pyramid_levels - 1));
           const ForegroundSample s = pyramid.sample(pixel, level);
           premultiplied += c.weight * s.weight * s.radiance;
           mixed.weight += c.weight * s.weight;

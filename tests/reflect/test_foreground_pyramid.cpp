@@ -224,8 +224,10 @@ TEST(GgxLobeMixture, FollowsTheGgxLobesHeavyTail) {
   for (const int n : {2, 4, 8}) {
     const std::vector<LobeComponent> mixture = ggxLobeMixture(n);
     ASSERT_EQ(mixture.size(), std::size_t(n));
-    for (std::size_t k = 1; k < mixture.size(); ++k) EXPECT_LT(mixture[k].sigma_scale, mixture[k - 1].sigma_scale);
-    for (const double r : {0.5, 1.0, 2.0}) EXPECT_NEAR(tail(mixture, r), ggx(r), 0.25 * ggx(r)) << n << " " << r;
+    for (std::size_t k = 1; k < mixture.size(); ++k)
+      EXPECT_LT(mixture[k].sigma_scale, mixture[k - 1].sigma_scale);
+    for (const double r : {0.5, 1.0, 2.0})
+      EXPECT_NEAR(tail(mixture, r), ggx(r), 0.25 * ggx(r)) << n << " " << r;
   }
   EXPECT_NEAR(tail(ggxLobeMixture(8), 4.0), ggx(4.0), 0.25 * ggx(4.0));
   EXPECT_THROW(ggxLobeMixture(0), InputError);
