@@ -279,7 +279,7 @@ SceneResult evalScene(const std::string& hall, const std::string& relic, const T
 
   // The reconstructed scene for MCPT: the voxel grid ours walks, as emitting cubes.
   const auto t_build = std::chrono::steady_clock::now();
-  depthfilter::VoxelGrid grid;
+  depthfilter::VoxelGrid grid(o.tracer.grid);
   grid.build(scene.foreground);
   std::vector<Model> emitters;
   if (!grid.empty()) emitters.push_back(reflect::voxelEmitters(grid));
