@@ -644,6 +644,16 @@ HOLO_REGISTER_COMMAND(Command{
              "its heavy tail)")
           ->capture_default_str()
           ->check(CLI::Range(1, reflect::kMaxLobeComponents));
+      sub.add_option("--foreground-map-width", o->tracer.foreground_map_width,
+                     "Ours: texels around the rough foreground map (even)")
+          ->capture_default_str()
+          ->check(CLI::Range(8, 1024));
+      sub.add_option(
+             "--foreground-map-roughness", o->tracer.foreground_map_roughness,
+             "Ours: from this roughness the foreground comes from the visitors prefiltered around the "
+             "relic instead of the walk (> 1: never)")
+          ->capture_default_str()
+          ->check(CLI::Range(0.0f, 2.0f));
       sub.add_option(
              "--lobe-fallback-roughness", o->tracer.lobe_fallback_roughness,
              "Ours: from this roughness a ray that misses every voxel looks for the visitors within its "

@@ -19,6 +19,8 @@ const char* passName(Pass pass) {
       return "VoxelGrid";
     case Pass::Pyramids:
       return "Pyramids";
+    case Pass::RoughForegroundMap:
+      return "RoughForegroundMap";
     case Pass::HitPoints:
       return "HitPoints";
     case Pass::StaticReflections:
@@ -70,6 +72,7 @@ EffectPlan planEffects(const EffectInputs& in) {
     plan.foreground_reason = "foreground near a glossy relic";
   const bool foreground = plan.foreground_reason == "foreground near a glossy relic";
   if (foreground) plan.passes = {Pass::VoxelGrid, Pass::Pyramids};
+  if (foreground && in.relic_rough) plan.passes.push_back(Pass::RoughForegroundMap);
   plan.passes.push_back(Pass::HitPoints);
   plan.passes.push_back(Pass::StaticReflections);
   if (foreground) {

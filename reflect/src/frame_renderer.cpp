@@ -99,6 +99,12 @@ void TracerSettings::validate() const {
     throw InputError(src, "walk_per_pixel_roughness", "a roughness >= 0 (> 1: never)",
                      std::to_string(walk_per_pixel_roughness));
   if (edge_aa && aa_samples != 1) throw InputError(src, "edge_aa", "only with aa_samples 1", "aa_samples 4");
+  if (!std::isfinite(foreground_map_roughness) || foreground_map_roughness < 0.0f)
+    throw InputError(src, "foreground_map_roughness", "a roughness >= 0 (> 1: never)",
+                     std::to_string(foreground_map_roughness));
+  if (foreground_map_width < 8 || foreground_map_width > 1024 || foreground_map_width % 2 != 0)
+    throw InputError(src, "foreground_map_width", "an even number of texels in 8..1024",
+                     std::to_string(foreground_map_width));
   if (lobe_components < 1 || lobe_components > kMaxLobeComponents)
     throw InputError(src, "lobe_components", "1.." + std::to_string(kMaxLobeComponents),
                      std::to_string(lobe_components));
@@ -111,6 +117,17 @@ FrameRenderer::FrameRenderer(const RenderScene& scene, const PrefilteredIbl& ibl
     if (m.roughness < kGlossyRoughnessLimit || m.metallic_roughness_texture >= 0) relic_glossy_ = true;
   if (scene_.relic().materials.empty()) relic_glossy_ = true;  // default material: be safe
   relic_bounds_ = scene_.relicBounds();
+  std::vector<float> rough;
+  for (const Material& m : scene_.relic().materials)
+    if (m.metallic_roughness_texture < 0 && m.roughness >= settings_.foreground_map_roughness &&
+        m.roughness < kGlossyRoughnessLimit &&
+        std::find(rough.begin(), rough.end(), m.roughness) == rough.end())
+      rough.push_back(m.roughness);
+  if (!rough.empty()) {
+    std::sort(rough.begin(), rough.end());
+    if (rough.size() > 8) rough.resize(8);  // the map's limit; rougher ones read the nearest
+    rough_map_ = std::make_unique<RoughForegroundMap>(settings_.foreground_map_width, rough);
+  }
 }
 
 EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
@@ -119,6 +136,7 @@ EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
   in.foreground_enabled = settings_.foreground_enabled;
   in.relic_empty = scene_.relic().triangleCount() == 0;
   in.relic_glossy = relic_glossy_;
+  in.relic_rough = rough_map_ != nullptr;
   in.foreground_points = cloud.points.size();
   in.cameras = cameras.size();
   in.relic_bounds = scene_.relicBounds();
@@ -192,6 +210,10 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
     grid_.build(cloud);
   } else {
     grid_.clear();
+  }
+  if (result.plan.has(Pass::RoughForegroundMap)) {
+    PassTimer t(result.frame_timings, Pass::RoughForegroundMap);
+    rough_map_->build(grid_, 0.5f * (relic_bounds_.lo + relic_bounds_.hi));
   }
   // The pyramids are rebuilt in place, keeping their level images from frame to frame.
   for (ForegroundPyramid& pyramid : pyramids_) pyramid.clear();
@@ -364,6 +386,10 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       // the camera that saw it at the level of the lobe's footprint there.
       const auto walk = [&](const vec3& position, const vec3& normal, const vec3& reflected, float roughness,
                             ForegroundSample& sample) {
+        if (rough_map_ && roughness >= settings_.foreground_map_roughness) {
+          sample = rough_map_->lookup(reflected, roughness);
+          return sample.weight > 0.0f;
+        }
         const Ray ray{position + normal * settings_.ray_offset, reflected};
         const VoxelHit vh = firstOccupiedVoxel(grid_, ray, settings_.max_reflection_distance);
         if (!vh.hit()) {

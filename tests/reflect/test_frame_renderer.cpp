@@ -225,6 +225,36 @@ TEST(FrameRenderer, EdgeWalkMatchesAWalkPerSubSample) {
   EXPECT_GT(vb.foreground_hits, 0u);
 }
 
+TEST(FrameRenderer, TheRoughestMaterialsReadTheVisitorsPrefilteredAroundTheRelic) {
+  MirrorScene m(0.6f);
+  TracerSettings map = smallGridSettings();
+  map.aa_samples = 1;
+  TracerSettings walk = map;
+  walk.foreground_map_roughness = 2.0f;
+  FrameRenderer a(m.scene, m.ibl, map), b(m.scene, m.ibl, walk);
+  const FrameResult with = a.render(m.wall, {m.camera}, {m.view});
+  const FrameResult without = b.render(m.wall, {m.camera}, {m.view});
+  ASSERT_TRUE(with.plan.has(Pass::RoughForegroundMap)) << with.plan.describe();
+  ASSERT_FALSE(without.plan.has(Pass::RoughForegroundMap)) << without.plan.describe();
+  expectFiniteAndBounded(with.views.at(0));
+  // The red wall faces the sphere's centre: it is seen there, in its colour.
+  EXPECT_GT(with.views.at(0).weight.at<float>(24, 24), 0.2f);
+  const vec3 centre = rgbAt(with.views.at(0).hdr, 24, 24);
+  EXPECT_GT(centre.r, 2.0f * centre.g);
+  // The lobe spreads it smoothly where the walk's hit-or-miss leaves a step.
+  const auto largestStep = [](const ViewImages& v) {
+    float step = 0.0f;
+    for (int y = 1; y < v.weight.rows; ++y)
+      for (int x = 1; x < v.weight.cols; ++x)
+        if (v.coverage.at<float>(y, x) == 1.0f && v.coverage.at<float>(y - 1, x - 1) == 1.0f)
+          step = std::max({step, std::abs(v.weight.at<float>(y, x) - v.weight.at<float>(y - 1, x)),
+                           std::abs(v.weight.at<float>(y, x) - v.weight.at<float>(y, x - 1))});
+    return step;
+  };
+  EXPECT_LT(largestStep(with.views.at(0)), 0.1f);
+  EXPECT_GT(largestStep(without.views.at(0)), 2.0f * largestStep(with.views.at(0)));
+}
+
 TEST(FrameRenderer, RoughLobesThatMissTheVoxelsStillReadTheirHalo) {
   for (float roughness : {0.1f, 0.5f}) {
     MirrorScene m(roughness);
@@ -233,6 +263,7 @@ TEST(FrameRenderer, RoughLobesThatMissTheVoxelsStillReadTheirHalo) {
     for (const auto& p : m.wall.points) m.camera.mask.at<float>(p.y, p.x) = 1.0f;
     TracerSettings on = smallGridSettings();
     on.aa_samples = 1;
+    on.foreground_map_roughness = 2.0f;  // the walk for every roughness
     TracerSettings off = on;
     off.lobe_fallback_roughness = 2.0f;
     FrameRenderer a(m.scene, m.ibl, on), b(m.scene, m.ibl, off);

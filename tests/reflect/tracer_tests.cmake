@@ -1,7 +1,7 @@
 # The reflection tracer: voxel grid, voxel walk, foreground pyramids, composition, frame renderer.
 holo_test(test_tracer
   SOURCES test_voxel_grid.cpp test_voxel_walk.cpp test_foreground_pyramid.cpp test_frame_renderer.cpp
-          test_frame_renderer_reuse.cpp test_frame_renderer_accuracy.cpp
+          test_frame_renderer_reuse.cpp test_frame_renderer_accuracy.cpp test_rough_foreground_map.cpp
   DEPS holo::reflect holo::depthfilter holo_test_support)
 holo_benchmark(bench_voxel_walk
   SOURCES bench_voxel_walk.cpp

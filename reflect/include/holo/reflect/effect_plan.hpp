@@ -12,13 +12,14 @@
 namespace holo::reflect {
 
 enum class Pass {
-  VoxelGrid,          // bin the foreground cloud
-  Pyramids,           // Kawase colour and mask pyramids per camera
-  HitPoints,          // primary rays against the relic (psi_r, coverage)
-  StaticReflections,  // prefiltered IBL (psi_s) and diffuse
-  ForegroundWalk,     // voxel walk + pyramid reads (psi_d, w)
-  Composition,        // psi_d * w + psi_s * (1 - w)
-  ToneMap,            // exposure, tone mapping, sRGB
+  VoxelGrid,           // bin the foreground cloud
+  Pyramids,            // Kawase colour and mask pyramids per camera
+  RoughForegroundMap,  // the visitors prefiltered around the relic, for its roughest materials
+  HitPoints,           // primary rays against the relic (psi_r, coverage)
+  StaticReflections,   // prefiltered IBL (psi_s) and diffuse
+  ForegroundWalk,      // voxel walk + pyramid reads (psi_d, w)
+  Composition,         // psi_d * w + psi_s * (1 - w)
+  ToneMap,             // exposure, tone mapping, sRGB
 };
 
 const char* passName(Pass pass);
@@ -31,6 +32,7 @@ struct EffectInputs {
   bool foreground_enabled = true;  // the user's switch
   bool relic_empty = false;
   bool relic_glossy = true;  // some relic material below kGlossyRoughnessLimit
+  bool relic_rough = false;  // some relic material takes its foreground from the rough map
   std::size_t foreground_points = 0;
   std::size_t cameras = 0;
   Bounds3 relic_bounds;

@@ -29,6 +29,7 @@
 #include "holo/reflect/hit_points.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
 #include "holo/reflect/render_scene.hpp"
+#include "holo/reflect/rough_foreground_map.hpp"
 #include "holo/reflect/voxel_walk.hpp"
 
 namespace holo::reflect {
@@ -72,6 +73,13 @@ struct TracerSettings {
   // reflected visitor came out too sharp and too saturated on the kettle, 0.35); 2 cut the
   // kettles' fg_mse 2.9-3x against path-traced truth, more changed nothing (docs/tracer.md).
   int lobe_components = 2;
+  // From this roughness on a hit point's foreground comes from RoughForegroundMap (the visitors
+  // prefiltered around the relic with its lobe, rough_foreground_map.hpp) instead of the walk:
+  // one walked ray and a camera-space blur cannot stand for a lobe tens of degrees wide (the
+  // tripod, 0.6, showed hard-edged patches in one camera's colours). Built per frame only when a
+  // relic material is this rough (not textured). > 1: never.
+  float foreground_map_roughness = 0.5f;
+  int foreground_map_width = 64;  // texels around; the map is width x width / 2
   // Added to the derived pyramid level (foregroundLevel) of every read, for checking the
   // derivation against path-traced truth (bench accuracy); 0 in use.
   float level_bias = 0.0f;
@@ -151,6 +159,8 @@ class FrameRenderer {
   Bounds3 relic_bounds_;  // of the static relic, for culling primary rays
   depthfilter::VoxelGrid grid_;
   std::vector<ForegroundPyramid> pyramids_;
+  // For the relic materials at least foreground_map_roughness rough; null when there is none.
+  std::unique_ptr<RoughForegroundMap> rough_map_;
   std::vector<std::unique_ptr<ViewCache>> caches_;  // per view slot
 };
 

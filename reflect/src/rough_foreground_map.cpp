@@ -1,0 +1,159 @@
+#include "holo/reflect/rough_foreground_map.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "holo/core/equirect.hpp"
+#include "holo/core/error.hpp"
+
+namespace holo::reflect {
+namespace {
+
+// The GGX lobe weight up to a constant (it cancels in the normalisation): with normal = view,
+// (n.h)^2 = (1 + n.l) / 2 and D(h) ~ 1 / (1 - (1 + n.l) k1)^2, k1 = (1 - alpha^2) / 2.
+float lobeWeight(float cos_nl, float k1) {
+  if (!(cos_nl > 0.0f)) return 0.0f;
+  const float d = 1.0f - (1.0f + cos_nl) * k1;
+  return cos_nl / (d * d);
+}
+
+}  // namespace
+
+RoughForegroundMap::RoughForegroundMap(int width, std::vector<float> roughness)
+    : width_(width), height_(width / 2), roughness_(std::move(roughness)) {
+  if (width < 8 || width % 2 != 0 || width > 1024)
+    throw InputError("rough foreground map", "width", "an even number of texels in 8..1024",
+                     std::to_string(width));
+  if (roughness_.empty() || roughness_.size() > 8)
+    throw InputError("rough foreground map", "roughness", "1..8 values", std::to_string(roughness_.size()));
+  for (float& r : roughness_) r = std::isfinite(r) ? std::clamp(r, 0.05f, 1.0f) : 1.0f;
+  const std::size_t n = std::size_t(width_) * std::size_t(height_);
+  direction_.resize(n);
+  solid_angle_.resize(n);
+  for (int y = 0; y < height_; ++y)
+    for (int x = 0; x < width_; ++x) {
+      const std::size_t t = std::size_t(y) * std::size_t(width_) + std::size_t(x);
+      direction_[t] =
+          equirect::uvToDirection({(float(x) + 0.5f) / float(width_), (float(y) + 0.5f) / float(height_)});
+      solid_angle_[t] = equirect::pixelSolidAngle(y, width_, height_);
+    }
+  for (const float r : roughness_) {
+    const float alpha = r * r, k1 = 0.5f * (1.0f - alpha * alpha);
+    std::vector<float> norm(n, 0.0f);
+    tbb::parallel_for(std::size_t(0), n, [&](std::size_t o) {
+      double sum = 0.0;
+      for (std::size_t i = 0; i < n; ++i)
+        sum += double(lobeWeight(glm::dot(direction_[o], direction_[i]), k1)) * double(solid_angle_[i]);
+      norm[o] = float(sum);
+    });
+    norm_.push_back(std::move(norm));
+  }
+  splat_.resize(n);
+  depth_.resize(n);
+  filtered_.assign(roughness_.size(), std::vector<Texel>(n));
+}
+
+void RoughForegroundMap::build(const depthfilter::VoxelGrid& grid, const vec3& centre) {
+  std::fill(splat_.begin(), splat_.end(), Texel{});
+  std::fill(depth_.begin(), depth_.end(), std::numeric_limits<float>::infinity());
+  covered_.clear();
+  if (!grid.empty()) {
+    // Occupied bricks only.
+    const glm::ivec3 bricks = grid.brickDims();
+    const int b = grid.brickSize();
+    const float row_angle = kPi / float(height_), col_angle = 2.0f * kPi / float(width_);
+    for (int bz = 0; bz < bricks.z; ++bz)
+      for (int by = 0; by < bricks.y; ++by)
+        for (int bx = 0; bx < bricks.x; ++bx) {
+          if (grid.brickCount({bx, by, bz}) == 0) continue;
+          for (int z = bz * b; z < (bz + 1) * b; ++z)
+            for (int y = by * b; y < (by + 1) * b; ++y)
+              for (int x = bx * b; x < (bx + 1) * b; ++x) {
+                const glm::ivec3 v(x, y, z);
+                if (!grid.occupied(v)) continue;
+                const Bounds3 box = grid.voxelBounds(v);
+                const vec3 d = 0.5f * (box.lo + box.hi) - centre;
+                const float dist = glm::length(d);
+                if (!(dist > 1e-6f)) continue;
+                const depthfilter::VoxelSample& s = grid.sample(grid.sampleIndex(v));
+                if (!isFinite(s.radiance) || !std::isfinite(s.weight)) continue;  // must not poison the map
+                const float weight = std::clamp(s.weight, 0.0f, 1.0f);
+                const Texel texel{glm::max(s.radiance, vec3(0.0f)) * weight, weight};
+                // A disc of one voxel edge's angular radius, in rows and (latitude-stretched)
+                // columns: neighbouring voxels close up, also near the poles.
+                const vec2 uv = equirect::directionToUv(d / dist);
+                const int cx = std::clamp(int(uv.x * float(width_)), 0, width_ - 1);
+                const int cy = std::clamp(int(uv.y * float(height_)), 0, height_ - 1);
+                const float angle = std::atan(grid.voxelSize() / dist);
+                const int ry = std::min(height_ / 2, int(std::ceil(angle / row_angle - 0.5f)));
+                const float sin_theta = std::max(std::sin((float(cy) + 0.5f) * row_angle), 1e-3f);
+                const int rx = std::min(width_ / 2, int(std::ceil(angle / (col_angle * sin_theta) - 0.5f)));
+                for (int dy = -ry; dy <= ry; ++dy) {
+                  const int ty = cy + dy;
+                  if (ty < 0 || ty >= height_) continue;
+                  for (int dx = -rx; dx <= rx; ++dx) {
+                    const int tx = ((cx + dx) % width_ + width_) % width_;
+                    const std::size_t t = std::size_t(ty) * std::size_t(width_) + std::size_t(tx);
+                    if (dist >= depth_[t]) continue;
+                    depth_[t] = dist;
+                    splat_[t] = texel;
+                  }
+                }
+              }
+        }
+    for (std::size_t t = 0; t < splat_.size(); ++t)
+      if (splat_[t].weight > 0.0f) covered_.push_back(std::uint32_t(t));
+  }
+  for (std::size_t k = 0; k < roughness_.size(); ++k) {
+    const float alpha = roughness_[k] * roughness_[k], k1 = 0.5f * (1.0f - alpha * alpha);
+    std::vector<Texel>& out = filtered_[k];
+    const std::vector<float>& norm = norm_[k];
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, out.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
+          for (std::size_t o = r.begin(); o < r.end(); ++o) {
+            Texel sum;
+            for (const std::uint32_t i : covered_) {
+              const float w = lobeWeight(glm::dot(direction_[o], direction_[i]), k1) * solid_angle_[i];
+              sum.premultiplied += w * splat_[i].premultiplied;
+              sum.weight += w * splat_[i].weight;
+            }
+            const float inv = norm[o] > 0.0f ? 1.0f / norm[o] : 0.0f;
+            out[o] = {sum.premultiplied * inv, std::clamp(sum.weight * inv, 0.0f, 1.0f)};
+          }
+        });
+  }
+}
+
+ForegroundSample RoughForegroundMap::lookup(const vec3& direction, float roughness) const {
+  const float len = glm::length(direction);
+  if (!(len > 1e-12f) || !isFinite(direction)) return {};
+  std::size_t k = 0;
+  for (std::size_t i = 1; i < roughness_.size(); ++i)
+    if (std::abs(roughness_[i] - roughness) < std::abs(roughness_[k] - roughness)) k = i;
+  const std::vector<Texel>& map = filtered_[k];
+  const vec2 uv = equirect::directionToUv(direction / len);
+  const float fx = uv.x * float(width_) - 0.5f,
+              fy = std::clamp(uv.y * float(height_) - 0.5f, 0.0f, float(height_ - 1));
+  const int x0 = int(std::floor(fx)), y0 = int(fy);
+  const float ax = fx - float(x0), ay = fy - float(y0);
+  Texel t;
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) {
+      const int x = ((x0 + i) % width_ + width_) % width_, y = std::min(y0 + j, height_ - 1);
+      const float w = (i ? ax : 1.0f - ax) * (j ? ay : 1.0f - ay);
+      const Texel& s = map[std::size_t(y) * std::size_t(width_) + std::size_t(x)];
+      t.premultiplied += w * s.premultiplied;
+      t.weight += w * s.weight;
+    }
+  ForegroundSample out;
+  out.weight = std::clamp(t.weight, 0.0f, 1.0f);
+  if (t.weight > 0.0f) out.radiance = t.premultiplied / t.weight;
+  return out;
+}
+
+}  // namespace holo::reflect
