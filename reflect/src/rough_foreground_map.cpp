@@ -8,6 +8,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "equirect_disc.hpp"
 #include "holo/core/equirect.hpp"
 #include "holo/core/error.hpp"
 
@@ -66,7 +67,6 @@ void RoughForegroundMap::build(const depthfilter::VoxelGrid& grid, const vec3& c
     // Occupied bricks only.
     const glm::ivec3 bricks = grid.brickDims();
     const int b = grid.brickSize();
-    const float row_angle = kPi / float(height_), col_angle = 2.0f * kPi / float(width_);
     for (int bz = 0; bz < bricks.z; ++bz)
       for (int by = 0; by < bricks.y; ++by)
         for (int bx = 0; bx < bricks.x; ++bx) {
@@ -84,26 +84,14 @@ void RoughForegroundMap::build(const depthfilter::VoxelGrid& grid, const vec3& c
                 if (!isFinite(s.radiance) || !std::isfinite(s.weight)) continue;  // must not poison the map
                 const float weight = std::clamp(s.weight, 0.0f, 1.0f);
                 const Texel texel{glm::max(s.radiance, vec3(0.0f)) * weight, weight};
-                // A disc of one voxel edge's angular radius, in rows and (latitude-stretched)
-                // columns: neighbouring voxels close up, also near the poles.
-                const vec2 uv = equirect::directionToUv(d / dist);
-                const int cx = std::clamp(int(uv.x * float(width_)), 0, width_ - 1);
-                const int cy = std::clamp(int(uv.y * float(height_)), 0, height_ - 1);
-                const float angle = std::atan(grid.voxelSize() / dist);
-                const int ry = std::min(height_ / 2, int(std::ceil(angle / row_angle - 0.5f)));
-                const float sin_theta = std::max(std::sin((float(cy) + 0.5f) * row_angle), 1e-3f);
-                const int rx = std::min(width_ / 2, int(std::ceil(angle / (col_angle * sin_theta) - 0.5f)));
-                for (int dy = -ry; dy <= ry; ++dy) {
-                  const int ty = cy + dy;
-                  if (ty < 0 || ty >= height_) continue;
-                  for (int dx = -rx; dx <= rx; ++dx) {
-                    const int tx = ((cx + dx) % width_ + width_) % width_;
-                    const std::size_t t = std::size_t(ty) * std::size_t(width_) + std::size_t(tx);
-                    if (dist >= depth_[t]) continue;
-                    depth_[t] = dist;
-                    splat_[t] = texel;
-                  }
-                }
+                // A disc of one voxel edge's angular radius: neighbouring voxels close up.
+                forEachDiscPixel(
+                    d / dist, std::atan(grid.voxelSize() / dist), width_, height_, 0.0f, [&](int tx, int ty) {
+                      const std::size_t t = std::size_t(ty) * std::size_t(width_) + std::size_t(tx);
+                      if (dist >= depth_[t]) return;
+                      depth_[t] = dist;
+                      splat_[t] = texel;
+                    });
               }
         }
     for (std::size_t t = 0; t < splat_.size(); ++t)
