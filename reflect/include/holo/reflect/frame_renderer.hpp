@@ -3,7 +3,8 @@
 // view traces hit points on the relic, shades the static reflection psi_s from the prefiltered
 // IBL (one bounce further where the mirror ray meets the relic itself), walks each reflected ray
 // through the voxel grid for the foreground radiance psi_d and weight w (the camera that saw the
-// voxel, read at the pyramid level of the hit's roughness and the ray's travel distance), composes
+// voxel, read at the pyramid levels of the hit's GGX lobe and the ray's travel distance; the
+// roughest materials read the visitors prefiltered around the relic instead), composes
 // psi_f = psi_d w + psi_s (1 - w) in HDR (specular part; the diffuse irradiance is added to
 // both), and tone-maps to sRGB. Which passes run comes from the effect plan (effect_plan.hpp);
 // every pass is timed.
