@@ -1,13 +1,14 @@
 // Per-view time of each pass of the frame renderer (milliseconds, as counters), with and without
 // foreground: a mirror-like sphere (roughness 0.2), three synthetic visitors around the pyramid
-// seen by four 640x360 cameras, one 256x256 face view with 4 sub-samples per pixel; and one
-// camera's foreground pyramid alone for masks of several sizes.
+// seen by four 640x360 cameras, one 256x256 face view with 4 sub-samples per pixel; one camera's
+// foreground pyramid alone for masks of several sizes; the rough foreground map's build.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 #include <map>
 
 #include "holo/reflect/frame_renderer.hpp"
+#include "holo/reflect/rough_foreground_map.hpp"
 #include "holo/reflect/view.hpp"
 #include "reflect_test_scenes.hpp"
 #include "synthetic_foreground.hpp"
@@ -79,5 +80,19 @@ BENCHMARK(pyramid)
     ->Arg(5)
     ->Arg(0)
     ->Unit(benchmark::kMicrosecond);
+
+// The rough foreground map's per-frame build (splat + prefilter for one roughness) for the three
+// synthetic visitors, at map widths 32, 64 (the default) and 128: the RoughForegroundMap pass.
+void roughMap(benchmark::State& state) {
+  depthfilter::VoxelGrid grid;
+  grid.build(holo::test::visitorCloud(3, 0.7f, 5));
+  RoughForegroundMap map(int(state.range(0)), {0.6f});
+  for (auto _ : state) {
+    map.build(grid, vec3(0.0f, 0.3f, 0.0f));
+    benchmark::DoNotOptimize(map.coveredTexels());
+  }
+  state.counters["covered_texels"] = double(map.coveredTexels());
+}
+BENCHMARK(roughMap)->ArgName("width")->Arg(32)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond);
 
 }  // namespace
