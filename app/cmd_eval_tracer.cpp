@@ -648,6 +648,14 @@ HOLO_REGISTER_COMMAND(Command{
                      "Ours: texels around the rough foreground map (even)")
           ->capture_default_str()
           ->check(CLI::Range(8, 1024));
+      sub.add_option("--rough-interreflection-grid", o->tracer.rough_interreflection_grid,
+                     "Ours: side of the stratified lobe samples for the rough materials' "
+                     "interreflection (1: the mirror ray; else even)")
+          ->capture_default_str()
+          ->check(CLI::IsMember({1, 2, 4, 6, 8}));
+      sub.add_flag("!--no-rough-interleave", o->tracer.rough_interreflection_interleaved,
+                   "Ours: every sample traces every lobe stratum of the rough interreflection "
+                   "(not interleaved over 2x2 pixels)");
       sub.add_option(
              "--foreground-map-roughness", o->tracer.foreground_map_roughness,
              "Ours: from this roughness the foreground comes from the visitors prefiltered around the "

@@ -329,6 +329,11 @@ TEST(FrameRenderer, RejectsBadSettings) {
   s = TracerSettings{};
   s.level_bias = kInf;
   EXPECT_THROW(FrameRenderer(m.scene, m.ibl, s), InputError);
+  for (int odd_or_out_of_range : {0, 3, 10}) {
+    s = TracerSettings{};
+    s.rough_interreflection_grid = odd_or_out_of_range;
+    EXPECT_THROW(FrameRenderer(m.scene, m.ibl, s), InputError) << odd_or_out_of_range;
+  }
 }
 
 }  // namespace

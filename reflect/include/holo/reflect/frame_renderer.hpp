@@ -20,6 +20,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "holo/core/camera_model.hpp"
@@ -81,6 +82,17 @@ struct TracerSettings {
   // relic material is this rough (not textured). > 1: never.
   float foreground_map_roughness = 0.5f;
   int foreground_map_width = 64;  // texels around; the map is width x width / 2
+  // The interreflection of those rough materials: > 1, sampled over their GGX lobe at the
+  // centres of side x side strata of its visible normals (even sides), one relic ray each; the
+  // share that meets the relic sees its second points, the rest the hall. 1: the mirror ray
+  // alone, all or nothing (the tripod's bowl showed stripes of the hall where the truth is
+  // smooth). Interleaved (the default), each hit point traces only its share of the strata:
+  // every other stratum per 2x2 pixel class, dealt to the pixel's samples (1 ray per sample at
+  // side 4 with 4 samples, 4 with 1 sample), and a 3x3 tent over the pixels of the same surface
+  // sums them all; otherwise every sample traces every stratum (side^2 rays). Traced with the
+  // static passes, again whenever an eye moves (docs/tracer.md).
+  int rough_interreflection_grid = 4;
+  bool rough_interreflection_interleaved = true;
   // Added to the derived pyramid level (foregroundLevel) of every read, for checking the
   // derivation against path-traced truth (bench accuracy); 0 in use.
   float level_bias = 0.0f;
@@ -147,9 +159,25 @@ class FrameRenderer {
  private:
   struct ViewCache;
   struct WalkRay;
+  struct LobeBounce;
+  struct PixelBounce;
+  // Which of the rough lobe's strata a hit point traces: its pixel's 2x2 class ((x & 1) +
+  // 2 (y & 1)) and its sample of the pixel's.
+  struct LobeShare {
+    int pixel_class = 0, sample = 0, samples = 1;
+  };
+  bool readsRoughMap(float roughness) const;
   // The static shading of one hit point and the ray its foreground walk follows (the mirror ray,
-  // or the one from its interreflection's second point).
-  void shadeHit(const HitPoint& hp, SplitSumShading& shading, WalkRay& walk_ray) const;
+  // or the one from its interreflection's second point). For a material read from rough_map_
+  // with interleaved strata, its share of the lobe's interreflection, left for poolLobeBounces.
+  std::optional<LobeBounce> shadeHit(const HitPoint& hp, const LobeShare& share, SplitSumShading& shading,
+                                     WalkRay& walk_ray) const;
+  LobeBounce traceLobeBounce(const HitPoint& hp, const LobeShare& share) const;
+  static void addLobeBounce(const LobeBounce& bounce, SplitSumShading& shading);
+  // Adds to the rough samples of pixel (x, y) the interleaved lobe samples of its 3x3 neighbours
+  // on the same surface (tent weights: each 2x2 class weighs the same).
+  void poolLobeBounces(const HitPointBuffer& hits, const std::vector<PixelBounce>& bounces,
+                       const CameraModel& view, int x, int y, std::vector<SplitSumShading>& shading) const;
   ViewImages renderView(const EffectPlan& plan, const std::vector<ForegroundCameraImage>& cameras,
                         const CameraModel& view, ViewCache& cache) const;
 
