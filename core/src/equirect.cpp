@@ -28,18 +28,20 @@ vec3 uvToDirection(const vec2& uv, float yaw) {
   return yaw != 0.0f ? rotateYaw(d, yaw) : d;
 }
 
-vec3 sample(const cv::Mat& panorama, const vec3& direction, float yaw) {
-  const vec2 uv = directionToUv(direction, yaw);
-  const int w = panorama.cols, h = panorama.rows;
-  const float x = uv.x * float(w) - 0.5f;
-  const float y = std::clamp(uv.y * float(h) - 0.5f, 0.0f, float(h - 1));
+BilinearTaps bilinearTaps(const vec2& uv, int width, int height) {
+  const float x = uv.x * float(width) - 0.5f;
+  const float y = std::clamp(uv.y * float(height) - 0.5f, 0.0f, float(height - 1));
   const int x0 = static_cast<int>(std::floor(x));
   const int y0 = static_cast<int>(y);
-  const float fx = x - float(x0), fy = y - float(y0);
-  const int y1 = std::min(y0 + 1, h - 1);
-  const int xa = (x0 % w + w) % w, xb = (xa + 1) % w;
-  return (1 - fy) * ((1 - fx) * rgbAt(panorama, xa, y0) + fx * rgbAt(panorama, xb, y0)) +
-         fy * ((1 - fx) * rgbAt(panorama, xa, y1) + fx * rgbAt(panorama, xb, y1));
+  const int xa = (x0 % width + width) % width;
+  return {{xa, (xa + 1) % width}, {y0, std::min(y0 + 1, height - 1)}, x - float(x0), y - float(y0)};
+}
+
+vec3 sample(const cv::Mat& panorama, const vec3& direction, float yaw) {
+  const BilinearTaps t = bilinearTaps(directionToUv(direction, yaw), panorama.cols, panorama.rows);
+  return (1 - t.fy) *
+             ((1 - t.fx) * rgbAt(panorama, t.x[0], t.y[0]) + t.fx * rgbAt(panorama, t.x[1], t.y[0])) +
+         t.fy * ((1 - t.fx) * rgbAt(panorama, t.x[0], t.y[1]) + t.fx * rgbAt(panorama, t.x[1], t.y[1]));
 }
 
 float pixelSolidAngle(int y, int width, int height) {

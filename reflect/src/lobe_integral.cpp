@@ -61,7 +61,7 @@ GgxLobeIntegral::GgxLobeIntegral(const cv::Mat& pano, float yaw, LobeQuadratureO
 
 GgxLobeIntegral::Lobe GgxLobeIntegral::lobe(float alpha) const {
   Lobe lobe;
-  lobe.k1 = 0.5f * (1.0f - alpha * alpha);
+  lobe.k1 = ggxLobeK1(alpha);
   lobe.split_cos.assign(levels_.size(), 2.0f);
   const float core = options_.core_ratio * alpha;
   lobe.finest = 0;
@@ -79,14 +79,7 @@ GgxLobeIntegral::Lobe GgxLobeIntegral::lobe(float alpha) const {
 
 vec3 GgxLobeIntegral::integrate(const vec3& n, const Lobe& lobe) const {
   if (levels_.empty()) return vec3(0.0f);
-  const float k1 = lobe.k1;
-  // The lobe weight up to a constant factor (which cancels in the ratio): with normal = view,
-  // (n.h)^2 = (1 + n.l) / 2, so D(h) ~ 1 / (1 - (1 + n.l) k1)^2 needs no square root.
-  const auto weight = [k1](float c) {
-    if (!(c > 0.0f)) return 0.0f;
-    const float d = 1.0f - (1.0f + c) * k1;
-    return c / (d * d);
-  };
+  const auto weight = [k1 = lobe.k1](float cos_nl) { return ggxLobeWeight(cos_nl, k1); };
   vec3 sum(0.0f);
   float norm = 0.0f;
   struct Item {

@@ -11,19 +11,9 @@
 #include "equirect_disc.hpp"
 #include "holo/core/equirect.hpp"
 #include "holo/core/error.hpp"
+#include "holo/reflect/lobe_integral.hpp"
 
 namespace holo::reflect {
-namespace {
-
-// The GGX lobe weight up to a constant (it cancels in the normalisation): with normal = view,
-// (n.h)^2 = (1 + n.l) / 2 and D(h) ~ 1 / (1 - (1 + n.l) k1)^2, k1 = (1 - alpha^2) / 2.
-float lobeWeight(float cos_nl, float k1) {
-  if (!(cos_nl > 0.0f)) return 0.0f;
-  const float d = 1.0f - (1.0f + cos_nl) * k1;
-  return cos_nl / (d * d);
-}
-
-}  // namespace
 
 RoughForegroundMap::RoughForegroundMap(int width, std::vector<float> roughness)
     : width_(width), height_(width / 2), roughness_(std::move(roughness)) {
@@ -32,7 +22,10 @@ RoughForegroundMap::RoughForegroundMap(int width, std::vector<float> roughness)
                      std::to_string(width));
   if (roughness_.empty() || roughness_.size() > 8)
     throw InputError("rough foreground map", "roughness", "1..8 values", std::to_string(roughness_.size()));
-  for (float& r : roughness_) r = std::isfinite(r) ? std::clamp(r, 0.05f, 1.0f) : 1.0f;
+  for (float& r : roughness_) {
+    r = std::isfinite(r) ? std::clamp(r, 0.05f, 1.0f) : 1.0f;
+    k1_.push_back(ggxLobeK1(r * r));
+  }
   const std::size_t n = std::size_t(width_) * std::size_t(height_);
   direction_.resize(n);
   solid_angle_.resize(n);
@@ -43,13 +36,12 @@ RoughForegroundMap::RoughForegroundMap(int width, std::vector<float> roughness)
           equirect::uvToDirection({(float(x) + 0.5f) / float(width_), (float(y) + 0.5f) / float(height_)});
       solid_angle_[t] = equirect::pixelSolidAngle(y, width_, height_);
     }
-  for (const float r : roughness_) {
-    const float alpha = r * r, k1 = 0.5f * (1.0f - alpha * alpha);
+  for (const float k1 : k1_) {
     std::vector<float> norm(n, 0.0f);
     tbb::parallel_for(std::size_t(0), n, [&](std::size_t o) {
       double sum = 0.0;
       for (std::size_t i = 0; i < n; ++i)
-        sum += double(lobeWeight(glm::dot(direction_[o], direction_[i]), k1)) * double(solid_angle_[i]);
+        sum += double(ggxLobeWeight(glm::dot(direction_[o], direction_[i]), k1)) * double(solid_angle_[i]);
       norm[o] = float(sum);
     });
     norm_.push_back(std::move(norm));
@@ -98,7 +90,7 @@ void RoughForegroundMap::build(const depthfilter::VoxelGrid& grid, const vec3& c
       if (splat_[t].weight > 0.0f) covered_.push_back(std::uint32_t(t));
   }
   for (std::size_t k = 0; k < roughness_.size(); ++k) {
-    const float alpha = roughness_[k] * roughness_[k], k1 = 0.5f * (1.0f - alpha * alpha);
+    const float k1 = k1_[k];
     std::vector<Texel>& out = filtered_[k];
     const std::vector<float>& norm = norm_[k];
     tbb::parallel_for(
@@ -106,7 +98,7 @@ void RoughForegroundMap::build(const depthfilter::VoxelGrid& grid, const vec3& c
           for (std::size_t o = r.begin(); o < r.end(); ++o) {
             Texel sum;
             for (const std::uint32_t i : covered_) {
-              const float w = lobeWeight(glm::dot(direction_[o], direction_[i]), k1) * solid_angle_[i];
+              const float w = ggxLobeWeight(glm::dot(direction_[o], direction_[i]), k1) * solid_angle_[i];
               sum.premultiplied += w * splat_[i].premultiplied;
               sum.weight += w * splat_[i].weight;
             }
@@ -124,17 +116,13 @@ ForegroundSample RoughForegroundMap::lookup(const vec3& direction, float roughne
   for (std::size_t i = 1; i < roughness_.size(); ++i)
     if (std::abs(roughness_[i] - roughness) < std::abs(roughness_[k] - roughness)) k = i;
   const std::vector<Texel>& map = filtered_[k];
-  const vec2 uv = equirect::directionToUv(direction / len);
-  const float fx = uv.x * float(width_) - 0.5f,
-              fy = std::clamp(uv.y * float(height_) - 0.5f, 0.0f, float(height_ - 1));
-  const int x0 = int(std::floor(fx)), y0 = int(fy);
-  const float ax = fx - float(x0), ay = fy - float(y0);
+  const equirect::BilinearTaps taps =
+      equirect::bilinearTaps(equirect::directionToUv(direction / len), width_, height_);
   Texel t;
   for (int j = 0; j < 2; ++j)
     for (int i = 0; i < 2; ++i) {
-      const int x = ((x0 + i) % width_ + width_) % width_, y = std::min(y0 + j, height_ - 1);
-      const float w = (i ? ax : 1.0f - ax) * (j ? ay : 1.0f - ay);
-      const Texel& s = map[std::size_t(y) * std::size_t(width_) + std::size_t(x)];
+      const float w = (i ? taps.fx : 1.0f - taps.fx) * (j ? taps.fy : 1.0f - taps.fy);
+      const Texel& s = map[std::size_t(taps.y[j]) * std::size_t(width_) + std::size_t(taps.x[i])];
       t.premultiplied += w * s.premultiplied;
       t.weight += w * s.weight;
     }

@@ -17,6 +17,13 @@ namespace holo::equirect {
 
 vec2 directionToUv(const vec3& direction, float yaw = 0.0f);  // u, v in [0, 1]
 vec3 uvToDirection(const vec2& uv, float yaw = 0.0f);         // unit direction
+// The four pixels of a bilinear lookup at uv in a width x height panorama (wrapping in u,
+// clamping in v) and the weights: (1 - fx) (1 - fy) at (x[0], y[0]) ... fx fy at (x[1], y[1]).
+struct BilinearTaps {
+  int x[2], y[2];
+  float fx, fy;
+};
+BilinearTaps bilinearTaps(const vec2& uv, int width, int height);
 // Bilinear lookup of a CV_32FC3 BGR panorama (wraps in u, clamps in v); returns RGB.
 vec3 sample(const cv::Mat& panorama, const vec3& direction, float yaw = 0.0f);
 // Solid angle of one pixel in row y (steradians): (2 pi / W) * (pi / H) * sin(theta).

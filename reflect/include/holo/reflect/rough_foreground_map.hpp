@@ -50,6 +50,7 @@ class RoughForegroundMap {
   };
   int width_ = 0, height_ = 0;
   std::vector<float> roughness_;
+  std::vector<float> k1_;                     // per roughness, ggxLobeK1 of its alpha
   std::vector<vec3> direction_;               // per texel, unit, its centre
   std::vector<float> solid_angle_;            // per texel, sr
   std::vector<std::vector<float>> norm_;      // per roughness, per texel: sum of W over the sphere
