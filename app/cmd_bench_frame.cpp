@@ -1,5 +1,5 @@
 // `holopyramid bench frame`: whole frames of the live pipeline on a simulated scene, and in the
-// same run the floor DESIGN.md sets for a frame: one primary ray per pixel of the four views
+// same run the floor docs/architecture.md sets for a frame: one primary ray per pixel of the four views
 // plus one prefiltered-environment lookup at the reflected direction, with nothing else. Reports
 // medians and how far above the floor the frame is.
 #include <fmt/format.h>

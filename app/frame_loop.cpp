@@ -149,7 +149,7 @@ FrameLoop::~FrameLoop() {
 }
 
 void FrameLoop::learnBackground(const Installation& installation) {
-  // The background gamma_s each camera learns its mask against (DESIGN.md step 2).
+  // The background gamma_s each camera learns its mask against (docs/architecture.md, live frame step 2).
   if (!installation.background.empty()) foreground_.learnBackground(installation.background);
   if (installation.background_frames <= 0) return;
   ProgressReporter progress(installation.background_frames, "learning the background");

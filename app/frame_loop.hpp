@@ -1,4 +1,4 @@
-// The live frame loop (DESIGN.md "One frame of the live pipeline"): the cameras -> foreground
+// The live frame loop (docs/architecture.md, "One frame of the live pipeline"): the cameras -> foreground
 // point cloud -> reflections per face view -> composition -> the quad view, on an Installation
 // (installation.hpp): the simulated museum or the cameras, calibration, relic and panorama of a
 // configuration file.

@@ -1,4 +1,4 @@
-// The foreground point cloud of all cameras, every frame (paper Sec. 3.2, DESIGN.md step 2): per
+// The foreground point cloud of all cameras, every frame (paper Sec. 3.2, docs/architecture.md): per
 // camera, in parallel (oneTBB), the foreground mask phi_i, the precursor flow lambda_i, the
 // pull-push temporal depth filter and the border expansion; then every filtered foreground pixel
 // is back-projected into the world (pyramid) frame with that camera's CameraModel, its sRGB colour

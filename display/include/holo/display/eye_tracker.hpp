@@ -2,7 +2,7 @@
 // from. A face shows the relic as seen by a default standing visitor until a visitor stands at
 // it; then the eye follows the visitor's head, found in the foreground point cloud.
 //
-// Frames and units: world = pyramid frame (DESIGN.md): origin at the centre of the base's top
+// Frames and units: world = pyramid frame (docs/architecture.md): origin at the centre of the base's top
 // plane, +Y up, metres; the floor is at settings.floor_y. Face f (0..3) faces +Z, +X, -Z, -X
 // (layout.hpp), and its sector is the quarter of the room within 45 degrees of that direction.
 //

@@ -1,4 +1,4 @@
-// Monte Carlo path tracer: the ground truth of the evaluation (DESIGN.md, paper Sec. 4).
+// Monte Carlo path tracer: the ground truth of the evaluation (docs/architecture.md, paper Sec. 4).
 //
 // GT definition: a camera ray sees only the relic (pixels that miss it are 0: the pyramid's
 // monitors show the relic alone); from the relic, paths bounce on the relic's glTF BSDF up to

@@ -1,4 +1,4 @@
-// Prefiltered image-based lighting of a panorama (DESIGN.md step 4):
+// Prefiltered image-based lighting of a panorama (docs/architecture.md):
 //  * specular: an octahedral map per roughness level. Level 0 (roughness 0) is the panorama
 //    resampled by area averaging; levels 1.. hold roughness evenly spaced in sqrt(roughness)
 //    from `min_roughness` to 1, each texel the exact integral of the GGX lobe with normal = view

@@ -8,7 +8,7 @@
 // for the same surface; only the relic (virtual, seen by no camera) has a BRDF. A camera pixel is
 // linearToSrgb8(exposure * radiance). Units: metres, seconds, linear radiance.
 //
-// Frames: world = pyramid frame (DESIGN.md). The base top is y = 0, the floor y = -kBaseHeight.
+// Frames: world = pyramid frame (docs/architecture.md). The base top is y = 0, the floor y = -kBaseHeight.
 // Face f in 0..3 is the side facing +Z, +X, -Z, -X (azimuth f * 90 degrees); camera f sits on
 // that side of the base and looks outward. Time t = frame / fps. Everything is seeded:
 // the same SceneDescription gives bit-identical output.
