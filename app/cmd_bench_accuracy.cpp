@@ -1,4 +1,4 @@
-// `holopyramid bench accuracy`: issue 5 item 7, accuracy against time. On one scene of the tracer
+// `holopyramid bench accuracy`: accuracy against time. On one scene of the tracer
 // evaluation (a hall x relic with its walkers and a visitor close to the pyramid, the view where
 // the visitors matter most: eval tracer's pick) it sweeps each method's quality knobs,
 //   ours                 anti-aliasing (1, 4) x pyramid levels (5, 7, 9) x voxel size (2, 3.125,

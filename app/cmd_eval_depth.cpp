@@ -1,6 +1,6 @@
 // `holopyramid eval depth`: runs the simulated museum through the pull-push temporal depth filter
 // and its baselines (raw, temporal median, TAA) and reports the paper's Table 2 metrics as JSON
-// (issue 3); --images writes a Fig. 9-like picture of each method's point cloud.
+// (docs/depthfilter.md); --images writes a Fig. 9-like picture of each method's point cloud.
 #include <filesystem>
 #include <iostream>
 #include <memory>

@@ -1,4 +1,4 @@
-// `holopyramid eval tracer`: issue 5's nine-scene evaluation, the paper's Table 1 extended with
+// `holopyramid eval tracer`: the nine-scene evaluation, the paper's Table 1 extended with
 // the baselines. For each hall x relic (visitors close to the pyramid: the frame and face where
 // the relic's mirror rays meet the visitors most, reflection_setup.hpp's visitorView) it renders
 // the path-traced ground truth with and without the visitors (cached on disk), then
@@ -64,7 +64,7 @@ struct TracerEvalOptions {
   float fg_threshold = reflect::kForegroundDistance;
   int ssrt_rays = 0;  // 0: the equal-time search; > 0: fixed (deterministic, for CI)
   // Visitors standing close to the pyramid (sim planCloseVisitors), besides the hall's walkers:
-  // the issue's "visitors close to the pyramid"; the walkers keep >= 1.2 m from the axis.
+  // visitors close to the pyramid, where parallax matters; the walkers keep >= 1.2 m from the axis.
   int close_visitors = 1;
   // The depth cameras: the default rig (tilt 8, vfov 70) sees a visitor within ~0.6 m of the
   // pyramid only from the waist to the chest, and the relic mirrors the rest; tilt 20 with vfov 90
@@ -431,7 +431,7 @@ std::string markdownTable(const std::vector<SceneResult>& results, const TracerE
   return s.str();
 }
 
-// The issue's bars, one line each with the worst scene; returns whether the fg_mse bars against
+// The evaluation's bars, one line each with the worst scene; returns whether the fg_mse bars against
 // ibl and ssrt hold on every scene with a foreground region.
 bool reportBars(const std::vector<SceneResult>& results, std::ostream& out) {
   struct Bar {
@@ -678,6 +678,6 @@ HOLO_REGISTER_COMMAND(Command{
                    "Exit 1 unless ours' fg_mse <= ibl's / 4 and < ssrt's on every scene");
       return [o] { return evalTracer(*o); };
     },
-    "Issue 5's nine-scene table: ours, IBL, SSRT and path tracing at equal time and equal quality"});
+    "The nine-scene table: ours, IBL, SSRT and path tracing at equal time and equal quality"});
 
 }  // namespace holo::app

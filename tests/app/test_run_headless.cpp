@@ -136,7 +136,7 @@ TEST(RunHeadless, LiveModeAccountsForEveryCameraFrame) {
 
 namespace {
 
-// `holopyramid bench frame --json` in the schema ({fps, stages_ms, floor_ms, frame_ms}),
+// `holopyramid bench frame --json` in its documented schema ({fps, stages_ms, floor_ms, frame_ms}),
 // with the floor measured in the same run: a frame does the floor's work (one primary ray and one
 // IBL lookup per relic pixel) and more, so it cannot take less time.
 TEST(BenchFrame, JsonHasTheStagesAndAFloorBelowTheFrame) {

@@ -304,7 +304,7 @@ TEST(CalibrationIo, FailedSaveLeavesPreviousFileUntouched) {
   EXPECT_EQ(leftovers, 0) << "temporary files left behind";
 }
 
-// The bar: kill the program in the middle of a save; the previous calibration must stay
+// The bar: kill the program in the middle of a save; the previous calibration must stay
 // readable. A child process starts a real save and is SIGKILLed half-way through writing the
 // temporary file, and (second run) after the temporary is complete but before the rename.
 TEST(CalibrationIo, KilledSaveLeavesPreviousCalibrationReadable) {

@@ -26,7 +26,7 @@ BoardDetection photograph(const BoardSpec& board, const BoardTexture& texture,
   return detectBoard(board, image);
 }
 
-// The bar: with noise on, every camera's T_world_camera within 3 mm and 0.3 degrees.
+// The bar: with noise on, every camera's T_world_camera within 3 mm and 0.3 degrees.
 TEST(Extrinsics, FourCamerasFromBoardsAtKnownPlacements) {
   const BoardSpec board = BoardSpec::parse("charuco:7x5:0.08:0.06:DICT_5X5_100");
   const BoardTexture texture = renderBoardTexture(board, 60);

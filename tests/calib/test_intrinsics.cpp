@@ -97,7 +97,7 @@ TEST(BoardDetection, BlankAndEmptyImagesFindNothing) {
           .image_points.empty());
 }
 
-// The bar: on OpenCV's real left-camera photos, fx and fy within 1% of OpenCV's own
+// The bar: on OpenCV's real left-camera photos, fx and fy within 1% of OpenCV's own
 // calibration (left_intrinsics.yml) and RMS below 0.5 px.
 TEST(Intrinsics, RealChessboardPhotosMatchOpenCvReference) {
   HOLO_REQUIRE_SHARED_DATA("calib/chessboard_9x6/left_intrinsics.yml");

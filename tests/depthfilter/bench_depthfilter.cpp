@@ -1,5 +1,5 @@
 // Per-camera time of each foreground stage at 640x360 on the synthetic moving-disc sequence
-// (issue 3 aim: the whole per-camera step under 8 ms on one core).
+// (aim: the whole per-camera step under 8 ms on one core).
 #include <benchmark/benchmark.h>
 
 #include "holo/depthfilter/border_expansion.hpp"

@@ -1,4 +1,4 @@
-// Speed of the reflection ground truth and of the prefiltered IBL (the bars: IBL build
+// Speed of the reflection ground truth and of the prefiltered IBL (the bars: IBL build
 // "well under a second" for a 1024x512 panorama on two cores; path-tracer throughput in samples
 // per second). Run: build/tests/reflect/bench_reflect
 #include <benchmark/benchmark.h>

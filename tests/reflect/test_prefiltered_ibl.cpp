@@ -100,7 +100,7 @@ double meanRelativeError(const Environment& env, const PrefilteredIbl& ibl, floa
   return sum / double(dirs.size());
 }
 
-// The bar: within 2% for roughness 0.1..1, on level roughnesses and between them. CI
+// The bar: within 2% for roughness 0.1..1, on level roughnesses and between them. CI
 // checks 24 directions; HOLO_FULL_EVAL=1 checks 200 (about a minute).
 void expectIblMatchesBruteForce(const char* hdri) {
   const Environment env(loadHdr(test::sharedData(std::string("hdri/") + hdri)).pixels);

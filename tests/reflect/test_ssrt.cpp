@@ -1,4 +1,4 @@
-// The baselines of issue 5's evaluation: screen-space ray tracing against the RGBD images
+// The baselines of the tracer evaluation: screen-space ray tracing against the RGBD images
 // reprojected to the pyramid origin (ssrt.hpp), and the voxel grid as emitters for path tracing
 // the reconstructed scene (voxel_emitters.hpp).
 #include "holo/reflect/ssrt.hpp"

@@ -1,4 +1,4 @@
-// Our tracer against path-traced ground truth on a simulated museum frame (the fg_mse):
+// Our tracer against path-traced ground truth on a simulated museum frame (the paper's fg_mse):
 // the foreground-reflection MSE of ours must be at most 1/4 of the IBL baseline's (the foreground reprojected
 // into the environment map). Small in CI (96x96 view, 48 spp); HOLO_FULL_EVAL=1 renders
 // 160x160 at 512 spp. Pictures go to build/test-scratch/tracer_vs_pt/.
@@ -141,7 +141,7 @@ TEST(TracerVsPathTraced, ForegroundReflectionErrorBeatsIbl) {
       "frame %d, %d foreground pixels: fg_mse ours %.5f, ibl %.5f (ratio %.2f); "
       "ours vs the static truth %.5f\n",
       frame, cv::countNonZero(region), mse_ours, mse_ibl, mse_ibl / mse_ours, mse_static);
-  // The bar: at most a quarter of IBL's foreground error.
+  // The bar: at most a quarter of IBL's foreground error.
   EXPECT_LE(mse_ours, 0.25 * mse_ibl);
   // Ours did put the visitors in: it is nearer the truth with them than without.
   EXPECT_LT(mse_ours, mse_static);

@@ -19,7 +19,7 @@ holo_benchmark(bench_frame_renderer
 holo_test(test_baselines
   SOURCES test_ssrt.cpp
   DEPS holo::reflect holo::depthfilter holo_test_support)
-# Issue 5's fg_mse bars on one small scene (gallery, bronze vase, 96^2, paper's region threshold):
+# The tracer evaluation's fg_mse bars on one small scene (gallery, bronze vase, 96^2, paper's region threshold):
 # ours at most a quarter of IBL's and below SSRT's (fixed rays: the equal-time pick would depend
 # on the load). The walkers only, seen by the default rig (no close visitor, tilt 8, vfov 70), 7
 # levels: where the bars hold; with a visitor close to the pyramid they do not yet (docs/tracer.md).

@@ -1,4 +1,4 @@
-// Simulated frame generation time per camera (issue 2), at the default 640x360, and the panorama.
+// Simulated frame generation time per camera, at the default 640x360, and the panorama.
 #include <benchmark/benchmark.h>
 
 #include "holo/sim/museum.hpp"

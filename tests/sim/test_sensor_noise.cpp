@@ -18,7 +18,7 @@ Truth flatWall(float z, int size = 96) {
 }
 
 // The measured standard deviation of the depth noise on a fronto-parallel wall at 1, 2 and 4 m
-// matches sigma(z) = sigma_0 + k_z2 z^2 (the bar: within 15%).
+// matches sigma(z) = sigma_0 + k_z2 z^2 (the bar: within 15%).
 TEST(SensorNoise, DepthSigmaMatchesTheModelAt1_2_4m) {
   SensorNoise noise;
   const CameraSettings camera;

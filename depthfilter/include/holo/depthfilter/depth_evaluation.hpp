@@ -1,5 +1,5 @@
 // Evaluation of the temporal depth filter against its baselines on sequences with known truth
-// (paper Sec. 4.1.3, Table 2; issue 3 "Evaluation command"). Every method sees the same
+// (paper Sec. 4.1.3, Table 2; `holopyramid eval depth`). Every method sees the same
 // foreground mask (ForegroundMasker) and the same precursor flow; frames are scored once our
 // filter has finished learning its PDFs. Metrics per method, over one or more camera streams:
 //   temporal_mse_cm2  the paper's MSE' (Equation 2) of the depth error e = d - d_true: mean over
