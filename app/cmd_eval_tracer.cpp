@@ -18,8 +18,8 @@
 // and two floors that every fg_mse contains: the ground truth's own noise (from the truth at a
 // quarter of its samples, which are the first quarter of its samples) and the reconstruction's
 // error (the same path tracer run on to --floor-spp, extrapolated to infinitely many samples), and
-// reports per scene and method the time (median ms per view), fg_mse and mse, the bars of the
-// issue, a Markdown table, CSV, JSON, an SVG plot (fg_mse against time) and, per scene, a strip of
+// reports per scene and method the time (median ms per view), fg_mse and mse, the evaluation's
+// bars, a Markdown table, CSV, JSON, an SVG plot (fg_mse against time) and, per scene, a strip of
 // the images (gt | ours | ibl | ssrt | mcpt_equal_time | mcpt_equal_quality).
 #include <algorithm>
 #include <chrono>

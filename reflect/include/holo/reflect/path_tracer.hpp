@@ -59,7 +59,7 @@ class PathTracer {
   PathTracer(const RenderScene& scene, const Environment& environment, PathTracerOptions options = {});
 
   // One path sample of the radiance arriving along `ray` after it has hit the relic; the
-  // samples come from `stream`. Exposed for tests and for issue-5 style hybrid renderers.
+  // samples come from `stream`. Exposed for tests and for hybrid renderers that trace from the relic.
   vec3 traceFromRelic(const Ray& ray, const RayHit& relic_hit, SampleStream& stream) const;
 
   const PathTracerOptions& options() const { return options_; }
