@@ -1,6 +1,7 @@
 // Evaluation of the temporal depth filter against its baselines on sequences with known truth
-// (paper Sec. 4.1.3, Table 2). Every method sees the same foreground mask (ForegroundMasker) and
-// the same precursor flow; frames are scored once our filter has finished learning its PDFs.
+// (paper Sec. 4.1.3, Table 2; `holopyramid eval depth`). Every method sees the same
+// foreground mask (ForegroundMasker) and the same precursor flow; frames are scored once our
+// filter has finished learning its PDFs.
 //
 // Scored pixels: the true visitor pixels (truly foreground with a true depth), inside the mask or
 // not. A method's output there is a depth (error e = d - d_true, in cm) or a hole. The hole rule:
