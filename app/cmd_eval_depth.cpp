@@ -33,11 +33,24 @@ struct Options {
   std::string images;
 };
 
+// NaN (nothing to score) is written as null.
 nlohmann::json toJson(const DepthMethodMetrics& m) {
-  return {{"temporal_mse_cm2", m.temporal_mse_cm2}, {"depth_change_cm2", m.depth_change_cm2},
-          {"depth_rmse_cm", m.depth_rmse_cm},       {"hole_fill_ratio", m.hole_fill_ratio},
-          {"raw_holes_filled", m.raw_holes_filled}, {"ghost_ratio", m.ghost_ratio},
-          {"ms_per_frame", m.ms_per_frame},         {"scored_frames", m.scored_frames}};
+  return {{"temporal_mse_cm2", m.temporal_mse_cm2},
+          {"depth_rmse_cm", m.depth_rmse_cm},
+          {"coverage", m.coverage},
+          {"hole_pair_ratio", m.hole_pair_ratio},
+          {"raw_holes_filled", m.raw_holes_filled},
+          {"ghost_ratio", m.ghost_ratio},
+          {"depth_change_cm2", m.depth_change_cm2},
+          {"sensor_rmse_cm", m.sensor_rmse_cm},
+          {"sensor_temporal_mse_cm2", m.sensor_temporal_mse_cm2},
+          {"ms_per_frame", m.ms_per_frame},
+          {"scored_frames", m.scored_frames}};
+}
+
+nlohmann::json toJson(const DepthBarVerdicts& v) {
+  return {{"below_median", v.below_median}, {"below_taa", v.below_taa}, {"rmse_below_raw", v.rmse_below_raw},
+          {"coverage", v.coverage},         {"ghosts", v.ghosts},       {"all", v.all()}};
 }
 
 cv::Mat labelled(cv::Mat picture, const std::string& label) {
@@ -106,9 +119,16 @@ int run(const Options& o) {
     }
   progress.done();
 
-  nlohmann::json methods;
-  for (DepthMethod m : kDepthMethods)
-    methods[depthMethodName(m)] = toJson(DepthFilterEvaluation::combined(streams, m));
+  nlohmann::json methods, bars;
+  std::vector<std::pair<std::string, DepthMethodMetrics>> rows;
+  for (DepthMethod m : kDepthMethods) {
+    rows.emplace_back(depthMethodName(m), DepthFilterEvaluation::combined(streams, m));
+    methods[depthMethodName(m)] = toJson(rows.back().second);
+  }
+  const auto combined = [&](DepthMethod m) { return rows[std::size_t(m)].second; };
+  for (DepthMethod m : {DepthMethod::Ours, DepthMethod::Adversary})
+    bars[depthMethodName(m)] = toJson(checkDepthBars(
+        combined(m), combined(DepthMethod::Raw), combined(DepthMethod::Median), combined(DepthMethod::Taa)));
   const nlohmann::json report = {
       {"scene", description.name},
       {"frames", o.frames},
@@ -117,8 +137,10 @@ int run(const Options& o) {
       {"width", description.camera.width},
       {"height", description.camera.height},
       {"methods", methods},
+      {"bars", bars},
       {"truth_depth_change_cm2", DepthFilterEvaluation::combinedTruth(streams).depth_change_cm2}};
   std::cout << report.dump(2) << "\n";
+  std::cerr << depthMetricsTable(rows);
   if (!o.json.empty()) writeFileAtomically(o.json, report.dump(2) + "\n");
   if (!o.images.empty())
     writeFigure(o.images, museum, figure_camera, figure_frame, streams[std::size_t(figure_camera)]);

@@ -2,6 +2,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <limits>
 
 #include "holo/core/error.hpp"
 
@@ -17,6 +19,8 @@ const char* depthMethodName(DepthMethod method) {
       return "median";
     case DepthMethod::Taa:
       return "taa";
+    case DepthMethod::Adversary:
+      return "adversary";
   }
   return "?";
 }
@@ -26,101 +30,182 @@ DepthFilterEvaluation::DepthFilterEvaluation(DepthEvaluationConfig config)
       flow_(config.flow),
       ours_(config.filter),
       median_(config.median_window),
-      taa_(config.taa_blend) {}
+      taa_(config.taa_blend),
+      adversary_(config.adversary_max_change_m) {}
 
 void DepthFilterEvaluation::learnBackground(const RgbdFrame& background) {
   masker_.learnBackground(background);
 }
 
-void DepthScorer::add(const cv::Mat& out, const cv::Mat& mask, const GroundTruthFrame& truth,
-                      double seconds) {
-  if (out.type() != CV_32FC1 || out.size() != truth.true_depth.size() || mask.type() != CV_8UC1 ||
-      mask.size() != out.size() || truth.frame.depth.type() != CV_32FC1 ||
-      truth.frame.depth.size() != out.size())
+void DepthScorer::add(const cv::Mat& out, const GroundTruthFrame& truth, double seconds) {
+  const cv::Size size = truth.true_depth.size();
+  if (out.type() != CV_32FC1 || out.size() != size || truth.true_depth.type() != CV_32FC1 ||
+      truth.true_foreground.type() != CV_8UC1 || truth.true_foreground.size() != size ||
+      truth.frame.depth.type() != CV_32FC1 || truth.frame.depth.size() != size)
     throw Error(
-        "DepthScorer: expected a CV_32FC1 output, a CV_8UC1 mask and a CV_32FC1 measured depth of the true "
-        "depth's "
-        "size");
+        "DepthScorer: expected a CV_32FC1 output, true depth and measured depth and a CV_8UC1 true "
+        "foreground, "
+        "all of one size");
   seconds_ += seconds;
   ++frames_;
-  const bool has_previous = !previous_output_.empty() && previous_output_.size() == out.size();
-  double error_change = 0.0, depth_change = 0.0;
-  long changes = 0;
+  const bool has_previous = !previous_output_.empty() && previous_output_.size() == size;
+  FramePair pair;
   for (int y = 0; y < out.rows; ++y) {
     const float* d = out.ptr<float>(y);
     const float* td = truth.true_depth.ptr<float>(y);
     const std::uint8_t* tf = truth.true_foreground.ptr<std::uint8_t>(y);
-    const std::uint8_t* m = mask.ptr<std::uint8_t>(y);
     const float* raw = truth.frame.depth.ptr<float>(y);
     const float* prev = has_previous ? previous_output_.ptr<float>(y) : nullptr;
+    const float* prev_raw = has_previous ? previous_raw_.ptr<float>(y) : nullptr;
     const float* prev_td = has_previous ? previous_true_depth_.ptr<float>(y) : nullptr;
     const std::uint8_t* prev_tf = has_previous ? previous_true_foreground_.ptr<std::uint8_t>(y) : nullptr;
     for (int x = 0; x < out.cols; ++x) {
       const bool has = d[x] > 0.0f;
-      if (tf[x] && m[x]) {
-        ++fill_n_;
-        fill_hits_ += has;
-        if (!(std::isfinite(raw[x]) && raw[x] > 0.0f)) {
-          ++raw_holes_;
-          raw_holes_filled_ += has;
-        }
-      }
-      if (!has) continue;
-      ++outputs_;
-      if (!tf[x]) {
-        ++ghosts_;
+      outputs_ += has;
+      if (!(tf[x] && td[x] > 0.0f)) {
+        ghosts_ += has;
         continue;
       }
-      if (!(td[x] > 0.0f)) continue;
-      const double e = 100.0 * (double(d[x]) - td[x]);
-      error_sq_sum_ += e * e;
-      ++error_n_;
-      if (prev && prev[x] > 0.0f && prev_tf[x] && prev_td[x] > 0.0f) {
-        const double c = 100.0 * (double(d[x]) - prev[x]);
-        const double ce = e - 100.0 * (double(prev[x]) - prev_td[x]);
-        depth_change += c * c;
-        error_change += ce * ce;
-        ++changes;
+      ++visitor_pixels_;
+      covered_ += has;
+      const bool sensed = std::isfinite(raw[x]) && raw[x] > 0.0f;
+      const double sensor_e = 100.0 * (double(raw[x]) - td[x]);
+      if (sensed) {
+        sensor_error_sq_sum_ += sensor_e * sensor_e;
+        ++sensor_measured_;
+      } else {
+        ++raw_holes_;
+        raw_holes_filled_ += has;
       }
+      const double e = 100.0 * (double(d[x]) - td[x]);
+      if (has) error_sq_sum_ += e * e;
+      if (!prev || !(prev_tf[x] && prev_td[x] > 0.0f)) continue;
+      if (sensed && std::isfinite(prev_raw[x]) && prev_raw[x] > 0.0f) {
+        const double sensor_change = sensor_e - 100.0 * (double(prev_raw[x]) - prev_td[x]);
+        sensor_pair_sum_ += sensor_change * sensor_change;
+        ++sensor_pairs_;
+      }
+      if (!(has && prev[x] > 0.0f)) {
+        ++pair.hole_pairs;
+        continue;
+      }
+      const double error_change = e - 100.0 * (double(prev[x]) - prev_td[x]);
+      const double change = 100.0 * (double(d[x]) - prev[x]);
+      pair.error_change_sum += error_change * error_change;
+      pair.depth_change_sum += change * change;
+      ++pair.output_pairs;
     }
   }
-  if (changes > 0) {
-    depth_change_sum_ += depth_change / double(changes);
-    error_change_sum_ += error_change / double(changes);
-    ++pairs_;
-  }
+  if (has_previous) pairs_.push_back(pair);
   previous_output_ = out.clone();
+  previous_raw_ = truth.frame.depth.clone();
   previous_true_depth_ = truth.true_depth.clone();
   previous_true_foreground_ = truth.true_foreground.clone();
 }
 
 DepthMethodMetrics DepthScorer::metrics() const {
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  const auto ratio = [](double num, long den) { return den > 0 ? num / double(den) : kNaN; };
+  // What a hole costs. NaN when the sensor read nothing; it then poisons only figures with holes.
+  const double hole_sq = ratio(sensor_error_sq_sum_, sensor_measured_);
+  const double hole_pair = ratio(sensor_pair_sum_, sensor_pairs_);
   DepthMethodMetrics m;
-  m.temporal_mse_cm2 = pairs_ > 0 ? error_change_sum_ / double(pairs_) : 0.0;
-  m.depth_change_cm2 = pairs_ > 0 ? depth_change_sum_ / double(pairs_) : 0.0;
-  m.depth_rmse_cm = error_n_ > 0 ? std::sqrt(error_sq_sum_ / double(error_n_)) : 0.0;
-  m.hole_fill_ratio = fill_n_ > 0 ? double(fill_hits_) / double(fill_n_) : 1.0;
-  m.raw_holes_filled = raw_holes_ > 0 ? double(raw_holes_filled_) / double(raw_holes_) : 1.0;
-  m.ghost_ratio = outputs_ > 0 ? double(ghosts_) / double(outputs_) : 0.0;
-  m.ms_per_frame = frames_ > 0 ? 1000.0 * seconds_ / double(frames_) : 0.0;
+  double temporal_sum = 0.0, change_sum = 0.0;
+  long temporal_frames = 0, change_frames = 0, hole_pairs = 0, all_pairs = 0;
+  for (const FramePair& p : pairs_) {
+    const long n = p.output_pairs + p.hole_pairs;
+    if (n == 0) continue;
+    temporal_sum +=
+        (p.error_change_sum + (p.hole_pairs > 0 ? double(p.hole_pairs) * hole_pair : 0.0)) / double(n);
+    ++temporal_frames;
+    hole_pairs += p.hole_pairs;
+    all_pairs += n;
+    if (p.output_pairs > 0) {
+      change_sum += p.depth_change_sum / double(p.output_pairs);
+      ++change_frames;
+    }
+  }
+  m.temporal_mse_cm2 = ratio(temporal_sum, temporal_frames);
+  m.hole_pair_ratio = ratio(double(hole_pairs), all_pairs);
+  m.depth_change_cm2 = ratio(change_sum, change_frames);
+  const long holes = visitor_pixels_ - covered_;
+  m.depth_rmse_cm =
+      std::sqrt(ratio(error_sq_sum_ + (holes > 0 ? double(holes) * hole_sq : 0.0), visitor_pixels_));
+  m.coverage = ratio(double(covered_), visitor_pixels_);
+  m.raw_holes_filled = ratio(double(raw_holes_filled_), raw_holes_);
+  m.ghost_ratio = ratio(double(ghosts_), outputs_);
+  m.sensor_rmse_cm = std::sqrt(hole_sq);
+  m.sensor_temporal_mse_cm2 = hole_pair;
+  m.ms_per_frame = ratio(1000.0 * seconds_, frames_);
   m.scored_frames = frames_;
   return m;
 }
 
 void DepthScorer::merge(const DepthScorer& o) {
-  error_change_sum_ += o.error_change_sum_;
-  depth_change_sum_ += o.depth_change_sum_;
-  pairs_ += o.pairs_;
+  pairs_.insert(pairs_.end(), o.pairs_.begin(), o.pairs_.end());
   error_sq_sum_ += o.error_sq_sum_;
-  error_n_ += o.error_n_;
-  fill_hits_ += o.fill_hits_;
-  fill_n_ += o.fill_n_;
-  raw_holes_filled_ += o.raw_holes_filled_;
+  sensor_pair_sum_ += o.sensor_pair_sum_;
+  sensor_pairs_ += o.sensor_pairs_;
+  visitor_pixels_ += o.visitor_pixels_;
+  covered_ += o.covered_;
   raw_holes_ += o.raw_holes_;
+  raw_holes_filled_ += o.raw_holes_filled_;
+  sensor_error_sq_sum_ += o.sensor_error_sq_sum_;
+  sensor_measured_ += o.sensor_measured_;
   ghosts_ += o.ghosts_;
   outputs_ += o.outputs_;
   seconds_ += o.seconds_;
   frames_ += o.frames_;
+}
+
+DepthBarVerdicts checkDepthBars(const DepthMethodMetrics& m, const DepthMethodMetrics& raw,
+                                const DepthMethodMetrics& median, const DepthMethodMetrics& taa,
+                                const DepthBars& bars) {
+  // Written so that a NaN on either side makes the comparison false.
+  DepthBarVerdicts v;
+  v.below_median = m.temporal_mse_cm2 * bars.below_median <= median.temporal_mse_cm2;
+  v.below_taa = m.temporal_mse_cm2 * bars.below_taa <= taa.temporal_mse_cm2;
+  v.rmse_below_raw = m.depth_rmse_cm < raw.depth_rmse_cm;
+  v.coverage = m.coverage >= bars.coverage;
+  v.ghosts = m.ghost_ratio < raw.ghost_ratio && m.ghost_ratio < bars.ghosts;
+  return v;
+}
+
+std::string depthMetricsTable(std::span<const std::pair<std::string, DepthMethodMetrics>> rows) {
+  const auto number = [](double v, const char* format) {
+    if (!std::isfinite(v)) return std::string("n/a");
+    char text[32];
+    std::snprintf(text, sizeof text, format, v);
+    return std::string(text);
+  };
+  std::string table =
+      "| method | temporal MSE' (cm^2) | depth RMSE (cm) | coverage | hole pairs | raw holes filled | ghosts "
+      "| "
+      "depth change (cm^2) | ms/frame |\n"
+      "|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& [name, m] : rows)
+    table += "| " + name + " | " + number(m.temporal_mse_cm2, "%.2f") + " | " +
+             number(m.depth_rmse_cm, "%.2f") + " | " + number(m.coverage, "%.3f") + " | " +
+             number(m.hole_pair_ratio, "%.3f") + " | " + number(m.raw_holes_filled, "%.3f") + " | " +
+             number(m.ghost_ratio, "%.4f") + " | " + number(m.depth_change_cm2, "%.1f") + " | " +
+             number(m.ms_per_frame, "%.1f") + " |\n";
+  return table;
+}
+
+HoleLeavingAdversary::HoleLeavingAdversary(float max_change_m) : max_change_m_(max_change_m) {
+  if (!(max_change_m >= 0.0f)) throw Error("HoleLeavingAdversary: max_change_m must be >= 0");
+}
+
+cv::Mat HoleLeavingAdversary::apply(const cv::Mat& depth) {
+  if (depth.type() != CV_32FC1) throw Error("HoleLeavingAdversary: expected CV_32FC1 depth");
+  cv::Mat out = depth.clone();
+  if (previous_.size() == depth.size())
+    out.forEach<float>([&](float& d, const int* p) {
+      const float before = previous_.at<float>(p[0], p[1]);
+      if (d > 0.0f && before > 0.0f && std::abs(d - before) > max_change_m_) d = 0.0f;
+    });
+  previous_ = depth.clone();
+  return out;
 }
 
 void DepthFilterEvaluation::addFrame(const GroundTruthFrame& truth) {
@@ -157,15 +242,19 @@ void DepthFilterEvaluation::addFrame(const GroundTruthFrame& truth) {
       case DepthMethod::Taa:
         out = taa_.apply(input);
         break;
+      case DepthMethod::Adversary:
+        // Runs after ours in kDepthMethods; its time is the dropping alone.
+        out = adversary_.apply(methods_[std::size_t(DepthMethod::Ours)].last_output);
+        break;
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (score) state.scorer.add(out, last_mask_, truth, seconds);
+    if (score) state.scorer.add(out, truth, seconds);
     state.last_output = out;
   }
   if (score) {
     cv::Mat true_output = cv::Mat::zeros(frame.depth.size(), CV_32FC1);
-    truth.true_depth.copyTo(true_output, last_mask_ & truth.true_foreground);
-    truth_.scorer.add(true_output, last_mask_, truth);
+    truth.true_depth.copyTo(true_output, truth.true_foreground);
+    truth_.scorer.add(true_output, truth);
     truth_.last_output = true_output;
   }
 }
