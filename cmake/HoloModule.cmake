@@ -26,18 +26,27 @@ function(holo_module name)
   holo_set_warnings(holo_${name})
 endfunction()
 
-# holo_test(NAME SOURCES ... DEPS ...): one GoogleTest executable registered with ctest.
-# Tests run from the source root so they can find ../shared/data as the README says.
+# holo_test(NAME SOURCES ... DEPS ... [RESOURCE_LOCK both_cores]): one GoogleTest executable
+# registered with ctest. Tests run from the source root so they can find ../shared/data as the
+# README says. RESOURCE_LOCK both_cores marks tests that keep both cores busy for long (whole
+# pipelines, soaks, evaluations): ctest runs no two of them at the same time.
 function(holo_test name)
-  cmake_parse_arguments(ARG "" "TIMEOUT" "SOURCES;DEPS;LABELS" ${ARGN})
+  cmake_parse_arguments(ARG "" "TIMEOUT;RESOURCE_LOCK" "SOURCES;DEPS;LABELS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main GTest::gmock)
   holo_set_warnings(${name})
   if(NOT ARG_TIMEOUT)
     set(ARG_TIMEOUT 600)
   endif()
+  set(properties TIMEOUT ${ARG_TIMEOUT})
+  if(ARG_LABELS)
+    list(APPEND properties LABELS "${ARG_LABELS}")
+  endif()
+  if(ARG_RESOURCE_LOCK)
+    list(APPEND properties RESOURCE_LOCK ${ARG_RESOURCE_LOCK})
+  endif()
   gtest_discover_tests(${name} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}
-                       PROPERTIES TIMEOUT ${ARG_TIMEOUT} LABELS "${ARG_LABELS}"
+                       PROPERTIES ${properties}
                        DISCOVERY_TIMEOUT 60)
 endfunction()
 
