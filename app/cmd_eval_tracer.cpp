@@ -505,6 +505,7 @@ void writeOutputs(const std::vector<SceneResult>& results, const TracerEvalOptio
                          {"reflected_fraction", r.reflected_fraction},
                          {"mcpt_build_ms", r.mcpt_build_ms},
                          {"size", o.size},
+                         {"close_visitors", o.close_visitors},
                          {"gt_spp", o.gt_spp},
                          {"gt_noise", r.gt_noise},
                          {"reconstruction_floor", r.reconstruction_floor},

@@ -26,25 +26,39 @@ function(holo_module name)
   holo_set_warnings(holo_${name})
 endfunction()
 
-# holo_test(NAME SOURCES ... DEPS ...): one GoogleTest executable registered with ctest.
-# Tests run from the source root so they can find ../shared/data as the README says.
+# holo_test(NAME SOURCES ... DEPS ... [RESOURCE_LOCK both_cores]): one GoogleTest executable
+# registered with ctest. Tests run from the source root so they can find ../shared/data as the
+# README says. RESOURCE_LOCK both_cores marks tests that keep both cores busy for long (whole
+# pipelines, soaks, evaluations): ctest runs no two of them at the same time.
 function(holo_test name)
-  cmake_parse_arguments(ARG "" "TIMEOUT" "SOURCES;DEPS;LABELS" ${ARGN})
+  cmake_parse_arguments(ARG "" "TIMEOUT;RESOURCE_LOCK" "SOURCES;DEPS;LABELS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main GTest::gmock)
   holo_set_warnings(${name})
   if(NOT ARG_TIMEOUT)
     set(ARG_TIMEOUT 600)
   endif()
+  set(properties TIMEOUT ${ARG_TIMEOUT})
+  if(ARG_LABELS)
+    list(APPEND properties LABELS "${ARG_LABELS}")
+  endif()
+  if(ARG_RESOURCE_LOCK)
+    list(APPEND properties RESOURCE_LOCK ${ARG_RESOURCE_LOCK})
+  endif()
   gtest_discover_tests(${name} WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}
-                       PROPERTIES TIMEOUT ${ARG_TIMEOUT} LABELS "${ARG_LABELS}"
+                       PROPERTIES ${properties}
                        DISCOVERY_TIMEOUT 60)
 endfunction()
 
-# holo_benchmark(NAME SOURCES ... DEPS ...): a Google Benchmark executable (not run by ctest).
+# holo_benchmark(NAME SOURCES ... DEPS ...): a Google Benchmark executable. Its figures are read
+# from a run by hand (medians and ratios); ctest runs every benchmark once for a moment
+# (NAME_runs), so one that crashes or throws fails CI. No timing is checked there.
 function(holo_benchmark name)
   cmake_parse_arguments(ARG "" "" "SOURCES;DEPS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} benchmark::benchmark benchmark::benchmark_main)
   holo_set_warnings(${name})
+  add_test(NAME ${name}_runs COMMAND ${name} --benchmark_min_time=0.001 WORKING_DIRECTORY ${PROJECT_SOURCE_DIR})
+  # A benchmark that calls SkipWithError still exits 0; its report says ERROR OCCURRED.
+  set_tests_properties(${name}_runs PROPERTIES LABELS benchmark TIMEOUT 600 FAIL_REGULAR_EXPRESSION "ERROR OCCURRED")
 endfunction()

@@ -137,9 +137,9 @@ TEST(RunHeadless, LiveModeAccountsForEveryCameraFrame) {
 namespace {
 
 // `holopyramid bench frame --json` in its documented schema ({fps, stages_ms, floor_ms, frame_ms}),
-// with the floor measured in the same run: a frame does the floor's work (one primary ray and one
-// IBL lookup per relic pixel) and more, so it cannot take less time.
-TEST(BenchFrame, JsonHasTheStagesAndAFloorBelowTheFrame) {
+// with the floor measured in the same run. How the two compare is a figure of the benchmark
+// (docs/frame_loop.md), not of this test: timed separately on a busy machine either can be slower.
+TEST(BenchFrame, JsonHasTheStagesTheFloorAndTheFrameTime) {
   const fs::path out = holo::test::scratchDir("app_bench_frame");
   const fs::path json = out / "bench.json";
   const int rc = runHolopyramid("bench frame --frames 3 --warmup 1 --view-size 64 --json " + json.string(),
@@ -152,7 +152,7 @@ TEST(BenchFrame, JsonHasTheStagesAndAFloorBelowTheFrame) {
     EXPECT_GE(j["stages_ms"][stage].get<double>(), 0.0) << stage;
   const double floor = j["floor_ms"].get<double>(), frame = j["frame_ms"].get<double>();
   EXPECT_GT(floor, 0.0);
-  EXPECT_GT(frame, floor);
+  EXPECT_GT(frame, 0.0);
   EXPECT_NEAR(j["fps"].get<double>(), 1000.0 / frame, 1e-6 * j["fps"].get<double>() + 1e-9);
 }
 

@@ -43,7 +43,7 @@ class FlakySource : public CameraSource {
 };
 
 template <class Pred>
-bool waitFor(Pred pred, std::chrono::milliseconds limit = 5000ms) {
+bool waitFor(Pred pred, std::chrono::milliseconds limit = 30000ms) {
   const auto end = Clock::now() + limit;
   while (Clock::now() < end) {
     if (pred()) return true;
@@ -102,14 +102,18 @@ TEST(CaptureThread, DisconnectStatusCountsAndResumes) {
 TEST(CaptureThread, StopsPromptlyWhileBackingOff) {
   auto source = std::make_unique<FlakySource>();
   source->failed_opens = 1000;  // never reachable
+  const FlakySource& flaky = *source;
   LatestFrameMailbox box;
   CaptureOptions options;
-  options.initial_backoff = 2000ms;
+  // An hour of back-off: a stop that waited for it would take an hour, so 30 s proves the sleep
+  // was interrupted on any machine, however busy.
+  options.initial_backoff = std::chrono::hours(1);
+  options.max_backoff = std::chrono::hours(1);
   CaptureThread thread(std::move(source), box, options);
-  std::this_thread::sleep_for(50ms);
+  ASSERT_TRUE(waitFor([&] { return flaky.opens >= 1; }));
   const auto t0 = Clock::now();
   thread.stop();
-  EXPECT_LT(Clock::now() - t0, 1000ms);  // the back-off sleep is interrupted
+  EXPECT_LT(Clock::now() - t0, 30s);
   EXPECT_EQ(thread.health().frames_completed, 0);
   EXPECT_EQ(box.counts().published, 0);
 }

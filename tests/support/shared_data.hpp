@@ -1,11 +1,13 @@
 // Where the real test data lives: $HOLO_SHARED_DATA, else ../shared/data beside the source tree.
-// Tests that need it call HOLO_REQUIRE_SHARED_DATA("hdri/x.hdr"), which skips the test with a
-// clear message when the file is absent (a user's fresh clone has no ../shared).
+// Tests that need it call HOLO_REQUIRE_SHARED_DATA("hdri/x.hdr"): when the file is absent it skips
+// the test with a clear message (a user's fresh clone has no ../shared), or fails it when the
+// environment sets HOLO_REQUIRE_SHARED_DATA=1 (CI, .ci/run), so missing data cannot pass as skips.
 #pragma once
 
 #include <gtest/gtest.h>
 #include <cstdlib>
 #include <filesystem>
+#include <string>
 
 namespace holo::test {
 
@@ -18,6 +20,11 @@ inline std::filesystem::path sharedData(const std::string& relative) {
   return sharedDataDir() / relative;
 }
 
+inline bool sharedDataRequired() {
+  const char* env = std::getenv("HOLO_REQUIRE_SHARED_DATA");
+  return env != nullptr && std::string(env) == "1";
+}
+
 // A fresh, empty folder under the build tree for one test's files.
 inline std::filesystem::path scratchDir(const std::string& name) {
   const auto dir = std::filesystem::path(HOLO_BINARY_DIR) / "test-scratch" / name;
@@ -28,9 +35,13 @@ inline std::filesystem::path scratchDir(const std::string& name) {
 
 }  // namespace holo::test
 
-#define HOLO_REQUIRE_SHARED_DATA(relative)                                                       \
-  do {                                                                                           \
-    if (!std::filesystem::exists(::holo::test::sharedData(relative)))                            \
-      GTEST_SKIP() << "shared test data absent: " << ::holo::test::sharedData(relative).string() \
-                   << " (set HOLO_SHARED_DATA or place ../shared/data beside the repository)";   \
+#define HOLO_REQUIRE_SHARED_DATA(relative)                                                         \
+  do {                                                                                             \
+    if (!std::filesystem::exists(::holo::test::sharedData(relative))) {                            \
+      if (::holo::test::sharedDataRequired())                                                      \
+        GTEST_FAIL() << "shared test data absent: " << ::holo::test::sharedData(relative).string() \
+                     << " (HOLO_REQUIRE_SHARED_DATA=1: CI must have ../shared/data)";              \
+      GTEST_SKIP() << "shared test data absent: " << ::holo::test::sharedData(relative).string()   \
+                   << " (set HOLO_SHARED_DATA or place ../shared/data beside the repository)";     \
+    }                                                                                              \
   } while (0)
