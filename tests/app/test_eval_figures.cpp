@@ -96,7 +96,7 @@ TEST(EvalReflections, SmallMuseumViewConvergesAndOursBeatsTheIblAndSsrt) {
   }
 }
 
-// Issue 5's bars on the one small scene where they hold by the paper's letter: gallery x bronze
+// The tracer's bars on the one small scene where they hold by the paper's letter: gallery x bronze
 // vase, 96^2, the walkers only (no close visitor) seen by the default rig (tilt 8, vfov 70), 7
 // levels, fixed SSRT rays. Ours at most a quarter of the paper's IBL's fg_mse and below SSRT's
 // (measured 11.6x and 8.1x).
@@ -114,7 +114,7 @@ TEST(EvalTracer, WalkersOnlyGalleryVaseMeetsTheQuarterOfTheIblAndBeatsSsrt) {
 }
 
 // With a visitor close to the pyramid (0.45-0.6 m from the base; the rig tilted 20 degrees with a
-// 90-degree field of view sees them) the issue's bar is ours <= max(IBL / 4, 1.1 x the
+// 90-degree field of view sees them) the bar is ours <= max(IBL / 4, 1.1 x the
 // reconstruction's floor): where the paper's IBL already reaches the floor (path tracing of the
 // voxels to infinitely many samples), no renderer of that reconstruction can be 4x below it.
 // The vase (0.15) is held to IBL / 4, the brushed kettle (0.35) to the floor. CI size: 64^2 views,
