@@ -317,7 +317,7 @@ MethodResult renderMethod(const std::string& method, const ReflectionScene& scen
     }
     return r;
   } else if (method == "mcpt") {
-    depthfilter::VoxelGrid grid;
+    reflect::VoxelGrid grid;
     if (settings.with_visitors) grid.build(scene.foreground);
     std::vector<Model> emitters;
     if (!grid.empty()) emitters.push_back(reflect::voxelEmitters(grid));

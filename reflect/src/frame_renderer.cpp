@@ -40,8 +40,7 @@ class PassTimer {
 // brick, jumping where the brick distance proves the space around empty: a brick at Chebyshev
 // distance k (in bricks) from the nearest occupied one is at least (k - 1) bricks from any
 // occupied voxel.
-std::optional<float> nearMissT(const depthfilter::VoxelGrid& grid, const Ray& ray, float t_max,
-                               float radius_per_m) {
+std::optional<float> nearMissT(const VoxelGrid& grid, const Ray& ray, float t_max, float radius_per_m) {
   const float brick_m = grid.voxelSize() * float(grid.brickSize());
   const Bounds3 box{grid.origin(), grid.origin() + vec3(grid.dims()) * grid.voxelSize()};
   float t0 = 0.0f, t1 = t_max;
@@ -567,7 +566,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
                             glm::length(p - cam.position()), cam.intrinsics().fx);
           return sample.weight > 0.0f;
         }
-        const depthfilter::VoxelSample& vs = grid_.sample(vh.sample);
+        const VoxelSample& vs = grid_.sample(vh.sample);
         if (vs.camera >= pyramids_.size() || pyramids_[vs.camera].empty()) return false;
         const CameraModel& cam = cameras[vs.camera].camera;
         // The point the ray reaches: half a voxel into the one it entered.

@@ -124,10 +124,10 @@ TEST(Ssrt, RejectsBadSettingsNamingTheField) {
 }
 
 TEST(VoxelEmitters, OneEmittingCubePerOccupiedVoxel) {
-  depthfilter::VoxelGridSettings gs;
+  VoxelGridSettings gs;
   gs.bounds = {vec3(-1.0f, 0.0f, -1.0f), vec3(1.0f, 1.5f, 1.0f)};
   gs.voxel_size = 0.1f;
-  depthfilter::VoxelGrid grid(gs);
+  VoxelGrid grid(gs);
   EXPECT_TRUE(voxelEmitters(grid).meshes.empty());
   ForegroundCloud cloud;
   cloud.points.push_back(point(vec3(0.05f, 0.05f, 0.05f), vec3(1, 0, 0)));
@@ -150,10 +150,10 @@ TEST(VoxelEmitters, OneEmittingCubePerOccupiedVoxel) {
 TEST(VoxelEmitters, PathTracedMirrorSeesTheVoxelWall) {
   // The MCPT baseline's scene: a mirror sphere reflects the voxelised red wall.
   const WallScene w(0.0f);
-  depthfilter::VoxelGridSettings gs;
+  VoxelGridSettings gs;
   gs.bounds = {vec3(-1.0f, -0.5f, -1.0f), vec3(1.0f, 1.5f, 1.0f)};
   gs.voxel_size = 0.02f;
-  depthfilter::VoxelGrid grid(gs);
+  VoxelGrid grid(gs);
   grid.build(w.wall);
   const Model relic =
       holo::test::sphereModel({vec3(0.9f), 1.0f, 0.0f, 1.0f}, 0.15f, vec3(0.0f, 0.3f, 0.0f), 24, 48);

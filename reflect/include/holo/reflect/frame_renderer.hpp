@@ -25,13 +25,13 @@
 
 #include "holo/core/camera_model.hpp"
 #include "holo/depthfilter/foreground_cloud.hpp"
-#include "holo/depthfilter/voxel_grid.hpp"
 #include "holo/reflect/effect_plan.hpp"
 #include "holo/reflect/foreground_pyramid.hpp"
 #include "holo/reflect/hit_points.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
 #include "holo/reflect/render_scene.hpp"
 #include "holo/reflect/rough_foreground_map.hpp"
+#include "holo/reflect/voxel_grid.hpp"
 #include "holo/reflect/voxel_walk.hpp"
 
 namespace holo::reflect {
@@ -99,7 +99,7 @@ struct TracerSettings {
   float max_reflection_distance = 3.0f;  // metres a reflected ray may travel through the grid
   float ray_offset = 1e-3f;              // metres along the normal, against self-intersection
   float exposure = 0.0f;                 // <= 0: automatic (tone_map.hpp's autoExposure)
-  depthfilter::VoxelGridSettings grid;
+  VoxelGridSettings grid;
   // Throws InputError naming the field.
   void validate() const;
 };
@@ -151,7 +151,7 @@ class FrameRenderer {
                      const std::vector<ForegroundCameraImage>& cameras,
                      const std::vector<CameraModel>& views);
 
-  const depthfilter::VoxelGrid& grid() const { return grid_; }
+  const VoxelGrid& grid() const { return grid_; }
   const TracerSettings& settings() const { return settings_; }
   // Fixes the exposure (> 0) or makes it automatic (<= 0) from the next frame on.
   void setExposure(float exposure);
@@ -186,7 +186,7 @@ class FrameRenderer {
   TracerSettings settings_;
   bool relic_glossy_ = false;
   Bounds3 relic_bounds_;  // of the static relic, for culling primary rays
-  depthfilter::VoxelGrid grid_;
+  VoxelGrid grid_;
   std::vector<ForegroundPyramid> pyramids_;
   // For the relic materials at least foreground_map_roughness rough; null when there is none.
   std::unique_ptr<RoughForegroundMap> rough_map_;

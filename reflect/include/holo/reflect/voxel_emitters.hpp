@@ -10,11 +10,11 @@
 #pragma once
 
 #include "holo/core/mesh.hpp"
-#include "holo/depthfilter/voxel_grid.hpp"
+#include "holo/reflect/voxel_grid.hpp"
 
 namespace holo::reflect {
 
 // An empty Model for an empty grid.
-Model voxelEmitters(const depthfilter::VoxelGrid& grid);
+Model voxelEmitters(const VoxelGrid& grid);
 
 }  // namespace holo::reflect
