@@ -7,7 +7,8 @@
 // roughest materials read the visitors prefiltered around the relic instead), composes
 // psi_f = psi_d w + psi_s (1 - w) in HDR (specular part; the diffuse irradiance is added to
 // both), and tone-maps to sRGB. Which passes run comes from the effect plan (effect_plan.hpp);
-// every pass is timed.
+// every pass is timed. The passes live in reflect/src: static_shading, foreground_walk (with its
+// camera choice and near-miss march), compose_pass, and tone_map.hpp's toneMapCovered.
 //
 // The relic and the hall do not move, only the eyes: per view slot (the index in `views`) the
 // renderer keeps the hit points, their static shading and the static image (psi_s + diffuse, and
@@ -158,26 +159,6 @@ class FrameRenderer {
 
  private:
   struct ViewCache;
-  struct WalkRay;
-  struct LobeBounce;
-  struct PixelBounce;
-  // Which of the rough lobe's strata a hit point traces: its pixel's 2x2 class ((x & 1) +
-  // 2 (y & 1)) and its sample of the pixel's.
-  struct LobeShare {
-    int pixel_class = 0, sample = 0, samples = 1;
-  };
-  bool readsRoughMap(float roughness) const;
-  // The static shading of one hit point and the ray its foreground walk follows (the mirror ray,
-  // or the one from its interreflection's second point). For a material read from rough_map_
-  // with interleaved strata, its share of the lobe's interreflection, left for poolLobeBounces.
-  std::optional<LobeBounce> shadeHit(const HitPoint& hp, const LobeShare& share, SplitSumShading& shading,
-                                     WalkRay& walk_ray) const;
-  LobeBounce traceLobeBounce(const HitPoint& hp, const LobeShare& share) const;
-  static void addLobeBounce(const LobeBounce& bounce, SplitSumShading& shading);
-  // Adds to the rough samples of pixel (x, y) the interleaved lobe samples of its 3x3 neighbours
-  // on the same surface (tent weights: each 2x2 class weighs the same).
-  void poolLobeBounces(const HitPointBuffer& hits, const std::vector<PixelBounce>& bounces,
-                       const CameraModel& view, int x, int y, std::vector<SplitSumShading>& shading) const;
   ViewImages renderView(const EffectPlan& plan, const std::vector<ForegroundCameraImage>& cameras,
                         const CameraModel& view, ViewCache& cache) const;
 
