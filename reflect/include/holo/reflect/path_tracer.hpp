@@ -1,3 +1,5 @@
+// Evaluation only: a reference for measuring the appliance's renderer, never run by it (the
+// evaluation sources of reflect/CMakeLists.txt).
 // Monte Carlo path tracer: the ground truth of the evaluation (DESIGN.md, paper Sec. 4).
 //
 // GT definition: a camera ray sees only the relic (pixels that miss it are 0: the pyramid's
