@@ -68,6 +68,7 @@ class StaticShading {
              std::vector<WalkRay>& walk_rays, std::vector<PixelBounce>& bounces, cv::Mat& hdr,
              cv::Mat& coverage) const;
 
+ private:
   // Which of the rough lobe's strata a hit point traces: its pixel's 2x2 class ((x & 1) +
   // 2 (y & 1)) and its sample of the pixel's.
   struct LobeShare {
@@ -78,7 +79,6 @@ class StaticShading {
   std::optional<LobeBounce> shadeHit(const HitPoint& hp, const LobeShare& share, SplitSumShading& shading,
                                      WalkRay& walk_ray) const;
 
- private:
   LobeBounce traceLobeBounce(const HitPoint& hp, const LobeShare& share) const;
   void poolLobeBounces(const HitPointBuffer& hits, const std::vector<PixelBounce>& bounces,
                        const CameraModel& view, int x, int y, std::vector<SplitSumShading>& shading) const;
