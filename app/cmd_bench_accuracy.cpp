@@ -23,11 +23,11 @@
 #include "holo/core/error.hpp"
 #include "holo/core/files.hpp"
 #include "holo/core/progress.hpp"
-#include "holo/depthfilter/voxel_grid.hpp"
 #include "holo/reflect/image_metrics.hpp"
 #include "holo/reflect/path_tracer.hpp"
 #include "holo/reflect/tone_map.hpp"
 #include "holo/reflect/voxel_emitters.hpp"
+#include "holo/reflect/voxel_grid.hpp"
 #include "loglog_plot.hpp"
 #include "reflection_setup.hpp"
 
@@ -198,7 +198,7 @@ int benchAccuracy(const AccuracyOptions& o) {
     progress.update();
   }
   {  // path tracing of the voxels plus panorama: one progressive render, the sampling time per spp
-    depthfilter::VoxelGrid grid;
+    reflect::VoxelGrid grid;
     grid.build(scene.foreground);
     std::vector<Model> emitters;
     if (!grid.empty()) emitters.push_back(reflect::voxelEmitters(grid));

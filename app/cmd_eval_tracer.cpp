@@ -35,11 +35,11 @@
 #include "command.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/files.hpp"
-#include "holo/depthfilter/voxel_grid.hpp"
 #include "holo/reflect/image_metrics.hpp"
 #include "holo/reflect/path_tracer.hpp"
 #include "holo/reflect/tone_map.hpp"
 #include "holo/reflect/voxel_emitters.hpp"
+#include "holo/reflect/voxel_grid.hpp"
 #include "holo/sim/museum.hpp"
 #include "loglog_plot.hpp"
 #include "reflection_setup.hpp"
@@ -279,7 +279,7 @@ SceneResult evalScene(const std::string& hall, const std::string& relic, const T
 
   // The reconstructed scene for MCPT: the voxel grid ours walks, as emitting cubes.
   const auto t_build = std::chrono::steady_clock::now();
-  depthfilter::VoxelGrid grid(o.tracer.grid);
+  reflect::VoxelGrid grid(o.tracer.grid);
   grid.build(scene.foreground);
   std::vector<Model> emitters;
   if (!grid.empty()) emitters.push_back(reflect::voxelEmitters(grid));

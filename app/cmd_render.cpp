@@ -50,6 +50,10 @@ HOLO_REGISTER_COMMAND(Command{
           ->capture_default_str()
           ->check(CLI::Range(1, 1 << 20));
       sub.add_option("--seed", o->settings.seed, "gt: sampling seed")->capture_default_str();
+      sub.add_option("--max-bounces", o->settings.max_bounces,
+                     "gt: scattering events on the relic per path (what the last one reaches counts)")
+          ->capture_default_str()
+          ->check(CLI::Range(1, 1024));
       sub.add_option("--ibl-levels", o->settings.ibl_levels, "ibl: roughness levels")
           ->capture_default_str()
           ->check(CLI::Range(2, 64));

@@ -253,6 +253,7 @@ MethodResult renderMethod(const std::string& method, const ReflectionScene& scen
     const reflect::Environment env(scene.panorama);
     reflect::PathTracerOptions options;
     options.seed = settings.seed;
+    options.max_bounces = settings.max_bounces;
     const reflect::PathTracer tracer(rs, env, options);
     r.image = reflect::renderPathTraced(tracer, camera, std::max(1, settings.spp), nullptr, quiet);
   } else if (method == "ibl" && settings.static_ibl) {
@@ -317,7 +318,7 @@ MethodResult renderMethod(const std::string& method, const ReflectionScene& scen
     }
     return r;
   } else if (method == "mcpt") {
-    depthfilter::VoxelGrid grid;
+    reflect::VoxelGrid grid;
     if (settings.with_visitors) grid.build(scene.foreground);
     std::vector<Model> emitters;
     if (!grid.empty()) emitters.push_back(reflect::voxelEmitters(grid));

@@ -73,6 +73,7 @@ inline const std::vector<std::string>& reflectionMethods() {
 
 struct MethodSettings {
   int spp = 256;               // gt, mcpt: samples per pixel; ssrt: reflected rays per hit point
+  int max_bounces = 5;         // gt: PathTracerOptions::max_bounces
   int ibl_levels = 10;         // ibl*: roughness levels (PrefilterOptions::levels)
   int ibl_texel_density = 20;  // ibl*: PrefilterOptions::texel_density
   bool with_visitors = true;

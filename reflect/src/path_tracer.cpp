@@ -35,11 +35,15 @@ vec3 PathTracer::traceFromRelic(const Ray& primary, const RayHit& relic_hit, Sam
   RayHit hit = relic_hit;
   const RayScene* hit_scene = &scene_.relicOnly();
   const RayScene& all = scene_.all();
-  for (int bounce = 0; bounce < options_.max_bounces; ++bounce) {
+  for (int bounce = 0;; ++bounce) {
     const vec3 p = hit_scene->position(ray, hit);
     const vec3 n = hit_scene->shadingNormal(hit, ray.direction);
     const vec3 ng = hit.geometric_normal;
     if (!isFinite(n) || !isFinite(ng) || !isFinite(p)) break;
+    // Added only when non-zero: an overflowed throughput times zero would make the sample NaN.
+    const vec3 emitted = scene_.relicEmission(hit, *hit_scene);
+    if (emitted != vec3(0.0f)) radiance += throughput * emitted;
+    if (bounce == options_.max_bounces) break;
     const vec3 wo = -ray.direction;
     const Bsdf bsdf(scene_.relicMaterial(hit, *hit_scene), n);
 

@@ -65,18 +65,23 @@ vec3 RenderScene::emission(const RayHit& hit) const {
   return isFinite(e) ? glm::max(e, vec3(0.0f)) : vec3(0.0f);
 }
 
+const Material& RenderScene::relicGltfMaterial(const RayHit& hit, const RayScene& scene) const {
+  const std::size_t mesh =
+      &scene == relic_.get() ? relic_mesh_.at(hit.geometry) : surfaces_.at(hit.geometry).mesh;
+  const int mi = relic_model_.meshes[mesh].material;
+  return (mi >= 0 && static_cast<std::size_t>(mi) < relic_model_.materials.size())
+             ? relic_model_.materials[static_cast<std::size_t>(mi)]
+             : kDefaultMaterial;
+}
+
+vec3 RenderScene::relicEmission(const RayHit& hit, const RayScene& scene) const {
+  const vec3 e = relicGltfMaterial(hit, scene).emission;
+  return isFinite(e) ? glm::max(e, vec3(0.0f)) : vec3(0.0f);
+}
+
 SurfaceMaterial RenderScene::relicMaterial(const RayHit& hit, const RayScene& scene) const {
   if (override_) return *override_;
-  std::size_t mesh = 0;
-  if (&scene == relic_.get()) {
-    mesh = relic_mesh_.at(hit.geometry);
-  } else {
-    mesh = surfaces_.at(hit.geometry).mesh;
-  }
-  const int mi = relic_model_.meshes[mesh].material;
-  const Material& m = (mi >= 0 && static_cast<std::size_t>(mi) < relic_model_.materials.size())
-                          ? relic_model_.materials[static_cast<std::size_t>(mi)]
-                          : kDefaultMaterial;
+  const Material& m = relicGltfMaterial(hit, scene);
   SurfaceMaterial s;
   s.base_color = m.base_color;
   s.metallic = m.metallic;

@@ -51,7 +51,7 @@ RoughForegroundMap::RoughForegroundMap(int width, std::vector<float> roughness)
   filtered_.assign(roughness_.size(), std::vector<Texel>(n));
 }
 
-void RoughForegroundMap::build(const depthfilter::VoxelGrid& grid, const vec3& centre) {
+void RoughForegroundMap::build(const VoxelGrid& grid, const vec3& centre) {
   std::fill(splat_.begin(), splat_.end(), Texel{});
   std::fill(depth_.begin(), depth_.end(), std::numeric_limits<float>::infinity());
   covered_.clear();
@@ -72,7 +72,7 @@ void RoughForegroundMap::build(const depthfilter::VoxelGrid& grid, const vec3& c
                 const vec3 d = 0.5f * (box.lo + box.hi) - centre;
                 const float dist = glm::length(d);
                 if (!(dist > 1e-6f)) continue;
-                const depthfilter::VoxelSample& s = grid.sample(grid.sampleIndex(v));
+                const VoxelSample& s = grid.sample(grid.sampleIndex(v));
                 if (!isFinite(s.radiance) || !std::isfinite(s.weight)) continue;  // must not poison the map
                 const float weight = std::clamp(s.weight, 0.0f, 1.0f);
                 const Texel texel{glm::max(s.radiance, vec3(0.0f)) * weight, weight};

@@ -3,6 +3,9 @@
 #include <array>
 #include <cmath>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "holo/core/image.hpp"
 
 namespace holo::reflect {
@@ -60,6 +63,19 @@ cv::Mat toneMap(const cv::Mat& hdr, float exposure) {
   cv::Mat out(hdr.rows, hdr.cols, CV_8UC3);
   for (int y = 0; y < hdr.rows; ++y)
     for (int x = 0; x < hdr.cols; ++x) out.at<cv::Vec3b>(y, x) = toneMapPixel(rgbAt(hdr, x, y), exposure);
+  return out;
+}
+
+cv::Mat toneMapCovered(const cv::Mat& hdr, const std::vector<std::uint32_t>& pixels, float exposure) {
+  cv::Mat out(hdr.rows, hdr.cols, CV_8UC3, cv::Scalar::all(0));
+  const std::size_t w = std::size_t(hdr.cols);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pixels.size(), 256),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                        const int x = int(pixels[k] % w), y = int(pixels[k] / w);
+                        out.at<cv::Vec3b>(y, x) = toneMapPixel(rgbAt(hdr, x, y), exposure);
+                      }
+                    });
   return out;
 }
 

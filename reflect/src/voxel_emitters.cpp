@@ -2,7 +2,7 @@
 
 namespace holo::reflect {
 
-Model voxelEmitters(const depthfilter::VoxelGrid& grid) {
+Model voxelEmitters(const VoxelGrid& grid) {
   Model model;
   if (grid.empty()) return model;
   const glm::ivec3 lo = grid.occupiedLo(), hi = grid.occupiedHi();
@@ -15,7 +15,7 @@ Model voxelEmitters(const depthfilter::VoxelGrid& grid) {
       for (int x = lo.x; x < hi.x; ++x) {
         const glm::ivec3 v(x, y, z);
         if (!grid.occupiedBit(v)) continue;
-        const depthfilter::VoxelSample& s = grid.sample(grid.sampleIndex(v));
+        const VoxelSample& s = grid.sample(grid.sampleIndex(v));
         const Bounds3 b = grid.voxelBounds(v);
         Material m;
         m.name = "voxel";

@@ -84,7 +84,7 @@ bool dda(const GridRay& r, const ivec3& lo, const ivec3& hi, float t0, float t1,
 
 }  // namespace
 
-VoxelHit firstOccupiedVoxel(const depthfilter::VoxelGrid& grid, const Ray& ray, float t_max, WalkMode mode,
+VoxelHit firstOccupiedVoxel(const VoxelGrid& grid, const Ray& ray, float t_max, WalkMode mode,
                             WalkStats* stats) {
   VoxelHit hit;
   WalkStats local;

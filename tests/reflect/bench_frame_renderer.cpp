@@ -84,7 +84,7 @@ BENCHMARK(pyramid)
 // The rough foreground map's per-frame build (splat + prefilter for one roughness) for the three
 // synthetic visitors, at map widths 32, 64 (the default) and 128: the RoughForegroundMap pass.
 void roughMap(benchmark::State& state) {
-  depthfilter::VoxelGrid grid;
+  VoxelGrid grid;
   grid.build(holo::test::visitorCloud(3, 0.7f, 5));
   RoughForegroundMap map(int(state.range(0)), {0.6f});
   for (auto _ : state) {

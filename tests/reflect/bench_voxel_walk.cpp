@@ -13,8 +13,8 @@ namespace {
 
 using namespace holo;
 
-depthfilter::VoxelGridSettings settings128(int brick) {
-  depthfilter::VoxelGridSettings s;
+reflect::VoxelGridSettings settings128(int brick) {
+  reflect::VoxelGridSettings s;
   s.bounds = {vec3(-1.6f, 0.0f, -1.6f), vec3(1.6f, 3.2f, 1.6f)};
   s.voxel_size = 0.025f;  // 128^3
   s.brick_size = brick;
@@ -36,7 +36,7 @@ std::vector<Ray> relicRays(std::size_t count) {
 }
 
 void walk(benchmark::State& state, reflect::WalkMode mode, int visitors) {
-  depthfilter::VoxelGrid grid(settings128(int(state.range(0))));
+  reflect::VoxelGrid grid(settings128(int(state.range(0))));
   grid.build(holo::test::visitorCloud(visitors, 0.7f, 5));
   const std::vector<Ray> rays = relicRays(1 << 16);
   reflect::WalkStats stats;
@@ -64,7 +64,7 @@ BENCHMARK(BM_WalkDense)->Args({8, 3});
 BENCHMARK(BM_WalkSkipping)->Args({4, 3})->Args({8, 3})->Args({16, 3})->Args({8, 0})->Args({8, 1});
 
 void BM_GridRebuild(benchmark::State& state) {
-  depthfilter::VoxelGrid grid(settings128(8));
+  reflect::VoxelGrid grid(settings128(8));
   const depthfilter::ForegroundCloud cloud = holo::test::visitorCloud(3, 0.7f, 5);
   for (auto _ : state) {
     grid.build(cloud);

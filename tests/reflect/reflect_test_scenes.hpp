@@ -1,10 +1,15 @@
 // Small analytic scenes shared by the reflect tests and benchmarks.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "holo/core/mesh.hpp"
+#include "holo/depthfilter/foreground_cloud.hpp"
 #include "holo/reflect/bsdf.hpp"
+#include "holo/reflect/frame_renderer.hpp"
+#include "holo/reflect/view.hpp"
 
 namespace holo::test {
 
@@ -55,6 +60,33 @@ inline Model emitterQuad(const vec3& centre, const vec3& normal, float size, con
   mat.emission = radiance;
   model.materials.push_back(mat);
   return model;
+}
+
+// A wall of red foreground points (radiance (2, 0, 0), weight 1) in the plane z = 0.6 on a 1 cm
+// grid of columns x rows points from (x0, y0), and the one camera that sees it: at (0, 0.3, -0.2)
+// behind a relic at (0, 0.3, 0), looking at the wall (64 x 64, vertical field of view 100
+// degrees), its image the wall's red everywhere. Seen from +z, the wall stands between the relic
+// and the viewer and appears only in reflections.
+struct RedWall {
+  reflect::ForegroundCameraImage camera;
+  depthfilter::ForegroundCloud cloud;
+};
+inline RedWall redWall(float x0 = -0.4f, float y0 = -0.1f, int columns = 81, int rows = 81) {
+  RedWall wall;
+  wall.camera.camera = reflect::lookAtCamera(vec3(0.0f, 0.3f, -0.2f), vec3(0.0f, 0.3f, 0.6f), 100.0f, 64, 64);
+  wall.camera.colour_bgr = cv::Mat(64, 64, CV_32FC3, cv::Scalar(0, 0, 2));  // red, linear BGR
+  wall.camera.mask = cv::Mat(64, 64, CV_32FC1, cv::Scalar(1));
+  for (int i = 0; i < columns; ++i)
+    for (int j = 0; j < rows; ++j) {
+      depthfilter::ForegroundPoint p;
+      p.position = vec3(x0 + 0.01f * float(i), y0 + 0.01f * float(j), 0.6f);
+      p.radiance = vec3(2.0f, 0.0f, 0.0f);
+      const auto px = wall.camera.camera.project(p.position);
+      p.x = std::uint16_t(std::clamp(px ? px->x : 0.0f, 0.0f, 63.0f));
+      p.y = std::uint16_t(std::clamp(px ? px->y : 0.0f, 0.0f, 63.0f));
+      wall.cloud.points.push_back(p);
+    }
+  return wall;
 }
 
 }  // namespace holo::test

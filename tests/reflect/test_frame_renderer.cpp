@@ -85,27 +85,18 @@ TEST(EffectPlan, ForegroundPassesRunOnlyWhenTheyCanMatter) {
   EXPECT_NE(full.describe().find("ForegroundWalk"), std::string::npos);
 }
 
-// A mirror-like sphere at the origin, a uniform grey sky, a red wall of foreground points between
-// the sphere and the viewer (visible only in the reflection), seen by one camera behind it.
+// A mirror-like sphere at (0, 0.3, 0), a uniform grey sky, and test::redWall(): a red wall of
+// foreground points between the sphere and the viewer (visible only in the reflection), seen by
+// one camera behind the sphere.
 struct MirrorScene {
   explicit MirrorScene(float roughness)
       : scene(holo::test::sphereModel({vec3(0.9f), 1.0f, roughness, 1.0f}, 0.15f, vec3(0.0f, 0.3f, 0.0f), 24,
                                       48),
               {}),
         ibl(Environment::uniform(vec3(0.5f)), PrefilterOptions{5, 16, 16}) {
-    camera.camera = lookAtCamera(vec3(0.0f, 0.3f, -0.2f), vec3(0.0f, 0.3f, 0.6f), 100.0f, 64, 64);
-    camera.colour_bgr = cv::Mat(64, 64, CV_32FC3, cv::Scalar(0, 0, 2));  // red, linear
-    camera.mask = cv::Mat(64, 64, CV_32FC1, cv::Scalar(1));
-    for (int i = 0; i <= 80; ++i)
-      for (int j = 0; j <= 80; ++j) {
-        ForegroundPoint p;
-        p.position = vec3(-0.4f + 0.01f * float(i), -0.1f + 0.01f * float(j), 0.6f);
-        p.radiance = vec3(2.0f, 0.0f, 0.0f);
-        const auto px = camera.camera.project(p.position);
-        p.x = std::uint16_t(std::clamp(px ? px->x : 0.0f, 0.0f, 63.0f));
-        p.y = std::uint16_t(std::clamp(px ? px->y : 0.0f, 0.0f, 63.0f));
-        wall.points.push_back(p);
-      }
+    const holo::test::RedWall red = holo::test::redWall();
+    camera = red.camera;
+    wall = red.cloud;
     view = lookAtCamera(vec3(0.0f, 0.3f, 1.2f), vec3(0.0f, 0.3f, 0.0f), 16.0f, 48, 48);
   }
   RenderScene scene;

@@ -25,28 +25,6 @@ TracerSettings smallGrid() {
   return s;
 }
 
-// A wall of red foreground points at z = 0.6 between the relic and the viewer (x in [-0.4, 0.4],
-// y in [-0.1, 0.7]), seen by one camera behind the relic.
-struct RedWall {
-  RedWall() {
-    camera.camera = lookAtCamera(vec3(0.0f, 0.3f, -0.2f), vec3(0.0f, 0.3f, 0.6f), 100.0f, 64, 64);
-    camera.colour_bgr = cv::Mat(64, 64, CV_32FC3, cv::Scalar(0, 0, 2));  // red, linear
-    camera.mask = cv::Mat(64, 64, CV_32FC1, cv::Scalar(1));
-    for (float x = -0.4f; x <= 0.4f + 1e-4f; x += 0.01f)
-      for (float y = -0.1f; y <= 0.7f + 1e-4f; y += 0.01f) {
-        ForegroundPoint p;
-        p.position = vec3(x, y, 0.6f);
-        p.radiance = vec3(2.0f, 0.0f, 0.0f);
-        const auto px = camera.camera.project(p.position);
-        p.x = std::uint16_t(std::clamp(px ? px->x : 0.0f, 0.0f, 63.0f));
-        p.y = std::uint16_t(std::clamp(px ? px->y : 0.0f, 0.0f, 63.0f));
-        cloud.points.push_back(p);
-      }
-  }
-  ForegroundCameraImage camera;
-  ForegroundCloud cloud;
-};
-
 // Two metal spheres side by side, seen from +z: the left one bright (F0 0.9), the right one dark
 // (F0 0.2), under a uniform sky. The left sphere's right limb mirrors the dark sphere.
 struct TwoSpheres {
@@ -94,7 +72,7 @@ TEST(FrameRenderer, InterreflectionShowsWhatTheRelicMirrors) {
   // The foreground through the bounce: a red wall in front (visible in the dark sphere's mirror
   // image of the bright one's limb, and directly). The bright sphere shows more of it with the
   // bounce, and never less.
-  const RedWall wall;
+  const holo::test::RedWall wall = holo::test::redWall();
   const ViewImages fg_on = a.render(wall.cloud, {wall.camera}, {t.view}).views.at(0);
   const ViewImages fg_off = b.render(wall.cloud, {wall.camera}, {t.view}).views.at(0);
   int more = 0;

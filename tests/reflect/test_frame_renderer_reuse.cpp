@@ -20,25 +20,15 @@ using depthfilter::ForegroundCloud;
 using depthfilter::ForegroundPoint;
 
 // A glossy sphere under a sky that varies with direction (so the reflection has structure to
-// alias), a red wall of foreground points behind the viewer, one camera that sees the wall.
+// alias), a small test::redWall() between it and the viewer, one camera that sees the wall.
 struct SphereScene {
   SphereScene()
       : scene(holo::test::sphereModel({vec3(0.9f), 1.0f, 0.1f, 1.0f}, 0.15f, vec3(0.0f, 0.3f, 0.0f), 24, 48),
               {}),
         ibl(Environment(gradientSky()), PrefilterOptions{5, 16, 16}) {
-    camera.camera = lookAtCamera(vec3(0.0f, 0.3f, -0.2f), vec3(0.0f, 0.3f, 0.6f), 100.0f, 64, 64);
-    camera.colour_bgr = cv::Mat(64, 64, CV_32FC3, cv::Scalar(0, 0, 2));
-    camera.mask = cv::Mat(64, 64, CV_32FC1, cv::Scalar(1));
-    for (int i = 0; i <= 40; ++i)
-      for (int j = 0; j <= 40; ++j) {
-        ForegroundPoint p;
-        p.position = vec3(-0.2f + 0.01f * float(i), 0.1f + 0.01f * float(j), 0.6f);
-        p.radiance = vec3(2.0f, 0.0f, 0.0f);
-        const auto px = camera.camera.project(p.position);
-        p.x = std::uint16_t(std::clamp(px ? px->x : 0.0f, 0.0f, 63.0f));
-        p.y = std::uint16_t(std::clamp(px ? px->y : 0.0f, 0.0f, 63.0f));
-        wall.points.push_back(p);
-      }
+    const holo::test::RedWall red = holo::test::redWall(-0.2f, 0.1f, 41, 41);
+    camera = red.camera;
+    wall = red.cloud;
   }
   static cv::Mat gradientSky() {
     cv::Mat sky(32, 64, CV_32FC3);

@@ -11,7 +11,6 @@ namespace {
 
 using depthfilter::ForegroundCloud;
 using depthfilter::ForegroundPoint;
-using depthfilter::VoxelGrid;
 
 // Points every ~1 cm on the part of a sphere of `radius` around `centre` within `cone` radians of
 // `axis` (the whole sphere for cone >= pi).

@@ -40,19 +40,15 @@ TEST(ReprojectedRgbd, KeepsOnlyTheNearestPointPerPixel) {
   EXPECT_EQ(map.depthAlong(vec3(0.0f, 0.0f, -1.0f), &pixel), 0.0f);  // a hole: nothing there
 }
 
-// A mirror sphere at (0, 0.3, 0) under a grey sky, a red wall of points between it and the viewer.
+// A mirror sphere at (0, 0.3, 0) under a grey sky, test::redWall() between it and the viewer.
 struct WallScene {
   explicit WallScene(float roughness)
       : scene(holo::test::sphereModel({vec3(0.9f), 1.0f, roughness, 1.0f}, 0.15f, vec3(0.0f, 0.3f, 0.0f), 24,
                                       48),
               {}),
         ibl(Environment::uniform(vec3(0.5f)), PrefilterOptions{5, 16, 16}),
-        view(lookAtCamera(vec3(0.0f, 0.3f, 1.2f), vec3(0.0f, 0.3f, 0.0f), 16.0f, 48, 48)) {
-    for (int i = 0; i <= 80; ++i)
-      for (int j = 0; j <= 80; ++j)
-        wall.points.push_back(
-            point(vec3(-0.4f + 0.01f * float(i), -0.1f + 0.01f * float(j), 0.6f), vec3(2, 0, 0)));
-  }
+        view(lookAtCamera(vec3(0.0f, 0.3f, 1.2f), vec3(0.0f, 0.3f, 0.0f), 16.0f, 48, 48)),
+        wall(holo::test::redWall().cloud) {}
   RenderScene scene;
   PrefilteredIbl ibl;
   CameraModel view;
@@ -124,10 +120,10 @@ TEST(Ssrt, RejectsBadSettingsNamingTheField) {
 }
 
 TEST(VoxelEmitters, OneEmittingCubePerOccupiedVoxel) {
-  depthfilter::VoxelGridSettings gs;
+  VoxelGridSettings gs;
   gs.bounds = {vec3(-1.0f, 0.0f, -1.0f), vec3(1.0f, 1.5f, 1.0f)};
   gs.voxel_size = 0.1f;
-  depthfilter::VoxelGrid grid(gs);
+  VoxelGrid grid(gs);
   EXPECT_TRUE(voxelEmitters(grid).meshes.empty());
   ForegroundCloud cloud;
   cloud.points.push_back(point(vec3(0.05f, 0.05f, 0.05f), vec3(1, 0, 0)));
@@ -150,10 +146,10 @@ TEST(VoxelEmitters, OneEmittingCubePerOccupiedVoxel) {
 TEST(VoxelEmitters, PathTracedMirrorSeesTheVoxelWall) {
   // The MCPT baseline's scene: a mirror sphere reflects the voxelised red wall.
   const WallScene w(0.0f);
-  depthfilter::VoxelGridSettings gs;
+  VoxelGridSettings gs;
   gs.bounds = {vec3(-1.0f, -0.5f, -1.0f), vec3(1.0f, 1.5f, 1.0f)};
   gs.voxel_size = 0.02f;
-  depthfilter::VoxelGrid grid(gs);
+  VoxelGrid grid(gs);
   grid.build(w.wall);
   const Model relic =
       holo::test::sphereModel({vec3(0.9f), 1.0f, 0.0f, 1.0f}, 0.15f, vec3(0.0f, 0.3f, 0.0f), 24, 48);

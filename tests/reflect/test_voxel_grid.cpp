@@ -1,4 +1,4 @@
-#include "holo/depthfilter/voxel_grid.hpp"
+#include "holo/reflect/voxel_grid.hpp"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,10 @@
 #include "holo/core/error.hpp"
 #include "synthetic_foreground.hpp"
 
-namespace holo::depthfilter {
+namespace holo::reflect {
+using depthfilter::ForegroundCloud;
+using depthfilter::ForegroundPoint;
+
 namespace {
 
 ForegroundPoint point(const vec3& p, float weight, std::uint16_t camera, std::uint16_t x) {
@@ -196,4 +199,4 @@ TEST(VoxelGrid, RejectsBadSettingsNamingTheField) {
 }
 
 }  // namespace
-}  // namespace holo::depthfilter
+}  // namespace holo::reflect

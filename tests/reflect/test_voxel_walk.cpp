@@ -14,8 +14,6 @@ namespace {
 
 using depthfilter::ForegroundCloud;
 using depthfilter::ForegroundPoint;
-using depthfilter::VoxelGrid;
-using depthfilter::VoxelGridSettings;
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 

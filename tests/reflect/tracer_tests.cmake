@@ -1,8 +1,11 @@
-# The reflection tracer: voxel grid, voxel walk, foreground pyramids, composition, frame renderer.
+# The reflection tracer: voxel grid, voxel walk, foreground pyramids, the frame renderer's passes
+# one at a time (test_frame_passes, on the internal headers of reflect/src) and end to end.
 holo_test(test_tracer
-  SOURCES test_voxel_grid.cpp test_voxel_walk.cpp test_foreground_pyramid.cpp test_frame_renderer.cpp
-          test_frame_renderer_reuse.cpp test_frame_renderer_accuracy.cpp test_rough_foreground_map.cpp
+  SOURCES test_voxel_grid.cpp test_voxel_walk.cpp test_foreground_pyramid.cpp test_frame_passes.cpp
+          test_frame_renderer.cpp test_frame_renderer_reuse.cpp test_frame_renderer_accuracy.cpp
+          test_rough_foreground_map.cpp
   DEPS holo::reflect holo::depthfilter holo_test_support)
+target_include_directories(test_tracer PRIVATE ${PROJECT_SOURCE_DIR}/reflect/src)
 holo_benchmark(bench_voxel_walk
   SOURCES bench_voxel_walk.cpp
   DEPS holo::reflect holo::depthfilter holo_test_support)

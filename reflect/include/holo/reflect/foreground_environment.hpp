@@ -1,3 +1,5 @@
+// Evaluation only: a reference for measuring the appliance's renderer, never run by it (the
+// evaluation sources of reflect/CMakeLists.txt).
 // The paper's IBL baseline environment: the dynamic foreground (the depth filter's world-space
 // point cloud, holo::depthfilter::ForegroundCloud, linear radiance) reprojected into an equirectangular map
 // centred on the relic and merged over the static panorama, which is then prefiltered

@@ -7,7 +7,8 @@
 // roughest materials read the visitors prefiltered around the relic instead), composes
 // psi_f = psi_d w + psi_s (1 - w) in HDR (specular part; the diffuse irradiance is added to
 // both), and tone-maps to sRGB. Which passes run comes from the effect plan (effect_plan.hpp);
-// every pass is timed.
+// every pass is timed. The passes live in reflect/src: static_shading, foreground_walk (with its
+// camera choice and near-miss march), compose_pass, and tone_map.hpp's toneMapCovered.
 //
 // The relic and the hall do not move, only the eyes: per view slot (the index in `views`) the
 // renderer keeps the hit points, their static shading and the static image (psi_s + diffuse, and
@@ -25,81 +26,89 @@
 
 #include "holo/core/camera_model.hpp"
 #include "holo/depthfilter/foreground_cloud.hpp"
-#include "holo/depthfilter/voxel_grid.hpp"
 #include "holo/reflect/effect_plan.hpp"
 #include "holo/reflect/foreground_pyramid.hpp"
 #include "holo/reflect/hit_points.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
 #include "holo/reflect/render_scene.hpp"
 #include "holo/reflect/rough_foreground_map.hpp"
+#include "holo/reflect/voxel_grid.hpp"
 #include "holo/reflect/voxel_walk.hpp"
 
 namespace holo::reflect {
 
+// The reflection tracer's settings. Per field: what it means, its unit and valid range
+// (validate() throws InputError naming the field outside it), the default and why. The
+// measurements behind the defaults are in docs/tracer.md.
 struct TracerSettings {
+  // The foreground passes (voxel grid, pyramids, walk, composition); false: the static IBL only.
   bool foreground_enabled = true;
-  int pyramid_levels = 7;  // l_max, 1..kMaxPyramidLevels
-  int aa_samples = 4;      // sub-samples per pixel: 1 or 4
-  bool edge_aa = false;    // with 1 sample: 4 at silhouette and crease pixels (hit_points.hpp)
-  // Metres an eye may move before a view's cached hit points and static shading are traced
-  // again; 0 reuses them only for the identical camera (no error at all).
+  // Kawase pyramid levels per camera (l_max), 1..kMaxPyramidLevels, each doubling the blur; 7:
+  // the figures of docs/tracer.md.
+  int pyramid_levels = 7;
+  // Primary-ray sub-samples per pixel, 1 (the centre) or 4 (rotated grid, hit_points.hpp); 4:
+  // stable silhouettes on a still relic.
+  int aa_samples = 4;
+  // With aa_samples 1 only: 4 sub-samples at silhouette, crease and material-edge pixels
+  // (AntiAliasing::Edges); false: the centre alone.
+  bool edge_aa = false;
+  // Metres an eye may move (and its axis turn, that far at 0.5 m) before a view's cached hit
+  // points and static shading are traced again, >= 0; 0: reused only for the identical camera,
+  // so the image is exact.
   float static_reuse_distance = 0.0f;
-  // One walk per pixel where the relic is at least this rough: a pixel with four sub-samples walks
-  // the mean of their reflected rays once and composes every sub-sample with that foreground (each
-  // keeps its own static shading and coverage). A rough lobe's footprint spans many sub-pixel
-  // offsets, so the four walks would read nearly the same blurred texel; on a mirror the four
-  // walks anti-alias the reflected visitors' edges (one walk per pixel there raised gallery x
-  // vase's fg_mse 1.75x, docs/tracer.md). > 1: every sub-sample walks.
+  // Roughness from which a four-sample pixel walks once (the mean of its samples' rays) and
+  // composes every sample with that foreground, >= 0 (> 1: never); 0.3: a lobe this rough reads a
+  // blur wider than the sub-pixel offsets, below it the four walks anti-alias reflected edges.
   float walk_per_pixel_roughness = 0.3f;
-  // Below that roughness, walk each sub-sample only at the reflected foreground's edges: every
-  // pixel first walks its mean ray once; where a neighbour's walk met the foreground and this
-  // one's did not (or their weights differ by more than 0.2) the four sub-samples walk, elsewhere
-  // they share the pixel's walk. false: every sub-sample walks (4x the rays).
+  // Below walk_per_pixel_roughness, walk each sub-sample only at the reflected foreground's edges
+  // (a neighbour's pixel walk met it and this one's did not, or their weights differ by more
+  // than 0.2), elsewhere share the pixel's walk; false: every sub-sample walks (4x the rays).
+  // true: the same edges at a quarter of the rays.
   bool walk_edges_only = true;
-  // One interreflection bounce: where a hit point's mirror ray meets the relic itself (a vase's
-  // foot under its bulge, the inside of its lip), its reflection is that second point's (static
-  // shading, and the foreground walk from there), scaled by the first point's specular weight;
-  // without it such pixels show the hall straight through the relic. Traced with the static
-  // passes (one extra ray per hit point, cached with them). Where a visitor is seen over the
-  // relic's own surface this was most of a mirror-like vase's fg_mse (docs/tracer.md).
+  // One interreflection bounce: where a hit point's reflection meets the relic itself, it shows
+  // that second point's static shading and foreground, scaled by the first point's specular
+  // weight (static_shading.hpp); false: such pixels show the hall through the relic. true: a
+  // concave relic (a vase's foot, the inside of its lip) mirrors itself, visitors included.
   bool relic_interreflection = true;
-  // Rough lobes that miss: a reflected ray whose mirror direction meets no voxel may still pass
-  // within its lobe's footprint of a visitor, and the truth then shows a soft halo where a hit/miss
-  // decision would cut a hard edge. From this roughness on, such a ray marches the brick
-  // distances to the first point within two lobe sigmas of an occupied brick and reads the
-  // blurred pyramids there (the camera looking most along the ray): the blurred mask gives the
-  // partial weight. > 1: never.
+  // Roughness from which a reflected ray that meets no voxel marches to where it first passes
+  // within two lobe sigmas of an occupied brick and reads the blurred pyramids there (the soft
+  // halo a rough lobe shows beside a visitor), >= 0 (> 1: never); 0.2: where the halo is wider
+  // than a voxel.
   float lobe_fallback_roughness = 0.2f;
-  // Gaussians standing for the GGX lobe in each pyramid read (ggxLobeMixture), one read each: 1
-  // reads the level of the lobe's Beckmann-equivalent sigma, which misses GGX's heavy tail (the
-  // reflected visitor came out too sharp and too saturated on the kettle, 0.35); 2 cut the
-  // kettles' fg_mse 2.9-3x against path-traced truth, more changed nothing (docs/tracer.md).
+  // Gaussians standing for the GGX lobe in each pyramid read (ggxLobeMixture), one read each,
+  // 1..kMaxLobeComponents; 2: one Gaussian misses GGX's heavy tail, more than 2 changed nothing.
   int lobe_components = 2;
-  // From this roughness on a hit point's foreground comes from RoughForegroundMap (the visitors
-  // prefiltered around the relic with its lobe, rough_foreground_map.hpp) instead of the walk:
-  // one walked ray and a camera-space blur cannot stand for a lobe tens of degrees wide (the
-  // tripod, 0.6, showed hard-edged patches in one camera's colours). Built per frame only when a
-  // relic material is this rough (not textured). > 1: never.
+  // Roughness from which a hit point's foreground comes from RoughForegroundMap (the visitors
+  // prefiltered around the relic) instead of the walk, >= 0 (> 1: never); 0.5: one walked ray
+  // and a camera-space blur cannot stand for a lobe tens of degrees wide. The map is built per
+  // frame only when an untextured relic material is this rough.
   float foreground_map_roughness = 0.5f;
-  int foreground_map_width = 64;  // texels around; the map is width x width / 2
-  // The interreflection of those rough materials: > 1, sampled over their GGX lobe at the
-  // centres of side x side strata of its visible normals (even sides), one relic ray each; the
-  // share that meets the relic sees its second points, the rest the hall. 1: the mirror ray
-  // alone, all or nothing (the tripod's bowl showed stripes of the hall where the truth is
-  // smooth). Interleaved (the default), each hit point traces only its share of the strata:
-  // every other stratum per 2x2 pixel class, dealt to the pixel's samples (1 ray per sample at
-  // side 4 with 4 samples, 4 with 1 sample), and a 3x3 tent over the pixels of the same surface
-  // sums them all; otherwise every sample traces every stratum (side^2 rays). Traced with the
-  // static passes, again whenever an eye moves (docs/tracer.md).
+  // RoughForegroundMap's width in texels (height width / 2), even, 8..1024; 64: ~5.6 degrees a
+  // texel, fine for lobes that rough.
+  int foreground_map_width = 64;
+  // The interreflection of materials read from the rough map: > 1, their GGX lobe sampled at the
+  // centres of side x side strata of its visible normals (even side 2..8), one relic ray each,
+  // the share that meets the relic seeing the second points' static shading; 1: the mirror ray
+  // alone, all or nothing (stripes where the truth is smooth). 4 with interleaving: 1 ray per
+  // sample with 4 samples.
   int rough_interreflection_grid = 4;
+  // Each hit point traces only its 2x2 pixel class's share of those strata and a 3x3 tent over
+  // the pixels of the same surface sums them all (static_shading.hpp); false: every sample
+  // traces every stratum (side^2 rays).
   bool rough_interreflection_interleaved = true;
-  // Added to the derived pyramid level (foregroundLevel) of every read, for checking the
-  // derivation against path-traced truth (bench accuracy); 0 in use.
+  // Added to every pyramid read's derived level (foregroundLevel), within +-kMaxPyramidLevels,
+  // for checking the derivation against path-traced truth (bench accuracy); 0 in use.
   float level_bias = 0.0f;
-  float max_reflection_distance = 3.0f;  // metres a reflected ray may travel through the grid
-  float ray_offset = 1e-3f;              // metres along the normal, against self-intersection
-  float exposure = 0.0f;                 // <= 0: automatic (tone_map.hpp's autoExposure)
-  depthfilter::VoxelGridSettings grid;
+  // Metres a reflected ray may travel through the grid, finite > 0; 3: the default grid's
+  // corners are about 3 m from the relic.
+  float max_reflection_distance = 3.0f;
+  // Metres a reflected ray starts along the normal, against self-intersection, 0..0.1; 1 mm:
+  // far above float error at the relic's scale, far below its features (the tripod's 8 mm wall).
+  float ray_offset = 1e-3f;
+  // Exposure of the tone map, finite; <= 0: automatic per view (tone_map.hpp's autoExposure).
+  float exposure = 0.0f;
+  // The voxel grid the walk traverses (voxel_grid.hpp).
+  VoxelGridSettings grid;
   // Throws InputError naming the field.
   void validate() const;
 };
@@ -151,33 +160,13 @@ class FrameRenderer {
                      const std::vector<ForegroundCameraImage>& cameras,
                      const std::vector<CameraModel>& views);
 
-  const depthfilter::VoxelGrid& grid() const { return grid_; }
+  const VoxelGrid& grid() const { return grid_; }
   const TracerSettings& settings() const { return settings_; }
   // Fixes the exposure (> 0) or makes it automatic (<= 0) from the next frame on.
   void setExposure(float exposure);
 
  private:
   struct ViewCache;
-  struct WalkRay;
-  struct LobeBounce;
-  struct PixelBounce;
-  // Which of the rough lobe's strata a hit point traces: its pixel's 2x2 class ((x & 1) +
-  // 2 (y & 1)) and its sample of the pixel's.
-  struct LobeShare {
-    int pixel_class = 0, sample = 0, samples = 1;
-  };
-  bool readsRoughMap(float roughness) const;
-  // The static shading of one hit point and the ray its foreground walk follows (the mirror ray,
-  // or the one from its interreflection's second point). For a material read from rough_map_
-  // with interleaved strata, its share of the lobe's interreflection, left for poolLobeBounces.
-  std::optional<LobeBounce> shadeHit(const HitPoint& hp, const LobeShare& share, SplitSumShading& shading,
-                                     WalkRay& walk_ray) const;
-  LobeBounce traceLobeBounce(const HitPoint& hp, const LobeShare& share) const;
-  static void addLobeBounce(const LobeBounce& bounce, SplitSumShading& shading);
-  // Adds to the rough samples of pixel (x, y) the interleaved lobe samples of its 3x3 neighbours
-  // on the same surface (tent weights: each 2x2 class weighs the same).
-  void poolLobeBounces(const HitPointBuffer& hits, const std::vector<PixelBounce>& bounces,
-                       const CameraModel& view, int x, int y, std::vector<SplitSumShading>& shading) const;
   ViewImages renderView(const EffectPlan& plan, const std::vector<ForegroundCameraImage>& cameras,
                         const CameraModel& view, ViewCache& cache) const;
 
@@ -186,7 +175,7 @@ class FrameRenderer {
   TracerSettings settings_;
   bool relic_glossy_ = false;
   Bounds3 relic_bounds_;  // of the static relic, for culling primary rays
-  depthfilter::VoxelGrid grid_;
+  VoxelGrid grid_;
   std::vector<ForegroundPyramid> pyramids_;
   // For the relic materials at least foreground_map_roughness rough; null when there is none.
   std::unique_ptr<RoughForegroundMap> rough_map_;

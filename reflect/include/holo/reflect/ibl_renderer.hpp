@@ -1,3 +1,5 @@
+// Evaluation only: a reference for measuring the appliance's renderer, never run by it (the
+// evaluation sources of reflect/CMakeLists.txt).
 // The IBL renderer: the relic shaded from prefiltered maps alone (no visibility, no
 // interreflection), one primary ray per pixel centre. With the foreground reprojected into the
 // map (foreground_environment.hpp) this is the paper's IBL baseline. Same view and GT conventions

@@ -1,3 +1,5 @@
+// Evaluation only: a reference for measuring the appliance's renderer, never run by it (the
+// evaluation sources of reflect/CMakeLists.txt).
 // Image comparisons of the evaluation (paper Sec. 4.1.2, Table 1). Images are linear HDR
 // CV_32FC3 of the same size; values are compared as displayed before encoding, i.e. clamped to
 // [0, 1] (a monitor cannot show more), so one blown-out sun pixel does not dominate an MSE.

@@ -1,9 +1,13 @@
+// Evaluation only: a reference for measuring the appliance's renderer, never run by it (the
+// evaluation sources of reflect/CMakeLists.txt).
 // Monte Carlo path tracer: the ground truth of the evaluation (docs/architecture.md, paper Sec. 4).
 //
 // GT definition: a camera ray sees only the relic (pixels that miss it are 0: the pyramid's
 // monitors show the relic alone); from the relic, paths bounce on the relic's glTF BSDF up to
 // max_bounces times, reach emitters (hall, visitors: diffuse emitters, their radiance is
-// Material::emission, they do not scatter) or escape to the environment. At every non-mirror
+// Material::emission, they do not scatter) or escape to the environment. Every relic vertex adds
+// the relic's own emission (RenderScene::relicEmission; none for the relics in use), the one a
+// path reaches after its last scattering included. At every non-mirror
 // relic vertex the environment is sampled (next-event estimation through its importance
 // distribution, shadowed by all geometry) and combined with BSDF sampling by the balance
 // heuristic (delta-path-tracing paper Sec. 3.2); emitters are reached by BSDF sampling only.
@@ -34,7 +38,11 @@ enum class LightSampling {
 };
 
 struct PathTracerOptions {
-  int max_bounces = 5;  // scattering events on the relic
+  // Scattering events on the relic per path, >= 1 (less is raised to 1): what a path meets
+  // after its max_bounces-th scattering (environment, emitter, relic emission) still counts, so
+  // 1 is direct lighting and light reflected k times is kept for k <= max_bounces. 5: its bias
+  // on the tripod's bowl is in docs/reflect.md.
+  int max_bounces = 5;
   std::uint64_t seed = 1;
   float firefly_clamp = 0.0f;  // max luminance of one path sample; 0 = off (unbiased)
   int tile_size = 16;          // pixels, for the oneTBB tiles

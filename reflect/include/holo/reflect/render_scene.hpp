@@ -29,9 +29,13 @@ class RenderScene {
   vec3 emission(const RayHit& hit) const;
   // The relic's material at a hit (textures sampled at the hit's uv), for either scene.
   SurfaceMaterial relicMaterial(const RayHit& hit, const RayScene& scene) const;
+  // Radiance (RGB, >= 0, finite) the relic emits at a hit, for either scene: its glTF material's
+  // Material::emission (emissive textures are not read); 0 for the relics in use.
+  vec3 relicEmission(const RayHit& hit, const RayScene& scene) const;
   // Every relic surface gets this material instead of its glTF one (textures ignored): for
   // analytic tests and material studies that glTF cannot state (a pure Lambert surface needs
-  // SurfaceMaterial::specular = 0, which core's Material does not carry).
+  // SurfaceMaterial::specular = 0, which core's Material does not carry). Emission stays the
+  // glTF material's.
   void overrideRelicMaterial(const SurfaceMaterial& material) { override_ = material; }
   const Model& relic() const { return relic_model_; }
   Bounds3 relicBounds() const { return relic_model_.bounds(); }
@@ -43,6 +47,7 @@ class RenderScene {
     const Model* model = nullptr;
   };
   const Material& materialOf(const Surface& s) const;
+  const Material& relicGltfMaterial(const RayHit& hit, const RayScene& scene) const;
   Model relic_model_;
   std::vector<Model> emitter_models_;
   std::vector<Surface> surfaces_;        // by geometry id of all()

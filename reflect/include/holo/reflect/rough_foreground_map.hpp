@@ -21,8 +21,8 @@
 #include <vector>
 
 #include "holo/core/math.hpp"
-#include "holo/depthfilter/voxel_grid.hpp"
 #include "holo/reflect/foreground_pyramid.hpp"
+#include "holo/reflect/voxel_grid.hpp"
 
 namespace holo::reflect {
 
@@ -33,7 +33,7 @@ class RoughForegroundMap {
   RoughForegroundMap(int width, std::vector<float> roughness);
 
   // Rebuilds from this frame's grid (empty grid: every lookup has weight 0).
-  void build(const depthfilter::VoxelGrid& grid, const vec3& centre);
+  void build(const VoxelGrid& grid, const vec3& centre);
   // The prefiltered foreground in `direction` for the prefiltered roughness nearest to
   // `roughness`; weight 0 for a zero or non-finite direction.
   ForegroundSample lookup(const vec3& direction, float roughness) const;

@@ -1,3 +1,5 @@
+// Evaluation only: a reference for measuring the appliance's renderer, never run by it (the
+// evaluation sources of reflect/CMakeLists.txt).
 // Seeded low-discrepancy sample streams for Monte Carlo rendering: per pixel, an Owen-scrambled
 // Sobol (0,2) sequence for every pair of dimensions, with the sample index shuffled per pixel and
 // per dimension pair (Burley 2020, "Practical Hash-based Owen Scrambling"). Every power-of-two

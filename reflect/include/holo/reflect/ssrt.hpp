@@ -1,3 +1,5 @@
+// Evaluation only: a reference for measuring the appliance's renderer, never run by it (the
+// evaluation sources of reflect/CMakeLists.txt).
 // The screen-space ray tracing baseline (SSRT) of the paper's Figure 7 comparison (McGuire and
 // Mara 2014, as the paper uses it): the depth cameras' RGBD images are reprojected into one RGBD
 // image seen from the pyramid origin O, and reflected rays are marched against that image alone.

@@ -2,6 +2,9 @@
 // people look at (PNG); metrics use linear radiance (image_metrics.hpp).
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include <opencv2/core.hpp>
 
 #include "holo/core/math.hpp"
@@ -17,5 +20,8 @@ float autoExposure(const cv::Mat& hdr_bgr32f);
 cv::Vec3b toneMapPixel(const vec3& rgb, float exposure);
 // CV_32FC3 linear BGR -> CV_8UC3 sRGB BGR, toneMapPixel per pixel.
 cv::Mat toneMap(const cv::Mat& hdr_bgr32f, float exposure);
+// The same at the listed pixels only (y * width + x, each < hdr's pixel count), black elsewhere:
+// the frame renderer's image where the relic is not is black anyway.
+cv::Mat toneMapCovered(const cv::Mat& hdr_bgr32f, const std::vector<std::uint32_t>& pixels, float exposure);
 
 }  // namespace holo::reflect

@@ -1,3 +1,5 @@
+// Evaluation only: a reference for measuring the appliance's renderer, never run by it (the
+// evaluation sources of reflect/CMakeLists.txt).
 // The reconstructed foreground as path-traceable geometry: every occupied voxel of the grid as a
 // cube that emits its voxel's radiance (a diffuse emitter, as RenderScene treats the hall and the
 // visitors). Path tracing the relic with these cubes and the static panorama is the MCPT baseline
@@ -10,11 +12,11 @@
 #pragma once
 
 #include "holo/core/mesh.hpp"
-#include "holo/depthfilter/voxel_grid.hpp"
+#include "holo/reflect/voxel_grid.hpp"
 
 namespace holo::reflect {
 
 // An empty Model for an empty grid.
-Model voxelEmitters(const depthfilter::VoxelGrid& grid);
+Model voxelEmitters(const VoxelGrid& grid);
 
 }  // namespace holo::reflect

@@ -2,7 +2,7 @@
 // Amanatides and Woo ("A fast voxel traversal algorithm for ray tracing", 1987), with
 // empty-space skipping.
 //
-// Semantics. Voxels are half-open boxes (see depthfilter/voxel_grid.hpp). The walk returns the
+// Semantics. Voxels are half-open boxes (see voxel_grid.hpp). The walk returns the
 // occupied voxel the ray enters first for t in [0, t_max], and the t at which it enters it (0 when
 // the origin lies inside). Where the ray only grazes voxels (passes exactly along a face, an edge
 // or through a corner) either neighbour may be reported: such contacts have zero length.
@@ -21,7 +21,7 @@
 #include <limits>
 
 #include "holo/core/math.hpp"
-#include "holo/depthfilter/voxel_grid.hpp"
+#include "holo/reflect/voxel_grid.hpp"
 
 namespace holo::reflect {
 
@@ -43,7 +43,7 @@ struct WalkStats {
 
 // First occupied voxel along `ray` for t in [0, t_max]. The direction need not be unit length;
 // t is in units of its length.
-VoxelHit firstOccupiedVoxel(const depthfilter::VoxelGrid& grid, const Ray& ray,
+VoxelHit firstOccupiedVoxel(const VoxelGrid& grid, const Ray& ray,
                             float t_max = std::numeric_limits<float>::infinity(),
                             WalkMode mode = WalkMode::Skipping, WalkStats* stats = nullptr);
 

@@ -1,4 +1,4 @@
-#include "holo/depthfilter/voxel_grid.hpp"
+#include "holo/reflect/voxel_grid.hpp"
 
 #include <algorithm>
 #include <array>
@@ -8,7 +8,7 @@
 
 #include "holo/core/error.hpp"
 
-namespace holo::depthfilter {
+namespace holo::reflect {
 namespace {
 
 // Voxel counts above this (2^27 voxels = 512 MiB of indices) are certainly a unit mistake.
@@ -90,11 +90,11 @@ void VoxelGrid::clear() {
   dropped_ = 0;
 }
 
-void VoxelGrid::build(const ForegroundCloud& cloud) {
+void VoxelGrid::build(const depthfilter::ForegroundCloud& cloud) {
   clear();
   std::int64_t last_lin = -1;
   std::int32_t* last_slot = nullptr;
-  for (const ForegroundPoint& p : cloud.points) {
+  for (const depthfilter::ForegroundPoint& p : cloud.points) {
     if (!isFinite(p.position)) {
       ++dropped_;
       continue;
@@ -181,4 +181,4 @@ void VoxelGrid::computeBrickDistances() {
             std::uint8_t(std::min(d[std::size_t(at(x + 1, y + 1, z + 1))], kFar));
 }
 
-}  // namespace holo::depthfilter
+}  // namespace holo::reflect

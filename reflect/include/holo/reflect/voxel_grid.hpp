@@ -18,7 +18,7 @@
 #include "holo/core/math.hpp"
 #include "holo/depthfilter/foreground_cloud.hpp"
 
-namespace holo::depthfilter {
+namespace holo::reflect {
 
 struct VoxelGridSettings {
   // World box the grid covers (metres; world = pyramid frame, y = 0 on the base top, the floor
@@ -50,7 +50,7 @@ class VoxelGrid {
 
   // Empties the grid, then bins every point inside the bounds. Points outside the bounds or
   // with non-finite positions are skipped and counted in droppedPoints().
-  void build(const ForegroundCloud& cloud);
+  void build(const depthfilter::ForegroundCloud& cloud);
   // Empties the grid in O(occupied voxels).
   void clear();
 
@@ -130,4 +130,4 @@ class VoxelGrid {
   std::size_t dropped_ = 0;
 };
 
-}  // namespace holo::depthfilter
+}  // namespace holo::reflect

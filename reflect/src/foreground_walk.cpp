@@ -1,0 +1,235 @@
+#include "foreground_walk.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "holo/reflect/voxel_walk.hpp"
+
+namespace holo::reflect {
+
+std::optional<float> nearMissT(const VoxelGrid& grid, const Ray& ray, float t_max, float radius_per_m) {
+  const float brick_m = grid.voxelSize() * float(grid.brickSize());
+  const Bounds3 box{grid.origin(), grid.origin() + vec3(grid.dims()) * grid.voxelSize()};
+  float t0 = 0.0f, t1 = t_max;
+  for (int a = 0; a < 3; ++a) {
+    if (ray.direction[a] == 0.0f) {
+      if (!(ray.origin[a] >= box.lo[a] && ray.origin[a] < box.hi[a])) return std::nullopt;
+      continue;
+    }
+    const float inv = 1.0f / ray.direction[a];
+    float ta = (box.lo[a] - ray.origin[a]) * inv, tb = (box.hi[a] - ray.origin[a]) * inv;
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  const glm::ivec3 bricks = grid.brickDims();
+  // The ray in brick units, so that a step's brick is one floor.
+  const vec3 origin_b = (ray.origin - box.lo) / brick_m, direction_b = ray.direction / brick_m;
+  // Every iteration advances t by at least half a brick: the loop is bounded by the box.
+  for (float t = std::max(t0, 0.5f * brick_m); t <= t1;) {
+    const vec3 at = glm::floor(origin_b + direction_b * t);
+    if (glm::any(glm::lessThan(at, vec3(0.0f))) || glm::any(glm::greaterThanEqual(at, vec3(bricks)))) break;
+    const glm::ivec3 b(at);
+    const float gap = float(std::max(int(grid.brickDistance(b)) - 1, 0)) * brick_m;
+    const float radius = radius_per_m * t;
+    if (grid.brickCount(b) > 0 || gap <= radius) return t;
+    t += std::max(0.5f * brick_m, gap - radius_per_m * (t + gap));
+  }
+  return std::nullopt;
+}
+
+std::optional<CameraPixel> cameraAlong(const std::vector<ForegroundCameraImage>& cameras,
+                                       const std::vector<ForegroundPyramid>& pyramids, const vec3& point,
+                                       const vec3& direction) {
+  std::optional<CameraPixel> best;
+  float best_dot = -2.0f;
+  for (std::size_t c = 0; c < pyramids.size(); ++c) {
+    if (pyramids[c].empty()) continue;
+    const CameraModel& cam = cameras[c].camera;
+    float depth = 0.0f;
+    const std::optional<vec2> px = cam.project(point, &depth);
+    if (!px || !(depth > 0.0f) || px->x < 0.0f || px->y < 0.0f || px->x > float(cam.width() - 1) ||
+        px->y > float(cam.height() - 1))
+      continue;
+    const float d = glm::dot(direction, glm::normalize(vec3(cam.T_world_camera()[2])));
+    if (d > best_dot) best_dot = d, best = CameraPixel{c, *px};
+  }
+  return best;
+}
+
+ForegroundWalk::ForegroundWalk(const TracerSettings& settings, const VoxelGrid& grid,
+                               const std::vector<ForegroundPyramid>& pyramids,
+                               const std::vector<ForegroundCameraImage>& cameras,
+                               const RoughForegroundMap* rough_map)
+    : settings_(settings),
+      grid_(grid),
+      pyramids_(pyramids),
+      cameras_(cameras),
+      rough_map_(rough_map),
+      lobe_(ggxLobeMixture(settings.lobe_components)) {}
+
+// The pyramid's blurred foreground at `pixel` for a lobe of `roughness` that travelled travel_m to
+// a point camera_m from the camera: one read per Gaussian of the lobe, the premultiplied colours
+// and the weights mixed.
+ForegroundSample ForegroundWalk::readLobe(const ForegroundPyramid& pyramid, const vec2& pixel,
+                                          float roughness, float travel_m, float camera_m,
+                                          float focal_px) const {
+  const float sigma = reflectedLobeSigma(roughness);
+  ForegroundSample mixed;
+  vec3 premultiplied(0.0f);
+  for (const LobeComponent& c : lobe_) {
+    const float level = std::clamp(foregroundLevelForLobe(sigma * c.sigma_scale, travel_m, camera_m, focal_px,
+                                                          settings_.pyramid_levels) +
+                                       settings_.level_bias,
+                                   0.0f, float(settings_.pyramid_levels - 1));
+    const ForegroundSample s = pyramid.sample(pixel, level);
+    premultiplied += c.weight * s.weight * s.radiance;
+    mixed.weight += c.weight * s.weight;
+  }
+  if (mixed.weight > 0.0f) mixed.radiance = premultiplied / mixed.weight;
+  return mixed;
+}
+
+bool ForegroundWalk::walk(const vec3& position, const vec3& normal, const vec3& reflected, float roughness,
+                          ForegroundSample& sample) const {
+  if (readsRoughMap(rough_map_, settings_, roughness)) {
+    sample = rough_map_->lookup(reflected, roughness);
+    return sample.weight > 0.0f;
+  }
+  const Ray ray{position + normal * settings_.ray_offset, reflected};
+  const VoxelHit vh = firstOccupiedVoxel(grid_, ray, settings_.max_reflection_distance);
+  if (!vh.hit()) {
+    if (roughness < settings_.lobe_fallback_roughness) return false;
+    const float tan_sigma = std::tan(reflectedLobeSigma(roughness));
+    const std::optional<float> t_near =
+        nearMissT(grid_, ray, settings_.max_reflection_distance, 2.0f * tan_sigma);
+    if (!t_near) return false;
+    const vec3 p = ray.origin + ray.direction * *t_near;
+    const std::optional<CameraPixel> seen = cameraAlong(cameras_, pyramids_, p, ray.direction);
+    if (!seen) return false;
+    const CameraModel& cam = cameras_[seen->camera].camera;
+    sample = readLobe(pyramids_[seen->camera], seen->pixel, roughness, *t_near,
+                      glm::length(p - cam.position()), cam.intrinsics().fx);
+    return sample.weight > 0.0f;
+  }
+  const VoxelSample& vs = grid_.sample(vh.sample);
+  if (vs.camera >= pyramids_.size() || pyramids_[vs.camera].empty()) return false;
+  const CameraModel& cam = cameras_[vs.camera].camera;
+  // The point the ray reaches: half a voxel into the one it entered.
+  const vec3 p = ray.origin + ray.direction * (vh.t + 0.5f * grid_.voxelSize());
+  float depth = 0.0f;
+  const std::optional<vec2> px = cam.project(p, &depth);
+  const vec2 pixel = px ? *px : vec2(vs.x, vs.y);
+  sample = readLobe(pyramids_[vs.camera], pixel, roughness, vh.t, glm::length(p - cam.position()),
+                    cam.intrinsics().fx);
+  return true;
+}
+
+WalkCounts ForegroundWalk::walkView(const HitPointBuffer& hits, const std::vector<WalkRay>& walk_rays,
+                                    WalkScratch& scratch, std::vector<ForegroundSample>& fg) const {
+  std::atomic<std::uint64_t> walked{0}, found{0};
+  const std::size_t pixels = hits.pixelCount();
+  const std::vector<std::uint32_t>& covered = hits.covered;
+  // Pixel state of a pixel whose sub-samples reflect partly off the relic itself: no pixel walk.
+  constexpr std::uint8_t kMixedBounce = 3;
+  // Pass 1: one walk per covered pixel (its centre, or the mean ray of its valid
+  // sub-samples). Pixel states: 0 nothing of the relic, 1 its walk missed, 2 it met the
+  // foreground, kMixedBounce no walk.
+  scratch.pixel_fg.resize(pixels);
+  scratch.pixel_state.assign(pixels, 0);
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, covered.size(), 256), [&](const tbb::blocked_range<std::size_t>& r) {
+        std::uint64_t local_walked = 0, local_found = 0;
+        for (std::size_t k = r.begin(); k < r.end(); ++k) {
+          const std::size_t p = covered[k];
+          scratch.pixel_fg[p] = ForegroundSample{};
+          const std::size_t first = hits.firstSample(p);
+          for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i)
+            fg[i] = ForegroundSample{};
+          const std::size_t count = std::size_t(hits.sampleCount(p));
+          vec3 position(0.0f), normal(0.0f), reflected(0.0f);
+          float roughness = 0.0f;
+          int valid = 0, bounced = 0;
+          for (std::size_t i = first; i < first + count; ++i) {
+            if (!hits.valid[i]) continue;
+            const WalkRay& wr = walk_rays[i];
+            position += wr.position;
+            normal += wr.normal;
+            reflected += wr.reflected;
+            roughness += wr.roughness;
+            bounced += wr.bounced;
+            ++valid;
+          }
+          if (valid == 0) continue;
+          const float inv = 1.0f / float(valid);
+          const float nl = glm::length(normal), rl = glm::length(reflected);
+          scratch.pixel_state[p] = 1;
+          // Opposite sub-samples, or some reflected directly and some off the relic: no
+          // mean ray (the sub-samples walk, pass 2).
+          if (bounced != 0 && bounced != valid) scratch.pixel_state[p] = kMixedBounce;
+          if (!(nl > 1e-6f) || !(rl > 1e-6f) || scratch.pixel_state[p] == kMixedBounce) continue;
+          ++local_walked;
+          if (!walk(position * inv, normal / nl, reflected / rl, roughness * inv, scratch.pixel_fg[p]))
+            continue;
+          ++local_found;
+          scratch.pixel_state[p] = 2;
+        }
+        walked += local_walked;
+        found += local_found;
+      });
+  // Pass 2: a pixel with four sub-samples keeps its one walk where its lobe is rough, or where
+  // the foreground it met (or missed) matches its 8 neighbours'; at the reflected foreground's
+  // edges (a neighbour met it and this one did not, or their weights differ by more than
+  // kEdgeWeightStep) each sub-sample walks, which anti-aliases those edges as four walks
+  // everywhere would.
+  constexpr float kEdgeWeightStep = 0.2f;
+  const int w_px = hits.width, h_px = hits.height;
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, covered.size(), 256), [&](const tbb::blocked_range<std::size_t>& r) {
+        std::uint64_t local_walked = 0, local_found = 0;
+        for (std::size_t k = r.begin(); k < r.end(); ++k) {
+          const std::size_t p = covered[k];
+          if (scratch.pixel_state[p] == 0) continue;
+          const std::size_t first = hits.firstSample(p);
+          const std::size_t count = std::size_t(hits.sampleCount(p));
+          const bool mixed = scratch.pixel_state[p] == kMixedBounce;
+          bool rough = !mixed;
+          for (std::size_t i = first; i < first + count && rough; ++i)
+            rough = !hits.valid[i] || walk_rays[i].roughness >= settings_.walk_per_pixel_roughness;
+          bool edge = false;
+          if (count > 1 && !rough && settings_.walk_edges_only) {
+            const int x = int(p % std::size_t(w_px)), y = int(p / std::size_t(w_px));
+            for (int dy = -1; dy <= 1 && !edge; ++dy)
+              for (int dx = -1; dx <= 1 && !edge; ++dx) {
+                const int nx = x + dx, ny = y + dy;
+                if ((dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= w_px || ny >= h_px) continue;
+                const std::size_t q = std::size_t(ny) * std::size_t(w_px) + std::size_t(nx);
+                if (scratch.pixel_state[q] == 0) continue;  // beyond the relic's silhouette
+                edge = scratch.pixel_state[q] != scratch.pixel_state[p] ||
+                       std::abs(scratch.pixel_fg[q].weight - scratch.pixel_fg[p].weight) > kEdgeWeightStep;
+              }
+          }
+          if (mixed || (count > 1 && !rough && (edge || !settings_.walk_edges_only))) {
+            for (std::size_t i = first; i < first + count; ++i) {
+              if (!hits.valid[i]) continue;
+              const WalkRay& wr = walk_rays[i];
+              ++local_walked;
+              local_found += walk(wr.position, wr.normal, wr.reflected, wr.roughness, fg[i]);
+            }
+            continue;
+          }
+          if (scratch.pixel_state[p] != 2) continue;
+          for (std::size_t i = first; i < first + count; ++i)
+            if (hits.valid[i]) fg[i] = scratch.pixel_fg[p];
+        }
+        walked += local_walked;
+        found += local_found;
+      });
+  return {walked, found};
+}
+
+}  // namespace holo::reflect

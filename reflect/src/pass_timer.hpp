@@ -1,0 +1,28 @@
+// Times one frame-renderer pass, from construction to destruction, into a list of PassTiming.
+#pragma once
+
+#include <chrono>
+#include <vector>
+
+#include "holo/reflect/frame_renderer.hpp"
+
+namespace holo::reflect {
+
+class PassTimer {
+ public:
+  PassTimer(std::vector<PassTiming>& out, Pass pass)
+      : out_(out), pass_(pass), start_(std::chrono::steady_clock::now()) {}
+  ~PassTimer() {
+    const auto end = std::chrono::steady_clock::now();
+    out_.push_back({pass_, std::chrono::duration<double, std::milli>(end - start_).count()});
+  }
+  PassTimer(const PassTimer&) = delete;
+  PassTimer& operator=(const PassTimer&) = delete;
+
+ private:
+  std::vector<PassTiming>& out_;
+  Pass pass_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace holo::reflect

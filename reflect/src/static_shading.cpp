@@ -1,0 +1,191 @@
+#include "static_shading.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "compose_pass.hpp"
+#include "holo/core/image.hpp"
+#include "holo/reflect/bsdf.hpp"
+
+namespace holo::reflect {
+namespace {
+
+// The stratum centres (the u of ggx::sampleVisibleNormal) of a side x side grid over the lobe
+// that one hit point traces. Interleaved: the 2x2 pixel classes take every other stratum in each
+// direction (each class alone a coarse grid over the whole lobe), dealt round-robin to the
+// pixel's samples; a 3x3 tent over the pixels then sums every stratum with equal weight.
+template <class F>
+void forEachLobeStratum(int side, bool interleaved, int pixel_class, int sample, int samples, F&& f) {
+  const auto centre = [&](int i, int j) {
+    f(vec2((float(i) + 0.5f) / float(side), (float(j) + 0.5f) / float(side)));
+  };
+  if (!interleaved) {
+    for (int k = 0; k < side * side; ++k) centre(k % side, k / side);
+    return;
+  }
+  const int half = side / 2, count = half * half;
+  const auto own = [&](int r) {
+    centre(2 * (r % half) + (pixel_class & 1), 2 * (r / half) + (pixel_class >> 1));
+  };
+  if (count <= samples) {
+    own(sample % count);
+    return;
+  }
+  for (int r = sample; r < count; r += samples) own(r);
+}
+
+void addLobeBounce(const LobeBounce& bounce, SplitSumShading& shading) {
+  if (!(bounce.met > 0.0f)) return;
+  // The share of the lobe that meets the relic sees its second points' static shading (their own
+  // foreground is left out: the rough map read at the first point stands for the whole lobe).
+  const float fraction = std::min(bounce.met / bounce.above, 1.0f);
+  shading.diffuse += shading.specular_scale * fraction * bounce.diffuse / bounce.met;
+  shading.environment = (1.0f - fraction) * shading.environment + fraction * bounce.specular / bounce.met;
+}
+
+}  // namespace
+
+void LobeBounce::add(const LobeBounce& other, float weight) {
+  above += weight * other.above;
+  met += weight * other.met;
+  diffuse += weight * other.diffuse;
+  specular += weight * other.specular;
+}
+
+StaticShading::StaticShading(const RenderScene& scene, const PrefilteredIbl& ibl,
+                             const TracerSettings& settings, const RoughForegroundMap* rough_map)
+    : scene_(scene), ibl_(ibl), settings_(settings), rough_map_(rough_map) {}
+
+std::optional<LobeBounce> StaticShading::shadeHit(const HitPoint& hp, const LobeShare& share,
+                                                  SplitSumShading& shading, WalkRay& walk_ray) const {
+  shading = ibl_.shadeParts(hp.material, hp.normal, hp.to_viewer, hp.reflected);
+  walk_ray = {hp.position, hp.normal, hp.reflected, hp.material.roughness, false};
+  if (!settings_.relic_interreflection) return std::nullopt;
+  if (settings_.rough_interreflection_grid > 1 &&
+      readsRoughMap(rough_map_, settings_, hp.material.roughness)) {
+    const LobeBounce bounce = traceLobeBounce(hp, share);
+    if (settings_.rough_interreflection_interleaved) return bounce;
+    addLobeBounce(bounce, shading);
+    return std::nullopt;
+  }
+  const RayScene& relic = scene_.relicOnly();
+  const Ray ray{hp.position + hp.normal * settings_.ray_offset, hp.reflected};
+  const RayHit hit = relic.intersect(ray);
+  if (!hit.hit()) return std::nullopt;
+  const vec3 position = relic.position(ray, hit);
+  const vec3 normal = relic.shadingNormal(hit, ray.direction);
+  const vec3 reflected = glm::reflect(ray.direction, normal);
+  if (!isFinite(position) || !isFinite(normal) || !isFinite(reflected)) return std::nullopt;
+  const SurfaceMaterial material = scene_.relicMaterial(hit, relic);
+  const SplitSumShading second = ibl_.shadeParts(material, normal, -ray.direction, reflected);
+  // L = diffuse_1 + s_1 L_2 and L_2 = diffuse_2 + s_2 (psi_d w + env_2 (1 - w)): the composition's
+  // form with scale s_1 s_2 and environment env_2.
+  shading.diffuse += shading.specular_scale * second.diffuse;
+  shading.specular_scale *= second.specular_scale;
+  shading.environment = second.environment;
+  // The two lobes widen each other: GGX alphas (roughness^2) add in quadrature.
+  const float a1 = hp.material.roughness * hp.material.roughness,
+              a2 = material.roughness * material.roughness;
+  walk_ray = {position, normal, reflected, std::sqrt(std::sqrt(a1 * a1 + a2 * a2)), true};
+  return std::nullopt;
+}
+
+LobeBounce StaticShading::traceLobeBounce(const HitPoint& hp, const LobeShare& share) const {
+  LobeBounce bounce;
+  const Frame frame(hp.normal);
+  const vec3 wo = frame.toLocal(hp.to_viewer);
+  if (!(wo.z > 0.0f)) return bounce;
+  const float alpha = std::max(hp.material.roughness * hp.material.roughness, 1e-3f);
+  const RayScene& relic = scene_.relicOnly();
+  forEachLobeStratum(settings_.rough_interreflection_grid, settings_.rough_interreflection_interleaved,
+                     share.pixel_class, share.sample, share.samples, [&](const vec2& u) {
+                       const vec3 l =
+                           glm::reflect(-hp.to_viewer, frame.toWorld(ggx::sampleVisibleNormal(wo, alpha, u)));
+                       if (!(glm::dot(l, hp.normal) > 0.0f)) return;
+                       bounce.above += 1.0f;
+                       const Ray ray{hp.position + hp.normal * settings_.ray_offset, l};
+                       const RayHit hit = relic.intersect(ray);
+                       if (!hit.hit()) return;
+                       const vec3 normal = relic.shadingNormal(hit, ray.direction);
+                       const vec3 reflected = glm::reflect(ray.direction, normal);
+                       if (!isFinite(normal) || !isFinite(reflected)) return;
+                       const SplitSumShading second = ibl_.shadeParts(scene_.relicMaterial(hit, relic),
+                                                                      normal, -ray.direction, reflected);
+                       bounce.diffuse += second.diffuse;
+                       bounce.specular += second.specular_scale * second.environment;
+                       bounce.met += 1.0f;
+                     });
+  return bounce;
+}
+
+void StaticShading::poolLobeBounces(const HitPointBuffer& hits, const std::vector<PixelBounce>& bounces,
+                                    const CameraModel& view, int x, int y,
+                                    std::vector<SplitSumShading>& shading) const {
+  const std::size_t p = std::size_t(y) * std::size_t(hits.width) + std::size_t(x);
+  const PixelBounce& own = bounces[p];
+  if (!own.rough) return;
+  // Neighbours on the same surface only: a few pixels' footprint away and facing alike.
+  const float reach = 4.0f * glm::length(own.position - view.position()) / view.intrinsics().fx;
+  LobeBounce sum;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const int nx = x + dx, ny = y + dy;
+      if (nx < 0 || ny < 0 || nx >= hits.width || ny >= hits.height) continue;
+      const PixelBounce& other = bounces[std::size_t(ny) * std::size_t(hits.width) + std::size_t(nx)];
+      if (!other.rough || glm::dot(other.normal, own.normal) < 0.9f ||
+          glm::length(other.position - own.position) > reach)
+        continue;
+      sum.add(other.samples, float((2 - std::abs(dx)) * (2 - std::abs(dy))));
+    }
+  const std::size_t first = hits.firstSample(p);
+  for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i)
+    if (hits.valid[i] && readsRoughMap(rough_map_, settings_, hits.hits[i].material.roughness))
+      addLobeBounce(sum, shading[i]);
+}
+
+void StaticShading::shade(const HitPointBuffer& hits, const CameraModel& view,
+                          std::vector<SplitSumShading>& shading, std::vector<WalkRay>& walk_rays,
+                          std::vector<PixelBounce>& bounces, cv::Mat& hdr, cv::Mat& coverage) const {
+  const int w = hits.width;
+  shading.resize(hits.hits.size());
+  walk_rays.resize(hits.hits.size());
+  const bool pool_bounces = rough_map_ && settings_.relic_interreflection &&
+                            settings_.rough_interreflection_grid > 1 &&
+                            settings_.rough_interreflection_interleaved;
+  if (pool_bounces) bounces.assign(hits.pixelCount(), PixelBounce{});
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                        const std::size_t p = hits.covered[k];
+                        const std::size_t first = hits.firstSample(p);
+                        const int x = int(p % std::size_t(w)), y = int(p / std::size_t(w));
+                        LobeShare share{(x & 1) + 2 * (y & 1), 0, hits.sampleCount(p)};
+                        for (share.sample = 0; share.sample < share.samples; ++share.sample) {
+                          const std::size_t i = first + std::size_t(share.sample);
+                          if (!hits.valid[i]) continue;
+                          const std::optional<LobeBounce> bounce =
+                              shadeHit(hits.hits[i], share, shading[i], walk_rays[i]);
+                          if (!bounce) continue;
+                          PixelBounce& pixel = bounces[p];
+                          if (!pixel.rough) pixel = {true, hits.hits[i].position, hits.hits[i].normal, {}};
+                          pixel.samples.add(*bounce, 1.0f);
+                        }
+                      }
+                    });
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                        const std::size_t p = hits.covered[k];
+                        const int x = int(p % std::size_t(w)), y = int(p / std::size_t(w));
+                        if (pool_bounces) poolLobeBounces(hits, bounces, view, x, y, shading);
+                        float weight = 0.0f;
+                        setRgb(hdr, x, y, composePixel(hits, shading, nullptr, p, weight));
+                        coverage.at<float>(y, x) = hits.coverage(x, y);
+                      }
+                    });
+}
+
+}  // namespace holo::reflect

@@ -1,0 +1,92 @@
+// The frame renderer's static pass (internal): per hit point of a view, the split-sum shading of
+// the prefiltered IBL (psi_s's scale and environment, and the diffuse irradiance) with one
+// interreflection bounce where the reflection meets the relic itself, and the ray the
+// foreground walk follows from the point. What it writes depends on the relic, the hall and the
+// eye only, so the frame renderer caches it per view (frame_renderer.hpp).
+//
+// Interreflection: a material below foreground_map_roughness follows its mirror ray; where that
+// meets the relic, the point's environment becomes the second point's (its specular scale
+// multiplied in, its diffuse added) and the walk starts there. A material read from the rough
+// map traces its GGX lobe at rough_interreflection_grid^2 strata centres instead: the share that
+// meets the relic sees the second points' static shading, the rest the hall. Interleaved, each
+// hit point traces only the strata of its 2x2 pixel class dealt to its sample, and a 3x3 tent
+// over the pixels of the same surface sums them all.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "holo/reflect/frame_renderer.hpp"
+#include "holo/reflect/hit_points.hpp"
+#include "holo/reflect/prefiltered_ibl.hpp"
+#include "holo/reflect/render_scene.hpp"
+#include "holo/reflect/rough_foreground_map.hpp"
+
+namespace holo::reflect {
+
+// Whether a material of this roughness takes its foreground from the rough map (null: none).
+inline bool readsRoughMap(const RoughForegroundMap* map, const TracerSettings& settings, float roughness) {
+  return map != nullptr && roughness >= settings.foreground_map_roughness;
+}
+
+// The ray a hit point's foreground walk follows: its mirror ray, or the mirror ray of its
+// interreflection's second point (bounced), with the two lobes' roughness combined.
+struct WalkRay {
+  vec3 position{0.0f}, normal{0.0f, 1.0f, 0.0f}, reflected{0.0f, 1.0f, 0.0f};
+  float roughness = 0.0f;
+  bool bounced = false;
+};
+
+// The rough lobe's interreflection samples of one hit point (or their sum over pixels).
+struct LobeBounce {
+  float above = 0.0f, met = 0.0f;      // lobe samples above the surface; those that met the relic
+  vec3 diffuse{0.0f}, specular{0.0f};  // sums over the met ones of their second points' shading
+  void add(const LobeBounce& other, float weight);
+};
+
+// A pixel's interleaved lobe samples and where they lie (its first rough sample's point).
+struct PixelBounce {
+  bool rough = false;
+  vec3 position{0.0f}, normal{0.0f};
+  LobeBounce samples;
+};
+
+class StaticShading {
+ public:
+  // Everything must outlive this; rough_map may be null (no material reads it).
+  StaticShading(const RenderScene& scene, const PrefilteredIbl& ibl, const TracerSettings& settings,
+                const RoughForegroundMap* rough_map);
+
+  // Shades every valid sample of `hits` (traced from `view`) into shading and walk_rays (per
+  // entry of hits.hits; others are left as they were) and writes the static image: hdr, CV_32FC3
+  // linear BGR, the mean over each pixel's samples of psi_s + diffuse (misses black), and
+  // coverage, CV_32FC1; both must be view-sized and zero, only covered pixels are written.
+  // `bounces` is scratch, reused across calls.
+  void shade(const HitPointBuffer& hits, const CameraModel& view, std::vector<SplitSumShading>& shading,
+             std::vector<WalkRay>& walk_rays, std::vector<PixelBounce>& bounces, cv::Mat& hdr,
+             cv::Mat& coverage) const;
+
+ private:
+  // Which of the rough lobe's strata a hit point traces: its pixel's 2x2 class ((x & 1) +
+  // 2 (y & 1)) and its sample of the pixel's.
+  struct LobeShare {
+    int pixel_class = 0, sample = 0, samples = 1;
+  };
+  // One hit point: its shading and walk ray. For a material read from the rough map with
+  // interleaved strata, its share of the lobe's interreflection, left for the pixel pooling.
+  std::optional<LobeBounce> shadeHit(const HitPoint& hp, const LobeShare& share, SplitSumShading& shading,
+                                     WalkRay& walk_ray) const;
+
+  LobeBounce traceLobeBounce(const HitPoint& hp, const LobeShare& share) const;
+  void poolLobeBounces(const HitPointBuffer& hits, const std::vector<PixelBounce>& bounces,
+                       const CameraModel& view, int x, int y, std::vector<SplitSumShading>& shading) const;
+
+  const RenderScene& scene_;
+  const PrefilteredIbl& ibl_;
+  const TracerSettings& settings_;
+  const RoughForegroundMap* rough_map_;
+};
+
+}  // namespace holo::reflect

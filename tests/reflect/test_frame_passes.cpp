@@ -1,0 +1,227 @@
+// The frame renderer's passes one at a time (reflect/src): static shading, the foreground walk
+// with its camera choice and near-miss march, the composition and the tone map of the covered
+// pixels, each on a small analytic scene.
+#include <gtest/gtest.h>
+
+#include "compose_pass.hpp"
+#include "foreground_walk.hpp"
+#include "holo/core/image.hpp"
+#include "holo/reflect/tone_map.hpp"
+#include "holo/reflect/view.hpp"
+#include "reflect_test_scenes.hpp"
+#include "static_shading.hpp"
+
+namespace holo::reflect {
+namespace {
+
+using depthfilter::ForegroundCloud;
+using depthfilter::ForegroundPoint;
+
+TracerSettings smallGrid() {
+  TracerSettings s;
+  s.grid.bounds = {vec3(-1.0f, 0.0f, -1.0f), vec3(1.0f, 1.5f, 1.0f)};
+  s.grid.voxel_size = 0.02f;  // bricks of 4 voxels: 8 cm
+  return s;
+}
+
+// A metal sphere (F0 0.9) of radius 0.15 at (0, 0.3, 0) under a uniform sky of 0.5, seen from +z.
+struct MirrorSphere {
+  explicit MirrorSphere(float roughness = 0.0f)
+      : scene(test::sphereModel({vec3(0.9f), 1.0f, roughness, 1.0f}, 0.15f, vec3(0.0f, 0.3f, 0.0f), 24, 48),
+              {}),
+        ibl(Environment::uniform(vec3(0.5f)), PrefilterOptions{5, 16, 16}) {
+    traceHitPoints(scene, view, AntiAliasing::None, hits);
+  }
+  RenderScene scene;
+  PrefilteredIbl ibl;
+  CameraModel view = lookAtCamera(vec3(0.0f, 0.3f, 1.2f), vec3(0.0f, 0.3f, 0.0f), 16.0f, 48, 48);
+  HitPointBuffer hits;
+};
+
+struct StaticResult {
+  std::vector<SplitSumShading> shading;
+  std::vector<WalkRay> walk_rays;
+  cv::Mat hdr, coverage;
+};
+
+StaticResult shadeStatic(const RenderScene& scene, const PrefilteredIbl& ibl, const TracerSettings& settings,
+                         const HitPointBuffer& hits, const CameraModel& view) {
+  StaticResult r;
+  r.hdr = cv::Mat(hits.height, hits.width, CV_32FC3, cv::Scalar::all(0));
+  r.coverage = cv::Mat(hits.height, hits.width, CV_32FC1, cv::Scalar(0));
+  std::vector<PixelBounce> bounces;
+  StaticShading(scene, ibl, settings, nullptr)
+      .shade(hits, view, r.shading, r.walk_rays, bounces, r.hdr, r.coverage);
+  return r;
+}
+
+TEST(StaticShadingPass, MirrorSphereShowsTheSkyTimesItsReflectance) {
+  const MirrorSphere m;
+  const StaticResult r = shadeStatic(m.scene, m.ibl, smallGrid(), m.hits, m.view);
+  // The centre: the sky (0.5) times the metal's F0 (0.9); off the sphere: black, no coverage.
+  EXPECT_NEAR(rgbAt(r.hdr, 24, 24).g, 0.45f, 0.02f);
+  EXPECT_FLOAT_EQ(r.coverage.at<float>(24, 24), 1.0f);
+  EXPECT_EQ(rgbAt(r.hdr, 0, 0), vec3(0.0f));
+  EXPECT_FLOAT_EQ(r.coverage.at<float>(0, 0), 0.0f);
+  // A convex relic never meets itself: every walk ray is the hit point's own mirror ray.
+  for (std::uint32_t p : m.hits.covered) {
+    const WalkRay& w = r.walk_rays[p];
+    EXPECT_FALSE(w.bounced);
+    EXPECT_EQ(w.reflected, m.hits.hits[p].reflected);
+  }
+}
+
+TEST(StaticShadingPass, InterreflectionStartsTheWalkOnTheSecondPoint) {
+  // Two mirror spheres side by side, bright (F0 0.9) and dark (0.2): where one's limb mirrors the
+  // other, its walk ray starts (bounced) on the other with the second point's reflection.
+  Model model = test::sphereModel({vec3(0.9f), 1.0f, 0.0f, 1.0f}, 0.15f, vec3(-0.16f, 0.3f, 0.0f), 24, 48);
+  const Model right =
+      test::sphereModel({vec3(0.2f), 1.0f, 0.0f, 1.0f}, 0.15f, vec3(0.16f, 0.3f, 0.0f), 24, 48);
+  model.meshes.push_back(right.meshes.front());
+  model.meshes.back().material = 1;
+  model.materials.push_back(right.materials.front());
+  const RenderScene scene(model, {});
+  const PrefilteredIbl ibl(Environment::uniform(vec3(0.5f)), PrefilterOptions{5, 16, 16});
+  const CameraModel view = lookAtCamera(vec3(0.0f, 0.3f, 1.5f), vec3(0.0f, 0.3f, 0.0f), 30.0f, 64, 64);
+  HitPointBuffer hits;
+  traceHitPoints(scene, view, AntiAliasing::None, hits);
+  TracerSettings on = smallGrid(), off = smallGrid();
+  off.relic_interreflection = false;
+  const StaticResult with = shadeStatic(scene, ibl, on, hits, view);
+  const StaticResult without = shadeStatic(scene, ibl, off, hits, view);
+  int bounced = 0, darker = 0;
+  for (std::uint32_t p : hits.covered) {
+    EXPECT_FALSE(without.walk_rays[p].bounced);
+    if (!with.walk_rays[p].bounced) continue;
+    ++bounced;
+    // On the other sphere (each limb facing the other mirrors it).
+    EXPECT_LT(with.walk_rays[p].position.x * hits.hits[p].position.x, 0.0f);
+    // The other sphere's reflection of the sky (its reflectance multiplied in) instead of the sky;
+    // the bright sphere's pixels show the dark one's F0 0.2.
+    const int x = int(p % 64u), y = int(p / 64u);
+    EXPECT_LE(rgbAt(with.hdr, x, y).g, rgbAt(without.hdr, x, y).g + 1e-6f);
+    darker += rgbAt(with.hdr, x, y).g < 0.5f * rgbAt(without.hdr, x, y).g;
+  }
+  EXPECT_GT(bounced, 5);
+  EXPECT_GT(darker, 5);
+}
+
+TEST(NearMissMarch, FindsTheFirstPointWithinTheRadiusOfAnOccupiedBrick) {
+  const TracerSettings s = smallGrid();
+  VoxelGrid grid(s.grid);
+  ForegroundCloud cloud;
+  ForegroundPoint p;
+  p.position = vec3(0.01f, 0.51f, 0.01f);
+  cloud.points.push_back(p);
+  grid.build(cloud);
+  // Passing 0.3 m beside the point, along +x from 0.9 m before it.
+  const Ray ray{vec3(-0.9f, 0.51f, 0.31f), vec3(1.0f, 0.0f, 0.0f)};
+  EXPECT_FALSE(nearMissT(grid, ray, 2.0f, 0.0f));  // nowhere near at radius 0
+  // Within the grid (t < 1.9) 0.1 t stays below the 3 empty bricks (0.24 m) around the point's.
+  EXPECT_FALSE(nearMissT(grid, ray, 2.0f, 0.1f));
+  const std::optional<float> t = nearMissT(grid, ray, 2.0f, 0.5f);
+  ASSERT_TRUE(t);
+  // 0.5 t first reaches the empty bricks' 0.24 m near t = 0.5: never before 0.3, nor past the point.
+  EXPECT_GT(*t, 0.3f);
+  EXPECT_LT(*t, 0.9f);
+  const float distance = glm::length(ray.origin + *t * ray.direction - p.position);
+  EXPECT_LE(distance, 0.5f * *t + 2.0f * 0.08f * std::sqrt(3.0f));
+  // Away from the point: never.
+  EXPECT_FALSE(nearMissT(grid, Ray{ray.origin, -ray.direction}, 2.0f, 0.5f));
+}
+
+TEST(CameraChoice, TakesTheCameraLookingMostAlongTheRayThatSeesThePoint) {
+  std::vector<ForegroundCameraImage> cameras(2);
+  cameras[0].camera = lookAtCamera(vec3(0.0f, 0.0f, 2.0f), vec3(0.0f), 60.0f, 16, 16);  // looks along -z
+  cameras[1].camera = lookAtCamera(vec3(2.0f, 0.0f, 0.0f), vec3(0.0f), 60.0f, 16, 16);  // looks along -x
+  const cv::Mat colour(16, 16, CV_32FC3, cv::Scalar::all(1)), mask(16, 16, CV_32FC1, cv::Scalar(1));
+  std::vector<ForegroundPyramid> pyramids(2);
+  for (ForegroundPyramid& p : pyramids) p.build(colour, mask, 2);
+  const auto along = [&](const vec3& point, const vec3& direction) {
+    return cameraAlong(cameras, pyramids, point, direction);
+  };
+  ASSERT_TRUE(along(vec3(0.0f), vec3(0.0f, 0.0f, -1.0f)));
+  EXPECT_EQ(along(vec3(0.0f), vec3(0.0f, 0.0f, -1.0f))->camera, 0u);
+  EXPECT_EQ(along(vec3(0.0f), vec3(-1.0f, 0.0f, 0.0f))->camera, 1u);
+  EXPECT_NEAR(along(vec3(0.0f), vec3(-1.0f, 0.0f, 0.0f))->pixel.x, 7.5f, 0.6f);  // the image centre
+  // Behind the first camera and outside the second's image: no camera sees the point.
+  EXPECT_FALSE(along(vec3(0.0f, 0.0f, 2.5f), vec3(0.0f, 0.0f, -1.0f)));
+  // A camera without an image this frame is never chosen.
+  pyramids[0].clear();
+  EXPECT_EQ(along(vec3(0.0f), vec3(0.0f, 0.0f, -1.0f))->camera, 1u);
+  pyramids[1].clear();
+  EXPECT_FALSE(along(vec3(0.0f), vec3(0.0f, 0.0f, -1.0f)));
+}
+
+TEST(ForegroundWalkPass, MirrorRaysMeetTheWallInItsColour) {
+  const MirrorSphere m;
+  const TracerSettings s = smallGrid();
+  const test::RedWall wall = test::redWall();
+  VoxelGrid grid(s.grid);
+  grid.build(wall.cloud);
+  const std::vector<ForegroundCameraImage> cameras = {wall.camera};
+  std::vector<ForegroundPyramid> pyramids(1);
+  pyramids[0].build(wall.camera.colour_bgr, wall.camera.mask, s.pyramid_levels);
+  const ForegroundWalk walk(s, grid, pyramids, cameras, nullptr);
+  // Straight back from the sphere's front: the wall, red.
+  ForegroundSample sample;
+  ASSERT_TRUE(walk.walk(vec3(0.0f, 0.3f, 0.15f), vec3(0, 0, 1), vec3(0, 0, 1), 0.0f, sample));
+  EXPECT_NEAR(sample.radiance.r, 2.0f, 0.05f);
+  EXPECT_NEAR(sample.radiance.g, 0.0f, 0.01f);
+  EXPECT_NEAR(sample.weight, 1.0f, 0.01f);
+  // Away from the wall: nothing, the sample untouched.
+  ForegroundSample none;
+  EXPECT_FALSE(walk.walk(vec3(0.0f, 0.3f, -0.15f), vec3(0, 0, -1), vec3(0, 0, -1), 0.0f, none));
+  EXPECT_EQ(none.weight, 0.0f);
+  // A whole view: the centre pixel meets the wall, the corners are not the relic's.
+  const StaticResult st = shadeStatic(m.scene, m.ibl, s, m.hits, m.view);
+  std::vector<ForegroundSample> fg(m.hits.hits.size());
+  WalkScratch scratch;
+  const WalkCounts counts = walk.walkView(m.hits, st.walk_rays, scratch, fg);
+  EXPECT_EQ(counts.walked, m.hits.covered.size());  // one sample per pixel: one walk each
+  EXPECT_GT(counts.found, 0u);
+  EXPECT_LT(counts.found, counts.walked);  // rays near the rim pass beside the wall
+  EXPECT_NEAR(fg[24 * 48 + 24].radiance.r, 2.0f, 0.05f);
+  EXPECT_EQ(fg[0].weight, 0.0f);
+}
+
+TEST(CompositionPass, ComposesOnlyWhereTheForegroundReachedAndTonemapsThose) {
+  const MirrorSphere m;
+  const StaticResult st = shadeStatic(m.scene, m.ibl, smallGrid(), m.hits, m.view);
+  std::vector<ForegroundSample> fg(m.hits.hits.size());
+  const std::size_t lit = 24 * 48 + 24;
+  fg[lit] = {vec3(2.0f, 0.0f, 0.0f), 1.0f};
+  cv::Mat hdr = st.hdr.clone(), weight(48, 48, CV_32FC1, cv::Scalar(0));
+  cv::Mat display = toneMapCovered(hdr, m.hits.covered, 1.0f);
+  EXPECT_EQ(composeForeground(m.hits, st.shading, fg, 1.0f, hdr, weight, display), 1u);
+  // w = 1: the specular is the foreground's alone, plus the diffuse (none for a metal).
+  const SplitSumShading& sh = st.shading[lit];
+  const vec3 expected = sh.specular_scale * vec3(2.0f, 0.0f, 0.0f) + sh.diffuse;
+  EXPECT_NEAR(rgbAt(hdr, 24, 24).r, expected.r, 1e-5f);
+  EXPECT_NEAR(rgbAt(hdr, 24, 24).g, expected.g, 1e-5f);
+  EXPECT_FLOAT_EQ(weight.at<float>(24, 24), 1.0f);
+  EXPECT_EQ(display.at<cv::Vec3b>(24, 24), toneMapPixel(expected, 1.0f));
+  // Every other pixel keeps the static image.
+  EXPECT_EQ(rgbAt(hdr, 23, 24), rgbAt(st.hdr, 23, 24));
+  EXPECT_FLOAT_EQ(weight.at<float>(24, 23), 0.0f);
+  // Without a tone map (exposure 0) the display is left alone.
+  cv::Mat untouched;
+  EXPECT_EQ(composeForeground(m.hits, st.shading, fg, 0.0f, hdr, weight, untouched), 1u);
+  EXPECT_TRUE(untouched.empty());
+}
+
+TEST(ToneMapPass, MapsTheCoveredPixelsAndLeavesTheRestBlack) {
+  cv::Mat hdr(4, 4, CV_32FC3, cv::Scalar::all(0.5));
+  const std::vector<std::uint32_t> covered = {1, 6, 15};
+  const cv::Mat display = toneMapCovered(hdr, covered, 2.0f);
+  ASSERT_EQ(display.type(), CV_8UC3);
+  const cv::Vec3b mapped = toneMapPixel(vec3(0.5f), 2.0f);
+  EXPECT_NE(mapped, cv::Vec3b(0, 0, 0));
+  for (int p = 0; p < 16; ++p) {
+    const bool in = p == 1 || p == 6 || p == 15;
+    EXPECT_EQ(display.at<cv::Vec3b>(p / 4, p % 4), in ? mapped : cv::Vec3b(0, 0, 0)) << p;
+  }
+}
+
+}  // namespace
+}  // namespace holo::reflect
