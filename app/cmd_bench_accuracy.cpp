@@ -28,8 +28,8 @@
 #include "holo/reflect/path_tracer.hpp"
 #include "holo/reflect/tone_map.hpp"
 #include "holo/reflect/voxel_emitters.hpp"
-#include "loglog_plot.hpp"
-#include "reflection_setup.hpp"
+#include "holo/eval/loglog_plot.hpp"
+#include "holo/eval/reflection_scene.hpp"
 
 namespace holo::app {
 namespace {

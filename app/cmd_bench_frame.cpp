@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "command.hpp"
-#include "frame_loop.hpp"
+#include "holo/pipeline/frame_loop.hpp"
 #include "holo/core/files.hpp"
 #include "holo/core/log.hpp"
 #include "holo/core/median.hpp"

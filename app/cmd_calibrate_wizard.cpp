@@ -9,7 +9,7 @@
 #include <iostream>
 #include <sstream>
 
-#include "calibration_wizard.hpp"
+#include "holo/calib/calibration_wizard.hpp"
 #include "holo/calib/simulated_rig.hpp"
 #include "holo/core/error.hpp"
 

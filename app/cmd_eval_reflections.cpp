@@ -22,8 +22,8 @@
 #include "holo/core/hdr_io.hpp"
 #include "holo/reflect/image_metrics.hpp"
 #include "holo/reflect/tone_map.hpp"
-#include "loglog_plot.hpp"
-#include "reflection_setup.hpp"
+#include "holo/eval/loglog_plot.hpp"
+#include "holo/eval/reflection_scene.hpp"
 
 namespace holo::app {
 namespace {

@@ -41,8 +41,8 @@
 #include "holo/reflect/tone_map.hpp"
 #include "holo/reflect/voxel_emitters.hpp"
 #include "holo/sim/museum.hpp"
-#include "loglog_plot.hpp"
-#include "reflection_setup.hpp"
+#include "holo/eval/loglog_plot.hpp"
+#include "holo/eval/reflection_scene.hpp"
 
 namespace holo::app {
 namespace {

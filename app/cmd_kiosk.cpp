@@ -20,7 +20,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "command.hpp"
-#include "frame_loop.hpp"
+#include "holo/pipeline/frame_loop.hpp"
 #include "holo/capture/simulated_source.hpp"
 #include "holo/core/config.hpp"
 #include "holo/core/error.hpp"

@@ -5,7 +5,7 @@
 
 #include "command.hpp"
 #include "holo/core/error.hpp"
-#include "reflection_setup.hpp"
+#include "holo/eval/reflection_scene.hpp"
 
 namespace holo::app {
 namespace {

@@ -10,7 +10,7 @@
 #include <optional>
 
 #include "command.hpp"
-#include "frame_loop.hpp"
+#include "holo/pipeline/frame_loop.hpp"
 #include "holo/core/config.hpp"
 #include "holo/core/files.hpp"
 #include "holo/core/log.hpp"

@@ -7,7 +7,7 @@
 #include <regex>
 #include <string>
 
-#include "loglog_plot.hpp"
+#include "holo/eval/loglog_plot.hpp"
 
 namespace {
 

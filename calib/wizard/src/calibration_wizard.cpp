@@ -1,4 +1,4 @@
-#include "calibration_wizard.hpp"
+#include "holo/calib/calibration_wizard.hpp"
 
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>

@@ -38,7 +38,7 @@
 #include "holo/reflect/frame_renderer.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
 #include "holo/reflect/render_scene.hpp"
-#include "installation.hpp"
+#include "holo/pipeline/installation.hpp"
 
 namespace holo::app {
 

@@ -1,4 +1,4 @@
-#include "reflection_setup.hpp"
+#include "holo/eval/reflection_scene.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -1,4 +1,4 @@
-#include "loglog_plot.hpp"
+#include "holo/eval/loglog_plot.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "frame_loop.hpp"
+#include "holo/pipeline/frame_loop.hpp"
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>

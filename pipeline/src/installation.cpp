@@ -1,4 +1,4 @@
-#include "installation.hpp"
+#include "holo/pipeline/installation.hpp"
 
 #include <tbb/parallel_for.h>
 
