@@ -1,41 +1,24 @@
 #include "holo/eval/reflection_scene.hpp"
 
 #include <algorithm>
-#include <chrono>
-#include <filesystem>
-#include <opencv2/imgcodecs.hpp>
+#include <optional>
 #include <sstream>
 
 #include "holo/core/error.hpp"
-#include "holo/core/files.hpp"
 #include "holo/core/gltf_io.hpp"
 #include "holo/core/hdr_io.hpp"
 #include "holo/core/image.hpp"
-#include "holo/reflect/foreground_environment.hpp"
 #include "holo/reflect/hit_points.hpp"
-#include "holo/reflect/ibl_renderer.hpp"
-#include "holo/reflect/path_tracer.hpp"
-#include "holo/reflect/ssrt.hpp"
-#include "holo/reflect/tone_map.hpp"
+#include "holo/reflect/render_scene.hpp"
 #include "holo/reflect/view.hpp"
-#include "holo/reflect/voxel_emitters.hpp"
 #include "holo/sim/halls.hpp"
 #include "holo/sim/museum.hpp"
 #include "holo/sim/relics.hpp"
 
-namespace holo::app {
+namespace holo::eval {
 namespace {
 
 constexpr int kPanoramaWidth = 1024, kPanoramaHeight = 512;
-
-std::uint64_t fnv1a(std::uint64_t h, const void* data, std::size_t size) {
-  const auto* p = static_cast<const unsigned char*>(data);
-  for (std::size_t i = 0; i < size; ++i) h = (h ^ p[i]) * 1099511628211ull;
-  return h;
-}
-std::uint64_t fnv1a(std::uint64_t h, const std::string& s) {
-  return fnv1a(h, s.data(), s.size());
-}
 
 bool isBuiltinRelic(const std::string& name) {
   const auto names = sim::builtinRelicNames();
@@ -99,50 +82,7 @@ sim::SceneDescription sceneDescription(const SceneOptions& o) {
   return d;
 }
 
-std::string hex(std::uint64_t v) {
-  std::ostringstream s;
-  s << std::hex << v;
-  return s.str();
-}
-
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
 }  // namespace
-
-void SceneOptions::addTo(CLI::App& app) {
-  app.add_option("--scene", scene, "Built-in scene name or YAML file; 'empty' = relic alone")
-      ->capture_default_str();
-  app.add_option("--relic", relic, "Built-in relic name or glTF file (default: the scene's)");
-  app.add_option("--hall", hall, "Built-in hall (room, gallery, atrium) instead of the scene's");
-  app.add_option("--panorama", panorama,
-                 "HDR/EXR panorama (default: the museum hall rendered from the pyramid)");
-  app.add_flag("--fit", fit, "Scale and centre a relic file on the pedestal");
-  app.add_option("--frame", frame, "Museum frame (visitor poses)")->capture_default_str();
-  app.add_option("--close-visitors", close_visitors,
-                 "Visitors standing close to the pyramid, reaching out to it (default: the scene's)")
-      ->check(CLI::Range(0, 4));
-  app.add_option("--camera-vfov-deg", camera_vfov_deg,
-                 "Depth cameras' vertical field of view, degrees (default: the scene's)")
-      ->check(CLI::Range(10.0f, 170.0f));
-  app.add_option("--camera-tilt-deg", camera_tilt_deg,
-                 "Depth cameras' upwards tilt, degrees (default: the scene's)")
-      ->check(CLI::Range(-60.0f, 60.0f));
-}
-
-void ViewOptions::addTo(CLI::App& app) {
-  app.add_option("--width", width, "Image width, pixels")->capture_default_str()->check(CLI::Range(1, 8192));
-  app.add_option("--height", height, "Image height, pixels")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 8192));
-  app.add_option("--face", face, "Pyramid face 0..3 (+Z, +X, -Z, -X)")
-      ->capture_default_str()
-      ->check(CLI::Range(0, 3));
-  app.add_option("--eye", eye, "Explicit eye X,Y,Z (metres, world frame)");
-  app.add_option("--look-at", look_at, "Explicit target X,Y,Z (default: the relic's centre)");
-  app.add_option("--fov-deg", fov_deg, "Vertical field of view, degrees (default: frame the relic)");
-}
 
 ReflectionScene loadReflectionScene(const SceneOptions& o) {
   ReflectionScene s;
@@ -172,15 +112,6 @@ ReflectionScene loadReflectionScene(const SceneOptions& o) {
   }
   s.panorama = o.panorama.empty() ? museum->renderPanorama(kPanoramaWidth, kPanoramaHeight)
                                   : loadHdr(o.panorama).pixels;
-  std::uint64_t h = 1469598103934665603ull;
-  h = fnv1a(h, o.scene + "|" + s.relic_name + "|" + std::to_string(o.fit) + "|" + std::to_string(o.frame) +
-                   (o.hall.empty() ? "" : "|" + o.hall) +
-                   (o.close_visitors < 0 ? "" : "|close" + std::to_string(o.close_visitors)) +
-                   (o.camera_vfov_deg > 0.0f ? "|vfov" + std::to_string(o.camera_vfov_deg) : "") +
-                   (o.camera_tilt_deg != 0.0f ? "|tilt" + std::to_string(o.camera_tilt_deg) : ""));
-  const cv::Mat pano = s.panorama.isContinuous() ? s.panorama : s.panorama.clone();
-  h = fnv1a(h, pano.data, pano.total() * pano.elemSize());
-  s.hash = h;
   return s;
 }
 
@@ -221,6 +152,26 @@ VisitorView visitorView(const SceneOptions& o) {
   return best;
 }
 
+VisitorScene visitorScene(const std::string& hall, const std::string& relic, int close_visitors,
+                          float camera_tilt_deg, float camera_vfov_deg, int size) {
+  SceneOptions so;
+  so.scene = hall;  // the built-in scene of that hall: its visitors
+  so.hall = hall;
+  so.relic = relic;
+  so.close_visitors = close_visitors;
+  so.camera_tilt_deg = camera_tilt_deg;
+  so.camera_vfov_deg = camera_vfov_deg;
+  VisitorScene s;
+  s.pick = visitorView(so);
+  so.frame = s.pick.frame;
+  s.scene = loadReflectionScene(so);
+  ViewOptions vo;
+  vo.width = vo.height = size;
+  vo.face = s.pick.face;
+  s.camera = viewCamera(vo, s.scene);
+  return s;
+}
+
 CameraModel viewCamera(const ViewOptions& v, const ReflectionScene& scene) {
   const Bounds3 bounds = scene.relic.bounds();
   const vec3 target =
@@ -233,151 +184,4 @@ CameraModel viewCamera(const ViewOptions& v, const ReflectionScene& scene) {
   return reflect::lookAtCamera(eye, target, fov, v.width, v.height);
 }
 
-std::shared_ptr<const reflect::PrefilteredIbl> staticIbl(const ReflectionScene& scene,
-                                                         const MethodSettings& settings) {
-  const reflect::Environment env(scene.panorama);
-  reflect::PrefilterOptions po;
-  po.levels = settings.ibl_levels;
-  po.texel_density = settings.ibl_texel_density;
-  return std::make_shared<const reflect::PrefilteredIbl>(env, po);
-}
-
-MethodResult renderMethod(const std::string& method, const ReflectionScene& scene, const CameraModel& camera,
-                          const MethodSettings& settings, bool quiet) {
-  MethodResult r;
-  const auto t0 = std::chrono::steady_clock::now();
-  if (method == "gt") {
-    std::vector<Model> emitters = scene.static_emitters;
-    if (settings.with_visitors && !scene.visitors.meshes.empty()) emitters.push_back(scene.visitors);
-    const reflect::RenderScene rs(scene.relic, emitters);
-    const reflect::Environment env(scene.panorama);
-    reflect::PathTracerOptions options;
-    options.seed = settings.seed;
-    const reflect::PathTracer tracer(rs, env, options);
-    r.image = reflect::renderPathTraced(tracer, camera, std::max(1, settings.spp), nullptr, quiet);
-  } else if (method == "ibl" && settings.static_ibl) {
-    // The static map is built once per scene: the per-view cost is the shading alone (the
-    // relic's Embree scene is built once too, as for ours).
-    const reflect::RenderScene rs(scene.relic, {});
-    const auto t1 = std::chrono::steady_clock::now();
-    r.image = reflect::renderIbl(rs, *settings.static_ibl, camera);
-    r.ms = msSince(t1);
-    return r;
-  } else if (method == "ibl" || method == "ibl-baseline") {
-    const reflect::RenderScene rs(scene.relic, {});
-    const bool merge = method == "ibl-baseline" && settings.with_visitors;
-    const Bounds3 b = scene.relic.bounds();
-    const cv::Mat pano = merge ? reflect::mergeForeground(scene.panorama, scene.foreground,
-                                                          b.empty() ? vec3(0.0f) : b.center())
-                               : scene.panorama;
-    const reflect::Environment env(pano);
-    reflect::PrefilterOptions po;
-    po.levels = settings.ibl_levels;
-    const reflect::PrefilteredIbl ibl(env, po);
-    r.build_ms = msSince(t0);
-    r.image = reflect::renderIbl(rs, ibl, camera);
-  } else if (method == "ours" || method == "ssrt") {
-    const reflect::RenderScene rs(scene.relic, {});
-    std::shared_ptr<const reflect::PrefilteredIbl> ibl = settings.static_ibl;
-    if (!ibl) {
-      ibl = staticIbl(scene, settings);
-      r.build_ms = msSince(t0);
-    }
-    static const depthfilter::ForegroundCloud kNobody;
-    const depthfilter::ForegroundCloud& cloud = settings.with_visitors ? scene.foreground : kNobody;
-    if (method == "ours") {
-      reflect::FrameRenderer renderer(rs, *ibl, settings.tracer);
-      // Timed as the live loop runs it, where the eyes move every frame: buffers already
-      // allocated and touched by a frame before (the grid, the pyramids, the view's hit points),
-      // the view's static passes traced again (the eye 1 mm away: no reuse).
-      CameraModel moved_eye = camera;
-      mat4 pose = camera.T_world_camera();
-      pose[3] += vec4(0.001f, 0.0f, 0.0f, 0.0f);
-      moved_eye.setPose(pose);
-      renderer.render(cloud, scene.foreground_cameras, {moved_eye});
-      const auto t1 = std::chrono::steady_clock::now();
-      reflect::FrameResult fr = renderer.render(cloud, scene.foreground_cameras, {camera});
-      r.ms = msSince(t1);
-      for (const reflect::PassTiming& p : fr.frame_timings) {
-        r.passes.emplace_back(reflect::passName(p.pass), p.ms);
-        r.frame_ms += p.ms;
-      }
-      for (const reflect::PassTiming& p : fr.views.at(0).timings) {
-        r.passes.emplace_back(reflect::passName(p.pass), p.ms);
-        r.view_ms += p.ms;
-      }
-      r.image = std::move(fr.views.at(0).hdr);
-    } else {
-      reflect::SsrtSettings ss;
-      ss.rays = std::max(1, settings.spp);
-      ss.seed = settings.seed;
-      const auto t1 = std::chrono::steady_clock::now();
-      r.image = reflect::renderSsrt(rs, *ibl, cloud, camera, ss);
-      r.ms = msSince(t1);
-    }
-    return r;
-  } else if (method == "mcpt") {
-    depthfilter::VoxelGrid grid;
-    if (settings.with_visitors) grid.build(scene.foreground);
-    std::vector<Model> emitters;
-    if (!grid.empty()) emitters.push_back(reflect::voxelEmitters(grid));
-    const reflect::RenderScene rs(scene.relic, emitters);
-    const reflect::Environment env(scene.panorama);
-    reflect::PathTracerOptions options;
-    options.seed = settings.seed;
-    const reflect::PathTracer tracer(rs, env, options);
-    r.build_ms = msSince(t0);
-    r.image = reflect::renderPathTraced(tracer, camera, std::max(1, settings.spp), nullptr, quiet);
-  } else {
-    std::string names;
-    for (const auto& m : reflectionMethods()) names += (names.empty() ? "" : ", ") + m;
-    throw InputError("command line", "--method", "one of " + names, method);
-  }
-  r.ms = msSince(t0);
-  return r;
-}
-
-cv::Mat cachedGroundTruth(const ReflectionScene& scene, const CameraModel& camera, int spp,
-                          bool with_visitors, const std::filesystem::path& cache) {
-  // The view enters the key through its pose and intrinsics, bit for bit.
-  const mat4& pose = camera.T_world_camera();
-  const Intrinsics& K = camera.intrinsics();
-  std::string view(reinterpret_cast<const char*>(&pose[0][0]), sizeof(mat4));
-  view.append(reinterpret_cast<const char*>(&K.fx), 4 * sizeof(float));
-  const std::string key = hex(scene.hash) + "-" + std::to_string(camera.width()) + "x" +
-                          std::to_string(camera.height()) + "-" + hex(std::hash<std::string>{}(view)) +
-                          "-spp" + std::to_string(spp) + (with_visitors ? "" : "-novisitors");
-  const std::filesystem::path file = cache / ("gt-" + key + ".exr");
-  if (std::filesystem::exists(file)) {
-    const cv::Mat cached = loadHdr(file).pixels;
-    if (cached.cols == camera.width() && cached.rows == camera.height()) return cached;
-  }
-  MethodSettings s;
-  s.spp = spp;
-  s.with_visitors = with_visitors;
-  const cv::Mat image = renderMethod("gt", scene, camera, s, false).image;
-  std::filesystem::create_directories(cache);
-  saveHdr(file, image);
-  return image;
-}
-
-cv::Mat displayedImage(const cv::Mat& hdr, float exposure) {
-  cv::Mat out;
-  reflect::toneMap(hdr, exposure).convertTo(out, CV_32FC3, 1.0 / 255.0);
-  return out;
-}
-
-void writePng(const std::filesystem::path& path, const cv::Mat& bgr8) {
-  writeAtomically(path, [&](const std::filesystem::path& tmp) {
-    if (!cv::imwrite(tmp.string() + ".png", bgr8)) throw Error("could not write " + path.string());
-    std::filesystem::rename(tmp.string() + ".png", tmp);
-  });
-}
-
-void writeImagePair(const std::string& exr_path, const cv::Mat& hdr, float exposure) {
-  saveHdr(exr_path, hdr);
-  const std::filesystem::path png = std::filesystem::path(exr_path).replace_extension(".png");
-  writePng(png, reflect::toneMap(hdr, exposure > 0.0f ? exposure : reflect::autoExposure(hdr)));
-}
-
-}  // namespace holo::app
+}  // namespace holo::eval

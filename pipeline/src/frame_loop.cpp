@@ -17,16 +17,11 @@
 #include "holo/core/log.hpp"
 #include "holo/core/median.hpp"
 #include "holo/core/progress.hpp"
+#include "holo/core/stopwatch.hpp"
 #include "holo/reflect/view.hpp"
 
-namespace holo::app {
+namespace holo::pipeline {
 namespace {
-
-using Ms = std::chrono::duration<double, std::milli>;
-
-double msSince(Clock::time_point t0) {
-  return Ms(Clock::now() - t0).count();
-}
 
 double passMs(const std::vector<reflect::PassTiming>& timings, std::initializer_list<reflect::Pass> passes) {
   double sum = 0;
@@ -582,4 +577,4 @@ std::string timingJson(const StageTimes& m, const std::vector<FrameReport>& repo
   return j.dump(2);
 }
 
-}  // namespace holo::app
+}  // namespace holo::pipeline

@@ -15,7 +15,7 @@
 #include "holo/sim/museum.hpp"
 #include "holo/sim/relics.hpp"
 
-namespace holo::app {
+namespace holo::pipeline {
 namespace {
 
 namespace fs = std::filesystem;
@@ -158,4 +158,4 @@ Installation loadInstallation(const ConfigNode& root) {
   return installation;
 }
 
-}  // namespace holo::app
+}  // namespace holo::pipeline

@@ -35,12 +35,12 @@
 #include "holo/depthfilter/foreground_pipeline.hpp"
 #include "holo/display/eye_tracker.hpp"
 #include "holo/display/quad_view_presenter.hpp"
+#include "holo/pipeline/installation.hpp"
 #include "holo/reflect/frame_renderer.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
 #include "holo/reflect/render_scene.hpp"
-#include "holo/pipeline/installation.hpp"
 
-namespace holo::app {
+namespace holo::pipeline {
 
 inline constexpr std::size_t kPassCount = static_cast<std::size_t>(reflect::Pass::ToneMap) + 1;
 
@@ -237,4 +237,4 @@ std::string formatTimingTable(const StageTimes& median, const std::vector<FrameR
 std::string timingJson(const StageTimes& median, const std::vector<FrameReport>& reports,
                        const CameraFrameCounts& cameras);
 
-}  // namespace holo::app
+}  // namespace holo::pipeline

@@ -34,7 +34,7 @@
 #include "holo/core/mesh.hpp"
 #include "holo/core/rgbd_frame.hpp"
 
-namespace holo::app {
+namespace holo::pipeline {
 
 struct Installation {
   std::string name;  // for logs and reports: the scene's name or the configuration file
@@ -66,4 +66,4 @@ Installation loadInstallation(const ConfigNode& root);
 // True when the document has a `capture:` section (then it describes real cameras).
 bool describesCameras(const ConfigNode& root);
 
-}  // namespace holo::app
+}  // namespace holo::pipeline
