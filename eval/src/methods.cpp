@@ -53,6 +53,7 @@ MethodResult renderMethod(const std::string& method, const ReflectionScene& scen
     const reflect::Environment env(pano);
     reflect::PrefilterOptions po;
     po.levels = settings.ibl_levels;
+    po.texel_density = settings.ibl_texel_density;
     const reflect::PrefilteredIbl ibl(env, po);
     r.build_ms = total.ms();
     r.image = reflect::renderIbl(rs, ibl, camera);
