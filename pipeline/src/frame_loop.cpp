@@ -87,6 +87,7 @@ FrameLoop::FrameLoop(FrameLoopOptions options, Installation installation,
                      std::unique_ptr<display::QuadViewPresenter> presenter)
     : options_(std::move(options)),
       installation_name_(installation.name),
+      simulated_cameras_(installation.simulated_cameras),
       fps_(installation.fps),
       cameras_(installation.cameras),
       foreground_([&] {
@@ -450,6 +451,7 @@ std::vector<capture::CameraHealth> FrameLoop::cameraHealth() const {
 CameraFrameCounts FrameLoop::cameraFrameCounts() const {
   CameraFrameCounts counts;
   counts.live = options_.live;
+  counts.simulated = simulated_cameras_;
   counts.rejected = rejected_frames_.load();
   if (!options_.live) {
     counts.produced = counts.consumed = index_ * static_cast<std::int64_t>(cameras_.size());
@@ -502,36 +504,33 @@ std::int64_t totalNonFinite(const std::vector<FrameReport>& reports) {
 
 std::string formatTimingTable(const StageTimes& m, const std::vector<FrameReport>& reports,
                               const CameraFrameCounts& cameras) {
-  std::ostringstream out;
-  char line[160];
-  out << "stage                      median ms   (over " << reports.size() << " frames)\n";
-  const std::pair<const char*, double> rows[] = {{"acquisition (wait)", m.acquisition},
-                                                 {"foreground point cloud", m.foreground},
-                                                 {"dynamic reflections", m.dynamic},
-                                                 {"static reflections", m.statics},
-                                                 {"composition", m.composition},
-                                                 {"display", m.display},
-                                                 {"waiting for the foreground", m.pipeline_wait},
-                                                 {"whole frame", m.total}};
-  for (const auto& [name, ms] : rows) {
-    std::snprintf(line, sizeof line, "%-26s %9.2f\n", name, ms);
-    out << line;
+  std::string out;
+  const auto row = [&out](const char* name, double ms) { out += fmt::format("{:<34} {:9.2f}\n", name, ms); };
+  const auto fps = [](double ms) { return ms > 0 ? 1000.0 / ms : 0.0; };
+  out += fmt::format("{:<34} median ms   (over {} frames)\n", "stage", reports.size());
+  if (!cameras.simulated) row("acquisition (wait)", m.acquisition);
+  row("foreground point cloud", m.foreground);
+  row("dynamic reflections", m.dynamic);
+  row("static reflections", m.statics);
+  row("composition", m.composition);
+  row("display", m.display);
+  row("appliance stages, one after another", m.applianceStages());
+  row("  frames per second", fps(m.applianceStages()));
+  if (cameras.simulated) {
+    out += "simulating the cameras (no real installation pays this):\n";
+    row("  acquisition (wait)", m.acquisition);
   }
-  std::snprintf(line, sizeof line, "%-26s %9.2f\n", "frames per second",
-                m.total > 0 ? 1000.0 / m.total : 0.0);
-  out << line;
-  std::snprintf(line, sizeof line, "%-26s %9lld\n", "non-finite HDR pixels",
-                static_cast<long long>(totalNonFinite(reports)));
-  out << line;
-  std::snprintf(line, sizeof line,
-                "camera frames (%s): %lld produced, %lld consumed, %lld dropped, %lld never consumed, %lld "
-                "unusable\n",
-                cameras.live ? "live" : "deterministic: none dropped by construction",
-                static_cast<long long>(cameras.produced), static_cast<long long>(cameras.consumed),
-                static_cast<long long>(cameras.dropped), static_cast<long long>(cameras.unconsumed),
-                static_cast<long long>(cameras.rejected));
-  out << line;
-  return out.str();
+  row("waiting for the foreground", m.pipeline_wait);
+  row(cameras.simulated ? "whole frame, simulation included" : "whole frame", m.total);
+  row("  frames per second", fps(m.total));
+  if (cameras.simulated)
+    out += "the appliance's own frame rate, cameras simulated before timing: holopyramid bench frame\n";
+  out += fmt::format("{:<34} {:9}\n", "non-finite HDR pixels", totalNonFinite(reports));
+  out += fmt::format(
+      "camera frames ({}): {} produced, {} consumed, {} dropped, {} never consumed, {} unusable\n",
+      cameras.live ? "live" : "deterministic: none dropped by construction", cameras.produced,
+      cameras.consumed, cameras.dropped, cameras.unconsumed, cameras.rejected);
+  return out;
 }
 
 std::string timingJson(const StageTimes& m, const std::vector<FrameReport>& reports,
@@ -547,6 +546,9 @@ std::string timingJson(const StageTimes& m, const std::vector<FrameReport>& repo
   j["stages_ms"] = stages(m);  // medians over the frames
   j["frame_ms"] = m.total;
   j["fps"] = m.total > 0 ? 1000.0 / m.total : 0.0;
+  j["appliance_stages_ms"] = m.applianceStages();
+  j["appliance_fps"] = m.applianceStages() > 0 ? 1000.0 / m.applianceStages() : 0.0;
+  j["simulated_cameras"] = cameras.simulated;
   j["non_finite_pixels"] = totalNonFinite(reports);
   j["camera_frames"] = {{"mode", cameras.live ? "live" : "deterministic"},
                         {"produced", cameras.produced},

@@ -43,6 +43,9 @@ struct Installation {
   std::vector<std::unique_ptr<capture::CameraSource>> sources;
   std::vector<CameraModel> cameras;
   std::vector<capture::CaptureOptions> capture_options;
+  // Every camera is simulated: rendering their frames is part of acquisition here, a cost no real
+  // installation pays (the timing table shows it apart from the appliance's stages).
+  bool simulated_cameras = false;
   // Background frames gamma_s given directly, one per camera (the simulated museum's empty hall);
   // may be empty. Then, or in addition, the first `background_frames` frames of every camera only
   // teach the foreground pipeline the background.
