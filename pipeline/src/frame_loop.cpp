@@ -451,7 +451,8 @@ std::vector<capture::CameraHealth> FrameLoop::cameraHealth() const {
 CameraFrameCounts FrameLoop::cameraFrameCounts() const {
   CameraFrameCounts counts;
   counts.live = options_.live;
-  counts.simulated = simulated_cameras_;
+  // Preloaded frames are simulated before the first step: the loop replays them from memory.
+  counts.simulated = simulated_cameras_ && options_.preload_frames == 0;
   counts.rejected = rejected_frames_.load();
   if (!options_.live) {
     counts.produced = counts.consumed = index_ * static_cast<std::int64_t>(cameras_.size());
@@ -515,7 +516,7 @@ std::string formatTimingTable(const StageTimes& m, const std::vector<FrameReport
   row("composition", m.composition);
   row("display", m.display);
   row("appliance stages, one after another", m.applianceStages());
-  row("  frames per second", fps(m.applianceStages()));
+  row("  frames per second, no overlap", fps(m.applianceStages()));
   if (cameras.simulated) {
     out += "simulating the cameras (no real installation pays this):\n";
     row("  acquisition (wait)", m.acquisition);

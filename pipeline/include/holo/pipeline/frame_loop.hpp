@@ -124,7 +124,9 @@ struct FrameReport {
 // Deterministic: produced = consumed = frames x cameras.
 struct CameraFrameCounts {
   bool live = false;
-  bool simulated = false;  // Installation::simulated_cameras
+  // Installation::simulated_cameras, and simulated during the run (not preloaded): their rendering
+  // is in the acquisition wait.
+  bool simulated = false;
   std::int64_t produced = 0;
   std::int64_t consumed = 0;
   std::int64_t dropped = 0;
