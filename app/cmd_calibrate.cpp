@@ -12,7 +12,6 @@
 #include <iostream>
 #include <opencv2/imgcodecs.hpp>
 
-#include "cmd_calibrate_wizard.hpp"
 #include "command.hpp"
 #include "holo/calib/auto_calibration.hpp"
 #include "holo/calib/board.hpp"

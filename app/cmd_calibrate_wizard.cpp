@@ -4,12 +4,12 @@
 // a scripted press (wizard_N_STEP.png, the last press on a step wins) and once while it measures
 // (wizard_N_STEP_measuring.png): the docs' pictures and the Xvfb test come from these. Exit code 0 when the
 // calibration was saved with every step passed, 3 otherwise, 2 on bad input.
-#include "cmd_calibrate_wizard.hpp"
+#include "command.hpp"
 
 #include <iostream>
 #include <sstream>
 
-#include "calibration_wizard.hpp"
+#include "holo/calib/calibration_wizard.hpp"
 #include "holo/calib/simulated_rig.hpp"
 #include "holo/core/error.hpp"
 
@@ -17,7 +17,7 @@ namespace holo::app {
 namespace {
 
 namespace fs = std::filesystem;
-using Button = CalibrationWizard::Button;
+using Button = calib::CalibrationWizard::Button;
 
 struct WizardOptions {
   std::string scene = "museum";
@@ -58,7 +58,7 @@ std::string screenshotName(int index, calib::CalibrationStep step) {
 // step's layout has settled (ImGui sizes some items from the previous frame). With `screenshots`,
 // the window is also saved once mid-measurement, when two cameras' live pictures are on screen
 // (wizard_N_STEP_measuring.png; quick steps may finish before).
-void settle(CalibrationWizard& wizard, const std::string& screenshots) {
+void settle(calib::CalibrationWizard& wizard, const std::string& screenshots) {
   bool measuring_shot = screenshots.empty();
   while (wizard.busy()) {
     if (!measuring_shot && wizard.livePictureCount() >= 2) {
@@ -96,7 +96,7 @@ int runWizard(const WizardOptions& options) {
   const std::vector<Button> script = parseScript(options.script);
   const calib::SimulatedRig rig(options.scene, config);
   calib::CalibrationSession session(rig, config);
-  CalibrationWizard wizard(session, {options.out, "simulated museum (scene " + options.scene + ")"});
+  calib::CalibrationWizard wizard(session, {options.out, "simulated museum (scene " + options.scene + ")"});
   if (script.empty()) {
     while (wizard.frame()) {
     }

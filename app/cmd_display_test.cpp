@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "command.hpp"
+#include "holo/core/stopwatch.hpp"
 #include "holo/display/display_config.hpp"
 #include "holo/display/frame_output.hpp"
 #include "holo/display/quad_view_presenter.hpp"
@@ -67,11 +68,10 @@ int runDisplayTest(const DisplayTestOptions& options) {
   }
   auto presenter = display::makeWindowPresenter(config);
   std::cout << "showing the test pattern; Escape or closing a window ends it\n";
-  const auto start = std::chrono::steady_clock::now();
+  const Stopwatch shown;
   while (presenter->isOpen()) {
     presenter->present(faces);
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (options.seconds > 0.0 && elapsed >= options.seconds) break;
+    if (options.seconds > 0.0 && shown.seconds() >= options.seconds) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(50));  // a still picture needs no 60 fps
   }
   return 0;

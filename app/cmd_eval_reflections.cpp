@@ -1,10 +1,9 @@
-// `holopyramid eval reflections`: what accuracy costs in time. Renders the ground truth (path
-// traced, cached on disk by scene hash) with and without the visitors, then every method at a
-// few quality settings, and reports for each (time, error) point the MSE over the whole view
-// and over the dynamic-foreground reflection region (paper Sec. 4.1.2: the ground truths with
-// and without the visitors differ by RGB distance >= 0.2). Writes JSON, CSV, an SVG plot of
-// error against time and, with --images, each method's tone-mapped image, its error map and a
-// side-by-side strip. HOLO_FULL_EVAL=1 (or --full) adds the slow, high-quality settings.
+// `holopyramid eval reflections`: what accuracy costs in time (eval/method_sweep.hpp): every
+// method at a few quality settings against the path-traced truth, each (time, error) point with
+// the MSE over the whole view and over the dynamic-foreground reflection region. Writes JSON,
+// CSV, an SVG plot of error against time and, with --images, each method's tone-mapped image,
+// its error map and a side-by-side strip. HOLO_FULL_EVAL=1 (or --full) adds the slow,
+// high-quality settings.
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -20,12 +19,16 @@
 #include "holo/core/error.hpp"
 #include "holo/core/files.hpp"
 #include "holo/core/hdr_io.hpp"
+#include "holo/display/frame_output.hpp"
+#include "holo/eval/loglog_plot.hpp"
+#include "holo/eval/method_sweep.hpp"
+#include "holo/eval/reflection_scene.hpp"
 #include "holo/reflect/image_metrics.hpp"
 #include "holo/reflect/tone_map.hpp"
-#include "loglog_plot.hpp"
-#include "reflection_setup.hpp"
 
 namespace holo::app {
+
+using namespace holo::eval;
 namespace {
 
 struct EvalOptions {
@@ -37,75 +40,29 @@ struct EvalOptions {
   bool full = false;
 };
 
-struct Point {
-  std::string method, knob;
-  MethodSettings settings;
-  double ms = 0, mse = 0, fg_mse = 0;
-  cv::Mat image;
-};
-
-// The (method, knob) points: the first of each method is its default (the one "methods" in the
-// JSON reports); the rest trace the time/error curve.
-std::vector<Point> plannedPoints(bool full, int gt_spp) {
-  std::vector<Point> points;
-  const auto add = [&](const std::string& method, const std::string& knob, MethodSettings s) {
-    points.push_back({method, knob, s, 0, 0, 0, {}});
-  };
-  for (int spp : full ? std::vector<int>{16, 1, 4, 64, 256} : std::vector<int>{16, 1, 4}) {
-    if (spp >= gt_spp) continue;
-    MethodSettings s;
-    s.spp = spp;
-    s.seed = 7;  // independent of the ground truth's samples
-    add("gt", "spp=" + std::to_string(spp), s);
-  }
-  const std::vector<std::pair<int, int>> ibl =
-      full ? std::vector<std::pair<int, int>>{{10, 20}, {5, 8}, {10, 8}, {10, 40}, {17, 40}}
-           : std::vector<std::pair<int, int>>{{10, 20}, {5, 8}};
-  add("ours", "aa=4,levels=7", {});
-  for (int rays : full ? std::vector<int>{1, 4, 16} : std::vector<int>{1, 4}) {
-    MethodSettings s;
-    s.spp = rays;
-    add("ssrt", "rays=" + std::to_string(rays), s);
-  }
-  for (int spp : full ? std::vector<int>{4, 1, 16, 64, 256} : std::vector<int>{4, 1}) {
-    MethodSettings s;
-    s.spp = spp;
-    s.seed = 7;
-    add("mcpt", "spp=" + std::to_string(spp), s);
-  }
-  for (const std::string method : {"ibl", "ibl-baseline"})
-    for (auto [levels, density] : ibl) {
-      MethodSettings s;
-      s.ibl_levels = levels;
-      s.ibl_texel_density = density;
-      add(method, "levels=" + std::to_string(levels) + ",density=" + std::to_string(density), s);
-    }
-  return points;
-}
-
-void writeCsv(const std::string& path, const std::vector<Point>& points) {
+void writeCsv(const std::string& path, const std::vector<MethodPoint>& points) {
   std::ostringstream out;
   out << "method,knob,ms,mse,fg_mse\n";
-  for (const Point& p : points)
+  for (const MethodPoint& p : points)
     out << p.method << ",\"" << p.knob << "\"," << p.ms << "," << p.mse << "," << p.fg_mse << "\n";
   writeFileAtomically(path, out.str());
 }
 
 // Log-log plot of error (MSE, and foreground MSE dashed) against time per view.
-void writeSvg(const std::string& path, const std::vector<Point>& points, const std::string& title) {
+void writeSvg(const std::string& path, const std::vector<MethodPoint>& points, const std::string& title) {
   LogLogPlot plot{title, "time per view (ms)", "MSE", "dashed: foreground MSE", 640, 420, {}};
   const std::vector<std::pair<std::string, std::string>> colours = {
       {"gt", "#1f77b4"},   {"ibl", "#2ca02c"},  {"ibl-baseline", "#d62728"},
       {"ours", "#000000"}, {"ssrt", "#9467bd"}, {"mcpt", "#ff7f0e"}};
   for (const auto& [method, colour] : colours) {
-    std::vector<const Point*> ps;
-    for (const Point& p : points)
+    std::vector<const MethodPoint*> ps;
+    for (const MethodPoint& p : points)
       if (p.method == method) ps.push_back(&p);
     if (ps.empty()) continue;
-    std::sort(ps.begin(), ps.end(), [](const Point* a, const Point* b) { return a->ms < b->ms; });
+    std::sort(ps.begin(), ps.end(), [](const MethodPoint* a, const MethodPoint* b) { return a->ms < b->ms; });
     PlotSeries all{method, colour, {}, true, false, 3, true};
     PlotSeries foreground{method + " foreground", colour, {}, true, true, 3, false};
-    for (const Point* p : ps) {
+    for (const MethodPoint* p : ps) {
       all.markers.push_back({p->ms, p->mse, p->method + " " + p->knob, true});
       foreground.markers.push_back({p->ms, p->fg_mse, p->method + " " + p->knob + " (foreground)", true});
     }
@@ -119,19 +76,12 @@ int evalReflections(EvalOptions o) {
   if (const char* f = std::getenv("HOLO_FULL_EVAL"); f && std::string(f) == "1") o.full = true;
   const ReflectionScene scene = loadReflectionScene(o.scene);
   const CameraModel camera = viewCamera(o.view, scene);
-  const cv::Mat gt = cachedGroundTruth(scene, camera, o.gt_spp, true, o.cache);
-  cv::Mat region(gt.size(), CV_8UC1, cv::Scalar(0));
-  if (!scene.visitors.meshes.empty())
-    region = reflect::foregroundRegion(gt, cachedGroundTruth(scene, camera, o.gt_spp, false, o.cache));
-  const int fg_pixels = cv::countNonZero(region);
-
-  std::vector<Point> points = plannedPoints(o.full, o.gt_spp);
-  for (Point& p : points) {
-    const MethodResult r = renderMethod(p.method, scene, camera, p.settings);
-    p.ms = r.ms;
-    p.image = r.image;
-    p.mse = reflect::mse(r.image, gt);
-    p.fg_mse = fg_pixels > 0 ? reflect::mse(r.image, gt, region) : 0.0;
+  const MethodSweep sweep = sweepMethods(scene, camera, o.full, o.gt_spp, o.cache);
+  const cv::Mat& gt = sweep.truth;
+  const cv::Mat& region = sweep.region;
+  const int fg_pixels = sweep.region_pixels;
+  const std::vector<MethodPoint>& points = sweep.points;
+  for (const MethodPoint& p : points) {
     std::cout << p.method << " " << p.knob << ": " << p.ms << " ms, mse " << p.mse << ", fg_mse " << p.fg_mse
               << "\n";
   }
@@ -145,7 +95,7 @@ int evalReflections(EvalOptions o) {
   j["fg_pixels"] = fg_pixels;
   j["methods"] = nlohmann::json::object();
   j["points"] = nlohmann::json::array();
-  for (const Point& p : points) {
+  for (const MethodPoint& p : points) {
     const nlohmann::json entry = {{"fg_mse", p.fg_mse}, {"mse", p.mse}, {"ms", p.ms}, {"knob", p.knob}};
     if (!j["methods"].contains(p.method)) j["methods"][p.method] = entry;
     nlohmann::json point = entry;
@@ -166,22 +116,22 @@ int evalReflections(EvalOptions o) {
     std::filesystem::create_directories(dir);
     const float exposure = reflect::autoExposure(gt);  // one exposure: images stay comparable
     std::vector<cv::Mat> strip = {reflect::toneMap(gt, exposure)};
-    writePng(dir / "gt_reference.png", strip.front());
+    display::writePngAtomically(dir / "gt_reference.png", strip.front());
     cv::Mat region_bgr;
     cv::cvtColor(region, region_bgr, cv::COLOR_GRAY2BGR);
-    writePng(dir / "foreground_region.png", region_bgr);
+    display::writePngAtomically(dir / "foreground_region.png", region_bgr);
     std::map<std::string, bool> seen;
-    for (const Point& p : points) {
+    for (const MethodPoint& p : points) {
       if (seen[p.method]) continue;  // the default setting of each method
       seen[p.method] = true;
       const cv::Mat ldr = reflect::toneMap(p.image, exposure);
-      writePng(dir / (p.method + ".png"), ldr);
-      writePng(dir / (p.method + "_error.png"), reflect::errorMap(p.image, gt));
+      display::writePngAtomically(dir / (p.method + ".png"), ldr);
+      display::writePngAtomically(dir / (p.method + "_error.png"), reflect::errorMap(p.image, gt));
       strip.push_back(ldr);
     }
     cv::Mat side_by_side;
     cv::hconcat(strip, side_by_side);
-    writePng(dir / "side_by_side.png", side_by_side);
+    display::writePngAtomically(dir / "side_by_side.png", side_by_side);
   }
   return 0;
 }
@@ -194,8 +144,8 @@ HOLO_REGISTER_COMMAND(Command{
       auto o = std::make_shared<EvalOptions>();
       o->scene.scene = "museum";
       o->view.width = o->view.height = 128;
-      o->scene.addTo(sub);
-      o->view.addTo(sub);
+      addSceneOptions(sub, o->scene);
+      addViewOptions(sub, o->view);
       sub.add_option("--gt-spp", o->gt_spp, "Ground-truth samples per pixel")
           ->capture_default_str()
           ->check(CLI::Range(1, 1 << 20));

@@ -1,352 +1,40 @@
-// `holopyramid eval tracer`: the nine-scene evaluation, the paper's Table 1 extended with
-// the baselines. For each hall x relic (visitors close to the pyramid: the frame and face where
-// the relic's mirror rays meet the visitors most, reflection_setup.hpp's visitorView) it renders
-// the path-traced ground truth with and without the visitors (cached on disk), then
-//   ours                 the reflection tracer (FrameRenderer), median of --repeats runs;
-//   ibl                  the paper's IBL: the foreground reprojected into the panorama around the
-//                        relic and prefiltered again (it must be, every frame), then shaded;
-//   ibl_static           the static hall's IBL alone, map built once, the shading per view;
-//   ssrt                 screen-space ray tracing (reflect/ssrt.hpp) at the most rays per hit
-//                        point whose time stays within ours' (equal time);
-//   mcpt_equal_time      path tracing of the reconstructed scene (voxels plus panorama) for as
-//                        many whole samples per pixel as fit in ours' time (at least 1); the
-//                        Embree build of the voxel cubes (one geometry per voxel, slow) is
-//                        reported apart and not counted, which favours the baseline;
-//   mcpt_equal_quality   the same path tracer at 1, 2, 4, ... spp until its fg_mse is at most
-//                        ours' (searched up to --mcpt-max-spp; "not reached" and the time there
-//                        otherwise);
-// and two floors that every fg_mse contains: the ground truth's own noise (from the truth at a
-// quarter of its samples, which are the first quarter of its samples) and the reconstruction's
-// error (the same path tracer run on to --floor-spp, extrapolated to infinitely many samples), and
-// reports per scene and method the time (median ms per view), fg_mse and mse, the evaluation's
-// bars, a Markdown table, CSV, JSON, an SVG plot (fg_mse against time) and, per scene, a strip of
-// the images (gt | ours | ibl | ssrt | mcpt_equal_time | mcpt_equal_quality).
+// `holopyramid eval tracer`: the nine-scene evaluation (the paper's Table 1 extended with the
+// baselines, eval/tracer_evaluation.hpp) over --halls x --relics; prints each scene's methods as
+// it finishes, then the bars, a Markdown table, and writes CSV, JSON, an SVG plot (fg_mse against
+// time) and, per scene, a strip of the images (gt | ours | ibl | ssrt | mcpt_equal_time |
+// mcpt_equal_quality | the foreground region).
 #include <algorithm>
-#include <chrono>
-#include <cstdlib>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
-#include <map>
 #include <nlohmann/json.hpp>
-#include <opencv2/imgproc.hpp>
 #include <sstream>
 
 #include "command.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/files.hpp"
-#include "holo/reflect/image_metrics.hpp"
-#include "holo/reflect/path_tracer.hpp"
-#include "holo/reflect/tone_map.hpp"
-#include "holo/reflect/voxel_emitters.hpp"
-#include "holo/reflect/voxel_grid.hpp"
+#include "holo/display/frame_output.hpp"
+#include "holo/eval/loglog_plot.hpp"
+#include "holo/eval/tracer_evaluation.hpp"
 #include "holo/sim/museum.hpp"
-#include "loglog_plot.hpp"
-#include "reflection_setup.hpp"
 
 namespace holo::app {
+
+using namespace holo::eval;
 namespace {
 
-struct TracerEvalOptions {
-  std::vector<std::string> halls = {"room", "gallery", "atrium"};
-  std::vector<std::string> relics = {"vase", "kettle", "tripod"};
-  int size = 96;
-  int gt_spp = 1024;
-  int mcpt_max_spp = 4096;
-  int floor_spp = 4096;  // the reconstruction floor's path tracing; 0: not measured
-  int repeats = 5;
+struct TracerEvalCommand {
+  TracerEvalOptions eval;
   std::string out = "eval-tracer";
-  std::string cache = (std::filesystem::temp_directory_path() / "holopyramid-gt-cache").string();
   bool require_fg_bars = false;
-  // The paper's 0.2 leaves the region empty on the kettle and tripod: the visitors walk at >= 1.2 m
-  // from the axis and those relics are rough (0.35, 0.6), so their reflections are soft; 0.05
-  // gives them a region, mostly silhouette and grazing pixels (docs/tracer.md).
-  float fg_threshold = reflect::kForegroundDistance;
-  int ssrt_rays = 0;  // 0: the equal-time search; > 0: fixed (deterministic, for CI)
-  // Visitors standing close to the pyramid (sim planCloseVisitors), besides the hall's walkers:
-  // visitors close to the pyramid, where parallax matters; the walkers keep >= 1.2 m from the axis.
-  int close_visitors = 1;
-  // The depth cameras: the default rig (tilt 8, vfov 70) sees a visitor within ~0.6 m of the
-  // pyramid only from the waist to the chest, and the relic mirrors the rest; tilt 20 with vfov 90
-  // keeps the far visitors' feet (bottom edge -25 degrees, was -27) and sees the close ones' heads.
-  float camera_tilt_deg = 20.0f;
-  float camera_vfov_deg = 90.0f;
-  // Ours' knobs (--aa, --levels, --level-bias, --voxel-size). 9 levels: with 7 the rough relics'
-  // reads (kettle, 0.35) sat at the top level, blurred less than their lobe (docs/tracer.md).
-  bool no_interreflection = false;  // ours without TracerSettings::relic_interreflection
-  reflect::TracerSettings tracer = [] {
-    reflect::TracerSettings t;
-    t.pyramid_levels = 9;
-    return t;
-  }();
 };
 
-// Views a frame renders (one per pyramid face): the per-frame work is shared by this many.
-constexpr int kViewsPerFrame = 4;
-
-struct Entry {
-  std::string method, knob;
-  // ms: per view at frame time, = view_ms + frame_ms / kViewsPerFrame; frame_ms: the work done
-  // once per frame for all views (ours: voxel grid + pyramids; ibl: reprojecting the visitors
-  // into the panorama + prefiltering it); view_ms: the work per view.
-  double ms = 0, mse = 0, fg_mse = 0;
-  double frame_ms = 0, view_ms = 0;
-  bool reached = true;  // mcpt_equal_quality: our fg_mse was reached
-  cv::Mat image;
-};
-
-struct SceneResult {
-  std::string hall, relic;
-  int frame = 0, face = 0, fg_pixels = 0;
-  float reflected_fraction = 0;  // of the relic's mirror rays meeting a visitor (the view pick)
-  double mcpt_build_ms = 0;      // the voxel scene's Embree build, not in the mcpt times
-  // Parts of every method's fg_mse that no renderer of the reconstructed foreground can remove
-  // (both in fg_mse units, < 0: not measured): the ground truth's own noise, and the fg_mse of path
-  // tracing the reconstruction (voxels plus panorama) extrapolated to infinitely many samples,
-  // which contains that noise.
-  double gt_noise = -1, reconstruction_floor = -1;
-  std::vector<Entry> entries;
-  std::vector<std::pair<std::string, double>> ours_passes;  // median ms per pass
-  const Entry& at(const std::string& method) const {
-    for (const Entry& e : entries)
-      if (e.method == method) return e;
-    throw Error("no entry " + method);
-  }
-};
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
-
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-
-// An HDR image as displayed: tone-mapped (Reinhard, sRGB) at one exposure, as floats in [0, 1]
-// (CV_32FC3, so image_metrics' clamp leaves it as it is).
-struct Display {
-  float exposure;
-  cv::Mat operator()(const cv::Mat& hdr) const { return displayedImage(hdr, exposure); }
-};
-
-struct Scorer {
-  const cv::Mat& gt;  // displayed
-  const cv::Mat& region;
-  int fg_pixels;
-  Display display;
-  void operator()(Entry& e) const {
-    const cv::Mat shown = display(e.image);
-    e.mse = reflect::mse(shown, gt);
-    e.fg_mse = fg_pixels > 0 ? reflect::mse(shown, gt, region) : 0.0;
-  }
-};
-
-// Runs a method `repeats` times: the first run's image, the median time.
-Entry timed(const std::string& method, const std::string& knob, const ReflectionScene& scene,
-            const CameraModel& camera, const MethodSettings& s, int repeats,
-            std::vector<std::vector<std::pair<std::string, double>>>* passes = nullptr) {
-  Entry e;
-  e.method = method;
-  e.knob = knob;
-  std::vector<double> frame, view;
-  for (int i = 0; i < repeats; ++i) {
-    MethodResult r = renderMethod(method == "ibl_static" ? "ibl" : method, scene, camera, s);
-    if (method == "ours") {
-      frame.push_back(r.frame_ms);
-      view.push_back(r.view_ms);
-    } else {  // ibl-baseline: the map build is per frame; the rest (and every other method) per view
-      frame.push_back(r.build_ms);
-      view.push_back(r.ms - r.build_ms);
-    }
-    if (passes) passes->push_back(r.passes);
-    if (i == 0) e.image = r.image;
-  }
-  e.frame_ms = median(frame);
-  e.view_ms = median(view);
-  e.ms = e.view_ms + e.frame_ms / kViewsPerFrame;
-  return e;
-}
-
-SceneResult evalScene(const std::string& hall, const std::string& relic, const TracerEvalOptions& o) {
-  SceneResult res;
-  res.hall = hall;
-  res.relic = relic;
-  SceneOptions so;
-  so.scene = hall;  // the built-in scene of that hall: its visitors
-  so.hall = hall;
-  so.relic = relic;
-  so.close_visitors = o.close_visitors;
-  so.camera_tilt_deg = o.camera_tilt_deg;
-  so.camera_vfov_deg = o.camera_vfov_deg;
-  const VisitorView pick = visitorView(so);
-  so.frame = res.frame = pick.frame;
-  res.face = pick.face;
-  res.reflected_fraction = pick.reflected_fraction;
-  const ReflectionScene scene = loadReflectionScene(so);
-  ViewOptions vo;
-  vo.width = vo.height = o.size;
-  vo.face = pick.face;
-  const CameraModel camera = viewCamera(vo, scene);
-  std::cout << "== " << hall << " x " << relic << ": frame " << pick.frame << ", face " << pick.face << ", "
-            << 100 * pick.reflected_fraction << "% of mirror rays meet a visitor, "
-            << scene.foreground.points.size() << " foreground points" << std::endl;
-
-  const cv::Mat gt_hdr = cachedGroundTruth(scene, camera, o.gt_spp, true, o.cache);
-  // Compared as the pyramid displays them: tone-mapped at the ground truth's exposure, sRGB.
-  const float exposure = reflect::autoExposure(gt_hdr);
-  const Display display{exposure};
-  const cv::Mat gt = display(gt_hdr);
-  const cv::Mat region = reflect::foregroundRegion(
-      gt, display(cachedGroundTruth(scene, camera, o.gt_spp, false, o.cache)), o.fg_threshold);
-  res.fg_pixels = cv::countNonZero(region);
-  const Scorer score{gt, region, res.fg_pixels, display};
-  // The truth at N spp is the mean of its first N/4 samples (the truth at N/4) and 3N/4 more: their
-  // squared difference has 3 times the variance of the truth's noise.
-  if (o.gt_spp >= 4 && res.fg_pixels > 0)
-    res.gt_noise =
-        reflect::mse(display(cachedGroundTruth(scene, camera, o.gt_spp / 4, true, o.cache)), gt, region) /
-        3.0;
-
-  MethodSettings base;
-  base.static_ibl = staticIbl(scene, base);
-  base.tracer = o.tracer;
-  base.tracer.relic_interreflection = !o.no_interreflection;
-
-  // ours and the IBL at ours' anti-aliasing (the same renderer with no foreground: the same hit
-  // points, static shading and tone map, no grid, pyramids, walk or composition), timed
-  // alternately so that the load of the shared machine falls on both alike. The per-pass medians
-  // say where ours' time goes.
-  std::vector<std::vector<std::pair<std::string, double>>> passes;
-  MethodSettings no_visitors = base;
-  no_visitors.with_visitors = false;
-  const std::string ours_knob = "aa=" + std::to_string(base.tracer.aa_samples) +
-                                ",levels=" + std::to_string(base.tracer.pyramid_levels) +
-                                (base.tracer.relic_interreflection ? "" : ",no-bounce");
-  Entry ours, ibl_same_aa;
-  {
-    std::vector<Entry> a, b;
-    for (int i = 0; i < o.repeats; ++i) {
-      a.push_back(timed("ours", ours_knob, scene, camera, base, 1, &passes));
-      b.push_back(timed("ours", ours_knob, scene, camera, no_visitors, 1));
-    }
-    const auto combine = [](std::vector<Entry>& runs, const std::string& name) {
-      Entry e = runs.front();
-      e.method = name;
-      std::vector<double> f, v;
-      for (const Entry& r : runs) f.push_back(r.frame_ms), v.push_back(r.view_ms);
-      e.frame_ms = median(f);
-      e.view_ms = median(v);
-      e.ms = e.view_ms + e.frame_ms / kViewsPerFrame;
-      return e;
-    };
-    ours = combine(a, "ours");
-    ibl_same_aa = combine(b, "ibl_same_aa");
-  }
-  score(ours);
-  score(ibl_same_aa);
-  if (!passes.empty())
-    for (std::size_t p = 0; p < passes.front().size(); ++p) {
-      std::vector<double> v;
-      for (const auto& run : passes)
-        if (p < run.size()) v.push_back(run[p].second);
-      res.ours_passes.emplace_back(passes.front()[p].first, median(v));
-    }
-  res.entries.push_back(ours);
-  res.entries.push_back(ibl_same_aa);
-
-  Entry ibl = timed("ibl-baseline", "levels=9,samples=64", scene, camera, base, std::max(1, o.repeats / 2));
-  ibl.method = "ibl";
-  score(ibl);
-  res.entries.push_back(ibl);
-  Entry ibl_static =
-      timed("ibl_static", "levels=9,samples=64 (map prebuilt)", scene, camera, base, o.repeats);
-  score(ibl_static);
-  res.entries.push_back(ibl_static);
-
-  // ssrt at equal time: double the rays per hit point while the time stays within ours'.
-  Entry ssrt;
-  for (int rays = o.ssrt_rays > 0 ? o.ssrt_rays : 1; rays <= std::max(64, o.ssrt_rays); rays *= 2) {
-    MethodSettings s = base;
-    s.spp = rays;
-    Entry e = timed("ssrt", "rays=" + std::to_string(rays), scene, camera, s, std::max(1, o.repeats / 2));
-    if (rays > 1 && e.ms > ours.ms && o.ssrt_rays == 0) break;
-    ssrt = e;
-    if (o.ssrt_rays > 0) break;
-  }
-  score(ssrt);
-  res.entries.push_back(ssrt);
-
-  // The reconstructed scene for MCPT: the voxel grid ours walks, as emitting cubes.
-  const auto t_build = std::chrono::steady_clock::now();
-  reflect::VoxelGrid grid(o.tracer.grid);
-  grid.build(scene.foreground);
-  std::vector<Model> emitters;
-  if (!grid.empty()) emitters.push_back(reflect::voxelEmitters(grid));
-  const reflect::RenderScene rs(scene.relic, emitters);
-  const reflect::Environment env(scene.panorama);
-  reflect::PathTracerOptions po;
-  po.seed = 7;  // independent of the ground truth's samples
-  const reflect::PathTracer tracer(rs, env, po);
-  const double build_ms = msSince(t_build);
-
-  res.mcpt_build_ms = build_ms;
-  {  // equal time: whole samples per pixel while the sampling time stays within ours' time
-    reflect::ProgressiveRender render(tracer, camera);
-    const auto t0 = std::chrono::steady_clock::now();
-    double spent = 0;
-    do {
-      render.addSamples(1);
-      spent = msSince(t0);
-    } while (spent + spent / render.samplesPerPixel() <= ours.ms);
-    Entry e;
-    e.method = "mcpt_equal_time";
-    e.knob = "spp=" + std::to_string(render.samplesPerPixel());
-    e.ms = e.view_ms = spent;
-    e.image = render.image();
-    score(e);
-    res.entries.push_back(e);
-  }
-  {  // equal quality: 1, 2, 4, ... spp until fg_mse <= ours'
-    reflect::ProgressiveRender render(tracer, camera);
-    double sampling_ms = 0;
-    Entry e;
-    e.method = "mcpt_equal_quality";
-    e.reached = false;
-    std::map<int, double> fg_mse_at_spp;
-    for (int spp = 1; spp <= o.mcpt_max_spp; spp *= 2) {
-      const auto t_pass = std::chrono::steady_clock::now();
-      render.addSamples(spp - render.samplesPerPixel());
-      sampling_ms += msSince(t_pass);  // scoring between passes is not the renderer's time
-      e.image = render.image();
-      score(e);
-      fg_mse_at_spp[spp] = e.fg_mse;
-      if (res.fg_pixels == 0 || e.fg_mse <= ours.fg_mse) {
-        e.reached = true;
-        break;
-      }
-    }
-    e.ms = e.view_ms = sampling_ms;
-    e.knob = "spp=" + std::to_string(render.samplesPerPixel()) + (e.reached ? "" : " (not reached)");
-    res.entries.push_back(e);
-    // The reconstruction floor: the same samples run on to floor_spp. Path tracing's fg_mse is
-    // floor + variance / spp, so from N/4 and N spp the floor is (4 fg_mse(N) - fg_mse(N/4)) / 3.
-    if (o.floor_spp >= 4 && res.fg_pixels > 0) {
-      for (const int spp : {o.floor_spp / 4, o.floor_spp}) {
-        if (fg_mse_at_spp.count(spp)) continue;
-        if (render.samplesPerPixel() > spp) break;  // already beyond it: not measurable
-        render.addSamples(spp - render.samplesPerPixel());
-        Entry at;
-        at.image = render.image();
-        score(at);
-        fg_mse_at_spp[spp] = at.fg_mse;
-      }
-      if (fg_mse_at_spp.count(o.floor_spp / 4) && fg_mse_at_spp.count(o.floor_spp))
-        res.reconstruction_floor =
-            std::max(0.0, (4.0 * fg_mse_at_spp[o.floor_spp] - fg_mse_at_spp[o.floor_spp / 4]) / 3.0);
-    }
-  }
-
+// One scene's methods as it finishes, and its strip of images into OUT/images.
+void reportScene(const SceneResult& res, const TracerEvalCommand& command) {
+  const TracerEvalOptions& o = command.eval;
+  std::cout << "== " << res.hall << " x " << res.relic << ": frame " << res.frame << ", face " << res.face
+            << ", " << 100 * res.reflected_fraction << "% of mirror rays meet a visitor, "
+            << res.foreground_points << " foreground points" << std::endl;
   for (const Entry& e : res.entries)
     std::cout << "  " << std::left << std::setw(20) << e.method << std::setw(34) << e.knob << std::right
               << std::fixed << std::setprecision(1) << std::setw(9) << e.ms << " ms  fg_mse "
@@ -359,18 +47,9 @@ SceneResult evalScene(const std::string& hall, const std::string& relic, const T
   for (const auto& [name, ms] : res.ours_passes) std::cout << " " << name << " " << ms;
   std::cout << " (ms)" << std::endl;
 
-  const std::filesystem::path dir = std::filesystem::path(o.out) / "images";
+  const std::filesystem::path dir = std::filesystem::path(command.out) / "images";
   std::filesystem::create_directories(dir);
-  std::vector<cv::Mat> strip = {reflect::toneMap(gt_hdr, exposure)};
-  for (const std::string m : {"ours", "ibl", "ssrt", "mcpt_equal_time", "mcpt_equal_quality"})
-    strip.push_back(reflect::toneMap(res.at(m).image, exposure));
-  cv::Mat region_bgr;
-  cv::cvtColor(region, region_bgr, cv::COLOR_GRAY2BGR);
-  strip.push_back(region_bgr);
-  cv::Mat row;
-  cv::hconcat(strip, row);
-  writePng(dir / (hall + "_" + relic + ".png"), row);
-  return res;
+  display::writePngAtomically(dir / (res.hall + "_" + res.relic + ".png"), res.strip);
 }
 
 std::string fmt(double v, int precision) {
@@ -489,9 +168,10 @@ bool reportBars(const std::vector<SceneResult>& results, std::ostream& out) {
   return ibl.ok && ssrt.ok;
 }
 
-void writeOutputs(const std::vector<SceneResult>& results, const TracerEvalOptions& o,
+void writeOutputs(const std::vector<SceneResult>& results, const TracerEvalCommand& command,
                   const std::string& table, const std::string& bars) {
-  const std::filesystem::path dir = o.out;
+  const TracerEvalOptions& o = command.eval;
+  const std::filesystem::path dir = command.out;
   std::filesystem::create_directories(dir);
   std::ostringstream csv;
   csv << "hall,relic,frame,face,fg_pixels,method,knob,ms,frame_ms,view_ms,fg_mse,mse,reached\n";
@@ -553,7 +233,8 @@ void writeOutputs(const std::vector<SceneResult>& results, const TracerEvalOptio
   writeFileAtomically(dir / "plot.svg", svgOf(plot));
 }
 
-int evalTracer(const TracerEvalOptions& o) {
+int evalTracer(const TracerEvalCommand& command) {
+  const TracerEvalOptions& o = command.eval;
   // Each hall is also the built-in scene that brings its visitors.
   for (const std::string& hall : o.halls)
     if (hall != "room" && hall != "gallery" && hall != "atrium")
@@ -564,14 +245,17 @@ int evalTracer(const TracerEvalOptions& o) {
       throw InputError("command line", "--relics", "built-in relics (vase, kettle, tripod, sphere)", relic);
   std::vector<SceneResult> results;
   for (const std::string& hall : o.halls)
-    for (const std::string& relic : o.relics) results.push_back(evalScene(hall, relic, o));
+    for (const std::string& relic : o.relics) {
+      results.push_back(evaluateTracerScene(hall, relic, o));
+      reportScene(results.back(), command);
+    }
   const std::string table = markdownTable(results, o);
   std::ostringstream bars;
   const bool fg_ok = reportBars(results, bars);
   std::cout << "\n" << table << "\n" << bars.str();
-  writeOutputs(results, o, table, bars.str());
-  std::cout << "wrote " << o.out << "/{table.md,results.csv,results.json,plot.svg,images/}\n";
-  if (o.require_fg_bars && !fg_ok) {
+  writeOutputs(results, command, table, bars.str());
+  std::cout << "wrote " << command.out << "/{table.md,results.csv,results.json,plot.svg,images/}\n";
+  if (command.require_fg_bars && !fg_ok) {
     std::cerr << "the fg_mse bars (ours <= ibl / 4 and < ssrt) do not hold\n";
     return 1;
   }
@@ -583,7 +267,8 @@ int evalTracer(const TracerEvalOptions& o) {
 HOLO_REGISTER_COMMAND(Command{
     "eval tracer",
     [](CLI::App& sub) {
-      auto o = std::make_shared<TracerEvalOptions>();
+      auto command = std::make_shared<TracerEvalCommand>();
+      TracerEvalOptions* o = &command->eval;
       sub.add_option("--halls", o->halls, "Halls (room, gallery, atrium)")
           ->capture_default_str()
           ->delimiter(',');
@@ -608,7 +293,7 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--repeats", o->repeats, "Runs per timing (the median is reported)")
           ->capture_default_str()
           ->check(CLI::Range(1, 100));
-      sub.add_option("--out", o->out, "Output folder")->capture_default_str();
+      sub.add_option("--out", command->out, "Output folder")->capture_default_str();
       sub.add_option("--fg-threshold", o->fg_threshold,
                      "Displayed RGB distance between the truths with and without visitors that makes a pixel "
                      "foreground (paper: 0.2)")
@@ -675,9 +360,9 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--voxel-size", o->tracer.grid.voxel_size, "Ours: voxel size, metres")
           ->capture_default_str()
           ->check(CLI::Range(0.005f, 0.5f));
-      sub.add_flag("--require-fg-bars", o->require_fg_bars,
+      sub.add_flag("--require-fg-bars", command->require_fg_bars,
                    "Exit 1 unless ours' fg_mse <= ibl's / 4 and < ssrt's on every scene");
-      return [o] { return evalTracer(*o); };
+      return [command] { return evalTracer(*command); };
     },
     "The nine-scene table: ours, IBL, SSRT and path tracing at equal time and equal quality"});
 

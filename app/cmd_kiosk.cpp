@@ -1,13 +1,8 @@
 // `holopyramid kiosk [--config FILE] [--headless]`: the appliance mode run by systemd
 // (packaging/holopyramid.service, docs/kiosk.md). The kiosk module does the supervision; this
-// file wires it to a frame source.
-//
-// Frame sources: `pipeline` (the default) is the live frame loop of `holopyramid run`, at the
-// view size and camera mode the degradation policy asks for, on the configuration's cameras,
-// relic and panorama when it has a `capture:` section (installation.hpp), else on the simulated
-// museum; `test-pattern` presents the display
-// module's alignment pattern through the same presenters, for checking the supervision itself
-// (the process tests) without the cost of rendering.
+// file wires it to a frame source of the pipeline module (kiosk_frame_source.hpp): `pipeline`
+// on the configuration's cameras when it has a `capture:` section, else on the simulated museum,
+// or `test-pattern`.
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -20,7 +15,6 @@
 #include <opencv2/imgproc.hpp>
 
 #include "command.hpp"
-#include "frame_loop.hpp"
 #include "holo/capture/simulated_source.hpp"
 #include "holo/core/config.hpp"
 #include "holo/core/error.hpp"
@@ -30,186 +24,18 @@
 #include "holo/display/test_pattern.hpp"
 #include "holo/kiosk/fault_injector.hpp"
 #include "holo/kiosk/kiosk_loop.hpp"
+#include "holo/pipeline/frame_loop.hpp"
+#include "holo/pipeline/installation.hpp"
+#include "holo/pipeline/kiosk_frame_source.hpp"
 
 namespace holo::app {
+
+using namespace holo::pipeline;
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-// Black faces. Empty images would not do: the presenter keeps showing a face's last image when
-// it gets none (a late renderer must not flash black), so blanking needs real black pixels.
-display::FaceImages blackFaces() {
-  display::FaceImages faces;
-  for (cv::Mat& face : faces) face = cv::Mat::zeros(16, 16, CV_8UC3);
-  return faces;
-}
-
-// Reads the presented picture back and reports the fault the kiosk exists to prevent (a black
-// screen while the museum is open) and its opposite (a picture left on while it is closed).
-void checkPicture(display::QuadViewPresenter& presenter, bool blank, kiosk::FrameReport& report) {
-  cv::Mat grey;
-  cv::cvtColor(presenter.readBack(), grey, cv::COLOR_BGR2GRAY);
-  const bool black = cv::countNonZero(grey) == 0;
-  if (!blank && black) report.errors.push_back("black frame presented during opening hours");
-  if (blank && !black) report.errors.push_back("picture shown outside opening hours");
-}
-
-// The stand-in frame source: the four faces' test pattern, presented for real. Headless, every
-// 30th frame and every blanked one is read back and checked (checkPicture).
-class TestPatternSource {
- public:
-  TestPatternSource(const display::DisplayConfig& config, bool headless)
-      : presenter_(headless ? display::makeHeadlessPresenter(config) : display::makeWindowPresenter(config)),
-        headless_(headless),
-        faults_(std::make_shared<kiosk::FaultInjector>(kiosk::FaultInjector::fromEnvironment())) {}
-
-  kiosk::FrameReport operator()(const kiosk::FrameRequest& request) {
-    kiosk::FrameReport report;
-    auto t0 = Clock::now();
-    const kiosk::InjectedFaults faults = faults_->beginFrame(request.index, request.quality, request.blank);
-    display::FaceImages faces = blackFaces();
-    if (!request.blank && !faults.black) {
-      // Lower quality levels halve the view resolution, as the real renderer will.
-      const int side = std::max(40, 320 >> request.quality);
-      if (pattern_side_ != side) {
-        for (int f = 0; f < display::kFaceCount; ++f)
-          patterns_[static_cast<std::size_t>(f)] = display::testPatternFace(f, {side, side});
-        pattern_side_ = side;
-      }
-      faces = patterns_;
-    }
-    report.stage_ms["render"] = msSince(t0);
-    t0 = Clock::now();
-    presenter_->present(faces);
-    report.stage_ms["present"] = msSince(t0);
-    report.presented = presenter_->isOpen();
-    if (!report.presented) report.errors.push_back("display window closed");
-    if (headless_ && (request.blank || request.index % 30 == 0))
-      checkPicture(*presenter_, request.blank, report);
-    return report;
-  }
-
- private:
-  std::shared_ptr<display::QuadViewPresenter> presenter_;  // shared: RenderFrame is copyable
-  bool headless_;
-  std::shared_ptr<kiosk::FaultInjector> faults_;
-  display::FaceImages patterns_;
-  int pattern_side_ = 0;
-};
 
 std::string sectionText(const ConfigNode& root, const std::string& section) {
   return root.has(section) ? YAML::Dump(root.yaml()[section]) : std::string();
 }
-
-// The product: the live frame loop on the installation (the configured cameras, or the simulated
-// museum), at the view size and camera mode the degradation policy asks for.
-// Headless, every frame is read back and checked (checkPicture). Injected faults (tests, soak runs)
-// act on the real pipeline: `camera_off` switches a simulated camera off, so its capture thread
-// loses it and the frame loop drops it as stale, exactly as with a pulled cable.
-class PipelineSource {
- public:
-  PipelineSource(const display::DisplayConfig& config, bool headless, Installation installation,
-                 int view_size)
-      : headless_(headless),
-        faults_(std::make_shared<kiosk::FaultInjector>(kiosk::FaultInjector::fromEnvironment())) {
-    FrameLoopOptions options;
-    options.live = true;
-    options.view_size = view_size;
-    full_view_size_ = options.view_size;
-    loop_ = std::make_shared<FrameLoop>(
-        options, std::move(installation),
-        headless ? display::makeHeadlessPresenter(config) : display::makeWindowPresenter(config));
-    for (const CameraModel& camera : loop_->cameras())
-      camera_pixels_ += static_cast<double>(camera.width()) * camera.height();
-    was_alive_.assign(loop_->cameras().size(), true);
-    // A source made on reload inherits cameras a fault switched off, so the fault file can still
-    // switch them on.
-    for (int i = 0; i < static_cast<int>(loop_->cameras().size()); ++i)
-      if (!capture::SimulatedSource::powered(i)) cameras_off_.push_back(i);
-  }
-
-  kiosk::FrameReport operator()(const kiosk::FrameRequest& request) {
-    kiosk::FrameReport report;
-    const kiosk::InjectedFaults faults = faults_->beginFrame(request.index, request.quality, request.blank);
-    if (faults_->active()) switchCameras(faults.cameras_off, report);
-    if (request.blank) {
-      loop_->presenter()->present(blackFaces());
-      report.presented = loop_->presenter()->isOpen();
-      if (headless_) checkPicture(*loop_->presenter(), true, report);
-      return report;
-    }
-    // Each quality level below the best renders views 1.25x smaller (0.64x the pixels).
-    const int view_size = std::max(std::min(64, full_view_size_),
-                                   static_cast<int>(full_view_size_ / std::pow(1.25, request.quality)));
-    loop_->setQuality(view_size, request.mode != kiosk::RenderMode::IblOnly);
-    const FrameReport frame = loop_->step();
-    if (faults.black) loop_->presenter()->present(blackFaces());  // a broken source: black over it
-    report.presented = frame.presented;
-    report.stage_ms = {
-        {"acquisition", frame.times.acquisition},     {"foreground", frame.times.foreground},
-        {"dynamic_reflections", frame.times.dynamic}, {"static_reflections", frame.times.statics},
-        {"composition", frame.times.composition},     {"display", frame.times.display}};
-    // Foreground points are at most one per camera pixel.
-    report.foreground_share =
-        camera_pixels_ > 0 ? std::min(1.0, static_cast<double>(frame.foreground_points) / camera_pixels_)
-                           : 0.0;
-    const std::vector<capture::CameraHealth> health = loop_->cameraHealth();
-    for (std::size_t i = 0; i < health.size(); ++i) {
-      kiosk::CameraHealth camera;
-      camera.name = "camera " + std::to_string(i);
-      camera.alive =
-          health[i].connected && health[i].last_frame_age_s >= 0 && health[i].last_frame_age_s < 1.0;
-      camera.frames = health[i].frames_completed;
-      camera.dropped = health[i].frames_failed + health[i].frames_incomplete + health[i].frames_timed_out;
-      camera.reconnects = health[i].reconnects;
-      camera.last_frame_age_s = health[i].last_frame_age_s;
-      // Each loss and each return, once, named: the mode change alone does not say which camera.
-      if (i < was_alive_.size() && camera.alive != was_alive_[i]) {
-        if (camera.alive)
-          report.errors.push_back(fmt::format("{} back ({} reconnects)", camera.name, camera.reconnects));
-        else if (camera.last_frame_age_s < 0)
-          report.errors.push_back(camera.name + " lost: no frame yet");
-        else
-          report.errors.push_back(
-              fmt::format("{} lost: no frame for {:.1f} s", camera.name, camera.last_frame_age_s));
-        was_alive_[i] = camera.alive;
-      }
-      report.cameras.push_back(camera);
-    }
-    if (!report.presented) report.errors.push_back("display window closed");
-    if (headless_) checkPicture(*loop_->presenter(), false, report);
-    return report;
-  }
-
- private:
-  void switchCameras(const std::vector<int>& off, kiosk::FrameReport& report) {
-    if (off == cameras_off_) return;
-    for (int i = 0; i < static_cast<int>(loop_->cameras().size()); ++i) {
-      const bool now_off = std::find(off.begin(), off.end(), i) != off.end();
-      const bool was_off = std::find(cameras_off_.begin(), cameras_off_.end(), i) != cameras_off_.end();
-      if (now_off == was_off) continue;
-      capture::SimulatedSource::setPowered(i, !now_off);
-      report.errors.push_back("injected fault: camera " + std::to_string(i) +
-                              (now_off ? " switched off" : " switched on"));
-    }
-    for (const int i : off)
-      if (i < 0 || i >= static_cast<int>(loop_->cameras().size()))
-        HOLO_LOG_WARN("test faults: no camera {} to switch off", i);
-    cameras_off_ = off;
-  }
-
-  std::shared_ptr<FrameLoop> loop_;  // shared: RenderFrame is copyable
-  bool headless_;
-  std::shared_ptr<kiosk::FaultInjector> faults_;
-  int full_view_size_ = 320;
-  double camera_pixels_ = 0;     // all cameras together
-  std::vector<bool> was_alive_;  // per camera, as last reported
-  std::vector<int> cameras_off_;
-};
 
 struct KioskOptions {
   std::string config = "/etc/holopyramid/holopyramid.yaml";
@@ -228,10 +54,12 @@ struct KioskOptions {
 kiosk::RenderFrame makeFrameSource(const kiosk::LoadedConfig& config, const KioskOptions& options,
                                    std::optional<Installation> installation) {
   const display::DisplayConfig display_config = display::displayConfigOf(config.root);
-  if (options.source == "test-pattern") return TestPatternSource(display_config, options.headless);
+  if (options.source == "test-pattern")
+    return pipeline::testPatternFrameSource(display_config, options.headless);
   if (!installation)
     installation = simulatedInstallation(options.scene, /*paced=*/true, FrameLoopOptions{}.panorama_width);
-  return PipelineSource(display_config, options.headless, std::move(*installation), options.view_size);
+  return pipeline::pipelineFrameSource(display_config, options.headless, std::move(*installation),
+                                       options.view_size);
 }
 
 int runKiosk(const KioskOptions& options) {

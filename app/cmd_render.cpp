@@ -5,9 +5,13 @@
 
 #include "command.hpp"
 #include "holo/core/error.hpp"
-#include "reflection_setup.hpp"
+#include "holo/eval/methods.hpp"
+#include "holo/eval/reflection_scene.hpp"
+#include "holo/eval/scoring.hpp"
 
 namespace holo::app {
+
+using namespace holo::eval;
 namespace {
 
 struct RenderOptions {
@@ -42,8 +46,8 @@ HOLO_REGISTER_COMMAND(Command{
     "render",
     [](CLI::App& sub) {
       auto o = std::make_shared<RenderOptions>();
-      o->scene.addTo(sub);
-      o->view.addTo(sub);
+      addSceneOptions(sub, o->scene);
+      addViewOptions(sub, o->view);
       sub.add_option("--method", o->method, "gt | ibl | ibl-baseline | ours | ssrt | mcpt")
           ->capture_default_str();
       sub.add_option("--spp", o->settings.spp, "gt: samples per pixel")

@@ -10,14 +10,16 @@
 #include <optional>
 
 #include "command.hpp"
-#include "frame_loop.hpp"
 #include "holo/core/config.hpp"
 #include "holo/core/files.hpp"
 #include "holo/core/log.hpp"
 #include "holo/core/progress.hpp"
 #include "holo/display/display_config.hpp"
+#include "holo/pipeline/frame_loop.hpp"
 
 namespace holo::app {
+
+using namespace holo::pipeline;
 namespace {
 
 struct RunOptions {

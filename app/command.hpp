@@ -9,6 +9,9 @@
 #include <functional>
 #include <string>
 
+#include "holo/calib/auto_calibration.hpp"
+#include "holo/eval/reflection_scene.hpp"
+
 namespace holo::app {
 
 struct Command {
@@ -19,6 +22,58 @@ struct Command {
 };
 
 bool registerCommand(Command command);
+
+// `calibrate wizard` (cmd_calibrate_wizard.cpp) is a subcommand of `calibrate` (cmd_calibrate.cpp):
+// that one adds it and runs it when parsed.
+struct WizardSubcommand {
+  CLI::App* app = nullptr;  // parsed() when the command line chose the wizard
+  std::function<int()> run;
+};
+
+WizardSubcommand addWizardSubcommand(CLI::App& calibrate);
+
+// What `calibrate --auto` and the wizard share: the boards from their command-line specs
+// (InputError naming the flag otherwise), the background frame count (>= 1) and the default
+// board placements in front of the four faces.
+calib::AutoCalibrationConfig calibrationConfig(const std::string& intrinsics_board,
+                                               const std::string& placement_board, int background_frames);
+
+// The options of the evaluation scene and view, shared by `render`, `eval reflections` and the
+// evaluations built on them.
+inline void addSceneOptions(CLI::App& app, eval::SceneOptions& options) {
+  app.add_option("--scene", options.scene, "Built-in scene name or YAML file; 'empty' = relic alone")
+      ->capture_default_str();
+  app.add_option("--relic", options.relic, "Built-in relic name or glTF file (default: the scene's)");
+  app.add_option("--hall", options.hall, "Built-in hall (room, gallery, atrium) instead of the scene's");
+  app.add_option("--panorama", options.panorama,
+                 "HDR/EXR panorama (default: the museum hall rendered from the pyramid)");
+  app.add_flag("--fit", options.fit, "Scale and centre a relic file on the pedestal");
+  app.add_option("--frame", options.frame, "Museum frame (visitor poses)")->capture_default_str();
+  app.add_option("--close-visitors", options.close_visitors,
+                 "Visitors standing close to the pyramid, reaching out to it (default: the scene's)")
+      ->check(CLI::Range(0, 4));
+  app.add_option("--camera-vfov-deg", options.camera_vfov_deg,
+                 "Depth cameras' vertical field of view, degrees (default: the scene's)")
+      ->check(CLI::Range(10.0f, 170.0f));
+  app.add_option("--camera-tilt-deg", options.camera_tilt_deg,
+                 "Depth cameras' upwards tilt, degrees (default: the scene's)")
+      ->check(CLI::Range(-60.0f, 60.0f));
+}
+
+inline void addViewOptions(CLI::App& app, eval::ViewOptions& options) {
+  app.add_option("--width", options.width, "Image width, pixels")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 8192));
+  app.add_option("--height", options.height, "Image height, pixels")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 8192));
+  app.add_option("--face", options.face, "Pyramid face 0..3 (+Z, +X, -Z, -X)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 3));
+  app.add_option("--eye", options.eye, "Explicit eye X,Y,Z (metres, world frame)");
+  app.add_option("--look-at", options.look_at, "Explicit target X,Y,Z (default: the relic's centre)");
+  app.add_option("--fov-deg", options.fov_deg, "Vertical field of view, degrees (default: frame the relic)");
+}
 
 }  // namespace holo::app
 

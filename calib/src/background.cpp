@@ -5,19 +5,9 @@
 #include <opencv2/imgproc.hpp>
 
 #include "holo/core/error.hpp"
+#include "holo/core/median.hpp"
 
 namespace holo::calib {
-
-namespace {
-
-template <typename T>
-T median(std::vector<T>& values) {
-  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), mid, values.end());
-  return *mid;
-}
-
-}  // namespace
 
 BackgroundModel captureBackground(const std::vector<RgbdFrame>& frames, const std::string& source) {
   if (frames.empty()) throw InputError(source, "frames", "at least one frame of the empty hall", "none");
@@ -49,7 +39,7 @@ BackgroundModel captureBackground(const std::vector<RgbdFrame>& frames, const st
         for (int k = 0; k < n; ++k)
           channel[static_cast<std::size_t>(k)] =
               frames[static_cast<std::size_t>(k)].color.at<cv::Vec3b>(y, x)[c];
-        out[c] = median(channel);
+        out[c] = medianInPlace(channel);
       }
       model.color.at<cv::Vec3b>(y, x) = out;
       // Grey level spread: how much the scene moved or flickered while capturing.
@@ -57,9 +47,9 @@ BackgroundModel captureBackground(const std::vector<RgbdFrame>& frames, const st
         const cv::Vec3b& p = frames[static_cast<std::size_t>(k)].color.at<cv::Vec3b>(y, x);
         grey[static_cast<std::size_t>(k)] = static_cast<std::uint8_t>((p[0] + 2 * p[1] + p[2] + 2) / 4);
       }
-      const int grey_median = median(grey);
+      const int grey_median = medianInPlace(grey);
       for (auto& g : grey) g = static_cast<std::uint8_t>(std::abs(static_cast<int>(g) - grey_median));
-      mad_sum += median(grey);
+      mad_sum += medianInPlace(grey);
 
       depths.clear();
       for (int k = 0; k < n; ++k) {
@@ -72,7 +62,7 @@ BackgroundModel captureBackground(const std::vector<RgbdFrame>& frames, const st
       // A pixel mostly without depth stays invalid: a median of a few lucky samples would be
       // dominated by flying pixels and noise.
       const bool valid = 2 * static_cast<int>(depths.size()) >= n && !depths.empty();
-      model.depth.at<float>(y, x) = valid ? median(depths) : 0.0f;
+      model.depth.at<float>(y, x) = valid ? medianInPlace(depths) : 0.0f;
       invalid_pixels += valid ? 0 : 1;
     }
   const double pixels = static_cast<double>(size.area());

@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <set>
 
+#include "holo/core/median.hpp"
 #include "kiosk_process.hpp"
 
 namespace holo::test {
@@ -23,11 +24,6 @@ double soakSeconds() {
   if (const char* s = std::getenv("HOLO_KIOSK_SOAK_SECONDS")) return std::max(60.0, std::atof(s));
   if (const char* full = std::getenv("HOLO_FULL_EVAL"); full && std::string(full) == "1") return 1800.0;
   return 120.0;
-}
-
-long median(std::vector<long> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0 : v[v.size() / 2];
 }
 
 struct Phase {
@@ -184,12 +180,13 @@ display:
   }
   ASSERT_FALSE(early.empty());
   ASSERT_FALSE(late.empty());
-  const double growth = static_cast<double>(median(late)) / static_cast<double>(median(early)) - 1.0;
+  const double growth =
+      static_cast<double>(holo::medianInPlace(late)) / static_cast<double>(holo::medianInPlace(early)) - 1.0;
   std::printf(
       "soak %.0f s (%zu phases of %.0f s): rss %ld -> %ld kB (%+.2f%%), %d health samples, longest stall "
       "%.2f s\n",
-      seconds, phase + 1, phase_s, median(early), median(late), 100.0 * growth, evidence.samples,
-      evidence.longest_stall);
+      seconds, phase + 1, phase_s, holo::medianInPlace(early), holo::medianInPlace(late), 100.0 * growth,
+      evidence.samples, evidence.longest_stall);
   EXPECT_LT(growth, 0.05);
 }
 

@@ -8,11 +8,18 @@
 
 namespace holo {
 
-inline double median(std::vector<double> values) {
-  if (values.empty()) return 0.0;
+// The same rule on any ordered type, reordering `values` instead of copying them (per-pixel
+// loops); T{} for no values.
+template <typename T>
+T medianInPlace(std::vector<T>& values) {
+  if (values.empty()) return T{};
   const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
   std::nth_element(values.begin(), mid, values.end());
   return *mid;
+}
+
+inline double median(std::vector<double> values) {
+  return medianInPlace(values);
 }
 
 }  // namespace holo

@@ -29,6 +29,11 @@
 
 namespace holo::reflect {
 
+// The path tracer's version, part of every cached ground truth's key (eval/ground_truth_cache.hpp).
+// Bump it in the change that alters what the tracer renders for the same scene, view, spp and seed
+// (its estimators, BSDF, sampler, defaults of PathTracerOptions), so cached truths are rendered again.
+inline constexpr int kPathTracerVersion = 1;
+
 // Which estimators a path vertex combines. Only kMis is the ground truth; the single-strategy
 // modes exist to check it (all three converge to the same image, with different noise).
 enum class LightSampling {

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace holo::app {
+namespace holo::eval {
 
 struct PlotMarker {
   double x = 0;         // e.g. milliseconds per view
@@ -35,4 +35,4 @@ struct LogLogPlot {
 
 std::string svgOf(const LogLogPlot& plot);
 
-}  // namespace holo::app
+}  // namespace holo::eval

@@ -1,4 +1,4 @@
-#include "calibration_wizard.hpp"
+#include "holo/calib/calibration_wizard.hpp"
 
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
@@ -18,10 +18,9 @@
 
 #include "holo/core/error.hpp"
 
-namespace holo::app {
+namespace holo::calib {
 
 namespace fs = std::filesystem;
-using calib::CalibrationStep;
 
 namespace {
 
@@ -490,4 +489,4 @@ const char* buttonName(CalibrationWizard::Button button) {
   return "?";
 }
 
-}  // namespace holo::app
+}  // namespace holo::calib

@@ -7,12 +7,12 @@
 #include <regex>
 #include <string>
 
-#include "loglog_plot.hpp"
+#include "holo/eval/loglog_plot.hpp"
 
 namespace {
 
-using holo::app::LogLogPlot;
-using holo::app::PlotSeries;
+using holo::eval::LogLogPlot;
+using holo::eval::PlotSeries;
 
 int count(const std::string& text, const std::string& what) {
   int n = 0;
@@ -36,7 +36,7 @@ TEST(LogLogPlot, DrawsOnlyPositiveFinitePointsWithinTheDecades) {
                     {std::numeric_limits<double>::quiet_NaN(), 0.01, "nan", true},
                     {std::numeric_limits<double>::infinity(), 0.01, "inf", true}};
   plot.series.push_back(series);
-  const std::string svg = holo::app::svgOf(plot);
+  const std::string svg = holo::eval::svgOf(plot);
 
   EXPECT_EQ(count(svg, "<title>"), 2) << svg;
   EXPECT_NE(svg.find("<title>fast</title>"), std::string::npos);
@@ -63,7 +63,7 @@ TEST(LogLogPlot, JoinsSeriesAndKeepsTheLegendToTheSeriesThatAskForIt) {
   LogLogPlot plot{"t", "ms", "MSE", "", 640, 420, {}};
   plot.series.push_back({"front", "#888", {{1, 0.1, "", true}, {10, 0.01, "", true}}, true, true, 0, false});
   plot.series.push_back({"ibl", "#d62728", {{3, 0.02, "ibl", true}}, false, false, 3, true});
-  const std::string svg = holo::app::svgOf(plot);
+  const std::string svg = holo::eval::svgOf(plot);
   EXPECT_EQ(count(svg, "<polyline"), 1);
   EXPECT_NE(svg.find("stroke-dasharray"), std::string::npos);
   EXPECT_EQ(count(svg, "<title>"), 1);  // the front has no markers
@@ -72,7 +72,7 @@ TEST(LogLogPlot, JoinsSeriesAndKeepsTheLegendToTheSeriesThatAskForIt) {
 }
 
 TEST(LogLogPlot, AnEmptyPlotIsStillAPicture) {
-  const std::string svg = holo::app::svgOf(LogLogPlot{"nothing yet", "ms", "MSE", "", 640, 420, {}});
+  const std::string svg = holo::eval::svgOf(LogLogPlot{"nothing yet", "ms", "MSE", "", 640, 420, {}});
   EXPECT_EQ(svg.rfind("<svg", 0), 0u);
   EXPECT_NE(svg.find("</svg>"), std::string::npos);
   EXPECT_EQ(svg.find("nan"), std::string::npos);

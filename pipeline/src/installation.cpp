@@ -1,4 +1,4 @@
-#include "installation.hpp"
+#include "holo/pipeline/installation.hpp"
 
 #include <tbb/parallel_for.h>
 
@@ -15,7 +15,7 @@
 #include "holo/sim/museum.hpp"
 #include "holo/sim/relics.hpp"
 
-namespace holo::app {
+namespace holo::pipeline {
 namespace {
 
 namespace fs = std::filesystem;
@@ -108,6 +108,7 @@ Installation simulatedInstallation(const std::string& scene, bool paced, int pan
     options.camera_id = i;
     installation.capture_options.push_back(options);
   }
+  installation.simulated_cameras = true;
   installation.camera_exposure = museum->description().camera.exposure;
   installation.fps = museum->description().camera.fps;
   installation.relic = museum->relic();
@@ -155,7 +156,11 @@ Installation loadInstallation(const ConfigNode& root) {
     options.camera_id = static_cast<int>(i);  // the loop's camera index, not the face
     installation.capture_options.push_back(options);
   }
+  installation.simulated_cameras =
+      std::all_of(installation.sources.begin(), installation.sources.end(), [](const auto& source) {
+        return dynamic_cast<const capture::SimulatedSource*>(source.get()) != nullptr;
+      });
   return installation;
 }
 
-}  // namespace holo::app
+}  // namespace holo::pipeline

@@ -1,4 +1,4 @@
-#include "frame_loop.hpp"
+#include "holo/pipeline/frame_loop.hpp"
 
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
@@ -17,16 +17,11 @@
 #include "holo/core/log.hpp"
 #include "holo/core/median.hpp"
 #include "holo/core/progress.hpp"
+#include "holo/core/stopwatch.hpp"
 #include "holo/reflect/view.hpp"
 
-namespace holo::app {
+namespace holo::pipeline {
 namespace {
-
-using Ms = std::chrono::duration<double, std::milli>;
-
-double msSince(Clock::time_point t0) {
-  return Ms(Clock::now() - t0).count();
-}
 
 double passMs(const std::vector<reflect::PassTiming>& timings, std::initializer_list<reflect::Pass> passes) {
   double sum = 0;
@@ -92,6 +87,7 @@ FrameLoop::FrameLoop(FrameLoopOptions options, Installation installation,
                      std::unique_ptr<display::QuadViewPresenter> presenter)
     : options_(std::move(options)),
       installation_name_(installation.name),
+      simulated_cameras_(installation.simulated_cameras),
       fps_(installation.fps),
       cameras_(installation.cameras),
       foreground_([&] {
@@ -455,6 +451,8 @@ std::vector<capture::CameraHealth> FrameLoop::cameraHealth() const {
 CameraFrameCounts FrameLoop::cameraFrameCounts() const {
   CameraFrameCounts counts;
   counts.live = options_.live;
+  // Preloaded frames are simulated before the first step: the loop replays them from memory.
+  counts.simulated = simulated_cameras_ && options_.preload_frames == 0;
   counts.rejected = rejected_frames_.load();
   if (!options_.live) {
     counts.produced = counts.consumed = index_ * static_cast<std::int64_t>(cameras_.size());
@@ -507,36 +505,33 @@ std::int64_t totalNonFinite(const std::vector<FrameReport>& reports) {
 
 std::string formatTimingTable(const StageTimes& m, const std::vector<FrameReport>& reports,
                               const CameraFrameCounts& cameras) {
-  std::ostringstream out;
-  char line[160];
-  out << "stage                      median ms   (over " << reports.size() << " frames)\n";
-  const std::pair<const char*, double> rows[] = {{"acquisition (wait)", m.acquisition},
-                                                 {"foreground point cloud", m.foreground},
-                                                 {"dynamic reflections", m.dynamic},
-                                                 {"static reflections", m.statics},
-                                                 {"composition", m.composition},
-                                                 {"display", m.display},
-                                                 {"waiting for the foreground", m.pipeline_wait},
-                                                 {"whole frame", m.total}};
-  for (const auto& [name, ms] : rows) {
-    std::snprintf(line, sizeof line, "%-26s %9.2f\n", name, ms);
-    out << line;
+  std::string out;
+  const auto row = [&out](const char* name, double ms) { out += fmt::format("{:<34} {:9.2f}\n", name, ms); };
+  const auto fps = [](double ms) { return ms > 0 ? 1000.0 / ms : 0.0; };
+  out += fmt::format("{:<34} median ms   (over {} frames)\n", "stage", reports.size());
+  if (!cameras.simulated) row("acquisition (wait)", m.acquisition);
+  row("foreground point cloud", m.foreground);
+  row("dynamic reflections", m.dynamic);
+  row("static reflections", m.statics);
+  row("composition", m.composition);
+  row("display", m.display);
+  row("appliance stages, one after another", m.applianceStages());
+  row("  frames per second, no overlap", fps(m.applianceStages()));
+  if (cameras.simulated) {
+    out += "simulating the cameras (no real installation pays this):\n";
+    row("  acquisition (wait)", m.acquisition);
   }
-  std::snprintf(line, sizeof line, "%-26s %9.2f\n", "frames per second",
-                m.total > 0 ? 1000.0 / m.total : 0.0);
-  out << line;
-  std::snprintf(line, sizeof line, "%-26s %9lld\n", "non-finite HDR pixels",
-                static_cast<long long>(totalNonFinite(reports)));
-  out << line;
-  std::snprintf(line, sizeof line,
-                "camera frames (%s): %lld produced, %lld consumed, %lld dropped, %lld never consumed, %lld "
-                "unusable\n",
-                cameras.live ? "live" : "deterministic: none dropped by construction",
-                static_cast<long long>(cameras.produced), static_cast<long long>(cameras.consumed),
-                static_cast<long long>(cameras.dropped), static_cast<long long>(cameras.unconsumed),
-                static_cast<long long>(cameras.rejected));
-  out << line;
-  return out.str();
+  row("waiting for the foreground", m.pipeline_wait);
+  row(cameras.simulated ? "whole frame, simulation included" : "whole frame", m.total);
+  row("  frames per second", fps(m.total));
+  if (cameras.simulated)
+    out += "the appliance's own frame rate, cameras simulated before timing: holopyramid bench frame\n";
+  out += fmt::format("{:<34} {:9}\n", "non-finite HDR pixels", totalNonFinite(reports));
+  out += fmt::format(
+      "camera frames ({}): {} produced, {} consumed, {} dropped, {} never consumed, {} unusable\n",
+      cameras.live ? "live" : "deterministic: none dropped by construction", cameras.produced,
+      cameras.consumed, cameras.dropped, cameras.unconsumed, cameras.rejected);
+  return out;
 }
 
 std::string timingJson(const StageTimes& m, const std::vector<FrameReport>& reports,
@@ -552,6 +547,9 @@ std::string timingJson(const StageTimes& m, const std::vector<FrameReport>& repo
   j["stages_ms"] = stages(m);  // medians over the frames
   j["frame_ms"] = m.total;
   j["fps"] = m.total > 0 ? 1000.0 / m.total : 0.0;
+  j["appliance_stages_ms"] = m.applianceStages();
+  j["appliance_fps"] = m.applianceStages() > 0 ? 1000.0 / m.applianceStages() : 0.0;
+  j["simulated_cameras"] = cameras.simulated;
   j["non_finite_pixels"] = totalNonFinite(reports);
   j["camera_frames"] = {{"mode", cameras.live ? "live" : "deterministic"},
                         {"produced", cameras.produced},
@@ -582,4 +580,4 @@ std::string timingJson(const StageTimes& m, const std::vector<FrameReport>& repo
   return j.dump(2);
 }
 
-}  // namespace holo::app
+}  // namespace holo::pipeline

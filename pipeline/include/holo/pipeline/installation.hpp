@@ -34,7 +34,7 @@
 #include "holo/core/mesh.hpp"
 #include "holo/core/rgbd_frame.hpp"
 
-namespace holo::app {
+namespace holo::pipeline {
 
 struct Installation {
   std::string name;  // for logs and reports: the scene's name or the configuration file
@@ -43,6 +43,9 @@ struct Installation {
   std::vector<std::unique_ptr<capture::CameraSource>> sources;
   std::vector<CameraModel> cameras;
   std::vector<capture::CaptureOptions> capture_options;
+  // Every camera is simulated: rendering their frames is part of acquisition here, a cost no real
+  // installation pays (the timing table shows it apart from the appliance's stages).
+  bool simulated_cameras = false;
   // Background frames gamma_s given directly, one per camera (the simulated museum's empty hall);
   // may be empty. Then, or in addition, the first `background_frames` frames of every camera only
   // teach the foreground pipeline the background.
@@ -66,4 +69,4 @@ Installation loadInstallation(const ConfigNode& root);
 // True when the document has a `capture:` section (then it describes real cameras).
 bool describesCameras(const ConfigNode& root);
 
-}  // namespace holo::app
+}  // namespace holo::pipeline

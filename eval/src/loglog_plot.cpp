@@ -1,10 +1,10 @@
-#include "loglog_plot.hpp"
+#include "holo/eval/loglog_plot.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
-namespace holo::app {
+namespace holo::eval {
 namespace {
 
 bool drawable(const PlotMarker& m) {
@@ -96,4 +96,4 @@ std::string svgOf(const LogLogPlot& plot) {
   return s.str();
 }
 
-}  // namespace holo::app
+}  // namespace holo::eval

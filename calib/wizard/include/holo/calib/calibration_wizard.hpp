@@ -16,7 +16,7 @@
 
 #include "holo/calib/calibration_session.hpp"
 
-namespace holo::app {
+namespace holo::calib {
 
 struct WizardWindowOptions {
   std::filesystem::path out_dir;  // where Save writes the calibration
@@ -60,4 +60,4 @@ class CalibrationWizard {
 
 const char* buttonName(CalibrationWizard::Button button);
 
-}  // namespace holo::app
+}  // namespace holo::calib

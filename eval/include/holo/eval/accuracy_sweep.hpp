@@ -1,0 +1,54 @@
+// Accuracy against time (`holopyramid bench accuracy`, docs/tracer.md). On one scene of the tracer
+// evaluation (a hall x relic with its walkers and visitors close to the pyramid, the view where the
+// visitors matter most: visitorView) it sweeps each method's quality knobs,
+//   ours   anti-aliasing (1, 4) x pyramid levels (5, 7, 9) x voxel size (2, 3.125, 5 cm), the
+//          pyramid level offset -1 / +1 around the derived level, and 1 or 4 Gaussians for the GGX
+//          lobe instead of 2;
+//   ibl    the paper's IBL (visitors reprojected into the panorama, prefiltered every frame) at
+//          6, 8, 10 roughness levels;
+//   ssrt   1, 2, 4, 8, 16 rays per hit point;
+//   mcpt   path tracing of the reconstructed scene, 1, 2, 4, ... max_spp samples per pixel;
+// and scores each against the path-traced truth (scoring.hpp: fg_mse on the displayed images).
+// Times are milliseconds per view, the per-frame work amortised over the four face views; the
+// median of `repeats` runs.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace holo::eval {
+
+struct AccuracyOptions {
+  std::string hall = "gallery", relic = "vase";  // built-in hall and relic
+  int size = 64;                                 // view width and height, pixels
+  // Rough reflections converge slowly: at 512 spp the truth's noise was a large part of the
+  // kettle's fg_mse (eval tracer's gt noise column, docs/tracer.md).
+  int gt_spp = 4096;
+  int max_spp = 256;
+  int repeats = 3;
+  int close_visitors = 1;
+  float camera_tilt_deg = 20.0f, camera_vfov_deg = 90.0f;  // eval tracer's rig for close visitors
+  std::string cache =
+      (std::filesystem::temp_directory_path() / "holopyramid-gt-cache").string();  // ground truths
+};
+
+struct AccuracyPoint {
+  std::string method, knob;
+  double ms = 0, fg_mse = 0, mse = 0;
+  bool pareto = false;  // no other point is at most as slow and as wrong, and better in one
+};
+
+struct AccuracySweep {
+  int frame = 0, face = 0;  // the view picked
+  int region_pixels = 0;    // of the foreground region; 0: every fg_mse is 0
+  std::vector<AccuracyPoint> points;
+};
+
+// Throws InputError for a hall or relic that is not built in.
+AccuracySweep sweepAccuracy(const AccuracyOptions& options);
+
+// fg_mse against milliseconds per view, log-log, the Pareto front joined, as SVG.
+std::string accuracySvg(const std::vector<AccuracyPoint>& points, const std::string& title);
+
+}  // namespace holo::eval

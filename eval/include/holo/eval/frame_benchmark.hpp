@@ -1,0 +1,48 @@
+// `holopyramid bench frame`: whole frames of the live pipeline (frame_loop.hpp) on a simulated
+// scene, and in the same run the floor docs/architecture.md sets for a frame: one primary ray per pixel of
+// the four views plus one prefiltered-environment lookup at the reflected direction, nothing
+// else. The frames run back to back, as in the product; the floor of each frame's views is
+// measured after them, with the loop's worker idle. Medians from one run, milliseconds.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "holo/pipeline/frame_loop.hpp"
+
+namespace holo::eval {
+
+struct FrameBenchOptions {
+  pipeline::FrameLoopOptions loop;
+  int warmup = 3;   // frames run before measuring
+  int frames = 10;  // measured frames
+  // Simulate every camera frame before timing and replay them: real cameras deliver their
+  // frames, while simulating four costs about a frame of CPU and would compete with it.
+  bool preload = true;
+  // Also render every measured frame with 4 samples per pixel, the interreflection bounce and no
+  // reuse (untimed) and measure the displayed images' difference.
+  bool reference = false;
+};
+
+struct FrameBenchmark {
+  std::vector<pipeline::FrameReport> reports;  // the measured frames
+  pipeline::StageTimes median;
+  std::vector<std::pair<std::string, double>> passes;  // median ms per tracer pass, all views
+  pipeline::CameraFrameCounts cameras;
+  double floor_ms = 0;                   // median over the frames' views
+  std::uint64_t floor_relic_pixels = 0;  // relic pixels of the last floor frame
+  double setup_s = 0;                    // the loop's construction (and preloading), seconds
+  double busy_cores = 0;                 // CPU seconds of the process per wall second of the frames
+  double page_faults_per_frame = 0;      // minor faults: memory freshly mapped per frame
+  // Mean absolute difference in 8-bit sRGB codes against the reference, median over the frames.
+  std::optional<double> error_vs_reference_codes;
+  double frameOverFloor() const { return floor_ms > 0 ? median.total / floor_ms : 0.0; }
+};
+
+// Throws InputError as FrameLoop does for a bad scene or settings.
+FrameBenchmark benchFrame(FrameBenchOptions options);
+
+}  // namespace holo::eval

@@ -1,0 +1,64 @@
+// The method factory: one view of a ReflectionScene rendered by a named reflection method, timed
+// as the evaluations compare them.
+//   gt            path-traced ground truth (the true visitors and hall as emitters)
+//   ibl           prefiltered static panorama, visitors ignored
+//   ibl-baseline  the paper's IBL: the visitors reprojected into the panorama, prefiltered again
+//   ours          the voxel-walk reflection tracer (reflect::FrameRenderer)
+//   ssrt          screen-space ray tracing of the foreground
+//   mcpt          path tracing of the reconstructed foreground (voxels) and the panorama
+// Units: milliseconds for times; images are linear HDR CV_32FC3 BGR.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "holo/core/camera_model.hpp"
+#include "holo/eval/reflection_scene.hpp"
+#include "holo/reflect/frame_renderer.hpp"
+#include "holo/reflect/prefiltered_ibl.hpp"
+
+namespace holo::eval {
+
+inline const std::vector<std::string>& reflectionMethods() {
+  static const std::vector<std::string> methods = {"gt", "ibl", "ibl-baseline", "ours", "ssrt", "mcpt"};
+  return methods;
+}
+
+struct MethodSettings {
+  int spp = 256;               // gt, mcpt: samples per pixel; ssrt: reflected rays per hit point
+  int max_bounces = 5;         // gt: PathTracerOptions::max_bounces
+  int ibl_levels = 10;         // ibl*: roughness levels (PrefilterOptions::levels)
+  int ibl_texel_density = 20;  // ibl*: PrefilterOptions::texel_density
+  bool with_visitors = true;
+  std::uint64_t seed = 1;
+  reflect::TracerSettings tracer;  // ours: anti-aliasing, pyramid levels, voxel grid
+  // ours, ssrt, ibl: the static hall's prefiltered panorama. The hall does not move, so it is
+  // built once per scene (staticIbl) and not counted in the per-view time; null = build it here
+  // (reported in build_ms; ours, ssrt: outside ms). ibl-baseline always builds its own.
+  std::shared_ptr<const reflect::PrefilteredIbl> static_ibl;
+};
+
+// The static panorama prefiltered with settings' levels and texel density (what static_ibl holds).
+std::shared_ptr<const reflect::PrefilteredIbl> staticIbl(const ReflectionScene& scene,
+                                                         const MethodSettings& settings);
+
+struct MethodResult {
+  cv::Mat image;        // linear HDR CV_32FC3 BGR
+  double ms = 0;        // render time of the view (ibl-baseline, and ibl without static_ibl: the
+                        // prefilter build included; ours: the frame's voxel grid and pyramids
+                        // included; mcpt: the voxel scene's build included)
+  double build_ms = 0;  // IBL, mcpt: part of ms spent building maps or the scene; ours, ssrt:
+                        // the static IBL built here when settings.static_ibl was null (not in ms)
+  std::vector<std::pair<std::string, double>> passes;  // ours: ms per pass (frame passes first)
+  double frame_ms = 0;  // ours: the per-frame passes (voxel grid, pyramids), shared by all views
+  double view_ms = 0;   // ours: the per-view passes (hit points, static, walk, composition, tone map)
+};
+
+// Throws InputError(field "--method") for an unknown method.
+MethodResult renderMethod(const std::string& method, const ReflectionScene& scene, const CameraModel& camera,
+                          const MethodSettings& settings, bool quiet = true);
+
+}  // namespace holo::eval

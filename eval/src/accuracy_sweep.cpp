@@ -1,0 +1,181 @@
+#include "holo/eval/accuracy_sweep.hpp"
+
+#include <algorithm>
+#include <iomanip>
+#include <sstream>
+
+#include "holo/core/log.hpp"
+#include "holo/core/median.hpp"
+#include "holo/core/progress.hpp"
+#include "holo/core/stopwatch.hpp"
+#include "holo/eval/ground_truth_cache.hpp"
+#include "holo/eval/loglog_plot.hpp"
+#include "holo/eval/methods.hpp"
+#include "holo/eval/reflection_scene.hpp"
+#include "holo/eval/scoring.hpp"
+#include "holo/reflect/image_metrics.hpp"
+#include "holo/reflect/path_tracer.hpp"
+#include "holo/reflect/voxel_emitters.hpp"
+#include "holo/reflect/voxel_grid.hpp"
+
+namespace holo::eval {
+namespace {
+
+constexpr int kViewsPerFrame = 4;  // the per-frame work is shared by the four face views
+
+std::string fmt(double v, int precision) {
+  std::ostringstream s;
+  s << std::setprecision(precision) << v;
+  return s.str();
+}
+
+// Marks the points no other point beats on both time and fg_mse.
+void markPareto(std::vector<AccuracyPoint>& points) {
+  for (AccuracyPoint& p : points) {
+    p.pareto = true;
+    for (const AccuracyPoint& q : points)
+      if (&q != &p && q.ms <= p.ms && q.fg_mse <= p.fg_mse && (q.ms < p.ms || q.fg_mse < p.fg_mse)) {
+        p.pareto = false;
+        break;
+      }
+  }
+}
+
+}  // namespace
+
+AccuracySweep sweepAccuracy(const AccuracyOptions& o) {
+  AccuracySweep sweep;
+  const VisitorScene setup =
+      visitorScene(o.hall, o.relic, o.close_visitors, o.camera_tilt_deg, o.camera_vfov_deg, o.size);
+  const ReflectionScene& scene = setup.scene;
+  const CameraModel& camera = setup.camera;
+  const VisitorView& pick = setup.pick;
+  sweep.frame = pick.frame;
+  sweep.face = pick.face;
+  HOLO_LOG_INFO("bench accuracy: {} x {}, frame {}, face {}", o.hall, o.relic, pick.frame, pick.face);
+
+  const cv::Mat gt_hdr = cachedGroundTruth(scene, camera, o.gt_spp, true, o.cache);
+  const ForegroundScoring scoring = foregroundScoring(
+      gt_hdr, cachedGroundTruth(scene, camera, o.gt_spp, false, o.cache), reflect::kForegroundDistance);
+  sweep.region_pixels = scoring.region_pixels;
+  const auto score = [&](AccuracyPoint& p, const cv::Mat& hdr) {
+    p.mse = scoring.mse(hdr);
+    p.fg_mse = scoring.foregroundMse(hdr);
+  };
+
+  MethodSettings base;
+  base.static_ibl = staticIbl(scene, base);
+  std::vector<AccuracyPoint>& points = sweep.points;
+  // One configuration: the median time of `repeats` runs (per view, frame work / 4), the first image.
+  const auto run = [&](const std::string& method, const std::string& knob, const MethodSettings& s) {
+    AccuracyPoint p{method, knob, 0, 0, 0, false};
+    std::vector<double> ms;
+    cv::Mat image;
+    for (int i = 0; i < o.repeats; ++i) {
+      const MethodResult r = renderMethod(method == "ibl" ? "ibl-baseline" : method, scene, camera, s);
+      ms.push_back(method == "ours" ? r.view_ms + r.frame_ms / kViewsPerFrame
+                                    : (r.ms - r.build_ms) + r.build_ms / kViewsPerFrame);
+      if (i == 0) image = r.image;
+    }
+    p.ms = median(ms);
+    score(p, image);
+    points.push_back(p);
+  };
+
+  struct OursConfig {
+    int aa, levels;
+    float voxel, bias;
+    int lobe_components;
+  };
+  const int lobe = reflect::TracerSettings{}.lobe_components;
+  std::vector<OursConfig> ours;
+  for (int aa : {1, 4})
+    for (int levels : {5, 7, 9})
+      for (float voxel : {0.02f, 0.03125f, 0.05f}) ours.push_back({aa, levels, voxel, 0.0f, lobe});
+  for (float bias : {-1.0f, 1.0f}) ours.push_back({4, 9, 0.03125f, bias, lobe});
+  for (int components : {1, 4}) ours.push_back({4, 9, 0.03125f, 0.0f, components});
+  const std::vector<int> ibl_levels = {6, 8, 10}, ssrt_rays = {1, 2, 4, 8, 16};
+  int mcpt_steps = 0;
+  for (int spp = 1; spp <= o.max_spp; spp *= 2) ++mcpt_steps;
+  ProgressReporter progress(std::int64_t(ours.size() + ibl_levels.size() + ssrt_rays.size()) + mcpt_steps,
+                            "bench accuracy");
+  for (const OursConfig& c : ours) {
+    MethodSettings s = base;
+    s.tracer.aa_samples = c.aa;
+    s.tracer.pyramid_levels = c.levels;
+    s.tracer.grid.voxel_size = c.voxel;
+    s.tracer.level_bias = c.bias;
+    s.tracer.lobe_components = c.lobe_components;
+    run("ours",
+        "aa=" + std::to_string(c.aa) + " levels=" + std::to_string(c.levels) +
+            " voxel_cm=" + fmt(100 * c.voxel, 4) + " level_bias=" + fmt(c.bias, 2) +
+            " lobe=" + std::to_string(c.lobe_components),
+        s);
+    progress.update();
+  }
+  for (int levels : ibl_levels) {
+    MethodSettings s = base;
+    s.ibl_levels = levels;
+    run("ibl", "levels=" + std::to_string(levels), s);
+    progress.update();
+  }
+  for (int rays : ssrt_rays) {
+    MethodSettings s = base;
+    s.spp = rays;
+    run("ssrt", "rays=" + std::to_string(rays), s);
+    progress.update();
+  }
+  {  // path tracing of the voxels plus panorama: one progressive render, the sampling time per spp
+    reflect::VoxelGrid grid;
+    grid.build(scene.foreground);
+    std::vector<Model> emitters;
+    if (!grid.empty()) emitters.push_back(reflect::voxelEmitters(grid));
+    const reflect::RenderScene rs(scene.relic, emitters);
+    const reflect::Environment env(scene.panorama);
+    reflect::PathTracerOptions po;
+    po.seed = 7;
+    const reflect::PathTracer tracer(rs, env, po);
+    reflect::ProgressiveRender render(tracer, camera);
+    double sampling_ms = 0;
+    for (int spp = 1; spp <= o.max_spp; spp *= 2) {
+      const Stopwatch pass;
+      render.addSamples(spp - render.samplesPerPixel());
+      sampling_ms += pass.ms();
+      AccuracyPoint p{"mcpt", "spp=" + std::to_string(spp), sampling_ms, 0, 0, false};
+      score(p, render.image());
+      points.push_back(p);
+      progress.update();
+    }
+  }
+  progress.done();
+  markPareto(points);
+  return sweep;
+}
+
+std::string accuracySvg(const std::vector<AccuracyPoint>& points, const std::string& title) {
+  LogLogPlot plot{title, "ms per view (frame work / 4 included)", "fg_mse", "filled: Pareto front", 720, 460,
+                  {}};
+  // The front: the Pareto points in time order, joined.
+  std::vector<const AccuracyPoint*> front;
+  for (const AccuracyPoint& p : points)
+    if (p.pareto) front.push_back(&p);
+  std::sort(front.begin(), front.end(),
+            [](const AccuracyPoint* a, const AccuracyPoint* b) { return a->ms < b->ms; });
+  PlotSeries front_line{"Pareto front", "#888", {}, true, true, 0, false};
+  for (const AccuracyPoint* p : front) front_line.markers.push_back({p->ms, p->fg_mse, "", true});
+  plot.series.push_back(std::move(front_line));
+  const std::vector<std::pair<std::string, std::string>> colours = {
+      {"ours", "#000000"}, {"ibl", "#d62728"}, {"ssrt", "#9467bd"}, {"mcpt", "#1f77b4"}};
+  for (const auto& [method, colour] : colours) {
+    PlotSeries series{method, colour, {}, false, false, 3.5, true};
+    for (const AccuracyPoint& p : points)
+      if (p.method == method)
+        series.markers.push_back(
+            {p.ms, p.fg_mse,
+             p.method + " " + p.knob + ": " + fmt(p.ms, 3) + " ms, fg_mse " + fmt(p.fg_mse, 3), p.pareto});
+    plot.series.push_back(std::move(series));
+  }
+  return svgOf(plot);
+}
+
+}  // namespace holo::eval

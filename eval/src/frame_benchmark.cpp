@@ -1,0 +1,127 @@
+#include "holo/eval/frame_benchmark.hpp"
+
+#include <sys/resource.h>
+#include <tbb/parallel_for.h>
+
+#include <atomic>
+#include <cmath>
+
+#include "holo/core/log.hpp"
+#include "holo/core/median.hpp"
+#include "holo/core/progress.hpp"
+#include "holo/core/stopwatch.hpp"
+#include "holo/reflect/view.hpp"
+
+namespace holo::eval {
+
+using namespace holo::pipeline;
+namespace {
+
+// One primary ray per pixel of every view against the relic and, where it hits, one
+// prefiltered-IBL lookup at the mirror direction. Returns milliseconds.
+double floorFrameMs(const FrameLoop& loop, const std::vector<CameraModel>& views,
+                    const reflect::PrefilteredIbl& ibl, std::uint64_t& hits) {
+  const Stopwatch floor_time;
+  std::atomic<std::uint64_t> hit_count{0};
+  float sink = 0;
+  for (const CameraModel& view : views) {
+    const int w = view.width(), h = view.height();
+    std::vector<float> row_sum(static_cast<std::size_t>(h), 0.0f);
+    tbb::parallel_for(0, h, [&](int y) {
+      std::uint64_t local_hits = 0;
+      float sum = 0;
+      for (int x = 0; x < w; ++x) {
+        const Ray ray = reflect::primaryRay(view, vec2(x + 0.5f, y + 0.5f));
+        const RayHit hit = loop.renderScene().relicOnly().intersect(ray);
+        if (!hit.hit()) continue;
+        ++local_hits;
+        const vec3 n = loop.renderScene().relicOnly().shadingNormal(hit, ray.direction);
+        sum += ibl.specular(glm::reflect(ray.direction, n), 0.2f).g;
+      }
+      row_sum[static_cast<std::size_t>(y)] = sum;
+      hit_count += local_hits;
+    });
+    for (float s : row_sum) sink += s;
+  }
+  hits = hit_count;
+  if (!std::isfinite(sink)) HOLO_LOG_WARN("floor frame produced a non-finite sum");
+  return floor_time.ms();
+}
+
+// CPU time of the whole process (every thread), seconds.
+double processCpuSeconds() {
+  rusage usage{};
+  ::getrusage(RUSAGE_SELF, &usage);
+  auto seconds = [](const timeval& t) { return double(t.tv_sec) + 1e-6 * double(t.tv_usec); };
+  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+}
+
+// Minor page faults of the process so far: memory freshly mapped and zeroed by the kernel (large
+// buffers allocated per frame instead of reused).
+long pageFaults() {
+  rusage usage{};
+  ::getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_minflt;
+}
+
+// Mean absolute difference in 8-bit sRGB code values over the four faces' displayed images.
+double meanAbsCodes(const reflect::FrameResult& a, const reflect::FrameResult& b) {
+  double sum = 0;
+  std::size_t n = 0;
+  for (std::size_t v = 0; v < a.views.size() && v < b.views.size(); ++v) {
+    sum += cv::norm(a.views[v].display, b.views[v].display, cv::NORM_L1);
+    n += a.views[v].display.total() * 3;
+  }
+  return n > 0 ? sum / double(n) : 0.0;
+}
+
+}  // namespace
+
+FrameBenchmark benchFrame(FrameBenchOptions options) {
+  FrameBenchmark result;
+  if (options.preload)
+    options.loop.preload_frames = options.warmup + options.frames + 1;  // + the last prefetch
+  const Stopwatch setup;
+  FrameLoop loop(options.loop, nullptr);
+  result.setup_s = setup.seconds();
+  ProgressReporter progress(options.warmup + options.frames, "bench frame");
+  for (int i = 0; i < options.warmup; ++i) {
+    loop.step();
+    progress.update(1);
+  }
+  std::vector<FrameReport>& reports = result.reports;
+  std::vector<double> floor_ms, error_codes;
+  reflect::TracerSettings reference_settings = options.loop.tracer;
+  setAntiAliasing(reference_settings, reflect::AntiAliasing::Full);
+  reference_settings.static_reuse_distance = 0.0f;
+  reference_settings.relic_interreflection = true;
+  // The frames run back to back, as in the product: the worker computing the next frame's
+  // foreground must not compete with a floor measurement (nor get free time during one). The
+  // floor of each frame's views is measured after the frames, with the worker idle.
+  std::vector<std::vector<CameraModel>> views;
+  const double cpu_start = processCpuSeconds();
+  const long faults_start = pageFaults();
+  const Stopwatch wall;
+  for (int i = 0; i < options.frames; ++i) {
+    reports.push_back(loop.step());
+    views.push_back(loop.faceViews());
+    if (options.reference)  // untimed, but it perturbs the overlapped worker's times
+      error_codes.push_back(meanAbsCodes(loop.lastResult(), loop.renderReference(reference_settings)));
+    progress.update(1);
+  }
+  loop.waitForWorker();
+  // How many cores the frames kept busy on average (both: the stages left none idle).
+  result.busy_cores = (processCpuSeconds() - cpu_start) / std::max(1e-9, wall.seconds());
+  result.page_faults_per_frame = double(pageFaults() - faults_start) / std::max(1, options.frames);
+  for (const std::vector<CameraModel>& frame_views : views)
+    floor_ms.push_back(floorFrameMs(loop, frame_views, loop.ibl(), result.floor_relic_pixels));
+  progress.done();
+  result.median = medianTimes(reports);
+  result.passes = medianPasses(reports);
+  result.cameras = loop.cameraFrameCounts();
+  result.floor_ms = median(floor_ms);
+  if (options.reference) result.error_vs_reference_codes = median(error_codes);
+  return result;
+}
+
+}  // namespace holo::eval
