@@ -289,7 +289,7 @@ SensorNoise sensorProfile(SensorProfile profile) {
     n.range_fade_start = 15.0f;
     n.range_fade_end = 20.0f;
     n.low_texture_contrast = 3.0f;
-    n.low_texture_dropout = 0.6f;
+    n.low_texture_dropout = 0.4f;
     n.edge_fattening_px = 3.0f;
     n.hole_patch_px = 12.0f;
     n.hole_flicker = 0.3f;

@@ -1,5 +1,6 @@
 // The depth-camera sensor model: turns what a perfect sensor sees (true depth, the angle of
-// incidence, radiance) into what a consumer RGB-D camera delivers. Documented in docs/sim.md:
+// incidence, radiance) into what a consumer RGB-D camera delivers. Documented in docs/sim.md
+// ("Sensor model", "Sensor profiles"). The uniform profile:
 //   * depth noise: Gaussian with sigma(z) = sigma_0 + k_z1 z + k_z2 z^2 (metres; z = camera-frame
 //     depth); the structured-light profile then quantises it in disparity,
 //   * dropouts: beyond the grazing angle (ray vs. surface normal), a random fraction everywhere,
@@ -7,6 +8,11 @@
 //   * flying pixels: some remaining edge pixels take a depth between the two sides of the edge,
 //   * colour: sRGB 8-bit of exposure * radiance plus Gaussian noise of color_sigma steps,
 //   * measured depths outside [min_range, max_range] become 0 (invalid).
+// The structured-light and stereo profiles (SensorProfile in museum.hpp) replace the random and
+// edge dropouts by holes in patches: the projector's (second camera's) shadow, traced per row from
+// the true depth; then, per pixel, a keep probability from the incidence angle, the range, a dark
+// surface, a nearby depth edge and (stereo) low texture, compared with smooth value noise that is
+// partly fixed per camera and partly new each frame; structured light quantises depth in disparity.
 // Every random number comes from a counter-based generator keyed by (seed, stream, pixel), so the
 // result never depends on how rows are split between threads.
 #pragma once
