@@ -35,6 +35,7 @@ namespace fs = std::filesystem;
 
 struct SimulateOptions {
   std::string scene;
+  std::string sensor;  // empty: the scene's own
   int frames = 30;
   std::string out;
   int panorama_width = 2048;
@@ -103,7 +104,9 @@ int simulate(const SimulateOptions& o) {
   if (fs::exists(out, ec))
     throw InputError(out.string(), "--out", "a folder that does not exist yet", "it exists");
 
-  const sim::SceneDescription scene = sim::loadScene(o.scene);
+  sim::SceneDescription scene = sim::loadScene(o.scene);
+  if (!o.sensor.empty())
+    scene.noise = sim::sensorProfile(sim::sensorProfileFromName(o.sensor, "", "--sensor"));
   const sim::Museum museum(scene);
   const int cameras = museum.cameraCount();
 
@@ -159,6 +162,7 @@ int simulate(const SimulateOptions& o) {
   progress.update();
   writeFileAtomically(tmp / "scene.txt", "scene: " + scene.name + "\nsource: " + scene.source +
                                              "\nseed: " + std::to_string(scene.seed) +
+                                             "\nsensor: " + sim::sensorProfileName(scene.noise.profile) +
                                              "\nframes: " + std::to_string(o.frames) + "\n");
   progress.done();
   fs::rename(tmp, out);
@@ -177,6 +181,8 @@ HOLO_REGISTER_COMMAND(Command{
       auto o = std::make_shared<SimulateOptions>();
       sub.add_option("--scene", o->scene, "Built-in scene name or scene YAML file")->required();
       sub.add_option("--frames", o->frames, "Frames per camera")->capture_default_str();
+      sub.add_option("--sensor", o->sensor,
+                     "Depth-camera profile instead of the scene's: uniform, structured-light or stereo");
       sub.add_option("--out", o->out, "Output folder (must not exist)")->required();
       sub.add_option("--panorama-width", o->panorama_width, "Panorama width in pixels")
           ->capture_default_str();

@@ -76,16 +76,39 @@ void readCamera(const ConfigNode& node, CameraSettings& c) {
 }
 
 void readNoise(const ConfigNode& node, SensorNoise& n) {
-  static const std::set<std::string> known = {"sigma_0",      "k_z2",         "grazing_dropout_deg",
-                                              "edge_dropout", "flying_pixel", "random_dropout",
-                                              "color_sigma",  "enabled"};
+  static const std::set<std::string> known = {"sigma_0",
+                                              "k_z1",
+                                              "k_z2",
+                                              "grazing_dropout_deg",
+                                              "edge_dropout",
+                                              "flying_pixel",
+                                              "random_dropout",
+                                              "color_sigma",
+                                              "enabled",
+                                              "baseline",
+                                              "native_focal_px",
+                                              "disparity_step_px",
+                                              "grazing_start_deg",
+                                              "dark_luminance",
+                                              "dark_dropout",
+                                              "range_fade_start",
+                                              "range_fade_end",
+                                              "edge_band_px",
+                                              "low_texture_contrast",
+                                              "low_texture_dropout",
+                                              "edge_fattening_px",
+                                              "hole_patch_px",
+                                              "hole_flicker"};
   for (const auto& key : node.keys())
     if (!known.count(key))
       node[key].fail(
-          "one of sigma_0, k_z2, grazing_dropout_deg, edge_dropout, flying_pixel, random_dropout, "
-          "color_sigma, enabled",
+          "one of sigma_0, k_z1, k_z2, grazing_dropout_deg, edge_dropout, flying_pixel, random_dropout, "
+          "color_sigma, enabled, baseline, native_focal_px, disparity_step_px, grazing_start_deg, "
+          "dark_luminance, dark_dropout, range_fade_start, range_fade_end, edge_band_px, "
+          "low_texture_contrast, low_texture_dropout, edge_fattening_px, hole_patch_px, hole_flicker",
           key);
   n.sigma_0 = node.getInRange("sigma_0", n.sigma_0, 0.0f, 1.0f);
+  n.k_z1 = node.getInRange("k_z1", n.k_z1, 0.0f, 1.0f);
   n.k_z2 = node.getInRange("k_z2", n.k_z2, 0.0f, 1.0f);
   n.grazing_dropout_deg = node.getInRange("grazing_dropout_deg", n.grazing_dropout_deg, 0.0f, 90.0f);
   n.edge_dropout = node.getInRange("edge_dropout", n.edge_dropout, 0.0f, 1.0f);
@@ -93,6 +116,25 @@ void readNoise(const ConfigNode& node, SensorNoise& n) {
   n.random_dropout = node.getInRange("random_dropout", n.random_dropout, 0.0f, 1.0f);
   n.color_sigma = node.getInRange("color_sigma", n.color_sigma, 0.0f, 255.0f);
   n.enabled = node.get<bool>("enabled", n.enabled);
+  n.baseline = node.getInRange("baseline", n.baseline, 0.0f, 1.0f);
+  n.native_focal_px = node.getInRange("native_focal_px", n.native_focal_px, 1.0f, 1e5f);
+  n.disparity_step_px = node.getInRange("disparity_step_px", n.disparity_step_px, 0.0f, 10.0f);
+  n.grazing_start_deg = node.getInRange("grazing_start_deg", n.grazing_start_deg, 0.0f, 90.0f);
+  if (n.grazing_start_deg > n.grazing_dropout_deg)
+    node["grazing_start_deg"].fail("grazing_start_deg <= grazing_dropout_deg",
+                                   std::to_string(n.grazing_start_deg));
+  n.dark_luminance = node.getInRange("dark_luminance", n.dark_luminance, 0.0f, 1e6f);
+  n.dark_dropout = node.getInRange("dark_dropout", n.dark_dropout, 0.0f, 1.0f);
+  n.range_fade_start = node.getInRange("range_fade_start", n.range_fade_start, 0.0f, 1000.0f);
+  n.range_fade_end = node.getInRange("range_fade_end", n.range_fade_end, 0.0f, 1000.0f);
+  if (n.range_fade_end < n.range_fade_start)
+    node["range_fade_end"].fail("range_fade_end >= range_fade_start", std::to_string(n.range_fade_end));
+  n.edge_band_px = node.getInRange("edge_band_px", n.edge_band_px, 0.0f, 32.0f);
+  n.low_texture_contrast = node.getInRange("low_texture_contrast", n.low_texture_contrast, 0.0f, 255.0f);
+  n.low_texture_dropout = node.getInRange("low_texture_dropout", n.low_texture_dropout, 0.0f, 1.0f);
+  n.edge_fattening_px = node.getInRange("edge_fattening_px", n.edge_fattening_px, 0.0f, 32.0f);
+  n.hole_patch_px = node.getInRange("hole_patch_px", n.hole_patch_px, 1.0f, 256.0f);
+  n.hole_flicker = node.getInRange("hole_flicker", n.hole_flicker, 0.0f, 1.0f);
 }
 
 SceneDescription builtin(const Builtin& b) {
@@ -109,13 +151,13 @@ SceneDescription loadSceneFile(const fs::path& path) {
   const ConfigNode root = ConfigNode::loadFile(path);
   if (!root.isMap()) root.fail("a map of scene settings (hall, relic, visitors, seed, camera, noise, ...)");
   static const std::set<std::string> known = {
-      "base",     "hall",           "relic", "fit_relic", "relic_roughness", "relic_metallic",
-      "visitors", "close_visitors", "seed",  "camera",    "noise",           "panorama_position"};
+      "base",           "hall", "relic",  "fit_relic", "relic_roughness", "relic_metallic",   "visitors",
+      "close_visitors", "seed", "camera", "sensor",    "noise",           "panorama_position"};
   for (const auto& key : root.keys())
     if (!known.count(key))
       root[key].fail(
           "one of base, hall, relic, fit_relic, relic_roughness, relic_metallic, visitors, close_visitors, "
-          "seed, camera, noise, panorama_position",
+          "seed, camera, sensor, noise, panorama_position",
           key);
   SceneDescription d;
   if (root.has("base")) {
@@ -168,6 +210,15 @@ SceneDescription loadSceneFile(const fs::path& path) {
     d.seed = static_cast<std::uint64_t>(seed);
   }
   if (root.has("camera")) readCamera(root["camera"], d.camera);
+  if (root.has("sensor")) {
+    const bool enabled = d.noise.enabled;
+    const auto name = root["sensor"].as<std::string>();
+    const auto names = sensorProfileNames();
+    if (std::find(names.begin(), names.end(), name) == names.end())
+      root["sensor"].fail("a sensor profile: uniform, structured-light or stereo", name);
+    d.noise = sensorProfile(sensorProfileFromName(name));
+    d.noise.enabled = enabled;
+  }
   if (root.has("noise")) readNoise(root["noise"], d.noise);
   if (root.has("panorama_position")) {
     d.panorama_position = root["panorama_position"].as<vec3>();
@@ -333,7 +384,10 @@ SimulatedFrame Museum::renderCamera(int index, int frame, bool with_visitors) co
   const std::uint64_t stream = with_visitors ? static_cast<std::uint64_t>(frame) : kBackgroundFrame;
   const std::uint64_t seed =
       m.description.seed * 0x100000001B3ull + static_cast<std::uint64_t>(index) * 0x9E3779B9ull + stream;
-  SensorOutput sensed = applySensorNoise(m.description.noise, settings, depth, cosine, radiance, seed);
+  const std::uint64_t static_seed = m.description.seed * 0x100000001B3ull +
+                                    static_cast<std::uint64_t>(index) * 0x9E3779B9ull + kBackgroundFrame;
+  SensorOutput sensed = applySensorNoise(m.description.noise, settings, depth, cosine, radiance, seed,
+                                         static_seed ^ 0x57a71cull);
 
   SimulatedFrame out;
   out.frame.color = sensed.color;

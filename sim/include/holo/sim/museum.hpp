@@ -29,9 +29,21 @@ namespace holo::sim {
 inline constexpr float kBaseHeight = 1.0f;  // floor to base top, metres
 inline constexpr int kFaceCount = 4;
 
+// Which kind of depth camera the sensor model imitates (docs/sim.md, "Sensor profiles").
+//   uniform          : Gaussian noise, holes at grazing angles, on depth edges and scattered at
+//                      random (salt-like); the built-in halls' default.
+//   structured-light : Kinect-like, fitted to real TUM RGB-D frames: the projector's shadow beside
+//                      depth edges, holes in patches on dark and glancing surfaces and towards
+//                      the range limit, disparity quantisation, holes that flicker frame to frame.
+//   stereo           : ZED-like: holes in patches on low-texture surfaces, the second camera's
+//                      occlusion beside depth edges, foreground fattened over the background.
+enum class SensorProfile { uniform, structured_light, stereo };
+
 struct SensorNoise {
-  // Depth noise standard deviation sigma(z) = sigma_0 + k_z2 * z^2 (metres), Kinect/ZED-like.
+  SensorProfile profile = SensorProfile::uniform;
+  // Depth noise standard deviation sigma(z) = sigma_0 + k_z1 * z + k_z2 * z^2 (metres).
   float sigma_0 = 0.001f;
+  float k_z1 = 0.0f;
   float k_z2 = 0.0025f;
   float grazing_dropout_deg = 78.0f;  // beyond this angle between ray and normal, no depth
   float edge_dropout = 0.5f;          // probability of dropping a pixel on a depth edge
@@ -39,7 +51,36 @@ struct SensorNoise {
   float random_dropout = 0.01f;       // probability any pixel has no depth
   float color_sigma = 2.0f;           // colour noise, 8-bit steps
   bool enabled = true;
+
+  // The structured-light and stereo profiles only (the uniform profile ignores these).
+  // Projector-camera (or camera-camera) baseline along the image +x axis, metres: pixels the
+  // projector (second camera) cannot see have no depth.
+  float baseline = 0.075f;
+  // Disparity is measured in steps of disparity_step_px at native_focal_px (the sensor's own
+  // resolution, whatever the image's): depth comes in steps of z^2 * step / (focal * baseline).
+  float native_focal_px = 580.0f;
+  float disparity_step_px = 0.125f;
+  float grazing_start_deg = 60.0f;  // hole probability ramps from 0 here to 1 at grazing_dropout_deg
+  float dark_luminance = 0.0f;      // surfaces darker than this linear luminance lose dark_dropout
+  float dark_dropout = 0.0f;
+  float range_fade_start = 20.0f;  // hole probability ramps from 0 here to 1 at range_fade_end
+  float range_fade_end = 20.0f;
+  float edge_band_px = 1.0f;          // edge_dropout applies within this many pixels of a depth edge
+  float low_texture_contrast = 0.0f;  // stereo: 7x7 sRGB contrast (8-bit steps) below which ...
+  float low_texture_dropout = 0.0f;   // ... pixels lose depth with this probability
+  float edge_fattening_px = 0.0f;     // stereo: foreground depth spreads this far over the background
+  float hole_patch_px = 8.0f;         // holes come in patches about this wide
+  float hole_flicker = 0.3f;          // share of the patch pattern that changes every frame
 };
+
+// "uniform", "structured-light", "stereo"; sensorProfileFromName throws InputError(origin,
+// field, ...) for another name.
+const char* sensorProfileName(SensorProfile profile);
+SensorProfile sensorProfileFromName(const std::string& name, const std::string& origin = "",
+                                    const std::string& field = "sensor");
+std::vector<std::string> sensorProfileNames();
+// The profile's parameters (fitted ones for structured-light).
+SensorNoise sensorProfile(SensorProfile profile);
 
 struct CameraSettings {
   int width = 640;

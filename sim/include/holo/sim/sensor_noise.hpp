@@ -1,11 +1,18 @@
 // The depth-camera sensor model: turns what a perfect sensor sees (true depth, the angle of
-// incidence, radiance) into what a consumer RGB-D camera delivers. Documented in docs/sim.md:
-//   * depth noise: Gaussian with sigma(z) = sigma_0 + k_z2 * z^2 (metres; z = camera-frame depth),
+// incidence, radiance) into what a consumer RGB-D camera delivers. Documented in docs/sim.md
+// ("Sensor model", "Sensor profiles"). The uniform profile:
+//   * depth noise: Gaussian with sigma(z) = sigma_0 + k_z1 z + k_z2 z^2 (metres; z = camera-frame
+//     depth); the structured-light profile then quantises it in disparity,
 //   * dropouts: beyond the grazing angle (ray vs. surface normal), a random fraction everywhere,
 //     and a fraction of the pixels on depth edges,
 //   * flying pixels: some remaining edge pixels take a depth between the two sides of the edge,
 //   * colour: sRGB 8-bit of exposure * radiance plus Gaussian noise of color_sigma steps,
 //   * measured depths outside [min_range, max_range] become 0 (invalid).
+// The structured-light and stereo profiles (SensorProfile in museum.hpp) replace the random and
+// edge dropouts by holes in patches: the projector's (second camera's) shadow, traced per row from
+// the true depth; then, per pixel, a keep probability from the incidence angle, the range, a dark
+// surface, a nearby depth edge and (stereo) low texture, compared with smooth value noise that is
+// partly fixed per camera and partly new each frame; structured light quantises depth in disparity.
 // Every random number comes from a counter-based generator keyed by (seed, stream, pixel), so the
 // result never depends on how rows are split between threads.
 #pragma once
@@ -42,10 +49,12 @@ struct SensorOutput {
 
 // Applies the sensor model. true_depth: CV_32FC1 (0 = nothing in range); cos_incidence: CV_32FC1
 // |cos| of the angle between the pixel's ray and the surface normal; radiance: CV_32FC3 BGR linear.
-// With noise.enabled == false the depth is the truth and the colour is noiseless. Parallel over
-// rows (oneTBB), bit-identical for the same inputs and seed.
+// With noise.enabled == false the depth is the truth and the colour is noiseless. `seed` keys
+// everything that changes every frame; `static_seed` (one per camera) the part of the
+// structured-light and stereo hole patterns that stays put, so holes flicker only partly, as
+// real ones do. Parallel over rows (oneTBB), bit-identical for the same inputs and seeds.
 SensorOutput applySensorNoise(const SensorNoise& noise, const CameraSettings& camera,
                               const cv::Mat& true_depth, const cv::Mat& cos_incidence,
-                              const cv::Mat& radiance, std::uint64_t seed);
+                              const cv::Mat& radiance, std::uint64_t seed, std::uint64_t static_seed = 0);
 
 }  // namespace holo::sim

@@ -1,0 +1,103 @@
+// `build/tests/sim/sensor_figure OUT.png [SHARED_DATA]`: the figure and the table of docs/sim.md,
+// "Sensor profiles". Renders frame 5 of the museum under each sensor profile (the camera that sees
+// the most visitor pixels), puts their depth beside the real Kinect frame with two people (TUM
+// fr3/walking_xyz, when SHARED_DATA or ../shared/data has it) on one colour scale, and prints the
+// statistics of each (holo/sim/depth_statistics.hpp), the simulated ones pooled over the four
+// cameras.
+#include <cstdio>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <string>
+#include <vector>
+
+#include "holo/sim/depth_statistics.hpp"
+#include "holo/sim/museum.hpp"
+
+namespace {
+
+constexpr float kFarthest = 6.0f;  // metres at the cold end of the colour scale
+constexpr int kPanelHeight = 300;
+
+cv::Mat panel(const cv::Mat& depth, const std::string& label) {
+  cv::Mat scaled, colour;
+  depth.convertTo(scaled, CV_8U, -255.0 / kFarthest, 255.0);
+  cv::applyColorMap(scaled, colour, cv::COLORMAP_TURBO);
+  colour.setTo(cv::Scalar::all(0), depth <= 0.0f);
+  cv::resize(colour, colour, {depth.cols * kPanelHeight / depth.rows, kPanelHeight}, 0, 0, cv::INTER_NEAREST);
+  cv::putText(colour, label, {8, 22}, cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(0, 0, 0), 3, cv::LINE_AA);
+  cv::putText(colour, label, {8, 22}, cv::FONT_HERSHEY_SIMPLEX, 0.6, cv::Scalar(255, 255, 255), 1,
+              cv::LINE_AA);
+  return colour;
+}
+
+cv::Mat row(const cv::Mat& left, const cv::Mat& right, int width) {
+  cv::Mat out = cv::Mat::zeros(kPanelHeight, width, CV_8UC3);
+  left.copyTo(out(cv::Rect(0, 0, left.cols, left.rows)));
+  right.copyTo(out(cv::Rect(width - right.cols, 0, right.cols, right.rows)));
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace holo::sim;
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: %s OUT.png [SHARED_DATA]\n", argv[0]);
+    return 2;
+  }
+  const std::filesystem::path shared =
+      argc > 2 ? std::filesystem::path(argv[2])
+               : std::filesystem::path(HOLO_SOURCE_DIR).parent_path() / "shared" / "data";
+  const auto real_path = shared / "rgbd" / "tum_walking" / "depth.png";
+  cv::Mat real = cv::Mat::zeros(480, 640, CV_32FC1);
+  if (std::filesystem::exists(real_path)) {
+    real = loadDepthPng(real_path.string(), 5000.0);
+    std::printf("real Kinect, TUM fr3/walking_xyz (640x480):\n%s\n\n",
+                describe(measureDepthStatistics(real)).c_str());
+  }
+  constexpr int kFrame = 5;
+  std::vector<cv::Mat> panels;
+  for (const SensorProfile profile :
+       {SensorProfile::structured_light, SensorProfile::uniform, SensorProfile::stereo}) {
+    SceneDescription scene = loadScene("museum");
+    scene.noise = sensorProfile(profile);
+    const Museum museum(scene);
+    std::vector<cv::Mat> depths, people;
+    int shown = 0;
+    double in_both = 0, in_either = 0;
+    for (int camera = 0; camera < museum.cameraCount(); ++camera) {
+      const SimulatedFrame f = museum.renderCamera(camera, kFrame);
+      depths.push_back(f.frame.depth);
+      people.push_back(f.foreground);
+      if (cv::countNonZero(f.foreground) > cv::countNonZero(people[static_cast<std::size_t>(shown)]))
+        shown = camera;
+      // Flicker: the holes off the visitors of both frames, where the hall stands still.
+      const SimulatedFrame next = museum.renderCamera(camera, kFrame + 1);
+      const cv::Mat hall = (f.foreground == 0) & (next.foreground == 0);
+      const cv::Mat a = (f.frame.depth == 0.0f) & hall, b = (next.frame.depth == 0.0f) & hall;
+      in_both += cv::countNonZero(a & b);
+      in_either += cv::countNonZero(a | b);
+    }
+    std::printf(
+        "simulated museum, %s, frame %d, 4 cameras 640x360:\n%s\nhall holes in both frames %d and %d / in "
+        "either: %.1f%%\n\n",
+        sensorProfileName(profile), kFrame, describe(measureDepthStatistics(depths, people)).c_str(), kFrame,
+        kFrame + 1, 100.0 * in_both / in_either);
+    panels.push_back(
+        panel(depths[static_cast<std::size_t>(shown)],
+              std::string("simulated, ") + sensorProfileName(profile) + ", cam" + std::to_string(shown)));
+  }
+  const cv::Mat real_panel = panel(real, "real Kinect, TUM walking_xyz");
+  const int width = real_panel.cols + panels[0].cols + 8;
+  cv::Mat figure;
+  cv::vconcat(std::vector<cv::Mat>{row(real_panel, panels[0], width), cv::Mat::zeros(8, width, CV_8UC3),
+                                   row(panels[1], panels[2], width)},
+              figure);
+  if (!cv::imwrite(argv[1], figure)) {
+    std::fprintf(stderr, "could not write %s\n", argv[1]);
+    return 1;
+  }
+  std::printf("wrote %s (depth 0-%.0f m, warm = near, black = no depth)\n", argv[1], kFarthest);
+  return 0;
+}
