@@ -55,8 +55,20 @@ int describeRecording(const std::filesystem::path& folder, std::ostream& out) {
   return 0;
 }
 
+void printFeatures(const char* title, const std::vector<GltfFeature>& features) {
+  std::cout << title << ": " << features.size() << "\n";
+  for (const auto& f : features) {
+    std::cout << "  " << f.name << ": " << describe(f.support);
+    if (f.required) std::cout << ", required";
+    if (f.materials > 0)
+      std::cout << " (" << f.materials << (f.materials == 1 ? " material)" : " materials)");
+    std::cout << "\n";
+  }
+}
+
 int describeGltf(const std::filesystem::path& path) {
-  const Model model = loadGltf(path);
+  const GltfInventory inventory = inspectGltf(path);
+  const Model& model = inventory.model;
   const Bounds3 b = model.bounds();
   std::cout << "file: " << path.string() << "\n"
             << "type: glTF model\n"
@@ -66,11 +78,19 @@ int describeGltf(const std::filesystem::path& path) {
             << "bounds min (m): " << b.lo.x << " " << b.lo.y << " " << b.lo.z << "\n"
             << "bounds max (m): " << b.hi.x << " " << b.hi.y << " " << b.hi.z << "\n"
             << "materials: " << model.materials.size() << "\n";
-  for (const auto& m : model.materials)
+  for (const auto& m : model.materials) {
     std::cout << "  " << (m.name.empty() ? "(unnamed)" : m.name) << ": base colour " << m.base_color.r << " "
               << m.base_color.g << " " << m.base_color.b << ", metallic " << m.metallic << ", roughness "
-              << m.roughness << (m.base_color_texture >= 0 ? ", base colour texture" : "")
-              << (m.metallic_roughness_texture >= 0 ? ", metallic-roughness texture" : "") << "\n";
+              << m.roughness;
+    if (m.transmissive())
+      std::cout << ", transmission " << m.transmission << ", ior " << m.ior << ", thickness " << m.thickness;
+    if (m.clearcoat > 0.0f)
+      std::cout << ", clearcoat " << m.clearcoat << " (roughness " << m.clearcoat_roughness << ")";
+    std::cout << "\n";
+  }
+  printFeatures("extensions", inventory.extensions);
+  printFeatures("texture slots", inventory.texture_slots);
+  printFeatures("material properties", inventory.properties);
   return 0;
 }
 

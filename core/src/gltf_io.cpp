@@ -28,11 +28,14 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
+#include <set>
 #include <sstream>
 
 #include "holo/core/error.hpp"
 #include "holo/core/files.hpp"
 #include "holo/core/log.hpp"
+#include "holo/core/stats.hpp"
 
 namespace holo {
 
@@ -265,57 +268,347 @@ cv::Mat decodeImage(const tinygltf::Image& image) {
   return out;
 }
 
+constexpr const char* kTextureTransform = "KHR_texture_transform";
+constexpr const char* kSpecular = "KHR_materials_specular";
+constexpr const char* kClearcoat = "KHR_materials_clearcoat";
+constexpr const char* kTransmission = "KHR_materials_transmission";
+constexpr const char* kVolume = "KHR_materials_volume";
+constexpr const char* kIor = "KHR_materials_ior";
+
+// The extensions whose every property convert() reads into holo::Material.
+bool readsExtension(const std::string& name) {
+  for (const char* known :
+       {kEmissiveStrength, kTextureTransform, kSpecular, kClearcoat, kTransmission, kVolume, kIor})
+    if (name == known) return true;
+  return false;
+}
+
+TextureWrap wrapMode(int gl_wrap) {
+  switch (gl_wrap) {
+    case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE:
+      return TextureWrap::ClampToEdge;
+    case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT:
+      return TextureWrap::MirroredRepeat;
+    default:
+      return TextureWrap::Repeat;
+  }
+}
+
+// glTF leaves unset filters to the viewer: bilinear with blended mips, the one that never aliases.
+TextureSampler samplerFrom(const tinygltf::Sampler& s) {
+  TextureSampler out;
+  out.wrap_u = wrapMode(s.wrapS);
+  out.wrap_v = wrapMode(s.wrapT);
+  out.magnify_linear = s.magFilter != TINYGLTF_TEXTURE_FILTER_NEAREST;
+  switch (s.minFilter) {
+    case TINYGLTF_TEXTURE_FILTER_NEAREST:
+    case TINYGLTF_TEXTURE_FILTER_LINEAR:
+      out.use_mips = false;
+      out.minify_linear = s.minFilter == TINYGLTF_TEXTURE_FILTER_LINEAR;
+      break;
+    case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST:
+    case TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST:
+      out.blend_mips = false;
+      out.minify_linear = s.minFilter == TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST;
+      break;
+    case TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR:
+      out.minify_linear = false;
+      break;
+    default:
+      break;
+  }
+  return out;
+}
+
+// An index as JSON states it; -1 for anything that is not a whole number in int range (then
+// rejected by the caller's range check).
+int smallInteger(const tinygltf::Value& v) {
+  if (!v.IsNumber()) return -1;
+  const double d = v.GetNumberAsDouble();
+  return d >= 0.0 && d < 1e9 && d == std::floor(d) ? static_cast<int>(d) : -1;
+}
+
+// Reads one material's factors and texture references, rejecting what no renderer could use.
+class MaterialReader {
+ public:
+  MaterialReader(const tinygltf::Model& gltf, const std::string& file, std::size_t index,
+                 const std::function<int(int)>& texture_for)
+      : file_(file), texture_for_(texture_for) {
+    const auto& m = gltf.materials[index];
+    where_ = "materials[" + std::to_string(index) + "]" + (m.name.empty() ? "" : " (\"" + m.name + "\")");
+  }
+
+  // A factor that must be finite and >= 0; those glTF bounds by 1 are clamped there, counted.
+  float factor(double value, const std::string& field, bool at_most_one) const {
+    if (!std::isfinite(value) || value < 0.0)
+      throw InputError(file_, where_ + "." + field, "a finite number >= 0", std::to_string(value));
+    if (at_most_one && value > 1.0) {
+      stats::add("glTF/Material factors clamped to 1");
+      HOLO_LOG_WARN("{}: {}.{} = {} is above 1: clamped to 1", file_, where_, field, value);
+      return 1.0f;
+    }
+    return static_cast<float>(value);
+  }
+
+  float number(const tinygltf::Value& object, const char* key, float fallback, const std::string& field,
+               bool at_most_one) const {
+    if (!object.IsObject() || !object.Has(key)) return fallback;
+    const auto& v = object.Get(key);
+    if (!v.IsNumber()) throw InputError(file_, where_ + "." + field, "a number", "another JSON type");
+    return factor(v.GetNumberAsDouble(), field, at_most_one);
+  }
+
+  vec3 colour(const std::vector<double>& rgb, const std::string& field, bool at_most_one) const {
+    vec3 out;
+    for (int k = 0; k < 3; ++k)
+      out[k] = factor(rgb[static_cast<std::size_t>(k)], field + "[" + std::to_string(k) + "]", at_most_one);
+    return out;
+  }
+
+  vec3 colour(const tinygltf::Value& object, const char* key, vec3 fallback, const std::string& field,
+              bool at_most_one) const {
+    if (!object.IsObject() || !object.Has(key)) return fallback;
+    const auto& v = object.Get(key);
+    if (!v.IsArray() || v.ArrayLen() != 3)
+      throw InputError(file_, where_ + "." + field, "an array of 3 numbers");
+    std::vector<double> rgb;
+    for (int k = 0; k < 3; ++k) {
+      if (!v.Get(k).IsNumber())
+        throw InputError(file_, where_ + "." + field + "[" + std::to_string(k) + "]", "a number");
+      rgb.push_back(v.Get(k).GetNumberAsDouble());
+    }
+    return colour(rgb, field, at_most_one);
+  }
+
+  TextureRef texture(int index, int tex_coord, const tinygltf::ExtensionMap& extensions,
+                     const std::string& field) const {
+    TextureRef ref;
+    if (index < 0) return ref;
+    ref.index = texture_for_(index);
+    if (ref.index < 0) return ref;
+    ref.tex_coord = texCoord(tex_coord, field + ".texCoord");
+    if (auto it = extensions.find(kTextureTransform); it != extensions.end()) {
+      const tinygltf::Value& t = it->second;
+      const std::string ext = field + ".extensions." + kTextureTransform;
+      ref.offset = vec2(signedNumber(t, "offset", 0, 0.0f, ext), signedNumber(t, "offset", 1, 0.0f, ext));
+      ref.scale = vec2(signedNumber(t, "scale", 0, 1.0f, ext), signedNumber(t, "scale", 1, 1.0f, ext));
+      ref.rotation = signedNumber(t, "rotation", -1, 0.0f, ext);
+      if (t.IsObject() && t.Has("texCoord")) {
+        const auto& v = t.Get("texCoord");
+        ref.tex_coord = texCoord(smallInteger(v), ext + ".texCoord");
+      }
+    }
+    return ref;
+  }
+
+  // A textureInfo inside an extension object (tinygltf leaves those as JSON values).
+  TextureRef texture(const tinygltf::Value& object, const char* key, const std::string& field,
+                     float* scale = nullptr) const {
+    if (!object.IsObject() || !object.Has(key)) return {};
+    const auto& info = object.Get(key);
+    const std::string f = field + "." + key;
+    if (!info.IsObject() || !info.Has("index") || !info.Get("index").IsNumber())
+      throw InputError(file_, where_ + "." + f + ".index", "a texture index");
+    const int index = smallInteger(info.Get("index"));
+    if (index < 0) throw InputError(file_, where_ + "." + f + ".index", "a texture index >= 0");
+    const int tex_coord = info.Has("texCoord") ? smallInteger(info.Get("texCoord")) : 0;
+    tinygltf::ExtensionMap extensions;
+    if (info.Has("extensions") && info.Get("extensions").IsObject()) {
+      const auto& e = info.Get("extensions");
+      for (const auto& k : e.Keys()) extensions[k] = e.Get(k);
+    }
+    if (scale && info.Has("scale")) *scale = signedNumber(info, "scale", -1, 1.0f, f);
+    return texture(index, tex_coord, extensions, f);
+  }
+
+  int texCoord(int value, const std::string& field) const {
+    if (value != 0 && value != 1)
+      throw InputError(file_, where_ + "." + field, "texture coordinate set 0 or 1", std::to_string(value));
+    return value;
+  }
+
+  // A finite number that may be negative (offsets, rotations, scales); `k` >= 0 picks an array entry.
+  float signedNumber(const tinygltf::Value& object, const char* key, int k, float fallback,
+                     const std::string& field) const {
+    if (!object.IsObject() || !object.Has(key)) return fallback;
+    const std::string f = where_ + "." + field + "." + key + (k >= 0 ? "[" + std::to_string(k) + "]" : "");
+    const auto& whole = object.Get(key);
+    if (k >= 0 && (!whole.IsArray() || whole.ArrayLen() != 2))
+      throw InputError(file_, f, "an array of 2 numbers");
+    const auto& v = k >= 0 ? whole.Get(k) : whole;
+    if (!v.IsNumber()) throw InputError(file_, f, "a number");
+    const double d = v.GetNumberAsDouble();
+    if (!std::isfinite(d)) throw InputError(file_, f, "a finite number", std::to_string(d));
+    return static_cast<float>(d);
+  }
+
+  const std::string& file() const { return file_; }
+  const std::string& where() const { return where_; }
+
+ private:
+  const std::string& file_;
+  const std::function<int(int)>& texture_for_;
+  std::string where_;
+};
+
+Material readMaterial(const tinygltf::Model& gltf, std::size_t index, const MaterialReader& r) {
+  const auto& m = gltf.materials[index];
+  const tinygltf::Value none;
+  const auto extension = [&](const char* name) -> const tinygltf::Value& {
+    const auto it = m.extensions.find(name);
+    return it == m.extensions.end() ? none : it->second;
+  };
+  Material mat;
+  mat.name = m.name;
+  const auto& pbr = m.pbrMetallicRoughness;
+  if (pbr.baseColorFactor.size() == 4) {
+    mat.base_color = r.colour(pbr.baseColorFactor, "pbrMetallicRoughness.baseColorFactor", true);
+    mat.alpha = r.factor(pbr.baseColorFactor[3], "pbrMetallicRoughness.baseColorFactor[3]", true);
+  } else if (!pbr.baseColorFactor.empty()) {
+    throw InputError(r.file(), r.where() + ".pbrMetallicRoughness.baseColorFactor", "4 numbers (RGBA)",
+                     std::to_string(pbr.baseColorFactor.size()));
+  }
+  mat.metallic = r.factor(pbr.metallicFactor, "pbrMetallicRoughness.metallicFactor", true);
+  mat.roughness = r.factor(pbr.roughnessFactor, "pbrMetallicRoughness.roughnessFactor", true);
+  mat.base_color_texture =
+      r.texture(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, pbr.baseColorTexture.extensions,
+                "pbrMetallicRoughness.baseColorTexture");
+  mat.metallic_roughness_texture =
+      r.texture(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+                pbr.metallicRoughnessTexture.extensions, "pbrMetallicRoughness.metallicRoughnessTexture");
+
+  const float strength =
+      r.number(extension(kEmissiveStrength), "emissiveStrength", 1.0f,
+               std::string("extensions.") + kEmissiveStrength + ".emissiveStrength", false);
+  if (m.emissiveFactor.size() == 3)
+    mat.emission = strength * r.colour(m.emissiveFactor, "emissiveFactor", true);
+  mat.emissive_texture = r.texture(m.emissiveTexture.index, m.emissiveTexture.texCoord,
+                                   m.emissiveTexture.extensions, "emissiveTexture");
+
+  mat.normal_texture =
+      r.texture(m.normalTexture.index, m.normalTexture.texCoord, m.normalTexture.extensions, "normalTexture");
+  if (!std::isfinite(m.normalTexture.scale))
+    throw InputError(r.file(), r.where() + ".normalTexture.scale", "a finite number",
+                     std::to_string(m.normalTexture.scale));
+  mat.normal_scale = static_cast<float>(m.normalTexture.scale);
+  mat.occlusion_texture = r.texture(m.occlusionTexture.index, m.occlusionTexture.texCoord,
+                                    m.occlusionTexture.extensions, "occlusionTexture");
+  mat.occlusion_strength = r.factor(m.occlusionTexture.strength, "occlusionTexture.strength", true);
+
+  if (m.alphaMode == "MASK") {
+    mat.alpha_mode = AlphaMode::Mask;
+  } else if (m.alphaMode == "BLEND") {
+    mat.alpha_mode = AlphaMode::Blend;
+  } else if (!m.alphaMode.empty() && m.alphaMode != "OPAQUE") {
+    throw InputError(r.file(), r.where() + ".alphaMode", "OPAQUE, MASK or BLEND", m.alphaMode);
+  }
+  mat.alpha_cutoff = r.factor(m.alphaCutoff, "alphaCutoff", false);
+  mat.double_sided = m.doubleSided;
+
+  const std::string ext = "extensions.";
+  const tinygltf::Value& spec = extension(kSpecular);
+  const std::string spec_field = ext + kSpecular;
+  mat.specular = r.number(spec, "specularFactor", 1.0f, spec_field + ".specularFactor", true);
+  mat.specular_color =
+      r.colour(spec, "specularColorFactor", vec3(1.0f), spec_field + ".specularColorFactor", false);
+  mat.specular_texture = r.texture(spec, "specularTexture", spec_field);
+  mat.specular_color_texture = r.texture(spec, "specularColorTexture", spec_field);
+
+  const tinygltf::Value& coat = extension(kClearcoat);
+  const std::string coat_field = ext + kClearcoat;
+  mat.clearcoat = r.number(coat, "clearcoatFactor", 0.0f, coat_field + ".clearcoatFactor", true);
+  mat.clearcoat_roughness =
+      r.number(coat, "clearcoatRoughnessFactor", 0.0f, coat_field + ".clearcoatRoughnessFactor", true);
+  mat.clearcoat_texture = r.texture(coat, "clearcoatTexture", coat_field);
+  mat.clearcoat_roughness_texture = r.texture(coat, "clearcoatRoughnessTexture", coat_field);
+  mat.clearcoat_normal_texture =
+      r.texture(coat, "clearcoatNormalTexture", coat_field, &mat.clearcoat_normal_scale);
+
+  const tinygltf::Value& transmission = extension(kTransmission);
+  const std::string transmission_field = ext + kTransmission;
+  mat.transmission =
+      r.number(transmission, "transmissionFactor", 0.0f, transmission_field + ".transmissionFactor", true);
+  mat.transmission_texture = r.texture(transmission, "transmissionTexture", transmission_field);
+
+  const tinygltf::Value& volume = extension(kVolume);
+  const std::string volume_field = ext + kVolume;
+  mat.thickness = r.number(volume, "thicknessFactor", 0.0f, volume_field + ".thicknessFactor", false);
+  mat.thickness_texture = r.texture(volume, "thicknessTexture", volume_field);
+  mat.attenuation_color =
+      r.colour(volume, "attenuationColor", vec3(1.0f), volume_field + ".attenuationColor", true);
+  if (volume.IsObject() && volume.Has("attenuationDistance")) {
+    mat.attenuation_distance =
+        r.number(volume, "attenuationDistance", 0.0f, volume_field + ".attenuationDistance", false);
+    if (!(mat.attenuation_distance > 0.0f))
+      throw InputError(r.file(), r.where() + "." + volume_field + ".attenuationDistance",
+                       "a distance > 0 (omit it for clear glass)", "0");
+  }
+
+  const tinygltf::Value& ior = extension(kIor);
+  mat.ior = r.number(ior, "ior", 1.5f, ext + kIor + ".ior", false);
+  if (mat.ior < 1.0f)
+    throw InputError(r.file(), r.where() + "." + ext + kIor + ".ior", "an index of refraction >= 1",
+                     std::to_string(mat.ior));
+  return mat;
+}
+
 Model convert(const tinygltf::Model& gltf, const std::string& file) {
-  for (const auto& ext : gltf.extensionsRequired)
+  for (const auto& ext : gltf.extensionsRequired) {
     if (ext == kDraco)
       throw InputError(file, "extensionsRequired",
                        "meshes without Draco compression (this build has no Draco decoder; re-export "
                        "the model without compression)",
                        kDraco);
+    if (!readsExtension(ext))
+      throw InputError(file, "extensionsRequired", "only extensions this build reads", ext);
+  }
+  std::string ignored;
+  for (const auto& ext : gltf.extensionsUsed) {
+    if (readsExtension(ext) || ext == kDraco) continue;
+    stats::add("glTF/Optional extensions ignored");
+    ignored += (ignored.empty() ? "" : ", ") + ext;
+  }
+  if (!ignored.empty()) HOLO_LOG_WARN("{}: optional extensions ignored (not read): {}", file, ignored);
   const Reader reader(gltf, file);
   Model model;
 
-  // Textures: glTF texture index -> Model::textures index (decoded once per texture).
+  // Textures: glTF texture index -> Model::textures index (decoded, mip chain built, once).
   std::vector<int> texture_slot(gltf.textures.size(), -1);
-  auto textureFor = [&](int gltf_texture) -> int {
-    if (gltf_texture < 0 || gltf_texture >= static_cast<int>(gltf.textures.size())) return -1;
+  const std::function<int(int)> textureFor = [&](int gltf_texture) -> int {
+    if (gltf_texture < 0 || gltf_texture >= static_cast<int>(gltf.textures.size()))
+      reader.fail("textures", "a texture index < " + std::to_string(gltf.textures.size()),
+                  std::to_string(gltf_texture));
     auto& slot = texture_slot[static_cast<std::size_t>(gltf_texture)];
     if (slot >= 0) return slot;
-    const int source = gltf.textures[static_cast<std::size_t>(gltf_texture)].source;
-    if (source < 0 || source >= static_cast<int>(gltf.images.size())) return -1;
+    const auto& texture = gltf.textures[static_cast<std::size_t>(gltf_texture)];
+    const int source = texture.source;
+    if (source < 0 || source >= static_cast<int>(gltf.images.size())) {
+      stats::add("glTF/Textures ignored");
+      HOLO_LOG_WARN("{}: textures[{}] has no image this build decodes (source {}): texture ignored", file,
+                    gltf_texture, source);
+      return -1;
+    }
     cv::Mat decoded = decodeImage(gltf.images[static_cast<std::size_t>(source)]);
     if (decoded.empty()) {
+      stats::add("glTF/Textures ignored");
       HOLO_LOG_WARN("{}: images[{}]: could not decode, texture ignored", file, source);
       return -1;
     }
+    TextureSampler sampler;
+    if (texture.sampler >= 0) {
+      if (texture.sampler >= static_cast<int>(gltf.samplers.size()))
+        reader.fail("textures[" + std::to_string(gltf_texture) + "].sampler",
+                    "a sampler index < " + std::to_string(gltf.samplers.size()),
+                    std::to_string(texture.sampler));
+      sampler = samplerFrom(gltf.samplers[static_cast<std::size_t>(texture.sampler)]);
+    }
     slot = static_cast<int>(model.textures.size());
-    model.textures.push_back(std::move(decoded));
+    model.textures.emplace_back(std::move(decoded), sampler);
     return slot;
   };
 
-  for (const auto& m : gltf.materials) {
-    Material mat;
-    mat.name = m.name;
-    const auto& pbr = m.pbrMetallicRoughness;
-    if (pbr.baseColorFactor.size() >= 3)
-      mat.base_color =
-          vec3(static_cast<float>(pbr.baseColorFactor[0]), static_cast<float>(pbr.baseColorFactor[1]),
-               static_cast<float>(pbr.baseColorFactor[2]));
-    mat.metallic = std::clamp(static_cast<float>(pbr.metallicFactor), 0.0f, 1.0f);
-    mat.roughness = std::clamp(static_cast<float>(pbr.roughnessFactor), 0.0f, 1.0f);
-    if (m.emissiveFactor.size() == 3) {
-      float strength = 1.0f;
-      if (auto it = m.extensions.find(kEmissiveStrength);
-          it != m.extensions.end() && it->second.Has("emissiveStrength"))
-        strength = static_cast<float>(it->second.Get("emissiveStrength").GetNumberAsDouble());
-      mat.emission =
-          strength * vec3(static_cast<float>(m.emissiveFactor[0]), static_cast<float>(m.emissiveFactor[1]),
-                          static_cast<float>(m.emissiveFactor[2]));
-    }
-    mat.base_color_texture = textureFor(pbr.baseColorTexture.index);
-    mat.metallic_roughness_texture = textureFor(pbr.metallicRoughnessTexture.index);
-    model.materials.push_back(std::move(mat));
-  }
+  for (std::size_t i = 0; i < gltf.materials.size(); ++i)
+    model.materials.push_back(readMaterial(gltf, i, MaterialReader(gltf, file, i, textureFor)));
   const int default_material = static_cast<int>(model.materials.size());
   bool used_default = false;
 
@@ -354,6 +647,14 @@ Model convert(const tinygltf::Model& gltf, const std::string& file) {
         out.uvs = reader.readVec<2>(it->second, field + ".attributes.TEXCOORD_0");
         if (out.uvs.size() != n) reader.fail(field + ".attributes.TEXCOORD_0", "one uv per position");
       }
+      if (auto it = prim.attributes.find("TEXCOORD_1"); it != prim.attributes.end()) {
+        out.uvs1 = reader.readVec<2>(it->second, field + ".attributes.TEXCOORD_1");
+        if (out.uvs1.size() != n) reader.fail(field + ".attributes.TEXCOORD_1", "one uv per position");
+      }
+      if (auto it = prim.attributes.find("TANGENT"); it != prim.attributes.end()) {
+        out.tangents = reader.readVec<4>(it->second, field + ".attributes.TANGENT");
+        if (out.tangents.size() != n) reader.fail(field + ".attributes.TANGENT", "one tangent per position");
+      }
       std::vector<std::uint32_t> idx;
       if (prim.indices >= 0) {
         idx = reader.readIndices(prim.indices, field + ".indices");
@@ -383,6 +684,42 @@ Model convert(const tinygltf::Model& gltf, const std::string& file) {
       } else {
         out.material = default_material;
         used_default = true;
+      }
+      const Material* mat = out.material < default_material
+                                ? &model.materials[static_cast<std::size_t>(out.material)]
+                                : nullptr;
+      const TextureRef* normal_map = nullptr;
+      if (mat && mat->normal_texture.used()) {
+        normal_map = &mat->normal_texture;
+      } else if (mat && mat->clearcoat_normal_texture.used()) {
+        normal_map = &mat->clearcoat_normal_texture;
+      }
+      // Tangents from the file are used when they are finite with unit xyz and w = +-1, and when
+      // the normals they go with were kept; otherwise the glTF specification asks for MikkTSpace.
+      bool tangents_ok = normals_ok && !out.tangents.empty();
+      for (std::size_t i = 0; tangents_ok && i < out.tangents.size(); ++i) {
+        const vec4& t = out.tangents[i];
+        const vec3 in_plane = vec3(t) - out.normals[i] * glm::dot(out.normals[i], vec3(t));
+        const float len = glm::length(in_plane);
+        tangents_ok = std::isfinite(len) && len > 1e-6f && std::abs(std::abs(t.w) - 1.0f) < 1e-3f;
+      }
+      if (!out.tangents.empty() && !tangents_ok) {
+        stats::add("glTF/Tangents regenerated");
+        HOLO_LOG_WARN(
+            "{}: {}.attributes.TANGENT unusable (non-finite, zero or with recomputed normals): "
+            "regenerated",
+            file, field);
+      }
+      if (tangents_ok) {
+        for (std::size_t i = 0; i < n; ++i) {
+          const vec3 nv = out.normals[i];
+          const vec3 t = vec3(out.tangents[i]) - nv * glm::dot(nv, vec3(out.tangents[i]));
+          out.tangents[i] = vec4(glm::normalize(t), out.tangents[i].w < 0.0f ? -1.0f : 1.0f);
+        }
+      } else if (normal_map || !out.tangents.empty() || !out.uvs.empty()) {
+        // Every textured primitive gets a tangent frame, so a renderer never meets a material
+        // whose maps it cannot orient.
+        out.computeTangents(normal_map ? normal_map->tex_coord : 0);
       }
       out.transform(T);
       model.meshes.push_back(std::move(out));
@@ -441,7 +778,9 @@ bool mentionsDraco(const std::string& bytes) {
 
 }  // namespace
 
-Model loadGltf(const fs::path& path) {
+namespace {
+
+tinygltf::Model parseFile(const fs::path& path) {
   const std::string file = path.string();
   if (!fs::exists(path)) throw InputError(file, "", "an existing .gltf or .glb file", "not found");
   const std::string ext = lower(path.extension().string());
@@ -459,7 +798,89 @@ Model loadGltf(const fs::path& path) {
                                                    static_cast<unsigned int>(bytes.size()), base_dir);
   if (!warn.empty()) HOLO_LOG_DEBUG("{}: tinygltf: {}", file, firstLine(warn));
   if (!ok) loadFailed(file, err, mentionsDraco(bytes));
-  return convert(gltf, file);
+  return gltf;
+}
+
+// What the renderers read of a Material today: base colour and metallic-roughness (factors and
+// textures, TEXCOORD_0, no transform). Everything else is loaded for them but not yet used.
+GltfSupport slotSupport(const std::string& slot) {
+  return slot == "baseColorTexture" || slot == "metallicRoughnessTexture" ? GltfSupport::Rendered
+                                                                          : GltfSupport::LoadedNotRendered;
+}
+
+}  // namespace
+
+const char* describe(GltfSupport support) {
+  switch (support) {
+    case GltfSupport::Rendered:
+      return "rendered";
+    case GltfSupport::LoadedNotRendered:
+      return "loaded, not rendered yet";
+    case GltfSupport::Ignored:
+      return "ignored (not read by this build)";
+  }
+  return "";
+}
+
+Model loadGltf(const fs::path& path) {
+  return convert(parseFile(path), path.string());
+}
+
+GltfInventory inspectGltf(const fs::path& path) {
+  const tinygltf::Model gltf = parseFile(path);
+  GltfInventory out;
+  out.model = convert(gltf, path.string());
+  std::vector<std::string> names = gltf.extensionsUsed;
+  for (const auto& ext : gltf.extensionsRequired)
+    if (std::find(names.begin(), names.end(), ext) == names.end()) names.push_back(ext);
+  for (const auto& ext : names) {
+    GltfFeature f;
+    f.name = ext;
+    f.support = readsExtension(ext) ? GltfSupport::LoadedNotRendered : GltfSupport::Ignored;
+    f.required = std::find(gltf.extensionsRequired.begin(), gltf.extensionsRequired.end(), ext) !=
+                 gltf.extensionsRequired.end();
+    for (const auto& m : gltf.materials) f.materials += m.extensions.count(ext) ? 1 : 0;
+    out.extensions.push_back(f);
+  }
+  const auto count = [&](std::vector<GltfFeature>& list, const std::string& name, GltfSupport support,
+                         const std::function<bool(const Material&)>& uses) {
+    GltfFeature f;
+    f.name = name;
+    f.support = support;
+    for (const auto& m : out.model.materials) f.materials += uses(m) ? 1 : 0;
+    if (f.materials > 0) list.push_back(f);
+  };
+  const std::pair<const char*, TextureRef Material::*> slots[] = {
+      {"baseColorTexture", &Material::base_color_texture},
+      {"metallicRoughnessTexture", &Material::metallic_roughness_texture},
+      {"normalTexture", &Material::normal_texture},
+      {"occlusionTexture", &Material::occlusion_texture},
+      {"emissiveTexture", &Material::emissive_texture},
+      {"specularTexture", &Material::specular_texture},
+      {"specularColorTexture", &Material::specular_color_texture},
+      {"clearcoatTexture", &Material::clearcoat_texture},
+      {"clearcoatRoughnessTexture", &Material::clearcoat_roughness_texture},
+      {"clearcoatNormalTexture", &Material::clearcoat_normal_texture},
+      {"transmissionTexture", &Material::transmission_texture},
+      {"thicknessTexture", &Material::thickness_texture}};
+  for (const auto& [name, member] : slots)
+    count(out.texture_slots, name, slotSupport(name), [&](const Material& m) { return (m.*member).used(); });
+  const auto anySlot = [&](const Material& m, const std::function<bool(const TextureRef&)>& test) {
+    for (const auto& slot : slots)
+      if (test(m.*(slot.second))) return true;
+    return false;
+  };
+  const GltfSupport later = GltfSupport::LoadedNotRendered;
+  count(out.properties, "emissiveFactor (emission; the ground truth renders it)", later,
+        [](const Material& m) { return m.emission != vec3(0.0f); });
+  count(out.properties, "alphaMode MASK", later,
+        [](const Material& m) { return m.alpha_mode == AlphaMode::Mask; });
+  count(out.properties, "alphaMode BLEND", later,
+        [](const Material& m) { return m.alpha_mode == AlphaMode::Blend; });
+  count(out.properties, "texCoord 1 (TEXCOORD_1)", later, [&](const Material& m) {
+    return anySlot(m, [](const TextureRef& t) { return t.used() && t.tex_coord == 1; });
+  });
+  return out;
 }
 
 Model loadGlbFromMemory(const std::vector<std::uint8_t>& glb, const std::string& origin) {
@@ -498,46 +919,178 @@ int appendAccessor(tinygltf::Model& g, int view, int component, int type, std::s
   return static_cast<int>(g.accessors.size() - 1);
 }
 
+int glWrap(TextureWrap wrap) {
+  switch (wrap) {
+    case TextureWrap::ClampToEdge:
+      return TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
+    case TextureWrap::MirroredRepeat:
+      return TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT;
+    case TextureWrap::Repeat:
+      break;
+  }
+  return TINYGLTF_TEXTURE_WRAP_REPEAT;
+}
+
+tinygltf::Sampler glSampler(const TextureSampler& s) {
+  tinygltf::Sampler out;
+  out.wrapS = glWrap(s.wrap_u);
+  out.wrapT = glWrap(s.wrap_v);
+  out.magFilter = s.magnify_linear ? TINYGLTF_TEXTURE_FILTER_LINEAR : TINYGLTF_TEXTURE_FILTER_NEAREST;
+  if (!s.use_mips) {
+    out.minFilter = s.minify_linear ? TINYGLTF_TEXTURE_FILTER_LINEAR : TINYGLTF_TEXTURE_FILTER_NEAREST;
+  } else if (s.blend_mips) {
+    out.minFilter = s.minify_linear ? TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR
+                                    : TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_LINEAR;
+  } else {
+    out.minFilter = s.minify_linear ? TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_NEAREST
+                                    : TINYGLTF_TEXTURE_FILTER_NEAREST_MIPMAP_NEAREST;
+  }
+  return out;
+}
+
+// Collects what a material's texture references need written: KHR_texture_transform when a
+// reference moves its uvs.
+class TextureWriter {
+ public:
+  template <class Info>
+  void fill(Info& info, const TextureRef& ref) {
+    info.index = ref.index;
+    info.texCoord = ref.tex_coord;
+    if (auto t = transformOf(ref)) info.extensions[kTextureTransform] = *t;
+  }
+  tinygltf::Value value(const TextureRef& ref, std::optional<float> scale = std::nullopt) {
+    tinygltf::Value::Object o;
+    o["index"] = tinygltf::Value(ref.index);
+    o["texCoord"] = tinygltf::Value(ref.tex_coord);
+    if (scale) o["scale"] = tinygltf::Value(static_cast<double>(*scale));
+    if (auto t = transformOf(ref)) {
+      tinygltf::Value::Object e;
+      e[kTextureTransform] = *t;
+      o["extensions"] = tinygltf::Value(e);
+    }
+    return tinygltf::Value(o);
+  }
+  bool used() const { return used_; }
+
+ private:
+  std::optional<tinygltf::Value> transformOf(const TextureRef& ref) {
+    if (ref.offset == vec2(0.0f) && ref.rotation == 0.0f && ref.scale == vec2(1.0f)) return std::nullopt;
+    used_ = true;
+    const auto pair = [](vec2 v) {
+      return tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(static_cast<double>(v.x)),
+                                                    tinygltf::Value(static_cast<double>(v.y))});
+    };
+    tinygltf::Value::Object t;
+    t["offset"] = pair(ref.offset);
+    t["rotation"] = tinygltf::Value(static_cast<double>(ref.rotation));
+    t["scale"] = pair(ref.scale);
+    return tinygltf::Value(t);
+  }
+  bool used_ = false;
+};
+
+tinygltf::Value number(double v) {
+  return tinygltf::Value(v);
+}
+tinygltf::Value rgb(const vec3& c) {
+  return tinygltf::Value(tinygltf::Value::Array{number(c.r), number(c.g), number(c.b)});
+}
+
 tinygltf::Model toGltf(const Model& model) {
   tinygltf::Model g;
   g.asset.version = "2.0";
   g.asset.generator = "holopyramid";
   g.buffers.emplace_back();
-  bool emissive_strength = false;
+  std::set<std::string> extensions;
 
   for (std::size_t t = 0; t < model.textures.size(); ++t) {
     std::vector<unsigned char> png;
-    if (!cv::imencode(".png", model.textures[t], png))
+    if (model.textures[t].empty() || !cv::imencode(".png", model.textures[t].image(), png))
       throw Error("could not encode texture " + std::to_string(t));
     tinygltf::Image image;
     image.mimeType = "image/png";
     image.bufferView = appendView(g, png.data(), png.size(), 0);
     g.images.push_back(image);
+    g.samplers.push_back(glSampler(model.textures[t].sampler));
     tinygltf::Texture tex;
     tex.source = static_cast<int>(t);
+    tex.sampler = static_cast<int>(t);
     g.textures.push_back(tex);
   }
+  TextureWriter textures;
   for (const auto& m : model.materials) {
     tinygltf::Material mat;
     mat.name = m.name;
-    mat.pbrMetallicRoughness.baseColorFactor = {m.base_color.r, m.base_color.g, m.base_color.b, 1.0};
-    mat.pbrMetallicRoughness.metallicFactor = m.metallic;
-    mat.pbrMetallicRoughness.roughnessFactor = m.roughness;
-    mat.pbrMetallicRoughness.baseColorTexture.index = m.base_color_texture;
-    mat.pbrMetallicRoughness.metallicRoughnessTexture.index = m.metallic_roughness_texture;
+    auto& pbr = mat.pbrMetallicRoughness;
+    pbr.baseColorFactor = {m.base_color.r, m.base_color.g, m.base_color.b, m.alpha};
+    pbr.metallicFactor = m.metallic;
+    pbr.roughnessFactor = m.roughness;
+    if (m.base_color_texture.used()) textures.fill(pbr.baseColorTexture, m.base_color_texture);
+    if (m.metallic_roughness_texture.used())
+      textures.fill(pbr.metallicRoughnessTexture, m.metallic_roughness_texture);
+    if (m.emissive_texture.used()) textures.fill(mat.emissiveTexture, m.emissive_texture);
+    if (m.normal_texture.used()) {
+      textures.fill(mat.normalTexture, m.normal_texture);
+      mat.normalTexture.scale = m.normal_scale;
+    }
+    if (m.occlusion_texture.used()) {
+      textures.fill(mat.occlusionTexture, m.occlusion_texture);
+      mat.occlusionTexture.strength = m.occlusion_strength;
+    }
+    mat.alphaMode = m.alpha_mode == AlphaMode::Mask    ? "MASK"
+                    : m.alpha_mode == AlphaMode::Blend ? "BLEND"
+                                                       : "OPAQUE";
+    mat.alphaCutoff = m.alpha_cutoff;
+    mat.doubleSided = m.double_sided;
     const float peak = std::max({m.emission.r, m.emission.g, m.emission.b});
     if (peak > 0.0f) {
       const float strength = std::max(peak, 1.0f);
       mat.emissiveFactor = {m.emission.r / strength, m.emission.g / strength, m.emission.b / strength};
       if (strength > 1.0f) {
         tinygltf::Value::Object ext;
-        ext["emissiveStrength"] = tinygltf::Value(static_cast<double>(strength));
+        ext["emissiveStrength"] = number(strength);
         mat.extensions[kEmissiveStrength] = tinygltf::Value(ext);
-        emissive_strength = true;
       }
     }
+    const auto add = [&](const char* name, tinygltf::Value::Object object) {
+      mat.extensions[name] = tinygltf::Value(std::move(object));
+    };
+    if (m.specular != 1.0f || m.specular_color != vec3(1.0f) || m.specular_texture.used() ||
+        m.specular_color_texture.used()) {
+      tinygltf::Value::Object o{{"specularFactor", number(m.specular)},
+                                {"specularColorFactor", rgb(m.specular_color)}};
+      if (m.specular_texture.used()) o["specularTexture"] = textures.value(m.specular_texture);
+      if (m.specular_color_texture.used())
+        o["specularColorTexture"] = textures.value(m.specular_color_texture);
+      add(kSpecular, std::move(o));
+    }
+    if (m.clearcoat > 0.0f || m.clearcoat_texture.used()) {
+      tinygltf::Value::Object o{{"clearcoatFactor", number(m.clearcoat)},
+                                {"clearcoatRoughnessFactor", number(m.clearcoat_roughness)}};
+      if (m.clearcoat_texture.used()) o["clearcoatTexture"] = textures.value(m.clearcoat_texture);
+      if (m.clearcoat_roughness_texture.used())
+        o["clearcoatRoughnessTexture"] = textures.value(m.clearcoat_roughness_texture);
+      if (m.clearcoat_normal_texture.used())
+        o["clearcoatNormalTexture"] = textures.value(m.clearcoat_normal_texture, m.clearcoat_normal_scale);
+      add(kClearcoat, std::move(o));
+    }
+    if (m.transmission > 0.0f || m.transmission_texture.used()) {
+      tinygltf::Value::Object o{{"transmissionFactor", number(m.transmission)}};
+      if (m.transmission_texture.used()) o["transmissionTexture"] = textures.value(m.transmission_texture);
+      add(kTransmission, std::move(o));
+    }
+    if (m.thickness > 0.0f || m.thickness_texture.used() || std::isfinite(m.attenuation_distance)) {
+      tinygltf::Value::Object o{{"thicknessFactor", number(m.thickness)},
+                                {"attenuationColor", rgb(m.attenuation_color)}};
+      if (std::isfinite(m.attenuation_distance)) o["attenuationDistance"] = number(m.attenuation_distance);
+      if (m.thickness_texture.used()) o["thicknessTexture"] = textures.value(m.thickness_texture);
+      add(kVolume, std::move(o));
+    }
+    if (m.ior != 1.5f) add(kIor, {{"ior", number(m.ior)}});
+    for (const auto& [name, value] : mat.extensions) extensions.insert(name);
     g.materials.push_back(mat);
   }
+  if (textures.used()) extensions.insert(kTextureTransform);
   tinygltf::Scene scene;
   for (const auto& mesh : model.meshes) {
     tinygltf::Primitive prim;
@@ -561,6 +1114,14 @@ tinygltf::Model toGltf(const Model& model) {
       prim.attributes["TEXCOORD_0"] =
           appendAccessor(g, appendView(g, mesh.uvs.data(), n * sizeof(vec2), TINYGLTF_TARGET_ARRAY_BUFFER),
                          TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, n);
+    if (mesh.uvs1.size() == n)
+      prim.attributes["TEXCOORD_1"] =
+          appendAccessor(g, appendView(g, mesh.uvs1.data(), n * sizeof(vec2), TINYGLTF_TARGET_ARRAY_BUFFER),
+                         TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, n);
+    if (mesh.tangents.size() == n)
+      prim.attributes["TANGENT"] = appendAccessor(
+          g, appendView(g, mesh.tangents.data(), n * sizeof(vec4), TINYGLTF_TARGET_ARRAY_BUFFER),
+          TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, n);
     prim.indices =
         appendAccessor(g,
                        appendView(g, mesh.triangles.data(), mesh.triangles.size() * sizeof(uvec3),
@@ -578,7 +1139,7 @@ tinygltf::Model toGltf(const Model& model) {
   }
   g.scenes.push_back(scene);
   g.defaultScene = 0;
-  if (emissive_strength) g.extensionsUsed.push_back(kEmissiveStrength);
+  g.extensionsUsed.assign(extensions.begin(), extensions.end());
   return g;
 }
 

@@ -57,7 +57,7 @@ class KeyHash {
       value(m.metallic_roughness_texture);
     }
     value(model.textures.size());
-    for (const cv::Mat& texture : model.textures) image(texture);
+    for (const Texture& texture : model.textures) image(texture.image());
   }
   std::uint64_t digest() const { return h_; }
 

@@ -59,12 +59,12 @@ void TracerSettings::validate() const {
 FrameRenderer::FrameRenderer(const RenderScene& scene, const PrefilteredIbl& ibl, TracerSettings settings)
     : scene_(scene), ibl_(ibl), settings_((settings.validate(), settings)), grid_(settings_.grid) {
   for (const Material& m : scene_.relic().materials)
-    if (m.roughness < kGlossyRoughnessLimit || m.metallic_roughness_texture >= 0) relic_glossy_ = true;
+    if (m.roughness < kGlossyRoughnessLimit || m.metallic_roughness_texture.used()) relic_glossy_ = true;
   if (scene_.relic().materials.empty()) relic_glossy_ = true;  // default material: be safe
   relic_bounds_ = scene_.relicBounds();
   std::vector<float> rough;
   for (const Material& m : scene_.relic().materials)
-    if (m.metallic_roughness_texture < 0 && m.roughness >= settings_.foreground_map_roughness &&
+    if (!m.metallic_roughness_texture.used() && m.roughness >= settings_.foreground_map_roughness &&
         m.roughness < kGlossyRoughnessLimit &&
         std::find(rough.begin(), rough.end(), m.roughness) == rough.end())
       rough.push_back(m.roughness);

@@ -88,13 +88,13 @@ SurfaceMaterial RenderScene::relicMaterial(const RayHit& hit, const RayScene& sc
   s.roughness = m.roughness;
   const auto textureAt = [&](int index) -> const cv::Mat* {
     if (index < 0 || static_cast<std::size_t>(index) >= relic_model_.textures.size()) return nullptr;
-    return &relic_model_.textures[static_cast<std::size_t>(index)];
+    return &relic_model_.textures[static_cast<std::size_t>(index)].image();
   };
-  if (const cv::Mat* t = textureAt(m.base_color_texture)) {
+  if (const cv::Mat* t = textureAt(m.base_color_texture.index)) {
     const vec3 c = texel(*t, scene.uv(hit));
     s.base_color *= vec3(srgbToLinear(c.r), srgbToLinear(c.g), srgbToLinear(c.b));
   }
-  if (const cv::Mat* t = textureAt(m.metallic_roughness_texture)) {
+  if (const cv::Mat* t = textureAt(m.metallic_roughness_texture.index)) {
     const vec3 c = texel(*t, scene.uv(hit));
     s.roughness *= c.g;
     s.metallic *= c.b;

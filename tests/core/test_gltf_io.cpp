@@ -104,7 +104,7 @@ TEST(GltfIo, LoadsTriangleWithMaterialAndComputesNormals) {
   EXPECT_FLOAT_EQ(mat.metallic, 0.75f);
   EXPECT_FLOAT_EQ(mat.roughness, 0.3f);
   EXPECT_FLOAT_EQ(mat.emission.r, 1.0f);
-  EXPECT_EQ(mat.base_color_texture, -1);
+  EXPECT_EQ(mat.base_color_texture.index, -1);
 }
 
 TEST(GltfIo, AppliesTheNodeHierarchy) {
@@ -200,11 +200,11 @@ TEST(GltfIo, GlbRoundTripKeepsTexturesAndStrongEmission) {
   mat.roughness = 0.0f;
   mat.metallic = 1.0f;
   mat.emission = {12.0f, 6.0f, 3.0f};
-  mat.base_color_texture = 0;
+  mat.base_color_texture.index = 0;
   m.materials.push_back(mat);
   cv::Mat tex(4, 8, CV_8UC3, cv::Scalar(10, 20, 200));  // BGR: red
   tex.at<cv::Vec3b>(1, 2) = cv::Vec3b(255, 0, 0);
-  m.textures.push_back(tex);
+  m.textures.emplace_back(tex);
   saveGltf(dir / "quad.glb", m);
   const Model back = loadGltf(dir / "quad.glb");
   ASSERT_EQ(back.triangleCount(), 2u);
@@ -212,9 +212,9 @@ TEST(GltfIo, GlbRoundTripKeepsTexturesAndStrongEmission) {
   EXPECT_FLOAT_EQ(back.materials[0].roughness, 0.0f);
   EXPECT_NEAR(back.materials[0].emission.r, 12.0f, 1e-4f);
   EXPECT_NEAR(back.materials[0].emission.b, 3.0f, 1e-4f);
-  ASSERT_EQ(back.materials[0].base_color_texture, 0);
+  ASSERT_EQ(back.materials[0].base_color_texture.index, 0);
   ASSERT_EQ(back.textures.size(), 1u);
-  EXPECT_EQ(cv::norm(back.textures[0], tex, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(back.textures[0].image(), tex, cv::NORM_INF), 0.0);
   // .gltf with everything embedded loads the same.
   saveGltf(dir / "quad.gltf", m);
   EXPECT_EQ(loadGltf(dir / "quad.gltf").triangleCount(), 2u);
@@ -256,8 +256,8 @@ TEST(GltfIo, LoadsTheRealModels) {
   const Model vase = loadGltf(test::sharedData("models/greek_vase_mr.glb"));
   bool textured = false;
   for (const auto& mat : vase.materials)
-    if (mat.base_color_texture >= 0)
-      textured = !vase.textures[static_cast<std::size_t>(mat.base_color_texture)].empty();
+    if (mat.base_color_texture.used())
+      textured = !vase.textures[static_cast<std::size_t>(mat.base_color_texture.index)].empty();
   EXPECT_TRUE(textured);
 }
 

@@ -54,7 +54,7 @@ TEST(GroundTruthKey, ChangesWithEverythingThatChangesTheTruth) {
   EXPECT_NE(groundTruthKey(rougher, view, 16, true), key);
 
   ReflectionScene textured = base;  // a texture
-  textured.relic.textures.push_back(cv::Mat(2, 2, CV_8UC3, cv::Scalar(1, 2, 3)));
+  textured.relic.textures.emplace_back(cv::Mat(2, 2, CV_8UC3, cv::Scalar(1, 2, 3)));
   EXPECT_NE(groundTruthKey(textured, view, 16, true), key);
 
   ReflectionScene hall = base;  // the hall's geometry
