@@ -11,6 +11,12 @@
 // accessors that overrun their buffer, indices out of range, primitives that are not triangles
 // (points, lines), sparse accessors, and Draco-compressed meshes (KHR_draco_mesh_compression in
 // extensionsRequired), which this build cannot decode.
+//
+// Limits (InputError above them, checked before the data is allocated): the file, the triangles
+// and vertices of the whole scene with every node instance counted, the node instances, and each
+// texture's side. At the limits the loaded model holds at most 4M x 12 B of triangles and
+// 12M x 32 B of vertex data (~0.45 GB) besides the file's own bytes; a relic shown on four
+// 320x320 views needs far less (the bundled relics have under 70k triangles).
 #pragma once
 
 #include <cstdint>
@@ -21,6 +27,12 @@
 #include "holo/core/mesh.hpp"
 
 namespace holo {
+
+inline constexpr std::size_t kMaxGltfFileBytes = std::size_t{512} << 20;
+inline constexpr std::size_t kMaxGltfTriangles = 4'000'000;
+inline constexpr std::size_t kMaxGltfVertices = 12'000'000;
+inline constexpr std::size_t kMaxGltfNodeVisits = 100'000;
+inline constexpr int kMaxGltfTextureSide = 8192;
 
 // Loads `.gltf` or `.glb` (chosen by extension).
 Model loadGltf(const std::filesystem::path& path);
