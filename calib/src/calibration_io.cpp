@@ -94,13 +94,28 @@ class Reader {
   // every element finite; returned as CV_64F.
   cv::Mat matrix(const std::string& key, int rows, int cols, bool either_way = false) const {
     const cv::FileNode n = required(key);
+    const std::string want = std::to_string(rows) + "x" + std::to_string(cols) + " matrix";
+    // OpenCV allocates what the node's rows and cols say before it reads the data: check the
+    // shape first, or a corrupt file asks for gigabytes.
+    if (n.isMap()) {
+      const cv::FileNode r = n["rows"], c = n["cols"], data = n["data"];
+      const bool declared_ok = r.isInt() && c.isInt() &&
+                               ((static_cast<int>(r) == rows && static_cast<int>(c) == cols) ||
+                                (either_way && static_cast<int>(r) == cols && static_cast<int>(c) == rows));
+      if (!declared_ok)
+        fail(key, "a " + want,
+             "rows " + (r.isInt() ? std::to_string(static_cast<int>(r)) : std::string("?")) + ", cols " +
+                 (c.isInt() ? std::to_string(static_cast<int>(c)) : std::string("?")));
+      if (!data.isSeq() || data.size() != static_cast<std::size_t>(rows * cols))
+        fail(key, std::to_string(rows * cols) + " data values",
+             std::to_string(data.isSeq() ? data.size() : 0));
+    }
     cv::Mat m;
     try {
       if (n.isMap()) n >> m;
     } catch (const cv::Exception&) {
       m.release();
     }
-    const std::string want = std::to_string(rows) + "x" + std::to_string(cols) + " matrix";
     if (m.empty()) fail(key, "an opencv-matrix (" + want + ")", "not a readable matrix");
     const bool shape_ok =
         (m.rows == rows && m.cols == cols) || (either_way && m.rows == cols && m.cols == rows);
