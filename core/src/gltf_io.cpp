@@ -1,9 +1,9 @@
 // glTF I/O through tinygltf. This is the one translation unit that compiles tinygltf's and
-// stb's implementations (Debian ships them header-only for us; libstb.so is not linked).
+// stb_image_write's implementations (Debian ships them header-only for us; libstb.so is not
+// linked). Reading textures goes through OpenCV, never stb_image (see decodeTexture).
 #define TINYGLTF_IMPLEMENTATION
-#define STB_IMAGE_IMPLEMENTATION
 #define STB_IMAGE_WRITE_IMPLEMENTATION
-#define TINYGLTF_NO_INCLUDE_STB_IMAGE
+#define TINYGLTF_NO_STB_IMAGE
 #define TINYGLTF_NO_INCLUDE_STB_IMAGE_WRITE
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wshadow"
@@ -13,7 +13,6 @@
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
 #pragma GCC diagnostic ignored "-Wpedantic"
 #pragma GCC diagnostic ignored "-Wsign-compare"
-#include <stb_image.h>
 #include <stb_image_write.h>
 #include <tiny_gltf.h>
 #pragma GCC diagnostic pop
@@ -282,7 +281,7 @@ cv::Mat decodeImage(const tinygltf::Image& image) {
       cv::cvtColor(raw, out, cv::COLOR_RGB2BGR);
       break;
     default: {
-      // stb decodes to RGBA unless asked otherwise; an opaque texture drops its alpha.
+      // An opaque texture drops its alpha.
       cv::Mat alpha;
       cv::extractChannel(raw, alpha, 3);
       double lowest = 0;
@@ -479,21 +478,60 @@ Model convert(const tinygltf::Model& gltf, const std::string& file) {
   throw InputError(file, field, "a valid glTF 2.0 file", firstLine(err));
 }
 
-// tinygltf's own stb loader, after a look at the header: a texture that would decode to more than
-// kMaxGltfTextureSide pixels a side is refused before its pixels are allocated.
-bool loadBoundedImage(tinygltf::Image* image, const int image_index, std::string* err, std::string* warn,
-                      int req_width, int req_height, const unsigned char* bytes, int size, void* user_data) {
-  int width = 0, height = 0, channels = 0;
-  if (stbi_info_from_memory(bytes, size, &width, &height, &channels) != 0 &&
-      (width > kMaxGltfTextureSide || height > kMaxGltfTextureSide)) {
-    if (err)
-      *err += "image " + std::to_string(image_index) + " is " + std::to_string(width) + "x" +
-              std::to_string(height) + ", expected at most " + std::to_string(kMaxGltfTextureSide) +
-              " pixels a side\n";
+// Textures are decoded by OpenCV (libpng, libjpeg-turbo: kept and patched by Debian), not by the
+// stb_image copy tinygltf would compile into this file: the fuzzer found stb's JPEG Huffman
+// tables writing past their end. OpenCV refuses images above OPENCV_IO_MAX_IMAGE_PIXELS before
+// allocating (the kiosk unit sets it); a texture larger than kMaxGltfTextureSide is refused here.
+bool decodeTexture(tinygltf::Image* image, const int image_index, std::string* err, std::string*, int, int,
+                   const unsigned char* bytes, int size, void*) {
+  const std::string which = "image " + std::to_string(image_index);
+  // glTF allows PNG and JPEG; OpenCV would also try TIFF, WebP, PNM and more, so only those two
+  // are handed to it.
+  const bool png = size >= 8 && std::memcmp(bytes, "\x89PNG\r\n\x1a\n", 8) == 0;
+  const bool jpeg = size >= 3 && std::memcmp(bytes, "\xff\xd8\xff", 3) == 0;
+  if (!png && !jpeg) {
+    if (err) *err += which + ": not a PNG or JPEG image\n";
     return false;
   }
-  return tinygltf::LoadImageData(image, image_index, err, warn, req_width, req_height, bytes, size,
-                                 user_data);
+  cv::Mat decoded;
+  try {
+    decoded =
+        cv::imdecode(cv::Mat(1, size, CV_8UC1, const_cast<unsigned char*>(bytes)), cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception& e) {
+    if (err) *err += which + ": " + e.what() + "\n";
+    return false;
+  }
+  if (decoded.empty()) {
+    if (err) *err += which + ": not a PNG or JPEG image OpenCV can decode\n";
+    return false;
+  }
+  if (decoded.cols > kMaxGltfTextureSide || decoded.rows > kMaxGltfTextureSide) {
+    if (err)
+      *err += which + " is " + std::to_string(decoded.cols) + "x" + std::to_string(decoded.rows) +
+              ", expected at most " + std::to_string(kMaxGltfTextureSide) + " pixels a side\n";
+    return false;
+  }
+  if (decoded.depth() != CV_8U && decoded.depth() != CV_16U) decoded.convertTo(decoded, CV_8U);
+  cv::Mat rgb;  // glTF images are RGB(A); OpenCV decodes to BGR(A)
+  switch (decoded.channels()) {
+    case 3:
+      cv::cvtColor(decoded, rgb, cv::COLOR_BGR2RGB);
+      break;
+    case 4:
+      cv::cvtColor(decoded, rgb, cv::COLOR_BGRA2RGBA);
+      break;
+    default:
+      rgb = decoded;
+  }
+  if (!rgb.isContinuous()) rgb = rgb.clone();
+  image->width = rgb.cols;
+  image->height = rgb.rows;
+  image->component = rgb.channels();
+  image->bits = rgb.depth() == CV_16U ? 16 : 8;
+  image->pixel_type =
+      rgb.depth() == CV_16U ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+  image->image.assign(rgb.data, rgb.data + rgb.total() * rgb.elemSize());
+  return true;
 }
 
 // True when the raw JSON chunk names the Draco extension (tinygltf may fail before we look).
@@ -513,7 +551,7 @@ Model loadGltf(const fs::path& path) {
                      std::to_string(bytes_on_disk >> 20) + " MiB");
   const std::string bytes = readFile(path);
   tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(loadBoundedImage, nullptr);
+  loader.SetImageLoader(decodeTexture, nullptr);
   tinygltf::Model gltf;
   std::string err, warn;
   const std::string base_dir = path.has_parent_path() ? path.parent_path().string() : ".";
@@ -533,7 +571,7 @@ Model loadGlbFromMemory(const std::vector<std::uint8_t>& glb, const std::string&
     throw InputError(origin, "", "a glTF file of at most " + std::to_string(kMaxGltfFileBytes >> 20) + " MiB",
                      std::to_string(glb.size() >> 20) + " MiB");
   tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(loadBoundedImage, nullptr);
+  loader.SetImageLoader(decodeTexture, nullptr);
   tinygltf::Model gltf;
   std::string err, warn;
   if (!loader.LoadBinaryFromMemory(&gltf, &err, &warn, glb.data(), static_cast<unsigned int>(glb.size()), ""))

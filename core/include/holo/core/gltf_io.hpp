@@ -1,4 +1,4 @@
-// glTF 2.0 models in and out, through tinygltf (images decoded by its stb_image).
+// glTF 2.0 models in and out, through tinygltf (PNG and JPEG textures decoded by OpenCV).
 //
 // Loading flattens the default scene (or, without scenes, every mesh) into a holo::Model: every
 // primitive of every mesh instance becomes one TriangleMesh with the node hierarchy's transforms
