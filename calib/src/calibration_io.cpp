@@ -53,8 +53,14 @@ cv::FileStorage openForReading(const fs::path& path) {
     cv::FileStorage fs(path.string(), cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML);
     if (!fs.isOpened()) throw InputError(path.string(), "", "an OpenCV FileStorage YAML file", "cannot open");
     return fs;
+  } catch (const InputError&) {
+    throw;
   } catch (const cv::Exception& e) {
     throw InputError(path.string(), "", "an OpenCV FileStorage YAML file", "unparsable (" + e.msg + ")");
+  } catch (const std::exception& e) {
+    // OpenCV's parser also lets standard exceptions out (std::length_error on a fuzzed file).
+    throw InputError(path.string(), "", "an OpenCV FileStorage YAML file",
+                     std::string("unparsable (") + e.what() + ")");
   }
 }
 

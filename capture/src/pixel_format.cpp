@@ -1,6 +1,7 @@
 #include "holo/capture/pixel_format.hpp"
 
 #include <array>
+#include <cstring>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <utility>
@@ -132,6 +133,9 @@ cv::Mat convertToColor(PixelFormat format, const RawImage& raw) {
     case PixelFormat::MJPEG: {
       if (raw.data == nullptr || raw.size == 0) throw Error("MJPG buffer: empty");
       checkFrameSize("MJPG buffer", "width/height", raw.width, raw.height);
+      // imdecode would also try JPEG 2000, TIFF, WebP and more on whatever the camera sent.
+      if (raw.size < 3 || std::memcmp(raw.data, "\xff\xd8\xff", 3) != 0)
+        throw Error("MJPG buffer: not a JPEG (no SOI marker)");
       const cv::Mat bytes(1, static_cast<int>(raw.size), CV_8UC1, const_cast<void*>(raw.data));
       out = cv::imdecode(bytes, cv::IMREAD_COLOR);
       if (out.empty())

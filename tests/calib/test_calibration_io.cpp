@@ -267,6 +267,23 @@ TEST(CalibrationIo, AMatrixClaimingHugeDimensionsIsRefusedBeforeAllocating) {
   }
 }
 
+// The camera files fuzz_config once crashed the reader with (after its first byte, which picks
+// the reader): each is an InputError now.
+TEST(CalibrationIo, FuzzRegressionsAreInputErrors) {
+  const fs::path dir = test::scratchDir("calib_fuzz_regressions");
+  int files = 0;
+  for (const auto& entry :
+       fs::directory_iterator(fs::path(HOLO_SOURCE_DIR) / "tests/fuzz/regressions/fuzz_config")) {
+    const std::string bytes = readFile(entry.path());
+    ASSERT_FALSE(bytes.empty());
+    if (bytes[0] % 4 != 2) continue;  // not a camera calibration
+    writeFileAtomically(dir / "camera.yml", bytes.substr(1));
+    EXPECT_THROW((void)loadCameraCalibration(dir / "camera.yml"), InputError) << entry.path();
+    ++files;
+  }
+  EXPECT_GE(files, 2);
+}
+
 TEST(CalibrationIo, CorruptPyramidFieldsAreNamed) {
   const fs::path dir = test::scratchDir("calib_pyramid_corrupt");
   auto expectField = [&](const std::string& text, const std::string& field) {
