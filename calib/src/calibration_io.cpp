@@ -71,6 +71,8 @@ class Reader {
       : path_(path.string()), node_(node), prefix_(std::move(prefix)) {}
 
   cv::FileNode required(const std::string& key) const {
+    // OpenCV asserts (throws cv::Exception) on a key lookup in anything but a map.
+    if (!node_.isMap()) fail(key, "a value in a map", "the enclosing node is not a map");
     const cv::FileNode n = node_[key];
     if (n.empty() || n.isNone()) fail(key, "a value", "missing");
     return n;
