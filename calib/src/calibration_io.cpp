@@ -53,8 +53,14 @@ cv::FileStorage openForReading(const fs::path& path) {
     cv::FileStorage fs(path.string(), cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML);
     if (!fs.isOpened()) throw InputError(path.string(), "", "an OpenCV FileStorage YAML file", "cannot open");
     return fs;
+  } catch (const InputError&) {
+    throw;
   } catch (const cv::Exception& e) {
     throw InputError(path.string(), "", "an OpenCV FileStorage YAML file", "unparsable (" + e.msg + ")");
+  } catch (const std::exception& e) {
+    // OpenCV's parser also lets standard exceptions out (std::length_error on a fuzzed file).
+    throw InputError(path.string(), "", "an OpenCV FileStorage YAML file",
+                     std::string("unparsable (") + e.what() + ")");
   }
 }
 
@@ -65,6 +71,8 @@ class Reader {
       : path_(path.string()), node_(node), prefix_(std::move(prefix)) {}
 
   cv::FileNode required(const std::string& key) const {
+    // OpenCV asserts (throws cv::Exception) on a key lookup in anything but a map.
+    if (!node_.isMap()) fail(key, "a value in a map", "the enclosing node is not a map");
     const cv::FileNode n = node_[key];
     if (n.empty() || n.isNone()) fail(key, "a value", "missing");
     return n;
@@ -94,13 +102,28 @@ class Reader {
   // every element finite; returned as CV_64F.
   cv::Mat matrix(const std::string& key, int rows, int cols, bool either_way = false) const {
     const cv::FileNode n = required(key);
+    const std::string want = std::to_string(rows) + "x" + std::to_string(cols) + " matrix";
+    // OpenCV allocates what the node's rows and cols say before it reads the data: check the
+    // shape first, or a corrupt file asks for gigabytes.
+    if (n.isMap()) {
+      const cv::FileNode r = n["rows"], c = n["cols"], data = n["data"];
+      const bool declared_ok = r.isInt() && c.isInt() &&
+                               ((static_cast<int>(r) == rows && static_cast<int>(c) == cols) ||
+                                (either_way && static_cast<int>(r) == cols && static_cast<int>(c) == rows));
+      if (!declared_ok)
+        fail(key, "a " + want,
+             "rows " + (r.isInt() ? std::to_string(static_cast<int>(r)) : std::string("?")) + ", cols " +
+                 (c.isInt() ? std::to_string(static_cast<int>(c)) : std::string("?")));
+      if (!data.isSeq() || data.size() != static_cast<std::size_t>(rows * cols))
+        fail(key, std::to_string(rows * cols) + " data values",
+             std::to_string(data.isSeq() ? data.size() : 0));
+    }
     cv::Mat m;
     try {
       if (n.isMap()) n >> m;
     } catch (const cv::Exception&) {
       m.release();
     }
-    const std::string want = std::to_string(rows) + "x" + std::to_string(cols) + " matrix";
     if (m.empty()) fail(key, "an opencv-matrix (" + want + ")", "not a readable matrix");
     const bool shape_ok =
         (m.rows == rows && m.cols == cols) || (either_way && m.rows == cols && m.cols == rows);

@@ -312,8 +312,10 @@ std::vector<fs::path> CalibrationSession::save(const fs::path& out_dir, std::ost
   written.push_back(pyramidCalibrationPath(out_dir));
   savePyramidCalibration(written.back(), pyramid_);
   for (int s = 0; s < kMeasuringSteps; ++s)
-    for (const auto& [name, image] : outcomes_[static_cast<std::size_t>(s)]->files) {
-      written.push_back(out_dir / name);
+    for (const auto& file : outcomes_[static_cast<std::size_t>(s)]->files) {
+      // Not a structured binding: clang 14 (the fuzz and sanitizer builds) cannot capture one.
+      const cv::Mat& image = file.second;
+      written.push_back(out_dir / file.first);
       writeAtomically(written.back(), [&](const fs::path& tmp) {
         if (!cv::imwrite(tmp.string(), image)) throw Error("could not write " + tmp.string());
       });

@@ -156,6 +156,15 @@ struct AravisDevice {
       g_object_set(stream, "socket-buffer", ARV_GV_STREAM_SOCKET_BUFFER_AUTO, nullptr);
     const guint payload = arv_camera_get_payload(camera, &error);
     check(error, who + ": reading PayloadSize");
+    // The camera announces its size; buffers are allocated from it, so a broken or hostile
+    // device claiming 64k x 64k must be refused here, not by the allocator.
+    gint x = 0, y = 0, width = 0, height = 0;
+    arv_camera_get_region(camera, &x, &y, &width, &height, &error);
+    check(error, who + ": reading the region");
+    checkFrameSize(who, "width/height", width, height);
+    if (payload == 0 || payload > kMaxFrameBytes)
+      throw InputError(who, "PayloadSize", "1 to " + std::to_string(kMaxFrameBytes) + " bytes a frame",
+                       std::to_string(payload));
     for (int i = 0; i < std::max(2, config.buffers); ++i)
       arv_stream_push_buffer(stream, arv_buffer_new(payload, nullptr));
     arv_camera_set_acquisition_mode(camera, ARV_ACQUISITION_MODE_CONTINUOUS, &error);

@@ -1,6 +1,7 @@
 #include "holo/capture/pixel_format.hpp"
 
 #include <array>
+#include <cstring>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <utility>
@@ -30,8 +31,14 @@ constexpr std::array<std::pair<PixelFormat, const char*>, 12> kNames{{
 cv::Mat wrap(PixelFormat f, const RawImage& raw, int type) {
   if (raw.width <= 0 || raw.height <= 0 || raw.data == nullptr)
     throw Error(toString(f) + " buffer: empty image");
+  checkFrameSize(toString(f) + " buffer", "width/height", raw.width, raw.height);
   const std::size_t row = static_cast<std::size_t>(raw.width) * static_cast<std::size_t>(bytesPerPixel(f));
   const std::size_t stride = raw.stride ? raw.stride : row;
+  // OpenCV needs whole elements per row; a 16-bit format with an odd stride is a broken buffer.
+  if (stride % CV_ELEM_SIZE1(type) != 0 || stride > kMaxFrameBytes)
+    throw Error(toString(f) + " buffer: a stride of " + std::to_string(stride) +
+                " bytes is not a whole number of " + std::to_string(CV_ELEM_SIZE1(type)) +
+                "-byte samples within a frame");
   const std::size_t needed = stride * static_cast<std::size_t>(raw.height - 1) + row;
   if (stride < row || raw.size < needed)
     throw Error(toString(f) + " buffer: " + std::to_string(raw.size) + " bytes, expected at least " +
@@ -41,6 +48,13 @@ cv::Mat wrap(PixelFormat f, const RawImage& raw, int type) {
 }
 
 }  // namespace
+
+void checkFrameSize(const std::string& who, const std::string& field, long long width, long long height) {
+  if (width < 1 || height < 1 || width > kMaxFrameSide || height > kMaxFrameSide)
+    throw InputError(who, field,
+                     "a frame of 1 to " + std::to_string(kMaxFrameSide) + " pixels a side (4K UHD fits)",
+                     std::to_string(width) + "x" + std::to_string(height));
+}
 
 int bytesPerPixel(PixelFormat f) {
   switch (f) {
@@ -118,6 +132,10 @@ cv::Mat convertToColor(PixelFormat format, const RawImage& raw) {
       break;
     case PixelFormat::MJPEG: {
       if (raw.data == nullptr || raw.size == 0) throw Error("MJPG buffer: empty");
+      checkFrameSize("MJPG buffer", "width/height", raw.width, raw.height);
+      // imdecode would also try JPEG 2000, TIFF, WebP and more on whatever the camera sent.
+      if (raw.size < 3 || std::memcmp(raw.data, "\xff\xd8\xff", 3) != 0)
+        throw Error("MJPG buffer: not a JPEG (no SOI marker)");
       const cv::Mat bytes(1, static_cast<int>(raw.size), CV_8UC1, const_cast<void*>(raw.data));
       out = cv::imdecode(bytes, cv::IMREAD_COLOR);
       if (out.empty())

@@ -18,8 +18,19 @@ namespace fs = std::filesystem;
 
 namespace {
 
+void checkIndexSize(const fs::path& file) {
+  std::error_code error;
+  const auto bytes = fs::file_size(file, error);
+  if (!error && bytes > kMaxRecordingIndexBytes)
+    throw InputError(
+        file.string(), "",
+        "an index of at most " + std::to_string(kMaxRecordingIndexBytes >> 20) + " MiB (~1M frames)",
+        std::to_string(bytes >> 20) + " MiB");
+}
+
 // TUM index file: "timestamp path" per line, '#' starts a comment.
 std::vector<std::pair<double, std::string>> readIndex(const fs::path& file) {
+  checkIndexSize(file);
   std::ifstream in(file);
   if (!in) throw InputError(file.string(), "", "a readable TUM index file", "cannot open");
   std::vector<std::pair<double, std::string>> entries;
@@ -41,6 +52,7 @@ std::vector<std::pair<double, std::string>> readIndex(const fs::path& file) {
 // associations.txt: "t_rgb rgb_file t_depth depth_file".
 std::vector<RecordedFrame> readAssociations(const fs::path& dir) {
   const fs::path file = dir / "associations.txt";
+  checkIndexSize(file);
   std::ifstream in(file);
   if (!in) throw InputError(file.string(), "", "a readable associations file", "cannot open");
   std::vector<RecordedFrame> frames;

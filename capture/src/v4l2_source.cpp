@@ -228,6 +228,7 @@ struct V4l2Stream {
     if (is_depth != isDepthFormat(format))
       throw InputError(path, is_depth ? "depth.pixel_format" : "color.pixel_format",
                        is_depth ? "Z16 for a depth stream" : "YUYV or MJPG for a colour stream", fourcc);
+    checkFrameSize(path, "width/height", fmt.fmt.pix.width, fmt.fmt.pix.height);
     width = static_cast<int>(fmt.fmt.pix.width);
     height = static_cast<int>(fmt.fmt.pix.height);
     stride = format == PixelFormat::MJPEG ? 0 : fmt.fmt.pix.bytesperline;

@@ -1,9 +1,9 @@
 // glTF I/O through tinygltf. This is the one translation unit that compiles tinygltf's and
-// stb's implementations (Debian ships them header-only for us; libstb.so is not linked).
+// stb_image_write's implementations (Debian ships them header-only for us; libstb.so is not
+// linked). Reading textures goes through OpenCV, never stb_image (see decodeTexture).
 #define TINYGLTF_IMPLEMENTATION
-#define STB_IMAGE_IMPLEMENTATION
 #define STB_IMAGE_WRITE_IMPLEMENTATION
-#define TINYGLTF_NO_INCLUDE_STB_IMAGE
+#define TINYGLTF_NO_STB_IMAGE
 #define TINYGLTF_NO_INCLUDE_STB_IMAGE_WRITE
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wshadow"
@@ -13,7 +13,6 @@
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
 #pragma GCC diagnostic ignored "-Wpedantic"
 #pragma GCC diagnostic ignored "-Wsign-compare"
-#include <stb_image.h>
 #include <stb_image_write.h>
 #include <tiny_gltf.h>
 #pragma GCC diagnostic pop
@@ -69,9 +68,15 @@ class Reader {
     throw InputError(file_, field, expected, got);
   }
 
-  // Calls `visit(i, const unsigned char* element)` for each element of the accessor.
-  void forEach(int accessor_index, const std::string& field,
-               const std::function<void(std::size_t, const unsigned char*)>& visit) const {
+  // Where an accessor's elements lie, checked against its buffer view and buffer before anything
+  // is allocated for them: `count` comes from the file and may claim billions.
+  struct Span {
+    const unsigned char* base = nullptr;
+    std::size_t stride = 0;
+    std::size_t count = 0;
+  };
+
+  Span span(int accessor_index, const std::string& field) const {
     if (accessor_index < 0 || accessor_index >= static_cast<int>(gltf_.accessors.size()))
       fail(field, "an accessor index < " + std::to_string(gltf_.accessors.size()),
            std::to_string(accessor_index));
@@ -92,17 +97,29 @@ class Reader {
     if (element_size <= 0) fail(acc_field + ".componentType", "a valid component type and type");
     const int stride = acc.ByteStride(view);
     if (stride <= 0) fail(view_field + ".byteStride", "a stride of at least one element");
-    if (acc.count == 0) return;
+    if (acc.count == 0) return {};
+    // Offsets and counts come from the file: compare them without overflow, against the view
+    // clipped to the bytes the buffer really has.
+    const std::size_t size = buffer.data.size();
+    const std::size_t view_end =
+        view.byteOffset > size ? 0 : view.byteOffset + std::min(view.byteLength, size - view.byteOffset);
     const std::size_t start = view.byteOffset + acc.byteOffset;
-    const std::size_t end =
-        start + (acc.count - 1) * static_cast<std::size_t>(stride) + static_cast<std::size_t>(element_size);
-    if (end > view.byteOffset + view.byteLength || end > buffer.data.size())
+    const auto element = static_cast<std::size_t>(element_size);
+    const bool inside = view.byteOffset <= size && acc.byteOffset <= size && start <= view_end &&
+                        element <= view_end - start &&
+                        acc.count - 1 <= (view_end - start - element) / static_cast<std::size_t>(stride);
+    if (!inside)
       fail(acc_field,
            "data inside buffer " + std::to_string(view.buffer) + " (" + std::to_string(buffer.data.size()) +
                " bytes)",
-           "it reads up to byte " + std::to_string(end) + " (missing or truncated buffer?)");
-    const unsigned char* base = buffer.data.data() + start;
-    for (std::size_t i = 0; i < acc.count; ++i) visit(i, base + i * static_cast<std::size_t>(stride));
+           std::to_string(acc.count) + " elements of " + std::to_string(element_size) + " bytes from byte " +
+               std::to_string(start) + " (missing or truncated buffer?)");
+    return {buffer.data.data() + start, static_cast<std::size_t>(stride), acc.count};
+  }
+
+  // Calls `visit(i, const unsigned char* element)` for each element of the accessor.
+  void forEach(const Span& s, const std::function<void(std::size_t, const unsigned char*)>& visit) const {
+    for (std::size_t i = 0; i < s.count; ++i) visit(i, s.base + i * s.stride);
   }
 
   const tinygltf::Accessor& accessor(int index) const {
@@ -120,8 +137,13 @@ class Reader {
     if (tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(acc.type)) != N)
       fail(field, "a VEC" + std::to_string(N) + " accessor");
     const int ct = acc.componentType;
-    out.resize(acc.count);
-    forEach(accessor_index, field, [&](std::size_t i, const unsigned char* p) {
+    if (acc.count > kMaxGltfVertices)
+      fail(field,
+           "at most " + std::to_string(kMaxGltfVertices) + " vertices per primitive (decimate the model)",
+           std::to_string(acc.count));
+    const Span elements = span(accessor_index, field);
+    out.resize(elements.count);
+    forEach(elements, [&](std::size_t i, const unsigned char* p) {
       for (int k = 0; k < N; ++k) {
         float v = 0;
         switch (ct) {
@@ -155,8 +177,14 @@ class Reader {
     const auto& acc = accessor(accessor_index);
     if (acc.type != TINYGLTF_TYPE_SCALAR) fail(field, "a SCALAR index accessor");
     const int ct = acc.componentType;
-    out.resize(acc.count);
-    forEach(accessor_index, field, [&](std::size_t i, const unsigned char* p) {
+    if (acc.count > 3 * kMaxGltfTriangles + 2)
+      fail(field,
+           "at most " + std::to_string(kMaxGltfTriangles) + " triangles (" +
+               std::to_string(3 * kMaxGltfTriangles) + " indices; decimate the model)",
+           std::to_string(acc.count) + " indices");
+    const Span elements = span(accessor_index, field);
+    out.resize(elements.count);
+    forEach(elements, [&](std::size_t i, const unsigned char* p) {
       switch (ct) {
         case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
           out[i] = p[0];
@@ -256,7 +284,7 @@ cv::Mat decodeImage(const tinygltf::Image& image) {
       cv::cvtColor(raw, out, cv::COLOR_RGB2BGR);
       break;
     default: {
-      // stb decodes to RGBA unless asked otherwise; an opaque texture drops its alpha.
+      // An opaque texture drops its alpha.
       cv::Mat alpha;
       cv::extractChannel(raw, alpha, 3);
       double lowest = 0;
@@ -611,6 +639,8 @@ Model convert(const tinygltf::Model& gltf, const std::string& file) {
     model.materials.push_back(readMaterial(gltf, i, MaterialReader(gltf, file, i, textureFor)));
   const int default_material = static_cast<int>(model.materials.size());
   bool used_default = false;
+  std::size_t total_triangles = 0;
+  std::size_t total_vertices = 0;
 
   auto addMesh = [&](int mesh_index, const mat4& T) {
     if (mesh_index < 0 || mesh_index >= static_cast<int>(gltf.meshes.size()))
@@ -668,6 +698,15 @@ Model convert(const tinygltf::Model& gltf, const std::string& file) {
       }
       out.triangles = trianglesFromIndices(idx, prim.mode == -1 ? TINYGLTF_MODE_TRIANGLES : prim.mode, reader,
                                            field + ".indices");
+      // Instances count: a node hierarchy can repeat one small mesh millions of times.
+      total_triangles += out.triangles.size();
+      total_vertices += n;
+      if (total_triangles > kMaxGltfTriangles || total_vertices > kMaxGltfVertices)
+        reader.fail(field,
+                    "a model of at most " + std::to_string(kMaxGltfTriangles) + " triangles and " +
+                        std::to_string(kMaxGltfVertices) + " vertices, instances included (decimate it)",
+                    std::to_string(total_triangles) + " triangles and " + std::to_string(total_vertices) +
+                        " vertices so far");
       // Sanitise normals: a zero or non-finite normal would poison shading; recompute all.
       bool normals_ok = !out.normals.empty();
       for (auto& nrm : out.normals) {
@@ -726,10 +765,15 @@ Model convert(const tinygltf::Model& gltf, const std::string& file) {
     }
   };
 
+  std::size_t node_visits = 0;
   std::function<void(int, const mat4&, int)> visit = [&](int node_index, const mat4& parent, int depth) {
     if (node_index < 0 || node_index >= static_cast<int>(gltf.nodes.size()))
       reader.fail("nodes", "a node index < " + std::to_string(gltf.nodes.size()), std::to_string(node_index));
     if (depth > 256) reader.fail("nodes", "an acyclic node hierarchy", "depth > 256");
+    // Nodes shared between parents multiply: a few hundred can stand for billions of visits.
+    if (++node_visits > kMaxGltfNodeVisits)
+      reader.fail("nodes", "at most " + std::to_string(kMaxGltfNodeVisits) + " node instances in the scene",
+                  "more (nodes shared by many parents)");
     const auto& node = gltf.nodes[static_cast<std::size_t>(node_index)];
     const mat4 T = parent * nodeMatrix(node);
     if (node.mesh >= 0) addMesh(node.mesh, T);
@@ -771,6 +815,62 @@ Model convert(const tinygltf::Model& gltf, const std::string& file) {
   throw InputError(file, field, "a valid glTF 2.0 file", firstLine(err));
 }
 
+// Textures are decoded by OpenCV (libpng, libjpeg-turbo: kept and patched by Debian), not by the
+// stb_image copy tinygltf would compile into this file: the fuzzer found stb's JPEG Huffman
+// tables writing past their end. OpenCV refuses images above OPENCV_IO_MAX_IMAGE_PIXELS before
+// allocating (the kiosk unit sets it); a texture larger than kMaxGltfTextureSide is refused here.
+bool decodeTexture(tinygltf::Image* image, const int image_index, std::string* err, std::string*, int, int,
+                   const unsigned char* bytes, int size, void*) {
+  const std::string which = "image " + std::to_string(image_index);
+  // glTF allows PNG and JPEG; OpenCV would also try TIFF, WebP, PNM and more, so only those two
+  // are handed to it.
+  const bool png = size >= 8 && std::memcmp(bytes, "\x89PNG\r\n\x1a\n", 8) == 0;
+  const bool jpeg = size >= 3 && std::memcmp(bytes, "\xff\xd8\xff", 3) == 0;
+  if (!png && !jpeg) {
+    if (err) *err += which + ": not a PNG or JPEG image\n";
+    return false;
+  }
+  cv::Mat decoded;
+  try {
+    decoded =
+        cv::imdecode(cv::Mat(1, size, CV_8UC1, const_cast<unsigned char*>(bytes)), cv::IMREAD_UNCHANGED);
+  } catch (const cv::Exception& e) {
+    if (err) *err += which + ": " + e.what() + "\n";
+    return false;
+  }
+  if (decoded.empty()) {
+    if (err) *err += which + ": not a PNG or JPEG image OpenCV can decode\n";
+    return false;
+  }
+  if (decoded.cols > kMaxGltfTextureSide || decoded.rows > kMaxGltfTextureSide) {
+    if (err)
+      *err += which + " is " + std::to_string(decoded.cols) + "x" + std::to_string(decoded.rows) +
+              ", expected at most " + std::to_string(kMaxGltfTextureSide) + " pixels a side\n";
+    return false;
+  }
+  if (decoded.depth() != CV_8U && decoded.depth() != CV_16U) decoded.convertTo(decoded, CV_8U);
+  cv::Mat rgb;  // glTF images are RGB(A); OpenCV decodes to BGR(A)
+  switch (decoded.channels()) {
+    case 3:
+      cv::cvtColor(decoded, rgb, cv::COLOR_BGR2RGB);
+      break;
+    case 4:
+      cv::cvtColor(decoded, rgb, cv::COLOR_BGRA2RGBA);
+      break;
+    default:
+      rgb = decoded;
+  }
+  if (!rgb.isContinuous()) rgb = rgb.clone();
+  image->width = rgb.cols;
+  image->height = rgb.rows;
+  image->component = rgb.channels();
+  image->bits = rgb.depth() == CV_16U ? 16 : 8;
+  image->pixel_type =
+      rgb.depth() == CV_16U ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT : TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+  image->image.assign(rgb.data, rgb.data + rgb.total() * rgb.elemSize());
+  return true;
+}
+
 // True when the raw JSON chunk names the Draco extension (tinygltf may fail before we look).
 bool mentionsDraco(const std::string& bytes) {
   return bytes.find(kDraco) != std::string::npos;
@@ -785,8 +885,12 @@ tinygltf::Model parseFile(const fs::path& path) {
   if (!fs::exists(path)) throw InputError(file, "", "an existing .gltf or .glb file", "not found");
   const std::string ext = lower(path.extension().string());
   if (ext != ".gltf" && ext != ".glb") throw InputError(file, "", "a .gltf or .glb file", ext);
+  if (const auto bytes_on_disk = fs::file_size(path); bytes_on_disk > kMaxGltfFileBytes)
+    throw InputError(file, "", "a glTF file of at most " + std::to_string(kMaxGltfFileBytes >> 20) + " MiB",
+                     std::to_string(bytes_on_disk >> 20) + " MiB");
   const std::string bytes = readFile(path);
   tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(decodeTexture, nullptr);
   tinygltf::Model gltf;
   std::string err, warn;
   const std::string base_dir = path.has_parent_path() ? path.parent_path().string() : ".";
@@ -884,7 +988,11 @@ GltfInventory inspectGltf(const fs::path& path) {
 }
 
 Model loadGlbFromMemory(const std::vector<std::uint8_t>& glb, const std::string& origin) {
+  if (glb.size() > kMaxGltfFileBytes)
+    throw InputError(origin, "", "a glTF file of at most " + std::to_string(kMaxGltfFileBytes >> 20) + " MiB",
+                     std::to_string(glb.size() >> 20) + " MiB");
   tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(decodeTexture, nullptr);
   tinygltf::Model gltf;
   std::string err, warn;
   if (!loader.LoadBinaryFromMemory(&gltf, &err, &warn, glb.data(), static_cast<unsigned int>(glb.size()), ""))

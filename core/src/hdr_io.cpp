@@ -6,7 +6,11 @@
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfOutputFile.h>
 #include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
+#include <optional>
 
 #include "holo/core/error.hpp"
 #include "holo/core/files.hpp"
@@ -24,10 +28,50 @@ std::string lowerExtension(const fs::path& path) {
   return ext;
 }
 
+std::string sizeText(std::int64_t width, std::int64_t height) {
+  return std::to_string(width) + "x" + std::to_string(height);
+}
+
+// The panorama's size as its header states it, checked before any pixel is allocated.
+void checkPanoramaSize(const fs::path& path, const std::string& field, std::int64_t width,
+                       std::int64_t height) {
+  if (width <= 0 || height <= 0)
+    throw InputError(path.string(), field, "a positive image size", sizeText(width, height));
+  if (width * height > static_cast<std::int64_t>(kMaxPanoramaPixels))
+    throw InputError(
+        path.string(), field,
+        "at most " + std::to_string(kMaxPanoramaPixels) + " pixels (8192x4096; downsample the panorama)",
+        sizeText(width, height));
+}
+
+// A Radiance file's resolution line ("-Y 4096 +X 8192", after the header's blank line), or
+// nothing when the header does not parse (OpenCV then reports the file as unreadable).
+std::optional<std::pair<std::int64_t, std::int64_t>> radianceSize(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  bool blank_seen = false;
+  // Headers are a handful of short lines; a file that has no blank line early is not one.
+  for (int lines = 0; lines < 128 && std::getline(in, line); ++lines) {
+    if (!blank_seen) {
+      blank_seen = line.empty();
+      continue;
+    }
+    char first[3] = {}, second[3] = {};
+    long long a = 0, b = 0;
+    if (std::sscanf(line.c_str(), "%2s %lld %2s %lld", first, &a, second, &b) != 4) return std::nullopt;
+    if (first[1] == 'Y' && second[1] == 'X') return std::pair<std::int64_t, std::int64_t>{b, a};
+    if (first[1] == 'X' && second[1] == 'Y') return std::pair<std::int64_t, std::int64_t>{a, b};
+    return std::nullopt;
+  }
+  return std::nullopt;
+}
+
 cv::Mat readExr(const fs::path& path) {
   Imf::InputFile file(path.c_str());
   const auto& header = file.header();
   const auto window = header.dataWindow();
+  checkPanoramaSize(path, "dataWindow", std::int64_t{window.max.x} - window.min.x + 1,
+                    std::int64_t{window.max.y} - window.min.y + 1);
   const int width = window.max.x - window.min.x + 1;
   const int height = window.max.y - window.min.y + 1;
   const auto& channels = header.channels();
@@ -83,6 +127,8 @@ HdrImage loadHdr(const fs::path& path) {
     if (ext == ".exr") {
       out.pixels = readExr(path);
     } else if (ext == ".hdr" || ext == ".pic") {
+      if (const auto size = radianceSize(path))
+        checkPanoramaSize(path, "resolution", size->first, size->second);
       out.pixels = cv::imread(path.string(), cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR);
       if (out.pixels.empty())
         throw InputError(path.string(), "", "a Radiance RGBE (.hdr) image", "unreadable");

@@ -1,12 +1,12 @@
 #include "holo/kiosk/health_server.hpp"
 
 #include <arpa/inet.h>
-#include <fcntl.h>
+#include <httplib.h>
 #include <netinet/in.h>
-#include <poll.h>
 #include <sys/socket.h>
-#include <unistd.h>
+
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 
 #include "holo/core/error.hpp"
@@ -19,20 +19,7 @@ std::string resolveName(const std::string& address) {
   return address == "localhost" ? "127.0.0.1" : address;
 }
 
-void sendAll(int fd, const std::string& data) {
-  std::size_t done = 0;
-  while (done < data.size()) {
-    const ssize_t n = ::send(fd, data.data() + done, data.size() - done, MSG_NOSIGNAL);
-    if (n <= 0) return;  // the client went away; nothing to repair
-    done += static_cast<std::size_t>(n);
-  }
-}
-
-std::string response(int code, const char* reason, const std::string& type, const std::string& body) {
-  return "HTTP/1.0 " + std::to_string(code) + " " + reason + "\r\nContent-Type: " + type +
-         "\r\nContent-Length: " + std::to_string(body.size()) +
-         "\r\nCache-Control: no-store\r\nConnection: close\r\n\r\n" + body;
-}
+constexpr time_t kTimeoutS = 1;  // a client that connects and says nothing must not hold the worker
 
 }  // namespace
 
@@ -45,105 +32,95 @@ bool isLoopbackAddress(const std::string& address) {
   return false;
 }
 
-HealthServer::HealthServer(const std::string& address, std::uint16_t port,
-                           std::function<std::string()> provider, const std::string& field)
-    : provider_(std::move(provider)) {
+void addHealthRoutes(httplib::Server& server, HealthProvider provider,
+                     std::shared_ptr<std::atomic<long>> served) {
+  server.set_read_timeout(kTimeoutS, 0);
+  server.set_write_timeout(kTimeoutS, 0);
+  server.set_keep_alive_max_count(1);
+  server.set_keep_alive_timeout(kTimeoutS);
+  server.set_payload_max_length(0);
+  // cpp-httplib's default also sets SO_REUSEPORT, which would let a second process share the
+  // port and take some of the requests; a busy port must be an error instead.
+  server.set_socket_options([](socket_t socket) {
+    const int one = 1;
+    ::setsockopt(socket, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
+  });
+  server.set_default_headers({{"Cache-Control", "no-store"}});
+  server.set_pre_routing_handler([](const httplib::Request& request, httplib::Response& response) {
+    if (request.method == "GET" || request.method == "HEAD")
+      return httplib::Server::HandlerResponse::Unhandled;
+    response.status = 405;
+    response.set_header("Allow", "GET, HEAD");
+    response.set_content("GET only\n", "text/plain");
+    return httplib::Server::HandlerResponse::Handled;
+  });
+  auto answer = [provider = std::move(provider), served = std::move(served)](httplib::Response& response,
+                                                                             bool metrics) {
+    const HealthStatus status = provider();
+    if (metrics)
+      response.set_content(status.toPrometheus(), "text/plain; version=0.0.4; charset=utf-8");
+    else
+      response.set_content(status.toJson().dump(2) + "\n", "application/json");
+    ++*served;
+  };
+  server.Get("/",
+             [answer](const httplib::Request&, httplib::Response& response) { answer(response, false); });
+  server.Get("/health",
+             [answer](const httplib::Request&, httplib::Response& response) { answer(response, false); });
+  server.Get("/metrics",
+             [answer](const httplib::Request&, httplib::Response& response) { answer(response, true); });
+  server.set_error_handler([](const httplib::Request&, httplib::Response& response) {
+    if (response.status == 404) response.set_content("try /health or /metrics\n", "text/plain");
+  });
+  server.set_exception_handler(
+      [](const httplib::Request&, httplib::Response& response, std::exception_ptr error) {
+        response.status = 500;
+        std::string what = "unknown error";
+        try {
+          std::rethrow_exception(error);
+        } catch (const std::exception& e) {
+          what = e.what();
+        } catch (...) {
+        }
+        response.set_content(what + "\n", "text/plain");
+      });
+}
+
+HealthServer::HealthServer(const std::string& address, std::uint16_t port, HealthProvider provider,
+                           const std::string& field)
+    : server_(std::make_unique<httplib::Server>()), served_(std::make_shared<std::atomic<long>>(0)) {
   if (!isLoopbackAddress(address))
     throw InputError("", field,
                      "a loopback address (127.0.0.1, localhost or ::1); the health endpoint never "
                      "listens on the museum network",
                      address);
+  // A handful of local requests per minute: one worker is plenty and bounds what a flood costs.
+  server_->new_task_queue = [] { return new httplib::ThreadPool(1); };
+  addHealthRoutes(*server_, std::move(provider), served_);
   const std::string name = resolveName(address);
-  sockaddr_storage storage{};
-  socklen_t length = 0;
-  int family = AF_INET;
-  if (auto* v4 = reinterpret_cast<sockaddr_in*>(&storage);
-      inet_pton(AF_INET, name.c_str(), &v4->sin_addr) == 1) {
-    v4->sin_family = AF_INET;
-    v4->sin_port = htons(port);
-    length = sizeof(sockaddr_in);
-  } else {
-    auto* v6 = reinterpret_cast<sockaddr_in6*>(&storage);
-    inet_pton(AF_INET6, name.c_str(), &v6->sin6_addr);
-    v6->sin6_family = AF_INET6;
-    v6->sin6_port = htons(port);
-    length = sizeof(sockaddr_in6);
-    family = AF_INET6;
+  errno = 0;
+  if (port == 0) {
+    const int bound = server_->bind_to_any_port(name);
+    if (bound > 0) port_ = static_cast<std::uint16_t>(bound);
+  } else if (server_->bind_to_port(name, port)) {
+    port_ = port;
   }
-  listen_fd_ = ::socket(family, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  if (listen_fd_ < 0) throw Error(std::string("health server: socket: ") + std::strerror(errno));
-  const int one = 1;
-  setsockopt(listen_fd_, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-  if (::bind(listen_fd_, reinterpret_cast<sockaddr*>(&storage), length) != 0 ||
-      ::listen(listen_fd_, 8) != 0) {
-    const int err = errno;
-    ::close(listen_fd_);
+  if (port_ == 0)
     throw Error("health server: cannot listen on " + address + ":" + std::to_string(port) + ": " +
-                std::strerror(err));
-  }
-  sockaddr_storage bound{};
-  socklen_t bound_length = sizeof bound;
-  getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&bound), &bound_length);
-  port_ = ntohs(family == AF_INET ? reinterpret_cast<sockaddr_in*>(&bound)->sin_port
-                                  : reinterpret_cast<sockaddr_in6*>(&bound)->sin6_port);
-  if (::pipe2(wake_pipe_, O_CLOEXEC) != 0) {
-    ::close(listen_fd_);
-    throw Error(std::string("health server: pipe: ") + std::strerror(errno));
-  }
-  thread_ = std::thread([this] { serve(); });
+                (errno != 0 ? std::strerror(errno) : "bind failed"));
+  thread_ = std::thread([this] {
+    server_->listen_after_bind();
+    listening_ended_ = true;
+  });
 }
 
 HealthServer::~HealthServer() {
-  const char byte = 'x';
-  [[maybe_unused]] const ssize_t n = ::write(wake_pipe_[1], &byte, 1);
+  // cpp-httplib's stop() does nothing until the listening loop has started; wait for it so the
+  // destructor never leaves the thread blocked in accept.
+  while (!server_->is_running() && !listening_ended_)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  server_->stop();
   if (thread_.joinable()) thread_.join();
-  ::close(listen_fd_);
-  ::close(wake_pipe_[0]);
-  ::close(wake_pipe_[1]);
-}
-
-void HealthServer::serve() {
-  for (;;) {
-    pollfd fds[2] = {{listen_fd_, POLLIN, 0}, {wake_pipe_[0], POLLIN, 0}};
-    if (::poll(fds, 2, -1) < 0) {
-      if (errno == EINTR) continue;
-      HOLO_LOG_ERROR("health server: poll: {}", std::strerror(errno));
-      return;
-    }
-    if (fds[1].revents != 0) return;
-    const int client = ::accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC);
-    if (client < 0) continue;
-    // A client that connects and says nothing must not block the server for long.
-    timeval timeout{1, 0};
-    setsockopt(client, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
-    setsockopt(client, SOL_SOCKET, SO_SNDTIMEO, &timeout, sizeof timeout);
-    std::string request;
-    char buffer[1024];
-    while (request.find("\r\n\r\n") == std::string::npos && request.size() < 8192) {
-      const ssize_t n = ::recv(client, buffer, sizeof buffer, 0);
-      if (n <= 0) break;
-      request.append(buffer, static_cast<std::size_t>(n));
-    }
-    const auto line_end = request.find("\r\n");
-    const std::string line = request.substr(0, line_end);
-    if (line.rfind("GET /health ", 0) == 0 || line.rfind("GET / ", 0) == 0) {
-      std::string body;
-      try {
-        body = provider_();
-      } catch (const std::exception& e) {
-        sendAll(client, response(500, "Internal Server Error", "text/plain", e.what()));
-        ::close(client);
-        continue;
-      }
-      sendAll(client, response(200, "OK", "application/json", body + "\n"));
-      ++served_;
-    } else if (line.rfind("GET ", 0) == 0) {
-      sendAll(client, response(404, "Not Found", "text/plain", "try /health\n"));
-    } else {
-      sendAll(client, response(405, "Method Not Allowed", "text/plain", "GET only\n"));
-    }
-    ::close(client);
-  }
 }
 
 }  // namespace holo::kiosk

@@ -9,6 +9,48 @@ namespace {
 double finite(double v) {
   return std::isfinite(v) ? v : -1.0;
 }
+
+// Label values hold whatever a config file says; the format reserves backslash, quote and newline.
+std::string labelValue(const std::string& value) {
+  std::string out;
+  out.reserve(value.size());
+  for (const char c : value) {
+    if (c == '\\')
+      out += "\\\\";
+    else if (c == '"')
+      out += "\\\"";
+    else if (c == '\n')
+      out += "\\n";
+    else
+      out += c;
+  }
+  return out;
+}
+
+std::string sampleValue(double v) {
+  if (std::isnan(v)) return "NaN";
+  if (std::isinf(v)) return v > 0 ? "+Inf" : "-Inf";
+  return fmt::format("{}", v);
+}
+
+class Exposition {
+ public:
+  void family(const char* name, const char* type, const char* help) {
+    text_ += fmt::format("# HELP holopyramid_{} {}\n# TYPE holopyramid_{} {}\n", name, help, name, type);
+  }
+  void sample(const char* name, double value, const std::string& labels = {}) {
+    text_ += fmt::format("holopyramid_{}{} {}\n", name, labels.empty() ? "" : "{" + labels + "}",
+                         sampleValue(value));
+  }
+  std::string take() { return std::move(text_); }
+
+ private:
+  std::string text_;
+};
+
+std::string label(const char* key, const std::string& value) {
+  return fmt::format("{}=\"{}\"", key, labelValue(value));
+}
 }  // namespace
 
 void HealthStatus::addError(const std::string& message) {
@@ -48,6 +90,52 @@ nlohmann::json HealthStatus::toJson() const {
   j["config"] = {{"source", config_source}, {"warning", config_warning}};
   j["last_errors"] = nlohmann::json(std::vector<std::string>(last_errors.begin(), last_errors.end()));
   return j;
+}
+
+std::string HealthStatus::toPrometheus() const {
+  Exposition e;
+  e.family("info", "gauge", "Always 1; the labels carry the state, render mode and quality level.");
+  e.sample("info", 1, label("state", state) + "," + label("mode", mode) + "," + label("quality", quality));
+  e.family("frames_per_second", "gauge", "Frame rate over the last second or so.");
+  e.sample("frames_per_second", fps);
+  e.family("frame_seconds", "gauge", "Smoothed frame time.");
+  e.sample("frame_seconds", frame_ms / 1000.0);
+  e.family("stage_seconds", "gauge", "The last frame's time per pipeline stage.");
+  for (const auto& [stage, ms] : stage_ms) e.sample("stage_seconds", ms / 1000.0, label("stage", stage));
+  if (foreground_share) {
+    e.family("foreground_share", "gauge", "Fraction of view pixels showing foreground.");
+    e.sample("foreground_share", *foreground_share);
+  }
+  e.family("frames_total", "counter", "Frames rendered since start.");
+  e.sample("frames_total", static_cast<double>(frames));
+  e.family("uptime_seconds", "gauge", "Seconds since the kiosk started.");
+  e.sample("uptime_seconds", uptime_s);
+  e.family("seconds_since_frame", "gauge", "Seconds since the last frame; grows when the frame loop hangs.");
+  e.sample("seconds_since_frame", seconds_since_frame);
+  e.family("cameras", "gauge", "Cameras configured.");
+  e.sample("cameras", static_cast<double>(cameras.size()));
+  e.family("cameras_alive", "gauge", "Cameras that delivered a fresh frame recently.");
+  e.sample("cameras_alive", camerasAlive());
+  e.family("camera_up", "gauge", "1 when the camera delivered a fresh frame recently.");
+  for (const auto& c : cameras) e.sample("camera_up", c.alive ? 1 : 0, label("camera", c.name));
+  e.family("camera_frames_total", "counter", "Frames received from the camera.");
+  for (const auto& c : cameras)
+    e.sample("camera_frames_total", static_cast<double>(c.frames), label("camera", c.name));
+  e.family("camera_dropped_frames_total", "counter", "Frames dropped (late, corrupt).");
+  for (const auto& c : cameras)
+    e.sample("camera_dropped_frames_total", static_cast<double>(c.dropped), label("camera", c.name));
+  e.family("camera_reconnects_total", "counter", "Times the camera was reopened.");
+  for (const auto& c : cameras)
+    e.sample("camera_reconnects_total", static_cast<double>(c.reconnects), label("camera", c.name));
+  e.family("camera_last_frame_age_seconds", "gauge", "Seconds since the camera's newest frame.");
+  for (const auto& c : cameras)
+    e.sample("camera_last_frame_age_seconds", c.last_frame_age_s, label("camera", c.name));
+  e.family("recent_errors", "gauge", "Errors kept in the health JSON's last_errors (at most 10).");
+  e.sample("recent_errors", static_cast<double>(last_errors.size()));
+  e.family("config_fallback", "gauge",
+           "1 when the configured file was not used (see the health JSON's config).");
+  e.sample("config_fallback", config_warning.empty() ? 0 : 1);
+  return e.take();
 }
 
 std::string HealthStatus::summary() const {

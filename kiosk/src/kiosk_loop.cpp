@@ -45,8 +45,9 @@ void KioskLoop::applyConfig(LoadedConfig config) {
     try {
       server_ = std::make_unique<HealthServer>(config_.kiosk.health_address,
                                                static_cast<std::uint16_t>(config_.kiosk.health_port),
-                                               [this] { return health().toJson().dump(2); });
-      HOLO_LOG_INFO("health endpoint on http://{}:{}/health", config_.kiosk.health_address, server_->port());
+                                               [this] { return health(); });
+      HOLO_LOG_INFO("health endpoint on http://{}:{}/health (and /metrics)", config_.kiosk.health_address,
+                    server_->port());
     } catch (const std::exception& e) {
       // The picture matters more than the endpoint: report and keep going.
       HOLO_LOG_ERROR("health endpoint not started: {}", e.what());

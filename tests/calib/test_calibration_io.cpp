@@ -243,6 +243,47 @@ TEST(CalibrationIo, TruncatedGarbageAndMissingFilesAreInputErrors) {
   EXPECT_THROW(cameraCalibrationPath(dir, "a/b"), InputError);
 }
 
+// A matrix node's rows and cols are checked before OpenCV allocates them: the fuzzer's file
+// (tests/fuzz/regressions/fuzz_config) made OpenCV ask for 85 GB; 20000 x 20000 doubles would be
+// 3.2 GB that a machine with overcommit grants.
+TEST(CalibrationIo, AMatrixClaimingHugeDimensionsIsRefusedBeforeAllocating) {
+  const fs::path dir = test::scratchDir("calib_huge_matrix");
+  const fs::path good = dir / "camera_good.yml";
+  saveCameraCalibration(good, sampleCamera());
+  std::string text = readFile(good);
+  const auto at = text.find("rows: 3", text.find("camera_matrix"));
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 7, "rows: 20000");
+  const auto cols = text.find("cols: 3", at);
+  ASSERT_NE(cols, std::string::npos);
+  text.replace(cols, 7, "cols: 20000");
+  writeFileAtomically(dir / "huge.yml", text);
+  try {
+    (void)loadCameraCalibration(dir / "huge.yml");
+    ADD_FAILURE() << "loaded a 20000x20000 camera matrix";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("camera_matrix"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("rows 20000, cols 20000"), std::string::npos) << e.what();
+  }
+}
+
+// The camera files fuzz_config once crashed the reader with (after its first byte, which picks
+// the reader): each is an InputError now.
+TEST(CalibrationIo, FuzzRegressionsAreInputErrors) {
+  const fs::path dir = test::scratchDir("calib_fuzz_regressions");
+  int files = 0;
+  for (const auto& entry :
+       fs::directory_iterator(fs::path(HOLO_SOURCE_DIR) / "tests/fuzz/regressions/fuzz_config")) {
+    const std::string bytes = readFile(entry.path());
+    ASSERT_FALSE(bytes.empty());
+    if (bytes[0] % 4 != 2) continue;  // not a camera calibration
+    writeFileAtomically(dir / "camera.yml", bytes.substr(1));
+    EXPECT_THROW((void)loadCameraCalibration(dir / "camera.yml"), InputError) << entry.path();
+    ++files;
+  }
+  EXPECT_GE(files, 2);
+}
+
 TEST(CalibrationIo, CorruptPyramidFieldsAreNamed) {
   const fs::path dir = test::scratchDir("calib_pyramid_corrupt");
   auto expectField = [&](const std::string& text, const std::string& field) {

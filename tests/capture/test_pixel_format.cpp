@@ -121,3 +121,41 @@ TEST(PixelFormat, ShortBuffersAreRejectedWithSizes) {
     EXPECT_NE(std::string(e.what()).find("expected at least 48"), std::string::npos) << e.what();
   }
 }
+
+// A camera announcing 64k x 64k is refused by its size alone, in every format, before any
+// conversion allocates for it; the message says the limit.
+TEST(PixelFormat, ACameraAnnouncing64kBy64kIsRefusedWithTheLimit) {
+  std::vector<std::uint8_t> bytes(64);
+  for (const std::string& name : pixelFormatNames()) {
+    const PixelFormat format = pixelFormatFromName(name);
+    try {
+      if (isDepthFormat(format))
+        convertToDepth(format, raw(bytes, 65536, 65536), 1000.0);
+      else
+        convertToColor(format, raw(bytes, 65536, 65536));
+      ADD_FAILURE() << name << " converted a 65536x65536 frame";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(std::to_string(kMaxFrameSide)), std::string::npos)
+          << name << ": " << e.what();
+    }
+  }
+  try {
+    checkFrameSize("aravis camera GV-1", "width/height", 65536, 65536);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "aravis camera GV-1");
+    EXPECT_NE(std::string(e.what()).find("65536x65536"), std::string::npos) << e.what();
+  }
+  EXPECT_NO_THROW(checkFrameSize("cam", "width/height", kMaxFrameSide, kMaxFrameSide));
+  EXPECT_THROW(checkFrameSize("cam", "width/height", 0, 480), InputError);
+}
+
+// A 16-bit buffer whose stride is not a whole number of samples is a failed frame (holo::Error),
+// not an OpenCV assertion escaping the capture thread.
+TEST(PixelFormat, OddStrideOfASixteenBitFormatIsAFailedFrame) {
+  std::vector<std::uint8_t> bytes(64);
+  RawImage image = raw(bytes, 4, 4);
+  image.stride = 9;
+  EXPECT_THROW(convertToDepth(PixelFormat::Z16, image, 1000.0), Error);
+  EXPECT_THROW(convertToColor(PixelFormat::Mono16, image), Error);
+}

@@ -170,3 +170,39 @@ TEST(Recording, TumSequenceAssociatesNearestTimestamps) {
   source.start();
   EXPECT_EQ(source.grab(std::chrono::milliseconds(10)).status, GrabStatus::Failed);
 }
+
+// A 100k-frame recording (an hour at 30 fps) reads: its index is all that is loaded up front.
+TEST(Recording, HundredThousandFrameIndexReads) {
+  const auto dir = test::scratchDir("recording_100k");
+  {
+    std::ofstream out(dir / "rgb.txt");
+    std::ofstream depth(dir / "depth.txt");
+    std::ofstream associations(dir / "associations.txt");
+    for (int i = 0; i < 100000; ++i) {
+      const std::string t = std::to_string(i / 30.0);
+      out << t << " rgb/" << i << ".png\n";
+      depth << t << " depth/" << i << ".png\n";
+      associations << t << " rgb/" << i << ".png " << t << " depth/" << i << ".png\n";
+    }
+  }
+  const Recording r = readRecording(dir);
+  ASSERT_EQ(r.cameras.size(), 1u);
+  ASSERT_EQ(r.cameras[0].frames.size(), 100000u);
+  EXPECT_EQ(r.cameras[0].frames.back().depth.filename(), "99999.png");
+}
+
+// An index larger than the limit is refused by its size, before a line is read (the file here is
+// sparse: no disk or memory is spent on it).
+TEST(Recording, OversizedIndexIsRefusedByItsSize) {
+  const auto dir = test::scratchDir("recording_huge_index");
+  std::ofstream(dir / "rgb.txt") << "0.0 rgb/0.png\n";
+  std::ofstream(dir / "depth.txt") << "0.0 depth/0.png\n";
+  std::filesystem::resize_file(dir / "depth.txt", kMaxRecordingIndexBytes + 1);
+  try {
+    readRecording(dir);
+    ADD_FAILURE() << "read a " << (kMaxRecordingIndexBytes >> 20) << " MiB index";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), (dir / "depth.txt").string());
+    EXPECT_NE(std::string(e.what()).find("at most 64 MiB"), std::string::npos) << e.what();
+  }
+}

@@ -222,6 +222,82 @@ TEST(GltfIo, GlbRoundTripKeepsTexturesAndStrongEmission) {
   EXPECT_EQ(loadGlbFromMemory(bytes, "memory").triangleCount(), 2u);
 }
 
+// Replaces the first `from` in `json` with `to`.
+std::string replaced(std::string json, const std::string& from, const std::string& to) {
+  const auto at = json.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) json.replace(at, from.size(), to);
+  return json;
+}
+
+// Counts come from the file: a claim of 2^62 elements in a 42-byte buffer is an InputError,
+// never an allocation of exabytes (std::length_error) or an overflowed bounds check.
+TEST(GltfIo, ElementCountsBeyondTheBufferAreRefusedBeforeAllocating) {
+  const auto dir = test::scratchDir("gltf_counts");
+  const std::string json = TriangleFile{}.json();
+  expectInputError(
+      write(dir / "indices.gltf", replaced(json, "\"count\": 3, \"type\": \"SCALAR\"",
+                                           "\"count\": 4611686018427387904, \"type\": \"SCALAR\"")),
+      "triangles");
+  expectInputError(
+      write(dir / "positions.gltf", replaced(json, "\"count\": 3, \"type\": \"VEC3\"",
+                                             "\"count\": 4611686018427387904, \"type\": \"VEC3\"")),
+      "vertices");
+  // Within the limits but past the buffer, and an offset that wraps a 64-bit end-of-data sum
+  // around to look in bounds: both refused by the bounds check.
+  expectInputError(write(dir / "overrun.gltf", replaced(json, "\"count\": 3, \"type\": \"VEC3\"",
+                                                        "\"count\": 11999999, \"type\": \"VEC3\"")),
+                   "inside buffer");
+  expectInputError(write(dir / "offset.gltf",
+                         replaced(json, "\"byteOffset\": 0,", "\"byteOffset\": 18446744073709551600,")),
+                   "inside buffer");
+}
+
+// A 10-million-triangle relic is refused with the limit in the message, from the accessor's
+// count alone (this file holds one triangle's bytes).
+TEST(GltfIo, TenMillionTriangleRelicIsRefusedWithTheLimit) {
+  const auto dir = test::scratchDir("gltf_10m");
+  const std::string json = replaced(TriangleFile{}.json(), "\"count\": 3, \"type\": \"SCALAR\"",
+                                    "\"count\": 30000000, \"type\": \"SCALAR\"");
+  expectInputError(write(dir / "ten_million.gltf", json),
+                   "at most " + std::to_string(kMaxGltfTriangles) + " triangles");
+}
+
+// Nodes shared by two parents at each of 40 levels stand for 2^40 instances of one triangle.
+TEST(GltfIo, SharedNodesCannotMultiplyTheScene) {
+  const auto dir = test::scratchDir("gltf_shared_nodes");
+  TriangleFile f;
+  f.node = R"({"children": [1, 1]})";
+  for (int level = 1; level < 40; ++level)
+    f.extra_nodes +=
+        ", {\"children\": [" + std::to_string(level + 1) + ", " + std::to_string(level + 1) + "]}";
+  f.extra_nodes += R"(, {"mesh": 0})";
+  expectInputError(write(dir / "bomb.gltf", f.json()), "node instances");
+}
+
+// A texture's size is read from its header: one wider than the limit is refused before decoding.
+TEST(GltfIo, OversizedTextureIsRefused) {
+  Model m;
+  TriangleMesh mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  mesh.uvs = {{0, 0}, {1, 0}, {0, 1}};
+  mesh.triangles = {{0, 1, 2}};
+  m.meshes.push_back(mesh);
+  Material mat;
+  mat.base_color_texture = 0;
+  m.materials.push_back(mat);
+  m.textures.push_back(cv::Mat(1, kMaxGltfTextureSide + 1, CV_8UC3, cv::Scalar(1, 2, 3)));
+  try {
+    loadGlbFromMemory(encodeGlb(m), "wide.glb");
+    ADD_FAILURE() << "a " << kMaxGltfTextureSide + 1 << " pixel wide texture loaded";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("at most " + std::to_string(kMaxGltfTextureSide)), std::string::npos)
+        << e.what();
+  }
+  m.textures[0] = cv::Mat(1, kMaxGltfTextureSide, CV_8UC3, cv::Scalar(1, 2, 3));
+  EXPECT_EQ(loadGlbFromMemory(encodeGlb(m), "limit.glb").textures.size(), 1u);
+}
+
 struct RealModel {
   const char* file;
   std::size_t triangles;

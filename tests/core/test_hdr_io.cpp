@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
+#include <cstdint>
 #include <fstream>
+#include <iterator>
 #include <limits>
 
 #include "holo/core/error.hpp"
@@ -40,6 +42,60 @@ TEST(HdrIo, ExrRoundTripKeepsFullFloatRange) {
   saveHdr(dir / "x.hdr", img);
   const HdrImage rgbe = loadHdr(dir / "x.hdr");
   EXPECT_LT(cv::norm(rgbe.pixels, img, cv::NORM_INF) / 2.5e5, 0.01);  // RGBE keeps ~1% precision
+}
+
+// Loading must fail with an InputError whose message holds every one of `needles`.
+void expectRefused(const std::filesystem::path& path, std::initializer_list<std::string> needles) {
+  try {
+    loadHdr(path);
+    ADD_FAILURE() << "loaded " << path;
+  } catch (const InputError& e) {
+    for (const auto& needle : needles)
+      EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+  }
+}
+
+// A 16k x 8k panorama is refused from its header: the files here are a few bytes, and the check
+// comes before the 1.5 GiB of float pixels would be allocated.
+TEST(HdrIo, SixteenKPanoramaIsRefusedFromItsHeader) {
+  const auto dir = test::scratchDir("hdr_16k");
+  std::ofstream(dir / "big.hdr", std::ios::binary)
+      << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 8192 +X 16384\n"
+      << std::string(64, '\x80');
+  expectRefused(dir / "big.hdr", {"resolution", "16384x8192", std::to_string(kMaxPanoramaPixels)});
+
+  // An EXR whose data window says 16384x8192: a real 4x2 file with its dataWindow patched.
+  saveHdr(dir / "small.exr", cv::Mat(2, 4, CV_32FC3, cv::Scalar::all(1.0f)));
+  std::ifstream in(dir / "small.exr", std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string attribute("dataWindow\0box2i\0", 17);
+  const auto at = bytes.find(attribute);
+  ASSERT_NE(at, std::string::npos);
+  const std::int32_t window[4] = {0, 0, 16383, 8191};  // xmin ymin xmax ymax, little-endian
+  bytes.replace(at + attribute.size() + 4, sizeof window, reinterpret_cast<const char*>(window),
+                sizeof window);
+  // Room for the line offset table OpenEXR reads on opening (8 bytes per chunk of lines).
+  std::ofstream(dir / "big.exr", std::ios::binary) << bytes << std::string(8192 * 8, '\0');
+  expectRefused(dir / "big.exr", {"dataWindow", "16384x8192"});
+
+  // An inverted window is no image at all.
+  const std::int32_t inverted[4] = {5, 0, 0, 1};
+  bytes.replace(at + attribute.size() + 4, sizeof inverted, reinterpret_cast<const char*>(inverted),
+                sizeof inverted);
+  std::ofstream(dir / "inverted.exr", std::ios::binary) << bytes;
+  EXPECT_THROW(loadHdr(dir / "inverted.exr"), InputError);
+}
+
+// At the limit a panorama's header passes: 8192x4096 is accepted up to its (here missing) pixels.
+TEST(HdrIo, PanoramaAtTheLimitIsNotRefusedForItsSize) {
+  const auto dir = test::scratchDir("hdr_8k");
+  std::ofstream(dir / "limit.hdr", std::ios::binary)
+      << "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 8192\n";
+  try {
+    loadHdr(dir / "limit.hdr");
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).find("at most"), std::string::npos) << e.what();
+  }
 }
 
 TEST(HdrIo, MissingAndWrongFilesNameTheFile) {

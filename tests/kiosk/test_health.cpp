@@ -6,6 +6,8 @@
 
 #include <cmath>
 #include <limits>
+#include <regex>
+#include <sstream>
 
 #include "holo/core/error.hpp"
 #include "holo/kiosk/health_server.hpp"
@@ -14,8 +16,8 @@
 namespace holo::kiosk {
 namespace {
 
-// A plain HTTP/1.0 GET over a socket, the way curl would do it; returns the whole response.
-std::string httpGet(std::uint16_t port, const std::string& path) {
+// Sends `request` as it is over a socket and returns the whole response.
+std::string httpExchange(std::uint16_t port, const std::string& request) {
   const int fd = socket(AF_INET, SOCK_STREAM, 0);
   sockaddr_in addr{};
   addr.sin_family = AF_INET;
@@ -25,7 +27,6 @@ std::string httpGet(std::uint16_t port, const std::string& path) {
     close(fd);
     return {};
   }
-  const std::string request = "GET " + path + " HTTP/1.0\r\nHost: localhost\r\n\r\n";
   EXPECT_EQ(send(fd, request.data(), request.size(), 0), static_cast<ssize_t>(request.size()));
   std::string response;
   char buffer[4096];
@@ -33,6 +34,16 @@ std::string httpGet(std::uint16_t port, const std::string& path) {
   while ((n = recv(fd, buffer, sizeof buffer, 0)) > 0) response.append(buffer, static_cast<std::size_t>(n));
   close(fd);
   return response;
+}
+
+// A plain HTTP/1.0 GET, the way curl would do it; returns the whole response.
+std::string httpGet(std::uint16_t port, const std::string& path) {
+  return httpExchange(port, "GET " + path + " HTTP/1.0\r\nHost: localhost\r\n\r\n");
+}
+
+std::string bodyOf(const std::string& response) {
+  const auto end = response.find("\r\n\r\n");
+  return end == std::string::npos ? std::string() : response.substr(end + 4);
 }
 
 HealthStatus sampleStatus() {
@@ -87,23 +98,99 @@ TEST(HealthServer, AnswersOnLoopbackWithJson) {
   int calls = 0;
   HealthServer server("127.0.0.1", 0, [&] {
     ++calls;
-    return sampleStatus().toJson().dump();
+    return sampleStatus();
   });
   ASSERT_NE(server.port(), 0);
   const std::string response = httpGet(server.port(), "/health");
-  ASSERT_EQ(response.rfind("HTTP/1.0 200 OK", 0), 0u) << response;
+  ASSERT_EQ(response.rfind("HTTP/1.1 200 OK", 0), 0u) << response;
   EXPECT_NE(response.find("Content-Type: application/json"), std::string::npos);
-  const auto body = nlohmann::json::parse(response.substr(response.find("\r\n\r\n") + 4));
+  EXPECT_NE(response.find("Cache-Control: no-store"), std::string::npos);
+  const auto body = nlohmann::json::parse(bodyOf(response));
   EXPECT_EQ(body["quality"], "reduced");
   EXPECT_EQ(calls, 1);
-  EXPECT_EQ(httpGet(server.port(), "/nope").rfind("HTTP/1.0 404", 0), 0u);
+  EXPECT_EQ(httpGet(server.port(), "/nope").rfind("HTTP/1.1 404", 0), 0u);
   EXPECT_EQ(server.requestsServed(), 1);
+}
+
+TEST(HealthServer, ServesPrometheusMetrics) {
+  HealthServer server("127.0.0.1", 0, [] { return sampleStatus(); });
+  const std::string response = httpGet(server.port(), "/metrics");
+  ASSERT_EQ(response.rfind("HTTP/1.1 200 OK", 0), 0u) << response;
+  EXPECT_NE(response.find("Content-Type: text/plain; version=0.0.4"), std::string::npos) << response;
+  const std::string body = bodyOf(response);
+  EXPECT_NE(body.find("holopyramid_frames_per_second 24.94\n"), std::string::npos) << body;
+  EXPECT_NE(body.find("holopyramid_camera_up{camera=\"cam1\"} 0\n"), std::string::npos) << body;
+  EXPECT_NE(body.find("holopyramid_camera_dropped_frames_total{camera=\"cam1\"} 7\n"), std::string::npos);
+  EXPECT_NE(body.find("holopyramid_camera_reconnects_total{camera=\"cam1\"} 3\n"), std::string::npos);
+  EXPECT_NE(body.find("holopyramid_stage_seconds{stage=\"acquisition\"} 0.0035\n"), std::string::npos);
+  EXPECT_NE(body.find("holopyramid_stage_seconds{stage=\"composition\"} +Inf\n"), std::string::npos);
+  EXPECT_NE(body.find("holopyramid_config_fallback 1\n"), std::string::npos);
+  EXPECT_NE(body.find("# TYPE holopyramid_frames_total counter\n"), std::string::npos);
+  EXPECT_EQ(server.requestsServed(), 1);
+}
+
+TEST(HealthStatus, PrometheusLinesStayWellFormedWhateverTheNames) {
+  HealthStatus h = sampleStatus();
+  h.cameras[0].name = "a\"b\\c\nd} 1\nholopyramid_fake 9";
+  h.stage_ms = {{"x\ny", 1.0}};
+  h.fps = std::numeric_limits<double>::quiet_NaN();
+  const std::string text = h.toPrometheus();
+  EXPECT_NE(text.find("holopyramid_camera_up{camera=\"a\\\"b\\\\c\\nd} 1\\nholopyramid_fake 9\"} 1\n"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("holopyramid_frames_per_second NaN\n"), std::string::npos);
+  // Every line is a comment or `name{labels} value`: no label value breaks out of its line.
+  const std::regex sample(
+      R"(holopyramid_[a-z_]+(\{([a-z]+="([^"\\]|\\.)*",?)+\})? (NaN|[+-]Inf|-?[0-9.e+-]+))");
+  std::istringstream lines(text);
+  int samples = 0;
+  for (std::string line; std::getline(lines, line);) {
+    if (line.rfind("# ", 0) == 0) continue;
+    EXPECT_TRUE(std::regex_match(line, sample)) << line;
+    ++samples;
+  }
+  EXPECT_GT(samples, 15);
+  EXPECT_EQ(text.find("\nholopyramid_fake"), std::string::npos);
+}
+
+TEST(HealthServer, RefusesOtherMethodsAndRequestBodies) {
+  HealthServer server("127.0.0.1", 0, [] { return sampleStatus(); });
+  const std::string post =
+      httpExchange(server.port(), "POST /health HTTP/1.1\r\nHost: x\r\nContent-Length: 3\r\n\r\nabc");
+  EXPECT_EQ(post.rfind("HTTP/1.1 405", 0), 0u) << post;
+  // Refused before the announced body is read: the server never waits for, nor holds, 100 MB.
+  const std::string big =
+      httpExchange(server.port(), "PUT /health HTTP/1.1\r\nHost: x\r\nContent-Length: 100000000\r\n\r\n");
+  EXPECT_EQ(big.rfind("HTTP/1.1 405", 0), 0u) << big;
+  const std::string junk = httpExchange(server.port(), std::string(9000, 'A') + "\r\n\r\n");
+  EXPECT_EQ(junk.find("200 OK"), std::string::npos) << junk;
+  EXPECT_EQ(server.requestsServed(), 0);
+}
+
+TEST(HealthServer, ASilentClientDoesNotBlockTheNext) {
+  HealthServer server("127.0.0.1", 0, [] { return sampleStatus(); });
+  const int silent = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_port = htons(server.port());
+  inet_pton(AF_INET, "127.0.0.1", &addr.sin_addr);
+  ASSERT_EQ(connect(silent, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
+  EXPECT_EQ(httpGet(server.port(), "/health").rfind("HTTP/1.1 200 OK", 0), 0u);
+  close(silent);
+}
+
+TEST(HealthServer, AProviderErrorIsA500NotACrash) {
+  HealthServer server("127.0.0.1", 0, []() -> HealthStatus { throw Error("no status yet"); });
+  const std::string response = httpGet(server.port(), "/metrics");
+  EXPECT_EQ(response.rfind("HTTP/1.1 500", 0), 0u) << response;
+  EXPECT_NE(response.find("no status yet"), std::string::npos);
+  EXPECT_EQ(server.requestsServed(), 0);
 }
 
 TEST(HealthServer, RefusesNonLoopbackAddresses) {
   for (const char* address : {"0.0.0.0", "192.168.1.20", "::", "example.org", ""}) {
     try {
-      HealthServer server(address, 0, [] { return std::string("{}"); });
+      HealthServer server(address, 0, [] { return HealthStatus{}; });
       ADD_FAILURE() << "bound " << address;
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("kiosk.health.address"), std::string::npos) << e.what();
@@ -117,8 +204,8 @@ TEST(HealthServer, RefusesNonLoopbackAddresses) {
 }
 
 TEST(HealthServer, BusyPortIsAnErrorNotACrash) {
-  HealthServer first("127.0.0.1", 0, [] { return std::string("{}"); });
-  EXPECT_THROW(HealthServer("127.0.0.1", first.port(), [] { return std::string("{}"); }), Error);
+  HealthServer first("127.0.0.1", 0, [] { return HealthStatus{}; });
+  EXPECT_THROW(HealthServer("127.0.0.1", first.port(), [] { return HealthStatus{}; }), Error);
 }
 
 }  // namespace

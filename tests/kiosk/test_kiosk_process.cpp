@@ -59,7 +59,7 @@ TEST(KioskProcess, NotifiesReadyWatchdogStatusReloadAndStop) {
   const int port = kiosk.healthPort();
   ASSERT_GT(port, 0) << kiosk.log();
   const std::string response = httpGet(port, "/health");
-  ASSERT_EQ(response.rfind("HTTP/1.0 200 OK", 0), 0u) << response;
+  ASSERT_EQ(response.rfind("HTTP/1.1 200 OK", 0), 0u) << response;
   const auto health = nlohmann::json::parse(response.substr(response.find("\r\n\r\n") + 4));
   EXPECT_EQ(health["state"], "running");
   EXPECT_GE(health["frames"].get<std::size_t>(), pets.size());  // a ping per frame at most

@@ -105,4 +105,21 @@ TEST(SystemdUnit, PassesSystemdAnalyzeVerifyWithoutWarnings) {
             std::string::npos);
 }
 
+// The sandbox: `systemd-analyze security` rates the unit's exposure (0 = locked down, 10 = none);
+// the kiosk needs the cameras, the GPU and the loopback endpoint, and nothing else it flags.
+TEST(SystemdUnit, SandboxExposureStaysLow) {
+  if (run("command -v systemd-analyze").code != 0) GTEST_SKIP() << "systemd-analyze not installed";
+  const std::string unit = kSource + "/packaging/holopyramid.service";
+  const auto r = run("systemd-analyze security --offline=yes --no-pager " + unit);
+  std::smatch match;
+  ASSERT_TRUE(
+      std::regex_search(r.output, match, std::regex("exposure level for holopyramid.service: ([0-9.]+)")))
+      << r.output;
+  EXPECT_LE(std::stod(match[1].str()), 1.5) << r.output;
+  const std::string text = holo::readFile(unit);
+  EXPECT_NE(text.find("SystemCallFilter=@system-service"), std::string::npos);
+  EXPECT_NE(text.find("SystemCallErrorNumber=EPERM"), std::string::npos);  // a missed call fails, never kills
+  EXPECT_NE(text.find("IPAddressDeny=any"), std::string::npos);
+}
+
 }  // namespace

@@ -38,6 +38,15 @@ bool isDepthFormat(PixelFormat format);  // Z16, Coord3D_C16 (Mono16 can be eith
 // most width x height bytes in practice).
 int bytesPerPixel(PixelFormat format);
 
+// The largest frame a camera may announce, a side: 4096 (4K UHD fits). A converted colour frame
+// is then at most 48 MiB (BGR) and a depth frame 64 MiB (float). Sources check the size a camera
+// announces before they allocate buffers for it; the converters check every buffer again.
+inline constexpr int kMaxFrameSide = 4096;
+// The most bytes one camera buffer may hold: the largest frame at 4 bytes a pixel.
+inline constexpr std::size_t kMaxFrameBytes = std::size_t{kMaxFrameSide} * kMaxFrameSide * 4;
+// Throws InputError naming `who` and `field` when width or height is outside 1..kMaxFrameSide.
+void checkFrameSize(const std::string& who, const std::string& field, long long width, long long height);
+
 struct RawImage {
   const void* data = nullptr;
   std::size_t size = 0;  // bytes available
@@ -46,8 +55,9 @@ struct RawImage {
   std::size_t stride = 0;  // bytes per row; 0 = packed
 };
 
-// Throws holo::Error when the buffer is too small for width x height or cannot be decoded
-// (a truncated JPEG); the caller counts the frame as failed.
+// Throws holo::Error when the size is outside 1..kMaxFrameSide, the buffer is too small for
+// width x height (or its stride is not a whole number of pixels), or it cannot be decoded (a
+// truncated JPEG); the caller counts the frame as failed.
 cv::Mat convertToColor(PixelFormat format, const RawImage& raw);
 // Mono16, Z16 and Coord3D_C16: units / units_per_metre; 0 stays 0 (invalid).
 cv::Mat convertToDepth(PixelFormat format, const RawImage& raw, double units_per_metre);

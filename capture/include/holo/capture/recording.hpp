@@ -54,6 +54,11 @@ struct Recording {
 
 // True when `folder` has one of the layouts above.
 bool isRecordingFolder(const std::filesystem::path& folder);
+// Index files (rgb.txt, depth.txt, associations.txt) larger than this are refused: about a
+// million frames, whose index then takes ~200 MB. A 100k-frame recording (an hour at 30 fps)
+// reads in well under a second and holds ~20 MB of index per camera; frames load one at a time.
+inline constexpr std::uintmax_t kMaxRecordingIndexBytes = std::uintmax_t{64} << 20;
+
 // Throws InputError naming the file and field for anything missing or malformed.
 Recording readRecording(const std::filesystem::path& folder);
 

@@ -1,43 +1,60 @@
-// The health JSON over HTTP on the loopback interface only: `curl http://127.0.0.1:PORT/health`.
+// The kiosk's health over HTTP on the loopback interface only, served by cpp-httplib:
+//   GET /health   the HealthStatus as JSON (application/json)
+//   GET /metrics  the same figures in the Prometheus text exposition format 0.0.4
 // Loopback only because the appliance sits in a public hall: nothing on the museum network may
-// read or poke it; a technician reaches it on the machine or through an SSH tunnel.
+// read or poke it; a technician or the museum's monitoring reaches it on the machine or through
+// an SSH tunnel.
 //
-// A tiny blocking HTTP/1.0 server on its own thread: one request at a time, GET only, the body
-// is whatever `provider` returns. Debian ships no small embeddable C++ HTTP server library that
-// the project already depends on, and this answers a handful of local requests per minute.
+// Limits against a hostile or broken client: GET and HEAD only, no request body accepted, request
+// line and headers capped by cpp-httplib (8 KiB each), 1 s read and write timeouts, one worker
+// thread, one request per connection.
 #pragma once
 
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <thread>
 
+#include "holo/kiosk/health_status.hpp"
+
+namespace httplib {
+class Server;
+}
+
 namespace holo::kiosk {
+
+using HealthProvider = std::function<HealthStatus()>;
 
 class HealthServer {
  public:
   // Binds `address`:`port` (port 0 picks a free port, see port()). Throws InputError naming
   // `field` when the address is not a loopback address (127.0.0.0/8, "localhost" or ::1), and
   // holo::Error when the port cannot be bound.
-  HealthServer(const std::string& address, std::uint16_t port, std::function<std::string()> provider,
+  HealthServer(const std::string& address, std::uint16_t port, HealthProvider provider,
                const std::string& field = "kiosk.health.address");
   ~HealthServer();
   HealthServer(const HealthServer&) = delete;
   HealthServer& operator=(const HealthServer&) = delete;
 
   std::uint16_t port() const { return port_; }
-  long requestsServed() const { return served_.load(); }
+  // Successful /health and /metrics answers so far.
+  long requestsServed() const { return served_->load(); }
 
  private:
-  void serve();
-  int listen_fd_ = -1;
-  int wake_pipe_[2] = {-1, -1};  // written by the destructor to end serve()
+  std::unique_ptr<httplib::Server> server_;
+  std::shared_ptr<std::atomic<long>> served_;
   std::uint16_t port_ = 0;
-  std::function<std::string()> provider_;
-  std::atomic<long> served_{0};
+  std::atomic<bool> listening_ended_{false};
   std::thread thread_;
 };
+
+// Installs the /health and /metrics routes, the limits above and the error answers on `server`;
+// `served` counts successful answers. HealthServer uses it; so does the fuzz target, which feeds
+// raw bytes through the same routes without a socket.
+void addHealthRoutes(httplib::Server& server, HealthProvider provider,
+                     std::shared_ptr<std::atomic<long>> served);
 
 // True for the addresses HealthServer accepts.
 bool isLoopbackAddress(const std::string& address);

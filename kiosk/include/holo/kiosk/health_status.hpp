@@ -42,6 +42,10 @@ struct HealthStatus {
   int camerasAlive() const;
 
   nlohmann::json toJson() const;
+  // The same figures in the Prometheus text exposition format 0.0.4, every metric prefixed
+  // `holopyramid_`, in base units (seconds, not milliseconds), camera and stage names as escaped
+  // label values; NaN and infinite figures as Prometheus spells them (NaN, +Inf, -Inf).
+  std::string toPrometheus() const;
   // "cameras 3/4, 24.9 fps, fg 12%, mode partial, quality full[, CONFIG WARNING]"
   std::string summary() const;
 };
