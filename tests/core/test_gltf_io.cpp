@@ -284,9 +284,9 @@ TEST(GltfIo, OversizedTextureIsRefused) {
   mesh.triangles = {{0, 1, 2}};
   m.meshes.push_back(mesh);
   Material mat;
-  mat.base_color_texture = 0;
+  mat.base_color_texture.index = 0;
   m.materials.push_back(mat);
-  m.textures.push_back(cv::Mat(1, kMaxGltfTextureSide + 1, CV_8UC3, cv::Scalar(1, 2, 3)));
+  m.textures.emplace_back(cv::Mat(1, kMaxGltfTextureSide + 1, CV_8UC3, cv::Scalar(1, 2, 3)));
   try {
     loadGlbFromMemory(encodeGlb(m), "wide.glb");
     ADD_FAILURE() << "a " << kMaxGltfTextureSide + 1 << " pixel wide texture loaded";
@@ -294,7 +294,7 @@ TEST(GltfIo, OversizedTextureIsRefused) {
     EXPECT_NE(std::string(e.what()).find("at most " + std::to_string(kMaxGltfTextureSide)), std::string::npos)
         << e.what();
   }
-  m.textures[0] = cv::Mat(1, kMaxGltfTextureSide, CV_8UC3, cv::Scalar(1, 2, 3));
+  m.textures[0] = Texture(cv::Mat(1, kMaxGltfTextureSide, CV_8UC3, cv::Scalar(1, 2, 3)));
   EXPECT_EQ(loadGlbFromMemory(encodeGlb(m), "limit.glb").textures.size(), 1u);
 }
 
