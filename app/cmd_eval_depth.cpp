@@ -67,7 +67,7 @@ void writeFigure(const fs::path& dir, const sim::Museum& museum, int camera, con
   double far = 0.0;
   cv::minMaxLoc(frame.true_depth, nullptr, &far, nullptr, nullptr, evaluation.lastMask());
   const float far_m = std::max(1.0f, float(far));
-  std::vector<cv::Mat> panels{labelled(frame.frame.color.clone(), "camera " + std::to_string(camera))};
+  std::vector<cv::Mat> panels{labelled(frame.frame.colour.clone(), "camera " + std::to_string(camera))};
   for (DepthMethod m : {DepthMethod::Raw, DepthMethod::Median, DepthMethod::Taa, DepthMethod::Ours})
     panels.push_back(
         labelled(renderShiftedCloud(evaluation.lastOutput(m), K, shift, 0.3f, far_m), depthMethodName(m)));

@@ -42,7 +42,7 @@ int describeRecording(const std::filesystem::path& folder, std::ostream& out) {
     if (frames.empty()) continue;
     // The first frame tells whether the files are what the index says (and how much depth there is).
     const RgbdFrame first = capture::RecordingSource(camera).load(0);
-    if (!first.color.empty()) out << "  colour: " << first.color.cols << "x" << first.color.rows << "\n";
+    if (!first.colour.empty()) out << "  colour: " << first.colour.cols << "x" << first.colour.rows << "\n";
     if (!first.depth.empty()) {
       const cv::Mat valid = first.depth > 0;
       double lo = 0, hi = 0;
@@ -79,8 +79,8 @@ int describeGltf(const std::filesystem::path& path) {
             << "bounds max (m): " << b.hi.x << " " << b.hi.y << " " << b.hi.z << "\n"
             << "materials: " << model.materials.size() << "\n";
   for (const auto& m : model.materials) {
-    std::cout << "  " << (m.name.empty() ? "(unnamed)" : m.name) << ": base colour " << m.base_color.r << " "
-              << m.base_color.g << " " << m.base_color.b << ", metallic " << m.metallic << ", roughness "
+    std::cout << "  " << (m.name.empty() ? "(unnamed)" : m.name) << ": base colour " << m.base_colour.r << " "
+              << m.base_colour.g << " " << m.base_colour.b << ", metallic " << m.metallic << ", roughness "
               << m.roughness;
     if (m.transmissive())
       std::cout << ", transmission " << m.transmission << ", ior " << m.ior << ", thickness " << m.thickness;

@@ -35,7 +35,7 @@ int describeScene(const std::string& name_or_file) {
             << "depth noise: " << (n.enabled ? "on" : "off") << ", sigma(z) = " << n.sigma_0 << " + "
             << n.k_z2 << " z^2 m, grazing dropout beyond " << n.grazing_dropout_deg << " deg, edge dropout "
             << n.edge_dropout << ", flying pixels " << n.flying_pixel << ", random dropout "
-            << n.random_dropout << ", colour sigma " << n.color_sigma << "\n"
+            << n.random_dropout << ", colour sigma " << n.colour_sigma << "\n"
             << "panorama position (m): " << d.panorama_position.x << " " << d.panorama_position.y << " "
             << d.panorama_position.z << "\n";
   return 0;

@@ -6,7 +6,7 @@
 //                                         files and associations.txt (capture/recording.hpp)
 //   truth/cam<i>/depth/NNNNNN.png         noiseless depth, 16-bit millimetres, 0 = nothing in range
 //   truth/cam<i>/foreground/NNNNNN.png    8-bit mask, 255 where the pixel sees a visitor
-//   background/cam<i>/color.png, depth.png  the empty hall with sensor noise (gamma_s)
+//   background/cam<i>/colour.png, depth.png  the empty hall with sensor noise (gamma_s)
 //   panorama.exr                          equirectangular linear HDR of the empty hall
 //   contact_sheet.png                     frame 0 of every camera: colour, depth, truth, mask
 //   scene.txt                             the scene's name, source and seed
@@ -80,7 +80,7 @@ cv::Mat contactSheet(const std::vector<sim::SimulatedFrame>& first, float max_ra
     cv::Mat mask;
     cv::cvtColor(f.foreground, mask, cv::COLOR_GRAY2BGR);
     const std::string cam = "cam" + std::to_string(i);
-    std::vector<cv::Mat> rows{labelled(f.frame.color, cam + " colour"),
+    std::vector<cv::Mat> rows{labelled(f.frame.colour, cam + " colour"),
                               labelled(depthPicture(f.frame.depth, max_range), cam + " depth"),
                               labelled(depthPicture(f.true_depth, max_range), cam + " true depth"),
                               labelled(mask, cam + " foreground")};
@@ -154,7 +154,7 @@ int simulate(const SimulateOptions& o) {
   for (int c = 0; c < cameras; ++c) {
     const RgbdFrame background = museum.backgroundFrame(c);
     const fs::path dir = tmp / "background" / ("cam" + std::to_string(c));
-    writePng(dir / "color.png", background.color);
+    writePng(dir / "color.png", background.colour);
     writePng(dir / "depth.png", capture::depthToU16(background.depth, capture::kDefaultDepthScale, &clipped));
     progress.update();
   }

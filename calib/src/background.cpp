@@ -11,11 +11,11 @@ namespace holo::calib {
 
 BackgroundModel captureBackground(const std::vector<RgbdFrame>& frames, const std::string& source) {
   if (frames.empty()) throw InputError(source, "frames", "at least one frame of the empty hall", "none");
-  const cv::Size size = frames.front().color.size();
+  const cv::Size size = frames.front().colour.size();
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const RgbdFrame& f = frames[i];
     const std::string field = "frame " + std::to_string(i);
-    if (f.color.type() != CV_8UC3 || f.color.size() != size)
+    if (f.colour.type() != CV_8UC3 || f.colour.size() != size)
       throw InputError(source, field,
                        "CV_8UC3 colour of " + std::to_string(size.width) + "x" + std::to_string(size.height));
     if (f.depth.type() != CV_32FC1 || f.depth.size() != size)
@@ -24,7 +24,7 @@ BackgroundModel captureBackground(const std::vector<RgbdFrame>& frames, const st
   const int n = static_cast<int>(frames.size());
   BackgroundModel model;
   model.frames = n;
-  model.color.create(size, CV_8UC3);
+  model.colour.create(size, CV_8UC3);
   model.depth.create(size, CV_32FC1);
   model.invalid_count.create(size, CV_16UC1);
   std::vector<std::uint8_t> channel(static_cast<std::size_t>(n)), grey(static_cast<std::size_t>(n));
@@ -38,13 +38,13 @@ BackgroundModel captureBackground(const std::vector<RgbdFrame>& frames, const st
       for (int c = 0; c < 3; ++c) {
         for (int k = 0; k < n; ++k)
           channel[static_cast<std::size_t>(k)] =
-              frames[static_cast<std::size_t>(k)].color.at<cv::Vec3b>(y, x)[c];
+              frames[static_cast<std::size_t>(k)].colour.at<cv::Vec3b>(y, x)[c];
         out[c] = medianInPlace(channel);
       }
-      model.color.at<cv::Vec3b>(y, x) = out;
+      model.colour.at<cv::Vec3b>(y, x) = out;
       // Grey level spread: how much the scene moved or flickered while capturing.
       for (int k = 0; k < n; ++k) {
-        const cv::Vec3b& p = frames[static_cast<std::size_t>(k)].color.at<cv::Vec3b>(y, x);
+        const cv::Vec3b& p = frames[static_cast<std::size_t>(k)].colour.at<cv::Vec3b>(y, x);
         grey[static_cast<std::size_t>(k)] = static_cast<std::uint8_t>((p[0] + 2 * p[1] + p[2] + 2) / 4);
       }
       const int grey_median = medianInPlace(grey);
@@ -67,7 +67,7 @@ BackgroundModel captureBackground(const std::vector<RgbdFrame>& frames, const st
     }
   const double pixels = static_cast<double>(size.area());
   model.invalid_fraction = pixels > 0 ? static_cast<double>(invalid_pixels) / pixels : 0.0;
-  model.color_mad = pixels > 0 ? mad_sum / pixels : 0.0;
+  model.colour_mad = pixels > 0 ? mad_sum / pixels : 0.0;
   return model;
 }
 

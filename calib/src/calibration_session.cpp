@@ -232,21 +232,21 @@ StepOutcome CalibrationSession::measureBackground(std::ostream& log, bool quiet,
       for (int k = 0; k < config_.background_frames; ++k) {
         frames.push_back(rig_.backgroundFrame(c, k));
         if (on_preview)
-          on_preview(c, cameraLabel(rig_, c) + ", frame " + std::to_string(k + 1), frames.back().color);
+          on_preview(c, cameraLabel(rig_, c) + ", frame " + std::to_string(k + 1), frames.back().colour);
         progress.update();
       }
     }
     const BackgroundModel model = captureBackground(frames, "camera " + std::to_string(c));
-    out.files.emplace_back("background_camera" + std::to_string(c) + ".png", model.color);
+    out.files.emplace_back("background_camera" + std::to_string(c) + ".png", model.colour);
     cv::Mat depth_mm;
     model.depth.convertTo(depth_mm, CV_16U, 1000.0);  // PNG depth in millimetres, 0 = invalid
     out.files.emplace_back("background_depth_camera" + std::to_string(c) + ".png", depth_mm);
-    out.previews.emplace_back(cameraLabel(rig_, c), model.color);
+    out.previews.emplace_back(cameraLabel(rig_, c), model.colour);
     log << "  camera " << c << ": " << model.invalid_samples << " invalid depth samples, colour MAD "
-        << model.color_mad << "\n";
+        << model.colour_mad << "\n";
     addVerdict(
         out, log,
-        judgeBackground("background camera " + std::to_string(c), model.invalid_fraction, model.color_mad));
+        judgeBackground("background camera " + std::to_string(c), model.invalid_fraction, model.colour_mad));
   }
   return out;
 }
@@ -259,8 +259,8 @@ StepOutcome CalibrationSession::measurePanorama(std::ostream& log, const Preview
   for (int c = 0; c < rig_.cameraCount(); ++c) {
     const CameraModel model = toCameraModel(cameras_[static_cast<std::size_t>(c)]);
     const RgbdFrame frame = rig_.backgroundFrame(c, 0);
-    preview(out, on_preview, cameraLabel(rig_, c), frame.color);
-    const YawFit fit = alignPanoramaYaw(panorama, model, frame.color, "camera " + std::to_string(c));
+    preview(out, on_preview, cameraLabel(rig_, c), frame.colour);
+    const YawFit fit = alignPanoramaYaw(panorama, model, frame.colour, "camera " + std::to_string(c));
     log << "  camera " << c << ": yaw " << fit.yaw_rad * 180.0f / kPi << " deg, correlation "
         << fit.correlation << "\n";
     if (fit.correlation > best.correlation) best = fit;

@@ -51,12 +51,12 @@ StepVerdict judgeExtrinsics(const std::string& step, double rms, int corners, do
   return v;
 }
 
-StepVerdict judgeBackground(const std::string& step, double invalid_fraction, double color_mad) {
+StepVerdict judgeBackground(const std::string& step, double invalid_fraction, double colour_mad) {
   StepVerdict v{step, "invalid depth fraction", invalid_fraction, kBackgroundMaxInvalid, false, {}};
   if (invalid_fraction >= kBackgroundMaxInvalid)
     v.hint = "too much missing depth: remove shiny or black objects near the camera, avoid direct sunlight";
-  else if (color_mad >= kBackgroundMaxColorMad)
-    v.hint = "the scene changed while capturing (colour varies by " + number(color_mad) +
+  else if (colour_mad >= kBackgroundMaxColourMad)
+    v.hint = "the scene changed while capturing (colour varies by " + number(colour_mad) +
              " levels): make sure nobody walks in front of the cameras and the lights are steady";
   v.pass = v.hint.empty();
   return v;

@@ -45,7 +45,7 @@ const CameraModel& SimulatedRig::trueCamera(int camera) const {
 cv::Mat SimulatedRig::hallView(int camera) const {
   std::lock_guard lock(cache_mutex_);
   auto& view = hall_views_[camera];
-  if (view.empty()) view = museum_.renderCamera(camera, 0, false).frame.color;
+  if (view.empty()) view = museum_.renderCamera(camera, 0, false).frame.colour;
   return view;
 }
 

@@ -250,7 +250,7 @@ Popped popOne(AravisDevice& d, Nanoseconds timeout, bool wait, Convert convert) 
 }  // namespace
 
 AravisSource::AravisSource(AravisCameraConfig config) : config_(std::move(config)) {
-  if (config_.color.serial.empty() && config_.depth.serial.empty())
+  if (config_.colour.serial.empty() && config_.depth.serial.empty())
     throw InputError(config_.name, "serial", "a colour or a depth serial number");
 }
 
@@ -264,15 +264,15 @@ std::string AravisSource::name() const {
 }
 
 std::string AravisSource::serial() const {
-  return config_.color.serial.empty() ? config_.depth.serial : config_.color.serial;
+  return config_.colour.serial.empty() ? config_.depth.serial : config_.colour.serial;
 }
 
 void AravisSource::open() {
   stop();
   try {
-    if (!config_.color.serial.empty()) {
-      color_ = std::make_unique<AravisDevice>(config_.color, false);
-      color_->open();
+    if (!config_.colour.serial.empty()) {
+      colour_ = std::make_unique<AravisDevice>(config_.colour, false);
+      colour_->open();
     }
     if (!config_.depth.serial.empty()) {
       depth_ = std::make_unique<AravisDevice>(config_.depth, true);
@@ -285,35 +285,35 @@ void AravisSource::open() {
 }
 
 void AravisSource::start() {
-  if (color_) color_->start();
+  if (colour_) colour_->start();
   if (depth_) depth_->start();
 }
 
 void AravisSource::stop() {
   std::int64_t resends = 0;
-  if (color_) resends += color_->resends();
+  if (colour_) resends += colour_->resends();
   if (depth_) resends += depth_->resends();
   resends_before_ += resends;
-  color_.reset();
+  colour_.reset();
   depth_.reset();
 }
 
 GrabResult AravisSource::grab(Nanoseconds timeout) {
-  if (!color_ && !depth_) return {GrabStatus::Disconnected, {}, "not open"};
+  if (!colour_ && !depth_) return {GrabStatus::Disconnected, {}, "not open"};
   const double scale = config_.depth.depth_scale;
-  auto toColor = [&](const RawImage& raw) { return convertToColor(color_->format, raw); };
+  auto toColour = [&](const RawImage& raw) { return convertToColour(colour_->format, raw); };
   auto toDepth = [&](const RawImage& raw) { return convertToDepth(depth_->format, raw, scale); };
 
   GrabResult result;
-  Popped main = color_ ? popOne(*color_, timeout, true, toColor) : popOne(*depth_, timeout, true, toDepth);
+  Popped main = colour_ ? popOne(*colour_, timeout, true, toColour) : popOne(*depth_, timeout, true, toDepth);
   health().resends.store(
-      resends_before_ + (color_ ? color_->resends() : 0) + (depth_ ? depth_->resends() : 0),
+      resends_before_ + (colour_ ? colour_->resends() : 0) + (depth_ ? depth_->resends() : 0),
       std::memory_order_relaxed);
   if (main.status != GrabStatus::Ok) return {main.status, {}, main.message};
-  (color_ ? result.frame.color : result.frame.depth) = main.image;
+  (colour_ ? result.frame.colour : result.frame.depth) = main.image;
   result.frame.device_time = main.device_time;
 
-  if (color_ && depth_) {
+  if (colour_ && depth_) {
     // Pair with a depth buffer from the second device, waiting at most one more timeout.
     Popped depth = popOne(*depth_, timeout, true, toDepth);
     if (depth.status == GrabStatus::Disconnected) return {depth.status, {}, depth.message};

@@ -125,12 +125,12 @@ CameraEntry parseCamera(const ConfigNode& node) {
   if (backend == "aravis") {
     e.backend = Backend::Aravis;
     e.aravis.name = e.name;
-    if (node.has("color")) e.aravis.color = parseAravisStream(node["color"], false);
+    if (node.has("color")) e.aravis.colour = parseAravisStream(node["color"], false);
     if (node.has("depth")) e.aravis.depth = parseAravisStream(node["depth"], true);
   } else if (backend == "v4l2") {
     e.backend = Backend::V4l2;
     e.v4l2.name = e.name;
-    if (node.has("color")) e.v4l2.color = parseV4l2Stream(node["color"], false);
+    if (node.has("color")) e.v4l2.colour = parseV4l2Stream(node["color"], false);
     if (node.has("depth")) e.v4l2.depth = parseV4l2Stream(node["depth"], true);
   } else if (backend == "recording") {
     e.backend = Backend::Recording;

@@ -96,7 +96,7 @@ bool isDepthFormat(PixelFormat format) {
   return format == PixelFormat::Z16 || format == PixelFormat::Coord3D_C16;
 }
 
-cv::Mat convertToColor(PixelFormat format, const RawImage& raw) {
+cv::Mat convertToColour(PixelFormat format, const RawImage& raw) {
   cv::Mat out;
   switch (format) {
     case PixelFormat::Mono8:

@@ -91,9 +91,9 @@ void Recorder::write(const RgbdFrame& frame) {
     t = std::chrono::duration<double>(frame.host_time - *first_host_time_).count();
   }
   Entry entry{t, "", ""};
-  if (!frame.color.empty()) {
-    entry.color = "rgb/" + file;
-    writePng(dir / entry.color, frame.color);
+  if (!frame.colour.empty()) {
+    entry.colour = "rgb/" + file;
+    writePng(dir / entry.colour, frame.colour);
   }
   if (!frame.depth.empty()) {
     entry.depth = "depth/" + file;
@@ -126,10 +126,10 @@ void Recorder::writeIndices() const {
     assoc << "# timestamp rgb_file timestamp depth_file\n";
     for (const Entry& e : entries_[i]) {
       const std::string t = timestampText(e.t);
-      if (!e.color.empty()) rgb << t << ' ' << e.color << '\n';
+      if (!e.colour.empty()) rgb << t << ' ' << e.colour << '\n';
       if (!e.depth.empty()) depth << t << ' ' << e.depth << '\n';
-      if (!e.color.empty() && !e.depth.empty())
-        assoc << t << ' ' << e.color << ' ' << t << ' ' << e.depth << '\n';
+      if (!e.colour.empty() && !e.depth.empty())
+        assoc << t << ' ' << e.colour << ' ' << t << ' ' << e.depth << '\n';
     }
     const fs::path dir = root_ / cameraFolder(i);
     writeFileAtomically(dir / "rgb.txt", rgb.str());

@@ -186,10 +186,10 @@ Recording readRecording(const fs::path& folder) {
   if (fs::exists(folder / "rgb.txt") && fs::exists(folder / "depth.txt")) {
     rec.layout = "tum-sequence";
     cam.frames = fs::exists(folder / "associations.txt") ? readAssociations(folder) : associate(folder);
-  } else if (const fs::path color = firstExisting(folder, {"color.png", "rgb.png"});
-             !color.empty() && fs::exists(folder / "depth.png")) {
+  } else if (const fs::path colour = firstExisting(folder, {"color.png", "rgb.png"});
+             !colour.empty() && fs::exists(folder / "depth.png")) {
     rec.layout = "single-frame";
-    cam.frames.push_back({0.0, color, folder / "depth.png"});
+    cam.frames.push_back({0.0, colour, folder / "depth.png"});
   } else {
     throw InputError(
         folder.string(), "",

@@ -27,13 +27,13 @@ void RecordingSource::start() {
 RgbdFrame RecordingSource::load(std::size_t index) const {
   const RecordedFrame& f = camera_.frames.at(index);
   RgbdFrame frame;
-  for (const auto& file : {f.color, f.depth})
+  for (const auto& file : {f.colour, f.depth})
     if (!file.empty() && !std::filesystem::exists(file))
       throw InputError(file.string(), "", "an image listed in the recording's index", "missing");
-  if (!f.color.empty()) {
-    frame.color = cv::imread(f.color.string(), cv::IMREAD_COLOR);
-    if (frame.color.empty())
-      throw InputError(f.color.string(), "", "a readable colour image", "cannot decode");
+  if (!f.colour.empty()) {
+    frame.colour = cv::imread(f.colour.string(), cv::IMREAD_COLOR);
+    if (frame.colour.empty())
+      throw InputError(f.colour.string(), "", "a readable colour image", "cannot decode");
   }
   if (!f.depth.empty()) {
     const cv::Mat raw = cv::imread(f.depth.string(), cv::IMREAD_ANYDEPTH);
@@ -42,8 +42,8 @@ RgbdFrame RecordingSource::load(std::size_t index) const {
       throw InputError(f.depth.string(), "", "a 16-bit single-channel depth PNG", "another pixel type");
     frame.depth = depthFromU16(raw, camera_.depth_scale);
   }
-  if (!frame.color.empty() && !frame.depth.empty() && frame.color.size() != frame.depth.size())
-    throw InputError(f.depth.string(), "size", "the size of its colour image " + f.color.filename().string(),
+  if (!frame.colour.empty() && !frame.depth.empty() && frame.colour.size() != frame.depth.size())
+    throw InputError(f.depth.string(), "size", "the size of its colour image " + f.colour.filename().string(),
                      std::to_string(frame.depth.cols) + "x" + std::to_string(frame.depth.rows));
   frame.camera_id = camera_.id;
   frame.device_time = Nanoseconds(std::llround(f.timestamp_s * 1e9));

@@ -323,7 +323,7 @@ struct V4l2Stream {
     } else {
       const RawImage raw{buffers[buf.index].start, buf.bytesused, width, height, stride};
       try {
-        out.image = is_depth ? convertToDepth(format, raw, config.depth_scale) : convertToColor(format, raw);
+        out.image = is_depth ? convertToDepth(format, raw, config.depth_scale) : convertToColour(format, raw);
         out.status = GrabStatus::Ok;
         out.device_time = Nanoseconds(static_cast<std::int64_t>(buf.timestamp.tv_sec) * 1000000000LL +
                                       static_cast<std::int64_t>(buf.timestamp.tv_usec) * 1000LL);
@@ -359,9 +359,9 @@ void checkFormat(const V4l2StreamConfig& s, bool depth, const std::string& who) 
 
 V4l2Source::V4l2Source(V4l2CameraConfig config, fs::path dev_dir)
     : config_(std::move(config)), dev_dir_(std::move(dev_dir)) {
-  if (config_.color.device.empty() && config_.depth.device.empty())
+  if (config_.colour.device.empty() && config_.depth.device.empty())
     throw InputError(name(), "device", "a colour or a depth device (/dev/videoN, bus:..., serial:...)");
-  checkFormat(config_.color, false, name());
+  checkFormat(config_.colour, false, name());
   checkFormat(config_.depth, true, name());
 }
 
@@ -374,15 +374,15 @@ std::string V4l2Source::name() const {
 }
 
 std::string V4l2Source::serial() const {
-  return config_.color.device.empty() ? config_.depth.device : config_.color.device;
+  return config_.colour.device.empty() ? config_.depth.device : config_.colour.device;
 }
 
 void V4l2Source::open() {
   stop();
   try {
-    if (!config_.color.device.empty()) {
-      color_ = std::make_unique<V4l2Stream>(config_.color, false);
-      color_->open(dev_dir_);
+    if (!config_.colour.device.empty()) {
+      colour_ = std::make_unique<V4l2Stream>(config_.colour, false);
+      colour_->open(dev_dir_);
     }
     if (!config_.depth.device.empty()) {
       depth_ = std::make_unique<V4l2Stream>(config_.depth, true);
@@ -395,24 +395,24 @@ void V4l2Source::open() {
 }
 
 void V4l2Source::start() {
-  if (color_) color_->start();
+  if (colour_) colour_->start();
   if (depth_) depth_->start();
 }
 
 void V4l2Source::stop() {
-  color_.reset();
+  colour_.reset();
   depth_.reset();
 }
 
 GrabResult V4l2Source::grab(Nanoseconds timeout) {
-  if (!color_ && !depth_) return {GrabStatus::Disconnected, {}, "not open"};
-  V4l2Stream& first = color_ ? *color_ : *depth_;
+  if (!colour_ && !depth_) return {GrabStatus::Disconnected, {}, "not open"};
+  V4l2Stream& first = colour_ ? *colour_ : *depth_;
   V4l2Stream::Popped main = first.pop(timeout);
   if (main.status != GrabStatus::Ok) return {main.status, {}, main.message};
   GrabResult result;
-  (color_ ? result.frame.color : result.frame.depth) = main.image;
+  (colour_ ? result.frame.colour : result.frame.depth) = main.image;
   result.frame.device_time = main.device_time;
-  if (color_ && depth_) {
+  if (colour_ && depth_) {
     V4l2Stream::Popped depth = depth_->pop(timeout);
     if (depth.status == GrabStatus::Disconnected) return {depth.status, {}, depth.message};
     if (depth.status == GrabStatus::Ok && depth.image.size() == main.image.size())

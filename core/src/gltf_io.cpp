@@ -490,7 +490,7 @@ Material readMaterial(const tinygltf::Model& gltf, std::size_t index, const Mate
   mat.name = m.name;
   const auto& pbr = m.pbrMetallicRoughness;
   if (pbr.baseColorFactor.size() == 4) {
-    mat.base_color = r.colour(pbr.baseColorFactor, "pbrMetallicRoughness.baseColorFactor", true);
+    mat.base_colour = r.colour(pbr.baseColorFactor, "pbrMetallicRoughness.baseColorFactor", true);
     mat.alpha = r.factor(pbr.baseColorFactor[3], "pbrMetallicRoughness.baseColorFactor[3]", true);
   } else if (!pbr.baseColorFactor.empty()) {
     throw InputError(r.file(), r.where() + ".pbrMetallicRoughness.baseColorFactor", "4 numbers (RGBA)",
@@ -498,7 +498,7 @@ Material readMaterial(const tinygltf::Model& gltf, std::size_t index, const Mate
   }
   mat.metallic = r.factor(pbr.metallicFactor, "pbrMetallicRoughness.metallicFactor", true);
   mat.roughness = r.factor(pbr.roughnessFactor, "pbrMetallicRoughness.roughnessFactor", true);
-  mat.base_color_texture =
+  mat.base_colour_texture =
       r.texture(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, pbr.baseColorTexture.extensions,
                 "pbrMetallicRoughness.baseColorTexture");
   mat.metallic_roughness_texture =
@@ -537,10 +537,10 @@ Material readMaterial(const tinygltf::Model& gltf, std::size_t index, const Mate
   const tinygltf::Value& spec = extension(kSpecular);
   const std::string spec_field = ext + kSpecular;
   mat.specular = r.number(spec, "specularFactor", 1.0f, spec_field + ".specularFactor", true);
-  mat.specular_color =
+  mat.specular_colour =
       r.colour(spec, "specularColorFactor", vec3(1.0f), spec_field + ".specularColorFactor", false);
   mat.specular_texture = r.texture(spec, "specularTexture", spec_field);
-  mat.specular_color_texture = r.texture(spec, "specularColorTexture", spec_field);
+  mat.specular_colour_texture = r.texture(spec, "specularColorTexture", spec_field);
 
   const tinygltf::Value& coat = extension(kClearcoat);
   const std::string coat_field = ext + kClearcoat;
@@ -562,7 +562,7 @@ Material readMaterial(const tinygltf::Model& gltf, std::size_t index, const Mate
   const std::string volume_field = ext + kVolume;
   mat.thickness = r.number(volume, "thicknessFactor", 0.0f, volume_field + ".thicknessFactor", false);
   mat.thickness_texture = r.texture(volume, "thicknessTexture", volume_field);
-  mat.attenuation_color =
+  mat.attenuation_colour =
       r.colour(volume, "attenuationColor", vec3(1.0f), volume_field + ".attenuationColor", true);
   if (volume.IsObject() && volume.Has("attenuationDistance")) {
     mat.attenuation_distance =
@@ -955,13 +955,13 @@ GltfInventory inspectGltf(const fs::path& path) {
     if (f.materials > 0) list.push_back(f);
   };
   const std::pair<const char*, TextureRef Material::*> slots[] = {
-      {"baseColorTexture", &Material::base_color_texture},
+      {"baseColorTexture", &Material::base_colour_texture},
       {"metallicRoughnessTexture", &Material::metallic_roughness_texture},
       {"normalTexture", &Material::normal_texture},
       {"occlusionTexture", &Material::occlusion_texture},
       {"emissiveTexture", &Material::emissive_texture},
       {"specularTexture", &Material::specular_texture},
-      {"specularColorTexture", &Material::specular_color_texture},
+      {"specularColorTexture", &Material::specular_colour_texture},
       {"clearcoatTexture", &Material::clearcoat_texture},
       {"clearcoatRoughnessTexture", &Material::clearcoat_roughness_texture},
       {"clearcoatNormalTexture", &Material::clearcoat_normal_texture},
@@ -1130,10 +1130,10 @@ tinygltf::Model toGltf(const Model& model) {
     tinygltf::Material mat;
     mat.name = m.name;
     auto& pbr = mat.pbrMetallicRoughness;
-    pbr.baseColorFactor = {m.base_color.r, m.base_color.g, m.base_color.b, m.alpha};
+    pbr.baseColorFactor = {m.base_colour.r, m.base_colour.g, m.base_colour.b, m.alpha};
     pbr.metallicFactor = m.metallic;
     pbr.roughnessFactor = m.roughness;
-    if (m.base_color_texture.used()) textures.fill(pbr.baseColorTexture, m.base_color_texture);
+    if (m.base_colour_texture.used()) textures.fill(pbr.baseColorTexture, m.base_colour_texture);
     if (m.metallic_roughness_texture.used())
       textures.fill(pbr.metallicRoughnessTexture, m.metallic_roughness_texture);
     if (m.emissive_texture.used()) textures.fill(mat.emissiveTexture, m.emissive_texture);
@@ -1163,13 +1163,13 @@ tinygltf::Model toGltf(const Model& model) {
     const auto add = [&](const char* name, tinygltf::Value::Object object) {
       mat.extensions[name] = tinygltf::Value(std::move(object));
     };
-    if (m.specular != 1.0f || m.specular_color != vec3(1.0f) || m.specular_texture.used() ||
-        m.specular_color_texture.used()) {
+    if (m.specular != 1.0f || m.specular_colour != vec3(1.0f) || m.specular_texture.used() ||
+        m.specular_colour_texture.used()) {
       tinygltf::Value::Object o{{"specularFactor", number(m.specular)},
-                                {"specularColorFactor", rgb(m.specular_color)}};
+                                {"specularColorFactor", rgb(m.specular_colour)}};
       if (m.specular_texture.used()) o["specularTexture"] = textures.value(m.specular_texture);
-      if (m.specular_color_texture.used())
-        o["specularColorTexture"] = textures.value(m.specular_color_texture);
+      if (m.specular_colour_texture.used())
+        o["specularColorTexture"] = textures.value(m.specular_colour_texture);
       add(kSpecular, std::move(o));
     }
     if (m.clearcoat > 0.0f || m.clearcoat_texture.used()) {
@@ -1189,7 +1189,7 @@ tinygltf::Model toGltf(const Model& model) {
     }
     if (m.thickness > 0.0f || m.thickness_texture.used() || std::isfinite(m.attenuation_distance)) {
       tinygltf::Value::Object o{{"thicknessFactor", number(m.thickness)},
-                                {"attenuationColor", rgb(m.attenuation_color)}};
+                                {"attenuationColor", rgb(m.attenuation_colour)}};
       if (std::isfinite(m.attenuation_distance)) o["attenuationDistance"] = number(m.attenuation_distance);
       if (m.thickness_texture.used()) o["thicknessTexture"] = textures.value(m.thickness_texture);
       add(kVolume, std::move(o));

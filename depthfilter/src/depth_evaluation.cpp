@@ -216,9 +216,9 @@ void DepthFilterEvaluation::addFrame(const GroundTruthFrame& truth) {
         "DepthFilterEvaluation: expected true depth CV_32FC1 and true foreground CV_8UC1 of the frame's "
         "size");
   last_mask_ = masker_.apply(frame);
-  const cv::Mat flow = flow_.compute(frame.color, previous_color_);
-  previous_color_ = frame.color.clone();
-  const DepthFilterInput input{frame.color, frame.depth, last_mask_, flow};
+  const cv::Mat flow = flow_.compute(frame.colour, previous_colour_);
+  previous_colour_ = frame.colour.clone();
+  const DepthFilterInput input{frame.colour, frame.depth, last_mask_, flow};
   const bool score = !ours_.learning();  // decided before this frame, like the filter itself
 
   for (DepthMethod method : kDepthMethods) {

@@ -40,8 +40,8 @@ const cv::Mat& ForegroundMasker::colourForModel(const cv::Mat& colour) {
 }
 
 void ForegroundMasker::checkSize(const RgbdFrame& frame) {
-  if (frame.color.type() != CV_8UC3 || frame.depth.type() != CV_32FC1 ||
-      frame.color.size() != frame.depth.size())
+  if (frame.colour.type() != CV_8UC3 || frame.depth.type() != CV_32FC1 ||
+      frame.colour.size() != frame.depth.size())
     throw Error("ForegroundMasker: expected CV_8UC3 colour and CV_32FC1 depth of one size");
   if (background_depth_.empty()) {
     background_depth_ = cv::Mat::zeros(frame.depth.size(), CV_32FC1);
@@ -58,7 +58,7 @@ void ForegroundMasker::checkSize(const RgbdFrame& frame) {
 
 void ForegroundMasker::learnBackground(const RgbdFrame& frame) {
   checkSize(frame);
-  mog2_->apply(colourForModel(frame.color), colour_labels_, config_.learning_rate_background);
+  mog2_->apply(colourForModel(frame.colour), colour_labels_, config_.learning_rate_background);
   for (int y = 0; y < frame.depth.rows; ++y) {
     const float* d = frame.depth.ptr<float>(y);
     float* mean = background_depth_.ptr<float>(y);
@@ -75,14 +75,14 @@ void ForegroundMasker::learnBackground(const RgbdFrame& frame) {
 cv::Mat ForegroundMasker::apply(const RgbdFrame& frame) {
   checkSize(frame);
   cv::Mat colour_mask;
-  mog2_->apply(colourForModel(frame.color), colour_labels_, config_.learning_rate_live);
-  if (colour_labels_.size() == frame.color.size()) {
+  mog2_->apply(colourForModel(frame.colour), colour_labels_, config_.learning_rate_live);
+  if (colour_labels_.size() == frame.colour.size()) {
     colour_mask = colour_labels_;
   } else {
     // Nearest upsampling turns each small foreground pixel into a block that overhangs the
     // visitor's outline by up to downscale - 1 px; those overhangs, where the sensor has no
     // depth, were ghosts. Shrinking the upsampled foreground by that much removes them.
-    cv::resize(colour_labels_ == 255, colour_mask, frame.color.size(), 0, 0, cv::INTER_NEAREST);
+    cv::resize(colour_labels_ == 255, colour_mask, frame.colour.size(), 0, 0, cv::INTER_NEAREST);
     const int side = 2 * (config_.colour_model_downscale - 1) + 1;
     cv::erode(colour_mask, colour_mask, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)));
   }

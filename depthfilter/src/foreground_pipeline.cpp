@@ -16,7 +16,7 @@ struct ForegroundPipeline::CameraStage {
   PrecursorFlow flow;
   TemporalDepthFilter filter;
   std::vector<vec3> plane_directions;  // z = 1 ray per pixel, row-major
-  cv::Mat previous_color;
+  cv::Mat previous_colour;
   CameraForeground result;
   std::vector<ForegroundPoint> points;
 };
@@ -32,7 +32,7 @@ std::array<float, 256> srgbTable() {
 // Back-projects the filtered depth and the border layer. Both are 0 outside `box` (the filter
 // outputs only on the mask; see borderBox), so only the box is read.
 void appendPoints(const CameraModel& camera, std::uint16_t camera_index, const std::vector<vec3>& directions,
-                  const cv::Mat& color, const CameraForeground& result, const cv::Rect& box, float exposure,
+                  const cv::Mat& colour, const CameraForeground& result, const cv::Rect& box, float exposure,
                   std::vector<ForegroundPoint>& out) {
   static const std::array<float, 256> kLinear = srgbTable();
   const mat4& T = camera.T_world_camera();
@@ -41,7 +41,7 @@ void appendPoints(const CameraModel& camera, std::uint16_t camera_index, const s
     const float* depth = result.depth.ptr<float>(y);
     const float* border_weight = result.border.weight.ptr<float>(y);
     const float* border_depth = result.border.depth.ptr<float>(y);
-    const cv::Vec3b* bgr = color.ptr<cv::Vec3b>(y);
+    const cv::Vec3b* bgr = colour.ptr<cv::Vec3b>(y);
     for (int x = box.x; x < box.x + box.width; ++x) {
       float d = depth[x], w = 1.0f;
       if (!(d > 0.0f)) {
@@ -65,13 +65,13 @@ void appendPoints(const CameraModel& camera, std::uint16_t camera_index, const s
 
 void checkFrame(const RgbdFrame& frame, const CameraModel& camera, std::size_t index) {
   const std::string which = "ForegroundPipeline: camera " + std::to_string(index);
-  if (frame.color.type() != CV_8UC3 || frame.depth.type() != CV_32FC1)
+  if (frame.colour.type() != CV_8UC3 || frame.depth.type() != CV_32FC1)
     throw Error(which + ": expected CV_8UC3 colour and CV_32FC1 depth");
-  if (frame.color.cols != camera.width() || frame.color.rows != camera.height() ||
-      frame.depth.size() != frame.color.size())
+  if (frame.colour.cols != camera.width() || frame.colour.rows != camera.height() ||
+      frame.depth.size() != frame.colour.size())
     throw Error(which + ": expected " + std::to_string(camera.width()) + "x" +
-                std::to_string(camera.height()) + " frames, got colour " + std::to_string(frame.color.cols) +
-                "x" + std::to_string(frame.color.rows) + " and depth " + std::to_string(frame.depth.cols) +
+                std::to_string(camera.height()) + " frames, got colour " + std::to_string(frame.colour.cols) +
+                "x" + std::to_string(frame.colour.rows) + " and depth " + std::to_string(frame.depth.cols) +
                 "x" + std::to_string(frame.depth.rows));
 }
 
@@ -134,7 +134,7 @@ ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> frames) {
     stage.points.clear();
     if (frame.empty()) {
       stage.result = {};
-      stage.previous_color.release();
+      stage.previous_colour.release();
       stage.filter.resetHistory();
       stats::add("Depthfilter/Missing camera frames");
       return;
@@ -142,11 +142,11 @@ ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> frames) {
     CameraForeground& result = stage.result;
     result.present = true;
     result.mask = stage.masker.apply(frame);
-    result.flow = stage.flow.compute(frame.color, stage.previous_color);
-    result.depth = stage.filter.apply({frame.color, frame.depth, result.mask, result.flow});
+    result.flow = stage.flow.compute(frame.colour, stage.previous_colour);
+    result.depth = stage.filter.apply({frame.colour, frame.depth, result.mask, result.flow});
     result.border = expandBorder(result.mask, result.depth, config_.border);
-    frame.color.copyTo(stage.previous_color);  // reuses the buffer of the frame before
-    appendPoints(cameras_[i], static_cast<std::uint16_t>(i), stage.plane_directions, frame.color, result,
+    frame.colour.copyTo(stage.previous_colour);  // reuses the buffer of the frame before
+    appendPoints(cameras_[i], static_cast<std::uint16_t>(i), stage.plane_directions, frame.colour, result,
                  borderBox(result.mask, config_.border), config_.exposure, stage.points);
   };
   if (config_.parallel)

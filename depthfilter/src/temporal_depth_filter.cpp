@@ -50,7 +50,7 @@ float sanitisedDepth(float d) {
 void checkInput(const DepthFilterInput& in) {
   const cv::Size size = in.depth.size();
   if (in.depth.type() != CV_32FC1) throw Error("TemporalDepthFilter: expected CV_32FC1 depth");
-  if (in.color.type() != CV_8UC3 || in.color.size() != size)
+  if (in.colour.type() != CV_8UC3 || in.colour.size() != size)
     throw Error("TemporalDepthFilter: expected CV_8UC3 colour of the depth's size");
   if (in.mask.type() != CV_8UC1 || in.mask.size() != size)
     throw Error("TemporalDepthFilter: expected a CV_8UC1 mask of the depth's size");
@@ -130,11 +130,11 @@ float colourDistance(const cv::Vec3b& a, const cv::Vec3b& b) {
 // (skin next to a shirt, the wall behind a visitor) does not count. Depth edges drop random
 // pixels each frame, so such a hole was usually measured a frame ago, and the precursor confirms
 // the surface. Returns 0 where no fill is safe.
-float guidedHoleFill(const cv::Mat& measured, const Level& filtered, const cv::Mat& color, int x, int y,
-                     float pre, const TemporalDepthFilterConfig& config) {
+float guidedHoleFill(const cv::Mat& measured, const Level& filtered, const cv::Mat& colour_image, int x,
+                     int y, float pre, const TemporalDepthFilterConfig& config) {
   const int r = config.fill_radius;
   const int width = measured.cols, height = measured.rows;
-  const cv::Vec3b colour = color.at<cv::Vec3b>(y, x);
+  const cv::Vec3b colour = colour_image.at<cv::Vec3b>(y, x);
   struct Candidate {
     float depth;
     float colour;
@@ -148,7 +148,7 @@ float guidedHoleFill(const cv::Mat& measured, const Level& filtered, const cv::M
       if (measured.at<float>(ny, nx) <= 0.0f) continue;
       const float d = filtered.pairs[std::size_t(ny) * std::size_t(width) + std::size_t(nx)].depth;
       if (!(d > 0.0f)) continue;
-      candidates[n] = {d, colourDistance(colour, color.at<cv::Vec3b>(ny, nx))};
+      candidates[n] = {d, colourDistance(colour, colour_image.at<cv::Vec3b>(ny, nx))};
       if (candidates[n].colour < best_colour) best_colour = candidates[n].colour, best_depth = d;
       ++n;
     }
@@ -291,7 +291,7 @@ bool TemporalDepthFilter::learning() const {
 }
 
 void TemporalDepthFilter::resetHistory() {
-  previous_color_.release();
+  previous_colour_.release();
   previous_depth_.release();
   previous_mask_.release();
   previous_age_.release();
@@ -326,7 +326,7 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
   for (int y = roi.y; has_previous && y < roi.y + roi.height; ++y) {
     const float* depth = measured.ptr<float>(y);
     const std::uint8_t* mask = in.mask.ptr<std::uint8_t>(y);
-    const cv::Vec3b* color = in.color.ptr<cv::Vec3b>(y);
+    const cv::Vec3b* colour = in.colour.ptr<cv::Vec3b>(y);
     const cv::Vec2f* flow = in.flow.ptr<cv::Vec2f>(y);
     float* pre_row = pre_depth.ptr<float>(y);
     float* alpha_row = alphas.ptr<float>(y);
@@ -343,7 +343,7 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
       if (!(d_pre > 0.0f)) continue;
       pre_row[x] = d_pre;
       pre_age_row[x] = previous_age_.ptr<std::uint8_t>(py)[px];
-      alpha_row[x] = precursorConfidence(color[x], previous_color_.ptr<cv::Vec3b>(py)[px]);
+      alpha_row[x] = precursorConfidence(colour[x], previous_colour_.ptr<cv::Vec3b>(py)[px]);
       if (depth[x] > 0.0f && std::abs(depth[x] - d_pre) <= config_.surfaceTolerance(d_pre)) {
         motion_row[x] = depth[x] - d_pre;
         motion_weight_row[x] = 1.0f;
@@ -475,14 +475,14 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
           // With a trusted precursor: its surface. Without one, only a hole inside a surface
           // that the pull could not reach (a block without any measurement): the surface of the
           // neighbours with the hole's colour.
-          out[x] = guidedHoleFill(measured, filtered, in.color, x, y, trusted ? pre : 0.0f, config_);
+          out[x] = guidedHoleFill(measured, filtered, in.colour, x, y, trusted ? pre : 0.0f, config_);
           if (out[x] > 0.0f) out_age[x] = olderBy1(pre_age_row[x]);
         }
       }
     }
   }
 
-  in.color.copyTo(previous_color_);
+  in.colour.copyTo(previous_colour_);
   output.copyTo(previous_depth_);
   in.mask.copyTo(previous_mask_);
   std::swap(previous_age_, age);

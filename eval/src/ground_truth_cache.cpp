@@ -49,11 +49,11 @@ class KeyHash {
     }
     value(model.materials.size());
     for (const Material& m : model.materials) {
-      value(m.base_color);
+      value(m.base_colour);
       value(m.metallic);
       value(m.roughness);
       value(m.emission);
-      value(m.base_color_texture);
+      value(m.base_colour_texture);
       value(m.metallic_roughness_texture);
     }
     value(model.textures.size());

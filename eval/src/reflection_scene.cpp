@@ -46,7 +46,7 @@ void foregroundFromCameras(const sim::Museum& museum, int frame, ReflectionScene
     const sim::SimulatedFrame f = museum.renderCamera(c, frame, true);
     reflect::ForegroundCameraImage image;
     image.camera = museum.camera(c);
-    image.colour_bgr = srgb8ToLinear(f.frame.color) / exposure;
+    image.colour_bgr = srgb8ToLinear(f.frame.colour) / exposure;
     image.mask = f.foreground;
     for (int y = 0; y < f.true_depth.rows; ++y)
       for (int x = 0; x < f.true_depth.cols; ++x) {

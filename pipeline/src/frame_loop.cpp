@@ -223,7 +223,7 @@ FrameLoop::CameraFrames FrameLoop::acquire(double& wait_ms) {
     for (std::size_t i = 0; i < latest_.size(); ++i) {
       if (auto fresh = mailboxes_[i]->take()) latest_[i] = std::move(*fresh);
       const bool stale =
-          latest_[i].color.empty() ||
+          latest_[i].colour.empty() ||
           std::chrono::duration<double>(now - latest_[i].host_time).count() > options_.stale_camera_s;
       if (!stale) out.frames[i] = latest_[i];  // an empty frame tells the pipeline the camera is missing
       out.ended = out.ended && threads_[i]->finished() && !mailboxes_[i]->peekLatest();
@@ -242,8 +242,8 @@ std::vector<reflect::ForegroundCameraImage> FrameLoop::cameraImages(const std::v
   linear_colour_.resize(frames.size());
   std::vector<reflect::ForegroundCameraImage> images(frames.size());
   for (std::size_t i = 0; i < frames.size(); ++i) {
-    if (masks[i].empty() || frames[i].color.empty()) continue;  // no image: its points are ignored
-    const cv::Mat& srgb = frames[i].color;
+    if (masks[i].empty() || frames[i].colour.empty()) continue;  // no image: its points are ignored
+    const cv::Mat& srgb = frames[i].colour;
     cv::Mat& linear = linear_colour_[i];
     linear.create(srgb.size(), CV_32FC3);
     // The renderer reads the colour only inside the mask's box (ForegroundCameraImage): a
@@ -265,12 +265,12 @@ std::vector<reflect::ForegroundCameraImage> FrameLoop::cameraImages(const std::v
 void FrameLoop::rejectUnusable(std::vector<RgbdFrame>& frames) {
   for (std::size_t i = 0; i < frames.size() && i < cameras_.size(); ++i) {
     RgbdFrame& frame = frames[i];
-    if (frame.color.empty() && frame.depth.empty()) continue;  // missing, nothing to say
+    if (frame.colour.empty() && frame.depth.empty()) continue;  // missing, nothing to say
     const cv::Size size(cameras_[i].width(), cameras_[i].height());
     std::string problem;
-    if (frame.color.type() != CV_8UC3 || frame.color.size() != size)
-      problem = fmt::format("colour {}x{} type {} (expected {}x{} 8-bit BGR)", frame.color.cols,
-                            frame.color.rows, frame.color.type(), size.width, size.height);
+    if (frame.colour.type() != CV_8UC3 || frame.colour.size() != size)
+      problem = fmt::format("colour {}x{} type {} (expected {}x{} 8-bit BGR)", frame.colour.cols,
+                            frame.colour.rows, frame.colour.type(), size.width, size.height);
     else if (frame.depth.type() != CV_32FC1 || frame.depth.size() != size)
       problem = fmt::format("depth {}x{} type {} (expected {}x{} float metres, as calibrated)",
                             frame.depth.cols, frame.depth.rows, frame.depth.type(), size.width, size.height);
@@ -288,7 +288,7 @@ FrameLoop::ForegroundFrame FrameLoop::runForeground() {
   ForegroundFrame out;
   out.acquired = acquire(out.acquisition_ms);
   rejectUnusable(out.acquired.frames);
-  for (const RgbdFrame& f : out.acquired.frames) out.cameras_live += f.color.empty() ? 0 : 1;
+  for (const RgbdFrame& f : out.acquired.frames) out.cameras_live += f.colour.empty() ? 0 : 1;
   if (out.acquired.ended && out.cameras_live == 0) return out;  // nothing more will come
   const auto t0 = Clock::now();
   out.cloud = foreground_.process(out.acquired.frames);
@@ -297,7 +297,7 @@ FrameLoop::ForegroundFrame FrameLoop::runForeground() {
   out.masks.resize(out.acquired.frames.size());
   for (std::size_t i = 0; i < out.masks.size(); ++i) {
     const depthfilter::CameraForeground& result = foreground_.lastResult(i);
-    if (result.present && !out.acquired.frames[i].color.empty()) out.masks[i] = result.mask.clone();
+    if (result.present && !out.acquired.frames[i].colour.empty()) out.masks[i] = result.mask.clone();
   }
   out.foreground_ms = msSince(t0);
   return out;

@@ -91,7 +91,7 @@ float dielectricFresnel(const SurfaceMaterial& m, float c) {
   return m.specular * (kDielectricF0 + (1.0f - kDielectricF0) * schlickWeight(c));
 }
 vec3 specularFresnel(const SurfaceMaterial& m, float c) {
-  return (1.0f - m.metallic) * dielectricFresnel(m, c) + m.metallic * schlickFresnel(m.base_color, c);
+  return (1.0f - m.metallic) * dielectricFresnel(m, c) + m.metallic * schlickFresnel(m.base_colour, c);
 }
 
 vec3 cosineSampleHemisphere(const vec2& u) {
@@ -107,19 +107,19 @@ Bsdf::Bsdf(const SurfaceMaterial& material, const vec3& normal)
       frame_(normal),
       alpha_(roughnessToAlpha(material.roughness)),
       delta_(material.roughness < kDeltaRoughness) {
-  m_.base_color = glm::clamp(m_.base_color, vec3(0.0f), vec3(1.0f));
+  m_.base_colour = glm::clamp(m_.base_colour, vec3(0.0f), vec3(1.0f));
   m_.metallic = std::clamp(m_.metallic, 0.0f, 1.0f);
   m_.specular = std::clamp(m_.specular, 0.0f, 1.0f);
 }
 
 bool Bsdf::hasDiffuse() const {
-  return m_.metallic < 1.0f && luminance(m_.base_color) > 0.0f;
+  return m_.metallic < 1.0f && luminance(m_.base_colour) > 0.0f;
 }
 
 // Probability of sampling the specular lobe: its Fresnel-weighted share at the view angle.
 float Bsdf::specularProbability(float cos_o) const {
   const float spec = luminance(specularFresnel(m_, cos_o));
-  const float diff = (1.0f - m_.metallic) * (1.0f - dielectricFresnel(m_, cos_o)) * luminance(m_.base_color);
+  const float diff = (1.0f - m_.metallic) * (1.0f - dielectricFresnel(m_, cos_o)) * luminance(m_.base_colour);
   if (spec + diff <= 0.0f) return 1.0f;
   return std::clamp(spec / (spec + diff), 0.0f, 1.0f);
 }
@@ -132,7 +132,7 @@ vec3 Bsdf::evalLocal(const vec3& wo, const vec3& wi) const {
   h /= hl;
   const float c = std::max(0.0f, glm::dot(wo, h));
   const vec3 diffuse =
-      (1.0f - m_.metallic) * (1.0f - dielectricFresnel(m_, c)) * m_.base_color * (wi.z / kPi);
+      (1.0f - m_.metallic) * (1.0f - dielectricFresnel(m_, c)) * m_.base_colour * (wi.z / kPi);
   if (delta_) return diffuse;
   // f_spec * cos_i = F D G2 / (4 cos_o cos_i) * cos_i
   const float spec = ggx::D(h.z, alpha_) * ggx::G2(wo.z, wi.z, alpha_) / (4.0f * wo.z);

@@ -43,7 +43,7 @@ bool differ(const HitPointBuffer& b, std::size_t p, std::size_t q) {
   const HitPoint& c = b.hits[q];
   if (glm::dot(a.normal, c.normal) < kCreaseCos) return true;
   if (std::abs(a.material.roughness - c.material.roughness) > kMaterialStep) return true;
-  const vec3 d = glm::abs(a.material.base_color - c.material.base_color);
+  const vec3 d = glm::abs(a.material.base_colour - c.material.base_colour);
   return std::max(d.x, std::max(d.y, d.z)) > kMaterialStep;
 }
 

@@ -121,7 +121,7 @@ SplitSumShading PrefilteredIbl::shadeParts(const SurfaceMaterial& m, const vec3&
   if (!(nv > 0.0f)) return parts;
   const float metallic = std::clamp(m.metallic, 0.0f, 1.0f);
   const float s = std::clamp(m.specular, 0.0f, 1.0f);
-  const vec3 base = glm::clamp(m.base_color, vec3(0.0f), vec3(1.0f));
+  const vec3 base = glm::clamp(m.base_colour, vec3(0.0f), vec3(1.0f));
   const vec2 ab = dfg(nv, m.roughness);
   const vec3 f0 = (1.0f - metallic) * kDielectricF0 * s + metallic * base;
   const float f90 = (1.0f - metallic) * s + metallic;

@@ -83,16 +83,16 @@ SurfaceMaterial RenderScene::relicMaterial(const RayHit& hit, const RayScene& sc
   if (override_) return *override_;
   const Material& m = relicGltfMaterial(hit, scene);
   SurfaceMaterial s;
-  s.base_color = m.base_color;
+  s.base_colour = m.base_colour;
   s.metallic = m.metallic;
   s.roughness = m.roughness;
   const auto textureAt = [&](int index) -> const cv::Mat* {
     if (index < 0 || static_cast<std::size_t>(index) >= relic_model_.textures.size()) return nullptr;
     return &relic_model_.textures[static_cast<std::size_t>(index)].image();
   };
-  if (const cv::Mat* t = textureAt(m.base_color_texture.index)) {
+  if (const cv::Mat* t = textureAt(m.base_colour_texture.index)) {
     const vec3 c = texel(*t, scene.uv(hit));
-    s.base_color *= vec3(srgbToLinear(c.r), srgbToLinear(c.g), srgbToLinear(c.b));
+    s.base_colour *= vec3(srgbToLinear(c.r), srgbToLinear(c.g), srgbToLinear(c.b));
   }
   if (const cv::Mat* t = textureAt(m.metallic_roughness_texture.index)) {
     const vec3 c = texel(*t, scene.uv(hit));

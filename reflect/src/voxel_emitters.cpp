@@ -19,7 +19,7 @@ Model voxelEmitters(const VoxelGrid& grid) {
         const Bounds3 b = grid.voxelBounds(v);
         Material m;
         m.name = "voxel";
-        m.base_color = vec3(0.0f);
+        m.base_colour = vec3(0.0f);
         m.emission = s.radiance;
         TriangleMesh mesh;
         mesh.material = int(model.materials.size());

@@ -27,7 +27,7 @@ class HallBuilder {
       Material m;
       m.name = material;
       // The base colour is the radiance's chromaticity, for renderers that want an albedo.
-      m.base_color =
+      m.base_colour =
           glm::clamp(radiance / std::max(1.0f, std::max({radiance.r, radiance.g, radiance.b})), 0.0f, 1.0f);
       m.roughness = 1.0f;
       m.emission = radiance;

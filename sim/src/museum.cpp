@@ -114,7 +114,7 @@ void readNoise(const ConfigNode& node, SensorNoise& n) {
   n.edge_dropout = node.getInRange("edge_dropout", n.edge_dropout, 0.0f, 1.0f);
   n.flying_pixel = node.getInRange("flying_pixel", n.flying_pixel, 0.0f, 1.0f);
   n.random_dropout = node.getInRange("random_dropout", n.random_dropout, 0.0f, 1.0f);
-  n.color_sigma = node.getInRange("color_sigma", n.color_sigma, 0.0f, 255.0f);
+  n.colour_sigma = node.getInRange("color_sigma", n.colour_sigma, 0.0f, 255.0f);
   n.enabled = node.get<bool>("enabled", n.enabled);
   n.baseline = node.getInRange("baseline", n.baseline, 0.0f, 1.0f);
   n.native_focal_px = node.getInRange("native_focal_px", n.native_focal_px, 1.0f, 1e5f);
@@ -390,7 +390,7 @@ SimulatedFrame Museum::renderCamera(int index, int frame, bool with_visitors) co
                                          static_seed ^ 0x57a71cull);
 
   SimulatedFrame out;
-  out.frame.color = sensed.color;
+  out.frame.colour = sensed.colour;
   out.frame.depth = sensed.depth;
   out.frame.camera_id = index;
   out.frame.sequence = static_cast<std::uint64_t>(std::max(frame, 0));

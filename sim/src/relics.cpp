@@ -9,10 +9,10 @@ namespace holo::sim {
 
 namespace {
 
-Material metal(const std::string& name, const vec3& color, float roughness) {
+Material metal(const std::string& name, const vec3& colour, float roughness) {
   Material m;
   m.name = name;
-  m.base_color = color;
+  m.base_colour = colour;
   m.metallic = 1.0f;
   m.roughness = roughness;
   return m;

@@ -180,7 +180,7 @@ SensorOutput applyProfiledSensor(const SensorNoise& noise, const CameraSettings&
                                  const cv::Mat& radiance, std::uint64_t seed, std::uint64_t static_seed) {
   SensorOutput out;
   out.depth = cv::Mat::zeros(true_depth.size(), CV_32FC1);
-  out.color = cv::Mat(true_depth.size(), CV_8UC3);
+  out.colour = cv::Mat(true_depth.size(), CV_8UC3);
   const float focal_px =
       0.5f * static_cast<float>(camera.width) / std::tan(0.5f * camera.hfov_deg * kPi / 180.0f);
   const cv::Mat shadow = projectorShadow(true_depth, focal_px, noise.baseline);
@@ -195,10 +195,10 @@ SensorOutput applyProfiledSensor(const SensorNoise& noise, const CameraSettings&
     for (int x = 0; x < true_depth.cols; ++x) {
       PixelRng rng(seed, 0x5e4502ull, x, y);
       const cv::Vec3f& rad = radiance.at<cv::Vec3f>(y, x);
-      cv::Vec3b& bgr = out.color.at<cv::Vec3b>(y, x);
+      cv::Vec3b& bgr = out.colour.at<cv::Vec3b>(y, x);
       for (int c = 0; c < 3; ++c) {
         const float encoded = 255.0f * linearToSrgb(std::max(0.0f, camera.exposure * rad[c]));
-        bgr[c] = toByte(encoded + noise.color_sigma * rng.normal());
+        bgr[c] = toByte(encoded + noise.colour_sigma * rng.normal());
       }
       const float z = true_depth.at<float>(y, x);
       if (!(z > 0.0f) || !std::isfinite(z) || shadow.at<std::uint8_t>(y, x)) continue;
@@ -306,16 +306,16 @@ SensorOutput applySensorNoise(const SensorNoise& noise, const CameraSettings& ca
     return applyProfiledSensor(noise, camera, true_depth, cos_incidence, radiance, seed, static_seed);
   SensorOutput out;
   out.depth = cv::Mat::zeros(true_depth.size(), CV_32FC1);
-  out.color = cv::Mat(true_depth.size(), CV_8UC3);
+  out.colour = cv::Mat(true_depth.size(), CV_8UC3);
   const float cos_grazing = std::cos(noise.grazing_dropout_deg * kPi / 180.0f);
   tbb::parallel_for(0, true_depth.rows, [&](int y) {
     for (int x = 0; x < true_depth.cols; ++x) {
       PixelRng rng(seed, 0x5e4502ull, x, y);
       const cv::Vec3f& rad = radiance.at<cv::Vec3f>(y, x);
-      cv::Vec3b& bgr = out.color.at<cv::Vec3b>(y, x);
+      cv::Vec3b& bgr = out.colour.at<cv::Vec3b>(y, x);
       for (int c = 0; c < 3; ++c) {
         const float encoded = 255.0f * linearToSrgb(std::max(0.0f, camera.exposure * rad[c]));
-        bgr[c] = toByte(noise.enabled ? encoded + noise.color_sigma * rng.normal() : encoded);
+        bgr[c] = toByte(noise.enabled ? encoded + noise.colour_sigma * rng.normal() : encoded);
       }
       const float z = true_depth.at<float>(y, x);
       if (!noise.enabled) {

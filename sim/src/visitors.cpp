@@ -71,7 +71,7 @@ std::vector<VisitorPlan> planVisitors(int count, std::uint64_t seed, const std::
     // The first visitor always carries something, so every scene with visitors shows the case.
     if (i == 0 || rng.uniform() < 0.6f) {
       p.carried = (i + static_cast<int>(rng.next() % 2)) % 2 == 0 ? Carried::book : Carried::bag;
-      p.carried_color = kCarried[rng.next() % 6];
+      p.carried_colour = kCarried[rng.next() % 6];
     }
     plans.push_back(p);
   }
@@ -110,7 +110,7 @@ std::vector<VisitorPlan> planCloseVisitors(int count, std::uint64_t seed, const 
     p.reach = std::asin(std::clamp((p.lane_radius - 0.55f) / arm, 0.0f, 1.0f));
     if (i == 0) {  // a bag: a book held up in front would reach into the pyramid
       p.carried = Carried::bag;
-      p.carried_color = kCarried[rng.next() % 6];
+      p.carried_colour = kCarried[rng.next() % 6];
     }
     plans.push_back(p);
   }
@@ -148,7 +148,7 @@ Model buildVisitors(const std::vector<VisitorPlan>& plans, float t) {
     auto part = [&](const std::string& what, const vec3& radiance) -> TriangleMesh& {
       Material m;
       m.name = "visitor" + std::to_string(i) + "_" + what;
-      m.base_color = glm::clamp(radiance, 0.0f, 1.0f);
+      m.base_colour = glm::clamp(radiance, 0.0f, 1.0f);
       m.emission = radiance;
       model.materials.push_back(m);
       TriangleMesh mesh;
@@ -194,7 +194,7 @@ Model buildVisitors(const std::vector<VisitorPlan>& plans, float t) {
       appendMesh(shirt, makeCylinder(0.045f, arm_length, 10), world * T);
     }
     if (carrying) {
-      TriangleMesh& object = part("carried", p.carried_color);
+      TriangleMesh& object = part("carried", p.carried_colour);
       if (p.carried == Carried::book)  // held open in front, pages facing the visitor
         appendMesh(object, makeBox({0.14f, 0.11f, 0.025f}),
                    world * glm::translate(mat4(1.0f), hand + vec3(0.1f, 0.05f, 0.05f)));

@@ -73,14 +73,14 @@ TEST(Background, MedianRejectsPassersByAndCountsInvalidDepth) {
   cv::RNG rng(3);
   for (int k = 0; k < 15; ++k) {
     RgbdFrame f;
-    f.color = cv::Mat(size, CV_8UC3, cv::Scalar(40, 90, 160));
+    f.colour = cv::Mat(size, CV_8UC3, cv::Scalar(40, 90, 160));
     f.depth = cv::Mat(size, CV_32FC1, cv::Scalar(2.5f));
     cv::Mat noise(size, CV_32FC1);
     rng.fill(noise, cv::RNG::NORMAL, 0.0, 0.01);
     f.depth += noise;
     // A visitor crossing in 4 of 15 frames: bright and near.
     if (k < 4) {
-      f.color(cv::Rect(10 + 5 * k, 10, 8, 20)).setTo(cv::Scalar(255, 255, 255));
+      f.colour(cv::Rect(10 + 5 * k, 10, 8, 20)).setTo(cv::Scalar(255, 255, 255));
       f.depth(cv::Rect(10 + 5 * k, 10, 8, 20)).setTo(0.9f);
     }
     // A black, shiny column without depth, NaN and Inf and negative samples sprinkled in.
@@ -91,7 +91,7 @@ TEST(Background, MedianRejectsPassersByAndCountsInvalidDepth) {
   }
   const BackgroundModel model = captureBackground(frames);
   EXPECT_EQ(model.frames, 15);
-  EXPECT_EQ(model.color.at<cv::Vec3b>(20, 14), cv::Vec3b(40, 90, 160));
+  EXPECT_EQ(model.colour.at<cv::Vec3b>(20, 14), cv::Vec3b(40, 90, 160));
   EXPECT_NEAR(model.depth.at<float>(20, 14), 2.5f, 0.02f);
   EXPECT_EQ(model.depth.at<float>(20, 60), 0.0f);
   EXPECT_EQ(model.invalid_count.at<std::uint16_t>(20, 60), 15);
@@ -99,8 +99,8 @@ TEST(Background, MedianRejectsPassersByAndCountsInvalidDepth) {
   EXPECT_EQ(model.invalid_count.at<std::uint16_t>(6, 5), 15);
   EXPECT_EQ(model.invalid_samples, 15 * (48 + 2));
   EXPECT_NEAR(model.invalid_fraction, (48.0 + 2.0) / (64 * 48), 1e-9);
-  EXPECT_TRUE(std::isfinite(model.color_mad));
-  EXPECT_TRUE(judgeBackground("background", model.invalid_fraction, model.color_mad).pass);
+  EXPECT_TRUE(std::isfinite(model.colour_mad));
+  EXPECT_TRUE(judgeBackground("background", model.invalid_fraction, model.colour_mad).pass);
 
   std::vector<RgbdFrame> mismatched = {frames[0], frames[1]};
   mismatched[1].depth = cv::Mat(10, 10, CV_32FC1, cv::Scalar(1.0f));

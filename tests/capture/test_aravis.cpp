@@ -33,11 +33,11 @@ bool waitFor(Pred pred, std::chrono::milliseconds limit) {
 AravisCameraConfig colourCamera(const std::string& serial, const std::string& format) {
   AravisCameraConfig c;
   c.name = "aravis:" + serial;
-  c.color.serial = serial;
-  c.color.pixel_format = format;
-  c.color.width = 320;  // small frames: 77 kB, well inside a default socket buffer
-  c.color.height = 240;
-  c.color.frame_rate = 25;
+  c.colour.serial = serial;
+  c.colour.pixel_format = format;
+  c.colour.width = 320;  // small frames: 77 kB, well inside a default socket buffer
+  c.colour.height = 240;
+  c.colour.frame_rate = 25;
   return c;
 }
 
@@ -136,13 +136,13 @@ TEST_F(FakeAravis, FourCamerasStreamIntoFourCaptureThreads) {
     const auto frame = mailboxes_[i]->take();
     ASSERT_TRUE(frame.has_value());
     EXPECT_EQ(frame->camera_id, i);
-    EXPECT_EQ(frame->color.type(), CV_8UC3);
-    EXPECT_EQ(frame->color.cols, 320);
-    EXPECT_EQ(frame->color.rows, 240);
+    EXPECT_EQ(frame->colour.type(), CV_8UC3);
+    EXPECT_EQ(frame->colour.cols, 320);
+    EXPECT_EQ(frame->colour.rows, 240);
     EXPECT_GT(frame->device_time.count(), 0);
     // The fake camera draws a moving gradient: a real image is not flat.
     cv::Scalar mean, stddev;
-    cv::meanStdDev(frame->color, mean, stddev);
+    cv::meanStdDev(frame->colour, mean, stddev);
     EXPECT_GT(stddev[0], 1.0) << formats[i];
     const CameraHealth h = threads_[static_cast<std::size_t>(i)]->health();
     EXPECT_TRUE(h.connected);
@@ -161,7 +161,7 @@ TEST_F(FakeAravis, ColourPlusDepthFromTwoDevices) {
   startCamera(0);
   startCamera(1);
   AravisCameraConfig config = colourCamera(serial(0), "BayerGB8");
-  config.depth = config.color;
+  config.depth = config.colour;
   config.depth.serial = serial(1);
   config.depth.pixel_format = "Mono16";
   config.depth.depth_scale = 1000;
@@ -170,7 +170,7 @@ TEST_F(FakeAravis, ColourPlusDepthFromTwoDevices) {
   std::optional<RgbdFrame> f;
   ASSERT_TRUE(waitFor([&] { return (f = mailboxes_[0]->take()) && !f->depth.empty(); }, 3000ms));
   EXPECT_EQ(f->depth.type(), CV_32FC1);
-  EXPECT_EQ(f->depth.size(), f->color.size());
+  EXPECT_EQ(f->depth.size(), f->colour.size());
   double hi = 0;
   cv::minMaxLoc(f->depth, nullptr, &hi);
   EXPECT_GT(hi, 0.0);
@@ -181,8 +181,8 @@ TEST_F(FakeAravis, FivePercentPacketLossKeepsFramesComingAndIsCounted) {
   startCamera(0, 50);
   // 160x120 Mono8 is 14 packets: about half the frames lose none of them at 5% loss.
   AravisCameraConfig config = colourCamera(serial(0), "Mono8");
-  config.color.width = 160;
-  config.color.height = 120;
+  config.colour.width = 160;
+  config.colour.height = 120;
   CaptureThread& t = startCapture(0, config);
   ASSERT_TRUE(waitFor(
       [&] {
@@ -200,7 +200,7 @@ TEST_F(FakeAravis, FivePercentPacketLossKeepsFramesComingAndIsCounted) {
   // Only complete buffers became frames: the newest one has every pixel of the region.
   const auto f = mailboxes_[0]->take();
   ASSERT_TRUE(f.has_value());
-  EXPECT_EQ(f->color.size(), cv::Size(160, 120));
+  EXPECT_EQ(f->colour.size(), cv::Size(160, 120));
 }
 
 TEST_F(FakeAravis, KilledCameraIsMarkedDisconnectedOthersContinueAndItResumes) {
@@ -275,17 +275,17 @@ TEST_F(FakeAravis, DevicesCommandListsTheFakeCamerasWithSerialsFormatsAndCalibra
 TEST_F(FakeAravis, GenicamFeaturesAreSetByNameAndUnknownOnesAreNamed) {
   startCamera(0);
   AravisCameraConfig config = colourCamera(serial(0), "Mono8");
-  config.color.width = 0;  // the region comes from the features instead
-  config.color.height = 0;
-  config.color.features = {{"Width", "200"}, {"Height", "100"}, {"ExposureTimeAbs", "20000"}};
+  config.colour.width = 0;  // the region comes from the features instead
+  config.colour.height = 0;
+  config.colour.features = {{"Width", "200"}, {"Height", "100"}, {"ExposureTimeAbs", "20000"}};
   startCapture(0, config);
   std::optional<RgbdFrame> f;
   ASSERT_TRUE(waitFor([&] { return (f = mailboxes_[0]->take()).has_value(); }, 8000ms));
-  EXPECT_EQ(f->color.size(), cv::Size(200, 100));
+  EXPECT_EQ(f->colour.size(), cv::Size(200, 100));
   threads_.clear();  // release the camera before opening it again below
 
   AravisCameraConfig wrong = colourCamera(serial(0), "Mono8");
-  wrong.color.features = {{"NoSuchFeature", "1"}};
+  wrong.colour.features = {{"NoSuchFeature", "1"}};
   AravisSource source(wrong);
   try {
     ASSERT_TRUE(waitFor(

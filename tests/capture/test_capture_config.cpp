@@ -52,9 +52,9 @@ capture:
   EXPECT_EQ(north.face, 0);
   EXPECT_EQ(north.backend, Backend::Aravis);
   EXPECT_EQ(north.name, "north");
-  EXPECT_EQ(north.aravis.color.serial, "GV-0001");
-  EXPECT_EQ(north.aravis.color.pixel_format, "BayerRG8");
-  EXPECT_EQ(north.aravis.color.width, 640);
+  EXPECT_EQ(north.aravis.colour.serial, "GV-0001");
+  EXPECT_EQ(north.aravis.colour.pixel_format, "BayerRG8");
+  EXPECT_EQ(north.aravis.colour.width, 640);
   EXPECT_EQ(north.aravis.depth.pixel_format, "Coord3D_C16");
   EXPECT_EQ(north.aravis.depth.packet_socket, AravisStreamConfig::PacketSocket::Off);
   using Feature = std::pair<std::string, std::string>;
@@ -64,9 +64,9 @@ capture:
   EXPECT_EQ(south.face, 2);
   EXPECT_EQ(south.name, "face2");
   EXPECT_EQ(south.backend, Backend::V4l2);
-  EXPECT_EQ(south.v4l2.color.device, "serial:843112071234");
-  EXPECT_EQ(south.v4l2.color.pixel_format, "YUYV");
-  EXPECT_DOUBLE_EQ(south.v4l2.color.frame_rate, 30.0);
+  EXPECT_EQ(south.v4l2.colour.device, "serial:843112071234");
+  EXPECT_EQ(south.v4l2.colour.pixel_format, "YUYV");
+  EXPECT_DOUBLE_EQ(south.v4l2.colour.frame_rate, 30.0);
   EXPECT_DOUBLE_EQ(south.v4l2.depth.depth_scale, 4000.0);
   EXPECT_EQ(makeCaptureOptions(c, south).camera_id, 2);
   // Sources are built without opening anything.

@@ -36,7 +36,7 @@ class FlakySource : public CameraSource {
     if (disconnect_every && n % disconnect_every == 0) return {GrabStatus::Disconnected, {}, "cable pulled"};
     GrabResult r;
     r.status = GrabStatus::Ok;
-    r.frame.color = cv::Mat(2, 2, CV_8UC3, cv::Scalar(1, 2, 3));
+    r.frame.colour = cv::Mat(2, 2, CV_8UC3, cv::Scalar(1, 2, 3));
     r.frame.sequence = static_cast<std::uint64_t>(n);
     return r;
   }

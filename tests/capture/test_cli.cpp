@@ -43,7 +43,7 @@ TEST(CaptureCli, InfoDescribesARecording) {
       RgbdFrame f;
       f.camera_id = 0;
       f.device_time = std::chrono::milliseconds(100 * i);  // 10 Hz
-      f.color = cv::Mat(24, 32, CV_8UC3, cv::Scalar(10, 20, 30));
+      f.colour = cv::Mat(24, 32, CV_8UC3, cv::Scalar(10, 20, 30));
       f.depth = cv::Mat(24, 32, CV_32FC1, cv::Scalar(2.5f));
       f.depth(cv::Rect(0, 0, 16, 24)) = 0.0f;  // half the pixels without depth
       rec.write(f);

@@ -29,13 +29,13 @@ TEST(PixelFormat, NamesRoundTripAndUnknownNamesListTheChoices) {
 TEST(PixelFormat, YuyvUsesY0UY1VOrder) {
   // Two pixels sharing U and V: Y0 = black (16), Y1 = white (235), neutral chroma.
   std::vector<std::uint8_t> grey{16, 128, 235, 128};
-  const cv::Mat out = convertToColor(PixelFormat::YUYV, raw(grey, 2, 1));
+  const cv::Mat out = convertToColour(PixelFormat::YUYV, raw(grey, 2, 1));
   ASSERT_EQ(out.type(), CV_8UC3);
   EXPECT_LE(out.at<cv::Vec3b>(0, 0)[1], 2);
   EXPECT_GE(out.at<cv::Vec3b>(0, 1)[1], 253);
   // BT.601 red: Y 81, U (Cb) 90, V (Cr) 240 -> R high, G and B low (BGR order in the Mat).
   std::vector<std::uint8_t> red{81, 90, 81, 240};
-  const cv::Vec3b p = convertToColor(PixelFormat::YUYV, raw(red, 2, 1)).at<cv::Vec3b>(0, 0);
+  const cv::Vec3b p = convertToColour(PixelFormat::YUYV, raw(red, 2, 1)).at<cv::Vec3b>(0, 0);
   EXPECT_GT(p[2], 230);
   EXPECT_LT(p[1], 30);
   EXPECT_LT(p[0], 30);
@@ -47,14 +47,14 @@ TEST(PixelFormat, MjpegDecodesAndRejectsTruncatedOrMisSizedImages) {
     for (int x = 0; x < 64; ++x) image.at<cv::Vec3b>(y, x) = cv::Vec3b(uchar(x * 4), uchar(y * 5), 200);
   std::vector<std::uint8_t> jpeg;
   ASSERT_TRUE(cv::imencode(".jpg", image, jpeg, {cv::IMWRITE_JPEG_QUALITY, 95}));
-  const cv::Mat out = convertToColor(PixelFormat::MJPEG, raw(jpeg, 64, 48));
+  const cv::Mat out = convertToColour(PixelFormat::MJPEG, raw(jpeg, 64, 48));
   cv::Mat diff;
   cv::absdiff(out, image, diff);
   EXPECT_LT(cv::mean(diff)[0], 3.0);
   EXPECT_LT(cv::mean(diff)[2], 3.0);
-  EXPECT_THROW(convertToColor(PixelFormat::MJPEG, raw(jpeg, 640, 480)), Error);
+  EXPECT_THROW(convertToColour(PixelFormat::MJPEG, raw(jpeg, 640, 480)), Error);
   std::vector<std::uint8_t> cut(jpeg.begin(), jpeg.begin() + 20);
-  EXPECT_THROW(convertToColor(PixelFormat::MJPEG, raw(cut, 64, 48)), Error);
+  EXPECT_THROW(convertToColour(PixelFormat::MJPEG, raw(cut, 64, 48)), Error);
 }
 
 TEST(PixelFormat, Z16IsLittleEndianUnitsPerMetre) {
@@ -73,15 +73,15 @@ TEST(PixelFormat, Z16IsLittleEndianUnitsPerMetre) {
 
 TEST(PixelFormat, MonoAndRgbLayouts) {
   std::vector<std::uint8_t> mono{7, 200};
-  const cv::Mat m = convertToColor(PixelFormat::Mono8, raw(mono, 2, 1));
+  const cv::Mat m = convertToColour(PixelFormat::Mono8, raw(mono, 2, 1));
   EXPECT_EQ(m.at<cv::Vec3b>(0, 1), cv::Vec3b(200, 200, 200));
   std::vector<std::uint8_t> mono16{0xCD, 0xAB};  // 0xABCD little-endian = 43981 -> 43981 / 256 = 171.8 -> 172
-  EXPECT_EQ(convertToColor(PixelFormat::Mono16, raw(mono16, 1, 1)).at<cv::Vec3b>(0, 0)[0], 172);
+  EXPECT_EQ(convertToColour(PixelFormat::Mono16, raw(mono16, 1, 1)).at<cv::Vec3b>(0, 0)[0], 172);
   std::vector<std::uint8_t> rgb{10, 20, 30};
-  EXPECT_EQ(convertToColor(PixelFormat::RGB8, raw(rgb, 1, 1)).at<cv::Vec3b>(0, 0), cv::Vec3b(30, 20, 10));
+  EXPECT_EQ(convertToColour(PixelFormat::RGB8, raw(rgb, 1, 1)).at<cv::Vec3b>(0, 0), cv::Vec3b(30, 20, 10));
   // Row stride larger than the row: padding bytes are skipped.
   std::vector<std::uint8_t> padded{1, 2, 99, 99, 3, 4, 99, 99};
-  const cv::Mat s = convertToColor(PixelFormat::Mono8, {padded.data(), padded.size(), 2, 2, 4});
+  const cv::Mat s = convertToColour(PixelFormat::Mono8, {padded.data(), padded.size(), 2, 2, 4});
   EXPECT_EQ(s.at<cv::Vec3b>(1, 0)[0], 3);
 }
 
@@ -105,7 +105,7 @@ TEST(PixelFormat, BayerPatternsDemosaicToTheColourTheyWereBuiltFrom) {
       for (int x = 0; x < 16; ++x)
         mosaic[static_cast<std::size_t>(y * 16 + x)] =
             static_cast<std::uint8_t>(value[(y % 2 == 0 ? c.first_row : c.second_row)[x % 2]]);
-    const cv::Vec3b p = convertToColor(c.format, raw(mosaic, 16, 16)).at<cv::Vec3b>(8, 8);
+    const cv::Vec3b p = convertToColour(c.format, raw(mosaic, 16, 16)).at<cv::Vec3b>(8, 8);
     EXPECT_NEAR(p[0], b, 2) << toString(c.format);
     EXPECT_NEAR(p[1], g, 2) << toString(c.format);
     EXPECT_NEAR(p[2], r, 2) << toString(c.format);
@@ -115,7 +115,7 @@ TEST(PixelFormat, BayerPatternsDemosaicToTheColourTheyWereBuiltFrom) {
 TEST(PixelFormat, ShortBuffersAreRejectedWithSizes) {
   std::vector<std::uint8_t> bytes(10);
   try {
-    convertToColor(PixelFormat::RGB8, raw(bytes, 4, 4));
+    convertToColour(PixelFormat::RGB8, raw(bytes, 4, 4));
     FAIL();
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("expected at least 48"), std::string::npos) << e.what();
@@ -132,7 +132,7 @@ TEST(PixelFormat, ACameraAnnouncing64kBy64kIsRefusedWithTheLimit) {
       if (isDepthFormat(format))
         convertToDepth(format, raw(bytes, 65536, 65536), 1000.0);
       else
-        convertToColor(format, raw(bytes, 65536, 65536));
+        convertToColour(format, raw(bytes, 65536, 65536));
       ADD_FAILURE() << name << " converted a 65536x65536 frame";
     } catch (const Error& e) {
       EXPECT_NE(std::string(e.what()).find(std::to_string(kMaxFrameSide)), std::string::npos)
@@ -157,5 +157,5 @@ TEST(PixelFormat, OddStrideOfASixteenBitFormatIsAFailedFrame) {
   RawImage image = raw(bytes, 4, 4);
   image.stride = 9;
   EXPECT_THROW(convertToDepth(PixelFormat::Z16, image, 1000.0), Error);
-  EXPECT_THROW(convertToColor(PixelFormat::Mono16, image), Error);
+  EXPECT_THROW(convertToColour(PixelFormat::Mono16, image), Error);
 }

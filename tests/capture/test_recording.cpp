@@ -19,8 +19,8 @@ RgbdFrame randomFrame(int camera, std::uint64_t seq, std::mt19937& rng) {
   f.camera_id = camera;
   f.sequence = seq;
   f.device_time = std::chrono::milliseconds(1000 + 33 * static_cast<int>(seq));
-  f.color = cv::Mat(48, 64, CV_8UC3);
-  cv::randu(f.color, 0, 256);
+  f.colour = cv::Mat(48, 64, CV_8UC3);
+  cv::randu(f.colour, 0, 256);
   f.depth = cv::Mat(48, 64, CV_32FC1);
   std::uniform_real_distribution<float> metres(0.2f, 20.0f);
   for (int y = 0; y < 48; ++y)
@@ -80,7 +80,7 @@ TEST(Recording, RoundTripIsBitExactInColourAndWithinOneStepInDepth) {
       const RgbdFrame& orig = written[s * 2 + static_cast<std::size_t>(cam)];
       EXPECT_EQ(r.frame.sequence, s);
       EXPECT_EQ(r.frame.device_time, orig.device_time);
-      EXPECT_EQ(cv::norm(r.frame.color, orig.color, cv::NORM_INF), 0.0);
+      EXPECT_EQ(cv::norm(r.frame.colour, orig.colour, cv::NORM_INF), 0.0);
       EXPECT_FLOAT_EQ(r.frame.depth.at<float>(0, 0), 0.0f);
       EXPECT_FLOAT_EQ(r.frame.depth.at<float>(0, 1), 0.0f);
       EXPECT_FLOAT_EQ(r.frame.depth.at<float>(0, 2), 0.0f);
@@ -116,8 +116,8 @@ TEST(Recording, ReadsTheRealTumFrame) {
   EXPECT_FLOAT_EQ(cam.model->intrinsics().cy, 239.5f);
   RecordingSource source(cam);
   const RgbdFrame f = source.load(0);
-  EXPECT_EQ(f.color.cols, 640);
-  EXPECT_EQ(f.color.rows, 480);
+  EXPECT_EQ(f.colour.cols, 640);
+  EXPECT_EQ(f.colour.rows, 480);
   ASSERT_EQ(f.depth.type(), CV_32FC1);
   // An office desk seen by a Kinect: most pixels valid, nearest surface beyond 0.3 m, the far wall
   // under 10 m (the PNG's 16-bit range at 5000 units/m ends at 13.1 m).

@@ -41,9 +41,9 @@ TEST(SimulatedSource, FramesAreDeterministicAndCarrySceneTime) {
     const GrabResult fb = b.grab(1s);
     ASSERT_EQ(fa.status, GrabStatus::Ok) << fa.message;
     ASSERT_EQ(fb.status, GrabStatus::Ok) << fb.message;
-    EXPECT_TRUE(identical(fa.frame.color, fb.frame.color)) << "frame " << n;
+    EXPECT_TRUE(identical(fa.frame.colour, fb.frame.colour)) << "frame " << n;
     EXPECT_TRUE(identical(fa.frame.depth, fb.frame.depth)) << "frame " << n;
-    EXPECT_EQ(fa.frame.color.size(), cv::Size(96, 54));
+    EXPECT_EQ(fa.frame.colour.size(), cv::Size(96, 54));
     EXPECT_EQ(fa.frame.camera_id, 1);
     EXPECT_EQ(fa.frame.sequence, static_cast<std::uint64_t>(n));
     EXPECT_EQ(fa.frame.device_time.count(), n * 50'000'000);  // n / 20 fps

@@ -69,7 +69,7 @@ TEST(V4l2, OpeningByBusInfoOrSerialWithNoDevicesSaysWhatWasSearched) {
   EXPECT_EQ(resolveV4l2Device("/dev/video7", dir), "/dev/video7");  // a node path is taken as is
 
   V4l2CameraConfig config;
-  config.color.device = "serial:843112071234";
+  config.colour.device = "serial:843112071234";
   V4l2Source source(config, dir);
   EXPECT_THROW(source.open(), Error);
   std::filesystem::remove_all(dir);
@@ -77,7 +77,7 @@ TEST(V4l2, OpeningByBusInfoOrSerialWithNoDevicesSaysWhatWasSearched) {
 
 TEST(V4l2, MissingNodeAndNonV4l2NodeErrorsNameTheDevice) {
   V4l2CameraConfig missing;
-  missing.color.device = "/dev/holo-test-no-such-video";
+  missing.colour.device = "/dev/holo-test-no-such-video";
   V4l2Source a(missing);
   const std::string why = messageOf([&] { a.open(); });
   EXPECT_TRUE(contains(why, "/dev/holo-test-no-such-video")) << why;
@@ -85,7 +85,7 @@ TEST(V4l2, MissingNodeAndNonV4l2NodeErrorsNameTheDevice) {
 
   // /dev/null opens but answers no V4L2 ioctl.
   V4l2CameraConfig null_device;
-  null_device.color.device = "/dev/null";
+  null_device.colour.device = "/dev/null";
   V4l2Source b(null_device);
   const std::string not_v4l2 = messageOf([&] { b.open(); });
   EXPECT_TRUE(contains(not_v4l2, "/dev/null: not a V4L2 device")) << not_v4l2;
@@ -108,8 +108,8 @@ TEST(V4l2, ConfigurationErrorsNameTheField) {
   EXPECT_TRUE(contains(wrong, "Z16")) << wrong;
 
   V4l2CameraConfig bad_colour;
-  bad_colour.color.device = "/dev/video0";
-  bad_colour.color.pixel_format = "RGB3";
+  bad_colour.colour.device = "/dev/video0";
+  bad_colour.colour.pixel_format = "RGB3";
   EXPECT_THROW(V4l2Source s(bad_colour), InputError);
 
   V4l2CameraConfig bad_scale;

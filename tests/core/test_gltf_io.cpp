@@ -100,11 +100,11 @@ TEST(GltfIo, LoadsTriangleWithMaterialAndComputesNormals) {
   for (const vec3& n : mesh.normals) EXPECT_LT(glm::length(n - vec3(0, 0, 1)), 1e-5f);
   ASSERT_EQ(m.materials.size(), 1u);
   const Material& mat = m.materials[0];
-  EXPECT_FLOAT_EQ(mat.base_color.g, 0.4f);
+  EXPECT_FLOAT_EQ(mat.base_colour.g, 0.4f);
   EXPECT_FLOAT_EQ(mat.metallic, 0.75f);
   EXPECT_FLOAT_EQ(mat.roughness, 0.3f);
   EXPECT_FLOAT_EQ(mat.emission.r, 1.0f);
-  EXPECT_EQ(mat.base_color_texture.index, -1);
+  EXPECT_EQ(mat.base_colour_texture.index, -1);
 }
 
 TEST(GltfIo, AppliesTheNodeHierarchy) {
@@ -200,7 +200,7 @@ TEST(GltfIo, GlbRoundTripKeepsTexturesAndStrongEmission) {
   mat.roughness = 0.0f;
   mat.metallic = 1.0f;
   mat.emission = {12.0f, 6.0f, 3.0f};
-  mat.base_color_texture.index = 0;
+  mat.base_colour_texture.index = 0;
   m.materials.push_back(mat);
   cv::Mat tex(4, 8, CV_8UC3, cv::Scalar(10, 20, 200));  // BGR: red
   tex.at<cv::Vec3b>(1, 2) = cv::Vec3b(255, 0, 0);
@@ -212,7 +212,7 @@ TEST(GltfIo, GlbRoundTripKeepsTexturesAndStrongEmission) {
   EXPECT_FLOAT_EQ(back.materials[0].roughness, 0.0f);
   EXPECT_NEAR(back.materials[0].emission.r, 12.0f, 1e-4f);
   EXPECT_NEAR(back.materials[0].emission.b, 3.0f, 1e-4f);
-  ASSERT_EQ(back.materials[0].base_color_texture.index, 0);
+  ASSERT_EQ(back.materials[0].base_colour_texture.index, 0);
   ASSERT_EQ(back.textures.size(), 1u);
   EXPECT_EQ(cv::norm(back.textures[0].image(), tex, cv::NORM_INF), 0.0);
   // .gltf with everything embedded loads the same.
@@ -284,7 +284,7 @@ TEST(GltfIo, OversizedTextureIsRefused) {
   mesh.triangles = {{0, 1, 2}};
   m.meshes.push_back(mesh);
   Material mat;
-  mat.base_color_texture.index = 0;
+  mat.base_colour_texture.index = 0;
   m.materials.push_back(mat);
   m.textures.emplace_back(cv::Mat(1, kMaxGltfTextureSide + 1, CV_8UC3, cv::Scalar(1, 2, 3)));
   try {
@@ -332,8 +332,8 @@ TEST(GltfIo, LoadsTheRealModels) {
   const Model vase = loadGltf(test::sharedData("models/greek_vase_mr.glb"));
   bool textured = false;
   for (const auto& mat : vase.materials)
-    if (mat.base_color_texture.used())
-      textured = !vase.textures[static_cast<std::size_t>(mat.base_color_texture.index)].empty();
+    if (mat.base_colour_texture.used())
+      textured = !vase.textures[static_cast<std::size_t>(mat.base_colour_texture.index)].empty();
   EXPECT_TRUE(textured);
 }
 

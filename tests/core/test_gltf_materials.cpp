@@ -106,7 +106,7 @@ TEST(GltfMaterials, ReadsEveryPropertyAndExtension) {
   ASSERT_EQ(model.materials.size(), 1u);
   const Material& m = model.materials[0];
   EXPECT_FLOAT_EQ(m.alpha, 0.5f);
-  EXPECT_FLOAT_EQ(m.base_color.b, 0.6f);
+  EXPECT_FLOAT_EQ(m.base_colour.b, 0.6f);
   EXPECT_FLOAT_EQ(m.metallic, 0.25f);
   EXPECT_FLOAT_EQ(m.roughness, 0.75f);
   EXPECT_FLOAT_EQ(m.emission.r, 4.0f);
@@ -118,20 +118,20 @@ TEST(GltfMaterials, ReadsEveryPropertyAndExtension) {
   EXPECT_FLOAT_EQ(m.occlusion_strength, 0.7f);
   EXPECT_EQ(m.occlusion_texture.tex_coord, 1);
   EXPECT_FLOAT_EQ(m.specular, 0.6f);
-  EXPECT_FLOAT_EQ(m.specular_color.r, 1.5f);  // specular colour may exceed 1
+  EXPECT_FLOAT_EQ(m.specular_colour.r, 1.5f);  // specular colour may exceed 1
   EXPECT_FLOAT_EQ(m.clearcoat, 0.9f);
   EXPECT_FLOAT_EQ(m.clearcoat_roughness, 0.15f);
   EXPECT_FLOAT_EQ(m.clearcoat_normal_scale, 0.8f);
   EXPECT_FLOAT_EQ(m.transmission, 0.95f);
   EXPECT_TRUE(m.transmissive());
   EXPECT_FLOAT_EQ(m.thickness, 0.02f);
-  EXPECT_FLOAT_EQ(m.attenuation_color.g, 0.9f);
+  EXPECT_FLOAT_EQ(m.attenuation_colour.g, 0.9f);
   EXPECT_FLOAT_EQ(m.attenuation_distance, 0.05f);
   EXPECT_FLOAT_EQ(m.ior, 2.42f);
   // All twelve slots point at the one texture; the texture carries its sampler and mips.
   for (const TextureRef* slot :
-       {&m.base_color_texture, &m.metallic_roughness_texture, &m.normal_texture, &m.occlusion_texture,
-        &m.emissive_texture, &m.specular_texture, &m.specular_color_texture, &m.clearcoat_texture,
+       {&m.base_colour_texture, &m.metallic_roughness_texture, &m.normal_texture, &m.occlusion_texture,
+        &m.emissive_texture, &m.specular_texture, &m.specular_colour_texture, &m.clearcoat_texture,
         &m.clearcoat_roughness_texture, &m.clearcoat_normal_texture, &m.transmission_texture,
         &m.thickness_texture})
     EXPECT_EQ(slot->index, 0);
@@ -146,7 +146,7 @@ TEST(GltfMaterials, ReadsEveryPropertyAndExtension) {
   EXPECT_TRUE(t.sampler.use_mips);
   EXPECT_FALSE(t.sampler.blend_mips);
   // KHR_texture_transform: its texCoord overrides the slot's; uv' = offset + R(rotation) (scale uv).
-  const TextureRef& base = m.base_color_texture;
+  const TextureRef& base = m.base_colour_texture;
   EXPECT_EQ(base.tex_coord, 1);
   const vec2 moved = base.transform({1.0f, 0.0f});  // scaled (2, 0), rotated a quarter turn: (0, -2)
   EXPECT_NEAR(moved.x, 0.5f, 1e-6f);
@@ -176,14 +176,14 @@ TEST(GltfMaterials, RoundTripKeepsEveryProperty) {
   EXPECT_FLOAT_EQ(b.emission.r, a.emission.r);
   EXPECT_FLOAT_EQ(b.normal_scale, a.normal_scale);
   EXPECT_FLOAT_EQ(b.occlusion_strength, a.occlusion_strength);
-  EXPECT_FLOAT_EQ(b.specular_color.r, a.specular_color.r);
+  EXPECT_FLOAT_EQ(b.specular_colour.r, a.specular_colour.r);
   EXPECT_FLOAT_EQ(b.clearcoat_normal_scale, a.clearcoat_normal_scale);
   EXPECT_FLOAT_EQ(b.transmission, a.transmission);
   EXPECT_FLOAT_EQ(b.attenuation_distance, a.attenuation_distance);
   EXPECT_FLOAT_EQ(b.ior, a.ior);
-  EXPECT_EQ(b.base_color_texture.tex_coord, 1);
-  EXPECT_FLOAT_EQ(b.base_color_texture.rotation, a.base_color_texture.rotation);
-  EXPECT_EQ(b.base_color_texture.offset, a.base_color_texture.offset);
+  EXPECT_EQ(b.base_colour_texture.tex_coord, 1);
+  EXPECT_FLOAT_EQ(b.base_colour_texture.rotation, a.base_colour_texture.rotation);
+  EXPECT_EQ(b.base_colour_texture.offset, a.base_colour_texture.offset);
   EXPECT_EQ(b.clearcoat_normal_texture.index, 0);
   EXPECT_EQ(back.meshes.at(0).uvs1, model.meshes.at(0).uvs1);
   EXPECT_EQ(back.meshes.at(0).tangents, model.meshes.at(0).tangents);
@@ -308,7 +308,7 @@ TEST(GltfMaterials, KhronosRelicsLoadEveryMaterial) {
     EXPECT_FLOAT_EQ(glass.transmission, 1.0f);
     EXPECT_FLOAT_EQ(glass.thickness, 0.1f);
     EXPECT_FLOAT_EQ(glass.attenuation_distance, 0.001f);
-    EXPECT_FLOAT_EQ(glass.attenuation_color.g, 0.95f);
+    EXPECT_FLOAT_EQ(glass.attenuation_colour.g, 0.95f);
     EXPECT_TRUE(glass.thickness_texture.used());
     EXPECT_TRUE(glass.occlusion_texture.used());
     EXPECT_FALSE(inv.model.materials[0].transmissive());

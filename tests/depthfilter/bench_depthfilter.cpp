@@ -47,8 +47,8 @@ void BM_Flow(benchmark::State& state) {
   PrecursorFlow flow({static_cast<int>(state.range(0)), static_cast<int>(state.range(1))});
   std::size_t t = 1;
   for (auto _ : state) {
-    benchmark::DoNotOptimize(flow.compute(frames()[t % frames().size()].frame.color,
-                                          frames()[(t - 1) % frames().size()].frame.color));
+    benchmark::DoNotOptimize(flow.compute(frames()[t % frames().size()].frame.colour,
+                                          frames()[(t - 1) % frames().size()].frame.colour));
     ++t;
   }
 }
@@ -68,14 +68,14 @@ void BM_TemporalFilter(benchmark::State& state) {
   PrecursorFlow flow;
   std::vector<cv::Mat> flows;
   for (std::size_t t = 0; t < frames().size(); ++t)
-    flows.push_back(flow.compute(frames()[t].frame.color, t > 0 ? frames()[t - 1].frame.color : cv::Mat()));
+    flows.push_back(flow.compute(frames()[t].frame.colour, t > 0 ? frames()[t - 1].frame.colour : cv::Mat()));
   std::size_t t = 0;
   for (; t < 6; ++t)
-    filter.apply({frames()[t].frame.color, frames()[t].frame.depth, frames()[t].true_mask, flows[t]});
+    filter.apply({frames()[t].frame.colour, frames()[t].frame.depth, frames()[t].true_mask, flows[t]});
   for (auto _ : state) {
     const std::size_t i = t++ % frames().size();
     benchmark::DoNotOptimize(
-        filter.apply({frames()[i].frame.color, frames()[i].frame.depth, frames()[i].true_mask, flows[i]}));
+        filter.apply({frames()[i].frame.colour, frames()[i].frame.depth, frames()[i].true_mask, flows[i]}));
   }
 }
 BENCHMARK(BM_TemporalFilter)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);

@@ -100,7 +100,7 @@ struct SyntheticScene {
     cv::Mat colour_f;
     colour.convertTo(colour_f, CV_32FC3);
     colour_f += colour_noise;
-    colour_f.convertTo(out.frame.color, CV_8UC3);  // saturating
+    colour_f.convertTo(out.frame.colour, CV_8UC3);  // saturating
 
     out.frame.depth = out.true_depth.clone();
     for (int y = 0; y < height; ++y)

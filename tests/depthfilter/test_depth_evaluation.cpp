@@ -15,7 +15,7 @@ GroundTruthFrame flatVisitor(float sensor_error_m = 0.01f) {
   truth.true_depth = cv::Mat(4, 4, CV_32FC1, cv::Scalar(2.0f));
   truth.true_foreground = cv::Mat(4, 4, CV_8UC1, cv::Scalar(255));
   truth.frame.depth = cv::Mat(4, 4, CV_32FC1, cv::Scalar(2.0f + sensor_error_m));
-  truth.frame.color = cv::Mat(4, 4, CV_8UC3, cv::Scalar(0, 0, 0));
+  truth.frame.colour = cv::Mat(4, 4, CV_8UC3, cv::Scalar(0, 0, 0));
   return truth;
 }
 
@@ -94,7 +94,7 @@ TEST(DepthScorer, LeavingHolesWhereTheDepthMovedBuysLittle) {
     rng.fill(noise, cv::RNG::NORMAL, 0.0, 0.02);
     truth.frame.depth = truth.true_depth + noise;
     truth.frame.depth.setTo(0.0f, noise > 0.035f);  // the sensor's own dropouts
-    truth.frame.color = cv::Mat(16, 16, CV_8UC3, cv::Scalar(0, 0, 0));
+    truth.frame.colour = cv::Mat(16, 16, CV_8UC3, cv::Scalar(0, 0, 0));
     sensor.add(truth.frame.depth, truth);
     dropped.add(adversary.apply(truth.frame.depth), truth);
   }

@@ -59,7 +59,7 @@ TEST(ForegroundMask, ShadowsAndBrightnessChangesAreBackground) {
   ForegroundMasker masker = learnedMasker(scene);
   // A shadow: a darkened region of the background at the background's depth.
   test::SyntheticFrame shadow = scene.render(30, 4);
-  cv::Mat region = shadow.frame.color(cv::Rect(150, 40, 80, 80));
+  cv::Mat region = shadow.frame.colour(cv::Rect(150, 40, 80, 80));
   region.convertTo(region, -1, 0.55);
   EXPECT_LT(cv::countNonZero(masker.apply(shadow.frame)), 0.002 * scene.width * scene.height);
   // A sudden global brightness change.
@@ -108,7 +108,7 @@ TEST(ForegroundMask, HardInputsStayBounded) {
   EXPECT_EQ(fresh.apply(f.frame).size(), f.frame.depth.size());
   // A frame of another size is refused with a clear error.
   RgbdFrame small;
-  small.color = cv::Mat(10, 10, CV_8UC3, cv::Scalar::all(0));
+  small.colour = cv::Mat(10, 10, CV_8UC3, cv::Scalar::all(0));
   small.depth = cv::Mat(10, 10, CV_32FC1, cv::Scalar(1.0f));
   EXPECT_THROW(masker.apply(small), Error);
 }

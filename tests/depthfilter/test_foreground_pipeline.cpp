@@ -86,7 +86,7 @@ TEST(ForegroundPipeline, BackProjectsFilteredForegroundOfEveryCameraIntoTheWorld
       continue;
     }
     // Colour: the camera's sRGB linearised and divided by the exposure (2).
-    const cv::Vec3b bgr = f.frame.color.at<cv::Vec3b>(p.y, p.x);
+    const cv::Vec3b bgr = f.frame.colour.at<cv::Vec3b>(p.y, p.x);
     radiance_error =
         std::max(radiance_error, double(std::abs(p.radiance.r - srgbToLinear(bgr[2] / 255.0f) / 2.0f)));
     // Position: where the true depth puts that pixel.
@@ -139,7 +139,7 @@ TEST(ForegroundPipeline, HardInputsStayFiniteAndBadInputIsRefused) {
   }
   std::array<RgbdFrame, kCameras> frames = Rig::framesOf(rig.render(11));
   EXPECT_THROW(rig.pipeline.process(std::span<const RgbdFrame>(frames.data(), 3)), Error);
-  cv::resize(frames[0].color, frames[0].color, cv::Size(100, 50));
+  cv::resize(frames[0].colour, frames[0].colour, cv::Size(100, 50));
   EXPECT_THROW(rig.pipeline.process(frames), Error);
   EXPECT_THROW(ForegroundPipeline({}, {}), Error);
 }

@@ -26,7 +26,7 @@ FlowError flowError(int preset, int downscale = 1, int width = 320, int height =
   PrecursorFlow flow({preset, downscale});
   const test::SyntheticFrame previous = scene.render(4, 3);
   const test::SyntheticFrame current = scene.render(5, 3);
-  const cv::Mat lambda = flow.compute(current.frame.color, previous.frame.color);
+  const cv::Mat lambda = flow.compute(current.frame.colour, previous.frame.colour);
   cv::Mat disc, background;
   cv::erode(current.disc_mask, disc, cv::Mat::ones(7, 7, CV_8UC1));
   cv::dilate(current.true_mask | previous.true_mask, background, cv::Mat::ones(9, 9, CV_8UC1));
@@ -68,7 +68,7 @@ TEST(PrecursorFlow, PresetsCompared) {
 TEST(PrecursorFlow, FirstFrameAndConfidence) {
   const test::SyntheticScene scene;
   PrecursorFlow flow;
-  const cv::Mat lambda = flow.compute(scene.render(0, 1).frame.color, cv::Mat());
+  const cv::Mat lambda = flow.compute(scene.render(0, 1).frame.colour, cv::Mat());
   EXPECT_EQ(cv::countNonZero(lambda.reshape(1)), 0);  // no previous frame: zero flow
   EXPECT_FLOAT_EQ(precursorConfidence({10, 20, 30}, {10, 20, 30}), 0.0f);
   EXPECT_FLOAT_EQ(precursorConfidence({0, 0, 0}, {255, 255, 255}), std::sqrt(3.0f) * 255.0f);

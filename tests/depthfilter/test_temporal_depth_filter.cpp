@@ -37,9 +37,9 @@ Metrics run(const test::SyntheticScene& scene, const FilterFn& filter, int skip,
   long temporal_n = 0, disc_n = 0, box_n = 0, filled = 0, foreground = 0;
   for (int t = 0; t < skip + frames; ++t) {
     const test::SyntheticFrame f = scene.render(t, 11);
-    const cv::Mat lambda = flow.compute(f.frame.color, previous_colour);
-    previous_colour = f.frame.color;
-    const cv::Mat out = filter({f.frame.color, f.frame.depth, f.true_mask, lambda});
+    const cv::Mat lambda = flow.compute(f.frame.colour, previous_colour);
+    previous_colour = f.frame.colour;
+    const cv::Mat out = filter({f.frame.colour, f.frame.depth, f.true_mask, lambda});
     if (t >= skip) {
       const cv::Mat box = eroded(f.box_mask, 2), disc = eroded(f.disc_mask, 2), fg = eroded(f.true_mask, 2);
       for (int y = 0; y < out.rows; ++y)
@@ -124,8 +124,8 @@ std::vector<double> boxErrorsCm(const std::function<float(int)>& box_z, int fram
     scene.box_z = box_z(t);
     const test::SyntheticFrame f = scene.render(t, 21);
     const cv::Mat out =
-        filter.apply({f.frame.color, f.frame.depth, f.true_mask, flow.compute(f.frame.color, previous)});
-    previous = f.frame.color;
+        filter.apply({f.frame.colour, f.frame.depth, f.true_mask, flow.compute(f.frame.colour, previous)});
+    previous = f.frame.colour;
     const cv::Mat box = eroded(f.box_mask, 3);
     cv::Mat valid = box & (out > 0.0f);
     errors.push_back(100.0 * (cv::mean(out, valid)[0] - double(scene.box_z)));
@@ -184,8 +184,8 @@ cv::Mat twoSurfaceHoles(const cv::Vec3b& left_colour, const cv::Vec3b& right_col
   const cv::Size size(64, 48);
   const cv::Mat mask(size, CV_8UC1, cv::Scalar(255));
   const cv::Mat flow = cv::Mat::zeros(size, CV_32FC2);
-  cv::Mat color(size, CV_8UC3, right_colour);
-  color(cv::Rect(0, 0, 32, 48)).setTo(left_colour);
+  cv::Mat colour(size, CV_8UC3, right_colour);
+  colour(cv::Rect(0, 0, 32, 48)).setTo(left_colour);
   cv::RNG rng(7);
   cv::Mat out;
   for (int t = 0; t < frames; ++t) {
@@ -196,7 +196,7 @@ cv::Mat twoSurfaceHoles(const cv::Vec3b& left_colour, const cv::Vec3b& right_col
     depth += noise;
     depth(cv::Rect(10, 10, 2, 2)).setTo(0.0f);
     if (t >= edge_hole_from) depth(cv::Rect(31, 20, 1, 4)).setTo(0.0f);
-    out = filter.apply({color, depth, mask, flow});
+    out = filter.apply({colour, depth, mask, flow});
   }
   EXPECT_FALSE(filter.learning());
   return out;
@@ -226,9 +226,9 @@ TEST(TemporalDepthFilter, LearningFramesPassTheMeasurementThrough) {
   for (int t = 0; t < 10; ++t) {
     EXPECT_TRUE(filter.learning());
     const test::SyntheticFrame f = scene.render(t, 31);
-    const DepthFilterInput in{f.frame.color, f.frame.depth, f.true_mask,
-                              flow.compute(f.frame.color, previous)};
-    previous = f.frame.color;
+    const DepthFilterInput in{f.frame.colour, f.frame.depth, f.true_mask,
+                              flow.compute(f.frame.colour, previous)};
+    previous = f.frame.colour;
     EXPECT_EQ(cv::norm(filter.apply(in), raw(in), cv::NORM_INF), 0.0);
   }
   EXPECT_FALSE(filter.learning());
@@ -262,9 +262,9 @@ TEST(TemporalDepthFilter, MaskBoxGivesTheWholeFrameOutput) {
       mask.setTo(0);
       mask.at<std::uint8_t>(91, 131) = 255;
     }
-    const cv::Mat lambda = flow.compute(f.frame.color, previous);
-    previous = f.frame.color;
-    const DepthFilterInput in{f.frame.color, f.frame.depth, mask, lambda};
+    const cv::Mat lambda = flow.compute(f.frame.colour, previous);
+    previous = f.frame.colour;
+    const DepthFilterInput in{f.frame.colour, f.frame.depth, mask, lambda};
     const cv::Mat a = boxed.apply(in), b = full.apply(in);
     ASSERT_EQ(boxed.learning(), full.learning()) << "frame " << t;
     ASSERT_EQ(cv::countNonZero(a), cv::countNonZero(b)) << "frame " << t;
@@ -293,10 +293,10 @@ TEST(TemporalDepthFilter, HardInputsStayFinite) {
     if (t == 17) f.frame.depth.setTo(nan);
     if (t == 18) f.frame.depth(cv::Rect(0, 0, 200, 100)).setTo(inf);
     if (t == 19) f.frame.depth(cv::Rect(0, 0, 200, 100)).setTo(-inf);
-    cv::Mat lambda = flow.compute(f.frame.color, previous);
+    cv::Mat lambda = flow.compute(f.frame.colour, previous);
     if (t == 20) lambda.setTo(cv::Scalar(nan, inf));  // broken flow
-    previous = f.frame.color;
-    const cv::Mat out = filter.apply({f.frame.color, f.frame.depth, mask, lambda});
+    previous = f.frame.colour;
+    const cv::Mat out = filter.apply({f.frame.colour, f.frame.depth, mask, lambda});
     ASSERT_TRUE(cv::checkRange(out)) << "frame " << t;
     double lo = 0, hi = 0;
     cv::minMaxLoc(out, &lo, &hi);

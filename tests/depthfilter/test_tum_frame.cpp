@@ -56,10 +56,10 @@ std::vector<Hole> punchableHoles(const cv::Mat& depth, const TemporalDepthFilter
 TEST(TemporalDepthFilterTum, FillsHolesInsideTheMaskAndKeepsValidDepth) {
   HOLO_REQUIRE_SHARED_DATA("rgbd/tum/depth.png");
   const auto dir = test::sharedData("rgbd/tum");
-  const cv::Mat color = cv::imread((dir / "color.png").string(), cv::IMREAD_COLOR);
+  const cv::Mat colour = cv::imread((dir / "color.png").string(), cv::IMREAD_COLOR);
   const cv::Mat raw = cv::imread((dir / "depth.png").string(), cv::IMREAD_UNCHANGED);
   ASSERT_EQ(raw.type(), CV_16UC1);
-  ASSERT_EQ(color.size(), raw.size());
+  ASSERT_EQ(colour.size(), raw.size());
   cv::Mat depth;
   raw.convertTo(depth, CV_32FC1, 1.0 / kTumDepthScale);
 
@@ -81,14 +81,14 @@ TEST(TemporalDepthFilterTum, FillsHolesInsideTheMaskAndKeepsValidDepth) {
   cv::Mat input, output;
   const int frames = config.learning_frames + 5;
   for (int t = 0; t < frames; ++t) {
-    cv::Mat noise(depth.size(), CV_32FC1), colour_noise(color.size(), CV_16SC3);
+    cv::Mat noise(depth.size(), CV_32FC1), colour_noise(colour.size(), CV_16SC3);
     rng.fill(noise, cv::RNG::NORMAL, 0.0, 0.002);
     rng.fill(colour_noise, cv::RNG::NORMAL, 0.0, 2.0);
     input = punched + noise;
     input.setTo(0.0f, punched == 0.0f);
-    cv::Mat noisy_color;
-    cv::add(color, colour_noise, noisy_color, cv::noArray(), CV_8UC3);
-    output = filter.apply({noisy_color, input, mask, flow});
+    cv::Mat noisy_colour;
+    cv::add(colour, colour_noise, noisy_colour, cv::noArray(), CV_8UC3);
+    output = filter.apply({noisy_colour, input, mask, flow});
   }
   ASSERT_FALSE(filter.learning());
 

@@ -22,7 +22,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     const cv::Mat out = holo::capture::isDepthFormat(format) || format == PixelFormat::Mono16
                             ? holo::capture::convertToDepth(format, raw, units_per_metre)
-                            : holo::capture::convertToColor(format, raw);
+                            : holo::capture::convertToColour(format, raw);
     if (out.cols != width || out.rows != height) __builtin_trap();
   } catch (const holo::Error&) {
   }

@@ -36,7 +36,7 @@ inline Model sphereModel(const reflect::SurfaceMaterial& m, float radius = 1.0f,
   Model model;
   model.meshes.push_back(mesh);
   Material mat;
-  mat.base_color = m.base_color;
+  mat.base_colour = m.base_colour;
   mat.metallic = m.metallic;
   mat.roughness = m.roughness;
   model.materials.push_back(mat);

@@ -37,7 +37,7 @@ SimulatedForeground simulateForeground(const sim::Museum& museum, int frame) {
     const sim::SimulatedFrame f = museum.renderCamera(c, frame);
     ForegroundCameraImage image;
     image.camera = museum.camera(c);
-    image.colour_bgr = srgb8ToLinear(f.frame.color) / exposure;
+    image.colour_bgr = srgb8ToLinear(f.frame.colour) / exposure;
     image.mask = f.foreground;
     for (int y = 0; y < f.foreground.rows; ++y)
       for (int x = 0; x < f.foreground.cols; ++x) {

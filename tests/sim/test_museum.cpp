@@ -27,7 +27,7 @@ TEST(Museum, SameDescriptionGivesBitIdenticalFrames) {
   const Museum a(small("museum")), b(small("museum"));
   for (int cam = 0; cam < 4; cam += 3) {
     const SimulatedFrame fa = a.renderCamera(cam, 7), fb = b.renderCamera(cam, 7);
-    EXPECT_TRUE(identical(fa.frame.color, fb.frame.color));
+    EXPECT_TRUE(identical(fa.frame.colour, fb.frame.colour));
     EXPECT_TRUE(identical(fa.frame.depth, fb.frame.depth));
     EXPECT_TRUE(identical(fa.true_depth, fb.true_depth));
     EXPECT_TRUE(identical(fa.foreground, fb.foreground));
@@ -42,7 +42,7 @@ TEST(Museum, OneThreadGivesTheSameFrames) {
   const cv::Mat pano = m.renderPanorama(64, 32);
   const tbb::global_control one_thread(tbb::global_control::max_allowed_parallelism, 1);
   const SimulatedFrame serial = m.renderCamera(1, 12);
-  EXPECT_TRUE(identical(parallel.frame.color, serial.frame.color));
+  EXPECT_TRUE(identical(parallel.frame.colour, serial.frame.colour));
   EXPECT_TRUE(identical(parallel.frame.depth, serial.frame.depth));
   EXPECT_TRUE(identical(pano, m.renderPanorama(64, 32)));
 }
@@ -168,7 +168,7 @@ TEST(Museum, EveryBuiltinSceneRenders) {
     EXPECT_NEAR(b.lo.y, 0.0f, 1e-4f);
     EXPECT_LE(b.hi.y, 0.2801f);
     const SimulatedFrame f = m.renderCamera(0, 0);
-    EXPECT_GT(cv::mean(f.frame.color)[0] + cv::mean(f.frame.color)[1] + cv::mean(f.frame.color)[2], 10.0);
+    EXPECT_GT(cv::mean(f.frame.colour)[0] + cv::mean(f.frame.colour)[1] + cv::mean(f.frame.colour)[2], 10.0);
   }
 }
 

@@ -87,11 +87,11 @@ TEST(SensorNoise, DepthEdgesDropAndFly) {
 
 TEST(SensorNoise, ColourNoiseHasTheConfiguredSigma) {
   SensorNoise noise;
-  noise.color_sigma = 3.0f;
+  noise.colour_sigma = 3.0f;
   const Truth t = flatWall(2.0f, 128);
   const SensorOutput out = applySensorNoise(noise, {}, t.depth, t.cosine, t.radiance, 3);
   cv::Scalar mean, sd;
-  cv::meanStdDev(out.color.reshape(1), mean, sd);
+  cv::meanStdDev(out.colour.reshape(1), mean, sd);
   EXPECT_NEAR(sd[0], 3.0, 0.3);                           // rounding to 8 bits adds ~0.29^2 in variance
   EXPECT_NEAR(mean[0], 255.0 * linearToSrgb(0.2f), 0.1);  // sRGB of the radiance, unbiased
   noise.enabled = false;
@@ -123,7 +123,7 @@ TEST(SensorNoise, SameSeedSameNoiseDifferentSeedDifferent) {
   const auto b = applySensorNoise(noise, {}, t.depth, t.cosine, t.radiance, 1);
   const auto c = applySensorNoise(noise, {}, t.depth, t.cosine, t.radiance, 2);
   EXPECT_EQ(cv::norm(a.depth, b.depth, cv::NORM_INF), 0.0);
-  EXPECT_EQ(cv::norm(a.color, b.color, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(a.colour, b.colour, cv::NORM_INF), 0.0);
   EXPECT_GT(cv::norm(a.depth, c.depth, cv::NORM_INF), 0.0);
 }
 

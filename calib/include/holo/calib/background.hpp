@@ -11,12 +11,12 @@
 namespace holo::calib {
 
 struct BackgroundModel {
-  cv::Mat color;          // CV_8UC3 BGR: per-pixel, per-channel median
+  cv::Mat colour;         // CV_8UC3 BGR: per-pixel, per-channel median
   cv::Mat depth;          // CV_32FC1 metres: median of the valid depths; 0 when fewer than half valid
   cv::Mat invalid_count;  // CV_16UC1: frames in which the pixel's depth was invalid
   int frames = 0;
   double invalid_fraction = 0.0;  // share of pixels whose background depth is 0 (invalid)
-  double color_mad = 0.0;         // mean over pixels of the grey level's median absolute deviation
+  double colour_mad = 0.0;        // mean over pixels of the grey level's median absolute deviation
   long long invalid_samples = 0;  // total invalid depth samples (frames x pixels)
 };
 

@@ -29,7 +29,7 @@ inline constexpr int kIntrinsicsMinViews = 8;
 inline constexpr double kExtrinsicsMaxRms = 1.0;
 inline constexpr int kExtrinsicsMinCorners = 12;
 inline constexpr double kBackgroundMaxInvalid = 0.2;
-inline constexpr double kBackgroundMaxColorMad = 6.0;
+inline constexpr double kBackgroundMaxColourMad = 6.0;
 inline constexpr double kPanoramaMinCorrelation = 0.5;
 inline constexpr double kDisplayMaxResidualPx = 2.0;
 
@@ -38,7 +38,7 @@ inline constexpr double kDisplayMaxResidualPx = 2.0;
 StepVerdict judgeIntrinsics(const std::string& step, double rms, int views, int offered,
                             double board_fraction);
 StepVerdict judgeExtrinsics(const std::string& step, double rms, int corners, double board_fraction);
-StepVerdict judgeBackground(const std::string& step, double invalid_fraction, double color_mad);
+StepVerdict judgeBackground(const std::string& step, double invalid_fraction, double colour_mad);
 StepVerdict judgePanorama(const std::string& step, double correlation);
 StepVerdict judgeDisplay(const std::string& step, double residual_px);
 

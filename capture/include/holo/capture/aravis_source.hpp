@@ -39,9 +39,9 @@ struct AravisStreamConfig {
 };
 
 struct AravisCameraConfig {
-  std::string name;          // for logs and statistics; defaults to the colour serial
-  AravisStreamConfig color;  // serial empty = no colour stream
-  AravisStreamConfig depth;  // serial empty = no depth stream
+  std::string name;           // for logs and statistics; defaults to the colour serial
+  AravisStreamConfig colour;  // serial empty = no colour stream
+  AravisStreamConfig depth;   // serial empty = no depth stream
 };
 
 struct AravisDevice;  // one opened GenICam device and its stream (aravis_source.cpp)
@@ -60,7 +60,7 @@ class AravisSource : public CameraSource {
 
  private:
   AravisCameraConfig config_;
-  std::unique_ptr<AravisDevice> color_;
+  std::unique_ptr<AravisDevice> colour_;
   std::unique_ptr<AravisDevice> depth_;
   std::uint64_t sequence_ = 0;
   std::int64_t resends_before_ = 0;  // resends of earlier connections

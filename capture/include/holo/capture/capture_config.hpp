@@ -9,11 +9,11 @@
 //     cameras:
 //       - face: 0                         # 0..3: the side facing +Z, +X, -Z, -X
 //         backend: aravis                 # aravis | v4l2 | recording
-//         color: {serial: "GV-0001", pixel_format: BayerRG8, width: 640, height: 360, frame_rate: 30}
+//         colour: {serial: "GV-0001", pixel_format: BayerRG8, width: 640, height: 360, frame_rate: 30}
 //         depth: {serial: "GV-0002", pixel_format: Coord3D_C16, depth_scale: 1000}
 //       - face: 1
 //         backend: v4l2
-//         color: {device: "serial:843112071234", pixel_format: YUYV, width: 640, height: 480}
+//         colour: {device: "serial:843112071234", pixel_format: YUYV, width: 640, height: 480}
 //         depth: {device: "serial:843112071234-depth", pixel_format: Z16, depth_scale: 1000}
 //       - face: 2
 //         backend: recording
@@ -26,7 +26,7 @@
 //         paced: true                     # frames at the scene's fps (default)
 //
 // depth_scale is in raw units per metre (1000 = millimetres). Every error is a holo::InputError
-// naming the file and the dotted field ("capture.cameras[1].color.pixel_format"). Parsing opens
+// naming the file and the dotted field ("capture.cameras[1].colour.pixel_format"). Parsing opens
 // nothing; makeSources() builds the sources (and loads simulated scenes).
 #pragma once
 

@@ -44,7 +44,7 @@ class Recorder {
  private:
   struct Entry {
     double t;
-    std::string color;  // relative to the camera folder, "" when none
+    std::string colour;  // relative to the camera folder, "" when none
     std::string depth;
   };
   void writeIndices() const;

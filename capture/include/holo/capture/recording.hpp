@@ -11,7 +11,7 @@
 // readRecording() also reads
 //   * a plain TUM sequence folder (rgb.txt + depth.txt, associations.txt optional; depth scale
 //     5000 as TUM publishes), and
-//   * a single-frame folder (color.png or rgb.png + depth.png, depth scale 5000, intrinsics from an
+//   * a single-frame folder (colour.png or rgb.png + depth.png, depth scale 5000, intrinsics from an
 //     Open3D-style *.json with width, height and a column-major intrinsic_matrix), such as
 //     ../shared/data/rgbd/tum.
 #pragma once
@@ -32,9 +32,9 @@ inline constexpr double kDefaultDepthScale = 1000.0;  // ours: millimetres, up t
 inline constexpr const char* kRecordingFile = "recording.yaml";
 
 struct RecordedFrame {
-  double timestamp_s = 0;       // seconds, source-defined epoch
-  std::filesystem::path color;  // absolute; empty when the frame has no colour
-  std::filesystem::path depth;  // absolute; empty when the frame has no depth
+  double timestamp_s = 0;        // seconds, source-defined epoch
+  std::filesystem::path colour;  // absolute; empty when the frame has no colour
+  std::filesystem::path depth;   // absolute; empty when the frame has no depth
 };
 
 struct RecordedCamera {

@@ -35,9 +35,9 @@ struct V4l2StreamConfig {
 };
 
 struct V4l2CameraConfig {
-  std::string name;        // for logs and statistics; defaults to "v4l2:<colour device>"
-  V4l2StreamConfig color;  // device empty = no colour stream
-  V4l2StreamConfig depth;  // device empty = no depth stream
+  std::string name;         // for logs and statistics; defaults to "v4l2:<colour device>"
+  V4l2StreamConfig colour;  // device empty = no colour stream
+  V4l2StreamConfig depth;   // device empty = no depth stream
 };
 
 // One capture node found under /dev.
@@ -80,7 +80,7 @@ class V4l2Source : public CameraSource {
  private:
   V4l2CameraConfig config_;
   std::filesystem::path dev_dir_;
-  std::unique_ptr<V4l2Stream> color_;
+  std::unique_ptr<V4l2Stream> colour_;
   std::unique_ptr<V4l2Stream> depth_;
   std::uint64_t sequence_ = 0;
 };

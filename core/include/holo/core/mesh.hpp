@@ -35,12 +35,12 @@ enum class AlphaMode { Opaque, Mask, Blend };
 // textures marked sRGB are decoded to linear before multiplying.
 struct Material {
   std::string name;
-  vec3 base_color{0.8f};   // baseColorFactor RGB; base_color_texture is sRGB (alpha in A)
+  vec3 base_colour{0.8f};  // baseColorFactor RGB; base_color_texture is sRGB (alpha in A)
   float alpha = 1.0f;      // baseColorFactor A, [0,1]; times the base colour texture's alpha
   float metallic = 0.0f;   // [0,1]; metallic_roughness_texture B
   float roughness = 1.0f;  // [0,1] perceptual; GGX alpha = roughness^2; 0 = mirror; texture G
   vec3 emission{0.0f};     // linear radiance emitted: emissiveFactor x emissive_strength (>= 0)
-  TextureRef base_color_texture;
+  TextureRef base_colour_texture;
   TextureRef metallic_roughness_texture;  // linear: G roughness, B metallic
   TextureRef emissive_texture;            // sRGB, multiplies `emission`
 
@@ -55,10 +55,10 @@ struct Material {
 
   // KHR_materials_specular: dielectric F0 = ((ior-1)/(ior+1))^2 x specular_color, weighted by
   // specular.
-  float specular = 1.0f;      // [0,1]; specular_texture A
-  vec3 specular_color{1.0f};  // >= 0 (may exceed 1); specular_color_texture sRGB
+  float specular = 1.0f;       // [0,1]; specular_texture A
+  vec3 specular_colour{1.0f};  // >= 0 (may exceed 1); specular_color_texture sRGB
   TextureRef specular_texture;
-  TextureRef specular_color_texture;
+  TextureRef specular_colour_texture;
 
   // KHR_materials_clearcoat: a smooth dielectric layer (IOR 1.5) over the base.
   float clearcoat = 0.0f;            // [0,1] layer weight; clearcoat_texture R
@@ -75,7 +75,7 @@ struct Material {
   // KHR_materials_volume: thickness 0 means thin-walled (light passes straight through).
   float thickness = 0.0f;  // metres in the mesh's own frame, >= 0; thickness_texture G
   TextureRef thickness_texture;
-  vec3 attenuation_color{1.0f};  // [0,1] colour white light has after attenuation_distance
+  vec3 attenuation_colour{1.0f};  // [0,1] colour white light has after attenuation_distance
   float attenuation_distance = std::numeric_limits<float>::infinity();  // metres, > 0; inf: clear
 
   float ior = 1.5f;  // KHR_materials_ior, >= 1

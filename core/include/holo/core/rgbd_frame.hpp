@@ -14,14 +14,14 @@ using Clock = std::chrono::steady_clock;
 using Nanoseconds = std::chrono::nanoseconds;
 
 struct RgbdFrame {
-  cv::Mat color;                // CV_8UC3, BGR, sRGB
+  cv::Mat colour;               // CV_8UC3, BGR, sRGB
   cv::Mat depth;                // CV_32FC1, metres, 0 = invalid
   int camera_id = -1;           // index of the camera in the configuration (0..3 = faces)
   std::uint64_t sequence = 0;   // per-camera frame counter from the source, starts at 0
   Nanoseconds device_time{0};   // timestamp from the device (or the recording), source-defined epoch
   Clock::time_point host_time;  // when the frame reached the host
 
-  bool empty() const { return color.empty() && depth.empty(); }
+  bool empty() const { return colour.empty() && depth.empty(); }
   // Throws holo::Error describing the first violated invariant (types, sizes, camera id).
   void validate() const;
 };

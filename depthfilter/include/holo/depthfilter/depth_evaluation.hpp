@@ -186,7 +186,7 @@ class DepthFilterEvaluation {
   TemporalMedianDepthFilter median_;
   TaaDepthFilter taa_;
   HoleLeavingAdversary adversary_;
-  cv::Mat previous_color_;
+  cv::Mat previous_colour_;
   cv::Mat last_mask_;
   std::array<MethodState, kDepthMethods.size()> methods_;
   MethodState truth_;

@@ -85,7 +85,7 @@ struct TemporalDepthFilterConfig {
 // Inputs of one frame of one camera. Colour CV_8UC3 BGR, depth CV_32FC1 metres (0/NaN/Inf =
 // invalid), mask CV_8UC1 (non-zero = foreground), flow CV_32FC2 current -> previous.
 struct DepthFilterInput {
-  cv::Mat color;
+  cv::Mat colour;
   cv::Mat depth;
   cv::Mat mask;
   cv::Mat flow;
@@ -115,7 +115,7 @@ class TemporalDepthFilter {
   EmpiricalCdf pdf_alpha_;
   EmpiricalCdf pdf_depth_diff_;
   std::int64_t frame_ = 0;  // frames seen, i - 1
-  cv::Mat previous_color_;
+  cv::Mat previous_colour_;
   cv::Mat previous_depth_;  // filtered output of the previous frame
   cv::Mat previous_mask_;
   cv::Mat previous_age_;  // CV_8UC1 frames since each previous output depth was measured, 255 = none

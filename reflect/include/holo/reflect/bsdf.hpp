@@ -21,7 +21,7 @@ inline constexpr float kDeltaRoughness = 0.01f;  // perceptual roughness; alpha 
 inline constexpr float kDielectricF0 = 0.04f;    // glTF default (IOR 1.5)
 
 struct SurfaceMaterial {
-  vec3 base_color{0.8f};   // linear RGB albedo (dielectric) or F0 (metal), [0,1]
+  vec3 base_colour{0.8f};  // linear RGB albedo (dielectric) or F0 (metal), [0,1]
   float metallic = 0.0f;   // [0,1]
   float roughness = 1.0f;  // [0,1] perceptual; GGX alpha = roughness^2
   float specular = 1.0f;   // [0,1] dielectric Fresnel scale (KHR_materials_specular)

@@ -49,7 +49,7 @@ struct SensorNoise {
   float edge_dropout = 0.5f;          // probability of dropping a pixel on a depth edge
   float flying_pixel = 0.3f;          // probability an edge pixel takes a mixed depth
   float random_dropout = 0.01f;       // probability any pixel has no depth
-  float color_sigma = 2.0f;           // colour noise, 8-bit steps
+  float colour_sigma = 2.0f;          // colour noise, 8-bit steps
   bool enabled = true;
 
   // The structured-light and stereo profiles only (the uniform profile ignores these).

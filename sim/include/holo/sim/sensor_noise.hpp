@@ -43,8 +43,8 @@ float depthSigma(const SensorNoise& noise, float z);
 bool isDepthEdge(const cv::Mat& true_depth, int x, int y);
 
 struct SensorOutput {
-  cv::Mat depth;  // CV_32FC1 metres, 0 = invalid
-  cv::Mat color;  // CV_8UC3 BGR sRGB
+  cv::Mat depth;   // CV_32FC1 metres, 0 = invalid
+  cv::Mat colour;  // CV_8UC3 BGR sRGB
 };
 
 // Applies the sensor model. true_depth: CV_32FC1 (0 = nothing in range); cos_incidence: CV_32FC1

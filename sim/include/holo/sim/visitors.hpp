@@ -29,7 +29,7 @@ struct VisitorPlan {
   float height = 1.75f;  // metres, feet to the top of the head
   vec3 skin{0.6f}, shirt{0.5f}, trousers{0.1f};
   Carried carried = Carried::nothing;
-  vec3 carried_color{0.0f};
+  vec3 carried_colour{0.0f};
   // A close visitor (planCloseVisitors) stands facing the pyramid's axis instead of walking: the
   // legs stay still, the azimuth shuffles by +-drift radians around start_angle (angular_speed
   // 0), and the free arm is raised forward by `reach` radians (0: it swings as usual).
