@@ -126,16 +126,8 @@ AccuracySweep sweepAccuracy(const AccuracyOptions& o) {
     progress.update();
   }
   {  // path tracing of the voxels plus panorama: one progressive render, the sampling time per spp
-    reflect::VoxelGrid grid;
-    grid.build(scene.foreground);
-    std::vector<Model> emitters;
-    if (!grid.empty()) emitters.push_back(reflect::voxelEmitters(grid));
-    const reflect::RenderScene rs(scene.relic, emitters);
-    const reflect::Environment env(scene.panorama);
-    reflect::PathTracerOptions po;
-    po.seed = 7;
-    const reflect::PathTracer tracer(rs, env, po);
-    reflect::ProgressiveRender render(tracer, camera);
+    const ReconstructedScene reconstruction(scene, reflect::VoxelGridSettings{}, true, 7);
+    reflect::ProgressiveRender render(reconstruction.tracer, camera);
     double sampling_ms = 0;
     for (int spp = 1; spp <= o.max_spp; spp *= 2) {
       const Stopwatch pass;

@@ -22,6 +22,31 @@ std::shared_ptr<const reflect::PrefilteredIbl> staticIbl(const ReflectionScene& 
   return std::make_shared<const reflect::PrefilteredIbl>(env, po);
 }
 
+namespace {
+
+std::vector<Model> voxelEmittersOf(const ReflectionScene& scene, const reflect::VoxelGridSettings& settings,
+                                   bool with_visitors) {
+  reflect::VoxelGrid grid(settings);
+  if (with_visitors) grid.build(scene.foreground);
+  std::vector<Model> emitters;
+  if (!grid.empty()) emitters.push_back(reflect::voxelEmitters(grid));
+  return emitters;
+}
+
+reflect::PathTracerOptions seeded(std::uint64_t seed) {
+  reflect::PathTracerOptions options;
+  options.seed = seed;
+  return options;
+}
+
+}  // namespace
+
+ReconstructedScene::ReconstructedScene(const ReflectionScene& scene, const reflect::VoxelGridSettings& grid,
+                                       bool with_visitors, std::uint64_t seed)
+    : render_scene(scene.relic, voxelEmittersOf(scene, grid, with_visitors)),
+      environment(scene.panorama),
+      tracer(render_scene, environment, seeded(seed)) {}
+
 MethodResult renderMethod(const std::string& method, const ReflectionScene& scene, const CameraModel& camera,
                           const MethodSettings& settings, bool quiet) {
   MethodResult r;
@@ -99,17 +124,11 @@ MethodResult renderMethod(const std::string& method, const ReflectionScene& scen
     }
     return r;
   } else if (method == "mcpt") {
-    reflect::VoxelGrid grid;
-    if (settings.with_visitors) grid.build(scene.foreground);
-    std::vector<Model> emitters;
-    if (!grid.empty()) emitters.push_back(reflect::voxelEmitters(grid));
-    const reflect::RenderScene rs(scene.relic, emitters);
-    const reflect::Environment env(scene.panorama);
-    reflect::PathTracerOptions options;
-    options.seed = settings.seed;
-    const reflect::PathTracer tracer(rs, env, options);
+    const ReconstructedScene reconstruction(scene, reflect::VoxelGridSettings{}, settings.with_visitors,
+                                            settings.seed);
     r.build_ms = total.ms();
-    r.image = reflect::renderPathTraced(tracer, camera, std::max(1, settings.spp), nullptr, quiet);
+    r.image =
+        reflect::renderPathTraced(reconstruction.tracer, camera, std::max(1, settings.spp), nullptr, quiet);
   } else {
     std::string names;
     for (const auto& m : reflectionMethods()) names += (names.empty() ? "" : ", ") + m;

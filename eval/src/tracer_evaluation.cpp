@@ -156,15 +156,8 @@ SceneResult evaluateTracerScene(const std::string& hall, const std::string& reli
 
   // The reconstructed scene for MCPT: the voxel grid ours walks, as emitting cubes.
   const Stopwatch build_time;
-  reflect::VoxelGrid grid(o.tracer.grid);
-  grid.build(scene.foreground);
-  std::vector<Model> emitters;
-  if (!grid.empty()) emitters.push_back(reflect::voxelEmitters(grid));
-  const reflect::RenderScene rs(scene.relic, emitters);
-  const reflect::Environment env(scene.panorama);
-  reflect::PathTracerOptions po;
-  po.seed = 7;  // independent of the ground truth's samples
-  const reflect::PathTracer tracer(rs, env, po);
+  const ReconstructedScene reconstruction(scene, o.tracer.grid, true, 7);  // seed independent of the truth's
+  const reflect::PathTracer& tracer = reconstruction.tracer;
   const double build_ms = build_time.ms();
 
   res.mcpt_build_ms = build_ms;

@@ -82,6 +82,17 @@ std::uint8_t toByte(float v) {
   return static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
 }
 
+// The camera's 8-bit sRGB reading of `radiance`, with read noise of `sigma` codes drawn from `rng`
+// when `noisy` (no draw otherwise, so the pixel's later draws stay where they were).
+cv::Vec3b colourReading(const cv::Vec3f& radiance, float exposure, bool noisy, float sigma, PixelRng& rng) {
+  cv::Vec3b bgr;
+  for (int c = 0; c < 3; ++c) {
+    const float encoded = 255.0f * linearToSrgb(std::max(0.0f, exposure * radiance[c]));
+    bgr[c] = toByte(noisy ? encoded + sigma * rng.normal() : encoded);
+  }
+  return bgr;
+}
+
 }  // namespace
 
 namespace {
@@ -195,11 +206,7 @@ SensorOutput applyProfiledSensor(const SensorNoise& noise, const CameraSettings&
     for (int x = 0; x < true_depth.cols; ++x) {
       PixelRng rng(seed, 0x5e4502ull, x, y);
       const cv::Vec3f& rad = radiance.at<cv::Vec3f>(y, x);
-      cv::Vec3b& bgr = out.colour.at<cv::Vec3b>(y, x);
-      for (int c = 0; c < 3; ++c) {
-        const float encoded = 255.0f * linearToSrgb(std::max(0.0f, camera.exposure * rad[c]));
-        bgr[c] = toByte(encoded + noise.colour_sigma * rng.normal());
-      }
+      out.colour.at<cv::Vec3b>(y, x) = colourReading(rad, camera.exposure, true, noise.colour_sigma, rng);
       const float z = true_depth.at<float>(y, x);
       if (!(z > 0.0f) || !std::isfinite(z) || shadow.at<std::uint8_t>(y, x)) continue;
       const float cosine = cos_incidence.at<float>(y, x);
@@ -311,12 +318,8 @@ SensorOutput applySensorNoise(const SensorNoise& noise, const CameraSettings& ca
   tbb::parallel_for(0, true_depth.rows, [&](int y) {
     for (int x = 0; x < true_depth.cols; ++x) {
       PixelRng rng(seed, 0x5e4502ull, x, y);
-      const cv::Vec3f& rad = radiance.at<cv::Vec3f>(y, x);
-      cv::Vec3b& bgr = out.colour.at<cv::Vec3b>(y, x);
-      for (int c = 0; c < 3; ++c) {
-        const float encoded = 255.0f * linearToSrgb(std::max(0.0f, camera.exposure * rad[c]));
-        bgr[c] = toByte(noise.enabled ? encoded + noise.colour_sigma * rng.normal() : encoded);
-      }
+      out.colour.at<cv::Vec3b>(y, x) = colourReading(radiance.at<cv::Vec3f>(y, x), camera.exposure,
+                                                     noise.enabled, noise.colour_sigma, rng);
       const float z = true_depth.at<float>(y, x);
       if (!noise.enabled) {
         out.depth.at<float>(y, x) = z;

@@ -89,4 +89,13 @@ inline RedWall redWall(float x0 = -0.4f, float y0 = -0.1f, int columns = 81, int
   return wall;
 }
 
+// Tracer settings whose voxel grid covers the test scenes' 2 x 1.5 x 2 m around the origin with
+// 2 cm voxels (bricks of 4 voxels: 8 cm).
+inline reflect::TracerSettings smallGrid() {
+  reflect::TracerSettings s;
+  s.grid.bounds = {vec3(-1.0f, 0.0f, -1.0f), vec3(1.0f, 1.5f, 1.0f)};
+  s.grid.voxel_size = 0.02f;
+  return s;
+}
+
 }  // namespace holo::test

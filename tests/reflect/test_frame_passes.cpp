@@ -17,13 +17,6 @@ namespace {
 using depthfilter::ForegroundCloud;
 using depthfilter::ForegroundPoint;
 
-TracerSettings smallGrid() {
-  TracerSettings s;
-  s.grid.bounds = {vec3(-1.0f, 0.0f, -1.0f), vec3(1.0f, 1.5f, 1.0f)};
-  s.grid.voxel_size = 0.02f;  // bricks of 4 voxels: 8 cm
-  return s;
-}
-
 // A metal sphere (F0 0.9) of radius 0.15 at (0, 0.3, 0) under a uniform sky of 0.5, seen from +z.
 struct MirrorSphere {
   explicit MirrorSphere(float roughness = 0.0f)
@@ -57,7 +50,7 @@ StaticResult shadeStatic(const RenderScene& scene, const PrefilteredIbl& ibl, co
 
 TEST(StaticShadingPass, MirrorSphereShowsTheSkyTimesItsReflectance) {
   const MirrorSphere m;
-  const StaticResult r = shadeStatic(m.scene, m.ibl, smallGrid(), m.hits, m.view);
+  const StaticResult r = shadeStatic(m.scene, m.ibl, test::smallGrid(), m.hits, m.view);
   // The centre: the sky (0.5) times the metal's F0 (0.9); off the sphere: black, no coverage.
   EXPECT_NEAR(rgbAt(r.hdr, 24, 24).g, 0.45f, 0.02f);
   EXPECT_FLOAT_EQ(r.coverage.at<float>(24, 24), 1.0f);
@@ -85,7 +78,7 @@ TEST(StaticShadingPass, InterreflectionStartsTheWalkOnTheSecondPoint) {
   const CameraModel view = lookAtCamera(vec3(0.0f, 0.3f, 1.5f), vec3(0.0f, 0.3f, 0.0f), 30.0f, 64, 64);
   HitPointBuffer hits;
   traceHitPoints(scene, view, AntiAliasing::None, hits);
-  TracerSettings on = smallGrid(), off = smallGrid();
+  TracerSettings on = test::smallGrid(), off = test::smallGrid();
   off.relic_interreflection = false;
   const StaticResult with = shadeStatic(scene, ibl, on, hits, view);
   const StaticResult without = shadeStatic(scene, ibl, off, hits, view);
@@ -107,7 +100,7 @@ TEST(StaticShadingPass, InterreflectionStartsTheWalkOnTheSecondPoint) {
 }
 
 TEST(NearMissMarch, FindsTheFirstPointWithinTheRadiusOfAnOccupiedBrick) {
-  const TracerSettings s = smallGrid();
+  const TracerSettings s = test::smallGrid();
   VoxelGrid grid(s.grid);
   ForegroundCloud cloud;
   ForegroundPoint p;
@@ -155,7 +148,7 @@ TEST(CameraChoice, TakesTheCameraLookingMostAlongTheRayThatSeesThePoint) {
 
 TEST(ForegroundWalkPass, MirrorRaysMeetTheWallInItsColour) {
   const MirrorSphere m;
-  const TracerSettings s = smallGrid();
+  const TracerSettings s = test::smallGrid();
   const test::RedWall wall = test::redWall();
   VoxelGrid grid(s.grid);
   grid.build(wall.cloud);
@@ -187,7 +180,7 @@ TEST(ForegroundWalkPass, MirrorRaysMeetTheWallInItsColour) {
 
 TEST(CompositionPass, ComposesOnlyWhereTheForegroundReachedAndTonemapsThose) {
   const MirrorSphere m;
-  const StaticResult st = shadeStatic(m.scene, m.ibl, smallGrid(), m.hits, m.view);
+  const StaticResult st = shadeStatic(m.scene, m.ibl, test::smallGrid(), m.hits, m.view);
   std::vector<ForegroundSample> fg(m.hits.hits.size());
   const std::size_t lit = 24 * 48 + 24;
   fg[lit] = {vec3(2.0f, 0.0f, 0.0f), 1.0f};

@@ -106,13 +106,6 @@ struct MirrorScene {
   CameraModel view;
 };
 
-TracerSettings smallGridSettings() {
-  TracerSettings s;
-  s.grid.bounds = {vec3(-1.0f, 0.0f, -1.0f), vec3(1.0f, 1.5f, 1.0f)};
-  s.grid.voxel_size = 0.02f;
-  return s;
-}
-
 void expectFiniteAndBounded(const ViewImages& v) {
   for (int y = 0; y < v.hdr.rows; ++y)
     for (int x = 0; x < v.hdr.cols; ++x) {
@@ -129,7 +122,7 @@ void expectFiniteAndBounded(const ViewImages& v) {
 
 TEST(FrameRenderer, MirrorShowsTheVisitorWhereTheReflectionMeetsIt) {
   MirrorScene m(0.0f);
-  FrameRenderer renderer(m.scene, m.ibl, smallGridSettings());
+  FrameRenderer renderer(m.scene, m.ibl, test::smallGrid());
   const FrameResult with = renderer.render(m.wall, {m.camera}, {m.view});
   ASSERT_TRUE(with.plan.has(Pass::ForegroundWalk)) << with.plan.describe();
   const ViewImages& v = with.views.at(0);
@@ -169,7 +162,7 @@ TEST(FrameRenderer, MirrorShowsTheVisitorWhereTheReflectionMeetsIt) {
 TEST(FrameRenderer, StaysFiniteInHardCases) {
   for (float roughness : {0.0f, 0.5f, 1.0f}) {
     MirrorScene m(roughness);
-    TracerSettings s = smallGridSettings();
+    TracerSettings s = test::smallGrid();
     s.aa_samples = 1;
     FrameRenderer renderer(m.scene, m.ibl, s);
     // A visitor touching the pyramid (points on the relic's surface), points outside the grid,
@@ -200,9 +193,9 @@ TEST(FrameRenderer, StaysFiniteInHardCases) {
 
 TEST(FrameRenderer, EdgeWalkMatchesAWalkPerSubSample) {
   MirrorScene m(0.0f);
-  TracerSettings every = smallGridSettings();
+  TracerSettings every = test::smallGrid();
   every.walk_edges_only = false;
-  TracerSettings edges = smallGridSettings();  // aa 4, edges only: the default
+  TracerSettings edges = test::smallGrid();  // aa 4, edges only: the default
   FrameRenderer a(m.scene, m.ibl, every), b(m.scene, m.ibl, edges);
   const ViewImages va = a.render(m.wall, {m.camera}, {m.view}).views.at(0);
   const ViewImages vb = b.render(m.wall, {m.camera}, {m.view}).views.at(0);
@@ -218,7 +211,7 @@ TEST(FrameRenderer, EdgeWalkMatchesAWalkPerSubSample) {
 
 TEST(FrameRenderer, TheRoughestMaterialsReadTheVisitorsPrefilteredAroundTheRelic) {
   MirrorScene m(0.6f);
-  TracerSettings map = smallGridSettings();
+  TracerSettings map = test::smallGrid();
   map.aa_samples = 1;
   TracerSettings walk = map;
   walk.foreground_map_roughness = 2.0f;
@@ -252,7 +245,7 @@ TEST(FrameRenderer, RoughLobesThatMissTheVoxelsStillReadTheirHalo) {
     // The camera's mask covers the wall only, so a blurred read beside it is partial.
     m.camera.mask = cv::Mat(64, 64, CV_32FC1, cv::Scalar(0));
     for (const auto& p : m.wall.points) m.camera.mask.at<float>(p.y, p.x) = 1.0f;
-    TracerSettings on = smallGridSettings();
+    TracerSettings on = test::smallGrid();
     on.aa_samples = 1;
     on.foreground_map_roughness = 2.0f;  // the walk for every roughness
     TracerSettings off = on;

@@ -18,13 +18,6 @@ namespace {
 using depthfilter::ForegroundCloud;
 using depthfilter::ForegroundPoint;
 
-TracerSettings smallGrid() {
-  TracerSettings s;
-  s.grid.bounds = {vec3(-1.0f, 0.0f, -1.0f), vec3(1.0f, 1.5f, 1.0f)};
-  s.grid.voxel_size = 0.02f;
-  return s;
-}
-
 // Two metal spheres side by side, seen from +z: the left one bright (F0 0.9), the right one dark
 // (F0 0.2), under a uniform sky. The left sphere's right limb mirrors the dark sphere.
 struct TwoSpheres {
@@ -48,7 +41,7 @@ struct TwoSpheres {
 
 TEST(FrameRenderer, InterreflectionShowsWhatTheRelicMirrors) {
   TwoSpheres t;
-  TracerSettings on = smallGrid(), off = smallGrid();
+  TracerSettings on = test::smallGrid(), off = test::smallGrid();
   off.relic_interreflection = false;
   FrameRenderer a(t.scene, t.ibl, on), b(t.scene, t.ibl, off);
   const ViewImages with = a.render(ForegroundCloud{}, {}, {t.view}).views.at(0);
@@ -95,7 +88,7 @@ TEST(FrameRenderer, RoughInterreflectionFollowsThePathTracedLobe) {
   const PathTracer tracer(t.scene, t.sky);
   const cv::Mat truth = renderPathTraced(tracer, t.view, 256);
   const auto error = [&](int grid, bool interleaved, int aa_samples = 4) {
-    TracerSettings s = smallGrid();
+    TracerSettings s = test::smallGrid();
     s.aa_samples = aa_samples;
     s.rough_interreflection_grid = grid;
     s.rough_interreflection_interleaved = interleaved;

@@ -17,8 +17,11 @@
 
 #include "holo/core/camera_model.hpp"
 #include "holo/eval/reflection_scene.hpp"
+#include "holo/reflect/environment.hpp"
 #include "holo/reflect/frame_renderer.hpp"
+#include "holo/reflect/path_tracer.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
+#include "holo/reflect/render_scene.hpp"
 
 namespace holo::eval {
 
@@ -26,6 +29,20 @@ inline const std::vector<std::string>& reflectionMethods() {
   static const std::vector<std::string> methods = {"gt", "ibl", "ibl-baseline", "ours", "ssrt", "mcpt"};
   return methods;
 }
+
+// What `mcpt` path-traces: the relic, the voxel grid ours walks (built from the scene's
+// foreground with `grid`, left empty without visitors) as emitting cubes, and the panorama beyond.
+// Constructed in place: the tracer refers to the scene and environment it holds.
+struct ReconstructedScene {
+  ReconstructedScene(const ReflectionScene& scene, const reflect::VoxelGridSettings& grid, bool with_visitors,
+                     std::uint64_t seed);
+  ReconstructedScene(const ReconstructedScene&) = delete;
+  ReconstructedScene& operator=(const ReconstructedScene&) = delete;
+
+  reflect::RenderScene render_scene;
+  reflect::Environment environment;
+  reflect::PathTracer tracer;
+};
 
 struct MethodSettings {
   int spp = 256;               // gt, mcpt: samples per pixel; ssrt: reflected rays per hit point
