@@ -967,8 +967,12 @@ GltfInventory inspectGltf(const fs::path& path) {
       {"clearcoatNormalTexture", &Material::clearcoat_normal_texture},
       {"transmissionTexture", &Material::transmission_texture},
       {"thicknessTexture", &Material::thickness_texture}};
-  for (const auto& [name, member] : slots)
-    count(out.texture_slots, name, slotSupport(name), [&](const Material& m) { return (m.*member).used(); });
+  for (const auto& slot : slots) {
+    // Not a structured binding: clang 14 (the fuzz build) cannot capture one in a lambda.
+    const auto member = slot.second;
+    count(out.texture_slots, slot.first, slotSupport(slot.first),
+          [&](const Material& m) { return (m.*member).used(); });
+  }
   const auto anySlot = [&](const Material& m, const std::function<bool(const TextureRef&)>& test) {
     for (const auto& slot : slots)
       if (test(m.*(slot.second))) return true;
