@@ -86,7 +86,12 @@ std::size_t ConfigNode::size() const {
 std::vector<std::string> ConfigNode::keys() const {
   std::vector<std::string> out;
   if (node_.IsMap())
-    for (const auto& kv : node_) out.push_back(kv.first.as<std::string>());
+    for (const auto& kv : node_) {
+      // YAML allows any node as a key ("? [a, b]: x"); a configuration's keys are names.
+      if (!kv.first.IsScalar())
+        fail("a map whose keys are names", "a key that is a " + describeNode(kv.first));
+      out.push_back(kv.first.Scalar());
+    }
   return out;
 }
 
