@@ -5,10 +5,12 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <ctime>
 #include <opencv2/core.hpp>
 
 #include "holo/core/error.hpp"
+#include "holo/core/files.hpp"
 
 namespace holo::calib {
 
@@ -49,6 +51,15 @@ void syncPath(const fs::path& path, int flags) {
 
 cv::FileStorage openForReading(const fs::path& path) {
   if (!fs::exists(path)) throw InputError(path.string(), "", "an existing calibration file", "no such file");
+  // A calibration file is a few kilobytes of text. OpenCV's parser loops without end on some
+  // files with NUL bytes (fuzz_config found one), so those and oversized files never reach it.
+  constexpr std::uintmax_t kMaxCalibrationBytes = 1 << 20;
+  if (fs::file_size(path) > kMaxCalibrationBytes)
+    throw InputError(path.string(), "", "a calibration file of at most 1 MiB",
+                     std::to_string(fs::file_size(path)) + " bytes");
+  const std::string text = readFile(path);
+  if (const auto nul = text.find('\0'); nul != std::string::npos)
+    throw InputError(path.string(), "", "a text file", "a NUL byte at offset " + std::to_string(nul));
   try {
     cv::FileStorage fs(path.string(), cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML);
     if (!fs.isOpened()) throw InputError(path.string(), "", "an OpenCV FileStorage YAML file", "cannot open");
