@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <yaml-cpp/yaml.h>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -49,10 +50,14 @@ void syncPath(const fs::path& path, int flags) {
   }
 }
 
-cv::FileStorage openForReading(const fs::path& path) {
+// The calibration files are read with yaml-cpp, not with OpenCV's FileStorage parser: that
+// parser loops without end on some malformed files (fuzz_config found "%YAML:1.\n   - 0\n0\n"
+// and files with a NUL byte), and a kiosk that reads a corrupt calibration at boot must fail with
+// an error, not hang. yaml-cpp ignores OpenCV's non-standard "%YAML:1.0" directive, caps nesting
+// depth, and reads the "!!opencv-matrix" maps as plain maps.
+YAML::Node parseForReading(const fs::path& path) {
   if (!fs::exists(path)) throw InputError(path.string(), "", "an existing calibration file", "no such file");
-  // A calibration file is a few kilobytes of text. OpenCV's parser loops without end on some
-  // files with NUL bytes (fuzz_config found one), so those and oversized files never reach it.
+  // A calibration file is a few kilobytes of text.
   constexpr std::uintmax_t kMaxCalibrationBytes = 1 << 20;
   if (fs::file_size(path) > kMaxCalibrationBytes)
     throw InputError(path.string(), "", "a calibration file of at most 1 MiB",
@@ -60,93 +65,80 @@ cv::FileStorage openForReading(const fs::path& path) {
   const std::string text = readFile(path);
   if (const auto nul = text.find('\0'); nul != std::string::npos)
     throw InputError(path.string(), "", "a text file", "a NUL byte at offset " + std::to_string(nul));
+  YAML::Node root;
   try {
-    cv::FileStorage fs(path.string(), cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML);
-    if (!fs.isOpened()) throw InputError(path.string(), "", "an OpenCV FileStorage YAML file", "cannot open");
-    return fs;
-  } catch (const InputError&) {
-    throw;
-  } catch (const cv::Exception& e) {
-    throw InputError(path.string(), "", "an OpenCV FileStorage YAML file", "unparsable (" + e.msg + ")");
-  } catch (const std::exception& e) {
-    // OpenCV's parser also lets standard exceptions out (std::length_error on a fuzzed file).
-    throw InputError(path.string(), "", "an OpenCV FileStorage YAML file",
-                     std::string("unparsable (") + e.what() + ")");
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(path.string(), "line " + std::to_string(e.mark.line + 1), "calibration YAML", e.msg);
   }
+  if (!root.IsMap())
+    throw InputError(path.string(), "", "a map of calibration fields", "no map at the top level");
+  return root;
 }
 
 // Typed field readers: each names the file and the field in its error.
 class Reader {
  public:
-  Reader(const fs::path& path, const cv::FileNode& node, std::string prefix = {})
-      : path_(path.string()), node_(node), prefix_(std::move(prefix)) {}
+  Reader(const fs::path& path, YAML::Node node, std::string prefix = {})
+      : path_(path.string()), node_(std::move(node)), prefix_(std::move(prefix)) {}
 
-  cv::FileNode required(const std::string& key) const {
-    // OpenCV asserts (throws cv::Exception) on a key lookup in anything but a map.
-    if (!node_.isMap()) fail(key, "a value in a map", "the enclosing node is not a map");
-    const cv::FileNode n = node_[key];
-    if (n.empty() || n.isNone()) fail(key, "a value", "missing");
+  YAML::Node required(const std::string& key) const {
+    if (!node_.IsMap()) fail(key, "a value in a map", "the enclosing node is not a map");
+    const YAML::Node n = node_[key];
+    if (!n.IsDefined() || n.IsNull()) fail(key, "a value", "missing");
     return n;
   }
 
-  double real(const std::string& key) const {
-    const cv::FileNode n = required(key);
-    if (!n.isReal() && !n.isInt()) fail(key, "a number", "not a number");
-    const double v = static_cast<double>(n);
-    if (!std::isfinite(v)) fail(key, "a finite number", str(v));
+  double real(const std::string& key) const { return number(required(key), key); }
+
+  int integer(const std::string& key) const {
+    const YAML::Node n = required(key);
+    int v = 0;
+    if (!n.IsScalar() || !YAML::convert<int>::decode(n, v))
+      fail(key, "an integer", n.IsScalar() ? quoted(n.Scalar()) : "not an integer");
     return v;
   }
 
-  int integer(const std::string& key) const {
-    const cv::FileNode n = required(key);
-    if (!n.isInt()) fail(key, "an integer", n.isString() ? quoted(std::string(n)) : "not an integer");
-    return static_cast<int>(n);
-  }
-
   std::string text(const std::string& key) const {
-    const cv::FileNode n = required(key);
-    if (!n.isString()) fail(key, "a string", "not a string");
-    return std::string(n);
+    const YAML::Node n = required(key);
+    if (!n.IsScalar()) fail(key, "a string", "not a string");
+    return n.Scalar();
   }
 
-  // A matrix of exactly rows x cols (a 1x5 and a 5x1 vector are both accepted when `either_way`),
-  // every element finite; returned as CV_64F.
+  // An opencv-matrix of exactly rows x cols (a 1x5 and a 5x1 vector are both accepted when
+  // `either_way`), single-channel, every element finite; returned as CV_64F, rows x cols.
   cv::Mat matrix(const std::string& key, int rows, int cols, bool either_way = false) const {
-    const cv::FileNode n = required(key);
+    const YAML::Node n = required(key);
     const std::string want = std::to_string(rows) + "x" + std::to_string(cols) + " matrix";
-    // OpenCV allocates what the node's rows and cols say before it reads the data: check the
-    // shape first, or a corrupt file asks for gigabytes.
-    if (n.isMap()) {
-      const cv::FileNode r = n["rows"], c = n["cols"], data = n["data"];
-      const bool declared_ok = r.isInt() && c.isInt() &&
-                               ((static_cast<int>(r) == rows && static_cast<int>(c) == cols) ||
-                                (either_way && static_cast<int>(r) == cols && static_cast<int>(c) == rows));
-      if (!declared_ok)
-        fail(key, "a " + want,
-             "rows " + (r.isInt() ? std::to_string(static_cast<int>(r)) : std::string("?")) + ", cols " +
-                 (c.isInt() ? std::to_string(static_cast<int>(c)) : std::string("?")));
-      if (!data.isSeq() || data.size() != static_cast<std::size_t>(rows * cols))
-        fail(key, std::to_string(rows * cols) + " data values",
-             std::to_string(data.isSeq() ? data.size() : 0));
+    if (!n.IsMap()) fail(key, "an opencv-matrix (" + want + ")", "not a readable matrix");
+    const int r = dimension(n, "rows"), c = dimension(n, "cols");
+    const bool declared_ok = (r == rows && c == cols) || (either_way && r == cols && c == rows);
+    if (!declared_ok)
+      fail(key, "a " + want,
+           "rows " + (r >= 0 ? std::to_string(r) : std::string("?")) + ", cols " +
+               (c >= 0 ? std::to_string(c) : std::string("?")));
+    const YAML::Node dt = n["dt"];
+    const std::string type = dt.IsDefined() && dt.IsScalar() ? dt.Scalar() : std::string();
+    if (type.size() != 1 || std::string("ucwsifd").find(type[0]) == std::string::npos)
+      fail(key, "a single-channel matrix (dt one of u c w s i f d)", quoted(type));
+    const YAML::Node data = n["data"];
+    const std::size_t count = static_cast<std::size_t>(rows * cols);
+    if (!data.IsDefined() || !data.IsSequence() || data.size() != count)
+      fail(key, std::to_string(count) + " data values",
+           std::to_string(data.IsDefined() && data.IsSequence() ? data.size() : 0));
+    cv::Mat out(r, c, CV_64F);
+    for (std::size_t i = 0; i < count; ++i) {
+      const int row = static_cast<int>(i) / c, col = static_cast<int>(i) % c;
+      double v = 0;
+      if (!data[i].IsScalar() || !YAML::convert<double>::decode(data[i], v))
+        fail(key, "numbers",
+             "element (" + std::to_string(row) + "," + std::to_string(col) + ") is not a number");
+      if (!std::isfinite(v))
+        fail(key, "finite elements",
+             "element (" + std::to_string(row) + "," + std::to_string(col) + ") = " + str(v));
+      out.at<double>(row, col) = v;
     }
-    cv::Mat m;
-    try {
-      if (n.isMap()) n >> m;
-    } catch (const cv::Exception&) {
-      m.release();
-    }
-    if (m.empty()) fail(key, "an opencv-matrix (" + want + ")", "not a readable matrix");
-    const bool shape_ok =
-        (m.rows == rows && m.cols == cols) || (either_way && m.rows == cols && m.cols == rows);
-    if (!shape_ok) fail(key, "a " + want, std::to_string(m.rows) + "x" + std::to_string(m.cols));
-    if (m.channels() != 1) fail(key, "a single-channel matrix", std::to_string(m.channels()) + " channels");
-    m.convertTo(m, CV_64F);
-    for (int i = 0; i < m.rows; ++i)
-      for (int j = 0; j < m.cols; ++j)
-        if (!std::isfinite(m.at<double>(i, j)))
-          fail(key, "finite elements",
-               "element (" + std::to_string(i) + "," + std::to_string(j) + ") = " + str(m.at<double>(i, j)));
-    return m.rows == rows ? m : m.t();
+    return out.rows == rows ? out : out.t();
   }
 
   [[noreturn]] void fail(const std::string& key, const std::string& expected, const std::string& got) const {
@@ -154,8 +146,23 @@ class Reader {
   }
 
  private:
+  // A matrix's declared rows or cols; -1 when absent or not an integer.
+  static int dimension(const YAML::Node& matrix, const char* key) {
+    const YAML::Node n = matrix[key];
+    int v = -1;
+    if (!n.IsDefined() || !n.IsScalar() || !YAML::convert<int>::decode(n, v)) return -1;
+    return v;
+  }
+
+  double number(const YAML::Node& n, const std::string& key) const {
+    double v = 0;
+    if (!n.IsScalar() || !YAML::convert<double>::decode(n, v)) fail(key, "a number", "not a number");
+    if (!std::isfinite(v)) fail(key, "a finite number", str(v));
+    return v;
+  }
+
   std::string path_;
-  cv::FileNode node_;
+  YAML::Node node_;
   std::string prefix_;
 };
 
@@ -364,8 +371,7 @@ void savePyramidCalibration(const fs::path& path, PyramidCalibration calibration
 }
 
 CameraCalibration loadCameraCalibration(const fs::path& path) {
-  cv::FileStorage storage = openForReading(path);
-  const Reader in(path, storage.root());
+  const Reader in(path, parseForReading(path));
   CameraCalibration c;
   c.intrinsics.width = in.integer("image_width");
   c.intrinsics.height = in.integer("image_height");
@@ -397,17 +403,16 @@ CameraCalibration loadCameraCalibration(const fs::path& path) {
 }
 
 PyramidCalibration loadPyramidCalibration(const fs::path& path) {
-  cv::FileStorage storage = openForReading(path);
-  const Reader in(path, storage.root());
+  const Reader in(path, parseForReading(path));
   PyramidCalibration p;
-  const cv::FileNode faces = in.required("faces");
-  if (!faces.isSeq() || faces.size() != kPyramidFaces)
+  const YAML::Node faces = in.required("faces");
+  if (!faces.IsSequence() || faces.size() != kPyramidFaces)
     in.fail("faces", "a list of " + std::to_string(kPyramidFaces) + " faces",
-            faces.isSeq() ? std::to_string(faces.size()) + " entries" : "not a list");
+            faces.IsSequence() ? std::to_string(faces.size()) + " entries" : "not a list");
   for (int f = 0; f < kPyramidFaces; ++f) {
-    const cv::FileNode node = faces[f];
+    const YAML::Node node = faces[static_cast<std::size_t>(f)];
     const std::string prefix = "faces[" + std::to_string(f) + "].";
-    if (!node.isMap()) in.fail(prefix.substr(0, prefix.size() - 1), "a map", "not a map");
+    if (!node.IsMap()) in.fail(prefix.substr(0, prefix.size() - 1), "a map", "not a map");
     const Reader face(path, node, prefix);
     FaceAlignment& a = p.faces[static_cast<std::size_t>(f)];
     a.offset_px = {static_cast<float>(face.real("offset_x")), static_cast<float>(face.real("offset_y"))};
