@@ -905,11 +905,21 @@ tinygltf::Model parseFile(const fs::path& path) {
   return gltf;
 }
 
-// What the renderers read of a Material today: base colour and metallic-roughness (factors and
-// textures, TEXCOORD_0, no transform). Everything else is loaded for them but not yet used.
+// What both renderers read of a Material today (reflect/surface_shading.hpp): the core glTF
+// texture slots through either uv set, KHR_texture_transform and the sampler, and the specular
+// factor's texture. The rest is loaded for them but not yet used.
 GltfSupport slotSupport(const std::string& slot) {
-  return slot == "baseColorTexture" || slot == "metallicRoughnessTexture" ? GltfSupport::Rendered
-                                                                          : GltfSupport::LoadedNotRendered;
+  return slot == "baseColorTexture" || slot == "metallicRoughnessTexture" || slot == "normalTexture" ||
+                 slot == "occlusionTexture" || slot == "emissiveTexture" || slot == "specularTexture"
+             ? GltfSupport::Rendered
+             : GltfSupport::LoadedNotRendered;
+}
+
+GltfSupport extensionSupport(const std::string& extension) {
+  if (!readsExtension(extension)) return GltfSupport::Ignored;
+  return extension == "KHR_texture_transform" || extension == "KHR_materials_emissive_strength"
+             ? GltfSupport::Rendered
+             : GltfSupport::LoadedNotRendered;
 }
 
 }  // namespace
@@ -940,7 +950,7 @@ GltfInventory inspectGltf(const fs::path& path) {
   for (const auto& ext : names) {
     GltfFeature f;
     f.name = ext;
-    f.support = readsExtension(ext) ? GltfSupport::LoadedNotRendered : GltfSupport::Ignored;
+    f.support = extensionSupport(ext);
     f.required = std::find(gltf.extensionsRequired.begin(), gltf.extensionsRequired.end(), ext) !=
                  gltf.extensionsRequired.end();
     for (const auto& m : gltf.materials) f.materials += m.extensions.count(ext) ? 1 : 0;
@@ -978,14 +988,15 @@ GltfInventory inspectGltf(const fs::path& path) {
       if (test(m.*(slot.second))) return true;
     return false;
   };
-  const GltfSupport later = GltfSupport::LoadedNotRendered;
-  count(out.properties, "emissiveFactor (emission; the ground truth renders it)", later,
+  const GltfSupport rendered = GltfSupport::Rendered;
+  count(out.properties, "emissiveFactor (emission)", rendered,
         [](const Material& m) { return m.emission != vec3(0.0f); });
-  count(out.properties, "alphaMode MASK", later,
+  count(out.properties, "alphaMode MASK", rendered,
         [](const Material& m) { return m.alpha_mode == AlphaMode::Mask; });
-  count(out.properties, "alphaMode BLEND", later,
+  count(out.properties, "alphaMode BLEND", rendered,
         [](const Material& m) { return m.alpha_mode == AlphaMode::Blend; });
-  count(out.properties, "texCoord 1 (TEXCOORD_1)", later, [&](const Material& m) {
+  count(out.properties, "doubleSided", rendered, [](const Material& m) { return m.double_sided; });
+  count(out.properties, "texCoord 1 (TEXCOORD_1)", rendered, [&](const Material& m) {
     return anySlot(m, [](const TextureRef& t) { return t.used() && t.tex_coord == 1; });
   });
   return out;

@@ -1,5 +1,6 @@
 #include "holo/core/ray_scene.hpp"
 
+#include <cstring>
 #include <mutex>
 
 #include "holo/core/error.hpp"
@@ -12,6 +13,63 @@ namespace {
 void embreeError(void*, RTCError code, const char* message) {
   stats::add("Embree/Errors");
   HOLO_LOG_ERROR("Embree error {}: {}", static_cast<int>(code), message ? message : "");
+}
+
+// Embree hands filter functions the context of the query: this one carries the query's mode.
+struct QueryContext {
+  RTCIntersectContext embree;  // first: Embree sees a plain context
+  PartialHits partial = PartialHits::Stochastic;
+};
+
+// A uniform number in [0, 1) from the ray and the candidate hit (a murmur3-style finaliser over
+// their bits).
+float hitHash(const Ray& ray, const RayHit& hit) {
+  std::uint64_t h = 0x9e3779b97f4a7c15ull;
+  const auto mix = [&h](float value) {
+    std::uint32_t bits = 0;
+    std::memcpy(&bits, &value, sizeof(bits));
+    h ^= bits;
+    h *= 0xff51afd7ed558ccdull;
+    h ^= h >> 33;
+  };
+  for (int k = 0; k < 3; ++k) {
+    mix(ray.origin[k]);
+    mix(ray.direction[k]);
+  }
+  mix(hit.barycentric.x);
+  mix(hit.barycentric.y);
+  h ^= std::uint64_t(hit.primitive) * 0xc4ceb9fe1a85ec53ull;
+  h ^= h >> 29;
+  h *= 0xc4ceb9fe1a85ec53ull;
+  h ^= h >> 32;
+  return float(h >> 40) * (1.0f / 16777216.0f);
+}
+
+void opacityFilter(const RTCFilterFunctionNArguments* args) {
+  const auto& opacity = *static_cast<const HitOpacity*>(args->geometryUserPtr);
+  const auto* query = reinterpret_cast<const QueryContext*>(args->context);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    Ray ray;
+    ray.origin = {RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+                  RTCRayN_org_z(args->ray, args->N, i)};
+    ray.direction = {RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                     RTCRayN_dir_z(args->ray, args->N, i)};
+    RayHit hit;
+    hit.t = RTCRayN_tfar(args->ray, args->N, i);
+    hit.geometry = RTCHitN_geomID(args->hit, args->N, i);
+    hit.primitive = RTCHitN_primID(args->hit, args->N, i);
+    hit.barycentric = {RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i)};
+    const vec3 ng(RTCHitN_Ng_x(args->hit, args->N, i), RTCHitN_Ng_y(args->hit, args->N, i),
+                  RTCHitN_Ng_z(args->hit, args->N, i));
+    const float len = glm::length(ng);
+    hit.geometric_normal = len > 0.0f ? ng / len : -ray.direction;
+    const float o = opacity(ray, hit);
+    bool stops = o >= 1.0f;
+    if (!stops && o > 0.0f)
+      stops = (query != nullptr && query->partial == PartialHits::Solid) || hitHash(ray, hit) < o;
+    if (!stops) args->valid[i] = 0;
+  }
 }
 
 RTCRayHit makeRayHit(const Ray& ray, float tmin, float tmax) {
@@ -80,15 +138,24 @@ void RayScene::updatePositions(std::uint32_t geometry, const std::vector<vec3>& 
   rtcCommitGeometry(geometries_[geometry]);
 }
 
+void RayScene::setHitOpacity(std::uint32_t geometry, HitOpacity opacity) {
+  RTCGeometry g = geometries_.at(geometry);
+  rtcSetGeometryUserData(g, &opacities_.emplace_back(std::move(opacity)));
+  rtcSetGeometryIntersectFilterFunction(g, opacityFilter);
+  rtcSetGeometryOccludedFilterFunction(g, opacityFilter);
+  rtcCommitGeometry(g);
+}
+
 void RayScene::commit() {
   rtcCommitScene(scene_);
 }
 
-RayHit RayScene::intersect(const Ray& ray, float tmin, float tmax) const {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
+RayHit RayScene::intersect(const Ray& ray, float tmin, float tmax, PartialHits partial) const {
+  QueryContext context;
+  rtcInitIntersectContext(&context.embree);
+  context.partial = partial;
   RTCRayHit rh = makeRayHit(ray, tmin, tmax);
-  rtcIntersect1(scene_, &context, &rh);
+  rtcIntersect1(scene_, &context.embree, &rh);
   RayHit hit;
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hit;
   hit.t = rh.ray.tfar;
@@ -103,10 +170,10 @@ RayHit RayScene::intersect(const Ray& ray, float tmin, float tmax) const {
 }
 
 bool RayScene::occluded(const Ray& ray, float tmin, float tmax) const {
-  RTCIntersectContext context;
-  rtcInitIntersectContext(&context);
+  QueryContext context;
+  rtcInitIntersectContext(&context.embree);
   RTCRay r = makeRayHit(ray, tmin, tmax).ray;
-  rtcOccluded1(scene_, &context, &r);
+  rtcOccluded1(scene_, &context.embree, &r);
   return r.tfar < 0.0f;  // Embree sets tfar to -inf on a hit
 }
 

@@ -43,21 +43,53 @@ class KeyHash {
     for (const TriangleMesh& mesh : model.meshes) {
       array(mesh.positions);
       array(mesh.normals);
+      array(mesh.tangents);
       array(mesh.uvs);
+      array(mesh.uvs1);
       array(mesh.triangles);
       value(mesh.material);
     }
     value(model.materials.size());
     for (const Material& m : model.materials) {
+      // Every field, rendered today or not: a renderer that starts reading one re-keys nothing.
       value(m.base_colour);
+      value(m.alpha);
       value(m.metallic);
       value(m.roughness);
       value(m.emission);
       value(m.base_colour_texture);
       value(m.metallic_roughness_texture);
+      value(m.emissive_texture);
+      value(m.normal_texture);
+      value(m.normal_scale);
+      value(m.occlusion_texture);
+      value(m.occlusion_strength);
+      value(m.alpha_mode);
+      value(m.alpha_cutoff);
+      value(m.double_sided);
+      value(m.specular);
+      value(m.specular_colour);
+      value(m.specular_texture);
+      value(m.specular_colour_texture);
+      value(m.clearcoat);
+      value(m.clearcoat_roughness);
+      value(m.clearcoat_texture);
+      value(m.clearcoat_roughness_texture);
+      value(m.clearcoat_normal_texture);
+      value(m.clearcoat_normal_scale);
+      value(m.transmission);
+      value(m.transmission_texture);
+      value(m.thickness);
+      value(m.thickness_texture);
+      value(m.attenuation_colour);
+      value(m.attenuation_distance);
+      value(m.ior);
     }
     value(model.textures.size());
-    for (const Texture& texture : model.textures) image(texture.image());
+    for (const Texture& texture : model.textures) {
+      image(texture.image());  // the mip chain is built from it
+      value(texture.sampler);
+    }
   }
   std::uint64_t digest() const { return h_; }
 

@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "holo/core/error.hpp"
+#include "holo/reflect/surface_shading.hpp"
 #include "holo/reflect/view.hpp"
 
 namespace holo::reflect {
@@ -26,13 +27,17 @@ constexpr float kMaterialStep = 0.1f;
 bool traceSample(const RenderScene& scene, const RayScene& relic, const CameraModel& view, const vec2& pixel,
                  HitPoint& h) {
   const Ray ray = primaryRay(view, pixel);
-  const RayHit hit = relic.intersect(ray);
+  const RayHit hit = relic.intersect(ray, 0.0f, 1e30f, PartialHits::Solid);
   if (!hit.hit()) return false;
-  h.position = relic.position(ray, hit);
-  h.normal = relic.shadingNormal(hit, ray.direction);
+  const SurfacePoint s = resolveSurface(scene, relic, ray, hit, hit.t / view.intrinsics().fx);
+  h.position = s.position;
+  h.normal = s.normal;
   h.to_viewer = -ray.direction;
   h.reflected = glm::reflect(ray.direction, h.normal);
-  h.material = scene.relicMaterial(hit, relic);
+  h.material = s.material;
+  h.emission = s.emission;
+  h.occlusion = s.occlusion;
+  h.alpha = s.alpha;
   return isFinite(h.position) && isFinite(h.normal) && isFinite(h.reflected);
 }
 

@@ -4,6 +4,7 @@
 #include <tbb/parallel_for.h>
 
 #include "holo/core/image.hpp"
+#include "holo/reflect/surface_shading.hpp"
 #include "holo/reflect/view.hpp"
 
 namespace holo::reflect {
@@ -17,8 +18,9 @@ cv::Mat renderIbl(const RenderScene& scene, const PrefilteredIbl& ibl, const Cam
         const Ray ray = primaryRay(camera, vec2(x, y));
         const RayHit hit = relic.intersect(ray);
         if (!hit.hit()) continue;
-        const vec3 n = relic.shadingNormal(hit, ray.direction);
-        const vec3 c = ibl.shade(scene.relicMaterial(hit, relic), n, -ray.direction);
+        const SurfacePoint s = resolveSurface(scene, relic, ray, hit, hit.t / camera.intrinsics().fx);
+        const SplitSumShading parts = shadeSurface(ibl, s, -ray.direction);
+        const vec3 c = parts.specular_scale * parts.environment + parts.diffuse;
         setRgb(out, x, y, isFinite(c) ? c : vec3(0.0f));
       }
   });

@@ -7,6 +7,7 @@
 
 #include "holo/core/progress.hpp"
 #include "holo/core/stats.hpp"
+#include "holo/reflect/surface_shading.hpp"
 #include "holo/reflect/view.hpp"
 
 namespace holo::reflect {
@@ -28,24 +29,29 @@ PathTracer::PathTracer(const RenderScene& scene, const Environment& environment,
   options_.tile_size = std::max(1, options_.tile_size);
 }
 
-vec3 PathTracer::traceFromRelic(const Ray& primary, const RayHit& relic_hit, SampleStream& stream) const {
+vec3 PathTracer::traceFromRelic(const Ray& primary, const RayHit& relic_hit, SampleStream& stream,
+                                float pixel_spread) const {
   vec3 radiance(0.0f);
   vec3 throughput(1.0f);
   Ray ray = primary;
   RayHit hit = relic_hit;
   const RayScene* hit_scene = &scene_.relicOnly();
   const RayScene& all = scene_.all();
+  float travelled = 0.0f;  // metres along the path: the pixel's footprint is travelled x spread
   for (int bounce = 0;; ++bounce) {
-    const vec3 p = hit_scene->position(ray, hit);
-    const vec3 n = hit_scene->shadingNormal(hit, ray.direction);
+    travelled += hit.t;
+    const SurfacePoint surface = resolveSurface(scene_, *hit_scene, ray, hit, travelled * pixel_spread);
+    const vec3 p = surface.position;
+    const vec3 n = surface.normal;
     const vec3 ng = hit.geometric_normal;
     if (!isFinite(n) || !isFinite(ng) || !isFinite(p)) break;
     // Added only when non-zero: an overflowed throughput times zero would make the sample NaN.
-    const vec3 emitted = scene_.relicEmission(hit, *hit_scene);
-    if (emitted != vec3(0.0f)) radiance += throughput * emitted;
+    if (surface.emission != vec3(0.0f)) radiance += throughput * surface.emission;
     if (bounce == options_.max_bounces) break;
+    // The occlusion map scales all light the point reflects (surface_shading.hpp).
+    throughput *= surface.occlusion;
     const vec3 wo = -ray.direction;
-    const Bsdf bsdf(scene_.relicMaterial(hit, *hit_scene), n);
+    const Bsdf bsdf(surface.material, n);
 
     // Next-event estimation towards the environment, balance heuristic against the BSDF.
     const vec2 u_light = stream.next2D();  // drawn in every mode: the streams stay aligned
@@ -122,7 +128,7 @@ void ProgressiveRender::addSamples(int spp, bool quiet) {
               const Ray ray = primaryRay(camera_, vec2(x, y) + jitter - 0.5f);
               const RayHit hit = tracer_.scene().relicOnly().intersect(ray);
               vec3 L(0.0f);
-              if (hit.hit()) L = tracer_.traceFromRelic(ray, hit, stream);
+              if (hit.hit()) L = tracer_.traceFromRelic(ray, hit, stream, 1.0f / camera_.intrinsics().fx);
               ++local.samples;
               if (!isFinite(L)) {
                 ++local.nonfinite_dropped;

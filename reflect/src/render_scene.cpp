@@ -2,23 +2,13 @@
 
 #include <algorithm>
 
-#include "holo/core/image.hpp"
+#include "holo/reflect/surface_shading.hpp"
 
 namespace holo::reflect {
 
 namespace {
 
 const Material kDefaultMaterial{};
-
-// Nearest texel with repeat wrapping (glTF's default sampler), as BGR(A) 8-bit -> [0,1] RGB.
-vec3 texel(const cv::Mat& texture, const vec2& uv) {
-  if (texture.empty()) return vec3(1.0f);
-  const float fu = uv.x - std::floor(uv.x), fv = uv.y - std::floor(uv.y);
-  const int x = std::clamp(static_cast<int>(fu * float(texture.cols)), 0, texture.cols - 1);
-  const int y = std::clamp(static_cast<int>(fv * float(texture.rows)), 0, texture.rows - 1);
-  const uchar* p = texture.ptr<uchar>(y) + x * texture.channels();
-  return {p[2] / 255.0f, p[1] / 255.0f, p[0] / 255.0f};
-}
 
 }  // namespace
 
@@ -28,14 +18,26 @@ RenderScene::RenderScene(const Model& relic, const std::vector<Model>& emitters)
       all_(std::make_unique<RayScene>()),
       relic_(std::make_unique<RayScene>()) {
   for (std::size_t i = 0; i < relic_model_.meshes.size(); ++i) {
-    const auto& mesh = relic_model_.meshes[i];
+    auto& mesh = relic_model_.meshes[i];
     if (mesh.triangles.empty()) continue;
+    const Material& material = materialOf({true, i, &relic_model_});
+    if (material.normal_texture.used() && mesh.tangents.size() != mesh.positions.size()) {
+      if (mesh.normals.size() != mesh.positions.size()) mesh.computeNormals();
+      mesh.computeTangents(material.normal_texture.tex_coord);
+    }
+    const auto opacity = [this, i](const Ray& ray, const RayHit& hit) {
+      return surfaceOpacity(relic_model_, i, ray, hit);
+    };
     const std::uint32_t id = all_->addMesh(mesh);
     surfaces_.resize(id + 1);
     surfaces_[id] = {true, i, &relic_model_};
     const std::uint32_t rid = relic_->addMesh(mesh);
     relic_mesh_.resize(rid + 1);
     relic_mesh_[rid] = i;
+    if (needsOpacity(material)) {
+      all_->setHitOpacity(id, opacity);
+      relic_->setHitOpacity(rid, opacity);
+    }
   }
   for (const Model& model : emitter_models_) {
     for (std::size_t i = 0; i < model.meshes.size(); ++i) {
@@ -65,41 +67,8 @@ vec3 RenderScene::emission(const RayHit& hit) const {
   return isFinite(e) ? glm::max(e, vec3(0.0f)) : vec3(0.0f);
 }
 
-const Material& RenderScene::relicGltfMaterial(const RayHit& hit, const RayScene& scene) const {
-  const std::size_t mesh =
-      &scene == relic_.get() ? relic_mesh_.at(hit.geometry) : surfaces_.at(hit.geometry).mesh;
-  const int mi = relic_model_.meshes[mesh].material;
-  return (mi >= 0 && static_cast<std::size_t>(mi) < relic_model_.materials.size())
-             ? relic_model_.materials[static_cast<std::size_t>(mi)]
-             : kDefaultMaterial;
-}
-
-vec3 RenderScene::relicEmission(const RayHit& hit, const RayScene& scene) const {
-  const vec3 e = relicGltfMaterial(hit, scene).emission;
-  return isFinite(e) ? glm::max(e, vec3(0.0f)) : vec3(0.0f);
-}
-
-SurfaceMaterial RenderScene::relicMaterial(const RayHit& hit, const RayScene& scene) const {
-  if (override_) return *override_;
-  const Material& m = relicGltfMaterial(hit, scene);
-  SurfaceMaterial s;
-  s.base_colour = m.base_colour;
-  s.metallic = m.metallic;
-  s.roughness = m.roughness;
-  const auto textureAt = [&](int index) -> const cv::Mat* {
-    if (index < 0 || static_cast<std::size_t>(index) >= relic_model_.textures.size()) return nullptr;
-    return &relic_model_.textures[static_cast<std::size_t>(index)].image();
-  };
-  if (const cv::Mat* t = textureAt(m.base_colour_texture.index)) {
-    const vec3 c = texel(*t, scene.uv(hit));
-    s.base_colour *= vec3(srgbToLinear(c.r), srgbToLinear(c.g), srgbToLinear(c.b));
-  }
-  if (const cv::Mat* t = textureAt(m.metallic_roughness_texture.index)) {
-    const vec3 c = texel(*t, scene.uv(hit));
-    s.roughness *= c.g;
-    s.metallic *= c.b;
-  }
-  return s;
+std::size_t RenderScene::relicMesh(const RayHit& hit, const RayScene& scene) const {
+  return &scene == relic_.get() ? relic_mesh_.at(hit.geometry) : surfaces_.at(hit.geometry).mesh;
 }
 
 }  // namespace holo::reflect

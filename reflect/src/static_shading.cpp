@@ -9,6 +9,7 @@
 #include "compose_pass.hpp"
 #include "holo/core/image.hpp"
 #include "holo/reflect/bsdf.hpp"
+#include "holo/reflect/surface_shading.hpp"
 
 namespace holo::reflect {
 namespace {
@@ -46,6 +47,17 @@ void addLobeBounce(const LobeBounce& bounce, SplitSumShading& shading) {
   shading.environment = (1.0f - fraction) * shading.environment + fraction * bounce.specular / bounce.met;
 }
 
+SurfacePoint surfaceOf(const HitPoint& hp) {
+  SurfacePoint s;
+  s.position = hp.position;
+  s.normal = hp.normal;
+  s.material = hp.material;
+  s.emission = hp.emission;
+  s.occlusion = hp.occlusion;
+  s.alpha = hp.alpha;
+  return s;
+}
+
 }  // namespace
 
 void LobeBounce::add(const LobeBounce& other, float weight) {
@@ -61,8 +73,9 @@ StaticShading::StaticShading(const RenderScene& scene, const PrefilteredIbl& ibl
 
 std::optional<LobeBounce> StaticShading::shadeHit(const HitPoint& hp, const LobeShare& share,
                                                   SplitSumShading& shading, WalkRay& walk_ray) const {
-  shading = ibl_.shadeParts(hp.material, hp.normal, hp.to_viewer, hp.reflected);
+  shading = shadeSurface(ibl_, surfaceOf(hp), hp.to_viewer);
   walk_ray = {hp.position, hp.normal, hp.reflected, hp.material.roughness, false};
+  if (hp.alpha < 1.0f) compositeBehind(hp, share, shading);
   if (!settings_.relic_interreflection) return std::nullopt;
   if (settings_.rough_interreflection_grid > 1 &&
       readsRoughMap(rough_map_, settings_, hp.material.roughness)) {
@@ -75,12 +88,14 @@ std::optional<LobeBounce> StaticShading::shadeHit(const HitPoint& hp, const Lobe
   const Ray ray{hp.position + hp.normal * settings_.ray_offset, hp.reflected};
   const RayHit hit = relic.intersect(ray);
   if (!hit.hit()) return std::nullopt;
-  const vec3 position = relic.position(ray, hit);
-  const vec3 normal = relic.shadingNormal(hit, ray.direction);
+  const SurfacePoint surface =
+      resolveSurface(scene_, relic, ray, hit, share.cone_width + hit.t * share.spread);
+  const vec3 position = surface.position;
+  const vec3 normal = surface.normal;
   const vec3 reflected = glm::reflect(ray.direction, normal);
   if (!isFinite(position) || !isFinite(normal) || !isFinite(reflected)) return std::nullopt;
-  const SurfaceMaterial material = scene_.relicMaterial(hit, relic);
-  const SplitSumShading second = ibl_.shadeParts(material, normal, -ray.direction, reflected);
+  const SurfaceMaterial& material = surface.material;
+  const SplitSumShading second = shadeSurface(ibl_, surface, -ray.direction);
   // L = diffuse_1 + s_1 L_2 and L_2 = diffuse_2 + s_2 (psi_d w + env_2 (1 - w)): the composition's
   // form with scale s_1 s_2 and environment env_2.
   shading.diffuse += shading.specular_scale * second.diffuse;
@@ -91,6 +106,26 @@ std::optional<LobeBounce> StaticShading::shadeHit(const HitPoint& hp, const Lobe
               a2 = material.roughness * material.roughness;
   walk_ray = {position, normal, reflected, std::sqrt(std::sqrt(a1 * a1 + a2 * a2)), true};
   return std::nullopt;
+}
+
+void StaticShading::compositeBehind(const HitPoint& hp, const LobeShare& share,
+                                    SplitSumShading& shading) const {
+  // What is behind: the next relic surface along the primary ray (its static shading; layers
+  // further back by stochastic transparency) or the pyramid's black background.
+  const RayScene& relic = scene_.relicOnly();
+  const Ray ray{hp.position - hp.to_viewer * settings_.ray_offset, -hp.to_viewer};
+  vec3 behind(0.0f);
+  const RayHit hit = relic.intersect(ray);
+  if (hit.hit()) {
+    const SurfacePoint surface =
+        resolveSurface(scene_, relic, ray, hit, share.cone_width + hit.t * share.spread);
+    const SplitSumShading parts = shadeSurface(ibl_, surface, -ray.direction);
+    behind = parts.specular_scale * parts.environment + parts.diffuse;
+    if (!isFinite(behind)) behind = vec3(0.0f);
+  }
+  const float a = hp.alpha;
+  shading.specular_scale *= a;
+  shading.diffuse = a * shading.diffuse + (1.0f - a) * behind;
 }
 
 LobeBounce StaticShading::traceLobeBounce(const HitPoint& hp, const LobeShare& share) const {
@@ -109,11 +144,10 @@ LobeBounce StaticShading::traceLobeBounce(const HitPoint& hp, const LobeShare& s
                        const Ray ray{hp.position + hp.normal * settings_.ray_offset, l};
                        const RayHit hit = relic.intersect(ray);
                        if (!hit.hit()) return;
-                       const vec3 normal = relic.shadingNormal(hit, ray.direction);
-                       const vec3 reflected = glm::reflect(ray.direction, normal);
-                       if (!isFinite(normal) || !isFinite(reflected)) return;
-                       const SplitSumShading second = ibl_.shadeParts(scene_.relicMaterial(hit, relic),
-                                                                      normal, -ray.direction, reflected);
+                       const SurfacePoint surface =
+                           resolveSurface(scene_, relic, ray, hit, share.cone_width + hit.t * share.spread);
+                       if (!isFinite(surface.normal)) return;
+                       const SplitSumShading second = shadeSurface(ibl_, surface, -ray.direction);
                        bounce.diffuse += second.diffuse;
                        bounce.specular += second.specular_scale * second.environment;
                        bounce.met += 1.0f;
@@ -156,6 +190,7 @@ void StaticShading::shade(const HitPointBuffer& hits, const CameraModel& view,
                             settings_.rough_interreflection_grid > 1 &&
                             settings_.rough_interreflection_interleaved;
   if (pool_bounces) bounces.assign(hits.pixelCount(), PixelBounce{});
+  const float spread = 1.0f / view.intrinsics().fx;  // radians per pixel: the footprint's growth
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t k = r.begin(); k < r.end(); ++k) {
@@ -163,9 +198,11 @@ void StaticShading::shade(const HitPointBuffer& hits, const CameraModel& view,
                         const std::size_t first = hits.firstSample(p);
                         const int x = int(p % std::size_t(w)), y = int(p / std::size_t(w));
                         LobeShare share{(x & 1) + 2 * (y & 1), 0, hits.sampleCount(p)};
+                        share.spread = spread;
                         for (share.sample = 0; share.sample < share.samples; ++share.sample) {
                           const std::size_t i = first + std::size_t(share.sample);
                           if (!hits.valid[i]) continue;
+                          share.cone_width = glm::length(hits.hits[i].position - view.position()) * spread;
                           const std::optional<LobeBounce> bounce =
                               shadeHit(hits.hits[i], share, shading[i], walk_rays[i]);
                           if (!bounce) continue;

@@ -2,7 +2,9 @@
 // the prefiltered IBL (psi_s's scale and environment, and the diffuse irradiance) with one
 // interreflection bounce where the reflection meets the relic itself, and the ray the
 // foreground walk follows from the point. What it writes depends on the relic, the hall and the
-// eye only, so the frame renderer caches it per view (frame_renderer.hpp).
+// eye only, so the frame renderer caches it per view (frame_renderer.hpp). Every surface is
+// shaded by surface_shading.hpp (occlusion scales the reflected parts, emission is added to the
+// diffuse part); a BLEND hit point is composited over the static shading of what is behind it.
 //
 // Interreflection: a material below foreground_map_roughness follows its mirror ray; where that
 // meets the relic, the point's environment becomes the second point's (its specular scale
@@ -71,14 +73,19 @@ class StaticShading {
  private:
   // Which of the rough lobe's strata a hit point traces: its pixel's 2x2 class ((x & 1) +
   // 2 (y & 1)) and its sample of the pixel's.
+  // With the footprint of the hit point's pixel: cone_width (metres at the hit) grows by
+  // spread (radians) per metre a secondary ray travels.
   struct LobeShare {
     int pixel_class = 0, sample = 0, samples = 1;
+    float cone_width = 0.0f, spread = 0.0f;
   };
   // One hit point: its shading and walk ray. For a material read from the rough map with
   // interleaved strata, its share of the lobe's interreflection, left for the pixel pooling.
   std::optional<LobeBounce> shadeHit(const HitPoint& hp, const LobeShare& share, SplitSumShading& shading,
                                      WalkRay& walk_ray) const;
 
+  // BLEND: the hit point's shading composited over the static shading of what is behind it.
+  void compositeBehind(const HitPoint& hp, const LobeShare& share, SplitSumShading& shading) const;
   LobeBounce traceLobeBounce(const HitPoint& hp, const LobeShare& share) const;
   void poolLobeBounces(const HitPointBuffer& hits, const std::vector<PixelBounce>& bounces,
                        const CameraModel& view, int x, int y, std::vector<SplitSumShading>& shading) const;

@@ -15,6 +15,7 @@ Material metal(const std::string& name, const vec3& colour, float roughness) {
   m.base_colour = colour;
   m.metallic = 1.0f;
   m.roughness = roughness;
+  m.double_sided = true;  // thin walls and open rims: both sides are seen
   return m;
 }
 

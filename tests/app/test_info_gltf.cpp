@@ -24,11 +24,11 @@ TEST(InfoGltf, ListsEveryExtensionAndTextureSlotWithItsState) {
   const auto model = test::sharedData("models/khronos_glass_hurricane_candle_holder.glb");
   ASSERT_EQ(test::runHolopyramid("info " + model.string(), dir / "out.txt"), 0) << readText(dir / "out.txt");
   const std::string out = readText(dir / "out.txt");
-  for (const char* line : {"KHR_materials_transmission: loaded, not rendered yet (1 material)",
-                           "KHR_materials_volume: loaded, not rendered yet (1 material)",
-                           "baseColorTexture: rendered (2 materials)",
-                           "occlusionTexture: loaded, not rendered yet (2 materials)",
-                           "thicknessTexture: loaded, not rendered yet (1 material)"})
+  for (const char* line :
+       {"KHR_materials_transmission: loaded, not rendered yet (1 material)",
+        "KHR_materials_volume: loaded, not rendered yet (1 material)",
+        "baseColorTexture: rendered (2 materials)", "occlusionTexture: rendered (2 materials)",
+        "thicknessTexture: loaded, not rendered yet (1 material)"})
     EXPECT_NE(out.find(line), std::string::npos) << line << "\n" << out;
 }
 

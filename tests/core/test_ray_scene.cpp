@@ -29,6 +29,35 @@ TEST(RayScene, HitsNearestMeshAndReportsIt) {
   EXPECT_EQ(from_between.geometry, far_id);
 }
 
+TEST(RayScene, HitOpacityPassesCutOutHitsAndStopsPartialOnesByMode) {
+  // Two quads: the near one is cut out where x < 0 and half opaque where x >= 0.
+  RayScene scene;
+  const auto near_id = scene.addMesh(quad(2));
+  const auto far_id = scene.addMesh(quad(5));
+  scene.setHitOpacity(near_id, [](const Ray& ray, const RayHit& hit) {
+    return (ray.origin + hit.t * ray.direction).x < 0.0f ? 0.0f : 0.5f;
+  });
+  scene.commit();
+  // Cut out: every query goes through to the far quad.
+  EXPECT_EQ(scene.intersect({{-0.5f, 0, 0}, {0, 0, 1}}).geometry, far_id);
+  EXPECT_EQ(scene.intersect({{-0.5f, 0, 0}, {0, 0, 1}}, 0.0f, 1e30f, PartialHits::Solid).geometry, far_id);
+  EXPECT_FALSE(scene.occluded({{-0.5f, 0, 0}, {0, 0, 1}}, 0.0f, 3.0f));
+  // Half opaque: Solid always stops; Stochastic stops about half of many distinct rays, and the
+  // same ray always decides alike.
+  int stopped = 0, occluded = 0;
+  constexpr int kRays = 2000;
+  for (int i = 0; i < kRays; ++i) {
+    const Ray ray{{0.5f + 0.4f * float(i) / kRays, 0.1f, 0}, {0, 0, 1}};
+    EXPECT_EQ(scene.intersect(ray, 0.0f, 1e30f, PartialHits::Solid).geometry, near_id);
+    const bool stops = scene.intersect(ray).geometry == near_id;
+    EXPECT_EQ(stops, scene.intersect(ray).geometry == near_id);
+    stopped += stops ? 1 : 0;
+    occluded += scene.occluded(ray, 0.0f, 3.0f) ? 1 : 0;
+  }
+  EXPECT_NEAR(double(stopped) / kRays, 0.5, 0.05);
+  EXPECT_NEAR(double(occluded) / kRays, 0.5, 0.05);
+}
+
 TEST(RayScene, DegenerateTrianglesAreNeverHitAndAxisRaysWork) {
   TriangleMesh m = quad(1);
   m.positions.push_back({0, 0, 0.5f});

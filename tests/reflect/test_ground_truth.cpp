@@ -170,6 +170,7 @@ TEST(GroundTruth, ClosedEmittingLambertBoxSumsItsBounces) {
   for (float a : {0.5f, 0.8f}) {
     Material glow;
     glow.emission = vec3(emitted);
+    glow.double_sided = true;  // seen from inside: a single-sided material's back faces are culled
     RenderScene scene(closedBox(glow), {});
     scene.overrideRelicMaterial({vec3(a), 0.0f, 1.0f, 0.0f});
     const Environment sky = Environment::uniform(vec3(0.0f));

@@ -6,6 +6,7 @@
 #include <embree3/rtcore.h>
 #include <cstdint>
 #include <deque>
+#include <functional>
 
 #include "holo/core/mesh.hpp"
 
@@ -20,6 +21,17 @@ struct RayHit {
   bool hit() const { return geometry != RTC_INVALID_GEOMETRY_ID; }
 };
 
+// How a candidate hit's opacity (RayScene::setHitOpacity) decides whether the ray stops there.
+// Opacity 0 always passes and 1 always stops; between them:
+//  * Stochastic: the ray stops with probability = opacity, drawn from a hash of the ray and the
+//    hit (deterministic; rays that differ in origin or direction draw independently), so a Monte
+//    Carlo estimator averages to the surface composited over what is behind it;
+//  * Solid: the ray stops (the caller composites what is behind itself).
+enum class PartialHits { Stochastic, Solid };
+
+// A geometry's opacity at a candidate hit, in [0, 1] (e.g. a cut-out texel reads 0).
+using HitOpacity = std::function<float(const Ray& ray, const RayHit& hit)>;
+
 class RayScene {
  public:
   RayScene();
@@ -31,10 +43,14 @@ class RayScene {
   std::uint32_t addMesh(const TriangleMesh& mesh);
   // Replaces the vertex positions of a mesh (same count); call commit() afterwards.
   void updatePositions(std::uint32_t geometry, const std::vector<vec3>& positions);
+  // Makes every ray query (intersect and occluded) ask `opacity` about each candidate hit on the
+  // geometry (Embree's filter functions); call before commit(). Geometries without one are opaque.
+  void setHitOpacity(std::uint32_t geometry, HitOpacity opacity);
   void commit();
 
-  RayHit intersect(const Ray& ray, float tmin = 0.0f, float tmax = 1e30f) const;
-  bool occluded(const Ray& ray, float tmin = 0.0f, float tmax = 1e30f) const;
+  RayHit intersect(const Ray& ray, float tmin = 0.0f, float tmax = 1e30f,
+                   PartialHits partial = PartialHits::Stochastic) const;
+  bool occluded(const Ray& ray, float tmin = 0.0f, float tmax = 1e30f) const;  // Stochastic
 
   const TriangleMesh& mesh(std::uint32_t geometry) const { return meshes_.at(geometry); }
   std::size_t meshCount() const { return meshes_.size(); }
@@ -48,6 +64,7 @@ class RayScene {
   RTCScene scene_ = nullptr;
   std::deque<TriangleMesh> meshes_;  // deque: stable addresses for Embree's shared buffers
   std::vector<RTCGeometry> geometries_;
+  std::deque<HitOpacity> opacities_;  // deque: stable addresses for Embree's user data
 };
 
 RTCDevice embreeDevice();

@@ -1,7 +1,10 @@
 // The reflection framebuffer psi_r (paper Section 3.3): for every pixel of a face view, primary
 // rays against the relic (Embree), each hit keeping position, shading normal, material and
-// mirror-reflected direction. A pixel shades as the mean over its samples with misses black (the
-// pyramid's background), so its silhouette coverage is the fraction of its samples that hit.
+// mirror-reflected direction, resolved by surface_shading.hpp with the pixel's footprint
+// (1 / fx radians per pixel) for the texture filtering. A BLEND surface stops the primary ray
+// (PartialHits::Solid): the static shading composites what is behind it. A pixel shades as the mean over its
+// samples with misses black (the pyramid's background), so its silhouette coverage is the fraction of its
+// samples that hit.
 //
 // Anti-aliasing, per pixel either one sample at the centre or four on a rotated grid (the fixed
 // pattern keeps silhouettes stable from frame to frame):
@@ -30,6 +33,9 @@ struct HitPoint {
   vec3 to_viewer{0.0f, 0.0f, 1.0f};  // wo, unit
   vec3 reflected{0.0f, 1.0f, 0.0f};  // mirror direction of wo about the normal, unit
   SurfaceMaterial material;
+  vec3 emission{0.0f};  // surface_shading.hpp's SurfacePoint fields
+  float occlusion = 1.0f;
+  float alpha = 1.0f;  // BLEND coverage: what is behind shows through 1 - alpha of it
 };
 
 enum class AntiAliasing { None, Edges, Full };

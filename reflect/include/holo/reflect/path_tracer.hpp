@@ -6,8 +6,11 @@
 // monitors show the relic alone); from the relic, paths bounce on the relic's glTF BSDF up to
 // max_bounces times, reach emitters (hall, visitors: diffuse emitters, their radiance is
 // Material::emission, they do not scatter) or escape to the environment. Every relic vertex adds
-// the relic's own emission (RenderScene::relicEmission; none for the relics in use), the one a
-// path reaches after its last scattering included. At every non-mirror
+// the relic's own emission, the one a path reaches after its last scattering included. The relic's
+// surface at every vertex comes from surface_shading.hpp (textures filtered at the footprint of
+// the camera ray's cone, normal maps, occlusion scaling the light the vertex reflects, emissive
+// textures); cut-out (MASK) texels and culled back faces are not hit by any ray, and BLEND
+// surfaces are stopped at with probability alpha (stochastic transparency). At every non-mirror
 // relic vertex the environment is sampled (next-event estimation through its importance
 // distribution, shadowed by all geometry) and combined with BSDF sampling by the balance
 // heuristic (delta-path-tracing paper Sec. 3.2); emitters are reached by BSDF sampling only.
@@ -32,7 +35,7 @@ namespace holo::reflect {
 // The path tracer's version, part of every cached ground truth's key (eval/ground_truth_cache.hpp).
 // Bump it in the change that alters what the tracer renders for the same scene, view, spp and seed
 // (its estimators, BSDF, sampler, defaults of PathTracerOptions), so cached truths are rendered again.
-inline constexpr int kPathTracerVersion = 1;
+inline constexpr int kPathTracerVersion = 2;
 
 // Which estimators a path vertex combines. Only kMis is the ground truth; the single-strategy
 // modes exist to check it (all three converge to the same image, with different noise).
@@ -72,8 +75,11 @@ class PathTracer {
   PathTracer(const RenderScene& scene, const Environment& environment, PathTracerOptions options = {});
 
   // One path sample of the radiance arriving along `ray` after it has hit the relic; the
-  // samples come from `stream`. Exposed for tests and for hybrid renderers that trace from the relic.
-  vec3 traceFromRelic(const Ray& ray, const RayHit& relic_hit, SampleStream& stream) const;
+  // samples come from `stream`. pixel_spread (radians, 1 / fx for a camera ray): the pixel's
+  // footprint is the path length times it (0: textures at their sharpest level). Exposed for
+  // tests and for hybrid renderers that trace from the relic.
+  vec3 traceFromRelic(const Ray& ray, const RayHit& relic_hit, SampleStream& stream,
+                      float pixel_spread = 0.0f) const;
 
   const PathTracerOptions& options() const { return options_; }
   const RenderScene& scene() const { return scene_; }

@@ -2,7 +2,10 @@
 // visitors and what they carry: diffuse emitters whose radiance is their Material::emission, the
 // light model of sim/museum.hpp), in one Embree scene, plus a relic-only scene for primary rays
 // (the pyramid's monitors show the relic alone; everything real is seen only in reflections).
-// Models are copied in. Positions in metres, world frame.
+// Models are copied in; a relic mesh whose material has a normal map but no tangents gets them
+// (TriangleMesh::computeTangents), and relic meshes whose material culls back faces or has an
+// alpha mode answer the ray queries' opacity (surface_shading.hpp), so both scenes pass through
+// cut-out texels. Positions in metres, world frame.
 #pragma once
 
 #include <memory>
@@ -27,16 +30,14 @@ class RenderScene {
   bool isRelic(std::uint32_t geometry) const;  // geometry id of all()
   // Emitted radiance (RGB) of an emitter hit in all(); 0 for the relic.
   vec3 emission(const RayHit& hit) const;
-  // The relic's material at a hit (textures sampled at the hit's uv), for either scene.
-  SurfaceMaterial relicMaterial(const RayHit& hit, const RayScene& scene) const;
-  // Radiance (RGB, >= 0, finite) the relic emits at a hit, for either scene: its glTF material's
-  // Material::emission (emissive textures are not read); 0 for the relics in use.
-  vec3 relicEmission(const RayHit& hit, const RayScene& scene) const;
-  // Every relic surface gets this material instead of its glTF one (textures ignored): for
-  // analytic tests and material studies that glTF cannot state (a pure Lambert surface needs
-  // SurfaceMaterial::specular = 0, which core's Material does not carry). Emission stays the
-  // glTF material's.
+  // The relic mesh (index into relic().meshes) a hit of either scene is on.
+  std::size_t relicMesh(const RayHit& hit, const RayScene& scene) const;
+  // Every relic surface gets this material's parameters instead of its glTF ones (base colour,
+  // metallic, roughness and specular textures ignored; normal, occlusion and emission maps and
+  // the opacity stay the glTF material's): for analytic tests and material studies that glTF
+  // cannot state (a pure Lambert surface needs SurfaceMaterial::specular = 0).
   void overrideRelicMaterial(const SurfaceMaterial& material) { override_ = material; }
+  const std::optional<SurfaceMaterial>& relicMaterialOverride() const { return override_; }
   const Model& relic() const { return relic_model_; }
   Bounds3 relicBounds() const { return relic_model_.bounds(); }
 
@@ -47,7 +48,6 @@ class RenderScene {
     const Model* model = nullptr;
   };
   const Material& materialOf(const Surface& s) const;
-  const Material& relicGltfMaterial(const RayHit& hit, const RayScene& scene) const;
   Model relic_model_;
   std::vector<Model> emitter_models_;
   std::vector<Surface> surfaces_;        // by geometry id of all()
