@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <functional>
 
 #include "holo/eval/ground_truth_cache.hpp"
 #include "holo/eval/reflection_scene.hpp"
@@ -52,6 +53,32 @@ TEST(GroundTruthKey, ChangesWithEverythingThatChangesTheTruth) {
   ReflectionScene rougher = base;  // a material
   rougher.relic.materials.front().roughness += 0.01f;
   EXPECT_NE(groundTruthKey(rougher, view, 16, true), key);
+
+  // Every material field and texture input the path tracer renders.
+  const std::vector<std::function<void(Model&)>> material_changes = {
+      [](Model& m) { m.materials.front().normal_texture.index = 0; },
+      [](Model& m) { m.materials.front().normal_scale = 0.5f; },
+      [](Model& m) { m.materials.front().occlusion_strength = 0.5f; },
+      [](Model& m) { m.materials.front().emissive_texture.tex_coord = 1; },
+      [](Model& m) { m.materials.front().base_colour_texture.rotation = 0.1f; },
+      [](Model& m) { m.materials.front().alpha_mode = AlphaMode::Mask; },
+      [](Model& m) { m.materials.front().alpha_cutoff = 0.25f; },
+      [](Model& m) { m.materials.front().alpha = 0.5f; },
+      [](Model& m) { m.materials.front().double_sided = !m.materials.front().double_sided; },
+      [](Model& m) { m.materials.front().specular = 0.5f; },
+      [](Model& m) { m.meshes.front().uvs1.assign(m.meshes.front().positions.size(), vec2(0.5f)); },
+      [](Model& m) { m.meshes.front().tangents.assign(m.meshes.front().positions.size(), vec4(1, 0, 0, 1)); },
+  };
+  for (std::size_t i = 0; i < material_changes.size(); ++i) {
+    ReflectionScene changed = base;
+    material_changes[i](changed.relic);
+    EXPECT_NE(groundTruthKey(changed, view, 16, true), key) << "material change " << i;
+  }
+  ReflectionScene sampled = base;  // a texture's sampler
+  sampled.relic.textures.emplace_back(cv::Mat(2, 2, CV_8UC3, cv::Scalar(1, 2, 3)));
+  ReflectionScene clamped = sampled;
+  clamped.relic.textures.back().sampler.wrap_u = TextureWrap::ClampToEdge;
+  EXPECT_NE(groundTruthKey(clamped, view, 16, true), groundTruthKey(sampled, view, 16, true));
 
   ReflectionScene textured = base;  // a texture
   textured.relic.textures.emplace_back(cv::Mat(2, 2, CV_8UC3, cv::Scalar(1, 2, 3)));

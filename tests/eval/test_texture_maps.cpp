@@ -351,6 +351,37 @@ TEST(TextureMaps, AMinifiedCheckerAveragesToItsMeanInsteadOfAliasing) {
   EXPECT_GT(aliased.variance, 10.0 * filtered_variance);
 }
 
+TEST(TextureMaps, SingleSidedBackFacesAreCulledDoubleSidedOnesShadedWithTheReversedNormal) {
+  // The quad seen from behind (eye on -Z), a green-emitting quad further back. Single-sided: the
+  // front quad is culled and the green one shows. Double-sided: the front quad hides it and,
+  // white Lambert under a sky that is 1 towards -Z and 0 towards +Z, reads the sky on its back's
+  // side (reversed normal -Z), not black.
+  Model relic;
+  relic.meshes = {quad(0.0f), quad(0.5f, 1.0f, 1)};
+  relic.meshes[1].normals.assign(4, vec3(0.0f, 0.0f, -1.0f));
+  std::swap(relic.meshes[1].triangles[0].y, relic.meshes[1].triangles[0].z);  // faces -Z
+  std::swap(relic.meshes[1].triangles[1].y, relic.meshes[1].triangles[1].z);
+  Material white;
+  white.base_colour = vec3(1.0f);
+  white.roughness = 1.0f;
+  Material green = black();
+  green.emission = vec3(0.0f, 1.0f, 0.0f);
+  relic.materials = {white, green};
+  const cv::Mat sky = panorama([](const vec3& d) { return vec3(d.z < 0.0f ? 1.0f : 0.0f); });
+  const CameraModel camera = reflect::lookAtCamera(vec3(0.0f, 0.0f, -2.0f), vec3(0.0f),
+                                                   2.0f * std::atan(0.4f / 2.0f) * 180.0f / kPi, 8, 8);
+  for (const std::string& method : kRenderers) {
+    const vec3 culled = rgbAt(render(method, sceneOf(relic, sky), camera), 4, 4);
+    EXPECT_NEAR(culled.g, 1.0f, 1e-3f) << method;
+    EXPECT_NEAR(culled.r, 0.0f, 1e-3f) << method;
+    Model two_sided = relic;
+    two_sided.materials[0].double_sided = true;
+    const vec3 shaded = rgbAt(render(method, sceneOf(two_sided, sky), camera, 64), 4, 4);
+    EXPECT_GT(shaded.r, 0.5f) << method;               // the lit hemisphere is the reversed normal's
+    EXPECT_NEAR(shaded.r, shaded.g, 0.05f) << method;  // white, not the green behind
+  }
+}
+
 TEST(TextureMaps, DegenerateUvsGiveFiniteOutput) {
   // Every uv the same: zero-area tangent frames under a normal map that tilts hard.
   Model relic;
