@@ -52,13 +52,16 @@ vec3 PathTracer::traceFromRelic(const Ray& primary, const RayHit& relic_hit, Sam
     throughput *= surface.occlusion;
     const vec3 wo = -ray.direction;
     const Bsdf bsdf(surface.material, n);
+    // A normal map can lean a reflection below the face, into the relic (where culled back
+    // faces would let it out): such directions reflect nothing, for both strategies alike.
+    const auto reflects = [&](const vec3& wi) { return !surface.normal_mapped || glm::dot(wi, ng) > 0.0f; };
 
     // Next-event estimation towards the environment, balance heuristic against the BSDF.
     const vec2 u_light = stream.next2D();  // drawn in every mode: the streams stay aligned
     const LightSampling mode = options_.sampling;
     if (mode != LightSampling::kBsdfOnly && (!bsdf.mirror() || bsdf.hasDiffuse())) {
       const EnvironmentSample ls = environment_.sample(u_light);
-      if (ls.pdf > 0.0f) {
+      if (ls.pdf > 0.0f && reflects(ls.direction)) {
         const vec3 f = bsdf.eval(wo, ls.direction);
         if (f.x > 0.0f || f.y > 0.0f || f.z > 0.0f) {
           if (!all.occluded(spawnRay(p, ng, ls.direction))) {
@@ -71,7 +74,7 @@ vec3 PathTracer::traceFromRelic(const Ray& primary, const RayHit& relic_hit, Sam
 
     // Continue the path by BSDF sampling.
     const auto bs = bsdf.sample(wo, stream.next3D());
-    if (!bs) break;
+    if (!bs || !reflects(bs->wi)) break;
     throughput *= bs->weight;
     if (!(throughput.x > 0.0f || throughput.y > 0.0f || throughput.z > 0.0f)) break;
     ray = spawnRay(p, ng, bs->wi);

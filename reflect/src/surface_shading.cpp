@@ -161,7 +161,8 @@ SurfacePoint resolveSurface(const RenderScene& scene, const RayScene& traced, co
     const float len = glm::length(interpolated);
     if (len > 1e-12f && std::isfinite(len)) n = interpolated / len;
   }
-  if (m.normal_texture.used())
+  s.normal_mapped = m.normal_texture.used();
+  if (s.normal_mapped)
     n = mapNormal(mesh, c, n, sampleSlot(model, mesh, c, m.normal_texture, footprint), m.normal_scale);
   const float facing = glm::dot(n, ray.direction);
   if (facing > 0.0f) n = -n;

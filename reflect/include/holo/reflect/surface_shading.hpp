@@ -41,9 +41,10 @@ struct SurfacePoint {
   vec3 normal{0.0f, 1.0f, 0.0f};            // unit shading normal (normal-mapped), viewer's side
   vec3 geometric_normal{0.0f, 1.0f, 0.0f};  // unit, viewer's side
   SurfaceMaterial material;
-  vec3 emission{0.0f};     // radiance emitted towards the viewer, >= 0, finite
-  float occlusion = 1.0f;  // [0,1], scales reflected light only
-  float alpha = 1.0f;      // [0,1] BLEND coverage (1 for OPAQUE and MASK)
+  vec3 emission{0.0f};         // radiance emitted towards the viewer, >= 0, finite
+  float occlusion = 1.0f;      // [0,1], scales reflected light only
+  float alpha = 1.0f;          // [0,1] BLEND coverage (1 for OPAQUE and MASK)
+  bool normal_mapped = false;  // the normal comes from a normal map (it may lean past the face)
 };
 
 // The relic's surface where `ray` hit it in `traced` (relicOnly() or all(); hit on the relic).
