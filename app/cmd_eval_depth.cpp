@@ -263,10 +263,10 @@ int runRecording(const Options& o) {
 }
 
 int run(const Options& o) {
-  if (!o.recording.empty()) return runRecording(o);
-  if (o.frames < 1) throw InputError("", "--frames", "a number of frames >= 1", std::to_string(o.frames));
   if (o.learning_frames < 0)
     throw InputError("", "--learning-frames", "a number of frames >= 0", std::to_string(o.learning_frames));
+  if (!o.recording.empty()) return runRecording(o);
+  if (o.frames < 1) throw InputError("", "--frames", "a number of frames >= 1", std::to_string(o.frames));
   sim::SceneDescription description = sim::loadScene(o.scene);
   if (o.width > 0) description.camera.width = o.width;
   if (o.height > 0) description.camera.height = o.height;

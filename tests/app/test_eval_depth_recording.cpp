@@ -121,6 +121,14 @@ TEST(EvalDepthRecording, MeasuresASimulatedRecordingATumSequenceAndRefusesOneFra
       0);
   EXPECT_NE(logText(dir / "single.txt").find("a sequence of at least"), std::string::npos)
       << logText(dir / "single.txt");
+
+  // Bad counts name the option.
+  for (const std::string option : {"--learning-frames", "--background-frames"}) {
+    EXPECT_NE(holo::test::runHolopyramid(
+                  "eval depth --recording " + (dir / "tum").string() + " " + option + " -1", dir / "bad.txt"),
+              0);
+    EXPECT_NE(logText(dir / "bad.txt").find(option), std::string::npos) << logText(dir / "bad.txt");
+  }
 }
 
 }  // namespace
