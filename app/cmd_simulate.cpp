@@ -6,7 +6,7 @@
 //                                         files and associations.txt (capture/recording.hpp)
 //   truth/cam<i>/depth/NNNNNN.png         noiseless depth, 16-bit millimetres, 0 = nothing in range
 //   truth/cam<i>/foreground/NNNNNN.png    8-bit mask, 255 where the pixel sees a visitor
-//   background/cam<i>/colour.png, depth.png  the empty hall with sensor noise (gamma_s)
+//   background/cam<i>/color.png, depth.png   the empty hall with sensor noise (gamma_s)
 //   panorama.exr                          equirectangular linear HDR of the empty hall
 //   contact_sheet.png                     frame 0 of every camera: colour, depth, truth, mask
 //   scene.txt                             the scene's name, source and seed

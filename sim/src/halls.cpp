@@ -17,6 +17,20 @@ mat4 at(const vec3& p) {
   return glm::translate(mat4(1.0f), p);
 }
 
+// The hall's shiny parts. Only the depth sensor model reads metallic and roughness (a camera,
+// the panorama and the path tracer see every hall surface as its emission, museum.hpp): gilt
+// frames and bollard tops, steel poles and the lacquered bollards lose depth as on a real Kinect.
+struct Finish {
+  const char* material;
+  float metallic;
+  float roughness;
+};
+constexpr Finish kFinishes[] = {{"frame", 1.0f, 0.3f},
+                                {"bollard_top", 1.0f, 0.15f},
+                                {"info_pole", 1.0f, 0.35f},
+                                {"lamp_pole", 1.0f, 0.35f},
+                                {"bollard", 0.0f, 0.15f}};
+
 // Collects parts into one mesh per material, so a hall is a handful of Embree geometries.
 class HallBuilder {
  public:
@@ -30,6 +44,11 @@ class HallBuilder {
       m.base_colour =
           glm::clamp(radiance / std::max(1.0f, std::max({radiance.r, radiance.g, radiance.b})), 0.0f, 1.0f);
       m.roughness = 1.0f;
+      for (const Finish& f : kFinishes)
+        if (material == f.material) {
+          m.metallic = f.metallic;
+          m.roughness = f.roughness;
+        }
       m.emission = radiance;
       model_.materials.push_back(m);
       TriangleMesh mesh;

@@ -91,6 +91,9 @@ void readNoise(const ConfigNode& node, SensorNoise& n) {
                                               "grazing_start_deg",
                                               "dark_luminance",
                                               "dark_dropout",
+                                              "metal_dropout",
+                                              "highlight_deg",
+                                              "highlight_dropout",
                                               "range_fade_start",
                                               "range_fade_end",
                                               "edge_band_px",
@@ -104,7 +107,8 @@ void readNoise(const ConfigNode& node, SensorNoise& n) {
       node[key].fail(
           "one of sigma_0, k_z1, k_z2, grazing_dropout_deg, edge_dropout, flying_pixel, random_dropout, "
           "color_sigma, enabled, baseline, native_focal_px, disparity_step_px, grazing_start_deg, "
-          "dark_luminance, dark_dropout, range_fade_start, range_fade_end, edge_band_px, "
+          "dark_luminance, dark_dropout, metal_dropout, highlight_deg, highlight_dropout, range_fade_start, "
+          "range_fade_end, edge_band_px, "
           "low_texture_contrast, low_texture_dropout, edge_fattening_px, hole_patch_px, hole_flicker",
           key);
   n.sigma_0 = node.getInRange("sigma_0", n.sigma_0, 0.0f, 1.0f);
@@ -125,6 +129,9 @@ void readNoise(const ConfigNode& node, SensorNoise& n) {
                                    std::to_string(n.grazing_start_deg));
   n.dark_luminance = node.getInRange("dark_luminance", n.dark_luminance, 0.0f, 1e6f);
   n.dark_dropout = node.getInRange("dark_dropout", n.dark_dropout, 0.0f, 1.0f);
+  n.metal_dropout = node.getInRange("metal_dropout", n.metal_dropout, 0.0f, 1.0f);
+  n.highlight_deg = node.getInRange("highlight_deg", n.highlight_deg, 0.0f, 90.0f);
+  n.highlight_dropout = node.getInRange("highlight_dropout", n.highlight_dropout, 0.0f, 1.0f);
   n.range_fade_start = node.getInRange("range_fade_start", n.range_fade_start, 0.0f, 1000.0f);
   n.range_fade_end = node.getInRange("range_fade_end", n.range_fade_end, 0.0f, 1000.0f);
   if (n.range_fade_end < n.range_fade_start)
@@ -235,11 +242,16 @@ mat4 cameraPose(int face, float tilt_deg) {
   return lookAtCameraToWorld(eye, eye + std::cos(tilt) * out + vec3(0.0f, std::sin(tilt), 0.0f));
 }
 
+const Material* materialAt(const Model& model, const RayScene& scene, const RayHit& hit) {
+  const int material = scene.mesh(hit.geometry).material;
+  if (material < 0 || material >= static_cast<int>(model.materials.size())) return nullptr;
+  return &model.materials[static_cast<std::size_t>(material)];
+}
+
 // Radiance a ray sees at a hit: the material's emission (lighting is baked, see museum.hpp).
 vec3 radianceAt(const Model& model, const RayScene& scene, const RayHit& hit) {
-  const int material = scene.mesh(hit.geometry).material;
-  if (material < 0 || material >= static_cast<int>(model.materials.size())) return vec3(0.0f);
-  return model.materials[static_cast<std::size_t>(material)].emission;
+  const Material* m = materialAt(model, scene, hit);
+  return m ? m->emission : vec3(0.0f);
 }
 
 }  // namespace
@@ -357,6 +369,8 @@ SimulatedFrame Museum::renderCamera(int index, int frame, bool with_visitors) co
   cv::Mat cosine = cv::Mat::zeros(H, W, CV_32FC1);
   cv::Mat radiance = cv::Mat::zeros(H, W, CV_32FC3);
   cv::Mat foreground = cv::Mat::zeros(H, W, CV_8UC1);
+  SurfaceMaps surface{cv::Mat::zeros(H, W, CV_32FC1), cv::Mat::zeros(H, W, CV_32FC1),
+                      cv::Mat::ones(H, W, CV_32FC1)};
   const mat3 R(cam.T_world_camera());
   const vec3 origin = cam.position();
   tbb::parallel_for(0, H, [&](int y) {
@@ -375,7 +389,13 @@ SimulatedFrame Museum::renderCamera(int index, int frame, bool with_visitors) co
         foreground.at<std::uint8_t>(y, x) = 255;
       }
       if (!hit.hit()) continue;
-      setRgb(radiance, x, y, radianceAt(*model, *scene, hit));
+      if (const Material* material = materialAt(*model, *scene, hit)) {
+        setRgb(radiance, x, y, material->emission);
+        const vec3& c = material->base_colour;
+        surface.albedo.at<float>(y, x) = 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
+        surface.metallic.at<float>(y, x) = material->metallic;
+        surface.roughness.at<float>(y, x) = material->roughness;
+      }
       const float z = hit.t / norm;  // camera-frame depth of a point t along the unit ray
       if (z >= settings.min_range && z <= settings.max_range) depth.at<float>(y, x) = z;
       cosine.at<float>(y, x) = std::abs(glm::dot(ray.direction, hit.geometric_normal));
@@ -387,7 +407,7 @@ SimulatedFrame Museum::renderCamera(int index, int frame, bool with_visitors) co
   const std::uint64_t static_seed = m.description.seed * 0x100000001B3ull +
                                     static_cast<std::uint64_t>(index) * 0x9E3779B9ull + kBackgroundFrame;
   SensorOutput sensed = applySensorNoise(m.description.noise, settings, depth, cosine, radiance, seed,
-                                         static_seed ^ 0x57a71cull);
+                                         static_seed ^ 0x57a71cull, surface);
 
   SimulatedFrame out;
   out.frame.colour = sensed.colour;

@@ -188,7 +188,8 @@ cv::Mat nearestDepth(const cv::Mat& depth, float radius_px) {
 
 SensorOutput applyProfiledSensor(const SensorNoise& noise, const CameraSettings& camera,
                                  const cv::Mat& true_depth, const cv::Mat& cos_incidence,
-                                 const cv::Mat& radiance, std::uint64_t seed, std::uint64_t static_seed) {
+                                 const cv::Mat& radiance, std::uint64_t seed, std::uint64_t static_seed,
+                                 const SurfaceMaps& surface) {
   SensorOutput out;
   out.depth = cv::Mat::zeros(true_depth.size(), CV_32FC1);
   out.colour = cv::Mat(true_depth.size(), CV_8UC3);
@@ -202,6 +203,11 @@ SensorOutput applyProfiledSensor(const SensorNoise& noise, const CameraSettings&
   const cv::Mat nearest = fattening ? nearestDepth(true_depth, noise.edge_fattening_px) : cv::Mat();
   const float fb = noise.native_focal_px * noise.baseline;
   const float patch = std::max(1.0f, noise.hole_patch_px);
+  const bool has_surface = !surface.albedo.empty();
+  if (has_surface)
+    CV_Assert(surface.albedo.type() == CV_32FC1 && surface.metallic.type() == CV_32FC1 &&
+              surface.roughness.type() == CV_32FC1 && surface.albedo.size() == true_depth.size() &&
+              surface.metallic.size() == true_depth.size() && surface.roughness.size() == true_depth.size());
   tbb::parallel_for(0, true_depth.rows, [&](int y) {
     for (int x = 0; x < true_depth.cols; ++x) {
       PixelRng rng(seed, 0x5e4502ull, x, y);
@@ -212,11 +218,19 @@ SensorOutput applyProfiledSensor(const SensorNoise& noise, const CameraSettings&
       const float cosine = cos_incidence.at<float>(y, x);
       const float angle =
           std::acos(std::clamp(std::isfinite(cosine) ? cosine : 0.0f, 0.0f, 1.0f)) * 180.0f / kPi;
-      const float luminance = 0.0722f * rad[0] + 0.7152f * rad[1] + 0.2126f * rad[2];
       const bool on_edge = near_edge.at<std::uint8_t>(y, x) != 0;
       float keep = 1.0f - ramp(angle, noise.grazing_start_deg, noise.grazing_dropout_deg);
       keep *= 1.0f - ramp(z, noise.range_fade_start, noise.range_fade_end);
-      if (luminance < noise.dark_luminance) keep *= 1.0f - noise.dark_dropout;
+      const float albedo = has_surface ? surface.albedo.at<float>(y, x)
+                                       : 0.0722f * rad[0] + 0.7152f * rad[1] + 0.2126f * rad[2];
+      keep *= 1.0f - noise.dark_dropout * (1.0f - ramp(albedo, 0.0f, noise.dark_luminance));
+      if (has_surface) {
+        const float roughness = std::clamp(surface.roughness.at<float>(y, x), 0.0f, 1.0f);
+        keep *= 1.0f - noise.metal_dropout * std::clamp(surface.metallic.at<float>(y, x), 0.0f, 1.0f) *
+                           (1.0f - roughness);
+        keep *= 1.0f - noise.highlight_dropout * (1.0f - ramp(roughness, 0.0f, 0.5f)) *
+                           (1.0f - ramp(angle, 0.0f, noise.highlight_deg));
+      }
       if (on_edge) keep *= 1.0f - noise.edge_dropout;
       if (stereo_texture && contrast.at<float>(y, x) < noise.low_texture_contrast)
         keep *= 1.0f - noise.low_texture_dropout;
@@ -277,6 +291,9 @@ SensorNoise sensorProfile(SensorProfile profile) {
     n.random_dropout = 0.002f;
     n.dark_luminance = 0.02f;
     n.dark_dropout = 0.7f;
+    n.metal_dropout = 0.9f;
+    n.highlight_deg = 12.0f;
+    n.highlight_dropout = 0.9f;
     n.range_fade_start = 3.3f;
     n.range_fade_end = 5.5f;
     n.hole_patch_px = 8.0f;
@@ -293,6 +310,9 @@ SensorNoise sensorProfile(SensorProfile profile) {
     n.edge_band_px = 1.0f;
     n.flying_pixel = 0.0f;
     n.random_dropout = 0.002f;
+    n.metal_dropout = 0.3f;  // a textureless metal surface mirrors a different scene into each camera
+    n.highlight_deg = 20.0f;
+    n.highlight_dropout = 0.6f;
     n.range_fade_start = 15.0f;
     n.range_fade_end = 20.0f;
     n.low_texture_contrast = 3.0f;
@@ -306,11 +326,13 @@ SensorNoise sensorProfile(SensorProfile profile) {
 
 SensorOutput applySensorNoise(const SensorNoise& noise, const CameraSettings& camera,
                               const cv::Mat& true_depth, const cv::Mat& cos_incidence,
-                              const cv::Mat& radiance, std::uint64_t seed, std::uint64_t static_seed) {
+                              const cv::Mat& radiance, std::uint64_t seed, std::uint64_t static_seed,
+                              const SurfaceMaps& surface) {
   CV_Assert(true_depth.type() == CV_32FC1 && cos_incidence.type() == CV_32FC1 && radiance.type() == CV_32FC3);
   CV_Assert(true_depth.size() == cos_incidence.size() && true_depth.size() == radiance.size());
   if (noise.enabled && noise.profile != SensorProfile::uniform)
-    return applyProfiledSensor(noise, camera, true_depth, cos_incidence, radiance, seed, static_seed);
+    return applyProfiledSensor(noise, camera, true_depth, cos_incidence, radiance, seed, static_seed,
+                               surface);
   SensorOutput out;
   out.depth = cv::Mat::zeros(true_depth.size(), CV_32FC1);
   out.colour = cv::Mat(true_depth.size(), CV_8UC3);

@@ -99,6 +99,9 @@ TEST(SceneFile, TheExampleFileLoads) {
   EXPECT_EQ(d.relic, "kettle");
   EXPECT_EQ(d.visitors, 4);
   EXPECT_EQ(d.seed, 7u);
+  EXPECT_EQ(d.noise.profile, SensorProfile::structured_light);
+  EXPECT_FLOAT_EQ(d.noise.metal_dropout, 0.9f);
+  EXPECT_FLOAT_EQ(d.noise.highlight_deg, 12.0f);
 }
 
 // A real model as the relic: fitted onto the pedestal like the procedural ones.

@@ -131,6 +131,7 @@ TEST(SensorNoise, SameSeedSameNoiseDifferentSeedDifferent) {
 // unit standard deviation.
 TEST(SensorNoise, MuseumFramesFollowTheModel) {
   SceneDescription d = loadScene("museum");
+  d.noise = sensorProfile(SensorProfile::uniform);  // the Gaussian model without quantisation
   d.camera.width = 160;
   d.camera.height = 90;
   const Museum m(d);

@@ -7,7 +7,9 @@
 //   gallery : long gallery 16 x 5.6 x 4.5 m, paintings, benches, a row of ceiling lamps
 //   atrium  : tall atrium 12 x 12 x 12 m, columns, balcony, banners, a skylight
 //   none    : nothing at all (the relic alone, for tests under a panorama)
-// Each hall has strongly coloured objects within 1 m of the pyramid axis.
+// Each hall has strongly coloured objects within 1 m of the pyramid axis. The gilt frames,
+// bollard tops and poles are metallic and the bollards glossy (metallic/roughness), which only
+// the depth sensor model reads (sensor_noise.hpp: metal and highlight holes).
 #pragma once
 
 #include <string>

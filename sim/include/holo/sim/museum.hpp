@@ -31,10 +31,11 @@ inline constexpr int kFaceCount = 4;
 
 // Which kind of depth camera the sensor model imitates (docs/sim.md, "Sensor profiles").
 //   uniform          : Gaussian noise, holes at grazing angles, on depth edges and scattered at
-//                      random (salt-like); the built-in halls' default.
+//                      random (salt-like).
 //   structured-light : Kinect-like, fitted to real TUM RGB-D frames: the projector's shadow beside
-//                      depth edges, holes in patches on dark and glancing surfaces and towards
-//                      the range limit, disparity quantisation, holes that flicker frame to frame.
+//                      depth edges, holes in patches on dark, metal, glossy and glancing surfaces
+//                      and towards the range limit, disparity quantisation, holes that flicker
+//                      frame to frame. Every built-in scene's and scene file's default.
 //   stereo           : ZED-like: holes in patches on low-texture surfaces, the second camera's
 //                      occlusion beside depth edges, foreground fattened over the background.
 enum class SensorProfile { uniform, structured_light, stereo };
@@ -61,8 +62,19 @@ struct SensorNoise {
   float native_focal_px = 580.0f;
   float disparity_step_px = 0.125f;
   float grazing_start_deg = 60.0f;  // hole probability ramps from 0 here to 1 at grazing_dropout_deg
-  float dark_luminance = 0.0f;      // surfaces darker than this linear luminance lose dark_dropout
+  // Surfaces whose albedo luminance (without a material: the radiance's luminance) is below
+  // dark_luminance lose up to dark_dropout of their pixels: all of it at albedo 0, none at the
+  // threshold (the projector's infrared comes back too weak from dark clothes and hair).
+  float dark_luminance = 0.0f;
   float dark_dropout = 0.0f;
+  // Metal returns no diffuse pattern: a pixel on it is lost with probability metal_dropout x
+  // metallic x (1 - roughness) (brushed metal scatters some of it back).
+  float metal_dropout = 0.0f;
+  // A smooth surface (roughness below 0.5) seen within highlight_deg of head-on mirrors the
+  // projector into the camera and saturates it: up to highlight_dropout lost, all of it at
+  // roughness 0 and head-on, fading to none at roughness 0.5 and at highlight_deg.
+  float highlight_deg = 0.0f;
+  float highlight_dropout = 0.0f;
   float range_fade_start = 20.0f;  // hole probability ramps from 0 here to 1 at range_fade_end
   float range_fade_end = 20.0f;
   float edge_band_px = 1.0f;          // edge_dropout applies within this many pixels of a depth edge
@@ -113,7 +125,7 @@ struct SceneDescription {
   int close_visitors = 0;
   std::uint64_t seed = 1;
   CameraSettings camera;
-  SensorNoise noise;
+  SensorNoise noise = sensorProfile(SensorProfile::structured_light);
   vec3 panorama_position{0.0f, 0.35f, 0.0f};
 };
 

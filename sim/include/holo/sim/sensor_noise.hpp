@@ -11,10 +11,10 @@
 // The structured-light and stereo profiles (SensorProfile in museum.hpp) replace the random and
 // edge dropouts by holes in patches: the projector's (second camera's) shadow, traced per row from
 // the true depth; then, per pixel, a keep probability from the incidence angle, the range, a dark
-// surface, a nearby depth edge and (stereo) low texture, compared with smooth value noise that is
-// partly fixed per camera and partly new each frame; structured light quantises depth in disparity.
-// Every random number comes from a counter-based generator keyed by (seed, stream, pixel), so the
-// result never depends on how rows are split between threads.
+// or metal surface, a smooth surface's highlight, a nearby depth edge and (stereo) low texture, compared with
+// smooth value noise that is partly fixed per camera and partly new each frame; structured light quantises
+// depth in disparity. Every random number comes from a counter-based generator keyed by (seed, stream,
+// pixel), so the result never depends on how rows are split between threads.
 #pragma once
 
 #include <cstdint>
@@ -42,6 +42,15 @@ float depthSigma(const SensorNoise& noise, float z);
 // A depth edge: a 4-neighbour is invalid or differs by more than 0.05 m + 5% of z.
 bool isDepthEdge(const cv::Mat& true_depth, int x, int y);
 
+// What the surface seen by each pixel is made of (its Material), for the structured-light and
+// stereo profiles' dark, metal and highlight holes. Empty maps: the radiance's luminance stands
+// in for the albedo and nothing is metal or glossy.
+struct SurfaceMaps {
+  cv::Mat albedo;     // CV_32FC1 luminance of the base colour, [0, 1]
+  cv::Mat metallic;   // CV_32FC1 [0, 1]
+  cv::Mat roughness;  // CV_32FC1 [0, 1] perceptual
+};
+
 struct SensorOutput {
   cv::Mat depth;   // CV_32FC1 metres, 0 = invalid
   cv::Mat colour;  // CV_8UC3 BGR sRGB
@@ -52,9 +61,11 @@ struct SensorOutput {
 // With noise.enabled == false the depth is the truth and the colour is noiseless. `seed` keys
 // everything that changes every frame; `static_seed` (one per camera) the part of the
 // structured-light and stereo hole patterns that stays put, so holes flicker only partly, as
-// real ones do. Parallel over rows (oneTBB), bit-identical for the same inputs and seeds.
+// real ones do. `surface`: the materials under the pixels (all three maps, or none). Parallel over rows
+// (oneTBB), bit-identical for the same inputs and seeds.
 SensorOutput applySensorNoise(const SensorNoise& noise, const CameraSettings& camera,
                               const cv::Mat& true_depth, const cv::Mat& cos_incidence,
-                              const cv::Mat& radiance, std::uint64_t seed, std::uint64_t static_seed = 0);
+                              const cv::Mat& radiance, std::uint64_t seed, std::uint64_t static_seed = 0,
+                              const SurfaceMaps& surface = {});
 
 }  // namespace holo::sim
