@@ -55,6 +55,17 @@ class KeyHash {
       value(m.emission);
       value(m.base_colour_texture);
       value(m.metallic_roughness_texture);
+      // What the path tracer's MaterialBsdf reads (reflect/dielectric.hpp): specular, glass,
+      // volume and clearcoat factors.
+      value(m.specular);
+      value(m.specular_colour);
+      value(m.transmission);
+      value(m.ior);
+      value(m.thickness);
+      value(m.attenuation_colour);
+      value(m.attenuation_distance);
+      value(m.clearcoat);
+      value(m.clearcoat_roughness);
     }
     value(model.textures.size());
     for (const Texture& texture : model.textures) image(texture.image());

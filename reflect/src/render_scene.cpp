@@ -86,6 +86,15 @@ SurfaceMaterial RenderScene::relicMaterial(const RayHit& hit, const RayScene& sc
   s.base_colour = m.base_colour;
   s.metallic = m.metallic;
   s.roughness = m.roughness;
+  s.specular = m.specular;
+  s.specular_colour = m.specular_colour;
+  s.transmission = m.transmission;
+  s.ior = m.ior;
+  s.thin_walled = !(m.thickness > 0.0f);
+  s.attenuation_colour = m.attenuation_colour;
+  s.attenuation_distance = m.attenuation_distance;
+  s.clearcoat = m.clearcoat;
+  s.clearcoat_roughness = m.clearcoat_roughness;
   const auto textureAt = [&](int index) -> const cv::Mat* {
     if (index < 0 || static_cast<std::size_t>(index) >= relic_model_.textures.size()) return nullptr;
     return &relic_model_.textures[static_cast<std::size_t>(index)].image();
