@@ -150,6 +150,7 @@ void ProgressiveRender::addSamples(int spp, bool quiet) {
   const float clamp = tracer_.options().firefly_clamp;
   const int first = spp_;
   const std::int64_t nonfinite_before = stats_.nonfinite_dropped;
+  const std::int64_t truncated_before = stats_.truncated;
   tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 1, 0, tiles_x, 1), [&](const auto& r) {
     PathTracerStats local;
     for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty) {
@@ -203,6 +204,8 @@ void ProgressiveRender::addSamples(int spp, bool quiet) {
   spp_ += spp;
   const std::int64_t new_nonfinite = stats_.nonfinite_dropped - nonfinite_before;
   if (new_nonfinite > 0) stats::add("Reflect/Path samples non-finite", new_nonfinite);
+  if (stats_.truncated > truncated_before)
+    stats::add("Reflect/Path samples stopped by a bounce cap", stats_.truncated - truncated_before);
 }
 
 cv::Mat ProgressiveRender::image() const {

@@ -317,6 +317,41 @@ TEST(Dielectric, RoughInterfaceScattersAtMostTheFluxItReceives) {
         }
 }
 
+// The glTF mixture (clearcoat over metal, opaque dielectric and rough glass) samples what it
+// evaluates: the mean sample weight equals the integral of eval() over the sphere, estimated
+// here with uniform directions.
+TEST(Dielectric, MaterialMixtureSamplesWhatItEvaluates) {
+  SurfaceMaterial m = glass(1.5f, 0.5f);
+  m.base_colour = vec3(0.9f, 0.7f, 0.5f);
+  m.metallic = 0.2f;
+  m.transmission = 0.6f;
+  m.clearcoat = 0.7f;
+  m.clearcoat_roughness = 0.4f;
+  for (const bool front : {true, false})
+    for (const float theta_deg : {10.0f, 60.0f}) {
+      SCOPED_TRACE(::testing::Message() << (front ? "outside" : "inside") << " theta " << theta_deg);
+      const MaterialBsdf bsdf(m, {0, 0, 1}, front);
+      const float t = glm::radians(theta_deg);
+      const vec3 wo(std::sin(t), 0.0f, std::cos(t));
+      std::mt19937 rng(3);
+      std::uniform_real_distribution<float> u(0.0f, 0.99999f);
+      constexpr int kN = 200000;
+      double sampled = 0.0, integral = 0.0;
+      for (int k = 0; k < kN; ++k) {
+        if (const auto s = bsdf.sample(wo, {u(rng), u(rng), u(rng)})) {
+          ASSERT_FALSE(s->delta);
+          sampled += s->weight.y;
+          // The pdf a sample reports is the one pdf() gives for its direction.
+          if (k % 1000 == 0) {
+            EXPECT_NEAR(s->pdf, bsdf.pdf(wo, s->wi), 1e-3f * s->pdf);
+          }
+        }
+        integral += bsdf.eval(wo, uniformDirection(rng)).y * 4.0 * kPi;
+      }
+      EXPECT_NEAR(sampled / kN, integral / kN, 0.02 * (integral / kN));
+    }
+}
+
 // Hostile but legal materials: finite output in range, whatever the IOR, roughness, absorption.
 TEST(Dielectric, HostileMaterialsStayFiniteAndInRange) {
   struct Case {
