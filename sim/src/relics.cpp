@@ -142,8 +142,10 @@ Model glassVase() {
   Model model;
   constexpr float kWall = 0.012f;
   model.materials.push_back(glass("glass_tinted", {0.45f, 0.78f, 0.70f}, 0.04f, 1.5f, kWall));
-  const auto outer = smoothProfile({{0.0f, 0.0f},
-                                    {0.06f, 0.0f},
+  // Each smooth stretch is its own lathe, so the creases (base edge, rim, inner floor) keep
+  // their sharp normals: a normal smoothed across a crease would refract rays back out.
+  constexpr float kInnerFloor = 0.025f;
+  const auto outer = smoothProfile({{0.06f, 0.0f},
                                     {0.065f, 0.01f},
                                     {0.09f, 0.06f},
                                     {0.105f, 0.12f},
@@ -151,14 +153,21 @@ Model glassVase() {
                                     {0.055f, 0.24f},
                                     {0.05f, 0.26f},
                                     {0.062f, 0.28f}});
-  TriangleMesh mesh = makeLathe(withInnerWall(outer, kWall, 0.025f), 96);
+  std::vector<vec2> inner;
+  for (auto it = outer.rbegin(); it != outer.rend() && it->y >= kInnerFloor; ++it)
+    inner.push_back({it->x - kWall, it->y});
+  TriangleMesh mesh;
+  for (const auto& part :
+       {std::vector<vec2>{{0.0f, 0.0f}, outer.front()}, outer, std::vector<vec2>{outer.back(), inner.front()},
+        inner, std::vector<vec2>{inner.back(), {0.0f, kInnerFloor}}})
+    appendMesh(mesh, makeLathe(part, 96));
   mesh.name = "glass_vase";
   model.meshes.push_back(std::move(mesh));
   return model;
 }
 
-// Round brilliant-like gem, table up: a 16-sided girdle, a crown of kite and star facets up to an
-// octagonal table, and a pavilion of 16 facets down to the culet. Flat-shaded (every facet its
+// Round brilliant-like gem, table up: a 16-sided girdle band, a crown of two facet rings up to a
+// 16-sided table, and a pavilion of two facet rings down to the culet. Flat-shaded (every facet its
 // own vertices) with IOR 2.42 (diamond): most rays entering the table leave only after several
 // total internal reflections on the pavilion.
 Model crystal() {
