@@ -170,6 +170,30 @@ TEST(Dielectric, SlabAtNormalIncidenceTransmitsTheSeriesSum) {
     }
 }
 
+// An emitter (a visitor, in the museum) seen through the slab: Le times the same series, the
+// environment black. The camera ray sees the relic only; the emitter is reached through it.
+TEST(Dielectric, EmitterBehindTheSlabIsSeenThroughIt) {
+  const float d = 0.05f, ior = 1.5f;
+  SurfaceMaterial m = glass(ior);
+  m.attenuation_colour = vec3(0.6f, 0.8f, 1.0f);
+  m.attenuation_distance = 0.1f;
+  const vec3 le(2.0f, 1.0f, 0.5f);
+  RenderScene scene(boxModel({-1, -1, -0.5f * d}, {1, 1, 0.5f * d}),
+                    {test::emitterQuad({0, 0, -1}, {0, 0, 1}, 4.0f, le)});
+  scene.overrideRelicMaterial(m);
+  const Environment env = Environment::uniform(vec3(0.0f));
+  PathTracerOptions options;
+  options.sampling = LightSampling::kBsdfOnly;
+  const PathTracer tracer(scene, env, options);
+  const vec3 L = meanAlong(tracer, {{0.05f, -0.1f, 1.0f}, {0, 0, -1}}, 32768);
+  const double R = std::pow((ior - 1.0) / (ior + 1.0), 2.0);
+  for (int c = 0; c < 3; ++c) {
+    const double a = std::pow(double(m.attenuation_colour[c]), d / 0.1);  // exp(-sigma d)
+    const double expected = le[c] * (1 - R) * (1 - R) * a / (1 - R * R * a * a);
+    EXPECT_NEAR(L[c], expected, 0.01 * expected) << c;
+  }
+}
+
 // A non-absorbing glass sphere in a uniform white environment is invisible: every path leaves
 // with weight 1 (refraction's 1/eta^2 and eta^2 cancel), so every covered pixel is 1.
 cv::Mat furnace(const SurfaceMaterial& m, int spp, cv::Mat* covered, PathTracerStats* stats = nullptr,
