@@ -60,6 +60,7 @@ MethodResult renderMethod(const std::string& method, const ReflectionScene& scen
     reflect::PathTracerOptions options;
     options.seed = settings.seed;
     options.max_bounces = settings.max_bounces;
+    options.max_dielectric_bounces = settings.max_dielectric_bounces;
     const reflect::PathTracer tracer(rs, env, options);
     reflect::PathTracerStats stats;
     r.image = reflect::renderPathTraced(tracer, camera, std::max(1, settings.spp), &stats, quiet);
