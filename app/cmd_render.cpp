@@ -58,6 +58,10 @@ HOLO_REGISTER_COMMAND(Command{
                      "gt: scattering events on the relic per path (what the last one reaches counts)")
           ->capture_default_str()
           ->check(CLI::Range(1, 1024));
+      sub.add_option("--max-dielectric-bounces", o->settings.max_dielectric_bounces,
+                     "gt: reflections and refractions on glass per path, counted apart from --max-bounces")
+          ->capture_default_str()
+          ->check(CLI::Range(1, 4096));
       sub.add_option("--ibl-levels", o->settings.ibl_levels, "ibl: roughness levels")
           ->capture_default_str()
           ->check(CLI::Range(2, 64));

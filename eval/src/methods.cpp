@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "holo/core/error.hpp"
+#include "holo/core/log.hpp"
 #include "holo/core/stopwatch.hpp"
 #include "holo/reflect/foreground_environment.hpp"
 #include "holo/reflect/ibl_renderer.hpp"
@@ -59,8 +60,17 @@ MethodResult renderMethod(const std::string& method, const ReflectionScene& scen
     reflect::PathTracerOptions options;
     options.seed = settings.seed;
     options.max_bounces = settings.max_bounces;
+    options.max_dielectric_bounces = settings.max_dielectric_bounces;
     const reflect::PathTracer tracer(rs, env, options);
-    r.image = reflect::renderPathTraced(tracer, camera, std::max(1, settings.spp), nullptr, quiet);
+    reflect::PathTracerStats stats;
+    r.image = reflect::renderPathTraced(tracer, camera, std::max(1, settings.spp), &stats, quiet);
+    // Debug: every opaque relic's gt has paths its 5-bounce cap stopped; evaluations render many.
+    if (stats.truncated > 0)
+      HOLO_LOG_DEBUG(
+          "gt: {} of {} path samples stopped by a bounce cap; their throughput, {:.3g} per sample, is what "
+          "they would still carry from an environment of 1 (the image's mean luminance per sample is {:.3g})",
+          stats.truncated, stats.samples, stats.truncated_throughput / double(stats.samples),
+          stats.total_energy / double(stats.samples));
   } else if (method == "ibl" && settings.static_ibl) {
     // The static map is built once per scene: the per-view cost is the shading alone (the
     // relic's Embree scene is built once too, as for ours).

@@ -7,6 +7,7 @@
 
 #include "holo/core/progress.hpp"
 #include "holo/core/stats.hpp"
+#include "holo/reflect/dielectric.hpp"
 #include "holo/reflect/surface_shading.hpp"
 #include "holo/reflect/view.hpp"
 
@@ -21,16 +22,27 @@ Ray spawnRay(const vec3& p, const vec3& geometric_normal, const vec3& direction)
   return {p + side * eps * geometric_normal, direction};
 }
 
+// Whether `direction` meets the hit triangle's front face: glTF's counter-clockwise winding, the
+// outside of a volume (shading and geometric normals are turned to the ray, so they cannot say).
+bool meetsFrontFace(const RayScene& scene, const RayHit& hit, const vec3& direction) {
+  const TriangleMesh& mesh = scene.mesh(hit.geometry);
+  const uvec3& t = mesh.triangles[hit.primitive];
+  const vec3 winding =
+      glm::cross(mesh.positions[t.y] - mesh.positions[t.x], mesh.positions[t.z] - mesh.positions[t.x]);
+  return glm::dot(winding, direction) < 0.0f;
+}
+
 }  // namespace
 
 PathTracer::PathTracer(const RenderScene& scene, const Environment& environment, PathTracerOptions options)
     : scene_(scene), environment_(environment), options_(options) {
   options_.max_bounces = std::max(1, options_.max_bounces);
+  options_.max_dielectric_bounces = std::max(1, options_.max_dielectric_bounces);
   options_.tile_size = std::max(1, options_.tile_size);
 }
 
 vec3 PathTracer::traceFromRelic(const Ray& primary, const RayHit& relic_hit, SampleStream& stream,
-                                float pixel_spread) const {
+                                float pixel_spread, PathRecord* record) const {
   vec3 radiance(0.0f);
   vec3 throughput(1.0f);
   Ray ray = primary;
@@ -38,7 +50,12 @@ vec3 PathTracer::traceFromRelic(const Ray& primary, const RayHit& relic_hit, Sam
   const RayScene* hit_scene = &scene_.relicOnly();
   const RayScene& all = scene_.all();
   float travelled = 0.0f;  // metres along the path: the pixel's footprint is travelled x spread
-  for (int bounce = 0;; ++bounce) {
+  // The medium the path is in: air, or the volume of the relic material it last entered.
+  bool in_volume = false;
+  vec3 absorption(0.0f);  // 1/m of that volume
+  float medium_ior = 1.0f;
+  int scatterings = 0, dielectric_scatterings = 0;
+  for (;;) {
     travelled += hit.t;
     const SurfacePoint surface = resolveSurface(scene_, *hit_scene, ray, hit, travelled * pixel_spread);
     const vec3 p = surface.position;
@@ -47,23 +64,33 @@ vec3 PathTracer::traceFromRelic(const Ray& primary, const RayHit& relic_hit, Sam
     if (!isFinite(n) || !isFinite(ng) || !isFinite(p)) break;
     // Added only when non-zero: an overflowed throughput times zero would make the sample NaN.
     if (surface.emission != vec3(0.0f)) radiance += throughput * surface.emission;
-    if (bounce == options_.max_bounces) break;
+    if (scatterings == options_.max_bounces || dielectric_scatterings == options_.max_dielectric_bounces) {
+      if (record) {
+        record->truncated = true;
+        // Radiance inside a medium of IOR n is n^2 times what it carries back into air.
+        record->truncated_throughput = luminance(throughput) * medium_ior * medium_ior;
+      }
+      break;
+    }
     // The occlusion map scales all light the point reflects (surface_shading.hpp).
     throughput *= surface.occlusion;
     const vec3 wo = -ray.direction;
-    const Bsdf bsdf(surface.material, n);
+    const SurfaceMaterial& material = surface.material;
+    const MaterialBsdf bsdf(material, n, meetsFrontFace(*hit_scene, hit, ray.direction));
     // A normal map can lean a reflection below the face, into the relic (where culled back
-    // faces would let it out): such directions reflect nothing, for both strategies alike.
+    // faces would let it out): such reflected directions reflect nothing, for both strategies
+    // alike. Transmitted directions go below the face by design.
     const auto reflects = [&](const vec3& wi) { return !surface.normal_mapped || glm::dot(wi, ng) > 0.0f; };
 
     // Next-event estimation towards the environment, balance heuristic against the BSDF.
     const vec2 u_light = stream.next2D();  // drawn in every mode: the streams stay aligned
     const LightSampling mode = options_.sampling;
-    if (mode != LightSampling::kBsdfOnly && (!bsdf.mirror() || bsdf.hasDiffuse())) {
+    if (mode != LightSampling::kBsdfOnly && bsdf.hasNonDelta()) {
       const EnvironmentSample ls = environment_.sample(u_light);
       if (ls.pdf > 0.0f && reflects(ls.direction)) {
         const vec3 f = bsdf.eval(wo, ls.direction);
         if (f.x > 0.0f || f.y > 0.0f || f.z > 0.0f) {
+          // A direction into the relic (transmission) meets the relic itself: occluded.
           if (!all.occluded(spawnRay(p, ng, ls.direction))) {
             const float bsdf_pdf = mode == LightSampling::kMis ? bsdf.pdf(wo, ls.direction) : 0.0f;
             radiance += throughput * f * ls.radiance / (ls.pdf + bsdf_pdf);
@@ -74,13 +101,23 @@ vec3 PathTracer::traceFromRelic(const Ray& primary, const RayHit& relic_hit, Sam
 
     // Continue the path by BSDF sampling.
     const auto bs = bsdf.sample(wo, stream.next3D());
-    if (!bs || !reflects(bs->wi)) break;
+    if (!bs || (!bs->transmitted && !reflects(bs->wi))) break;
+    ++(bs->dielectric ? dielectric_scatterings : scatterings);
     throughput *= bs->weight;
     if (!(throughput.x > 0.0f || throughput.y > 0.0f || throughput.z > 0.0f)) break;
+    if (bs->transmitted && !bsdf.thinWalled()) {
+      // Crossing a volume's surface: into it from its front face, out of it from its back.
+      in_volume = meetsFrontFace(*hit_scene, hit, ray.direction);
+      absorption = in_volume
+                       ? attenuationCoefficient(material.attenuation_colour, material.attenuation_distance)
+                       : vec3(0.0f);
+      medium_ior = in_volume && std::isfinite(material.ior) ? std::max(material.ior, 1.0f) : 1.0f;
+    }
     ray = spawnRay(p, ng, bs->wi);
     hit = all.intersect(ray);
     hit_scene = &all;
     if (!hit.hit()) {
+      // Leaving an open volume through a hole: its medium ends there (no infinite absorption).
       const vec3 le = environment_.radiance(ray.direction);
       float weight = 1.0f;
       if (!bs->delta) {
@@ -93,6 +130,11 @@ vec3 PathTracer::traceFromRelic(const Ray& primary, const RayHit& relic_hit, Sam
       }
       radiance += throughput * le * weight;
       break;
+    }
+    if (in_volume) {
+      // Beer-Lambert over the segment inside the volume; 0 * a huge coefficient stays 0.
+      throughput *= glm::exp(-absorption * hit.t);
+      if (!(throughput.x > 0.0f || throughput.y > 0.0f || throughput.z > 0.0f)) break;
     }
     if (!scene_.isRelic(hit.geometry)) {
       radiance += throughput * scene_.emission(hit);
@@ -117,6 +159,7 @@ void ProgressiveRender::addSamples(int spp, bool quiet) {
   const float clamp = tracer_.options().firefly_clamp;
   const int first = spp_;
   const std::int64_t nonfinite_before = stats_.nonfinite_dropped;
+  const std::int64_t truncated_before = stats_.truncated;
   tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 1, 0, tiles_x, 1), [&](const auto& r) {
     PathTracerStats local;
     for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty) {
@@ -131,8 +174,13 @@ void ProgressiveRender::addSamples(int spp, bool quiet) {
               const Ray ray = primaryRay(camera_, vec2(x, y) + jitter - 0.5f);
               const RayHit hit = tracer_.scene().relicOnly().intersect(ray);
               vec3 L(0.0f);
-              if (hit.hit()) L = tracer_.traceFromRelic(ray, hit, stream, 1.0f / camera_.intrinsics().fx);
+              PathRecord record;
+              if (hit.hit()) L = tracer_.traceFromRelic(ray, hit, stream, 1.0f / camera_.intrinsics().fx, &record);
               ++local.samples;
+              if (record.truncated) {
+                ++local.truncated;
+                local.truncated_throughput += double(record.truncated_throughput);
+              }
               if (!isFinite(L)) {
                 ++local.nonfinite_dropped;
                 continue;
@@ -159,10 +207,14 @@ void ProgressiveRender::addSamples(int spp, bool quiet) {
     stats_.clamped += local.clamped;
     stats_.clamped_energy += local.clamped_energy;
     stats_.total_energy += local.total_energy;
+    stats_.truncated += local.truncated;
+    stats_.truncated_throughput += local.truncated_throughput;
   });
   spp_ += spp;
   const std::int64_t new_nonfinite = stats_.nonfinite_dropped - nonfinite_before;
   if (new_nonfinite > 0) stats::add("Reflect/Path samples non-finite", new_nonfinite);
+  if (stats_.truncated > truncated_before)
+    stats::add("Reflect/Path samples stopped by a bounce cap", stats_.truncated - truncated_before);
 }
 
 cv::Mat ProgressiveRender::image() const {

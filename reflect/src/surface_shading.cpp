@@ -142,6 +142,15 @@ SurfacePoint resolveSurface(const RenderScene& scene, const RayScene& traced, co
   s.material.metallic = std::clamp(m.metallic * orm.b, 0.0f, 1.0f);
   s.material.specular =
       std::clamp(m.specular * sampleSlot(model, mesh, c, m.specular_texture, footprint).a, 0.0f, 1.0f);
+  // Glass, volume and clearcoat factors: the path tracer's MaterialBsdf (dielectric.hpp) reads them.
+  s.material.specular_colour = m.specular_colour;
+  s.material.transmission = m.transmission;
+  s.material.ior = m.ior;
+  s.material.thin_walled = !(m.thickness > 0.0f);
+  s.material.attenuation_colour = m.attenuation_colour;
+  s.material.attenuation_distance = m.attenuation_distance;
+  s.material.clearcoat = m.clearcoat;
+  s.material.clearcoat_roughness = m.clearcoat_roughness;
   if (m.occlusion_texture.used()) {
     const float ao = sampleSlot(model, mesh, c, m.occlusion_texture, footprint).r;
     s.occlusion = std::clamp(1.0f + m.occlusion_strength * (ao - 1.0f), 0.0f, 1.0f);

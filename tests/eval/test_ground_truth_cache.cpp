@@ -79,6 +79,18 @@ TEST(GroundTruthKey, ChangesWithEverythingThatChangesTheTruth) {
   ReflectionScene clamped = sampled;
   clamped.relic.textures.back().sampler.wrap_u = TextureWrap::ClampToEdge;
   EXPECT_NE(groundTruthKey(clamped, view, 16, true), groundTruthKey(sampled, view, 16, true));
+  // Every factor the path tracer's glass, clearcoat and specular read.
+  const std::vector<void (*)(Material&)> glass_edits = {
+      [](Material& m) { m.transmission = 1.0f; },         [](Material& m) { m.ior = 2.42f; },
+      [](Material& m) { m.thickness = 0.01f; },           [](Material& m) { m.attenuation_colour.x = 0.5f; },
+      [](Material& m) { m.attenuation_distance = 1.0f; }, [](Material& m) { m.clearcoat = 1.0f; },
+      [](Material& m) { m.clearcoat_roughness = 0.3f; },  [](Material& m) { m.specular = 0.5f; },
+      [](Material& m) { m.specular_colour.y = 0.5f; }};
+  for (const auto& edit : glass_edits) {
+    ReflectionScene glassier = base;
+    edit(glassier.relic.materials.front());
+    EXPECT_NE(groundTruthKey(glassier, view, 16, true), key);
+  }
 
   ReflectionScene textured = base;  // a texture
   textured.relic.textures.emplace_back(cv::Mat(2, 2, CV_8UC3, cv::Scalar(1, 2, 3)));

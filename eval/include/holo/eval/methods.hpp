@@ -45,10 +45,11 @@ struct ReconstructedScene {
 };
 
 struct MethodSettings {
-  int spp = 256;               // gt, mcpt: samples per pixel; ssrt: reflected rays per hit point
-  int max_bounces = 5;         // gt: PathTracerOptions::max_bounces
-  int ibl_levels = 10;         // ibl*: roughness levels (PrefilterOptions::levels)
-  int ibl_texel_density = 20;  // ibl*: PrefilterOptions::texel_density
+  int spp = 256;                     // gt, mcpt: samples per pixel; ssrt: reflected rays per hit point
+  int max_bounces = 5;               // gt: PathTracerOptions::max_bounces
+  int max_dielectric_bounces = 256;  // gt: PathTracerOptions::max_dielectric_bounces (glass events)
+  int ibl_levels = 10;               // ibl*: roughness levels (PrefilterOptions::levels)
+  int ibl_texel_density = 20;        // ibl*: PrefilterOptions::texel_density
   bool with_visitors = true;
   std::uint64_t seed = 1;
   reflect::TracerSettings tracer;  // ours: anti-aliasing, pyramid levels, voxel grid

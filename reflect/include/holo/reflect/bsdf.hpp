@@ -25,6 +25,15 @@ struct SurfaceMaterial {
   float metallic = 0.0f;   // [0,1]
   float roughness = 1.0f;  // [0,1] perceptual; GGX alpha = roughness^2
   float specular = 1.0f;   // [0,1] dielectric Fresnel scale (KHR_materials_specular)
+  // Read by the ground truth's MaterialBsdf (dielectric.hpp) only; Bsdf below ignores them.
+  vec3 specular_colour{1.0f};          // >= 0, scales the dielectric's F0 (KHR_materials_specular)
+  float transmission = 0.0f;           // [0,1] (KHR_materials_transmission)
+  float ior = 1.5f;                    // >= 1 (KHR_materials_ior)
+  bool thin_walled = true;             // KHR_materials_volume thickness 0 (or no volume)
+  vec3 attenuation_colour{1.0f};       // [0,1] after attenuation_distance in the volume
+  float attenuation_distance = 1e30f;  // metres, > 0; huge: clear
+  float clearcoat = 0.0f;              // [0,1] layer weight (KHR_materials_clearcoat)
+  float clearcoat_roughness = 0.0f;    // [0,1] perceptual
 };
 
 // GGX building blocks in a local frame where the normal is +Z (exposed for the prefilter, the
@@ -56,6 +65,8 @@ struct BsdfSample {
   vec3 weight{0.0f};  // f * cos / pdf (for delta: the reflectance / lobe probability)
   float pdf = 0.0f;   // solid-angle pdf of the whole mixture (0 for a delta sample)
   bool delta = false;
+  bool transmitted = false;  // wi is behind the surface (dielectric.hpp's transmission)
+  bool dielectric = false;   // scattered by dielectric.hpp's glass lobe (reflected or refracted)
 };
 
 class Bsdf {
