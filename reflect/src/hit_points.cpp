@@ -33,6 +33,7 @@ bool traceSample(const RenderScene& scene, const RayScene& relic, const CameraMo
   h.to_viewer = -ray.direction;
   h.reflected = glm::reflect(ray.direction, h.normal);
   h.material = scene.relicMaterial(hit, relic);
+  h.gltf = &scene.relicGltfMaterial(hit, relic);
   return isFinite(h.position) && isFinite(h.normal) && isFinite(h.reflected);
 }
 

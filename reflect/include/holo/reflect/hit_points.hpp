@@ -30,6 +30,9 @@ struct HitPoint {
   vec3 to_viewer{0.0f, 0.0f, 1.0f};  // wo, unit
   vec3 reflected{0.0f, 1.0f, 0.0f};  // mirror direction of wo about the normal, unit
   SurfaceMaterial material;
+  // The relic's glTF material at the hit (transmission, volume, IOR, clearcoat: what the
+  // refraction pass and the coat read), owned by the RenderScene; null only before tracing.
+  const Material* gltf = nullptr;
 };
 
 enum class AntiAliasing { None, Edges, Full };

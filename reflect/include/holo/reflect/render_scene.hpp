@@ -29,6 +29,9 @@ class RenderScene {
   vec3 emission(const RayHit& hit) const;
   // The relic's material at a hit (textures sampled at the hit's uv), for either scene.
   SurfaceMaterial relicMaterial(const RayHit& hit, const RayScene& scene) const;
+  // The relic's glTF material at a hit of either scene (a default one for a mesh without any);
+  // lives as long as the scene.
+  const Material& relicGltfMaterial(const RayHit& hit, const RayScene& scene) const;
   // Radiance (RGB, >= 0, finite) the relic emits at a hit, for either scene: its glTF material's
   // Material::emission (emissive textures are not read); 0 for the relics in use.
   vec3 relicEmission(const RayHit& hit, const RayScene& scene) const;
@@ -47,7 +50,6 @@ class RenderScene {
     const Model* model = nullptr;
   };
   const Material& materialOf(const Surface& s) const;
-  const Material& relicGltfMaterial(const RayHit& hit, const RayScene& scene) const;
   Model relic_model_;
   std::vector<Model> emitter_models_;
   std::vector<Surface> surfaces_;        // by geometry id of all()
