@@ -17,6 +17,7 @@
 #include "holo/eval/loglog_plot.hpp"
 #include "holo/eval/tracer_evaluation.hpp"
 #include "holo/sim/museum.hpp"
+#include "holo/sim/relics.hpp"
 
 namespace holo::app {
 
@@ -242,7 +243,7 @@ int evalTracer(const TracerEvalCommand& command) {
   const std::vector<std::string> relics = sim::builtinRelicNames();
   for (const std::string& relic : o.relics)
     if (std::find(relics.begin(), relics.end(), relic) == relics.end())
-      throw InputError("command line", "--relics", "built-in relics (vase, kettle, tripod, sphere)", relic);
+      throw InputError("command line", "--relics", "built-in relics (" + sim::relicNameList() + ")", relic);
   std::vector<SceneResult> results;
   for (const std::string& hall : o.halls)
     for (const std::string& relic : o.relics) {
@@ -272,7 +273,7 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--halls", o->halls, "Halls (room, gallery, atrium)")
           ->capture_default_str()
           ->delimiter(',');
-      sub.add_option("--relics", o->relics, "Relics (vase, kettle, tripod, sphere)")
+      sub.add_option("--relics", o->relics, "Relics (" + sim::relicNameList() + ")")
           ->capture_default_str()
           ->delimiter(',');
       sub.add_option("--size", o->size, "View width and height, pixels")

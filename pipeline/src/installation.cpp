@@ -33,10 +33,9 @@ Model loadRelic(const ConfigNode& exhibit) {
   const fs::path path = exhibit.pathBesideFile(value);
   std::error_code ec;
   if (!fs::is_regular_file(path, ec))
-    field.fail(
-        "a glTF file (.gltf/.glb, relative to the configuration) or a built-in relic (vase, kettle, "
-        "tripod, sphere)",
-        "'" + value + "' (no such file: " + path.string() + ")");
+    field.fail("a glTF file (.gltf/.glb, relative to the configuration) or a built-in relic (" +
+                   sim::relicNameList() + ")",
+               "'" + value + "' (no such file: " + path.string() + ")");
   Model relic = loadGltf(path);
   if (relic.meshes.empty()) field.fail("a glTF file with at least one triangle mesh", path.string());
   if (exhibit.get<bool>("fit_relic", false)) sim::fitOnPedestal(relic);

@@ -183,9 +183,8 @@ SceneDescription loadSceneFile(const fs::path& path) {
       if (model.is_relative()) model = path.parent_path() / model;
       const std::string ext = model.extension().string();
       if ((ext != ".gltf" && ext != ".glb") || !fs::exists(model))
-        root["relic"].fail(
-            "vase, kettle, tripod, sphere or an existing .gltf/.glb file (relative to the scene file)",
-            d.relic);
+        root["relic"].fail(relicNameList() + " or an existing .gltf/.glb file (relative to the scene file)",
+                           d.relic);
       d.relic = model.string();
     }
   }

@@ -120,6 +120,109 @@ Model tripod() {
   return model;
 }
 
+Material glass(const std::string& name, const vec3& tint, float tint_distance, float ior, float wall) {
+  Material m;
+  m.name = name;
+  m.base_colour = vec3(1.0f);
+  m.metallic = 0.0f;
+  m.roughness = 0.0f;
+  m.transmission = 1.0f;
+  m.ior = ior;
+  m.thickness = wall;  // KHR_materials_volume: a closed solid, refracting on entry and exit
+  m.attenuation_colour = tint;
+  m.attenuation_distance = tint_distance;
+  return m;
+}
+
+// Thick-walled tinted glass: the wall (outer surface up, rim, inner surface down, a thick base)
+// is one closed solid, so a ray through the vase refracts four times and is tinted by its path
+// length in the glass (Beer-Lambert); built at its final size, so the attenuation distance is in
+// metres of the fitted relic.
+Model glassVase() {
+  Model model;
+  constexpr float kWall = 0.012f;
+  model.materials.push_back(glass("glass_tinted", {0.45f, 0.78f, 0.70f}, 0.04f, 1.5f, kWall));
+  const auto outer = smoothProfile({{0.0f, 0.0f},
+                                    {0.06f, 0.0f},
+                                    {0.065f, 0.01f},
+                                    {0.09f, 0.06f},
+                                    {0.105f, 0.12f},
+                                    {0.085f, 0.19f},
+                                    {0.055f, 0.24f},
+                                    {0.05f, 0.26f},
+                                    {0.062f, 0.28f}});
+  TriangleMesh mesh = makeLathe(withInnerWall(outer, kWall, 0.025f), 96);
+  mesh.name = "glass_vase";
+  model.meshes.push_back(std::move(mesh));
+  return model;
+}
+
+// Round brilliant-like gem, table up: a 16-sided girdle, a crown of kite and star facets up to an
+// octagonal table, and a pavilion of 16 facets down to the culet. Flat-shaded (every facet its
+// own vertices) with IOR 2.42 (diamond): most rays entering the table leave only after several
+// total internal reflections on the pavilion.
+Model crystal() {
+  Model model;
+  Material m = glass("diamond", {0.92f, 0.95f, 1.0f}, 0.5f, 2.42f, 0.1f);
+  model.materials.push_back(m);
+  constexpr int kGirdle = 16;
+  constexpr float kR = 0.14f;            // girdle radius, metres
+  constexpr float kTableR = 0.53f * kR;  // table radius
+  constexpr float kCrown = 0.16f * 2.0f * kR, kPavilion = 0.43f * 2.0f * kR, kGirdleH = 0.01f;
+  const float y0 = kPavilion;                         // girdle bottom above the culet, which stands at y = 0
+  const vec3 centre(0.0f, y0 + 0.3f * kCrown, 0.0f);  // inside the convex gem: orients the facets
+  TriangleMesh mesh;
+  mesh.name = "crystal";
+  auto ring = [](int k, int n, float r, float y, float phase) {
+    const float a = 2.0f * kPi * (static_cast<float>(k) + phase) / static_cast<float>(n);
+    return vec3(r * std::cos(a), y, r * std::sin(a));
+  };
+  auto facet = [&](vec3 a, vec3 b, vec3 c) {
+    vec3 n = glm::cross(b - a, c - a);
+    if (glm::dot(n, (a + b + c) / 3.0f - centre) < 0.0f) {
+      std::swap(b, c);  // counter-clockwise seen from outside: glTF's front face
+      n = -n;
+    }
+    n = glm::normalize(n);
+    const auto i = static_cast<std::uint32_t>(mesh.positions.size());
+    for (const vec3& p : {a, b, c}) {
+      mesh.positions.push_back(p);
+      mesh.normals.push_back(n);
+    }
+    mesh.triangles.push_back({i, i + 1, i + 2});
+  };
+  const vec3 culet(0.0f, 0.0f, 0.0f);
+  const vec3 table_centre(0.0f, y0 + kGirdleH + kCrown, 0.0f);
+  for (int k = 0; k < kGirdle; ++k) {
+    const vec3 g0 = ring(k, kGirdle, kR, y0, 0.0f), g1 = ring(k + 1, kGirdle, kR, y0, 0.0f);
+    const vec3 u0 = ring(k, kGirdle, kR, y0 + kGirdleH, 0.0f),
+               u1 = ring(k + 1, kGirdle, kR, y0 + kGirdleH, 0.0f);
+    // Pavilion: a main facet from the girdle edge to a point half way down, then to the culet.
+    const vec3 mid = ring(k, kGirdle, 0.45f * kR, 0.45f * y0, 0.5f);
+    const vec3 mid_next = ring(k + 1, kGirdle, 0.45f * kR, 0.45f * y0, 0.5f);
+    facet(g0, g1, mid);
+    facet(g1, mid_next, mid);
+    facet(mid, mid_next, culet);
+    // Girdle band.
+    facet(g0, g1, u1);
+    facet(g0, u1, u0);
+    // Crown: a band of quads (two facets each) to a bezel ring, then alternating star facets
+    // up to the table's ring, set half a step round.
+    const vec3 b0 = ring(k, kGirdle, 0.8f * kR, y0 + kGirdleH + 0.45f * kCrown, 0.0f);
+    const vec3 b1 = ring(k + 1, kGirdle, 0.8f * kR, y0 + kGirdleH + 0.45f * kCrown, 0.0f);
+    const vec3 t = ring(k, kGirdle, kTableR, table_centre.y, 0.5f);
+    const vec3 t_next = ring(k + 1, kGirdle, kTableR, table_centre.y, 0.5f);
+    facet(u0, u1, b1);
+    facet(u0, b1, b0);
+    facet(b0, b1, t);
+    facet(b1, t_next, t);
+    // Table.
+    facet(table_centre, t, t_next);
+  }
+  model.meshes.push_back(std::move(mesh));
+  return model;
+}
+
 Model sphere() {
   Model model;
   model.materials.push_back(metal("mirror", {0.97f, 0.97f, 0.97f}, 0.0f));
@@ -133,7 +236,13 @@ Model sphere() {
 }  // namespace
 
 std::vector<std::string> relicNames() {
-  return {"vase", "kettle", "tripod", "sphere"};
+  return {"vase", "kettle", "tripod", "sphere", "glass-vase", "crystal"};
+}
+
+std::string relicNameList() {
+  std::string list;
+  for (const auto& name : relicNames()) list += (list.empty() ? "" : ", ") + name;
+  return list;
 }
 
 Model makeRelic(const std::string& name, const std::string& origin) {
@@ -146,11 +255,15 @@ Model makeRelic(const std::string& name, const std::string& origin) {
     relic = tripod();
   else if (name == "sphere")
     relic = sphere();
+  else if (name == "glass-vase")
+    relic = glassVase();
+  else if (name == "crystal")
+    relic = crystal();
   if (!relic.meshes.empty()) {
     fitOnPedestal(relic);  // exact size and placement, whatever the profiles above add up to
     return relic;
   }
-  throw InputError(origin, "relic", "one of vase, kettle, tripod, sphere or a .gltf/.glb path", name);
+  throw InputError(origin, "relic", "one of " + relicNameList() + " or a .gltf/.glb path", name);
 }
 
 void fitOnPedestal(Model& model) {

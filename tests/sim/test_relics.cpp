@@ -1,5 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
+#include <map>
+
 #include "holo/core/error.hpp"
 #include "holo/core/gltf_io.hpp"
 #include "holo/core/ray_scene.hpp"
@@ -23,7 +27,51 @@ TEST(Relics, RoundTripThroughGlb) {
     EXPECT_LT(glm::length(back.bounds().hi - made.bounds().hi), 1e-6f);
     ASSERT_EQ(back.materials.size(), made.materials.size());
     EXPECT_FLOAT_EQ(back.materials[0].roughness, made.materials[0].roughness);
-    EXPECT_FLOAT_EQ(back.materials[0].metallic, 1.0f);
+    EXPECT_FLOAT_EQ(back.materials[0].metallic, made.materials[0].metallic);
+    EXPECT_FLOAT_EQ(back.materials[0].transmission, made.materials[0].transmission);
+    EXPECT_FLOAT_EQ(back.materials[0].ior, made.materials[0].ior);
+    EXPECT_FLOAT_EQ(back.materials[0].thickness, made.materials[0].thickness);
+    EXPECT_FLOAT_EQ(back.materials[0].attenuation_distance, made.materials[0].attenuation_distance);
+  }
+}
+
+// A volume (KHR_materials_volume) needs a closed surface wound counter-clockwise from outside:
+// with positions welded, every edge is shared by exactly two triangles that run it in opposite
+// directions, and the signed volume (divergence theorem) is positive.
+TEST(Relics, GlassRelicsAreClosedOutwardSolids) {
+  for (const std::string name : {"glass-vase", "crystal"}) {
+    SCOPED_TRACE(name);
+    const Model relic = makeRelic(name);
+    ASSERT_EQ(relic.materials.size(), 1u);
+    const Material& m = relic.materials[0];
+    EXPECT_EQ(m.transmission, 1.0f);
+    EXPECT_GT(m.thickness, 0.0f);  // a volume, not thin-walled
+    EXPECT_TRUE(std::isfinite(m.attenuation_distance));
+    EXPECT_FLOAT_EQ(m.ior, name == "crystal" ? 2.42f : 1.5f);
+    std::map<std::array<float, 3>, int> weld;
+    auto id = [&](const vec3& p) {
+      const std::array<float, 3> key{std::round(p.x * 1e5f), std::round(p.y * 1e5f), std::round(p.z * 1e5f)};
+      return weld.emplace(key, static_cast<int>(weld.size())).first->second;
+    };
+    std::map<std::pair<int, int>, int> directed;
+    double volume = 0.0;
+    for (const auto& mesh : relic.meshes)
+      for (const auto& t : mesh.triangles) {
+        const vec3 a = mesh.positions[t.x], b = mesh.positions[t.y], c = mesh.positions[t.z];
+        volume += glm::dot(glm::dvec3(a), glm::cross(glm::dvec3(b), glm::dvec3(c))) / 6.0;
+        const int ia = id(a), ib = id(b), ic = id(c);
+        if (ia == ib || ib == ic || ia == ic) continue;  // a lathe's pole: zero area
+        ++directed[{ia, ib}];
+        ++directed[{ib, ic}];
+        ++directed[{ic, ia}];
+      }
+    int unmatched = 0;
+    for (const auto& [edge, count] : directed) {
+      const auto back = directed.find({edge.second, edge.first});
+      if (count != 1 || back == directed.end() || back->second != 1) ++unmatched;
+    }
+    EXPECT_EQ(unmatched, 0);
+    EXPECT_GT(volume, 0.0);
   }
 }
 

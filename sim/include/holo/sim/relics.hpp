@@ -1,7 +1,10 @@
 // Procedural relics (fitted with fitOnPedestal): vase (surface of revolution), kettle (body, spout and
-// handle: non-convex), tripod vessel (bowl, three legs, two handles) and a sphere. Each is about 0.28 m tall,
-// standing on y = 0 and centred on the Y axis (the pyramid frame), with a metal material from
-// mirror (sphere, roughness 0) to rough (tripod, roughness 0.6).
+// handle: non-convex), tripod vessel (bowl, three legs, two handles) and a sphere, with a metal material
+// from mirror (sphere, roughness 0) to rough (tripod, roughness 0.6); and two glass relics, closed
+// solids with a KHR_materials_transmission + volume material: glass-vase (thick-walled tinted
+// glass, IOR 1.5) and crystal (a faceted brilliant, IOR 2.42: many total internal reflections).
+// Each is at most 0.28 m tall, standing on y = 0 and centred on the Y axis (the pyramid frame).
+// Every mesh is wound counter-clockwise seen from outside (glTF's front face), as a volume needs.
 #pragma once
 
 #include <string>
@@ -11,7 +14,8 @@
 
 namespace holo::sim {
 
-std::vector<std::string> relicNames();  // vase, kettle, tripod, sphere
+std::vector<std::string> relicNames();  // vase, kettle, tripod, sphere, glass-vase, crystal
+std::string relicNameList();            // the same, joined with ", " (for help and errors)
 // Builds a relic by name; throws InputError(origin, "relic", ...) listing the names otherwise.
 Model makeRelic(const std::string& name, const std::string& origin = "built-in");
 
