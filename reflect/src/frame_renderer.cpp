@@ -226,14 +226,16 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
                                                         : AntiAliasing::None;
       traceHitPoints(scene_, view, aa, cache.hits, relic_bounds_);
     }
-    PassTimer t(out.timings, Pass::StaticReflections);
-    // New images (see ViewCache): the previous ones may still be held by a caller. Only the
-    // covered pixels have anything to shade; the rest stay black.
-    cache.hdr = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
-    cache.coverage = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
-    cache.zero_weight = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
-    StaticShading(scene_, ibl_, settings_, rough_map_.get())
-        .shade(cache.hits, view, cache.shading, cache.walk_rays, cache.bounces, cache.hdr, cache.coverage);
+    {
+      PassTimer t(out.timings, Pass::StaticReflections);
+      // New images (see ViewCache): the previous ones may still be held by a caller. Only the
+      // covered pixels have anything to shade; the rest stay black.
+      cache.hdr = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
+      cache.coverage = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
+      cache.zero_weight = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
+      StaticShading(scene_, ibl_, settings_, rough_map_.get())
+          .shade(cache.hits, view, cache.shading, cache.walk_rays, cache.bounces, cache.hdr, cache.coverage);
+    }
     if (layered) {
       PassTimer tl(out.timings, plan.has(Pass::Refraction) ? Pass::Refraction : Pass::Clearcoat);
       const LayerCounts counts = MaterialLayers(scene_, ibl_, settings_, plan.internal_depth,

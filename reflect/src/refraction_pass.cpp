@@ -99,9 +99,8 @@ TransmittedPath traceTransmission(const RenderScene& scene, const PrefilteredIbl
     const float roughness = clamp01(textured ? textured->roughness : m.roughness);
     const float alpha = roughness * roughness;
     const float spread = alpha * std::min(ior - 1.0f, 2.0f) * 0.5f;
-    const vec3 mirror = glm::reflect(direction, normal);
     if (inside && !thin && fresnel >= 1.0f) {  // total internal reflection
-      direction = mirror;
+      direction = glm::reflect(direction, normal);
       alpha2 += alpha * alpha;
     } else if (inside && !thin) {
       // Leaving: the light that partly reflects inside, summed as between parallel walls.
@@ -114,20 +113,20 @@ TransmittedPath traceTransmission(const RenderScene& scene, const PrefilteredIbl
         front[c] = fa * (1.0f - fresnel) / denom;
       }
       alpha2 += spread * spread;
-      const vec3 outward = -normal;
-      path.resolved +=
-          throughput * front * transmitted * tint * ibl.specular(glm::reflect(refracted, normal), lobe());
-      path.resolved +=
-          throughput * (back + front) * (1.0f - transmitted) * tint * ibl.irradiance(outward) / kPi;
+      path.reflected += throughput * front * transmitted * tint;
+      if (transmitted < 1.0f)
+        path.resolved +=
+            throughput * (back + front) * (1.0f - transmitted) * tint * ibl.irradiance(-normal) / kPi;
       throughput *= back * transmitted * tint;
       direction = refracted;
       inside = false;
     } else {
       // Entering (or crossing a thin wall): the entry's reflection and diffuse are the caller's.
       if (!first) {
-        path.resolved += throughput * fresnel * ibl.specular(mirror, lobe());
-        path.resolved +=
-            throughput * (1.0f - fresnel) * (1.0f - transmitted) * tint * ibl.irradiance(normal) / kPi;
+        path.reflected += throughput * fresnel;
+        if (transmitted < 1.0f)
+          path.resolved +=
+              throughput * (1.0f - fresnel) * (1.0f - transmitted) * tint * ibl.irradiance(normal) / kPi;
       }
       throughput *= (1.0f - fresnel) * transmitted * tint;
       alpha2 += spread * spread;
@@ -273,6 +272,7 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
               ++local_refracted;
               local_capped += path.exited ? 0 : 1;
               sh.diffuse += path.resolved;
+              sh.specular_scale += path.reflected;
               layer.transmit_scale = path.scale;
               layer.transmit_environment = path.environment;
               layer.exit_position = path.exit_position;

@@ -7,13 +7,15 @@
 // composition already blends with the visitors), (1 - F) (1 - metallic) transmission base_colour
 // enters the relic. The transmitted path is traced with Embree through the relic, one ray per
 // interface event (entering, leaving, a total internal reflection), up to `internal_depth` events:
-//  * entering from outside: Snell refraction, F of it reflected back out (read from the IBL along
-//    the mirror direction), the rest tinted by base_colour (glTF's specular BTDF);
+//  * entering from outside: Snell refraction, F of it reflected back out, the rest tinted by
+//    base_colour (glTF's specular BTDF);
 //  * leaving: where F = 1 (total internal reflection) the path reflects and goes on. Otherwise the
 //    light that partly reflects inside is summed in closed form as between two parallel walls
 //    with the same F and the last segment's absorption a: (1 - F) / (1 - F^2 a^2) leaves along the
-//    refracted ray, F a (1 - F) / (1 - F^2 a^2) leaves back towards the side it came from (read
-//    from the IBL there). Exact for a slab; everywhere energy is kept, never invented;
+//    refracted ray, F a (1 - F) / (1 - F^2 a^2) leaves back towards the side it came from. Exact
+//    for a slab; everywhere energy is kept, never invented. What is sent back (this, and F at a
+//    later entry) joins the entry's reflection weight, its hall and its visitors: between
+//    parallel walls it leaves along the entry's mirror direction, and it costs no lookup;
 //  * inside a volume (thickness > 0), Beer-Lambert absorption over each segment's length with
 //    sigma = -ln(attenuation_colour) / attenuation_distance; thin-walled materials (thickness 0)
 //    pass light straight through, unbent;
@@ -60,8 +62,11 @@ float fresnelDielectric(float cos_i, float eta);
 struct TransmittedPath {
   vec3 scale{0.0f};        // radiance factor of what the exit ray sees
   vec3 environment{0.0f};  // the prefiltered IBL along the exit ray at the lobe's width
-  vec3 resolved{0.0f};     // radiance already read from the IBL on the way (partial reflections,
-                           // untransmitted light, the cap's remainder)
+  vec3 resolved{0.0f};     // radiance already read from the IBL on the way (untransmitted light,
+                           // the cap's remainder)
+  vec3 reflected{0.0f};    // weight of the light sent back towards the viewer's side (reflected
+                           // at a later interface, or inside and out again): joins the entry's
+                           // reflection (its environment and its visitors)
   vec3 exit_position{0.0f}, exit_direction{0.0f, 0.0f, 1.0f};
   float roughness = 0.0f;  // of the transmitted lobe at the exit (perceptual)
   bool exited = false;     // the path left the relic before the cap (its exit ray can be walked)
