@@ -321,6 +321,15 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--levels", o->tracer.pyramid_levels, "Ours: pyramid levels")
           ->capture_default_str()
           ->check(CLI::Range(1, reflect::kMaxPyramidLevels));
+      sub.add_option(
+             "--refraction-depth", o->tracer.refraction_depth,
+             "Ours, glass relics: interface events a transmitted path follows (0: measured on the relic)")
+          ->capture_default_str()
+          ->check(CLI::Range(0, 32));
+      sub.add_option("--transmitted-lobe-scale", o->tracer.transmitted_roughness_scale,
+                     "Ours, glass relics: scales the transmitted lobe's derived roughness (checks)")
+          ->capture_default_str()
+          ->check(CLI::Range(0.0f, 4.0f));
       sub.add_option("--level-bias", o->tracer.level_bias,
                      "Ours: added to the derived pyramid level (checks)")
           ->capture_default_str()
