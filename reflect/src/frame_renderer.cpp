@@ -72,7 +72,7 @@ FrameRenderer::FrameRenderer(const RenderScene& scene, const PrefilteredIbl& ibl
   if (scene_.relic().materials.empty()) relic_glossy_ = true;  // default material: be safe
   relic_bounds_ = scene_.relicBounds();
   for (const Material& m : scene_.relic().materials) {
-    relic_transmissive_ = relic_transmissive_ || m.transmission > 0.0f;
+    relic_transmissive_ = relic_transmissive_ || (settings_.refraction_enabled && m.transmission > 0.0f);
     relic_clearcoat_ = relic_clearcoat_ || m.clearcoat > 0.0f;
   }
   if (relic_transmissive_) {

@@ -299,6 +299,13 @@ TEST(Refraction, OnlyATransmissiveRelicPaysForRefraction) {
   EXPECT_GT(v.refraction_rays, 0u);
   EXPECT_GT(v.refracted_samples, 0u);
   EXPECT_GT(v.refracted_walks, 0u);
+  // Switched off, the glass is shaded as opaque (the comparison's "before"): no refraction work.
+  TracerSettings off = test::smallGrid();
+  off.refraction_enabled = false;
+  FrameRenderer opaque_glass(glass, ibl, off);
+  const FrameResult o = opaque_glass.render(wall.cloud, {wall.camera}, {view});
+  EXPECT_FALSE(o.plan.has(Pass::Refraction)) << o.plan.describe();
+  EXPECT_EQ(o.views.at(0).refraction_rays, 0u);
 }
 
 // A visitor behind clear glass is seen through it: the red wall of test::redWall() seen from the

@@ -111,6 +111,9 @@ struct TracerSettings {
   // 1..32; 0: measured on the relic when the renderer is built (the smallest depth that leaves less
   // than refraction_residual of the transmitted light inside).
   int refraction_depth = 0;
+  // Refraction through transmissive relic materials; false: they are shaded as opaque (the
+  // renderer before the refraction pass, for comparisons).
+  bool refraction_enabled = true;
   // Share of the transmitted light the measured depth may leave to the IBL, (0, 1); 0.01: 1% of
   // a glass pixel's transmitted light, under 1 sRGB code at mid-grey.
   float refraction_residual = 0.01f;
