@@ -186,6 +186,7 @@ InternalDepth measureInternalDepth(const RenderScene& scene, const PrefilteredIb
   // (R2 low-discrepancy offsets): deterministic, even over directions and over the relic.
   constexpr int kProbes = 1024;
   const float golden = kPi * (3.0f - std::sqrt(5.0f));
+  // Traced one event past the largest depth, so the share still inside at that depth is known.
   std::vector<double> alive(kMaxInternalDepth + 1, 0.0);
   for (int i = 0; i < kProbes; ++i) {
     const float y = 1.0f - 2.0f * (float(i) + 0.5f) / float(kProbes);
@@ -202,7 +203,7 @@ InternalDepth measureInternalDepth(const RenderScene& scene, const PrefilteredIb
     const Material& m = scene.relicGltfMaterial(hit, relic);
     if (!(m.transmission > 0.0f)) continue;
     ++result.probes_hit;
-    traceTransmission(scene, ibl, settings, kMaxInternalDepth, relic.position(ray, hit),
+    traceTransmission(scene, ibl, settings, kMaxInternalDepth + 1, relic.position(ray, hit),
                       relic.shadingNormal(hit, ray.direction), ray.direction, m, nullptr, &alive);
   }
   if (!(alive[0] > 0.0)) return result;
