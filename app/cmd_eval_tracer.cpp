@@ -321,6 +321,8 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--levels", o->tracer.pyramid_levels, "Ours: pyramid levels")
           ->capture_default_str()
           ->check(CLI::Range(1, reflect::kMaxPyramidLevels));
+      sub.add_flag("!--no-refracted-foreground", o->tracer.refracted_foreground,
+                   "Ours: glass refracts the IBL only, not the visitors seen through it");
       sub.add_flag("!--no-refraction", o->tracer.refraction_enabled,
                    "Ours: glass shaded as opaque (the renderer before the refraction pass)");
       sub.add_option(

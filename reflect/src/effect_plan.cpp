@@ -105,7 +105,7 @@ EffectPlan planEffects(const EffectInputs& in) {
   if (in.relic_clearcoat) plan.passes.push_back(Pass::Clearcoat);
   if (foreground) {
     plan.passes.push_back(Pass::ForegroundWalk);
-    if (in.relic_transmissive) plan.passes.push_back(Pass::RefractedForeground);
+    if (in.relic_transmissive && in.refracted_foreground) plan.passes.push_back(Pass::RefractedForeground);
     plan.passes.push_back(Pass::Composition);
   }
   plan.passes.push_back(Pass::ToneMap);

@@ -112,6 +112,7 @@ EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
   in.max_reflection_distance = settings_.max_reflection_distance;
   in.relic_transmissive = relic_transmissive_;
   in.relic_clearcoat = relic_clearcoat_;
+  in.refracted_foreground = settings_.refracted_foreground;
   in.internal_depth = internal_depth_;
   in.internal_residual = internal_residual_;
   in.internal_depth_source = settings_.refraction_depth > 0 ? "set" : "measured";

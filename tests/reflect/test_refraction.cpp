@@ -306,6 +306,15 @@ TEST(Refraction, OnlyATransmissiveRelicPaysForRefraction) {
   const FrameResult o = opaque_glass.render(wall.cloud, {wall.camera}, {view});
   EXPECT_FALSE(o.plan.has(Pass::Refraction)) << o.plan.describe();
   EXPECT_EQ(o.views.at(0).refraction_rays, 0u);
+  // Refraction of the IBL only: traced, but no exit ray walks.
+  TracerSettings ibl_only = test::smallGrid();
+  ibl_only.refracted_foreground = false;
+  FrameRenderer no_visitors(glass, ibl, ibl_only);
+  const FrameResult n = no_visitors.render(wall.cloud, {wall.camera}, {view});
+  EXPECT_TRUE(n.plan.has(Pass::Refraction));
+  EXPECT_FALSE(n.plan.has(Pass::RefractedForeground));
+  EXPECT_GT(n.views.at(0).refraction_rays, 0u);
+  EXPECT_EQ(n.views.at(0).refracted_walks, 0u);
 }
 
 // A visitor behind clear glass is seen through it: the red wall of test::redWall() seen from the

@@ -47,6 +47,7 @@ struct EffectInputs {
   float max_reflection_distance = 3.0f;  // metres: the voxel walk's reach
   bool relic_transmissive = false;       // some relic material has transmission > 0
   bool relic_clearcoat = false;          // some relic material has clearcoat > 0
+  bool refracted_foreground = true;      // the user's switch for the visitors seen through glass
   // Interface events a transmitted path follows (measured on the relic or set, >= 1) and the share
   // of the transmitted light still inside the relic at that depth (goes to the IBL).
   int internal_depth = 0;

@@ -114,6 +114,9 @@ struct TracerSettings {
   // Refraction through transmissive relic materials; false: they are shaded as opaque (the
   // renderer before the refraction pass, for comparisons).
   bool refraction_enabled = true;
+  // The visitors seen through the glass (a walk per transmitted exit ray); false: refraction reads
+  // the IBL only (the comparison the bar names).
+  bool refracted_foreground = true;
   // Share of the transmitted light the measured depth may leave to the IBL, (0, 1); 0.01: 1% of
   // a glass pixel's transmitted light, under 1 sRGB code at mid-grey.
   float refraction_residual = 0.01f;
