@@ -54,6 +54,7 @@ int runBenchFrame(BenchFrameCommand command) {
     j["frame_over_floor"] = b.frameOverFloor();
     j["view_size"] = options.loop.view_size;
     j["scene"] = options.loop.scene;
+    j["relic"] = options.loop.relic;
     j["cameras_preloaded"] = options.preload;
     j["overlap"] = options.loop.overlap;
     j["busy_cores"] = b.busy_cores;
@@ -75,6 +76,11 @@ HOLO_REGISTER_COMMAND(Command{
       auto command = std::make_shared<BenchFrameCommand>();
       FrameBenchOptions* options = &command->bench;
       sub.add_option("--scene", options->loop.scene, "Built-in scene or YAML file")->capture_default_str();
+      sub.add_option("--relic", options->loop.relic,
+                     "Built-in relic or glTF file in place of the scene's (e.g. glass-vase)");
+      sub.add_option("--refraction-depth", options->loop.tracer.refraction_depth,
+                     "Interface events a transmitted path follows (0: measured on the relic)")
+          ->capture_default_str();
       sub.add_option("--view-size", options->loop.view_size, "Pixels per face view")->capture_default_str();
       sub.add_option("--frames", options->frames, "Measured frames")->capture_default_str();
       sub.add_option("--warmup", options->warmup, "Frames run before measuring")->capture_default_str();

@@ -321,6 +321,19 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--levels", o->tracer.pyramid_levels, "Ours: pyramid levels")
           ->capture_default_str()
           ->check(CLI::Range(1, reflect::kMaxPyramidLevels));
+      sub.add_flag("!--no-refracted-foreground", o->tracer.refracted_foreground,
+                   "Ours: glass refracts the IBL only, not the visitors seen through it");
+      sub.add_flag("!--no-refraction", o->tracer.refraction_enabled,
+                   "Ours: glass shaded as opaque (the renderer before the refraction pass)");
+      sub.add_option(
+             "--refraction-depth", o->tracer.refraction_depth,
+             "Ours, glass relics: interface events a transmitted path follows (0: measured on the relic)")
+          ->capture_default_str()
+          ->check(CLI::Range(0, 32));
+      sub.add_option("--transmitted-lobe-scale", o->tracer.transmitted_roughness_scale,
+                     "Ours, glass relics: scales the transmitted lobe's derived roughness (checks)")
+          ->capture_default_str()
+          ->check(CLI::Range(0.0f, 4.0f));
       sub.add_option("--level-bias", o->tracer.level_bias,
                      "Ours: added to the derived pyramid level (checks)")
           ->capture_default_str()

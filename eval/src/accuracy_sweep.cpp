@@ -86,6 +86,8 @@ AccuracySweep sweepAccuracy(const AccuracyOptions& o) {
     int aa, levels;
     float voxel, bias;
     int lobe_components;
+    int refraction_depth = 0;  // 0: measured on the relic
+    float transmitted_roughness_scale = 1.0f;
   };
   const int lobe = reflect::TracerSettings{}.lobe_components;
   std::vector<OursConfig> ours;
@@ -94,6 +96,16 @@ AccuracySweep sweepAccuracy(const AccuracyOptions& o) {
       for (float voxel : {0.02f, 0.03125f, 0.05f}) ours.push_back({aa, levels, voxel, 0.0f, lobe});
   for (float bias : {-1.0f, 1.0f}) ours.push_back({4, 9, 0.03125f, bias, lobe});
   for (int components : {1, 4}) ours.push_back({4, 9, 0.03125f, 0.0f, components});
+  // A glass relic: the refraction pass's knobs, around the default tracer.
+  const bool transmissive = std::any_of(scene.relic.materials.begin(), scene.relic.materials.end(),
+                                        [](const Material& m) { return m.transmission > 0.0f; });
+  if (transmissive) {
+    const reflect::TracerSettings d;
+    for (int depth : {1, 2, 4, 8, 16})
+      ours.push_back({d.aa_samples, d.pyramid_levels, d.grid.voxel_size, 0.0f, lobe, depth, 1.0f});
+    for (float scale : {0.0f, 0.5f, 2.0f})
+      ours.push_back({d.aa_samples, d.pyramid_levels, d.grid.voxel_size, 0.0f, lobe, 0, scale});
+  }
   const std::vector<int> ibl_levels = {6, 8, 10}, ssrt_rays = {1, 2, 4, 8, 16};
   int mcpt_steps = 0;
   for (int spp = 1; spp <= o.max_spp; spp *= 2) ++mcpt_steps;
@@ -106,11 +118,16 @@ AccuracySweep sweepAccuracy(const AccuracyOptions& o) {
     s.tracer.grid.voxel_size = c.voxel;
     s.tracer.level_bias = c.bias;
     s.tracer.lobe_components = c.lobe_components;
-    run("ours",
-        "aa=" + std::to_string(c.aa) + " levels=" + std::to_string(c.levels) +
-            " voxel_cm=" + fmt(100 * c.voxel, 4) + " level_bias=" + fmt(c.bias, 2) +
-            " lobe=" + std::to_string(c.lobe_components),
-        s);
+    s.tracer.refraction_depth = c.refraction_depth;
+    s.tracer.transmitted_roughness_scale = c.transmitted_roughness_scale;
+    std::string knob = "aa=" + std::to_string(c.aa) + " levels=" + std::to_string(c.levels) +
+                       " voxel_cm=" + fmt(100 * c.voxel, 4) + " level_bias=" + fmt(c.bias, 2) +
+                       " lobe=" + std::to_string(c.lobe_components);
+    if (transmissive)
+      knob +=
+          " internal_depth=" + (c.refraction_depth > 0 ? std::to_string(c.refraction_depth) : "measured") +
+          " transmitted_lobe_scale=" + fmt(c.transmitted_roughness_scale, 2);
+    run("ours", knob, s);
     progress.update();
   }
   for (int levels : ibl_levels) {

@@ -69,7 +69,7 @@ namespace {
 
 Installation installationFor(const FrameLoopOptions& options) {
   if (options.config.empty())
-    return simulatedInstallation(options.scene, options.live, options.panorama_width);
+    return simulatedInstallation(options.scene, options.live, options.panorama_width, options.relic);
   const ConfigNode root = ConfigNode::loadFile(options.config);
   if (!describesCameras(root))
     throw InputError(options.config, "capture",
@@ -354,9 +354,10 @@ FrameReport FrameLoop::step() {
   report.times.foreground += passMs(last_result_.frame_timings, {reflect::Pass::VoxelGrid});
   report.times.dynamic += passMs(last_result_.frame_timings, {reflect::Pass::Pyramids});
   for (const reflect::ViewImages& view : last_result_.views) {
-    report.times.dynamic += passMs(view.timings, {reflect::Pass::ForegroundWalk});
-    report.times.statics +=
-        passMs(view.timings, {reflect::Pass::HitPoints, reflect::Pass::StaticReflections});
+    report.times.dynamic +=
+        passMs(view.timings, {reflect::Pass::ForegroundWalk, reflect::Pass::RefractedForeground});
+    report.times.statics += passMs(view.timings, {reflect::Pass::HitPoints, reflect::Pass::StaticReflections,
+                                                  reflect::Pass::Refraction, reflect::Pass::Clearcoat});
     report.times.composition += passMs(view.timings, {reflect::Pass::Composition, reflect::Pass::ToneMap});
   }
   t0 = Clock::now();
@@ -372,6 +373,8 @@ FrameReport FrameLoop::step() {
   for (const reflect::ViewImages& view : last_result_.views) {
     report.static_reused_views += view.static_reused ? 1 : 0;
     report.refined_pixels += view.refined_pixels;
+    report.refraction_rays += view.refraction_rays;
+    report.refracted_walks += view.refracted_walks;
     if (!view.coverage.empty())
       report.relic_pixels += static_cast<std::size_t>(cv::countNonZero(view.coverage));
   }
@@ -569,6 +572,8 @@ std::string timingJson(const StageTimes& m, const std::vector<FrameReport>& repo
     f["static_reused_views"] = r.static_reused_views;
     f["refined_pixels"] = r.refined_pixels;
     f["relic_pixels"] = r.relic_pixels;
+    f["refraction_rays"] = r.refraction_rays;
+    f["refracted_walks"] = r.refracted_walks;
     nlohmann::json passes;
     for (std::size_t p = 0; p < kPassCount; ++p)
       passes[reflect::passName(static_cast<reflect::Pass>(p))] = r.pass_ms[p];

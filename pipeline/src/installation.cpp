@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "holo/calib/calibration_io.hpp"
 #include "holo/capture/capture_config.hpp"
@@ -90,8 +91,11 @@ bool describesCameras(const ConfigNode& root) {
   return root.isMap() && root.has("capture");
 }
 
-Installation simulatedInstallation(const std::string& scene, bool paced, int panorama_width) {
-  auto museum = std::make_shared<const sim::Museum>(sim::loadScene(scene));
+Installation simulatedInstallation(const std::string& scene, bool paced, int panorama_width,
+                                   const std::string& relic) {
+  sim::SceneDescription description = sim::loadScene(scene);
+  if (!relic.empty()) description.relic = relic;
+  auto museum = std::make_shared<const sim::Museum>(std::move(description));
   Installation installation;
   installation.name = "scene " + museum->description().name;
   const int n = museum->cameraCount();

@@ -1,6 +1,7 @@
 #include "holo/reflect/effect_plan.hpp"
 
 #include <algorithm>
+#include <cstdio>
 
 namespace holo::reflect {
 namespace {
@@ -31,6 +32,12 @@ const char* passName(Pass pass) {
       return "Composition";
     case Pass::ToneMap:
       return "ToneMap";
+    case Pass::Refraction:
+      return "Refraction";
+    case Pass::RefractedForeground:
+      return "RefractedForeground";
+    case Pass::Clearcoat:
+      return "Clearcoat";
   }
   return "?";
 }
@@ -47,6 +54,10 @@ std::string EffectPlan::describe() const {
   }
   s.append(" (");
   s.append(foreground_reason);
+  if (!material_reason.empty()) {
+    s.append("; ");
+    s.append(material_reason);
+  }
   s.push_back(')');
   return s;
 }
@@ -55,6 +66,7 @@ EffectPlan planEffects(const EffectInputs& in) {
   EffectPlan plan;
   if (in.relic_empty) {
     plan.foreground_reason = "no relic";
+    plan.material_reason = "no relic";
     plan.passes = {Pass::ToneMap};
     return plan;
   }
@@ -64,19 +76,36 @@ EffectPlan planEffects(const EffectInputs& in) {
     plan.foreground_reason = "no foreground points";
   else if (in.cameras == 0)
     plan.foreground_reason = "no foreground cameras";
-  else if (!in.relic_glossy)
+  else if (!in.relic_glossy && !in.relic_transmissive)
     plan.foreground_reason = "no glossy relic material";
   else if (!(boxDistance(in.relic_bounds, in.foreground_bounds) <= in.max_reflection_distance))
     plan.foreground_reason = "foreground beyond the reflection distance";
-  else
+  else if (in.relic_glossy)
     plan.foreground_reason = "foreground near a glossy relic";
-  const bool foreground = plan.foreground_reason == "foreground near a glossy relic";
+  else
+    plan.foreground_reason = "foreground near a transmissive relic";
+  const bool foreground = plan.foreground_reason == "foreground near a glossy relic" ||
+                          plan.foreground_reason == "foreground near a transmissive relic";
+  if (in.relic_transmissive) {
+    plan.internal_depth = std::max(in.internal_depth, 1);
+    char residual[32];
+    std::snprintf(residual, sizeof residual, "%.2g%%", double(in.internal_residual) * 100.0);
+    plan.material_reason =
+        "transmissive relic material, internal depth " + std::to_string(plan.internal_depth) + " (" +
+        (in.internal_depth_source.empty() ? "set" : in.internal_depth_source) + ", " + residual + " left)";
+  } else {
+    plan.material_reason = "opaque relic";
+  }
+  plan.material_reason += in.relic_clearcoat ? ", clearcoat" : ", no clearcoat";
   if (foreground) plan.passes = {Pass::VoxelGrid, Pass::Pyramids};
   if (foreground && in.relic_rough) plan.passes.push_back(Pass::RoughForegroundMap);
   plan.passes.push_back(Pass::HitPoints);
   plan.passes.push_back(Pass::StaticReflections);
+  if (in.relic_transmissive) plan.passes.push_back(Pass::Refraction);
+  if (in.relic_clearcoat) plan.passes.push_back(Pass::Clearcoat);
   if (foreground) {
     plan.passes.push_back(Pass::ForegroundWalk);
+    if (in.relic_transmissive && in.refracted_foreground) plan.passes.push_back(Pass::RefractedForeground);
     plan.passes.push_back(Pass::Composition);
   }
   plan.passes.push_back(Pass::ToneMap);

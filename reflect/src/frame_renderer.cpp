@@ -10,6 +10,7 @@
 #include "holo/core/error.hpp"
 #include "holo/reflect/tone_map.hpp"
 #include "pass_timer.hpp"
+#include "refraction_pass.hpp"
 #include "static_shading.hpp"
 
 namespace holo::reflect {
@@ -53,6 +54,14 @@ void TracerSettings::validate() const {
   if (lobe_components < 1 || lobe_components > kMaxLobeComponents)
     throw InputError(src, "lobe_components", "1.." + std::to_string(kMaxLobeComponents),
                      std::to_string(lobe_components));
+  if (refraction_depth < 0 || refraction_depth > kMaxInternalDepth)
+    throw InputError(src, "refraction_depth", "0 (measured) or 1.." + std::to_string(kMaxInternalDepth),
+                     std::to_string(refraction_depth));
+  if (!std::isfinite(refraction_residual) || !(refraction_residual > 0.0f) || !(refraction_residual < 1.0f))
+    throw InputError(src, "refraction_residual", "a share in (0, 1)", std::to_string(refraction_residual));
+  if (!std::isfinite(transmitted_roughness_scale) || transmitted_roughness_scale < 0.0f ||
+      transmitted_roughness_scale > 4.0f)
+    throw InputError(src, "transmitted_roughness_scale", "0..4", std::to_string(transmitted_roughness_scale));
   grid.validate(src + " grid");
 }
 
@@ -62,6 +71,20 @@ FrameRenderer::FrameRenderer(const RenderScene& scene, const PrefilteredIbl& ibl
     if (m.roughness < kGlossyRoughnessLimit || m.metallic_roughness_texture.used()) relic_glossy_ = true;
   if (scene_.relic().materials.empty()) relic_glossy_ = true;  // default material: be safe
   relic_bounds_ = scene_.relicBounds();
+  for (const Material& m : scene_.relic().materials) {
+    relic_transmissive_ = relic_transmissive_ || (settings_.refraction_enabled && m.transmission > 0.0f);
+    relic_clearcoat_ = relic_clearcoat_ || m.clearcoat > 0.0f;
+  }
+  if (relic_transmissive_) {
+    if (settings_.refraction_depth > 0) {
+      internal_depth_ = settings_.refraction_depth;
+    } else {
+      const InternalDepth measured =
+          measureInternalDepth(scene_, ibl_, settings_, settings_.refraction_residual);
+      internal_depth_ = measured.depth;
+      internal_residual_ = measured.residual;
+    }
+  }
   std::vector<float> rough;
   for (const Material& m : scene_.relic().materials)
     if (!m.metallic_roughness_texture.used() && m.roughness >= settings_.foreground_map_roughness &&
@@ -87,6 +110,12 @@ EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
   in.relic_bounds = scene_.relicBounds();
   if (!cloud.empty()) in.foreground_bounds = cloud.bounds();
   in.max_reflection_distance = settings_.max_reflection_distance;
+  in.relic_transmissive = relic_transmissive_;
+  in.relic_clearcoat = relic_clearcoat_;
+  in.refracted_foreground = settings_.refracted_foreground;
+  in.internal_depth = internal_depth_;
+  in.internal_residual = internal_residual_;
+  in.internal_depth_source = settings_.refraction_depth > 0 ? "set" : "measured";
   return planEffects(in);
 }
 
@@ -99,6 +128,7 @@ struct FrameRenderer::ViewCache {
   std::vector<PixelBounce> bounces;      // StaticShading's scratch
   std::vector<ForegroundSample> fg;      // per entry of hits.hits, this frame's walk (scratch)
   WalkScratch walk;
+  LayerBuffers layers;  // per entry of hits.hits, with Refraction or Clearcoat
   // The static result. Never written once handed out: a rebuild allocates new images, so a
   // caller's FrameResult keeps the pixels it was given.
   cv::Mat hdr, coverage, display, zero_weight;
@@ -188,6 +218,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
   }
 
   out.static_reused = cache.ready && reusable(cache.camera, view, settings_.static_reuse_distance);
+  const bool layered = plan.has(Pass::Refraction) || plan.has(Pass::Clearcoat);
   if (!out.static_reused) {
     {
       PassTimer t(out.timings, Pass::HitPoints);
@@ -196,14 +227,27 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
                                                         : AntiAliasing::None;
       traceHitPoints(scene_, view, aa, cache.hits, relic_bounds_);
     }
-    PassTimer t(out.timings, Pass::StaticReflections);
-    // New images (see ViewCache): the previous ones may still be held by a caller. Only the
-    // covered pixels have anything to shade; the rest stay black.
-    cache.hdr = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
-    cache.coverage = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
-    cache.zero_weight = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
-    StaticShading(scene_, ibl_, settings_, rough_map_.get())
-        .shade(cache.hits, view, cache.shading, cache.walk_rays, cache.bounces, cache.hdr, cache.coverage);
+    {
+      PassTimer t(out.timings, Pass::StaticReflections);
+      // New images (see ViewCache): the previous ones may still be held by a caller. Only the
+      // covered pixels have anything to shade; the rest stay black.
+      cache.hdr = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
+      cache.coverage = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
+      cache.zero_weight = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
+      StaticShading(scene_, ibl_, settings_, rough_map_.get())
+          .shade(cache.hits, view, cache.shading, cache.walk_rays, cache.bounces, cache.hdr, cache.coverage);
+    }
+    if (layered) {
+      PassTimer tl(out.timings, plan.has(Pass::Refraction) ? Pass::Refraction : Pass::Clearcoat);
+      const LayerCounts counts = MaterialLayers(scene_, ibl_, settings_, plan.internal_depth,
+                                                plan.has(Pass::Refraction), plan.has(Pass::Clearcoat))
+                                     .shade(cache.hits, cache.shading, cache.layers);
+      composeLayeredStatic(cache.hits, cache.shading, cache.layers, cache.hdr);
+      out.refraction_rays = counts.refraction_rays;
+      out.refracted_samples = counts.refracted_samples;
+      out.capped_paths = counts.capped_paths;
+      out.coated_samples = counts.coated_samples;
+    }
     cache.camera = view;
     cache.display_exposure = 0.0f;
     cache.ready = true;
@@ -224,12 +268,17 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
   } else {
     // Scratch sized once; only the covered pixels' entries are written and read.
     cache.fg.resize(hits.hits.size());
+    const ForegroundWalk walk(settings_, grid_, pyramids_, cameras, rough_map_.get());
     {
       PassTimer t(out.timings, Pass::ForegroundWalk);
-      const WalkCounts counts = ForegroundWalk(settings_, grid_, pyramids_, cameras, rough_map_.get())
-                                    .walkView(hits, cache.walk_rays, cache.walk, cache.fg);
+      const WalkCounts counts = walk.walkView(hits, cache.walk_rays, cache.walk, cache.fg);
       out.walked_rays = counts.walked;
       out.foreground_hits = counts.found;
+    }
+    if (plan.has(Pass::RefractedForeground)) {
+      PassTimer t(out.timings, Pass::RefractedForeground);
+      out.refracted_walks = MaterialLayers(scene_, ibl_, settings_, plan.internal_depth, true, false)
+                                .walkTransmitted(hits, walk, cache.layers);
     }
     // Over a copy of the static image, only where some foreground was reached (the rest is the
     // static result already).
@@ -239,7 +288,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     if (fixed_exposure) out.display = cache.display.clone();
     out.composed_pixels =
         composeForeground(hits, cache.shading, cache.fg, fixed_exposure ? settings_.exposure : 0.0f, out.hdr,
-                          out.weight, out.display);
+                          out.weight, out.display, layered ? &cache.layers : nullptr);
   }
   if (fixed_exposure) {
     out.exposure = settings_.exposure;

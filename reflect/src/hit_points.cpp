@@ -38,6 +38,7 @@ bool traceSample(const RenderScene& scene, const RayScene& relic, const CameraMo
   h.emission = s.emission;
   h.occlusion = s.occlusion;
   h.alpha = s.alpha;
+  h.gltf = &scene.relicGltfMaterial(hit, relic);
   return isFinite(h.position) && isFinite(h.normal) && isFinite(h.reflected);
 }
 

@@ -71,4 +71,10 @@ std::size_t RenderScene::relicMesh(const RayHit& hit, const RayScene& scene) con
   return &scene == relic_.get() ? relic_mesh_.at(hit.geometry) : surfaces_.at(hit.geometry).mesh;
 }
 
+const Material& RenderScene::relicGltfMaterial(const RayHit& hit, const RayScene& scene) const {
+  const int m = relic_model_.meshes[relicMesh(hit, scene)].material;
+  if (m < 0 || static_cast<std::size_t>(m) >= relic_model_.materials.size()) return kDefaultMaterial;
+  return relic_model_.materials[static_cast<std::size_t>(m)];
+}
+
 }  // namespace holo::reflect

@@ -22,3 +22,8 @@ holo_benchmark(bench_frame_renderer
 holo_test(test_baselines
   SOURCES test_ssrt.cpp
   DEPS holo::reflect holo::depthfilter holo_test_support)
+# The refraction pass, the clearcoat and the effect plan's material passes (reflect/src internals).
+holo_test(test_refraction
+  SOURCES test_refraction.cpp
+  DEPS holo::reflect holo::depthfilter holo_test_support)
+target_include_directories(test_refraction PRIVATE ${PROJECT_SOURCE_DIR}/reflect/src)

@@ -54,6 +54,7 @@ void setAntiAliasing(reflect::TracerSettings& tracer, reflect::AntiAliasing mode
 
 struct FrameLoopOptions {
   std::string scene = "museum";  // built-in name or YAML file (sim::loadScene)
+  std::string relic;             // replaces the scene's relic (built-in name or glTF file); empty: keep
   // A configuration file with `capture:` and `exhibit:` sections (installation.hpp): its cameras,
   // calibration, relic and panorama instead of the simulated scene. Empty: `scene`.
   std::string config;
@@ -79,8 +80,8 @@ struct FrameLoopOptions {
 struct StageTimes {
   double acquisition = 0;  // waiting for camera frames (their grabbing overlaps processing)
   double foreground = 0;   // masks, flow, temporal filter, back-projection, voxel grid
-  double dynamic = 0;      // Kawase pyramids and voxel walk
-  double statics = 0;      // hit points and prefiltered IBL
+  double dynamic = 0;      // Kawase pyramids and voxel walk (reflected and transmitted rays)
+  double statics = 0;      // hit points, prefiltered IBL, refraction through the relic, clearcoat
   double composition = 0;  // composition, tone mapping
   double display = 0;      // eye tracking, quad layout, presentation
   double total = 0;        // the frame's wall time on the loop's thread (the frame period)
@@ -113,6 +114,9 @@ struct FrameReport {
   int static_reused_views = 0;     // views whose hit points and static shading came from the cache
   std::size_t refined_pixels = 0;  // pixels with 4 sub-samples (edge anti-aliasing), all views
   std::size_t relic_pixels = 0;    // pixels with some relic coverage, all views
+  // Embree rays through transmissive relic materials and transmitted exit rays walked, all views
+  // (0 for an opaque relic: the plan runs no refraction pass).
+  std::uint64_t refraction_rays = 0, refracted_walks = 0;
   // Milliseconds per reflect::Pass (index = the enum's value), summed over the views; plus the
   // camera images' conversion to linear colour for the pyramids (part of `dynamic`).
   std::array<double, kPassCount> pass_ms{};

@@ -60,7 +60,9 @@ struct Installation {
 
 // The simulated museum's scene `scene` (built-in name or YAML file). `paced`: the cameras deliver
 // frames at the scene's rate (live mode); else as fast as they are asked for (deterministic).
-Installation simulatedInstallation(const std::string& scene, bool paced, int panorama_width);
+// `relic` (built-in name or glTF file) replaces the scene's relic; empty: the scene's.
+Installation simulatedInstallation(const std::string& scene, bool paced, int panorama_width,
+                                   const std::string& relic = "");
 
 // The installation a configuration document describes (`root` is the whole document; its
 // `capture:` and `exhibit:` sections are read). Throws InputError naming the file and field.

@@ -1,7 +1,11 @@
 // The frame renderer's effect plan: which passes a frame runs, derived from the scene before any
 // work is done, so a disabled or pointless effect costs nothing. The foreground passes (voxel
 // grid, pyramids, voxel walk, composition) run only when there is foreground near the relic, a
-// camera to read it from, a relic material glossy enough to reflect it, and the effect is on.
+// camera to read it from, a relic material glossy enough to reflect it (or transmissive, to be
+// seen through it), and the effect is on. The material effects run only where a relic material
+// calls for them: Refraction (KHR_materials_transmission) with the internal depth measured on the
+// relic (refraction_pass.hpp), Clearcoat (KHR_materials_clearcoat); an opaque relic's frame does
+// no refraction work at all.
 #pragma once
 
 #include <string>
@@ -12,14 +16,17 @@
 namespace holo::reflect {
 
 enum class Pass {
-  VoxelGrid,           // bin the foreground cloud
-  Pyramids,            // Kawase colour and mask pyramids per camera
-  RoughForegroundMap,  // the visitors prefiltered around the relic, for its roughest materials
-  HitPoints,           // primary rays against the relic (psi_r, coverage)
-  StaticReflections,   // prefiltered IBL (psi_s) and diffuse
-  ForegroundWalk,      // voxel walk + pyramid reads (psi_d, w)
-  Composition,         // psi_d * w + psi_s * (1 - w)
-  ToneMap,             // exposure, tone mapping, sRGB
+  VoxelGrid,            // bin the foreground cloud
+  Pyramids,             // Kawase colour and mask pyramids per camera
+  RoughForegroundMap,   // the visitors prefiltered around the relic, for its roughest materials
+  HitPoints,            // primary rays against the relic (psi_r, coverage)
+  StaticReflections,    // prefiltered IBL (psi_s) and diffuse
+  Refraction,           // transmitted paths through the relic to the IBL (static, like the hit points)
+  Clearcoat,            // the coat's specular lobe over the base (static shading and composition)
+  ForegroundWalk,       // voxel walk + pyramid reads (psi_d, w)
+  RefractedForeground,  // the visitors seen through the relic: a walk per transmitted exit ray
+  Composition,          // psi_d * w + psi_s * (1 - w)
+  ToneMap,              // exposure, tone mapping, sRGB (the last: pipeline's kPassCount counts on it)
 };
 
 const char* passName(Pass pass);
@@ -38,13 +45,24 @@ struct EffectInputs {
   Bounds3 relic_bounds;
   Bounds3 foreground_bounds;             // empty when there is no foreground
   float max_reflection_distance = 3.0f;  // metres: the voxel walk's reach
+  bool relic_transmissive = false;       // some relic material has transmission > 0
+  bool relic_clearcoat = false;          // some relic material has clearcoat > 0
+  bool refracted_foreground = true;      // the user's switch for the visitors seen through glass
+  // Interface events a transmitted path follows (measured on the relic or set, >= 1) and the share
+  // of the transmitted light still inside the relic at that depth (goes to the IBL).
+  int internal_depth = 0;
+  float internal_residual = 0.0f;
+  std::string internal_depth_source;  // "measured" or "set"
 };
 
 struct EffectPlan {
   std::vector<Pass> passes;
   std::string foreground_reason;  // why the foreground passes run or not, for the statistics
+  std::string material_reason;    // why Refraction / Clearcoat run or not
+  int internal_depth = 0;         // interface events per transmitted path; 0 without Refraction
   bool has(Pass pass) const;
-  std::string describe() const;  // "HitPoints,StaticReflections,ToneMap (no foreground points)"
+  // "HitPoints,StaticReflections,ToneMap (no foreground points; opaque relic, no clearcoat)"
+  std::string describe() const;
 };
 
 EffectPlan planEffects(const EffectInputs& inputs);

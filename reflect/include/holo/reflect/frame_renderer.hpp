@@ -107,6 +107,22 @@ struct TracerSettings {
   float ray_offset = 1e-3f;
   // Exposure of the tone map, finite; <= 0: automatic per view (tone_map.hpp's autoExposure).
   float exposure = 0.0f;
+  // Interface events a transmitted path follows through the relic (refraction_pass.hpp), 0 or
+  // 1..32; 0: measured on the relic when the renderer is built (the smallest depth that leaves less
+  // than refraction_residual of the transmitted light inside).
+  int refraction_depth = 0;
+  // Refraction through transmissive relic materials; false: they are shaded as opaque (the
+  // renderer before the refraction pass, for comparisons).
+  bool refraction_enabled = true;
+  // The visitors seen through the glass (a walk per transmitted exit ray); false: refraction reads
+  // the IBL only (the comparison the bar names).
+  bool refracted_foreground = true;
+  // Share of the transmitted light the measured depth may leave to the IBL, (0, 1); 0.01: 1% of
+  // a glass pixel's transmitted light, under 1 sRGB code at mid-grey.
+  float refraction_residual = 0.01f;
+  // Scales the transmitted lobe's derived roughness (the IBL level and the walk's pyramid
+  // levels), 0..4; 1 in use, for checking the derivation against path-traced truth.
+  float transmitted_roughness_scale = 1.0f;
   // The voxel grid the walk traverses (voxel_grid.hpp).
   VoxelGridSettings grid;
   // Throws InputError naming the field.
@@ -137,6 +153,11 @@ struct ViewImages {
   bool static_reused = false;       // hit points and static shading came from the cache
   std::size_t refined_pixels = 0;   // pixels with 4 sub-samples
   std::size_t composed_pixels = 0;  // pixels some foreground reached, composed this frame
+  // Material layers (refraction_pass.hpp): Embree rays of the transmitted paths and the samples
+  // that traced one (when the static shading was traced this frame), the transmitted exit rays
+  // walked for the visitors (every frame with foreground), the clearcoated samples.
+  std::uint64_t refraction_rays = 0, refracted_samples = 0, capped_paths = 0, refracted_walks = 0;
+  std::uint64_t coated_samples = 0;
 };
 
 struct FrameResult {
@@ -174,6 +195,9 @@ class FrameRenderer {
   const PrefilteredIbl& ibl_;
   TracerSettings settings_;
   bool relic_glossy_ = false;
+  bool relic_transmissive_ = false, relic_clearcoat_ = false;
+  int internal_depth_ = 0;  // with a transmissive relic: settings' or measured
+  float internal_residual_ = 0.0f;
   Bounds3 relic_bounds_;  // of the static relic, for culling primary rays
   VoxelGrid grid_;
   std::vector<ForegroundPyramid> pyramids_;

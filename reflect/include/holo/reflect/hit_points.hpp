@@ -36,6 +36,9 @@ struct HitPoint {
   vec3 emission{0.0f};  // surface_shading.hpp's SurfacePoint fields
   float occlusion = 1.0f;
   float alpha = 1.0f;  // BLEND coverage: what is behind shows through 1 - alpha of it
+  // The relic's glTF material at the hit (transmission, volume, IOR, clearcoat: what the
+  // refraction pass and the coat read), owned by the RenderScene; null only before tracing.
+  const Material* gltf = nullptr;
 };
 
 enum class AntiAliasing { None, Edges, Full };

@@ -32,6 +32,9 @@ class RenderScene {
   vec3 emission(const RayHit& hit) const;
   // The relic mesh (index into relic().meshes) a hit of either scene is on.
   std::size_t relicMesh(const RayHit& hit, const RayScene& scene) const;
+  // The relic's glTF material at a hit of either scene (a default one for a mesh without any);
+  // lives as long as the scene.
+  const Material& relicGltfMaterial(const RayHit& hit, const RayScene& scene) const;
   // Every relic surface gets this material's parameters instead of its glTF ones (base colour,
   // metallic, roughness and specular textures ignored; normal, occlusion and emission maps and
   // the opacity stay the glTF material's): for analytic tests and material studies that glTF

@@ -1,0 +1,332 @@
+#include "refraction_pass.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "foreground_walk.hpp"
+#include "holo/core/image.hpp"
+#include "holo/reflect/dfg_table.hpp"
+
+namespace holo::reflect {
+namespace {
+
+float luminance(const vec3& c) {
+  return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
+}
+
+// Snell refraction of d (unit, against n) through an interface with eta = n_t / n_i; the caller
+// has checked that it is not totally reflected.
+vec3 refractThrough(const vec3& d, const vec3& n, float eta) {
+  const float cos_i = std::clamp(-glm::dot(d, n), 0.0f, 1.0f);
+  const float sin2_t = (1.0f - cos_i * cos_i) / (eta * eta);
+  const float cos_t = std::sqrt(std::max(0.0f, 1.0f - sin2_t));
+  const vec3 t = d / eta + (cos_i / eta - cos_t) * n;
+  const float len = glm::length(t);
+  return len > 1e-12f ? t / len : d;
+}
+
+float clamp01(float v) {
+  return std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
+}
+
+// Beer-Lambert coefficient per metre of a volume material; 0 for a clear one.
+vec3 absorptionCoefficient(const Material& m) {
+  const float distance = m.attenuation_distance;
+  if (!std::isfinite(distance) || !(distance > 0.0f)) return vec3(0.0f);
+  vec3 sigma;
+  for (int c = 0; c < 3; ++c)
+    sigma[c] = -std::log(std::clamp(m.attenuation_colour[c], 1e-6f, 1.0f)) / distance;
+  return sigma;
+}
+
+float safeIor(float ior) {
+  return std::isfinite(ior) && ior >= 1.0f ? ior : 1.0f;
+}
+
+}  // namespace
+
+float fresnelDielectric(float cos_i, float eta) {
+  cos_i = std::isfinite(cos_i) ? std::clamp(cos_i, 0.0f, 1.0f) : 0.0f;
+  if (!std::isfinite(eta) || !(eta > 0.0f)) eta = 1.0f;
+  const float sin2_t = (1.0f - cos_i * cos_i) / (eta * eta);
+  if (sin2_t >= 1.0f) return 1.0f;
+  const float cos_t = std::sqrt(1.0f - sin2_t);
+  const float rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+  const float rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+  const float f = 0.5f * (rs * rs + rp * rp);
+  return std::isfinite(f) ? std::clamp(f, 0.0f, 1.0f) : 1.0f;
+}
+
+TransmittedPath traceTransmission(const RenderScene& scene, const PrefilteredIbl& ibl,
+                                  const TracerSettings& settings, int depth, const vec3& entry_position,
+                                  const vec3& entry_normal, const vec3& entry_direction,
+                                  const Material& entry, const SurfaceMaterial* entry_textured,
+                                  std::vector<double>* alive) {
+  TransmittedPath path;
+  const RayScene& relic = scene.relicOnly();
+  const float offset = std::max(settings.ray_offset, 1e-5f);
+  vec3 throughput(1.0f), last_absorption(1.0f), sigma(0.0f);
+  vec3 position = entry_position, normal = entry_normal, geometric = entry_normal;
+  vec3 direction = entry_direction;
+  const Material* material = &entry;
+  bool inside = false;
+  float medium_ior = 1.0f, alpha2 = 0.0f;
+  const auto lobe = [&] {
+    return std::clamp(std::sqrt(std::sqrt(alpha2)) * settings.transmitted_roughness_scale, 0.0f, 1.0f);
+  };
+  for (;;) {
+    // One interface event at (position, normal facing the incoming ray, material).
+    float cos_i = -glm::dot(direction, normal);
+    if (!(cos_i > 1e-6f)) {  // a shading normal turned past the ray: the face's own normal
+      normal = geometric;
+      cos_i = std::max(-glm::dot(direction, normal), 1e-6f);
+    }
+    const Material& m = *material;
+    const bool first = path.events == 0;
+    // The entry's factors as the hit point sampled its textures; later hits read the factors.
+    const SurfaceMaterial* textured = first ? entry_textured : nullptr;
+    const float ior = safeIor(m.ior);
+    const bool thin = !(m.thickness > 0.0f);
+    const float eta = thin || !inside ? ior : 1.0f / medium_ior;
+    const float fresnel = fresnelDielectric(cos_i, eta);
+    const float transmitted =
+        (1.0f - clamp01(textured ? textured->metallic : m.metallic)) * clamp01(m.transmission);
+    const vec3 tint = glm::clamp(textured ? textured->base_colour : m.base_colour, vec3(0.0f), vec3(1.0f));
+    const float roughness = clamp01(textured ? textured->roughness : m.roughness);
+    const float alpha = roughness * roughness;
+    const float spread = alpha * std::min(ior - 1.0f, 2.0f) * 0.5f;
+    if (inside && !thin && fresnel >= 1.0f) {  // total internal reflection
+      direction = glm::reflect(direction, normal);
+      alpha2 += alpha * alpha;
+    } else if (inside && !thin) {
+      // Leaving: the light that partly reflects inside, summed as between parallel walls.
+      const vec3 refracted = refractThrough(direction, normal, eta);
+      vec3 back, front;
+      for (int c = 0; c < 3; ++c) {
+        const float fa = fresnel * last_absorption[c];
+        const float denom = (1.0f - fa) * (1.0f + fa);
+        back[c] = (1.0f - fresnel) / denom;
+        front[c] = fa * (1.0f - fresnel) / denom;
+      }
+      alpha2 += spread * spread;
+      path.reflected += throughput * front * transmitted * tint;
+      if (transmitted < 1.0f)
+        path.resolved +=
+            throughput * (back + front) * (1.0f - transmitted) * tint * ibl.irradiance(-normal) / kPi;
+      throughput *= back * transmitted * tint;
+      direction = refracted;
+      inside = false;
+    } else {
+      // Entering (or crossing a thin wall): the entry's reflection and diffuse are the caller's.
+      if (!first) {
+        path.reflected += throughput * fresnel;
+        if (transmitted < 1.0f)
+          path.resolved +=
+              throughput * (1.0f - fresnel) * (1.0f - transmitted) * tint * ibl.irradiance(normal) / kPi;
+      }
+      throughput *= (1.0f - fresnel) * transmitted * tint;
+      alpha2 += spread * spread;
+      if (!thin) {
+        direction = refractThrough(direction, normal, eta);
+        inside = true;
+        medium_ior = ior;
+        sigma = absorptionCoefficient(m);
+      }
+    }
+    ++path.events;
+    if (alive && first) (*alive)[0] += luminance(throughput);
+    // From the interface itself, past `offset` (against meeting it again), so a segment's length
+    // is the distance between the interfaces.
+    const Ray ray{position, direction};
+    const RayHit hit = relic.intersect(ray, offset);
+    ++path.rays;
+    if (!hit.hit()) break;
+    if (inside) {
+      for (int c = 0; c < 3; ++c) last_absorption[c] = std::exp(-sigma[c] * hit.t);
+      throughput *= last_absorption;
+    }
+    if (path.events >= depth) {  // the cap: what is left goes to the IBL along the last direction
+      path.resolved += throughput * ibl.specular(direction, lobe());
+      path.exit_position = position + direction * offset;
+      path.exit_direction = direction;
+      path.roughness = lobe();
+      return path;
+    }
+    position = relic.position(ray, hit);
+    geometric = hit.geometric_normal;
+    normal = relic.shadingNormal(hit, direction);
+    material = &scene.relicGltfMaterial(hit, relic);
+    if (!isFinite(position) || !isFinite(normal)) break;
+    if (alive && path.events < int(alive->size()))
+      (*alive)[std::size_t(path.events)] += luminance(throughput);
+  }
+  path.exited = true;
+  path.exit_position = position + direction * offset;
+  path.exit_direction = direction;
+  path.roughness = lobe();
+  path.scale = throughput;
+  path.environment = ibl.specular(direction, path.roughness);
+  return path;
+}
+
+InternalDepth measureInternalDepth(const RenderScene& scene, const PrefilteredIbl& ibl,
+                                   const TracerSettings& settings, float residual_limit) {
+  InternalDepth result;
+  result.left.assign(kMaxInternalDepth + 1, 0.0);
+  const Bounds3 box = scene.relicBounds();
+  if (box.empty()) return result;
+  const vec3 centre = 0.5f * (box.lo + box.hi);
+  const float radius = 0.5f * glm::length(box.hi - box.lo);
+  const RayScene& relic = scene.relicOnly();
+  // Fibonacci sphere of viewing directions, each aimed at a point of a disc across the relic
+  // (R2 low-discrepancy offsets): deterministic, even over directions and over the relic.
+  constexpr int kProbes = 1024;
+  const float golden = kPi * (3.0f - std::sqrt(5.0f));
+  // Traced one event past the largest depth, so the share still inside at that depth is known.
+  std::vector<double> alive(kMaxInternalDepth + 1, 0.0);
+  for (int i = 0; i < kProbes; ++i) {
+    const float y = 1.0f - 2.0f * (float(i) + 0.5f) / float(kProbes);
+    const float r = std::sqrt(std::max(0.0f, 1.0f - y * y));
+    const vec3 dir(r * std::cos(golden * float(i)), y, r * std::sin(golden * float(i)));
+    const Frame frame(dir);
+    const float u = std::fmod(0.5f + 0.7548777f * float(i), 1.0f),
+                v = std::fmod(0.5f + 0.5698403f * float(i), 1.0f);
+    const float disc_r = 0.8f * radius * std::sqrt(u), phi = 2.0f * kPi * v;
+    const vec3 target = centre + disc_r * (std::cos(phi) * frame.t + std::sin(phi) * frame.b);
+    const Ray ray{target + 2.0f * radius * dir, -dir};
+    const RayHit hit = relic.intersect(ray);
+    if (!hit.hit()) continue;
+    const Material& m = scene.relicGltfMaterial(hit, relic);
+    if (!(m.transmission > 0.0f)) continue;
+    ++result.probes_hit;
+    traceTransmission(scene, ibl, settings, kMaxInternalDepth + 1, relic.position(ray, hit),
+                      relic.shadingNormal(hit, ray.direction), ray.direction, m, nullptr, &alive);
+  }
+  if (!(alive[0] > 0.0)) return result;
+  for (int k = 0; k <= kMaxInternalDepth; ++k) result.left[std::size_t(k)] = alive[std::size_t(k)] / alive[0];
+  result.depth = kMaxInternalDepth;
+  for (int k = 1; k <= kMaxInternalDepth; ++k)
+    if (result.left[std::size_t(k)] < double(residual_limit)) {
+      result.depth = k;
+      break;
+    }
+  result.residual = float(result.left[std::size_t(result.depth)]);
+  return result;
+}
+
+MaterialLayers::MaterialLayers(const RenderScene& scene, const PrefilteredIbl& ibl,
+                               const TracerSettings& settings, int internal_depth, bool refraction,
+                               bool clearcoat)
+    : scene_(scene),
+      ibl_(ibl),
+      settings_(settings),
+      depth_(std::max(internal_depth, 1)),
+      refraction_(refraction),
+      clearcoat_(clearcoat) {}
+
+LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitSumShading>& shading,
+                                  LayerBuffers& buffers) const {
+  buffers.layers.resize(hits.hits.size());
+  buffers.layered.assign(hits.hits.size(), 0);
+  std::atomic<std::uint64_t> rays{0}, refracted{0}, capped{0}, coated{0};
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, hits.covered.size(), 64),
+      [&](const tbb::blocked_range<std::size_t>& r) {
+        std::uint64_t local_rays = 0, local_refracted = 0, local_capped = 0, local_coated = 0;
+        for (std::size_t k = r.begin(); k < r.end(); ++k) {
+          const std::size_t p = hits.covered[k];
+          const std::size_t first = hits.firstSample(p);
+          for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i) {
+            if (!hits.valid[i] || hits.hits[i].gltf == nullptr) continue;
+            const HitPoint& hp = hits.hits[i];
+            const Material& m = *hp.gltf;
+            const bool transmissive = refraction_ && m.transmission > 0.0f;
+            const bool coat = clearcoat_ && m.clearcoat > 0.0f;
+            if (!transmissive && !coat) continue;
+            SampleLayers& layer = buffers.layers[i];
+            layer = SampleLayers{};
+            SplitSumShading& sh = shading[i];
+            const float nv = std::clamp(glm::dot(hp.normal, hp.to_viewer), 1e-4f, 1.0f);
+            if (transmissive) {
+              // The reflection by the exact Fresnel of the IOR (split-sum's A + B for the rough
+              // lobe's own loss), in place of the default F0 0.04 the static shading used; a ratio,
+              // so an interreflection's second scale stays multiplied in.
+              const SurfaceMaterial& sm = hp.material;
+              const float metallic = clamp01(sm.metallic), s = clamp01(sm.specular);
+              const vec3 base = glm::clamp(sm.base_colour, vec3(0.0f), vec3(1.0f));
+              const vec2 ab = dfg(nv, sm.roughness);
+              const vec3 metal = metallic * (base * ab.x + ab.y);
+              const vec3 before = metal + (1.0f - metallic) * s * (kDielectricF0 * ab.x + ab.y);
+              const float fresnel = fresnelDielectric(nv, safeIor(m.ior));
+              const vec3 after = metal + (1.0f - metallic) * s * fresnel * (ab.x + ab.y);
+              for (int c = 0; c < 3; ++c)
+                sh.specular_scale[c] =
+                    before[c] > 0.0f ? sh.specular_scale[c] * after[c] / before[c] : after[c];
+              sh.diffuse *= 1.0f - clamp01(m.transmission);
+              const TransmittedPath path = traceTransmission(scene_, ibl_, settings_, depth_, hp.position,
+                                                             hp.normal, -hp.to_viewer, m, &sm);
+              local_rays += path.rays;
+              ++local_refracted;
+              local_capped += path.exited ? 0 : 1;
+              sh.diffuse += path.resolved;
+              sh.specular_scale += path.reflected;
+              layer.transmit_scale = path.scale;
+              layer.transmit_environment = path.environment;
+              layer.exit_position = path.exit_position;
+              layer.exit_direction = path.exit_direction;
+              layer.exit_roughness = path.roughness;
+              layer.walks = path.exited && luminance(path.scale) > 0.0f;
+            }
+            if (coat) {
+              const float weight = clamp01(m.clearcoat), roughness = clamp01(m.clearcoat_roughness);
+              const vec2 ab = dfg(nv, roughness);
+              layer.coat_scale = vec3(weight * (kDielectricF0 * ab.x + ab.y));
+              layer.coat_environment = ibl_.specular(hp.reflected, roughness);
+              const float schlick = kDielectricF0 + (1.0f - kDielectricF0) * std::pow(1.0f - nv, 5.0f);
+              const float below = 1.0f - weight * schlick;
+              sh.specular_scale *= below;
+              sh.diffuse *= below;
+              layer.transmit_scale *= below;
+              ++local_coated;
+            }
+            buffers.layered[i] = 1;
+          }
+        }
+        rays += local_rays;
+        refracted += local_refracted;
+        capped += local_capped;
+        coated += local_coated;
+      });
+  return {rays.load(), refracted.load(), capped.load(), coated.load()};
+}
+
+std::uint64_t MaterialLayers::walkTransmitted(const HitPointBuffer& hits, const ForegroundWalk& walk,
+                                              LayerBuffers& buffers) const {
+  buffers.transmitted_fg.resize(hits.hits.size());
+  std::atomic<std::uint64_t> walked{0};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      std::uint64_t local = 0;
+                      for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                        const std::size_t p = hits.covered[k];
+                        const std::size_t first = hits.firstSample(p);
+                        for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i) {
+                          ForegroundSample& fg = buffers.transmitted_fg[i];
+                          fg = ForegroundSample{};
+                          if (!hits.valid[i] || !buffers.layered[i] || !buffers.layers[i].walks) continue;
+                          const SampleLayers& layer = buffers.layers[i];
+                          walk.walk(layer.exit_position, layer.exit_direction, layer.exit_direction,
+                                    layer.exit_roughness, fg);
+                          ++local;
+                        }
+                      }
+                      walked += local;
+                    });
+  return walked;
+}
+
+}  // namespace holo::reflect

@@ -1,0 +1,145 @@
+// The frame renderer's material layers (internal): refraction through transmissive relic
+// materials (KHR_materials_transmission, _volume, _ior) and the clearcoat's second specular lobe
+// (KHR_materials_clearcoat), on top of the static shading of each hit point.
+//
+// Refraction. At a hit point of a transmissive material the light splits by the exact
+// unpolarised Fresnel reflectance F of its IOR: F goes to the reflection (the specular scale the
+// composition already blends with the visitors), (1 - F) (1 - metallic) transmission base_colour
+// enters the relic. The transmitted path is traced with Embree through the relic, one ray per
+// interface event (entering, leaving, a total internal reflection), up to `internal_depth` events:
+//  * entering from outside: Snell refraction, F of it reflected back out, the rest tinted by
+//    base_colour (glTF's specular BTDF);
+//  * leaving: where F = 1 (total internal reflection) the path reflects and goes on. Otherwise the
+//    light that partly reflects inside is summed in closed form as between two parallel walls
+//    with the same F and the last segment's absorption a: (1 - F) / (1 - F^2 a^2) leaves along the
+//    refracted ray, F a (1 - F) / (1 - F^2 a^2) leaves back towards the side it came from. Exact
+//    for a slab; everywhere energy is kept, never invented. What is sent back (this, and F at a
+//    later entry) joins the entry's reflection weight, its hall and its visitors: between
+//    parallel walls it leaves along the entry's mirror direction, and it costs no lookup;
+//  * inside a volume (thickness > 0), Beer-Lambert absorption over each segment's length with
+//    sigma = -ln(attenuation_colour) / attenuation_distance; thin-walled materials (thickness 0)
+//    pass light straight through, unbent;
+//  * the light not transmitted at a later interface ((1 - transmission) of a partly
+//    transmissive material) is lit by the IBL's irradiance as a Lambert surface.
+// The path that leaves the relic walks the voxel grid and pyramids for the visitors seen through
+// it (the foreground walk's ray, per frame) and reads the prefiltered IBL at the transmitted lobe's
+// width: each rough refraction widens it by GGX alpha |ior - 1| / 2 (in quadrature, times
+// transmitted_roughness_scale), each rough internal reflection by alpha. At the depth cap the
+// energy still inside goes to the IBL along the last direction.
+//
+// Internal depth: measureInternalDepth traces probe rays from a sphere of directions around the
+// relic with a cap of kMaxInternalDepth and keeps the share of the transmitted light still being
+// followed after k events; the plan takes the smallest k whose share is below
+// TracerSettings::refraction_residual.
+//
+// Clearcoat: a smooth-to-rough dielectric layer of IOR 1.5: coat = clearcoat x (split-sum
+// 0.04 A + B of its roughness), reading the IBL at the clearcoat roughness and the base's walked
+// foreground; the base below (reflection, diffuse, transmission) is scaled by 1 - clearcoat x
+// Schlick(0.04, n.v). The coat's own normal map is not read (the base's normal is used).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "holo/reflect/foreground_pyramid.hpp"
+#include "holo/reflect/frame_renderer.hpp"
+#include "holo/reflect/hit_points.hpp"
+#include "holo/reflect/prefiltered_ibl.hpp"
+#include "holo/reflect/render_scene.hpp"
+
+namespace holo::reflect {
+
+class ForegroundWalk;
+
+inline constexpr int kMaxInternalDepth = 32;
+
+// Exact unpolarised Fresnel reflectance of a dielectric interface for light arriving at cos_i
+// (> 0) from the side of index n_i onto index n_t, eta = n_t / n_i > 0; 1 beyond the critical
+// angle. In [0, 1] for every finite input.
+float fresnelDielectric(float cos_i, float eta);
+
+// A transmitted path from a hit point through the relic.
+struct TransmittedPath {
+  vec3 scale{0.0f};        // radiance factor of what the exit ray sees
+  vec3 environment{0.0f};  // the prefiltered IBL along the exit ray at the lobe's width
+  vec3 resolved{0.0f};     // radiance already read from the IBL on the way (untransmitted light,
+                           // the cap's remainder)
+  vec3 reflected{0.0f};    // weight of the light sent back towards the viewer's side (reflected
+                           // at a later interface, or inside and out again): joins the entry's
+                           // reflection (its environment and its visitors)
+  vec3 exit_position{0.0f}, exit_direction{0.0f, 0.0f, 1.0f};
+  float roughness = 0.0f;  // of the transmitted lobe at the exit (perceptual)
+  bool exited = false;     // the path left the relic before the cap (its exit ray can be walked)
+  int events = 0;          // interface events followed
+  std::uint32_t rays = 0;  // Embree rays cast
+};
+
+// Traces the light entering at `position` (shading normal `normal` on the viewer's side) along
+// `direction` (into the surface) through the relic, the entry's Fresnel and transmission weight
+// included; entry_textured (optional): the entry's base colour, metallic and roughness as the hit
+// point sampled them from textures (later hits read the factors). `alive` (optional, kMaxInternalDepth + 1
+// entries) gets the luminance of the energy still being followed after each event count added.
+TransmittedPath traceTransmission(const RenderScene& scene, const PrefilteredIbl& ibl,
+                                  const TracerSettings& settings, int depth, const vec3& position,
+                                  const vec3& normal, const vec3& direction, const Material& material,
+                                  const SurfaceMaterial* entry_textured = nullptr,
+                                  std::vector<double>* alive = nullptr);
+
+struct InternalDepth {
+  int depth = 1;
+  float residual = 0.0f;         // share of the transmitted light still inside at that depth
+  std::vector<double> left;      // the share after k = 0..kMaxInternalDepth events
+  std::uint32_t probes_hit = 0;  // probe rays that met a transmissive material
+};
+// The smallest depth whose residual is below `residual_limit` (kMaxInternalDepth when none is),
+// from a fixed set of probe rays (deterministic). A relic without transmission: depth 1, 0 left.
+InternalDepth measureInternalDepth(const RenderScene& scene, const PrefilteredIbl& ibl,
+                                   const TracerSettings& settings, float residual_limit);
+
+// Per sample of a view's hit points: the transmitted path and the coat.
+struct SampleLayers {
+  vec3 transmit_scale{0.0f}, transmit_environment{0.0f};
+  vec3 exit_position{0.0f}, exit_direction{0.0f, 0.0f, 1.0f};
+  float exit_roughness = 0.0f;
+  bool walks = false;  // the exit ray is walked for the visitors
+  vec3 coat_scale{0.0f}, coat_environment{0.0f};
+};
+
+struct LayerBuffers {
+  std::vector<SampleLayers> layers;  // per entry of hits.hits; meaningful where layered[i]
+  std::vector<std::uint8_t> layered;
+  std::vector<ForegroundSample> transmitted_fg;  // per entry, this frame's walk of the exit rays
+};
+
+struct LayerCounts {
+  std::uint64_t refraction_rays = 0;    // Embree rays of the transmitted paths
+  std::uint64_t refracted_samples = 0;  // samples with a transmitted path
+  std::uint64_t capped_paths = 0;       // paths that reached the depth cap
+  std::uint64_t coated_samples = 0;
+};
+
+class MaterialLayers {
+ public:
+  // Everything must outlive this. refraction / clearcoat: whether the plan runs them.
+  MaterialLayers(const RenderScene& scene, const PrefilteredIbl& ibl, const TracerSettings& settings,
+                 int internal_depth, bool refraction, bool clearcoat);
+
+  // Every valid sample of a covered pixel with a transmissive or coated material: its shading
+  // rescaled (the reflection by the exact Fresnel, the diffuse by 1 - transmission, the base by
+  // the coat), its layers written. shading as StaticShading wrote it.
+  LayerCounts shade(const HitPointBuffer& hits, std::vector<SplitSumShading>& shading,
+                    LayerBuffers& buffers) const;
+  // This frame's visitors along every walked exit ray into buffers.transmitted_fg; returns the
+  // rays walked.
+  std::uint64_t walkTransmitted(const HitPointBuffer& hits, const ForegroundWalk& walk,
+                                LayerBuffers& buffers) const;
+
+ private:
+  const RenderScene& scene_;
+  const PrefilteredIbl& ibl_;
+  const TracerSettings& settings_;
+  int depth_;
+  bool refraction_, clearcoat_;
+};
+
+}  // namespace holo::reflect

@@ -1,0 +1,398 @@
+// The live renderer's refraction pass and clearcoat (reflect/src/refraction_pass.hpp) and the
+// effect plan's material passes: closed forms computed here (Fresnel at normal incidence, the
+// slab's series, Snell through parallel faces, the white furnace), never the pass's own code,
+// and the stability cases of issue 18.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "holo/core/equirect.hpp"
+#include "holo/core/image.hpp"
+#include "holo/reflect/frame_renderer.hpp"
+#include "holo/reflect/view.hpp"
+#include "reflect_test_scenes.hpp"
+#include "refraction_pass.hpp"
+
+namespace holo::reflect {
+namespace {
+
+// A glass sphere of radius 0.15 at (0, 0.3, 0).
+Model glassSphere(float ior, float roughness = 0.0f, float thickness = 0.1f,
+                  vec3 attenuation_colour = vec3(1.0f),
+                  float attenuation_distance = std::numeric_limits<float>::infinity()) {
+  Model model = test::sphereModel({vec3(1.0f), 0.0f, roughness, 1.0f}, 0.15f, vec3(0.0f, 0.3f, 0.0f), 32, 64);
+  Material& m = model.materials[0];
+  m.transmission = 1.0f;
+  m.ior = ior;
+  m.thickness = thickness;
+  m.attenuation_colour = attenuation_colour;
+  m.attenuation_distance = attenuation_distance;
+  return model;
+}
+
+// A closed box slab: |x|, |y| <= 1, |z| <= half_thickness, flat faces (no vertex normals).
+Model slab(float half_thickness, const Material& material) {
+  TriangleMesh mesh;
+  for (int i = 0; i < 8; ++i)
+    mesh.positions.push_back(
+        vec3((i & 1) ? 1.0f : -1.0f, (i & 2) ? 1.0f : -1.0f, (i & 4) ? half_thickness : -half_thickness));
+  const unsigned faces[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1},
+                                {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
+  for (const auto& f : faces) {
+    mesh.triangles.push_back({f[0], f[1], f[2]});
+    mesh.triangles.push_back({f[0], f[2], f[3]});
+  }
+  Model model;
+  model.meshes.push_back(mesh);
+  model.materials.push_back(material);
+  return model;
+}
+
+// A panorama whose radiance is f(direction), 256 x 128.
+template <class F>
+Environment panorama(F&& f) {
+  cv::Mat image(128, 256, CV_32FC3);
+  for (int y = 0; y < image.rows; ++y)
+    for (int x = 0; x < image.cols; ++x) {
+      const vec3 d = equirect::uvToDirection(vec2((float(x) + 0.5f) / 256.0f, (float(y) + 0.5f) / 128.0f));
+      setRgb(image, x, y, f(d));
+    }
+  return Environment(image);
+}
+
+TracerSettings staticOnly() {
+  TracerSettings s = test::smallGrid();
+  s.foreground_enabled = false;
+  s.aa_samples = 1;
+  s.exposure = 1.0f;
+  return s;
+}
+
+ViewImages renderOnce(const RenderScene& scene, const PrefilteredIbl& ibl, const TracerSettings& settings,
+                      const CameraModel& view, EffectPlan* plan = nullptr) {
+  FrameRenderer renderer(scene, ibl, settings);
+  FrameResult result = renderer.render({}, {}, {view});
+  if (plan) *plan = result.plan;
+  return result.views.at(0);
+}
+
+TEST(Refraction, FresnelClosedFormsAndRange) {
+  for (float n : {1.0f, 1.0001f, 1.5f, 2.42f, 3.0f}) {
+    const float r = (n - 1.0f) / (n + 1.0f);
+    EXPECT_NEAR(fresnelDielectric(1.0f, n), r * r, 1e-6f) << n;
+    EXPECT_NEAR(fresnelDielectric(1.0f, 1.0f / n), r * r, 1e-6f) << n;
+    // Beyond the critical angle from inside: total reflection.
+    if (n > 1.01f) {
+      const float cos_critical = std::sqrt(1.0f - 1.0f / (n * n));
+      EXPECT_EQ(fresnelDielectric(cos_critical * 0.99f, 1.0f / n), 1.0f) << n;
+      EXPECT_LT(fresnelDielectric(std::min(cos_critical * 1.01f, 1.0f), 1.0f / n), 1.0f) << n;
+    }
+    for (float c : {0.0f, 1e-7f, 0.01f, 0.5f, 1.0f}) {
+      const float f = fresnelDielectric(c, n);
+      EXPECT_TRUE(f >= 0.0f && f <= 1.0f) << n << " " << c;
+    }
+  }
+  EXPECT_NEAR(fresnelDielectric(0.3f, 1.0f), 0.0f, 1e-7f);  // no interface, no reflection
+  EXPECT_EQ(fresnelDielectric(0.0f, 1.5f), 1.0f);           // grazing
+  for (float bad : {std::nanf(""), -1.0f, 0.0f, std::numeric_limits<float>::infinity()}) {
+    const float f = fresnelDielectric(0.5f, bad);
+    EXPECT_TRUE(f >= 0.0f && f <= 1.0f);
+  }
+}
+
+// Through a slab's two parallel faces a ray leaves in the direction it came in (Snell both ways),
+// at any angle below grazing; a thin-walled one is not bent at all.
+TEST(Refraction, ParallelFacesGiveBackTheDirectionAndThinWallsDoNotBend) {
+  Material glass;
+  glass.transmission = 1.0f;
+  glass.roughness = 0.0f;
+  glass.ior = 1.5f;
+  glass.thickness = 0.05f;
+  const RenderScene scene(slab(0.05f, glass), {});
+  const PrefilteredIbl ibl(Environment::uniform(vec3(1.0f)), PrefilterOptions{3, 16, 8});
+  TracerSettings settings;
+  for (float degrees : {0.0f, 30.0f, 60.0f, 85.0f}) {
+    const float a = degrees * kPi / 180.0f;
+    const vec3 d(std::sin(a), 0.0f, -std::cos(a));
+    const TransmittedPath path =
+        traceTransmission(scene, ibl, settings, 8, vec3(0.0f, 0.0f, 0.05f), vec3(0, 0, 1), d, glass);
+    ASSERT_TRUE(path.exited) << degrees;
+    EXPECT_GT(glm::dot(path.exit_direction, d), 1.0f - 1e-5f) << degrees;
+    EXPECT_LT(path.exit_position.z, -0.05f) << degrees;
+    // Sideways shift through the slab: thickness tan(refraction angle), Snell's sine law.
+    const float sin_t = std::sin(a) / 1.5f, tan_t = sin_t / std::sqrt(1.0f - sin_t * sin_t);
+    EXPECT_NEAR(path.exit_position.x, 0.1f * tan_t, 2e-3f) << degrees;
+    EXPECT_EQ(path.events, 2);
+  }
+  Material thin = glass;
+  thin.thickness = 0.0f;
+  const RenderScene thin_scene(slab(0.05f, thin), {});
+  const vec3 d = glm::normalize(vec3(0.5f, 0.0f, -1.0f));
+  const TransmittedPath path =
+      traceTransmission(thin_scene, ibl, settings, 8, vec3(0.0f, 0.0f, 0.05f), vec3(0, 0, 1), d, thin);
+  ASSERT_TRUE(path.exited);
+  EXPECT_EQ(path.events, 2);  // both walls crossed
+  EXPECT_GT(glm::dot(path.exit_direction, d), 1.0f - 1e-6f);
+}
+
+// A slab at normal incidence, the environment 1 behind it and 0 in front: it transmits
+// (1-R)^2 a / (1 - R^2 a^2), R = ((n-1)/(n+1))^2, a = exp(-sigma d).
+TEST(Refraction, SlabAtNormalIncidenceTransmitsTheSeriesOfItsReflections) {
+  const Environment env = panorama([](const vec3& d) { return vec3(std::max(0.0f, -d.z)); });
+  const PrefilteredIbl ibl(env, PrefilterOptions{3, 256, 8});
+  const CameraModel view = lookAtCamera(vec3(0.0f, 0.0f, 3.0f), vec3(0.0f), 2.0f, 9, 9);
+  for (float n : {1.0f, 1.5f, 2.42f, 3.0f}) {
+    for (float a : {1.0f, 0.5f}) {
+      Material glass;
+      glass.base_colour = vec3(1.0f);
+      glass.transmission = 1.0f;
+      glass.roughness = 0.0f;
+      glass.ior = n;
+      glass.thickness = 0.1f;
+      if (a < 1.0f) {
+        glass.attenuation_colour = vec3(a);
+        glass.attenuation_distance = 0.1f;  // the slab's thickness: one crossing attenuates by a
+      }
+      const RenderScene scene(slab(0.05f, glass), {});
+      const ViewImages v = renderOnce(scene, ibl, staticOnly(), view);
+      const float r = ((n - 1.0f) / (n + 1.0f)) * ((n - 1.0f) / (n + 1.0f));
+      const float expected = (1.0f - r) * (1.0f - r) * a / (1.0f - r * r * a * a);
+      const vec3 c = rgbAt(v.hdr, 4, 4);
+      EXPECT_NEAR(c.g, expected, 0.003f) << "n " << n << " a " << a;
+      EXPECT_NEAR(c.r, c.b, 1e-5f);
+      EXPECT_GT(v.refraction_rays, 0u);
+    }
+  }
+}
+
+// IOR 1, no absorption: the glass disappears, every pixel shows the environment behind it.
+TEST(Refraction, IorOneShowsTheEnvironmentBehindUnchanged) {
+  const auto sky = [](const vec3& d) {
+    return vec3(1.0f + 0.5f * d.x, 1.0f + 0.3f * d.y, 1.0f - 0.4f * d.z);
+  };
+  const PrefilteredIbl ibl(panorama(sky), PrefilterOptions{3, 256, 8});
+  const RenderScene scene(glassSphere(1.0f), {});
+  const CameraModel view = lookAtCamera(vec3(0.0f, 0.3f, 1.2f), vec3(0.0f, 0.3f, 0.0f), 20.0f, 32, 32);
+  const ViewImages v = renderOnce(scene, ibl, staticOnly(), view);
+  int checked = 0;
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 32; ++x) {
+      if (v.coverage.at<float>(y, x) < 1.0f) continue;
+      const vec3 expected = sky(primaryRay(view, vec2(x, y)).direction);
+      const vec3 c = rgbAt(v.hdr, x, y);
+      ASSERT_LT(glm::length(c - expected), 0.01f * glm::length(expected)) << x << "," << y;
+      ++checked;
+    }
+  EXPECT_GT(checked, 300);
+}
+
+// A white furnace: non-absorbing clear glass in a uniform environment of 1 reflects plus
+// transmits exactly what arrives, whatever its IOR, depth cap or wall: never lost or invented.
+TEST(Refraction, WhiteFurnaceKeepsEnergyAtEveryIorAndCap) {
+  const PrefilteredIbl ibl(Environment::uniform(vec3(1.0f)), PrefilterOptions{3, 32, 8});
+  const CameraModel view = lookAtCamera(vec3(0.0f, 0.3f, 1.2f), vec3(0.0f, 0.3f, 0.0f), 20.0f, 24, 24);
+  for (float n : {1.0f, 1.0001f, 1.5f, 2.42f, 3.0f}) {
+    for (int depth : {1, 2, 32}) {
+      for (float thickness : {0.1f, 0.0f}) {
+        const RenderScene scene(glassSphere(n, 0.0f, thickness), {});
+        TracerSettings settings = staticOnly();
+        settings.refraction_depth = depth;
+        const ViewImages v = renderOnce(scene, ibl, settings, view);
+        for (int y = 0; y < 24; ++y)
+          for (int x = 0; x < 24; ++x) {
+            if (v.coverage.at<float>(y, x) < 1.0f) continue;
+            const vec3 c = rgbAt(v.hdr, x, y);
+            ASSERT_NEAR(c.g, 1.0f, 0.01f)
+                << "ior " << n << " depth " << depth << " thickness " << thickness << " at " << x << "," << y;
+          }
+        if (depth == 1 && thickness > 0.0f) {
+          EXPECT_GT(v.capped_paths, 0u);
+        }
+      }
+    }
+  }
+}
+
+// The stability cases of issue 18: every pixel finite and within the environment's range.
+TEST(Refraction, StabilityCasesStayFiniteAndInRange) {
+  const auto sky = [](const vec3& d) {
+    return vec3(0.5f + 0.5f * std::max(d.y, 0.0f), 0.4f, 0.3f + 0.2f * d.x);
+  };
+  const PrefilteredIbl ibl(panorama(sky), PrefilterOptions{4, 64, 8});
+  const CameraModel view = lookAtCamera(vec3(0.0f, 0.3f, 1.2f), vec3(0.0f, 0.3f, 0.0f), 20.0f, 24, 24);
+  const float huge = 1e30f;
+  struct Case {
+    const char* name;
+    Model model;
+    int depth;
+  };
+  std::vector<Case> cases;
+  for (float n : {1.0f, 1.0001f, 2.42f, 3.0f}) cases.push_back({"ior", glassSphere(n), 0});
+  cases.push_back({"trapped by total internal reflection (cap 3)", glassSphere(3.0f), 3});
+  cases.push_back({"transmission roughness 0", glassSphere(1.5f, 0.0f), 0});
+  cases.push_back({"transmission roughness 1", glassSphere(1.5f, 1.0f), 0});
+  cases.push_back(
+      {"attenuationDistance 1e-6", glassSphere(1.5f, 0.0f, 0.1f, vec3(0.5f, 0.8f, 0.0f), 1e-6f), 0});
+  cases.push_back({"attenuationDistance huge", glassSphere(1.5f, 0.0f, 0.1f, vec3(0.5f), huge), 0});
+  cases.push_back({"thickness 0", glassSphere(1.5f, 0.3f, 0.0f), 0});
+  for (const Case& c : cases) {
+    const RenderScene scene(c.model, {});
+    TracerSettings settings = staticOnly();
+    settings.refraction_depth = c.depth;
+    settings.aa_samples = 4;  // grazing samples at the silhouette too
+    settings.exposure = 0.0f;
+    const ViewImages v = renderOnce(scene, ibl, settings, view);
+    for (int y = 0; y < 24; ++y)
+      for (int x = 0; x < 24; ++x) {
+        const vec3 p = rgbAt(v.hdr, x, y);
+        ASSERT_TRUE(isFinite(p)) << c.name;
+        ASSERT_GE(glm::min(p.x, glm::min(p.y, p.z)), 0.0f) << c.name;
+        ASSERT_LE(glm::max(p.x, glm::max(p.y, p.z)), 1.0f + 1e-3f) << c.name;  // the sky's maximum
+      }
+    EXPECT_GT(v.refracted_samples, 0u) << c.name;
+  }
+  // Grazing incidence straight into the path: finite, energy at most what arrived.
+  const RenderScene scene(glassSphere(2.42f), {});
+  const Material& m = scene.relic().materials[0];
+  for (float cos_i : {1e-7f, 1e-3f, 0.05f}) {
+    const vec3 n(0.0f, 0.0f, 1.0f), d(std::sqrt(1.0f - cos_i * cos_i), 0.0f, -cos_i);
+    const TransmittedPath path =
+        traceTransmission(scene, ibl, TracerSettings{}, 8, vec3(0.0f, 0.3f, 0.15f), n, d, m);
+    EXPECT_TRUE(isFinite(path.scale) && isFinite(path.resolved) && isFinite(path.exit_direction));
+    EXPECT_LE(path.scale.g, 1.0f);
+  }
+}
+
+// The plan: an opaque relic runs no material pass and traces no refraction ray; glass does, with
+// the depth measured on the relic and its reason in the statistics.
+TEST(Refraction, OnlyATransmissiveRelicPaysForRefraction) {
+  const PrefilteredIbl ibl(Environment::uniform(vec3(0.5f)), PrefilterOptions{3, 16, 8});
+  const test::RedWall wall = test::redWall();
+  const CameraModel view = lookAtCamera(vec3(0.0f, 0.3f, 1.2f), vec3(0.0f, 0.3f, 0.0f), 16.0f, 32, 32);
+  {
+    const RenderScene opaque(test::sphereModel({vec3(0.9f), 1.0f, 0.1f, 1.0f}, 0.15f, vec3(0.0f, 0.3f, 0.0f)),
+                             {});
+    FrameRenderer renderer(opaque, ibl, test::smallGrid());
+    const FrameResult r = renderer.render(wall.cloud, {wall.camera}, {view});
+    EXPECT_TRUE(r.plan.has(Pass::ForegroundWalk)) << r.plan.describe();
+    for (Pass p : {Pass::Refraction, Pass::RefractedForeground, Pass::Clearcoat})
+      EXPECT_FALSE(r.plan.has(p)) << passName(p);
+    EXPECT_EQ(r.plan.internal_depth, 0);
+    EXPECT_NE(r.plan.describe().find("opaque relic"), std::string::npos) << r.plan.describe();
+    const ViewImages& v = r.views.at(0);
+    EXPECT_EQ(v.refraction_rays, 0u);
+    EXPECT_EQ(v.refracted_samples, 0u);
+    EXPECT_EQ(v.refracted_walks, 0u);
+    EXPECT_EQ(v.coated_samples, 0u);
+    for (const PassTiming& t : v.timings) EXPECT_NE(t.pass, Pass::Refraction);
+  }
+  const RenderScene glass(glassSphere(1.5f), {});
+  FrameRenderer renderer(glass, ibl, test::smallGrid());
+  const FrameResult r = renderer.render(wall.cloud, {wall.camera}, {view});
+  for (Pass p : {Pass::Refraction, Pass::RefractedForeground}) EXPECT_TRUE(r.plan.has(p)) << passName(p);
+  EXPECT_FALSE(r.plan.has(Pass::Clearcoat));
+  EXPECT_NE(r.plan.describe().find("measured"), std::string::npos) << r.plan.describe();
+  // A sphere: in, out; a few paths reflect totally once or twice more.
+  EXPECT_GE(r.plan.internal_depth, 2);
+  EXPECT_LE(r.plan.internal_depth, 8);
+  const ViewImages& v = r.views.at(0);
+  EXPECT_GT(v.refraction_rays, 0u);
+  EXPECT_GT(v.refracted_samples, 0u);
+  EXPECT_GT(v.refracted_walks, 0u);
+  // Switched off, the glass is shaded as opaque (the comparison's "before"): no refraction work.
+  TracerSettings off = test::smallGrid();
+  off.refraction_enabled = false;
+  FrameRenderer opaque_glass(glass, ibl, off);
+  const FrameResult o = opaque_glass.render(wall.cloud, {wall.camera}, {view});
+  EXPECT_FALSE(o.plan.has(Pass::Refraction)) << o.plan.describe();
+  EXPECT_EQ(o.views.at(0).refraction_rays, 0u);
+  // Refraction of the IBL only: traced, but no exit ray walks.
+  TracerSettings ibl_only = test::smallGrid();
+  ibl_only.refracted_foreground = false;
+  FrameRenderer no_visitors(glass, ibl, ibl_only);
+  const FrameResult n = no_visitors.render(wall.cloud, {wall.camera}, {view});
+  EXPECT_TRUE(n.plan.has(Pass::Refraction));
+  EXPECT_FALSE(n.plan.has(Pass::RefractedForeground));
+  EXPECT_GT(n.views.at(0).refraction_rays, 0u);
+  EXPECT_EQ(n.views.at(0).refracted_walks, 0u);
+}
+
+// A visitor behind clear glass is seen through it: the red wall of test::redWall() seen from the
+// other side of a glass sphere, along the axis (no bending): red 2 x (1-R)/(1+R), R the head-on
+// reflectance (the slab's series for one crossing in and out); IOR 1: red 2 exactly.
+TEST(Refraction, TheVisitorBehindTheGlassIsSeenThroughIt) {
+  const PrefilteredIbl ibl(Environment::uniform(vec3(0.5f)), PrefilterOptions{3, 16, 8});
+  const test::RedWall wall = test::redWall();
+  const CameraModel view = lookAtCamera(vec3(0.0f, 0.3f, -1.2f), vec3(0.0f, 0.3f, 0.0f), 16.0f, 33, 33);
+  for (float n : {1.0f, 1.5f}) {
+    const RenderScene glass(glassSphere(n), {});
+    FrameRenderer renderer(glass, ibl, test::smallGrid());
+    const FrameResult r = renderer.render(wall.cloud, {wall.camera}, {view});
+    ASSERT_TRUE(r.plan.has(Pass::RefractedForeground)) << r.plan.describe();
+    const ViewImages& v = r.views.at(0);
+    const float reflectance = ((n - 1.0f) / (n + 1.0f)) * ((n - 1.0f) / (n + 1.0f));
+    const vec3 c = rgbAt(v.hdr, 16, 16);
+    // What does not get through, 2R/(1+R), is reflected back to the viewer's side: the grey hall.
+    const float through = (1.0f - reflectance) / (1.0f + reflectance), back = 1.0f - through;
+    EXPECT_NEAR(c.r, 2.0f * through + 0.5f * back, 0.05f) << n;
+    EXPECT_NEAR(c.g, 0.5f * back, 0.002f) << n;
+    EXPECT_GT(v.refracted_walks, 0u);
+  }
+}
+
+// The measured depth: a sphere needs its two interfaces (inside, light meets the surface at its
+// refraction angle, below the critical one: never totally reflected); a high-index cube traps
+// light by total internal reflection (a face next to the entry one is met beyond the critical
+// angle) and needs more; the residual at the chosen depth is below the limit and at
+// one event less it is not.
+TEST(Refraction, InternalDepthIsTheSmallestThatLeavesLessThanTheLimit) {
+  const PrefilteredIbl ibl(Environment::uniform(vec3(1.0f)), PrefilterOptions{3, 16, 8});
+  TracerSettings settings;
+  const RenderScene sphere(glassSphere(1.5f), {});
+  const InternalDepth d = measureInternalDepth(sphere, ibl, settings, 0.01f);
+  EXPECT_GT(d.probes_hit, 100u);
+  EXPECT_EQ(d.depth, 2);
+  EXPECT_LT(d.residual, 0.01f);
+  EXPECT_NEAR(d.left[1], 1.0, 1e-6);  // after entering, all of it is inside
+  Material diamond;
+  diamond.transmission = 1.0f;
+  diamond.roughness = 0.0f;
+  diamond.ior = 2.42f;
+  diamond.thickness = 0.1f;
+  const RenderScene cube(slab(1.0f, diamond), {});
+  const InternalDepth deep = measureInternalDepth(cube, ibl, settings, 0.01f);
+  EXPECT_GT(deep.depth, d.depth);
+  EXPECT_LT(deep.residual, 0.01f);
+  EXPECT_GE(deep.left[std::size_t(deep.depth - 1)], 0.01);
+  for (std::size_t k = 1; k + 1 < deep.left.size(); ++k) EXPECT_LE(deep.left[k + 1], deep.left[k] + 1e-9);
+}
+
+// Clearcoat: a second specular lobe. Over a black diffuse base in a uniform environment L the
+// pixel is the coat's reflectance times L, about 0.04 head-on; without the coat, black.
+TEST(Refraction, ClearcoatAddsASecondSpecularLobe) {
+  const PrefilteredIbl ibl(Environment::uniform(vec3(1.0f)), PrefilterOptions{3, 16, 8});
+  const CameraModel view = lookAtCamera(vec3(0.0f, 0.3f, 1.2f), vec3(0.0f, 0.3f, 0.0f), 20.0f, 24, 24);
+  // A black base that reflects nothing (SurfaceMaterial::specular 0): the coat alone reflects.
+  const SurfaceMaterial black{vec3(0.0f), 0.0f, 1.0f, 0.0f};
+  Model model = test::sphereModel(black, 0.15f, vec3(0.0f, 0.3f, 0.0f));
+  RenderScene bare(model, {});
+  bare.overrideRelicMaterial(black);
+  model.materials[0].clearcoat = 1.0f;
+  model.materials[0].clearcoat_roughness = 0.0f;
+  RenderScene coated(model, {});
+  coated.overrideRelicMaterial(black);
+  TracerSettings settings = staticOnly();
+  EffectPlan plan;
+  const ViewImages without = renderOnce(bare, ibl, settings, view, &plan);
+  EXPECT_FALSE(plan.has(Pass::Clearcoat));
+  const ViewImages with = renderOnce(coated, ibl, settings, view, &plan);
+  EXPECT_TRUE(plan.has(Pass::Clearcoat));
+  EXPECT_FALSE(plan.has(Pass::Refraction));
+  EXPECT_EQ(with.refraction_rays, 0u);
+  EXPECT_GT(with.coated_samples, 0u);
+  EXPECT_LT(rgbAt(without.hdr, 12, 12).g, 1e-3f);
+  EXPECT_NEAR(rgbAt(with.hdr, 12, 12).g, 0.04f, 0.01f);
+}
+
+}  // namespace
+}  // namespace holo::reflect
