@@ -47,16 +47,6 @@ bool finiteMaterial(const SurfaceMaterial& m) {
 
 }  // namespace
 
-float fresnelDielectric(float cos_i, float eta) {
-  cos_i = std::clamp(cos_i, 0.0f, 1.0f);
-  const float sin2_t = (1.0f - cos_i * cos_i) / (eta * eta);
-  if (sin2_t >= 1.0f) return 1.0f;
-  const float cos_t = std::sqrt(1.0f - sin2_t);
-  const float rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-  const float rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-  return std::clamp(0.5f * (rs * rs + rp * rp), 0.0f, 1.0f);
-}
-
 std::optional<vec3> refractDirection(const vec3& wo, const vec3& h, float eta) {
   const float cos_o = glm::dot(wo, h);
   const float sin2_t = std::max(0.0f, 1.0f - cos_o * cos_o) / (eta * eta);

@@ -175,7 +175,8 @@ void ProgressiveRender::addSamples(int spp, bool quiet) {
               const RayHit hit = tracer_.scene().relicOnly().intersect(ray);
               vec3 L(0.0f);
               PathRecord record;
-              if (hit.hit()) L = tracer_.traceFromRelic(ray, hit, stream, 1.0f / camera_.intrinsics().fx, &record);
+              if (hit.hit())
+                L = tracer_.traceFromRelic(ray, hit, stream, 1.0f / camera_.intrinsics().fx, &record);
               ++local.samples;
               if (record.truncated) {
                 ++local.truncated;

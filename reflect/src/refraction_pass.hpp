@@ -53,11 +53,6 @@ class ForegroundWalk;
 
 inline constexpr int kMaxInternalDepth = 32;
 
-// Exact unpolarised Fresnel reflectance of a dielectric interface for light arriving at cos_i
-// (> 0) from the side of index n_i onto index n_t, eta = n_t / n_i > 0; 1 beyond the critical
-// angle. In [0, 1] for every finite input.
-float fresnelDielectric(float cos_i, float eta);
-
 // A transmitted path from a hit point through the relic.
 struct TransmittedPath {
   vec3 scale{0.0f};        // radiance factor of what the exit ray sees

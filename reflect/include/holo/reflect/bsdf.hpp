@@ -36,6 +36,12 @@ struct SurfaceMaterial {
   float clearcoat_roughness = 0.0f;    // [0,1] perceptual
 };
 
+// Exact unpolarised Fresnel reflectance of a smooth dielectric interface for light arriving at
+// cos_i (> 0) from the side of IOR n_1, eta = n_2 / n_1 > 0. 1 beyond the critical angle (total
+// internal reflection); a NaN cosine counts as grazing, a NaN or non-positive eta as 1. Shared by
+// the ground truth's glass BSDF (dielectric.hpp) and the live refraction pass.
+float fresnelDielectric(float cos_i, float eta);
+
 // GGX building blocks in a local frame where the normal is +Z (exposed for the prefilter, the
 // DFG table and tests). alpha > 0.
 namespace ggx {

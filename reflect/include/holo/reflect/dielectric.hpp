@@ -37,11 +37,6 @@
 
 namespace holo::reflect {
 
-// Exact unpolarised Fresnel reflectance of a smooth dielectric interface for light arriving at
-// cos_i (> 0) from the side of IOR n_1, eta = n_2 / n_1 > 0. 1 beyond the critical angle (total
-// internal reflection).
-float fresnelDielectric(float cos_i, float eta);
-
 // Direction refracted from `wo` (unit, on the side `h` points to) through a surface with
 // (unit) normal h, eta = IOR behind / IOR in front; nullopt on total internal reflection.
 std::optional<vec3> refractDirection(const vec3& wo, const vec3& h, float eta);

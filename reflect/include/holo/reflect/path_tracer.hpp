@@ -106,8 +106,8 @@ class PathTracer {
   // footprint is the path length times it (0: textures at their sharpest level). `record`, when
   // given, says whether a bounce cap stopped the path. Exposed for tests and for hybrid renderers
   // that trace from the relic.
-  vec3 traceFromRelic(const Ray& ray, const RayHit& relic_hit, SampleStream& stream, float pixel_spread = 0.0f,
-                      PathRecord* record = nullptr) const;
+  vec3 traceFromRelic(const Ray& ray, const RayHit& relic_hit, SampleStream& stream,
+                      float pixel_spread = 0.0f, PathRecord* record = nullptr) const;
 
   const PathTracerOptions& options() const { return options_; }
   const RenderScene& scene() const { return scene_; }
