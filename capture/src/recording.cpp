@@ -7,6 +7,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <unordered_map>
 
 #include "holo/core/config.hpp"
 #include "holo/core/error.hpp"
@@ -17,6 +18,48 @@ namespace holo::capture {
 namespace fs = std::filesystem;
 
 namespace {
+
+// Paths a recording names (a camera's `folder:`, the frame files of an index) must stay inside the
+// folder that names them: a recording copied from elsewhere must not make the appliance read
+// files outside it. Absolute paths, '..' leading out and symlinks leading out are refused. Each
+// frame's parent folder is resolved once (frames share rgb/ and depth/), the file itself only when
+// it is a symlink, so a 100k-frame index costs one lstat per frame.
+class Confinement {
+ public:
+  explicit Confinement(const fs::path& folder) : folder_(fs::weakly_canonical(folder)) {}
+
+  // True when `named`, relative to the folder, stays inside it once symlinks are followed.
+  bool holds(const std::string& named) {
+    const fs::path relative(named);
+    if (named.empty() || relative.is_absolute()) return false;
+    const fs::path name = relative.filename();
+    if (name == "." || name == "..") return inside(resolve(folder_ / relative));
+    const std::string parent = relative.parent_path().string();
+    auto known = parents_.find(parent);
+    if (known == parents_.end()) known = parents_.emplace(parent, inside(resolve(folder_ / parent))).first;
+    if (!known->second) return false;
+    std::error_code error;
+    const fs::path file = folder_ / relative;
+    return !fs::is_symlink(file, error) || inside(resolve(file));
+  }
+
+ private:
+  static fs::path resolve(const fs::path& p) {
+    std::error_code error;
+    const fs::path resolved = fs::weakly_canonical(p, error);
+    return error ? fs::path() : resolved;
+  }
+  bool inside(const fs::path& p) const {
+    const fs::path relative = p.lexically_relative(folder_);
+    return !p.empty() && !relative.empty() && *relative.begin() != "..";
+  }
+
+  fs::path folder_;
+  std::unordered_map<std::string, bool> parents_;  // parent folder as written -> stays inside
+};
+
+constexpr const char* kStaysInside =
+    "a relative path inside the recording's folder (no absolute path, no '..' or symlink leading out)";
 
 void checkIndexSize(const fs::path& file) {
   std::error_code error;
@@ -31,6 +74,7 @@ void checkIndexSize(const fs::path& file) {
 // TUM index file: "timestamp path" per line, '#' starts a comment.
 std::vector<std::pair<double, std::string>> readIndex(const fs::path& file) {
   checkIndexSize(file);
+  Confinement folder(file.parent_path());
   std::ifstream in(file);
   if (!in) throw InputError(file.string(), "", "a readable TUM index file", "cannot open");
   std::vector<std::pair<double, std::string>> entries;
@@ -44,6 +88,8 @@ std::vector<std::pair<double, std::string>> readIndex(const fs::path& file) {
     std::string path;
     if (!(fields >> t >> path) || !std::isfinite(t))
       throw InputError(file.string(), "line " + std::to_string(line_number), "'timestamp file'", line);
+    if (!folder.holds(path))
+      throw InputError(file.string(), "line " + std::to_string(line_number), kStaysInside, path);
     entries.emplace_back(t, path);
   }
   return entries;
@@ -55,6 +101,7 @@ std::vector<RecordedFrame> readAssociations(const fs::path& dir) {
   checkIndexSize(file);
   std::ifstream in(file);
   if (!in) throw InputError(file.string(), "", "a readable associations file", "cannot open");
+  Confinement folder(dir);
   std::vector<RecordedFrame> frames;
   std::string line;
   int line_number = 0;
@@ -67,6 +114,9 @@ std::vector<RecordedFrame> readAssociations(const fs::path& dir) {
     if (!(fields >> t_rgb >> rgb >> t_depth >> depth))
       throw InputError(file.string(), "line " + std::to_string(line_number),
                        "'t_rgb rgb_file t_depth depth_file'", line);
+    for (const std::string& named : {rgb, depth})
+      if (!folder.holds(named))
+        throw InputError(file.string(), "line " + std::to_string(line_number), kStaysInside, named);
     frames.push_back({t_rgb, dir / rgb, dir / depth});
   }
   return frames;
@@ -150,6 +200,7 @@ Recording readHolopyramid(const fs::path& root) {
   const double scale = doc["depth_scale"].as<double>();
   if (!(scale > 0)) doc["depth_scale"].fail("a positive number of units per metre");
   const ConfigNode cameras = doc["cameras"];
+  Confinement recording(root);
   for (std::size_t i = 0; i < cameras.size(); ++i) {
     const ConfigNode c = cameras[i];
     RecordedCamera cam;
@@ -158,7 +209,9 @@ Recording readHolopyramid(const fs::path& root) {
     cam.serial = c.get<std::string>("serial", "");
     cam.depth_scale = scale;
     if (c.has("intrinsics")) cam.model = readCameraModel(c);
-    const fs::path dir = root / c["folder"].as<std::string>();
+    const std::string folder = c["folder"].as<std::string>();
+    if (!recording.holds(folder)) c["folder"].fail(kStaysInside, folder);
+    const fs::path dir = root / folder;
     cam.frames = readAssociations(dir);
     rec.cameras.push_back(std::move(cam));
   }
