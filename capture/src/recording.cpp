@@ -7,7 +7,9 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string_view>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "holo/core/config.hpp"
 #include "holo/core/error.hpp"
@@ -22,28 +24,46 @@ namespace {
 // Paths a recording names (a camera's `folder:`, the frame files of an index) must stay inside the
 // folder that names them: a recording copied from elsewhere must not make the appliance read
 // files outside it. Absolute paths, '..' leading out and symlinks leading out are refused. Each
-// frame's parent folder is resolved once (frames share rgb/ and depth/), the file itself only when
-// it is a symlink, so a 100k-frame index costs one lstat per frame.
+// frame's parent folder is resolved and listed once (frames share rgb/ and depth/), a file itself
+// only when the listing shows it is a symlink.
 class Confinement {
  public:
-  explicit Confinement(const fs::path& folder) : folder_(fs::weakly_canonical(folder)) {}
+  explicit Confinement(const fs::path& folder)
+      : folder_(fs::weakly_canonical(folder)), folder_text_(folder_.string() + "/") {}
 
   // True when `named`, relative to the folder, stays inside it once symlinks are followed.
   bool holds(const std::string& named) {
-    const fs::path relative(named);
-    if (named.empty() || relative.is_absolute()) return false;
-    const fs::path name = relative.filename();
-    if (name == "." || name == "..") return inside(resolve(folder_ / relative));
-    const std::string parent = relative.parent_path().string();
+    if (named.empty() || named.front() == '/') return false;
+    const std::size_t slash = named.rfind('/');
+    const std::string parent = slash == std::string::npos ? std::string() : named.substr(0, slash);
+    const std::string_view name =
+        slash == std::string::npos ? std::string_view(named) : std::string_view(named).substr(slash + 1);
+    if (name.empty() || name == "." || name == "..") return inside(resolve(folder_ / named));
     auto known = parents_.find(parent);
-    if (known == parents_.end()) known = parents_.emplace(parent, inside(resolve(folder_ / parent))).first;
-    if (!known->second) return false;
-    std::error_code error;
-    const fs::path file = folder_ / relative;
-    return !fs::is_symlink(file, error) || inside(resolve(file));
+    if (known == parents_.end()) known = parents_.emplace(parent, look(parent)).first;
+    const Parent& folder = known->second;
+    if (!folder.inside) return false;
+    return folder.symlinks.count(std::string(name)) == 0 || inside(resolve(folder_text_ + named));
   }
 
  private:
+  struct Parent {
+    bool inside = false;                       // the folder, symlinks followed, is inside
+    std::unordered_set<std::string> symlinks;  // names in it that are symlinks
+  };
+
+  // One directory listing per parent folder: its entries' types come with the listing, so a
+  // frame costs a hash lookup, not a system call.
+  Parent look(const std::string& parent) const {
+    Parent out;
+    out.inside = inside(resolve(folder_ / parent));
+    std::error_code error;
+    if (!out.inside) return out;
+    for (fs::directory_iterator it(folder_ / parent, error), end; !error && it != end; it.increment(error))
+      if (it->is_symlink(error)) out.symlinks.insert(it->path().filename().string());
+    return out;
+  }
+
   static fs::path resolve(const fs::path& p) {
     std::error_code error;
     const fs::path resolved = fs::weakly_canonical(p, error);
@@ -55,7 +75,8 @@ class Confinement {
   }
 
   fs::path folder_;
-  std::unordered_map<std::string, bool> parents_;  // parent folder as written -> stays inside
+  std::string folder_text_;                          // folder_ and a slash, to which a name is appended
+  std::unordered_map<std::string, Parent> parents_;  // by the parent folder as written
 };
 
 constexpr const char* kStaysInside =
