@@ -11,6 +11,7 @@
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <optional>
+#include <string_view>
 
 #include "holo/core/error.hpp"
 #include "holo/core/files.hpp"
@@ -44,6 +45,15 @@ void checkPanoramaSize(const fs::path& path, const std::string& field, std::int6
         path.string(), field,
         "at most " + std::to_string(kMaxPanoramaPixels) + " pixels (8192x4096; downsample the panorama)",
         sizeText(width, height));
+}
+
+// OpenCV's Radiance decoder takes a file starting with either of these.
+bool hasRadianceSignature(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  char start[10] = {};
+  in.read(start, sizeof start);
+  const std::string_view text(start, static_cast<std::size_t>(in.gcount()));
+  return text.rfind("#?RADIANCE", 0) == 0 || text.rfind("#?RGBE", 0) == 0;
 }
 
 // A Radiance file's resolution line ("-Y 4096 +X 8192", after the header's blank line), or
@@ -189,6 +199,11 @@ HdrImage loadHdr(const fs::path& path) {
     if (ext == ".exr") {
       out.pixels = readExr(path);
     } else if (ext == ".hdr" || ext == ".pic") {
+      // imread picks its decoder by the content, not the name: without this a file named .hdr
+      // reaches OpenCV's JPEG 2000, TIFF, WebP... decoders (fuzz_hdr reached OpenJPEG's).
+      if (!hasRadianceSignature(path))
+        throw InputError(path.string(), "", "a Radiance RGBE (.hdr) image starting with #?RADIANCE or #?RGBE",
+                         "another format");
       if (const auto size = radianceSize(path))
         checkPanoramaSize(path, "resolution", size->first, size->second);
       out.pixels = cv::imread(path.string(), cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR);

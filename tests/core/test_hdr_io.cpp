@@ -3,6 +3,8 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <opencv2/imgcodecs.hpp>
+#include <vector>
 
 #include "holo/core/error.hpp"
 #include "holo/core/hdr_io.hpp"
@@ -107,6 +109,19 @@ TEST(HdrIo, AnExrAttributeLargerThanItsFileIsRefusedBeforeReading) {
   }
   // The file itself, untouched, still loads.
   EXPECT_EQ(loadHdr(dir / "small.exr").pixels.cols, 4);
+}
+
+// A .hdr file is decoded only when it is a Radiance file: OpenCV picks decoders by content, so a
+// PNG (or a JPEG 2000, as fuzz_hdr sent) named .hdr would otherwise reach other decoders.
+TEST(HdrIo, OnlyRadianceContentIsDecodedAsHdr) {
+  const auto dir = test::scratchDir("hdr_signature");
+  std::vector<std::uint8_t> png;
+  ASSERT_TRUE(cv::imencode(".png", cv::Mat(2, 4, CV_8UC3, cv::Scalar::all(200)), png));
+  std::ofstream(dir / "png.hdr", std::ios::binary)
+      .write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
+  expectRefused(dir / "png.hdr", {"#?RADIANCE", "another format"});
+  saveHdr(dir / "real.hdr", cv::Mat(2, 4, CV_32FC3, cv::Scalar::all(0.5f)));
+  EXPECT_EQ(loadHdr(dir / "real.hdr").pixels.cols, 4);
 }
 
 // The inputs fuzz_hdr once crashed, hung or exhausted memory with: each is an InputError now.
