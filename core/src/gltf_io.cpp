@@ -947,7 +947,9 @@ bool loadConfined(tinygltf::TinyGLTF& loader, tinygltf::Model& gltf, std::string
                   const std::string& file) {
   ExternalFileScope scope;
   if (!folder.empty()) {
-    scope.folder = fs::canonical(folder);
+    std::error_code error;
+    scope.folder = fs::canonical(folder, error);
+    if (error) throw InputError(file, "", "a glTF in a readable folder", error.message());
     scope.base = scope.folder.string();
   }
   loader.SetFsCallbacks({externalFileExists, keepFilePath, readExternalFile, refuseWrite, &scope});
