@@ -7,6 +7,9 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string_view>
+#include <unordered_map>
+#include <unordered_set>
 
 #include "holo/core/config.hpp"
 #include "holo/core/error.hpp"
@@ -17,6 +20,67 @@ namespace holo::capture {
 namespace fs = std::filesystem;
 
 namespace {
+
+// Paths a recording names (a camera's `folder:`, the frame files of an index) must stay inside the
+// folder that names them: a recording copied from elsewhere must not make the appliance read
+// files outside it. Absolute paths, '..' leading out and symlinks leading out are refused. Each
+// frame's parent folder is resolved and listed once (frames share rgb/ and depth/), a file itself
+// only when the listing shows it is a symlink.
+class Confinement {
+ public:
+  explicit Confinement(const fs::path& folder)
+      : folder_(fs::weakly_canonical(folder)), folder_text_(folder_.string() + "/") {}
+
+  // True when `named`, relative to the folder, stays inside it once symlinks are followed.
+  bool holds(const std::string& named) {
+    if (named.empty() || named.front() == '/') return false;
+    const std::size_t slash = named.rfind('/');
+    const std::string parent = slash == std::string::npos ? std::string() : named.substr(0, slash);
+    const std::string_view name =
+        slash == std::string::npos ? std::string_view(named) : std::string_view(named).substr(slash + 1);
+    if (name.empty() || name == "." || name == "..") return inside(resolve(folder_ / named));
+    auto known = parents_.find(parent);
+    if (known == parents_.end()) known = parents_.emplace(parent, look(parent)).first;
+    const Parent& folder = known->second;
+    if (!folder.inside) return false;
+    return folder.symlinks.count(std::string(name)) == 0 || inside(resolve(folder_text_ + named));
+  }
+
+ private:
+  struct Parent {
+    bool inside = false;                       // the folder, symlinks followed, is inside
+    std::unordered_set<std::string> symlinks;  // names in it that are symlinks
+  };
+
+  // One directory listing per parent folder: its entries' types come with the listing, so a
+  // frame costs a hash lookup, not a system call.
+  Parent look(const std::string& parent) const {
+    Parent out;
+    out.inside = inside(resolve(folder_ / parent));
+    std::error_code error;
+    if (!out.inside) return out;
+    for (fs::directory_iterator it(folder_ / parent, error), end; !error && it != end; it.increment(error))
+      if (it->is_symlink(error)) out.symlinks.insert(it->path().filename().string());
+    return out;
+  }
+
+  static fs::path resolve(const fs::path& p) {
+    std::error_code error;
+    const fs::path resolved = fs::weakly_canonical(p, error);
+    return error ? fs::path() : resolved;
+  }
+  bool inside(const fs::path& p) const {
+    const fs::path relative = p.lexically_relative(folder_);
+    return !p.empty() && !relative.empty() && *relative.begin() != "..";
+  }
+
+  fs::path folder_;
+  std::string folder_text_;                          // folder_ and a slash, to which a name is appended
+  std::unordered_map<std::string, Parent> parents_;  // by the parent folder as written
+};
+
+constexpr const char* kStaysInside =
+    "a relative path inside the recording's folder (no absolute path, no '..' or symlink leading out)";
 
 void checkIndexSize(const fs::path& file) {
   std::error_code error;
@@ -31,6 +95,7 @@ void checkIndexSize(const fs::path& file) {
 // TUM index file: "timestamp path" per line, '#' starts a comment.
 std::vector<std::pair<double, std::string>> readIndex(const fs::path& file) {
   checkIndexSize(file);
+  Confinement folder(file.parent_path());
   std::ifstream in(file);
   if (!in) throw InputError(file.string(), "", "a readable TUM index file", "cannot open");
   std::vector<std::pair<double, std::string>> entries;
@@ -44,6 +109,8 @@ std::vector<std::pair<double, std::string>> readIndex(const fs::path& file) {
     std::string path;
     if (!(fields >> t >> path) || !std::isfinite(t))
       throw InputError(file.string(), "line " + std::to_string(line_number), "'timestamp file'", line);
+    if (!folder.holds(path))
+      throw InputError(file.string(), "line " + std::to_string(line_number), kStaysInside, path);
     entries.emplace_back(t, path);
   }
   return entries;
@@ -55,6 +122,7 @@ std::vector<RecordedFrame> readAssociations(const fs::path& dir) {
   checkIndexSize(file);
   std::ifstream in(file);
   if (!in) throw InputError(file.string(), "", "a readable associations file", "cannot open");
+  Confinement folder(dir);
   std::vector<RecordedFrame> frames;
   std::string line;
   int line_number = 0;
@@ -67,6 +135,9 @@ std::vector<RecordedFrame> readAssociations(const fs::path& dir) {
     if (!(fields >> t_rgb >> rgb >> t_depth >> depth))
       throw InputError(file.string(), "line " + std::to_string(line_number),
                        "'t_rgb rgb_file t_depth depth_file'", line);
+    for (const std::string& named : {rgb, depth})
+      if (!folder.holds(named))
+        throw InputError(file.string(), "line " + std::to_string(line_number), kStaysInside, named);
     frames.push_back({t_rgb, dir / rgb, dir / depth});
   }
   return frames;
@@ -150,6 +221,7 @@ Recording readHolopyramid(const fs::path& root) {
   const double scale = doc["depth_scale"].as<double>();
   if (!(scale > 0)) doc["depth_scale"].fail("a positive number of units per metre");
   const ConfigNode cameras = doc["cameras"];
+  Confinement recording(root);
   for (std::size_t i = 0; i < cameras.size(); ++i) {
     const ConfigNode c = cameras[i];
     RecordedCamera cam;
@@ -158,7 +230,9 @@ Recording readHolopyramid(const fs::path& root) {
     cam.serial = c.get<std::string>("serial", "");
     cam.depth_scale = scale;
     if (c.has("intrinsics")) cam.model = readCameraModel(c);
-    const fs::path dir = root / c["folder"].as<std::string>();
+    const std::string folder = c["folder"].as<std::string>();
+    if (!recording.holds(folder)) c["folder"].fail(kStaysInside, folder);
+    const fs::path dir = root / folder;
     cam.frames = readAssociations(dir);
     rec.cameras.push_back(std::move(cam));
   }

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <optional>
+#include <string_view>
 
 #include "holo/core/error.hpp"
 #include "holo/core/files.hpp"
@@ -28,6 +29,8 @@ std::string lowerExtension(const fs::path& path) {
   return ext;
 }
 
+constexpr int kMaxExrSide = 16384;
+
 std::string sizeText(std::int64_t width, std::int64_t height) {
   return std::to_string(width) + "x" + std::to_string(height);
 }
@@ -42,6 +45,15 @@ void checkPanoramaSize(const fs::path& path, const std::string& field, std::int6
         path.string(), field,
         "at most " + std::to_string(kMaxPanoramaPixels) + " pixels (8192x4096; downsample the panorama)",
         sizeText(width, height));
+}
+
+// OpenCV's Radiance decoder takes a file starting with either of these.
+bool hasRadianceSignature(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  char start[10] = {};
+  in.read(start, sizeof start);
+  const std::string_view text(start, static_cast<std::size_t>(in.gcount()));
+  return text.rfind("#?RADIANCE", 0) == 0 || text.rfind("#?RGBE", 0) == 0;
 }
 
 // A Radiance file's resolution line ("-Y 4096 +X 8192", after the header's blank line), or
@@ -66,7 +78,67 @@ std::optional<std::pair<std::int64_t, std::int64_t>> radianceSize(const fs::path
   return std::nullopt;
 }
 
+// OpenEXR 3.1 allocates a header attribute's value at the size the file states, before reading
+// it: a damaged 3.6 KB file stating a 1.6 GB string attribute made it allocate 1.7 GB and spend
+// seconds failing (fuzz_hdr). Every attribute's stated size is checked here against the bytes
+// the file holds, before OpenEXR reads the header.
+void checkExrAttributes(const fs::path& path) {
+  std::error_code error;
+  const auto file_bytes = static_cast<std::int64_t>(fs::file_size(path, error));
+  std::ifstream in(path, std::ios::binary);
+  unsigned char start[8];
+  if (error || !in.read(reinterpret_cast<char*>(start), sizeof start))
+    throw InputError(path.string(), "", "an OpenEXR file", "shorter than its 8-byte start");
+  const auto little = [](const unsigned char* b) {
+    return static_cast<std::uint32_t>(b[0]) | static_cast<std::uint32_t>(b[1]) << 8 |
+           static_cast<std::uint32_t>(b[2]) << 16 | static_cast<std::uint32_t>(b[3]) << 24;
+  };
+  const std::uint32_t flags = little(start + 4);
+  const bool multipart = (flags & 0x1000) != 0;
+  const std::size_t max_name = (flags & 0x400) != 0 ? 255 : 31;
+  const auto truncated = [&path] {
+    throw InputError(path.string(), "header", "a complete OpenEXR header", "the file ends inside it");
+  };
+  const auto readName = [&](std::string& name) {
+    name.clear();
+    for (char c; in.get(c);) {
+      if (c == '\0') return;
+      if (name.size() == max_name)
+        throw InputError(path.string(), "header", "names of at most " + std::to_string(max_name) + " bytes",
+                         "'" + name + "...'");
+      name += c;
+    }
+    truncated();
+  };
+  std::string name, type;
+  for (bool first = true;; first = false) {
+    int attributes = 0;
+    for (readName(name); !name.empty(); readName(name), ++attributes) {
+      readName(type);
+      unsigned char size_bytes[4];
+      if (!in.read(reinterpret_cast<char*>(size_bytes), sizeof size_bytes)) truncated();
+      const auto size = static_cast<std::int32_t>(little(size_bytes));
+      const std::int64_t left = file_bytes - static_cast<std::int64_t>(in.tellg());
+      if (size < 0 || size > left)
+        throw InputError(path.string(), "header attribute '" + name + "'",
+                         "a value within the " + std::to_string(left) + " bytes left in the file",
+                         std::to_string(size) + " bytes");
+      in.seekg(size, std::ios::cur);
+    }
+    if (!multipart || (attributes == 0 && !first)) return;  // a multi-part file ends with an empty header
+  }
+}
+
 cv::Mat readExr(const fs::path& path) {
+  checkExrAttributes(path);
+  // OpenEXR allocates its line offset table from the data window when it opens a file, before
+  // checkPanoramaSize can look: no side beyond 16384 (which no panorama within the limit needs).
+  static const bool sides_limited = [] {
+    Imf::Header::setMaxImageSize(kMaxExrSide, kMaxExrSide);
+    Imf::Header::setMaxTileSize(kMaxExrSide, kMaxExrSide);
+    return true;
+  }();
+  (void)sides_limited;
   Imf::InputFile file(path.c_str());
   const auto& header = file.header();
   const auto window = header.dataWindow();
@@ -127,6 +199,11 @@ HdrImage loadHdr(const fs::path& path) {
     if (ext == ".exr") {
       out.pixels = readExr(path);
     } else if (ext == ".hdr" || ext == ".pic") {
+      // imread picks its decoder by the content, not the name: without this a file named .hdr
+      // reaches OpenCV's JPEG 2000, TIFF, WebP... decoders (fuzz_hdr reached OpenJPEG's).
+      if (!hasRadianceSignature(path))
+        throw InputError(path.string(), "", "a Radiance RGBE (.hdr) image starting with #?RADIANCE or #?RGBE",
+                         "another format");
       if (const auto size = radianceSize(path))
         checkPanoramaSize(path, "resolution", size->first, size->second);
       out.pixels = cv::imread(path.string(), cv::IMREAD_ANYDEPTH | cv::IMREAD_COLOR);

@@ -10,8 +10,44 @@ double finite(double v) {
   return std::isfinite(v) ? v : -1.0;
 }
 
-// Label values hold whatever a config file says; the format reserves backslash, quote and newline.
-std::string labelValue(const std::string& value) {
+// Names come from config files and from the cameras themselves (a GigE camera reports its own
+// model and serial), in no promised encoding. Prometheus label values and JSON strings must be
+// UTF-8 (nlohmann's dump() throws on anything else), so every byte that does not start a valid,
+// shortest-form sequence of a scalar value becomes U+FFFD.
+std::string validUtf8(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  const auto byte = [&text](std::size_t i) { return static_cast<unsigned char>(text[i]); };
+  for (std::size_t i = 0; i < text.size();) {
+    const unsigned char lead = byte(i);
+    const std::size_t length = lead < 0x80                    ? 1
+                               : lead >= 0xC2 && lead <= 0xDF ? 2
+                               : lead >= 0xE0 && lead <= 0xEF ? 3
+                               : lead >= 0xF0 && lead <= 0xF4 ? 4
+                                                              : 0;
+    bool valid = length > 0 && i + length <= text.size();
+    for (std::size_t k = 1; valid && k < length; ++k) valid = (byte(i + k) & 0xC0) == 0x80;
+    if (valid && length >= 3) {
+      // Overlong forms, UTF-16 surrogates and code points above U+10FFFF, by the second byte.
+      const unsigned char second = byte(i + 1);
+      valid = !(lead == 0xE0 && second < 0xA0) && !(lead == 0xED && second >= 0xA0) &&
+              !(lead == 0xF0 && second < 0x90) && !(lead == 0xF4 && second >= 0x90);
+    }
+    if (valid) {
+      out.append(text, i, length);
+      i += length;
+    } else {
+      out += "\xEF\xBF\xBD";  // U+FFFD REPLACEMENT CHARACTER
+      ++i;
+    }
+  }
+  return out;
+}
+
+// Label values hold whatever a config file or a camera says; the format reserves backslash,
+// quote and newline.
+std::string labelValue(const std::string& text) {
+  const std::string value = validUtf8(text);
   std::string out;
   out.reserve(value.size());
   for (const char c : value) {
@@ -66,17 +102,17 @@ int HealthStatus::camerasAlive() const {
 
 nlohmann::json HealthStatus::toJson() const {
   nlohmann::json j;
-  j["state"] = state;
-  j["mode"] = mode;
-  j["quality"] = quality;
+  j["state"] = validUtf8(state);
+  j["mode"] = validUtf8(mode);
+  j["quality"] = validUtf8(quality);
   j["fps"] = finite(fps);
   j["frame_ms"] = finite(frame_ms);
   j["stage_ms"] = nlohmann::json::object();
-  for (const auto& [stage, ms] : stage_ms) j["stage_ms"][stage] = finite(ms);
+  for (const auto& [stage, ms] : stage_ms) j["stage_ms"][validUtf8(stage)] = finite(ms);
   j["foreground_share"] = foreground_share ? nlohmann::json(finite(*foreground_share)) : nlohmann::json();
   j["cameras"] = nlohmann::json::array();
   for (const auto& c : cameras) {
-    j["cameras"].push_back({{"name", c.name},
+    j["cameras"].push_back({{"name", validUtf8(c.name)},
                             {"alive", c.alive},
                             {"frames", c.frames},
                             {"dropped", c.dropped},
@@ -87,8 +123,9 @@ nlohmann::json HealthStatus::toJson() const {
   j["uptime_s"] = finite(uptime_s);
   j["frames"] = frames;
   j["seconds_since_frame"] = finite(seconds_since_frame);
-  j["config"] = {{"source", config_source}, {"warning", config_warning}};
-  j["last_errors"] = nlohmann::json(std::vector<std::string>(last_errors.begin(), last_errors.end()));
+  j["config"] = {{"source", validUtf8(config_source)}, {"warning", validUtf8(config_warning)}};
+  j["last_errors"] = nlohmann::json::array();
+  for (const auto& error : last_errors) j["last_errors"].push_back(validUtf8(error));
   return j;
 }
 

@@ -101,10 +101,15 @@ TEST(PixelFormat, BayerPatternsDemosaicToTheColourTheyWereBuiltFrom) {
   const int value[3] = {b, g, r};
   for (const Case& c : cases) {
     std::vector<std::uint8_t> mosaic(16 * 16);
-    for (int y = 0; y < 16; ++y)
+    for (int y = 0; y < 16; ++y) {
+      // The row is picked before it is indexed: GCC 12 with -fsanitize=undefined miscompiles
+      // `(cond ? a.first : a.second)[x % 2]` (the instrumented index is computed only in the
+      // first arm, the second reads an unset temporary), which built a wrong mosaic under ASan.
+      const int* row = y % 2 == 0 ? c.first_row : c.second_row;
       for (int x = 0; x < 16; ++x)
-        mosaic[static_cast<std::size_t>(y * 16 + x)] =
-            static_cast<std::uint8_t>(value[(y % 2 == 0 ? c.first_row : c.second_row)[x % 2]]);
+        mosaic[static_cast<std::size_t>(y * 16 + x)] = static_cast<std::uint8_t>(value[row[x % 2]]);
+    }
+    ASSERT_EQ(mosaic[17], value[c.second_row[1]]) << toString(c.format);  // the mosaic is as built
     const cv::Vec3b p = convertToColour(c.format, raw(mosaic, 16, 16)).at<cv::Vec3b>(8, 8);
     EXPECT_NEAR(p[0], b, 2) << toString(c.format);
     EXPECT_NEAR(p[1], g, 2) << toString(c.format);

@@ -206,3 +206,65 @@ TEST(Recording, OversizedIndexIsRefusedByItsSize) {
     EXPECT_NE(std::string(e.what()).find("at most 64 MiB"), std::string::npos) << e.what();
   }
 }
+
+// A recording names only files inside its own folder: a camera folder or a frame path that is
+// absolute, climbs out with '..' or goes through a symlink leading out is an InputError naming
+// the file and the field, before anything outside is read. Symlinks that stay inside are fine.
+TEST(Recording, PathsCannotLeaveTheRecordingsFolder) {
+  namespace fs = std::filesystem;
+  const auto outside = test::scratchDir("recording_outside");
+  std::ofstream(outside / "associations.txt") << "0.0 rgb/0.png 0.0 depth/0.png\n";
+  const auto dir = test::scratchDir("recording_confined");
+  fs::create_directories(dir / "cam0");
+  std::ofstream(dir / "cam0" / "associations.txt") << "0.0 rgb/0.png 0.0 depth/0.png\n";
+  fs::create_directory_symlink(outside, dir / "link_out");
+  fs::create_directory_symlink(dir / "cam0", dir / "link_in");
+  const auto writeIndex = [&](const std::string& folder) {
+    std::ofstream(dir / "recording.yaml") << "format: holopyramid-recording\ndepth_scale: 1000\n"
+                                          << "cameras:\n  - name: front\n    folder: \"" << folder << "\"\n";
+  };
+  for (const std::string& folder : {outside.string(), std::string("../recording_outside"),
+                                    std::string("cam0/../../recording_outside"), std::string("link_out")}) {
+    writeIndex(folder);
+    try {
+      readRecording(dir);
+      ADD_FAILURE() << "read the camera folder " << folder;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), (dir / "recording.yaml").string()) << folder;
+      EXPECT_EQ(e.field(), "cameras[0].folder (line 5)") << folder;
+      EXPECT_NE(std::string(e.what()).find(folder), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("inside the recording's folder"), std::string::npos) << e.what();
+    }
+  }
+  for (const std::string folder : {"cam0", "link_in", "./cam0"}) {
+    writeIndex(folder);
+    EXPECT_EQ(readRecording(dir).cameras.at(0).frames.size(), 1u) << folder;
+  }
+
+  // Frame paths in an index: climbing out, absolute, and a frame that is a symlink leading out.
+  writeIndex("cam0");
+  fs::create_symlink(outside / "associations.txt", dir / "cam0" / "escape.png");
+  for (const std::string& frame : {std::string("../../recording_outside/associations.txt"),
+                                   (outside / "associations.txt").string(), std::string("escape.png")}) {
+    std::ofstream(dir / "cam0" / "associations.txt") << "# index\n0.0 rgb/0.png 0.0 " << frame << "\n";
+    try {
+      readRecording(dir);
+      ADD_FAILURE() << "accepted the frame " << frame;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), (dir / "cam0" / "associations.txt").string()) << frame;
+      EXPECT_EQ(e.field(), "line 2") << frame;
+      EXPECT_NE(std::string(e.what()).find(frame), std::string::npos) << e.what();
+    }
+  }
+  // The same in a plain TUM sequence's rgb.txt.
+  const auto tum = test::scratchDir("recording_tum_escape");
+  std::ofstream(tum / "rgb.txt") << "1.0 /etc/passwd\n";
+  std::ofstream(tum / "depth.txt") << "1.0 depth/a.png\n";
+  try {
+    readRecording(tum);
+    ADD_FAILURE() << "accepted /etc/passwd as a frame";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), (tum / "rgb.txt").string());
+    EXPECT_EQ(e.field(), "line 1");
+  }
+}

@@ -338,4 +338,69 @@ TEST(GltfIo, LoadsTheRealModels) {
 }
 
 }  // namespace
+// External buffers and images are read only from inside the glTF's folder: an absolute URI, one
+// climbing out with '..' (percent-encoded too) or through a symlink leading out is an InputError
+// naming the file and the field, whatever lies outside. A GLB from memory reads nothing external.
+TEST(GltfIo, ExternalFilesCannotLeaveTheGltfsFolder) {
+  TriangleFile f;
+  const std::string data = bytesOf(f.positions) + bytesOf(f.indices);
+  const auto outside = test::scratchDir("gltf_outside");
+  write(outside / "tri.bin", data);
+  write(outside / "tex.png", "not read");
+  const auto dir = test::scratchDir("gltf_confined");
+  fs::create_directories(dir / "parts");
+  write(dir / "parts" / "tri.bin", data);
+  fs::create_directory_symlink(outside, dir / "link_out");
+  fs::create_symlink(outside / "tri.bin", dir / "escape.bin");
+  fs::create_symlink(dir / "parts" / "tri.bin", dir / "alias.bin");
+  for (const std::string uri : {"parts/tri.bin", "./parts/../parts/tri.bin", "alias.bin"}) {
+    f.buffer_uri = uri;
+    EXPECT_EQ(loadGltf(write(dir / "in.gltf", f.json())).triangleCount(), 1u) << uri;
+  }
+  const auto expectRefused = [](const fs::path& path, const std::string& field, const std::string& uri) {
+    try {
+      loadGltf(path);
+      ADD_FAILURE() << "read " << uri;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), path.string()) << uri;
+      EXPECT_EQ(e.field(), field) << uri;
+      EXPECT_NE(std::string(e.what()).find("inside the glTF's folder"), std::string::npos) << e.what();
+    }
+  };
+  for (const std::string& uri :
+       {(outside / "tri.bin").string(), std::string("../gltf_outside/tri.bin"),
+        std::string("%2e%2e/gltf_outside/tri.bin"), std::string("parts/../../gltf_outside/tri.bin"),
+        std::string("link_out/tri.bin"), std::string("escape.bin")}) {
+    f.buffer_uri = uri;
+    expectRefused(write(dir / "out.gltf", f.json()), "buffers[0].uri", uri);
+  }
+  f.buffer_uri = "parts/tri.bin";
+  expectRefused(
+      write(dir / "image.gltf", replaced(f.json(), R"("buffers": [)",
+                                         R"("images": [{"uri": "../gltf_outside/tex.png"}], "buffers": [)")),
+      "images[0].uri", "../gltf_outside/tex.png");
+
+  // A GLB in memory has no folder: its JSON naming an external buffer is refused.
+  std::string json = f.json();
+  json.resize((json.size() + 3) / 4 * 4, ' ');
+  std::vector<std::uint8_t> glb;
+  const auto put = [&glb](std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) glb.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
+  };
+  put(0x46546C67);  // "glTF"
+  put(2);
+  put(static_cast<std::uint32_t>(20 + json.size()));
+  put(static_cast<std::uint32_t>(json.size()));
+  put(0x4E4F534A);  // "JSON"
+  glb.insert(glb.end(), json.begin(), json.end());
+  try {
+    loadGlbFromMemory(glb, "memory.glb");
+    ADD_FAILURE() << "a GLB from memory read an external buffer";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "memory.glb");
+    EXPECT_EQ(e.field(), "buffers[0].uri");
+    EXPECT_NE(std::string(e.what()).find("only embedded data"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace holo

@@ -3,6 +3,8 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <opencv2/imgcodecs.hpp>
+#include <vector>
 
 #include "holo/core/error.hpp"
 #include "holo/core/hdr_io.hpp"
@@ -84,6 +86,59 @@ TEST(HdrIo, SixteenKPanoramaIsRefusedFromItsHeader) {
                 sizeof inverted);
   std::ofstream(dir / "inverted.exr", std::ios::binary) << bytes;
   EXPECT_THROW(loadHdr(dir / "inverted.exr"), InputError);
+}
+
+// An EXR header attribute stating more bytes than the file holds is refused before OpenEXR reads
+// it: OpenEXR 3.1 allocated a string attribute at its stated size first (1.7 GB for a damaged
+// 3.6 KB file that fuzz_hdr found). Here a real 4x2 file gets a string attribute stating 1.6 GB.
+TEST(HdrIo, AnExrAttributeLargerThanItsFileIsRefusedBeforeReading) {
+  const auto dir = test::scratchDir("hdr_exr_attribute");
+  saveHdr(dir / "small.exr", cv::Mat(2, 4, CV_32FC3, cv::Scalar::all(1.0f)));
+  std::ifstream in(dir / "small.exr", std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::int32_t huge = 0x63000000;
+  bytes.insert(
+      8, std::string("note\0string\0", 12) + std::string(reinterpret_cast<const char*>(&huge), 4) + "x");
+  std::ofstream(dir / "bomb.exr", std::ios::binary) << bytes;
+  try {
+    loadHdr(dir / "bomb.exr");
+    ADD_FAILURE() << "loaded an EXR stating a 1.6 GB attribute";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "header attribute 'note'") << e.what();
+    EXPECT_NE(std::string(e.what()).find(std::to_string(huge) + " bytes"), std::string::npos) << e.what();
+  }
+  // The file itself, untouched, still loads.
+  EXPECT_EQ(loadHdr(dir / "small.exr").pixels.cols, 4);
+}
+
+// A .hdr file is decoded only when it is a Radiance file: OpenCV picks decoders by content, so a
+// PNG (or a JPEG 2000, as fuzz_hdr sent) named .hdr would otherwise reach other decoders.
+TEST(HdrIo, OnlyRadianceContentIsDecodedAsHdr) {
+  const auto dir = test::scratchDir("hdr_signature");
+  std::vector<std::uint8_t> png;
+  ASSERT_TRUE(cv::imencode(".png", cv::Mat(2, 4, CV_8UC3, cv::Scalar::all(200)), png));
+  std::ofstream(dir / "png.hdr", std::ios::binary)
+      .write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
+  expectRefused(dir / "png.hdr", {"#?RADIANCE", "another format"});
+  saveHdr(dir / "real.hdr", cv::Mat(2, 4, CV_32FC3, cv::Scalar::all(0.5f)));
+  EXPECT_EQ(loadHdr(dir / "real.hdr").pixels.cols, 4);
+}
+
+// The inputs fuzz_hdr once crashed, hung or exhausted memory with: each is an InputError now.
+TEST(HdrIo, FuzzRegressionsAreInputErrors) {
+  const auto dir = test::scratchDir("hdr_fuzz_regressions");
+  int files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(HOLO_SOURCE_DIR) /
+                                                               "tests/fuzz/regressions/fuzz_hdr")) {
+    std::ifstream file(entry.path(), std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+    const bool exr = bytes.rfind(std::string("\x76\x2f\x31\x01", 4), 0) == 0;  // as fuzz_hdr picks
+    const auto copy = dir / (exr ? "input.exr" : "input.hdr");
+    std::ofstream(copy, std::ios::binary) << bytes;
+    EXPECT_THROW(loadHdr(copy), InputError) << entry.path();
+    ++files;
+  }
+  EXPECT_GE(files, 1);
 }
 
 // At the limit a panorama's header passes: 8192x4096 is accepted up to its (here missing) pixels.

@@ -1,6 +1,8 @@
-// The YAML files an installer edits: the appliance configuration (its kiosk: and capture:
-// sections, through ConfigNode and yaml-cpp) and the calibration files (OpenCV FileStorage YAML).
-// The first byte picks the reader. Only holo::InputError may come out.
+// The YAML files an installer edits: the appliance configuration (its kiosk:, display: and
+// capture: sections, through ConfigNode and yaml-cpp) and the calibration files (OpenCV
+// FileStorage YAML, read with yaml-cpp). The first byte picks the reader; an appliance document
+// goes through every section's parser, as the kiosk reads one file for all of them. Only
+// holo::InputError may come out.
 #include <cstddef>
 #include <cstdint>
 #include <string_view>
@@ -11,6 +13,7 @@
 #include "holo/core/config.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/log.hpp"
+#include "holo/display/display_config.hpp"
 #include "holo/kiosk/kiosk_config.hpp"
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
@@ -26,7 +29,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     switch (data[0] % 4) {
       case 0: {
         const holo::ConfigNode root = holo::ConfigNode::parse(std::string(text), "fuzz.yaml");
-        (void)holo::kiosk::parseKioskConfig(root);
+        try {
+          (void)holo::kiosk::parseKioskConfig(root);
+        } catch (const holo::InputError&) {
+        }
+        (void)holo::display::displayConfigOf(root);
         break;
       }
       case 1:

@@ -2,7 +2,7 @@
 // (/health JSON, /metrics Prometheus text, the method and body limits), without a socket. The
 // first input line names a camera and a stage, so label escaping sees arbitrary text too. The
 // server must answer every request with a status line and never serve a body that breaks the
-// Prometheus line format.
+// Prometheus line format or is not UTF-8, whatever bytes the names hold.
 #include <httplib.h>
 
 #include <atomic>
@@ -11,6 +11,8 @@
 #include <memory>
 #include <string>
 #include <string_view>
+
+#include <nlohmann/json.hpp>
 
 #include "holo/kiosk/health_server.hpp"
 #include "holo/kiosk/health_status.hpp"
@@ -90,5 +92,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   constexpr std::size_t kSamplesForOneCameraAndStage = 16;
   if (samples != kSamplesForOneCameraAndStage || lines < samples) __builtin_trap();
+  // Both documents are UTF-8: nlohmann's dump() throws (an uncaught exception is a finding) on
+  // a string that is not, so it checks /metrics and is what /health and the health file use.
+  (void)nlohmann::json(metrics).dump();
+  (void)status.toJson().dump();
   return 0;
 }

@@ -153,6 +153,29 @@ TEST(HealthStatus, PrometheusLinesStayWellFormedWhateverTheNames) {
   EXPECT_EQ(text.find("\nholopyramid_fake"), std::string::npos);
 }
 
+// A camera names itself (GigE cameras report their model) in no promised encoding: /metrics and
+// the health JSON stay UTF-8, each invalid byte a U+FFFD, valid multi-byte names untouched.
+// Before, nlohmann's dump() threw on such a name: /health answered 500 and the health file
+// was not written.
+TEST(HealthStatus, CameraNamesThatAreNotUtf8AreRepaired) {
+  HealthStatus h = sampleStatus();
+  const std::string replacement = "\xEF\xBF\xBD";
+  h.cameras[0].name = "Kamera \xC3\xA4\xE2\x82\xAC";                       // "Kamera ä€": valid
+  h.cameras[1].name = "cam\xFF\xC3(\xED\xA0\x80\xC0\xAF\xF4\x90\x80\x80";  // all invalid
+  h.addError("read \xFE");
+  const std::string text = h.toPrometheus();
+  EXPECT_NE(text.find("holopyramid_camera_up{camera=\"Kamera \xC3\xA4\xE2\x82\xAC\"} "), std::string::npos)
+      << text;
+  std::string repaired = "cam" + replacement + replacement + "(";
+  for (int i = 0; i < 3 + 2 + 4; ++i) repaired += replacement;  // a surrogate, an overlong '/', > U+10FFFF
+  EXPECT_NE(text.find("holopyramid_camera_up{camera=\"" + repaired + "\"} "), std::string::npos) << text;
+  const nlohmann::json j = h.toJson();
+  EXPECT_NO_THROW((void)j.dump());
+  EXPECT_EQ(j["cameras"][1]["name"], repaired);
+  EXPECT_EQ(j["last_errors"].back(), "read " + replacement);
+  EXPECT_NO_THROW((void)nlohmann::json(text).dump());  // the whole exposition is UTF-8
+}
+
 TEST(HealthServer, RefusesOtherMethodsAndRequestBodies) {
   HealthServer server("127.0.0.1", 0, [] { return sampleStatus(); });
   const std::string post =
