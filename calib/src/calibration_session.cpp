@@ -1,7 +1,9 @@
 #include "holo/calib/calibration_session.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <iomanip>
+#include <limits>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -182,7 +184,8 @@ StepOutcome CalibrationSession::measureIntrinsics(std::ostream& log, bool quiet,
         if (obs.detection.usable()) {
           seen = true;
           gone = 0;
-        } else if (seen && ++gone >= kBoardGoneFrames) {
+        } else if (seen && ++gone >= kBoardGoneFrames &&
+                   static_cast<int>(selector.keptViews().size()) >= kIntrinsicsMinViews) {
           break;  // the technician took the board away: this camera is done
         }
         if (on_preview && (obs.kept || frames % 10 == 1)) {
@@ -208,11 +211,23 @@ StepOutcome CalibrationSession::measureIntrinsics(std::ostream& log, bool quiet,
       coverage.draw(coverage_picture);
       drawn.insert(drawn.begin(), coverage_picture);
     }
+    // Roughly square sheets: a sheet more than 3 times wider than high would be shown as a panorama.
+    const int n = static_cast<int>(drawn.size());
+    const int columns =
+        n <= 2 ? 1 : std::min(4, static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n)))));
     const cv::Mat sheet = drawn.empty() ? cv::Mat(rig_.imageSize(c), CV_8UC3, cv::Scalar::all(0))
-                                        : detectionContactSheet(drawn);
+                                        : detectionContactSheet(drawn, columns);
     out.files.emplace_back("intrinsics_camera" + std::to_string(c) + ".png", sheet);
     out.previews.emplace_back(cameraLabel(rig_, c), sheet);
     intrinsics_observations_[static_cast<std::size_t>(c)] = selector.observations();
+    if (static_cast<int>(selector.keptViews().size()) < kMinIntrinsicsViews) {
+      // Too few views to compute anything: this camera fails with its hint, the others go on.
+      addVerdict(
+          out, log,
+          judgeIntrinsics("intrinsics camera " + std::to_string(c), std::numeric_limits<double>::quiet_NaN(),
+                          static_cast<int>(selector.keptViews().size()), frames, median(fractions)));
+      continue;
+    }
     CameraCalibration& cal = cameras_[static_cast<std::size_t>(c)];
     const IntrinsicsResult result = calibrateIntrinsics(config_.intrinsics_board, selector.keptViews(),
                                                         rig_.imageSize(c), "camera " + std::to_string(c));

@@ -9,9 +9,9 @@
 // How the steps take frames (board_tracking.hpp):
 //   intrinsics  camera by camera: the board is detected in every frame; a frame is kept when the
 //               board is steady and the view adds pose diversity (coverage grid of the image and
-//               of tilt); the camera is done when the board, once seen, has been gone for
-//               kBoardGoneFrames frames (or the frames end). Per-view errors are listed, outliers
-//               dropped (intrinsics.hpp).
+//               of tilt); the camera is done when it has kIntrinsicsMinViews views and the board
+//               has been gone for kBoardGoneFrames frames (or the frames end, or the budget). Per-view errors
+//               are listed, outliers dropped (intrinsics.hpp).
 //   poses       every camera's frames in step: the board is carried from marked spot to marked
 //               spot in camera order; spot i is taken when camera i has seen it steady for
 //               kPlacementSteadyFrames frames, the next spot is awaited once it has left camera
