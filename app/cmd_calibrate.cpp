@@ -16,7 +16,9 @@
 #include "holo/calib/auto_calibration.hpp"
 #include "holo/calib/board.hpp"
 #include "holo/calib/calibration_io.hpp"
+#include "holo/calib/capture_rig.hpp"
 #include "holo/calib/intrinsics.hpp"
+#include "holo/calib/pose.hpp"
 #include "holo/calib/quality.hpp"
 #include "holo/calib/simulated_rig.hpp"
 #include "holo/core/error.hpp"
@@ -138,34 +140,63 @@ int runIntrinsics(const IntrinsicsOptions& options) {
 struct AutoOptions {
   bool enabled = false;
   std::string scene = "museum";
-  std::string out = "calibration";
+  std::string config;
+  std::string out;
   std::string intrinsics_board = calib::kDefaultIntrinsicsBoard;
   std::string placement_board = calib::kDefaultPlacementBoard;
   int background_frames = 9;
   bool quiet = false;
 };
 
-// Real cameras are driven by the wizard once the capture module lands; today --auto runs on the
-// simulated museum, whose truth it also prints so a run can be checked at a glance.
+// Prints how far the calibration is from `truth` (the simulation's, or a recording's models).
+void printTruthCheck(const calib::AutoCalibrationReport& report, const std::vector<CameraModel>& truth) {
+  for (std::size_t c = 0; c < truth.size() && c < report.cameras.size(); ++c) {
+    const auto& got = report.cameras[c];
+    const cv::Matx44d pose = calib::toMatx(got.T_world_camera),
+                      want = calib::toMatx(truth[c].T_world_camera());
+    std::cout << "  camera " << c << ": fx " << got.intrinsics.fx << " (true " << truth[c].intrinsics().fx
+              << ", " << 100.0 * (got.intrinsics.fx / truth[c].intrinsics().fx - 1.0)
+              << " %), position error " << calib::translationError(pose, want) * 1000.0
+              << " mm, rotation error " << calib::rotationErrorDeg(pose, want) << " deg\n";
+  }
+}
+
+// --auto on the simulated museum (whose truth it also prints, so a run can be checked at a
+// glance), or with --config on the cameras of a configuration's capture: section.
 int runAuto(const AutoOptions& options) {
-  const calib::AutoCalibrationConfig config =
+  const calib::AutoCalibrationConfig base =
       calibrationConfig(options.intrinsics_board, options.placement_board, options.background_frames);
-  const calib::SimulatedRig rig(options.scene, config);
-  std::cout << "calibrating the simulated museum (scene " << options.scene << ") into " << options.out
+  if (!options.config.empty()) {
+    calib::ConfiguredRig configured = calib::loadConfiguredRig(options.config);
+    calib::AutoCalibrationConfig config = base;
+    config.placements = calib::defaultBoardPlacements(config.placement_board, configured.rig->cameraCount());
+    const fs::path out = options.out.empty() ? configured.calibration_dir : fs::path(options.out);
+    std::cout << "calibrating " << configured.rig->describe() << " into " << out.string() << "\n";
+    const calib::AutoCalibrationReport report =
+        calib::runAutoCalibration(*configured.rig, config, out, std::cout, options.quiet);
+    std::vector<CameraModel> truth;
+    for (int c = 0; c < configured.rig->cameraCount(); ++c)
+      if (const auto model = configured.rig->sourceModel(c)) truth.push_back(*model);
+    if (report.saved && static_cast<int>(truth.size()) == configured.rig->cameraCount()) {
+      std::cout << "check against the models the sources carry (a recording's truth):\n";
+      printTruthCheck(report, truth);
+    }
+    return report.saved ? 0 : 3;
+  }
+  calib::SimulatedRig rig(options.scene, base);
+  const fs::path out = options.out.empty() ? fs::path("calibration") : fs::path(options.out);
+  std::cout << "calibrating the simulated museum (scene " << options.scene << ") into " << out.string()
             << "\n";
   const calib::AutoCalibrationReport report =
-      calib::runAutoCalibration(rig, config, options.out, std::cout, options.quiet);
+      calib::runAutoCalibration(rig, base, out, std::cout, options.quiet);
+  if (!report.saved) return 3;
   std::cout << "truth check (simulation):\n";
-  for (int c = 0; c < rig.cameraCount(); ++c) {
-    const auto& truth = rig.trueCamera(c);
-    const auto& got = report.cameras[static_cast<std::size_t>(c)];
-    const glm::vec3 dp = vec3(got.T_world_camera[3]) - truth.position();
-    std::cout << "  camera " << c << ": fx " << got.intrinsics.fx << " (true " << truth.intrinsics().fx
-              << "), position error " << glm::length(dp) * 1000.0f << " mm\n";
-  }
+  std::vector<CameraModel> truth;
+  for (int c = 0; c < rig.cameraCount(); ++c) truth.push_back(rig.trueCamera(c));
+  printTruthCheck(report, truth);
   std::cout << "  panorama yaw " << report.pyramid.panorama_yaw_rad * 180.0f / kPi << " deg (true "
             << rig.truePanoramaYaw() * 180.0f / kPi << ")\n";
-  return report.allPassed() ? 0 : 3;
+  return 0;
 }
 
 }  // namespace
@@ -187,10 +218,15 @@ HOLO_REGISTER_COMMAND(Command{
                        "Camera serial (default: kept from --out, else its name)");
       intr->add_flag("--quiet", intrinsics->quiet, "No progress output");
       auto automatic = std::make_shared<AutoOptions>();
-      sub.add_flag("--auto", automatic->enabled, "Run every step without a window (on the simulated museum)");
-      sub.add_option("--scene", automatic->scene, "Simulated scene for --auto")->capture_default_str();
-      sub.add_option("--out", automatic->out, "Folder for the calibration files (--auto)")
+      sub.add_flag("--auto", automatic->enabled,
+                   "Run every step without a window (on the simulated museum, or the cameras of --config)");
+      sub.add_option("--config", automatic->config,
+                     "YAML configuration: calibrate the cameras of its capture: section (--auto)");
+      sub.add_option("--scene", automatic->scene, "Simulated scene for --auto without --config")
           ->capture_default_str();
+      sub.add_option("--out", automatic->out,
+                     "Folder for the calibration files (--auto; default: capture.calibration_dir of "
+                     "--config, else calibration)");
       sub.add_option("--intrinsics-board", automatic->intrinsics_board, "Board for intrinsics (--auto)")
           ->capture_default_str();
       sub.add_option("--placement-board", automatic->placement_board,

@@ -1,4 +1,5 @@
-// `holopyramid calibrate wizard [--scene museum] [--out DIR]` opens the calibration wizard.
+// `holopyramid calibrate wizard [--scene museum | --config FILE] [--out DIR]` opens the calibration
+// wizard on the simulated museum or on the cameras of a configuration's capture: section.
 // `--script next,back,retry,...` presses its buttons in order (each once the step on screen has
 // finished measuring) and `--screenshot-dir DIR` writes the window as each step looks just before
 // a scripted press (wizard_N_STEP.png, the last press on a step wins) and once while it measures
@@ -7,9 +8,11 @@
 #include "command.hpp"
 
 #include <iostream>
+#include <memory>
 #include <sstream>
 
 #include "holo/calib/calibration_wizard.hpp"
+#include "holo/calib/capture_rig.hpp"
 #include "holo/calib/simulated_rig.hpp"
 #include "holo/core/error.hpp"
 
@@ -21,7 +24,8 @@ using Button = calib::CalibrationWizard::Button;
 
 struct WizardOptions {
   std::string scene = "museum";
-  std::string out = "calibration";
+  std::string config;
+  std::string out;
   std::string intrinsics_board = calib::kDefaultIntrinsicsBoard;
   std::string placement_board = calib::kDefaultPlacementBoard;
   int background_frames = 9;
@@ -91,12 +95,23 @@ calib::AutoCalibrationConfig calibrationConfig(const std::string& intrinsics_boa
 namespace {
 
 int runWizard(const WizardOptions& options) {
-  const calib::AutoCalibrationConfig config =
+  const calib::AutoCalibrationConfig base =
       calibrationConfig(options.intrinsics_board, options.placement_board, options.background_frames);
   const std::vector<Button> script = parseScript(options.script);
-  const calib::SimulatedRig rig(options.scene, config);
-  calib::CalibrationSession session(rig, config);
-  calib::CalibrationWizard wizard(session, {options.out, "simulated museum (scene " + options.scene + ")"});
+  // The simulated museum, or the cameras of --config's capture: section.
+  std::unique_ptr<calib::CalibrationRig> rig;
+  fs::path out = options.out.empty() ? fs::path("calibration") : fs::path(options.out);
+  calib::AutoCalibrationConfig config = base;
+  if (!options.config.empty()) {
+    calib::ConfiguredRig configured = calib::loadConfiguredRig(options.config);
+    if (options.out.empty()) out = configured.calibration_dir;
+    config.placements = calib::defaultBoardPlacements(config.placement_board, configured.rig->cameraCount());
+    rig = std::move(configured.rig);
+  } else {
+    rig = std::make_unique<calib::SimulatedRig>(options.scene, config);
+  }
+  calib::CalibrationSession session(*rig, config);
+  calib::CalibrationWizard wizard(session, {out, rig->describe()});
   if (script.empty()) {
     while (wizard.frame()) {
     }
@@ -116,7 +131,10 @@ int runWizard(const WizardOptions& options) {
   std::cout << "verdicts:\n";
   for (const calib::StepVerdict& verdict : report.verdicts)
     std::cout << calib::formatVerdict(verdict) << "\n";
-  std::cout << (wizard.saved() ? "saved into " + options.out : std::string("closed without saving")) << "\n";
+  std::cout << (wizard.saved() ? "saved into " + out.string()
+                               : "closed without saving: the previous calibration in " + out.string() +
+                                     " stays in force")
+            << "\n";
   return wizard.saved() && report.allPassed() ? 0 : 3;
 }
 
@@ -124,9 +142,14 @@ int runWizard(const WizardOptions& options) {
 
 WizardSubcommand addWizardSubcommand(CLI::App& calibrate) {
   auto options = std::make_shared<WizardOptions>();
-  CLI::App* sub = calibrate.add_subcommand("wizard", "Open the calibration wizard window (simulated museum)");
-  sub->add_option("--scene", options->scene, "Simulated scene")->capture_default_str();
-  sub->add_option("--out", options->out, "Folder Save writes the calibration into")->capture_default_str();
+  CLI::App* sub = calibrate.add_subcommand(
+      "wizard", "Open the calibration wizard window (on the simulated museum, or the cameras of --config)");
+  sub->add_option("--config", options->config,
+                  "YAML configuration: calibrate the cameras of its capture: section");
+  sub->add_option("--scene", options->scene, "Simulated scene (without --config)")->capture_default_str();
+  sub->add_option("--out", options->out,
+                  "Folder Save writes the calibration into (default: capture.calibration_dir of --config, "
+                  "else calibration)");
   sub->add_option("--intrinsics-board", options->intrinsics_board, "Board for intrinsics")
       ->capture_default_str();
   sub->add_option("--placement-board", options->placement_board, "Board at the marked placements")

@@ -10,6 +10,11 @@
 //   panorama.exr                          equirectangular linear HDR of the empty hall
 //   contact_sheet.png                     frame 0 of every camera: colour, depth, truth, mask
 //   scene.txt                             the scene's name, source and seed
+// With --calibration, the recording starts with a calibration session (calib::SimulatedRig: the
+// intrinsics board held before every camera, the easel at each marked spot, the empty hall; its
+// length is scene.txt's calibration_frames), the visitors' frames follow (truth/ names them by
+// their recorded frame number), and installation.yaml describes the recording as an installation
+// for `calibrate --auto --config` and `run --config`.
 //
 // The whole folder is written under DIR.partial-PID and renamed to DIR at the end, so DIR either
 // does not exist or is complete. DIR must not exist yet.
@@ -19,8 +24,10 @@
 #include <iostream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 #include "command.hpp"
+#include "holo/calib/simulated_rig.hpp"
 #include "holo/capture/recorder.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/files.hpp"
@@ -39,8 +46,27 @@ struct SimulateOptions {
   int frames = 30;
   std::string out;
   int panorama_width = 2048;
+  bool calibration = false;
+  int background_frames = 9;
   bool quiet = false;
 };
+
+// The recording as an installation (`calibrate --auto --config`, `run --config`): every camera
+// from the recording, the calibration written beside it, the scene's relic and the panorama.
+std::string installationYaml(const sim::SceneDescription& scene, int cameras) {
+  std::string yaml =
+      "# Written by `holopyramid simulate --calibration`: the recording's cameras as an installation.\n"
+      "#   holopyramid calibrate --auto --config installation.yaml   (writes calibration/)\n"
+      "#   holopyramid run --config installation.yaml --headless\n"
+      "capture:\n  calibration_dir: calibration\n  cameras:\n";
+  for (int c = 0; c < cameras; ++c)
+    yaml += "    - {face: " + std::to_string(c) +
+            ", backend: recording, path: ., camera: " + std::to_string(c) + "}\n";
+  yaml += "exhibit:\n  relic: " +
+          (scene.relic.find('/') == std::string::npos ? scene.relic : std::string("vase")) +
+          "\n  panorama: panorama.exr\n  fps: " + std::to_string(scene.camera.fps) + "\n";
+  return yaml;
+}
 
 void writePng(const fs::path& path, const cv::Mat& image) {
   fs::create_directories(path.parent_path());
@@ -109,13 +135,28 @@ int simulate(const SimulateOptions& o) {
     scene.noise = sim::sensorProfile(sim::sensorProfileFromName(o.sensor, "", "--sensor"));
   const sim::Museum museum(scene);
   const int cameras = museum.cameraCount();
+  std::optional<calib::SimulatedRig> rig;
+  int calibration_frames = 0;  // recorded before the visitors' frames
+  if (o.calibration) {
+    calib::AutoCalibrationConfig config;
+    config.intrinsics_board = calib::BoardSpec::parse(calib::kDefaultIntrinsicsBoard);
+    config.placement_board = calib::BoardSpec::parse(calib::kDefaultPlacementBoard);
+    config.placements = calib::defaultBoardPlacements(config.placement_board, cameras);
+    if (o.background_frames < 1)
+      throw InputError("", "--background-frames", "at least 1", std::to_string(o.background_frames));
+    config.background_frames = o.background_frames;
+    rig.emplace(scene, config);
+    for (const auto activity : {calib::RigActivity::HandHeldBoard, calib::RigActivity::PlacementBoard,
+                                calib::RigActivity::EmptyHall})
+      calibration_frames += rig->frameCount(activity);
+  }
 
   const fs::path tmp =
       out.parent_path() / (out.filename().string() + ".partial-" + std::to_string(::getpid()));
   fs::remove_all(tmp, ec);
   fs::create_directories(tmp);
 
-  ProgressReporter progress(static_cast<std::int64_t>(o.frames) * cameras + cameras + 1,
+  ProgressReporter progress(static_cast<std::int64_t>(o.frames + calibration_frames) * cameras + cameras + 1,
                             "simulate " + scene.name, o.quiet);
   std::vector<capture::RecorderCamera> recorder_cameras;
   for (int c = 0; c < cameras; ++c)
@@ -125,17 +166,34 @@ int simulate(const SimulateOptions& o) {
   {
     capture::Recorder recorder(tmp, recorder_cameras, capture::kDefaultDepthScale);
     std::vector<sim::SimulatedFrame> first;
+    const auto stamp = [&](RgbdFrame& frame, int c, int recorded) {
+      frame.camera_id = c;
+      frame.sequence = static_cast<std::uint64_t>(recorded);
+      frame.device_time = Nanoseconds(std::llround(recorded * 1e9 / static_cast<double>(scene.camera.fps)));
+    };
+    // The calibration session first, as the simulated technician acts it out for the wizard.
+    if (rig) {
+      int recorded = 0;
+      for (const auto activity : {calib::RigActivity::HandHeldBoard, calib::RigActivity::PlacementBoard,
+                                  calib::RigActivity::EmptyHall})
+        for (int i = 0; i < rig->frameCount(activity); ++i, ++recorded)
+          for (int c = 0; c < cameras; ++c) {
+            RgbdFrame frame = rig->frame(activity, c, i);
+            stamp(frame, c, recorded);
+            recorder.write(frame);
+            progress.update();
+          }
+    }
     for (int frame = 0; frame < o.frames; ++frame) {
+      const int recorded = calibration_frames + frame;
       for (int c = 0; c < cameras; ++c) {
         sim::SimulatedFrame f = museum.renderCamera(c, frame);
-        f.frame.camera_id = c;
-        f.frame.sequence = static_cast<std::uint64_t>(frame);
-        f.frame.device_time = Nanoseconds(std::llround(frame * 1e9 / static_cast<double>(scene.camera.fps)));
+        stamp(f.frame, c, recorded);
         recorder.write(f.frame);
         const fs::path truth = tmp / "truth" / ("cam" + std::to_string(c));
-        writePng(truth / "depth" / frameName(frame),
+        writePng(truth / "depth" / frameName(recorded),
                  capture::depthToU16(f.true_depth, capture::kDefaultDepthScale, &clipped));
-        writePng(truth / "foreground" / frameName(frame), f.foreground);
+        writePng(truth / "foreground" / frameName(recorded), f.foreground);
         if (frame == 0) first.push_back(std::move(f));
         progress.update();
       }
@@ -160,10 +218,12 @@ int simulate(const SimulateOptions& o) {
   }
   saveHdr(tmp / "panorama.exr", museum.renderPanorama(o.panorama_width, o.panorama_width / 2));
   progress.update();
-  writeFileAtomically(tmp / "scene.txt", "scene: " + scene.name + "\nsource: " + scene.source +
-                                             "\nseed: " + std::to_string(scene.seed) +
-                                             "\nsensor: " + sim::sensorProfileName(scene.noise.profile) +
-                                             "\nframes: " + std::to_string(o.frames) + "\n");
+  writeFileAtomically(
+      tmp / "scene.txt",
+      "scene: " + scene.name + "\nsource: " + scene.source + "\nseed: " + std::to_string(scene.seed) +
+          "\nsensor: " + sim::sensorProfileName(scene.noise.profile) + "\nframes: " +
+          std::to_string(o.frames) + "\ncalibration_frames: " + std::to_string(calibration_frames) + "\n");
+  if (rig) writeFileAtomically(tmp / "installation.yaml", installationYaml(scene, cameras));
   progress.done();
   fs::rename(tmp, out);
   std::cout << "wrote " << o.frames << " frames of " << cameras << " cameras of scene '" << scene.name
@@ -185,6 +245,12 @@ HOLO_REGISTER_COMMAND(Command{
                      "Depth-camera profile instead of the scene's: uniform, structured-light or stereo");
       sub.add_option("--out", o->out, "Output folder (must not exist)")->required();
       sub.add_option("--panorama-width", o->panorama_width, "Panorama width in pixels")
+          ->capture_default_str();
+      sub.add_flag("--calibration", o->calibration,
+                   "Record a calibration session first (hand-held board before each camera, the easel at "
+                   "each marked spot, the empty hall) and write installation.yaml");
+      sub.add_option("--background-frames", o->background_frames,
+                     "With --calibration: frames of the empty hall")
           ->capture_default_str();
       sub.add_flag("-q,--quiet", o->quiet, "No progress output");
       return [o] { return simulate(*o); };

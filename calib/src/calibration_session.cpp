@@ -1,6 +1,9 @@
 #include "holo/calib/calibration_session.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <limits>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -68,12 +71,15 @@ const char* stepTitle(CalibrationStep step) {
 const char* stepInstructions(CalibrationStep step) {
   switch (step) {
     case CalibrationStep::Intrinsics:
-      return "Hold the small ChArUco board 30-45 cm in front of each camera. Tilt it and move it into "
-             "every part of the picture, holding it still for each photo. Every camera needs at least 8 "
-             "photos in which the board is found.";
+      return "Camera by camera: hold the small ChArUco board 30-45 cm in front of it, tilt it and move it "
+             "into every part of the picture, holding it still for a moment at each place (a view is kept "
+             "when the board is steady and unlike the views kept so far; the grid shows the parts of the "
+             "picture and the tilts covered). Every camera needs at least 8 views. Take the board away to "
+             "go on to the next camera.";
     case CalibrationStep::Poses:
-      return "Stand the large ChArUco board on the easel at the marked spot in front of each face of the "
-             "pyramid. Nothing may cover it; it must not move while the photos are taken.";
+      return "Stand the large ChArUco board on the easel at the marked spot in front of camera 0, then "
+             "carry it to the spots of cameras 1, 2 and 3 in turn. Nothing may cover it; leave it standing "
+             "still until the camera has taken it (a second or so).";
     case CalibrationStep::Background:
       return "Clear the hall: take the boards away and make sure nobody stands in front of the cameras. "
              "Each camera records several frames of the empty hall; keep the lights as they are during "
@@ -97,7 +103,7 @@ bool StepOutcome::passed() const {
          std::all_of(verdicts.begin(), verdicts.end(), [](const StepVerdict& v) { return v.pass; });
 }
 
-CalibrationSession::CalibrationSession(const CalibrationRig& rig, AutoCalibrationConfig config)
+CalibrationSession::CalibrationSession(CalibrationRig& rig, AutoCalibrationConfig config)
     : rig_(rig), config_(std::move(config)) {
   const int cameras = rig_.cameraCount();
   if (static_cast<int>(config_.placements.size()) != cameras)
@@ -154,68 +160,224 @@ const StepOutcome& CalibrationSession::measure(CalibrationStep step, std::ostrea
 StepOutcome CalibrationSession::measureIntrinsics(std::ostream& log, bool quiet,
                                                   const PreviewCallback& on_preview) {
   StepOutcome out;
-  log << "  board " << config_.intrinsics_board.describe() << "\n";
+  log << "  board " << config_.intrinsics_board.describe() << " (" << rig_.describe() << ")\n";
+  rig_.begin(RigActivity::HandHeldBoard);
+  intrinsics_observations_.assign(static_cast<std::size_t>(rig_.cameraCount()), {});
   for (int c = 0; c < rig_.cameraCount(); ++c) {
-    std::vector<BoardView> views;
-    std::vector<cv::Mat> drawn;
-    std::vector<double> fractions;
+    IntrinsicsViewSelector selector(config_.intrinsics_board, c, rig_.imageSize(c), rig_.stills());
+    int frames = 0, gone = 0;
+    bool seen = false;
     {
-      ProgressReporter progress(rig_.intrinsicsViewCount(), "camera " + std::to_string(c) + " board photos",
+      ProgressReporter progress(config_.max_frames_per_step, "camera " + std::to_string(c) + " board frames",
                                 quiet);
-      for (int v = 0; v < rig_.intrinsicsViewCount(); ++v) {
-        const cv::Mat photo = rig_.intrinsicsPhoto(c, v);
-        BoardView view{"view " + std::to_string(v), detectBoard(config_.intrinsics_board, photo)};
-        if (view.detection.usable()) fractions.push_back(view.detection.widthFraction(photo.cols));
-        drawn.push_back(drawDetection(config_.intrinsics_board, photo, view.detection));
-        if (on_preview)
-          on_preview(c, cameraLabel(rig_, c) + ", photo " + std::to_string(v + 1), drawn.back());
-        views.push_back(std::move(view));
+      while (frames < config_.max_frames_per_step) {
+        std::optional<RgbdFrame> frame = rig_.nextFrame(c);
+        if (!frame) break;
+        if (frame->colour.size() != rig_.imageSize(c))
+          throw InputError(
+              cameraLabel(rig_, c), "frame size",
+              std::to_string(rig_.imageSize(c).width) + "x" + std::to_string(rig_.imageSize(c).height),
+              std::to_string(frame->colour.cols) + "x" + std::to_string(frame->colour.rows));
+        const BoardFrameObservation& obs = selector.add(*frame, "frame " + std::to_string(frames));
+        ++frames;
         progress.update();
+        if (obs.detection.usable()) {
+          seen = true;
+          gone = 0;
+        } else if (seen && ++gone >= kBoardGoneFrames &&
+                   static_cast<int>(selector.keptViews().size()) >= kIntrinsicsMinViews) {
+          break;  // the technician took the board away: this camera is done
+        }
+        if (on_preview && (obs.kept || frames % 10 == 1)) {
+          cv::Mat picture = drawDetection(config_.intrinsics_board, frame->colour, obs.detection);
+          selector.coverage().draw(picture);
+          on_preview(c,
+                     cameraLabel(rig_, c) + ", frame " + std::to_string(frames) + ", " +
+                         std::to_string(selector.keptViews().size()) + " views kept",
+                     picture);
+        }
       }
     }
-    const cv::Mat sheet = detectionContactSheet(drawn);
+    const CoverageGrid& coverage = selector.coverage();
+    log << "  camera " << c << ": " << frames << " frames, board in " << selector.framesWithBoard()
+        << ", moving " << selector.framesMoving() << ", repeated views " << selector.framesRepeated()
+        << ", kept " << selector.keptViews().size() << "; coverage " << coverage.describe() << "\n";
+    std::vector<cv::Mat> drawn = selector.keptPictures();
+    std::vector<double> fractions;
+    for (const BoardView& view : selector.keptViews())
+      fractions.push_back(view.detection.widthFraction(rig_.imageSize(c).width));
+    if (!drawn.empty()) {
+      cv::Mat coverage_picture = drawn.back().clone();
+      coverage.draw(coverage_picture);
+      drawn.insert(drawn.begin(), coverage_picture);
+    }
+    // Roughly square sheets: a sheet more than 3 times wider than high would be shown as a panorama.
+    const int n = static_cast<int>(drawn.size());
+    const int columns =
+        n <= 2 ? 1 : std::min(4, static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n)))));
+    const cv::Mat sheet = drawn.empty() ? cv::Mat(rig_.imageSize(c), CV_8UC3, cv::Scalar::all(0))
+                                        : detectionContactSheet(drawn, columns);
     out.files.emplace_back("intrinsics_camera" + std::to_string(c) + ".png", sheet);
     out.previews.emplace_back(cameraLabel(rig_, c), sheet);
+    intrinsics_observations_[static_cast<std::size_t>(c)] = selector.observations();
+    if (static_cast<int>(selector.keptViews().size()) < kMinIntrinsicsViews) {
+      // Too few views to compute anything: this camera fails with its hint, the others go on.
+      addVerdict(
+          out, log,
+          judgeIntrinsics("intrinsics camera " + std::to_string(c), std::numeric_limits<double>::quiet_NaN(),
+                          static_cast<int>(selector.keptViews().size()), frames, median(fractions)));
+      continue;
+    }
     CameraCalibration& cal = cameras_[static_cast<std::size_t>(c)];
-    const IntrinsicsResult result = calibrateIntrinsics(config_.intrinsics_board, views, rig_.imageSize(c),
-                                                        "camera " + std::to_string(c));
+    const IntrinsicsResult result = calibrateIntrinsics(config_.intrinsics_board, selector.keptViews(),
+                                                        rig_.imageSize(c), "camera " + std::to_string(c));
     cal.intrinsics = result.intrinsics;
     cal.rms = result.rms;
+    for (BoardFrameObservation& obs : intrinsics_observations_[static_cast<std::size_t>(c)])
+      obs.T_camera_board = boardPose(obs.detection, cal.intrinsics);
     log << "  camera " << c << " (" << cal.serial << "): fx " << result.intrinsics.fx << " fy "
         << result.intrinsics.fy << " cx " << result.intrinsics.cx << " cy " << result.intrinsics.cy << "\n";
+    log << "    per view RMS (px):";
+    for (std::size_t i = 0; i < result.used_views.size(); ++i)
+      log << (i % 6 == 0 ? "\n     " : "") << " " << result.used_views[i] << " " << std::setprecision(3)
+          << result.view_rms[i];
+    log << "\n";
+    for (std::size_t i = 0; i < result.outlier_views.size(); ++i)
+      log << "    dropped as an outlier: " << result.outlier_views[i] << " (" << result.outlier_rms[i]
+          << " px)\n";
+    log << std::setprecision(6);
     addVerdict(out, log,
                judgeIntrinsics("intrinsics camera " + std::to_string(c), result.rms,
-                               static_cast<int>(result.used_views.size()), rig_.intrinsicsViewCount(),
-                               median(fractions)));
+                               static_cast<int>(result.used_views.size()), frames, median(fractions)));
   }
   return out;
 }
 
 StepOutcome CalibrationSession::measurePoses(std::ostream& log, const PreviewCallback& on_preview) {
   StepOutcome out;
-  log << "  board " << config_.placement_board.describe() << " at known placements\n";
+  const int cameras = rig_.cameraCount();
+  log << "  board " << config_.placement_board.describe() << " at the marked spots, in camera order\n";
+  rig_.begin(RigActivity::PlacementBoard);
+  placement_observations_.assign(static_cast<std::size_t>(cameras), {});
+  loop_closures_.clear();
   ExtrinsicsProblem problem;
-  std::vector<double> fractions;
-  for (int c = 0; c < rig_.cameraCount(); ++c) {
+  for (int c = 0; c < cameras; ++c) {
     problem.cameras.push_back(cameras_[static_cast<std::size_t>(c)].intrinsics);
     problem.placements.push_back({config_.placements[static_cast<std::size_t>(c)], true});
-    const cv::Mat photo = rig_.placementPhoto(c);
-    BoardDetection detection = detectBoard(config_.placement_board, photo);
-    fractions.push_back(detection.widthFraction(photo.cols));
-    const cv::Mat drawn = drawDetection(config_.placement_board, photo, detection);
-    out.files.emplace_back("placement_camera" + std::to_string(c) + ".png", drawn);
-    preview(out, on_preview, cameraLabel(rig_, c), drawn);
-    problem.observations.push_back({c, c, std::move(detection)});
+  }
+  // Frames in which both the spot's camera and another camera saw the board: (spot, other camera,
+  // observation index of each) for the loop closure once the poses are known.
+  struct SharedView {
+    int spot, other;
+    std::size_t spot_obs, other_obs;
+  };
+  std::vector<SharedView> shared;
+  std::vector<double> fractions(static_cast<std::size_t>(cameras), 0.0);
+  std::vector<BoardDetection> previous(static_cast<std::size_t>(cameras));
+  std::int64_t tick = 0;
+  for (int spot = 0; spot < cameras; ++spot) {
+    int steady = 0;
+    bool taken = false;
+    cv::Mat last_picture;
+    while (true) {
+      if (tick >= config_.max_frames_per_step)
+        throw InputError(cameraLabel(rig_, spot), "placement board",
+                         "the board seen still at marked spot " + std::to_string(spot) + " within " +
+                             std::to_string(config_.max_frames_per_step) + " frames",
+                         "not seen: stand it on its spot, uncovered, facing the camera");
+      std::vector<RgbdFrame> frames;
+      for (int c = 0; c < cameras; ++c) {
+        std::optional<RgbdFrame> frame = rig_.nextFrame(c);
+        if (!frame)
+          throw InputError(cameraLabel(rig_, c), "placement board",
+                           "frames until the board was seen still at marked spot " + std::to_string(spot),
+                           "the frames ended first (board never seen there?)");
+        frames.push_back(std::move(*frame));
+      }
+      ++tick;
+      std::vector<BoardFrameObservation> seen(static_cast<std::size_t>(cameras));
+      for (int c = 0; c < cameras; ++c) {
+        const auto i = static_cast<std::size_t>(c);
+        BoardFrameObservation& obs = seen[i];
+        obs.camera = c;
+        obs.frame = tick - 1;
+        obs.device_time = frames[i].device_time;
+        obs.detection = detectBoard(config_.placement_board, frames[i].colour);
+        if (obs.detection.usable() && previous[i].usable())
+          obs.motion_px = cornerMotion(previous[i], obs.detection);
+        obs.steady = obs.detection.usable() &&
+                     (rig_.stills() || (obs.motion_px >= 0 && obs.motion_px < kSteadyMotionPx));
+        previous[i] = obs.detection;
+      }
+      const auto s = static_cast<std::size_t>(spot);
+      if (taken) {
+        if (!seen[s].detection.usable()) break;  // carried away: on to the next spot
+        continue;
+      }
+      if (!seen[s].steady) {
+        steady = 0;
+        continue;
+      }
+      ++steady;
+      seen[s].kept = true;
+      fractions[s] = seen[s].detection.widthFraction(frames[s].colour.cols);
+      last_picture = drawDetection(config_.placement_board, frames[s].colour, seen[s].detection);
+      problem.observations.push_back({spot, spot, seen[s].detection});
+      placement_observations_[s].push_back(seen[s]);
+      for (int c = 0; c < cameras; ++c)
+        if (c != spot && seen[static_cast<std::size_t>(c)].steady) {
+          seen[static_cast<std::size_t>(c)].kept = true;
+          placement_observations_[static_cast<std::size_t>(c)].push_back(seen[static_cast<std::size_t>(c)]);
+          shared.push_back({spot, c, placement_observations_[s].size() - 1,
+                            placement_observations_[static_cast<std::size_t>(c)].size() - 1});
+        }
+      if (steady >= kPlacementSteadyFrames) {
+        taken = true;
+        out.files.emplace_back("placement_camera" + std::to_string(spot) + ".png", last_picture);
+        preview(out, on_preview, cameraLabel(rig_, spot), last_picture);
+        if (spot == cameras - 1) break;  // nothing left to wait for
+      }
+    }
   }
   const ExtrinsicsResult poses = calibrateExtrinsics(problem, "board placements");
-  for (int c = 0; c < rig_.cameraCount(); ++c) {
+  for (int c = 0; c < cameras; ++c) {
     const auto i = static_cast<std::size_t>(c);
     cameras_[i].T_world_camera = toMat4(poses.T_world_camera[i]);
+    for (BoardFrameObservation& obs : placement_observations_[i])
+      obs.T_camera_board = boardPose(obs.detection, cameras_[i].intrinsics);
     const auto& p = poses.T_world_camera[i];
     log << "  camera " << c << ": position " << p(0, 3) << " " << p(1, 3) << " " << p(2, 3) << " m\n";
     addVerdict(out, log,
                judgeExtrinsics("pose camera " + std::to_string(c), poses.camera_rms[i],
                                poses.camera_corners[i], fractions[i]));
+  }
+  // Loop closure: where two cameras saw the board at once.
+  for (const SharedView& view : shared) {
+    const auto& a = placement_observations_[static_cast<std::size_t>(view.spot)][view.spot_obs];
+    const auto& b = placement_observations_[static_cast<std::size_t>(view.other)][view.other_obs];
+    if (!a.T_camera_board || !b.T_camera_board) continue;
+    const cv::Matx44d through_board = *a.T_camera_board * rigidInverse(*b.T_camera_board);
+    const cv::Matx44d through_poses =
+        rigidInverse(poses.T_world_camera[static_cast<std::size_t>(view.spot)]) *
+        poses.T_world_camera[static_cast<std::size_t>(view.other)];
+    auto it = std::find_if(loop_closures_.begin(), loop_closures_.end(), [&](const LoopClosure& l) {
+      return l.camera_i == view.spot && l.camera_j == view.other;
+    });
+    if (it == loop_closures_.end())
+      it = loop_closures_.insert(loop_closures_.end(), {view.spot, view.other, 0, 0, 0});
+    ++it->frames;
+    it->translation_mm =
+        std::max(it->translation_mm, 1000.0 * translationError(through_board, through_poses));
+    it->rotation_deg = std::max(it->rotation_deg, rotationErrorDeg(through_board, through_poses));
+  }
+  if (loop_closures_.empty()) log << "  loop closure: no two cameras saw the board at once\n";
+  for (const LoopClosure& l : loop_closures_) {
+    log << "  loop closure cameras " << l.camera_i << "-" << l.camera_j << ": " << l.translation_mm << " mm, "
+        << l.rotation_deg << " deg (worst of " << l.frames << " frames)\n";
+    addVerdict(out, log,
+               judgeLoopClosure(
+                   "loop closure cameras " + std::to_string(l.camera_i) + "-" + std::to_string(l.camera_j),
+                   l.translation_mm, l.rotation_deg));
   }
   return out;
 }
@@ -224,18 +386,26 @@ StepOutcome CalibrationSession::measureBackground(std::ostream& log, bool quiet,
                                                   const PreviewCallback& on_preview) {
   StepOutcome out;
   log << "  " << config_.background_frames << " frames per camera\n";
+  rig_.begin(RigActivity::EmptyHall);
+  hall_frames_.assign(static_cast<std::size_t>(rig_.cameraCount()), {});
   for (int c = 0; c < rig_.cameraCount(); ++c) {
     std::vector<RgbdFrame> frames;
     {
       ProgressReporter progress(config_.background_frames, "camera " + std::to_string(c) + " background",
                                 quiet);
       for (int k = 0; k < config_.background_frames; ++k) {
-        frames.push_back(rig_.backgroundFrame(c, k));
+        std::optional<RgbdFrame> frame = rig_.nextFrame(c);
+        if (!frame)
+          throw InputError(cameraLabel(rig_, c), "background frames",
+                           std::to_string(config_.background_frames) + " frames of the empty hall",
+                           "the frames ended after " + std::to_string(k));
+        frames.push_back(std::move(*frame));
         if (on_preview)
           on_preview(c, cameraLabel(rig_, c) + ", frame " + std::to_string(k + 1), frames.back().colour);
         progress.update();
       }
     }
+    hall_frames_[static_cast<std::size_t>(c)] = frames.front();
     const BackgroundModel model = captureBackground(frames, "camera " + std::to_string(c));
     out.files.emplace_back("background_camera" + std::to_string(c) + ".png", model.colour);
     cv::Mat depth_mm;
@@ -258,7 +428,7 @@ StepOutcome CalibrationSession::measurePanorama(std::ostream& log, const Preview
   YawFit best{0.0f, -2.0};
   for (int c = 0; c < rig_.cameraCount(); ++c) {
     const CameraModel model = toCameraModel(cameras_[static_cast<std::size_t>(c)]);
-    const RgbdFrame frame = rig_.backgroundFrame(c, 0);
+    const RgbdFrame& frame = hall_frames_[static_cast<std::size_t>(c)];
     preview(out, on_preview, cameraLabel(rig_, c), frame.colour);
     const YawFit fit = alignPanoramaYaw(panorama, model, frame.colour, "camera " + std::to_string(c));
     log << "  camera " << c << ": yaw " << fit.yaw_rad * 180.0f / kPi << " deg, correlation "
@@ -324,6 +494,17 @@ std::vector<fs::path> CalibrationSession::save(const fs::path& out_dir, std::ost
   log << (summary.allPassed() ? "calibration saved: every step passed\n"
                               : "calibration saved, but some steps failed: see the hints above\n");
   return written;
+}
+
+const std::vector<BoardFrameObservation>& CalibrationSession::boardObservations(CalibrationStep step,
+                                                                                int camera) const {
+  static const std::vector<BoardFrameObservation> kNone;
+  if (step != CalibrationStep::Intrinsics && step != CalibrationStep::Poses) return kNone;
+  const auto& per_camera =
+      step == CalibrationStep::Intrinsics ? intrinsics_observations_ : placement_observations_;
+  return camera >= 0 && camera < static_cast<int>(per_camera.size())
+             ? per_camera[static_cast<std::size_t>(camera)]
+             : kNone;
 }
 
 AutoCalibrationReport CalibrationSession::report() const {

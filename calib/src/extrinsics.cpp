@@ -3,6 +3,7 @@
 #include <cmath>
 #include <opencv2/calib3d.hpp>
 
+#include "holo/calib/board_tracking.hpp"
 #include "holo/calib/pose.hpp"
 #include "holo/core/error.hpp"
 
@@ -212,6 +213,37 @@ ExtrinsicsResult calibrateExtrinsics(const ExtrinsicsProblem& problem, const std
   const int corners = row / 2;
   result.rms = corners > 0 ? std::sqrt(total / corners) : 0.0;
   return result;
+}
+
+RelativePose relativePoseFromSharedViews(const Intrinsics& a, const Intrinsics& b,
+                                         const std::vector<SharedBoardView>& views,
+                                         const std::string& source) {
+  ExtrinsicsProblem problem;
+  problem.cameras = {a, b};
+  std::vector<std::pair<cv::Matx44d, cv::Matx44d>> pair_poses;  // T_a_board, T_b_board per used pair
+  for (const SharedBoardView& view : views) {
+    const auto pa = boardPose(view.a, a), pb = boardPose(view.b, b);
+    if (!pa || !pb) continue;
+    const int placement = static_cast<int>(problem.placements.size());
+    // The first pair anchors the world (camera a's frame); the others are estimated jointly.
+    problem.placements.push_back({*pa, placement == 0});
+    problem.observations.push_back({0, placement, view.a});
+    problem.observations.push_back({1, placement, view.b});
+    pair_poses.emplace_back(*pa, *pb);
+  }
+  if (pair_poses.empty())
+    throw InputError(source, "board views", "at least one moment both cameras saw the board", "none");
+  const ExtrinsicsResult joint = calibrateExtrinsics(problem, source);
+  RelativePose out;
+  out.T_a_b = rigidInverse(joint.T_world_camera[0]) * joint.T_world_camera[1];
+  out.pairs = static_cast<int>(pair_poses.size());
+  out.rms_px = joint.rms;
+  for (const auto& pair : pair_poses) {
+    const cv::Matx44d own = pair.first * rigidInverse(pair.second);
+    out.pair_translation_mm.push_back(1000.0 * translationError(own, out.T_a_b));
+    out.pair_rotation_deg.push_back(rotationErrorDeg(own, out.T_a_b));
+  }
+  return out;
 }
 
 }  // namespace holo::calib

@@ -1,9 +1,12 @@
 #include "holo/calib/intrinsics.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <opencv2/calib3d.hpp>
 
+#include "holo/calib/quality.hpp"
 #include "holo/core/error.hpp"
+#include "holo/core/median.hpp"
 
 namespace holo::calib {
 
@@ -29,12 +32,42 @@ IntrinsicsResult calibrateIntrinsics(const BoardSpec& board, const std::vector<B
   if (image_size.width <= 0 || image_size.height <= 0)
     throw InputError(source, "image size", "positive width and height");
 
-  cv::Mat K, dist, std_intrinsics, std_extrinsics, per_view;
-  std::vector<cv::Mat> rvecs, tvecs;
-  result.rms = cv::calibrateCamera(
-      object_points, image_points, image_size, K, dist, rvecs, tvecs, std_intrinsics, std_extrinsics,
-      per_view, 0, cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-12));
-  for (int i = 0; i < per_view.rows; ++i) result.view_rms.push_back(per_view.at<double>(i));
+  cv::Mat K, dist;
+  const auto calibrate = [&] {
+    cv::Mat std_intrinsics, std_extrinsics, per_view;
+    std::vector<cv::Mat> rvecs, tvecs;
+    result.rms = cv::calibrateCamera(
+        object_points, image_points, image_size, K, dist, rvecs, tvecs, std_intrinsics, std_extrinsics,
+        per_view, 0, cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100, 1e-12));
+    result.view_rms.clear();
+    for (int i = 0; i < per_view.rows; ++i) result.view_rms.push_back(per_view.at<double>(i));
+  };
+  calibrate();
+  // Outliers: views far worse than the typical one (and worse than the step's threshold).
+  const double limit = std::max(kIntrinsicsMaxRms, kIntrinsicsOutlierFactor * median(result.view_rms));
+  std::vector<std::size_t> keep;
+  for (std::size_t i = 0; i < result.view_rms.size(); ++i)
+    if (result.view_rms[i] <= limit) keep.push_back(i);
+  if (keep.size() < result.view_rms.size() && static_cast<int>(keep.size()) >= kMinIntrinsicsViews) {
+    std::vector<std::vector<cv::Point3f>> kept_object;
+    std::vector<std::vector<cv::Point2f>> kept_image;
+    std::vector<std::string> kept_names;
+    for (std::size_t i = 0, k = 0; i < result.view_rms.size(); ++i) {
+      if (k < keep.size() && keep[k] == i) {
+        kept_object.push_back(object_points[i]);
+        kept_image.push_back(image_points[i]);
+        kept_names.push_back(result.used_views[i]);
+        ++k;
+      } else {
+        result.outlier_views.push_back(result.used_views[i]);
+        result.outlier_rms.push_back(result.view_rms[i]);
+      }
+    }
+    object_points = std::move(kept_object);
+    image_points = std::move(kept_image);
+    result.used_views = std::move(kept_names);
+    calibrate();
+  }
   Intrinsics& out = result.intrinsics;
   out.width = image_size.width;
   out.height = image_size.height;

@@ -24,9 +24,13 @@ StepVerdict judgeIntrinsics(const std::string& step, double rms, int views, int 
                             double board_fraction) {
   StepVerdict v{step, "RMS reprojection error (px)", rms, kIntrinsicsMaxRms, false, {}};
   if (views < kIntrinsicsMinViews)
-    v.hint = "too few views: the board was found in " + std::to_string(views) + " of " +
-             std::to_string(offered) + " photos; take at least " + std::to_string(kIntrinsicsMinViews) +
+    v.hint = "too few views: " + std::to_string(views) + " different views of the board held still, in " +
+             std::to_string(offered) + " frames; take at least " + std::to_string(kIntrinsicsMinViews) +
              ", tilting the board and moving it into every corner of the picture";
+  else if (rms >= kIntrinsicsWrongBoardRms)
+    v.hint = "the corners fit no camera (error of " + number(rms) +
+             " px): check that the board given is the one printed (squares across and down, marker size, "
+             "dictionary)";
   else if (rms >= kIntrinsicsMaxRms && board_fraction < 0.25)
     v.hint = "board too far: it covers only " + number(100 * board_fraction) +
              "% of the picture width; bring it closer so it fills about half";
@@ -47,6 +51,17 @@ StepVerdict judgeExtrinsics(const std::string& step, double rms, int corners, do
     v.hint =
         "the board's corners do not fit one pose: it may have moved (motion blur), be bent, or the "
         "camera's intrinsics may be wrong; recalibrate intrinsics first";
+  v.pass = v.hint.empty();
+  return v;
+}
+
+StepVerdict judgeLoopClosure(const std::string& step, double translation_mm, double rotation_deg) {
+  StepVerdict v{step, "relative pose disagreement (mm)", translation_mm, kLoopClosureMaxMm, false, {}};
+  if (translation_mm >= kLoopClosureMaxMm || rotation_deg >= kLoopClosureMaxDeg)
+    v.hint = "the two cameras' poses disagree with the board they both saw (" + number(translation_mm) +
+             " mm, " + number(rotation_deg) +
+             " degrees): check that each board stood exactly on its marked spot and that no camera moved "
+             "during the step, then measure it again";
   v.pass = v.hint.empty();
   return v;
 }

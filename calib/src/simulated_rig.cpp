@@ -1,5 +1,6 @@
 #include "holo/calib/simulated_rig.hpp"
 
+#include <cmath>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -15,7 +16,11 @@ constexpr int kPanoramaHeight = 256;
 }  // namespace
 
 SimulatedRig::SimulatedRig(const std::string& scene, const AutoCalibrationConfig& config)
-    : museum_(sim::loadScene(scene)),
+    : SimulatedRig(sim::loadScene(scene), config) {}
+
+SimulatedRig::SimulatedRig(sim::SceneDescription scene, const AutoCalibrationConfig& config)
+    : museum_(scene),
+      scene_(scene.name),
       config_(config),
       intrinsics_texture_(renderBoardTexture(config.intrinsics_board, 60)),
       placement_texture_(renderBoardTexture(config.placement_board, 60)) {
@@ -42,60 +47,147 @@ const CameraModel& SimulatedRig::trueCamera(int camera) const {
   return museum_.camera(camera);
 }
 
-cv::Mat SimulatedRig::hallView(int camera) const {
+const RgbdFrame& SimulatedRig::hallFrame(int camera) const {
   std::lock_guard lock(cache_mutex_);
-  auto& view = hall_views_[camera];
-  if (view.empty()) view = museum_.renderCamera(camera, 0, false).frame.colour;
-  return view;
+  auto& frame = hall_frames_[camera];
+  if (frame.empty()) frame = museum_.renderCamera(camera, 0, false).frame;
+  return frame;
 }
 
-cv::Mat SimulatedRig::intrinsicsPhoto(int camera, int view) const {
-  // The technician holds the board 0.3-0.45 m away, tilted, moving it around the picture.
-  // The technician holds the board 0.3-0.45 m away, tilted, and moves it into every part of
-  // the wide picture (the corners constrain distortion, which otherwise trades off against the
-  // focal length).
-  static const double poses[16][6] = {
-      {0, 0, 0, 0.0, 0.0, 0.32},         {25, 0, 5, 0.25, 0.08, 0.35},      {-25, 0, -5, -0.25, -0.08, 0.35},
-      {0, 30, 10, 0.3, -0.12, 0.38},     {0, -30, -10, -0.3, 0.12, 0.38},   {20, 20, 0, 0.0, 0.15, 0.32},
-      {-20, 25, 15, 0.35, 0.0, 0.36},    {20, -25, -15, -0.35, 0.0, 0.36},  {-20, -20, 0, 0.0, -0.15, 0.32},
-      {10, -30, 30, 0.3, 0.14, 0.36},    {-30, 10, -20, -0.3, -0.14, 0.36}, {15, 15, 45, 0.3, -0.15, 0.38},
-      {-15, -15, -30, -0.3, 0.15, 0.38}, {30, 0, 90, 0.0, 0.0, 0.45},       {0, 35, 0, 0.15, 0.0, 0.3},
-      {0, -35, 0, -0.15, 0.0, 0.3}};
-  const double* p = poses[view % 16];
+namespace {
+
+// The 16 poses at which the technician holds the intrinsics board still, 0.3-0.45 m away,
+// tilted, in every part of the wide picture (the corners constrain distortion, which otherwise
+// trades off against the focal length): tilt x, tilt y, roll (degrees), centre x, y, z (metres).
+constexpr int kHandHeldPoses = 16;
+constexpr double kHandHeldPose[kHandHeldPoses][6] = {
+    {0, 0, 0, 0.0, 0.0, 0.32},         {25, 0, 5, 0.25, 0.08, 0.35},      {-25, 0, -5, -0.25, -0.08, 0.35},
+    {0, 30, 10, 0.3, -0.12, 0.38},     {0, -30, -10, -0.3, 0.12, 0.38},   {20, 20, 0, 0.0, 0.15, 0.32},
+    {-20, 25, 15, 0.35, 0.0, 0.36},    {20, -25, -15, -0.35, 0.0, 0.36},  {-20, -20, 0, 0.0, -0.15, 0.32},
+    {10, -30, 30, 0.3, 0.14, 0.36},    {-30, 10, -20, -0.3, -0.14, 0.36}, {15, 15, 45, 0.3, -0.15, 0.38},
+    {-15, -15, -30, -0.3, 0.15, 0.38}, {30, 0, 90, 0.0, 0.0, 0.45},       {0, 35, 0, 0.15, 0.0, 0.3},
+    {0, -35, 0, -0.15, 0.0, 0.3}};
+// Per pose: one frame on the way there (moving) and two held still; then the board is taken away.
+constexpr int kFramesPerHandHeldPose = 3;
+constexpr int kFramesAway = 3;
+// Per marked spot: the board stands three frames, then two frames without it while it is carried.
+constexpr int kFramesAtSpot = 3;
+constexpr int kFramesBetweenSpots = 2;
+
+cv::Matx44d handHeldPose(const BoardSpec& board, const double* p) {
   const double d = CV_PI / 180.0;
   cv::Matx33d Rx, Ry, Rz;
   cv::Rodrigues(cv::Vec3d(p[0] * d, 0, 0), Rx);
   cv::Rodrigues(cv::Vec3d(0, p[1] * d, 0), Ry);
   cv::Rodrigues(cv::Vec3d(0, 0, p[2] * d), Rz);
   const cv::Matx33d R = Rx * Ry * Rz;
-  const cv::Rect2d e = config_.intrinsics_board.extent();
+  const cv::Rect2d e = board.extent();
   const cv::Vec3d t = cv::Vec3d(p[3], p[4], p[5]) - R * cv::Vec3d(e.x + e.width / 2, e.y + e.height / 2, 0);
-  const cv::Matx44d T_camera_board(R(0, 0), R(0, 1), R(0, 2), t[0], R(1, 0), R(1, 1), R(1, 2), t[1], R(2, 0),
-                                   R(2, 1), R(2, 2), t[2], 0, 0, 0, 1);
-  SyntheticViewOptions options;
-  options.seed = static_cast<std::uint64_t>(1000 + 100 * camera + view);
-  cv::Mat photo;
-  cv::cvtColor(renderBoardView(intrinsics_texture_, trueCamera(camera).intrinsics(), T_camera_board, options,
-                               hallView(camera)),
-               photo, cv::COLOR_GRAY2BGR);
-  return photo;
+  return {R(0, 0), R(0, 1), R(0, 2), t[0], R(1, 0), R(1, 1), R(1, 2), t[1],
+          R(2, 0), R(2, 1), R(2, 2), t[2], 0,       0,       0,       1};
 }
 
-cv::Mat SimulatedRig::placementPhoto(int camera) const {
-  const cv::Matx44d T_camera_board = rigidInverse(toMatx(trueCamera(camera).T_world_camera())) *
-                                     config_.placements[static_cast<std::size_t>(camera)];
-  SyntheticViewOptions options;
-  options.seed = static_cast<std::uint64_t>(2000 + camera);
-  options.blur_sigma = 0.5f;
-  cv::Mat photo;
-  cv::cvtColor(renderBoardView(placement_texture_, trueCamera(camera).intrinsics(), T_camera_board, options,
-                               hallView(camera)),
-               photo, cv::COLOR_GRAY2BGR);
-  return photo;
+// True when every corner of the board's extent lies well in front of the camera (a board behind
+// or beside the camera is not drawn: the homography would fold it into the picture).
+bool inFrontOfCamera(const BoardSpec& board, const cv::Matx44d& T_camera_board) {
+  const cv::Rect2d e = board.extent();
+  for (const cv::Point3d corner :
+       {cv::Point3d(e.x, e.y, 0), cv::Point3d(e.x + e.width, e.y, 0), cv::Point3d(e.x, e.y + e.height, 0),
+        cv::Point3d(e.x + e.width, e.y + e.height, 0)})
+    if (transform(T_camera_board, corner).z < 0.1) return false;
+  return true;
 }
 
-RgbdFrame SimulatedRig::backgroundFrame(int camera, int index) const {
-  return museum_.renderCamera(camera, index, false).frame;
+}  // namespace
+
+std::string SimulatedRig::describe() const {
+  return "simulated museum (scene " + scene_ + ")";
+}
+
+void SimulatedRig::begin(RigActivity activity) {
+  activity_ = activity;
+  next_.assign(static_cast<std::size_t>(cameraCount()), 0);
+}
+
+std::optional<RgbdFrame> SimulatedRig::nextFrame(int camera) {
+  if (next_.empty()) next_.assign(static_cast<std::size_t>(cameraCount()), 0);
+  int& index = next_.at(static_cast<std::size_t>(camera));
+  if (index >= frameCount(activity_)) return std::nullopt;
+  return frame(activity_, camera, index++);
+}
+
+int SimulatedRig::frameCount(RigActivity activity) const {
+  switch (activity) {
+    case RigActivity::HandHeldBoard:
+      return kHandHeldPoses * kFramesPerHandHeldPose + kFramesAway;
+    case RigActivity::PlacementBoard:
+      return cameraCount() * (kFramesAtSpot + kFramesBetweenSpots);
+    case RigActivity::EmptyHall:
+      return config_.background_frames;
+  }
+  return 0;
+}
+
+RgbdFrame SimulatedRig::boardFrame(const BoardTexture& texture, const Intrinsics& K,
+                                   const cv::Matx44d& T_camera_board, int camera, std::uint64_t seed,
+                                   float blur) const {
+  const RgbdFrame& hall = hallFrame(camera);
+  SyntheticViewOptions options;
+  options.seed = seed;
+  options.blur_sigma = blur;
+  RgbdFrame out;
+  cv::cvtColor(renderBoardView(texture, K, T_camera_board, options, hall.colour), out.colour,
+               cv::COLOR_GRAY2BGR);
+  out.depth = hall.depth.clone();
+  return out;
+}
+
+RgbdFrame SimulatedRig::frame(RigActivity activity, int camera, int index) const {
+  const Intrinsics& K = trueCamera(camera).intrinsics();
+  RgbdFrame out;
+  switch (activity) {
+    case RigActivity::HandHeldBoard: {
+      const int pose = index / kFramesPerHandHeldPose, step = index % kFramesPerHandHeldPose;
+      if (pose >= kHandHeldPoses) {
+        out = hallFrame(camera);
+        out.colour = out.colour.clone();
+        break;
+      }
+      cv::Matx44d T = handHeldPose(config_.intrinsics_board, kHandHeldPose[pose]);
+      if (step == 0) {
+        // On the way from the previous pose: half-way there, and blurred by the motion.
+        const double* from = kHandHeldPose[pose == 0 ? kHandHeldPoses - 1 : pose - 1];
+        double between[6];
+        for (int i = 0; i < 6; ++i) between[i] = 0.5 * (from[i] + kHandHeldPose[pose][i]);
+        T = handHeldPose(config_.intrinsics_board, between);
+      }
+      out = boardFrame(intrinsics_texture_, K, T, camera,
+                       static_cast<std::uint64_t>(1000 + 100 * camera + index), step == 0 ? 1.5f : 0.0f);
+      break;
+    }
+    case RigActivity::PlacementBoard: {
+      const int spot = index / (kFramesAtSpot + kFramesBetweenSpots);
+      const cv::Matx44d T = rigidInverse(toMatx(trueCamera(camera).T_world_camera())) *
+                            config_.placements[static_cast<std::size_t>(spot)];
+      if (index % (kFramesAtSpot + kFramesBetweenSpots) >= kFramesAtSpot ||
+          !inFrontOfCamera(config_.placement_board, T)) {
+        out = hallFrame(camera);
+        out.colour = out.colour.clone();
+        break;
+      }
+      out = boardFrame(placement_texture_, K, T, camera,
+                       static_cast<std::uint64_t>(2000 + 100 * camera + index), 0.5f);
+      break;
+    }
+    case RigActivity::EmptyHall:
+      out = museum_.renderCamera(camera, index, false).frame;
+      break;
+  }
+  out.camera_id = camera;
+  out.sequence = static_cast<std::uint64_t>(index);
+  out.device_time =
+      Nanoseconds(std::llround(index * 1e9 / static_cast<double>(museum_.description().camera.fps)));
+  return out;
 }
 
 cv::Mat SimulatedRig::panorama() const {

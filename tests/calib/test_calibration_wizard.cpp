@@ -15,6 +15,7 @@
 
 #include "holo/calib/pose.hpp"
 #include "holo/calib/simulated_rig.hpp"
+#include "holo/capture/recording.hpp"
 #include "shared_data.hpp"
 
 namespace holo::calib {
@@ -162,6 +163,34 @@ TEST(CalibrationWizard, FailedStepShowsItsHintAndKeepsNextDisabled) {
     }
   std::cout << "hint: " << orange << " orange pixels\n";
   EXPECT_GT(orange, 200) << "hint text";
+}
+
+// The same window on a recording (`simulate --calibration`) through the capture-backed rig: every
+// step's button pressed, every verdict PASS, the saved poses as the recording's truth.
+TEST(CalibrationWizard, ScriptedRunOnARecording) {
+  if (!std::getenv("DISPLAY")) GTEST_SKIP() << "no X display; ctest runs this under xvfb-run";
+  const fs::path dir = holo::test::scratchDir("calib_wizard_recording");
+  const fs::path rec = dir / "rec";
+  const std::string simulate = std::string(HOLO_HOLOPYRAMID) +
+                               " simulate --scene museum --frames 1 --calibration --background-frames 3 "
+                               "--panorama-width 512 -q --out " +
+                               rec.string() + " > " + (dir / "simulate.log").string() + " 2>&1";
+  ASSERT_EQ(std::system(simulate.c_str()), 0);
+  const WizardRun run =
+      runWizard(dir, "--config " + (rec / "installation.yaml").string() +
+                         " --background-frames 3 --script next,next,next,next,next,save,close");
+  ASSERT_EQ(run.exit_code, 0);
+  const std::string summary = run.output.substr(run.output.find("verdicts:\n"));
+  EXPECT_EQ(summary.find("FAIL"), std::string::npos);
+  const capture::Recording recording = capture::readRecording(rec);
+  for (const capture::RecordedCamera& camera : recording.cameras) {
+    const CameraCalibration saved =
+        loadCameraCalibration(cameraCalibrationPath(dir / "calibration", camera.serial));
+    const cv::Matx44d got = toMatx(saved.T_world_camera), want = toMatx(camera.model->T_world_camera());
+    EXPECT_LT(translationError(got, want), 0.003) << camera.serial;
+    EXPECT_LT(rotationErrorDeg(got, want), 0.3) << camera.serial;
+  }
+  EXPECT_FALSE(cv::imread((dir / "screenshots" / "wizard_1_intrinsics.png").string()).empty());
 }
 
 }  // namespace

@@ -14,31 +14,11 @@
 
 #include "holo/calib/board.hpp"
 #include "holo/calib/calibration_io.hpp"
+#include "holo/calib/calibration_rig.hpp"
 #include "holo/calib/quality.hpp"
 #include "holo/core/rgbd_frame.hpp"
 
 namespace holo::calib {
-
-// What the steps need from the appliance: photos and frames from each camera, the panorama and
-// where the technician saw the test pattern's dots on each face. Real cameras and the simulated
-// museum both provide it.
-class CalibrationRig {
- public:
-  virtual ~CalibrationRig() = default;
-  virtual int cameraCount() const = 0;
-  virtual std::string serial(int camera) const = 0;
-  virtual cv::Size imageSize(int camera) const = 0;
-  virtual int intrinsicsViewCount() const = 0;
-  // Colour photo `view` of the intrinsics board held in front of `camera`.
-  virtual cv::Mat intrinsicsPhoto(int camera, int view) const = 0;
-  // Colour photo of the extrinsics board standing at the placement in front of `camera`.
-  virtual cv::Mat placementPhoto(int camera) const = 0;
-  // Frame `index` of the empty hall.
-  virtual RgbdFrame backgroundFrame(int camera, int index) const = 0;
-  virtual cv::Mat panorama() const = 0;  // CV_32FC3 linear BGR, equirectangular
-  // Where each dot of testPatternDots(view) appeared on face `face` (screen pixels).
-  virtual std::vector<cv::Point2f> observedTestPattern(int face, cv::Size view) const = 0;
-};
 
 // The boards the appliance ships with (BoardSpec::parse text): a hand-held one for intrinsics
 // (50 mm squares keep ChArUco's refinement gap wide enough on the wide cameras, docs/calib.md)
@@ -53,6 +33,9 @@ struct AutoCalibrationConfig {
   int background_frames = 9;
   cv::Size face_view{960, 540};
   vec3 panorama_position{0.0f, 0.35f, 0.0f};
+  // The most frames a step takes from one camera before it gives up (live cameras: 100 s at
+  // 30 fps); a step also ends when the technician takes the board away or the frames end.
+  int max_frames_per_step = 3000;
 };
 
 // The marked easel spots: the placement board upright 0.75 m in front of each face of a base
@@ -64,11 +47,14 @@ struct AutoCalibrationReport {
   std::vector<StepVerdict> verdicts;
   std::vector<CameraCalibration> cameras;
   PyramidCalibration pyramid;
+  bool saved = false;
   bool allPassed() const;
 };
 
-// Runs the steps, writing into `out_dir` and a line per step (and hints) to `log`.
-AutoCalibrationReport runAutoCalibration(const CalibrationRig& rig, const AutoCalibrationConfig& config,
+// Runs the steps, a line per step (and hints) to `log`; saves into `out_dir` only when every
+// step passed. Otherwise nothing is written (the previous calibration stays in force) and the
+// report says why: a step that could not be measured at all rethrows its InputError.
+AutoCalibrationReport runAutoCalibration(CalibrationRig& rig, const AutoCalibrationConfig& config,
                                          const std::filesystem::path& out_dir, std::ostream& log,
                                          bool quiet = false);
 

@@ -1,9 +1,24 @@
 // A calibration in progress, one step at a time: what `calibrate --auto` runs in a row and the
 // wizard window runs as the technician presses Next, Back and Retry. Each measuring step takes
-// its pictures from the rig, computes its result with the step's math (intrinsics.hpp,
-// extrinsics.hpp, background.hpp, panorama_alignment.hpp, display_alignment.hpp), judges it
-// (quality.hpp) and keeps the pictures it saw with the detections drawn. Nothing is written until
-// save(), which writes every file atomically into the output folder.
+// frames from the rig as they arrive and decides which to keep, computes its result with the
+// step's math (intrinsics.hpp, extrinsics.hpp, background.hpp, panorama_alignment.hpp,
+// display_alignment.hpp), judges it (quality.hpp) and keeps the pictures it saw with the
+// detections drawn. Nothing is written until save(), which writes every file atomically into the
+// output folder.
+//
+// How the steps take frames (board_tracking.hpp):
+//   intrinsics  camera by camera: the board is detected in every frame; a frame is kept when the
+//               board is steady and the view adds pose diversity (coverage grid of the image and
+//               of tilt); the camera is done when it has kIntrinsicsMinViews views and the board
+//               has been gone for kBoardGoneFrames frames (or the frames end, or the budget). Per-view errors
+//               are listed, outliers dropped (intrinsics.hpp).
+//   poses       every camera's frames in step: the board is carried from marked spot to marked
+//               spot in camera order; spot i is taken when camera i has seen it steady for
+//               kPlacementSteadyFrames frames, the next spot is awaited once it has left camera
+//               i's view. A camera j that sees the board at spot i at the same time gives the loop
+//               closure: the relative pose of cameras i and j through the board must agree with
+//               their calibrated poses.
+//   background  the next background_frames frames of every camera.
 //
 // Invariants: a step runs only after every earlier step has been measured (it builds on their
 // results); measuring a step again forgets the outcomes of the steps after it.
@@ -20,6 +35,7 @@
 #include <vector>
 
 #include "holo/calib/auto_calibration.hpp"
+#include "holo/calib/board_tracking.hpp"
 
 namespace holo::calib {
 
@@ -30,6 +46,19 @@ inline constexpr int kMeasuringSteps = 5;    // every step but Save
 // Short name ("intrinsics", "camera poses", ...) and what the technician does in the step.
 const char* stepTitle(CalibrationStep step);
 const char* stepInstructions(CalibrationStep step);
+
+inline constexpr int kBoardGoneFrames = 3;
+inline constexpr int kPlacementSteadyFrames = 2;
+
+// Two cameras that saw the placement board at once: the disagreement between their relative pose
+// through the board (T_camera_i_board * T_camera_j_board^-1) and through their calibrated poses.
+struct LoopClosure {
+  int camera_i = 0;
+  int camera_j = 0;
+  int frames = 0;               // frames in which both saw the board
+  double translation_mm = 0.0;  // worst over those frames
+  double rotation_deg = 0.0;
+};
 
 struct StepOutcome {
   std::vector<StepVerdict> verdicts;  // one per camera (or face); one for the panorama
@@ -47,7 +76,7 @@ class CalibrationSession {
   // Receives each picture as soon as the rig delivers it (label, BGR image): live previews.
   using PreviewCallback = std::function<void(int index, const std::string& label, const cv::Mat& picture)>;
 
-  CalibrationSession(const CalibrationRig& rig, AutoCalibrationConfig config);
+  CalibrationSession(CalibrationRig& rig, AutoCalibrationConfig config);
 
   // Measures `step` (not Save). Errors of the input (too few views, no board) end up in the
   // outcome's `error`, as a failed step the technician can retry; they are not thrown.
@@ -65,6 +94,13 @@ class CalibrationSession {
   // Every step's verdicts and the results so far (a report of a finished session).
   AutoCalibrationReport report() const;
 
+  // The board in every frame the intrinsics step (camera by camera) or the poses step (the frames
+  // in which the board was steady at a marked spot, every camera) took from `camera`, with its
+  // pose in the camera frame once intrinsics are known. Empty before the step was measured.
+  const std::vector<BoardFrameObservation>& boardObservations(CalibrationStep step, int camera) const;
+  // The loop closures of the poses step (empty when no two cameras saw the board at once).
+  const std::vector<LoopClosure>& loopClosures() const { return loop_closures_; }
+
  private:
   StepOutcome measureIntrinsics(std::ostream& log, bool quiet, const PreviewCallback& on_preview);
   StepOutcome measurePoses(std::ostream& log, const PreviewCallback& on_preview);
@@ -72,8 +108,12 @@ class CalibrationSession {
   StepOutcome measurePanorama(std::ostream& log, const PreviewCallback& on_preview);
   StepOutcome measureDisplay(std::ostream& log, const PreviewCallback& on_preview);
 
-  const CalibrationRig& rig_;
+  CalibrationRig& rig_;
   AutoCalibrationConfig config_;
+  std::vector<std::vector<BoardFrameObservation>> intrinsics_observations_;  // per camera
+  std::vector<std::vector<BoardFrameObservation>> placement_observations_;   // per camera
+  std::vector<LoopClosure> loop_closures_;
+  std::vector<RgbdFrame> hall_frames_;  // per camera: the background step's first frame
   std::vector<CameraCalibration> cameras_;
   PyramidCalibration pyramid_;
   std::array<std::optional<StepOutcome>, kCalibrationSteps> outcomes_;

@@ -50,4 +50,25 @@ struct ExtrinsicsResult {
 ExtrinsicsResult calibrateExtrinsics(const ExtrinsicsProblem& problem,
                                      const std::string& source = "extrinsics");
 
+// Two cameras' relative pose from views in which both saw the same board at the same moment (a
+// stereo pair, or two neighbouring cameras): camera a's frame is the world, the first pair's
+// board is placed by camera a's solvePnP and every other pair's board is estimated, in one joint
+// adjustment (calibrateExtrinsics). The loop closure: each pair on its own gives a relative pose
+// (T_a_board * T_b_board^-1); their disagreement with the joint estimate is reported.
+struct SharedBoardView {
+  BoardDetection a;
+  BoardDetection b;
+};
+struct RelativePose {
+  cv::Matx44d T_a_b = cv::Matx44d::eye();  // camera b -> camera a, metres
+  int pairs = 0;
+  double rms_px = 0.0;                      // joint reprojection error over both cameras
+  std::vector<double> pair_translation_mm;  // per pair: its own relative pose against T_a_b
+  std::vector<double> pair_rotation_deg;
+};
+// Throws InputError (naming `source`) with no pair in which both detections are usable.
+RelativePose relativePoseFromSharedViews(const Intrinsics& a, const Intrinsics& b,
+                                         const std::vector<SharedBoardView>& views,
+                                         const std::string& source = "shared views");
+
 }  // namespace holo::calib

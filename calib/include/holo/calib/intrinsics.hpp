@@ -1,5 +1,8 @@
 // Camera intrinsics from photos of a chessboard or ChArUco board (OpenCV calibrateCamera, the
 // five-parameter plumb-bob model). The quality figure is the RMS reprojection error in pixels.
+// A view whose own RMS error is an outlier (above kIntrinsicsMaxRms and 3 times the median view's,
+// quality.hpp) is dropped and the camera calibrated again without it: one blurred or mis-detected
+// view must not spoil the others.
 #pragma once
 
 #include <string>
@@ -22,6 +25,8 @@ struct IntrinsicsResult {
   std::vector<double> view_rms;  // per used view, pixels (same order as used_views)
   std::vector<std::string> used_views;
   std::vector<std::string> skipped_views;  // no board found or too few corners
+  std::vector<std::string> outlier_views;  // dropped: their RMS error was an outlier
+  std::vector<double> outlier_rms;         // their RMS error in the first calibration, pixels
 };
 
 inline constexpr int kMinIntrinsicsViews = 3;

@@ -1,7 +1,10 @@
 // Pass/fail verdicts of the calibration steps, with the plain-language hint a museum technician
 // gets when a step fails. Thresholds (docs/calib.md explains them):
-//   intrinsics   RMS reprojection error < 0.5 px over >= 8 views
+//   intrinsics   RMS reprojection error < 0.5 px over >= 8 views; a view whose own RMS is above
+//                0.5 px and 3 times the median view's is dropped as an outlier
 //   extrinsics   RMS reprojection error < 1.0 px per camera, >= 12 corners
+//   loop closure where two cameras saw the placement board at once, their relative pose through
+//                the board disagrees with their calibrated poses by < 10 mm and < 1 degree
 //   background   invalid depth < 20 % of pixels, colour noise (median absolute deviation) < 6 levels
 //   panorama     normalised correlation of the camera view with the panorama >= 0.5
 //   display      test pattern residual < 2 px
@@ -26,18 +29,24 @@ std::string formatVerdict(const StepVerdict& verdict);
 
 inline constexpr double kIntrinsicsMaxRms = 0.5;
 inline constexpr int kIntrinsicsMinViews = 8;
+inline constexpr double kIntrinsicsOutlierFactor = 3.0;  // times the median view's RMS
+// An error this large is no blur or bent board: the board given is not the one in the pictures.
+inline constexpr double kIntrinsicsWrongBoardRms = 5.0;
 inline constexpr double kExtrinsicsMaxRms = 1.0;
 inline constexpr int kExtrinsicsMinCorners = 12;
+inline constexpr double kLoopClosureMaxMm = 10.0;
+inline constexpr double kLoopClosureMaxDeg = 1.0;
 inline constexpr double kBackgroundMaxInvalid = 0.2;
 inline constexpr double kBackgroundMaxColourMad = 6.0;
 inline constexpr double kPanoramaMinCorrelation = 0.5;
 inline constexpr double kDisplayMaxResidualPx = 2.0;
 
-// `views` used and `offered`; `board_fraction` is the median share of the image width the board
+// `views` used of `offered` frames; `board_fraction` is the median share of the image width the board
 // spans (small boards mean "board too far").
 StepVerdict judgeIntrinsics(const std::string& step, double rms, int views, int offered,
                             double board_fraction);
 StepVerdict judgeExtrinsics(const std::string& step, double rms, int corners, double board_fraction);
+StepVerdict judgeLoopClosure(const std::string& step, double translation_mm, double rotation_deg);
 StepVerdict judgeBackground(const std::string& step, double invalid_fraction, double colour_mad);
 StepVerdict judgePanorama(const std::string& step, double correlation);
 StepVerdict judgeDisplay(const std::string& step, double residual_px);

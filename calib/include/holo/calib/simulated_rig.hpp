@@ -1,7 +1,11 @@
-// The calibration rig of the simulated museum: its four cameras photograph synthetic boards
-// composited over their view of the hall, deliver the empty hall as background frames, and the
-// simulated monitors show the test pattern with a known misalignment. Everything is seeded, and
-// the truth (intrinsics, poses, panorama yaw, face alignment) is exposed for checking.
+// The calibration rig of the simulated museum: a simulated technician acts out what each step
+// asks (begin()): moves the intrinsics board in front of each camera, holding it still at 16
+// poses with a moving frame between them; stands the placement board on the easel at each marked
+// spot in turn; clears the hall. The four cameras film it over their view of the hall (frame()),
+// the simulated monitors show the test pattern with a known misalignment. Everything is seeded,
+// and the truth (intrinsics, poses, panorama yaw, face alignment) is exposed for checking.
+// `holopyramid simulate --calibration` records the same frames, so a calibration from that
+// recording (capture_rig.hpp) runs the very steps a calibration on this rig runs.
 #pragma once
 
 #include <map>
@@ -18,33 +22,45 @@ class SimulatedRig : public CalibrationRig {
  public:
   // `scene`: a built-in scene name or scene file (holo::sim::loadScene).
   SimulatedRig(const std::string& scene, const AutoCalibrationConfig& config);
+  SimulatedRig(sim::SceneDescription scene, const AutoCalibrationConfig& config);
 
   int cameraCount() const override;
   std::string serial(int camera) const override;
   cv::Size imageSize(int camera) const override;
-  int intrinsicsViewCount() const override { return 16; }
-  cv::Mat intrinsicsPhoto(int camera, int view) const override;
-  cv::Mat placementPhoto(int camera) const override;
-  RgbdFrame backgroundFrame(int camera, int index) const override;
+  std::string describe() const override;
+  void begin(RigActivity activity) override;
+  std::optional<RgbdFrame> nextFrame(int camera) override;
   cv::Mat panorama() const override;
   std::vector<cv::Point2f> observedTestPattern(int face, cv::Size view) const override;
 
+  // The technician's session as frames: how many frames `activity` lasts (the same for every
+  // camera) and frame `index` of `camera` during it (device_time counts from the activity's start
+  // at the scene's frame rate).
+  int frameCount(RigActivity activity) const;
+  RgbdFrame frame(RigActivity activity, int camera, int index) const;
+
   // The truth the calibration should recover.
+  const sim::Museum& museum() const { return museum_; }
   const CameraModel& trueCamera(int camera) const;
   float truePanoramaYaw() const { return panorama_yaw_; }
   FaceAlignment trueFaceAlignment(int face) const;
 
  private:
-  cv::Mat hallView(int camera) const;  // the camera's colour view of the empty hall (cached)
+  const RgbdFrame& hallFrame(int camera) const;  // the camera's frame of the empty hall (cached)
+  RgbdFrame boardFrame(const BoardTexture& texture, const Intrinsics& K, const cv::Matx44d& T_camera_board,
+                       int camera, std::uint64_t seed, float blur) const;
 
   sim::Museum museum_;
+  std::string scene_;
   AutoCalibrationConfig config_;
   BoardTexture intrinsics_texture_;
   BoardTexture placement_texture_;
   float panorama_yaw_ = 0.0f;
   int panorama_shift_px_ = 0;
+  RigActivity activity_ = RigActivity::HandHeldBoard;
+  std::vector<int> next_;  // per camera: the next frame of the current activity
   mutable std::mutex cache_mutex_;
-  mutable std::map<int, cv::Mat> hall_views_;
+  mutable std::map<int, RgbdFrame> hall_frames_;
 };
 
 }  // namespace holo::calib
