@@ -18,7 +18,8 @@ cv::Mat renderIbl(const RenderScene& scene, const PrefilteredIbl& ibl, const Cam
         const RayHit hit = relic.intersect(ray);
         if (!hit.hit()) continue;
         const vec3 n = relic.shadingNormal(hit, ray.direction);
-        const vec3 c = ibl.shade(scene.relicMaterial(hit, relic), n, -ray.direction);
+        const vec3 c =
+            ibl.shade(scene.relicMaterial(hit, relic), n, -ray.direction, relic.position(ray, hit));
         setRgb(out, x, y, isFinite(c) ? c : vec3(0.0f));
       }
   });

@@ -61,7 +61,7 @@ StaticShading::StaticShading(const RenderScene& scene, const PrefilteredIbl& ibl
 
 std::optional<LobeBounce> StaticShading::shadeHit(const HitPoint& hp, const LobeShare& share,
                                                   SplitSumShading& shading, WalkRay& walk_ray) const {
-  shading = ibl_.shadeParts(hp.material, hp.normal, hp.to_viewer, hp.reflected);
+  shading = ibl_.shadeParts(hp.material, hp.normal, hp.to_viewer, hp.reflected, hp.position);
   walk_ray = {hp.position, hp.normal, hp.reflected, hp.material.roughness, false};
   if (!settings_.relic_interreflection) return std::nullopt;
   if (settings_.rough_interreflection_grid > 1 &&
@@ -80,7 +80,7 @@ std::optional<LobeBounce> StaticShading::shadeHit(const HitPoint& hp, const Lobe
   const vec3 reflected = glm::reflect(ray.direction, normal);
   if (!isFinite(position) || !isFinite(normal) || !isFinite(reflected)) return std::nullopt;
   const SurfaceMaterial material = scene_.relicMaterial(hit, relic);
-  const SplitSumShading second = ibl_.shadeParts(material, normal, -ray.direction, reflected);
+  const SplitSumShading second = ibl_.shadeParts(material, normal, -ray.direction, reflected, position);
   // L = diffuse_1 + s_1 L_2 and L_2 = diffuse_2 + s_2 (psi_d w + env_2 (1 - w)): the composition's
   // form with scale s_1 s_2 and environment env_2.
   shading.diffuse += shading.specular_scale * second.diffuse;
@@ -100,24 +100,24 @@ LobeBounce StaticShading::traceLobeBounce(const HitPoint& hp, const LobeShare& s
   if (!(wo.z > 0.0f)) return bounce;
   const float alpha = std::max(hp.material.roughness * hp.material.roughness, 1e-3f);
   const RayScene& relic = scene_.relicOnly();
-  forEachLobeStratum(settings_.rough_interreflection_grid, settings_.rough_interreflection_interleaved,
-                     share.pixel_class, share.sample, share.samples, [&](const vec2& u) {
-                       const vec3 l =
-                           glm::reflect(-hp.to_viewer, frame.toWorld(ggx::sampleVisibleNormal(wo, alpha, u)));
-                       if (!(glm::dot(l, hp.normal) > 0.0f)) return;
-                       bounce.above += 1.0f;
-                       const Ray ray{hp.position + hp.normal * settings_.ray_offset, l};
-                       const RayHit hit = relic.intersect(ray);
-                       if (!hit.hit()) return;
-                       const vec3 normal = relic.shadingNormal(hit, ray.direction);
-                       const vec3 reflected = glm::reflect(ray.direction, normal);
-                       if (!isFinite(normal) || !isFinite(reflected)) return;
-                       const SplitSumShading second = ibl_.shadeParts(scene_.relicMaterial(hit, relic),
-                                                                      normal, -ray.direction, reflected);
-                       bounce.diffuse += second.diffuse;
-                       bounce.specular += second.specular_scale * second.environment;
-                       bounce.met += 1.0f;
-                     });
+  forEachLobeStratum(
+      settings_.rough_interreflection_grid, settings_.rough_interreflection_interleaved, share.pixel_class,
+      share.sample, share.samples, [&](const vec2& u) {
+        const vec3 l = glm::reflect(-hp.to_viewer, frame.toWorld(ggx::sampleVisibleNormal(wo, alpha, u)));
+        if (!(glm::dot(l, hp.normal) > 0.0f)) return;
+        bounce.above += 1.0f;
+        const Ray ray{hp.position + hp.normal * settings_.ray_offset, l};
+        const RayHit hit = relic.intersect(ray);
+        if (!hit.hit()) return;
+        const vec3 normal = relic.shadingNormal(hit, ray.direction);
+        const vec3 reflected = glm::reflect(ray.direction, normal);
+        if (!isFinite(normal) || !isFinite(reflected)) return;
+        const SplitSumShading second = ibl_.shadeParts(scene_.relicMaterial(hit, relic), normal,
+                                                       -ray.direction, reflected, relic.position(ray, hit));
+        bounce.diffuse += second.diffuse;
+        bounce.specular += second.specular_scale * second.environment;
+        bounce.met += 1.0f;
+      });
   return bounce;
 }
 
