@@ -164,7 +164,9 @@ TEST_F(FakeAravis, ColourPlusDepthFromTwoDevices) {
   config.depth = config.colour;
   config.depth.serial = serial(1);
   config.depth.pixel_format = "Mono16";
-  config.depth.depth_scale = 1000;
+  config.depth.depth_scale = 0.001;
+  // Two free-running fake devices at 25 Hz: their frames arrive up to 20 ms apart (half a period).
+  config.pair_tolerance = 20ms;
   CaptureThread& t = startCapture(0, config);
   ASSERT_TRUE(waitFor([&] { return t.health().frames_completed >= 5; }, 8000ms));
   std::optional<RgbdFrame> f;
