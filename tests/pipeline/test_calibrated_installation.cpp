@@ -105,6 +105,17 @@ class CalibratedInstallation : public ::testing::Test {
     for (int i = 0; i < museum.cameraCount(); ++i) {
       calib::CameraCalibration c = calib::fromCameraModel(museum.camera(i), "REC-" + std::to_string(i));
       c.colour_gains = {1.0f + 0.1f * static_cast<float>(i), 1.0f, 0.9f};
+      // Camera 1's depth scale was fitted 2% above the recording's millimetres; camera 2's depth
+      // comes from a second device of half the resolution, 5 cm to its side.
+      if (i == 1) {
+        c.depth_scale = 0.00102;
+        c.depth_scale_fitted = true;
+      }
+      if (i == 2) {
+        c.depth_intrinsics = Intrinsics::fromFov(80, 48, 1.9f, 1.2f);
+        c.T_colour_depth = mat4(1.0f);
+        c.T_colour_depth[3] = vec4(0.05f, 0.0f, 0.0f, 1.0f);
+      }
       calib::saveCameraCalibration(calib::cameraCalibrationPath(calibration, c.serial), c);
       const RgbdFrame background = museum.backgroundFrame(i);
       cv::imwrite((calibration / ("background_camera" + std::to_string(i) + ".png")).string(),
@@ -153,6 +164,15 @@ TEST_F(CalibratedInstallation, ColourGainsBackgroundAndPanoramaPositionReachTheL
                     1.0f + 0.1f * static_cast<float>(i));
     EXPECT_FLOAT_EQ(installation.colour_gains[static_cast<std::size_t>(i)].b, 0.9f);
   }
+  // The fitted depth scale against the recording's nominal millimetres; the second device's depth.
+  ASSERT_EQ(installation.depth_correction.size(), 4u);
+  EXPECT_FLOAT_EQ(installation.depth_correction[0], 1.0f);
+  EXPECT_NEAR(installation.depth_correction[1], 1.02f, 1e-6f);
+  ASSERT_EQ(installation.depth_to_colour.size(), 4u);
+  EXPECT_FALSE(installation.depth_to_colour[1]);
+  ASSERT_TRUE(installation.depth_to_colour[2]);
+  EXPECT_EQ(installation.depth_to_colour[2]->depthSize(), cv::Size(80, 48));
+  EXPECT_EQ(installation.depth_to_colour[2]->colourSize(), cv::Size(160, 96));
   // The captured background replaces the learning frames.
   ASSERT_EQ(installation.background.size(), 4u);
   EXPECT_EQ(installation.background_frames, 0);
