@@ -231,7 +231,13 @@ Popped popOne(AravisDevice& d, Nanoseconds timeout, bool wait, Convert convert) 
           RawImage{data, size, arv_buffer_get_image_width(buffer), arv_buffer_get_image_height(buffer), 0});
       out.status = GrabStatus::Ok;
       const guint64 t = arv_buffer_get_timestamp(buffer);
-      out.host_time = Nanoseconds(static_cast<std::int64_t>(arv_buffer_get_system_timestamp(buffer)));
+      // Arrival on the host's real-time clock; a stream that does not stamp it (0) gets the time
+      // it is popped, on the same clock.
+      const guint64 arrival = arv_buffer_get_system_timestamp(buffer);
+      out.host_time =
+          arrival
+              ? Nanoseconds(static_cast<std::int64_t>(arrival))
+              : std::chrono::duration_cast<Nanoseconds>(std::chrono::system_clock::now().time_since_epoch());
       out.device_time = t ? Nanoseconds(static_cast<std::int64_t>(t)) : out.host_time;
     } catch (const Error& e) {
       out.status = GrabStatus::Failed;

@@ -177,6 +177,12 @@ TEST_F(FakeAravis, ColourPlusDepthFromTwoDevices) {
   cv::minMaxLoc(f->depth, nullptr, &hi);
   EXPECT_GT(hi, 0.0);
   EXPECT_LE(hi, 65.535 + 1e-3);  // uint16 / 1000
+  // Paired by arrival time: the pair's skew is within the tolerance, and it is reported.
+  const CameraHealth h = t.health();
+  EXPECT_LE(std::abs(h.pair_skew_ms), 20.0);
+  EXPECT_GE(h.frames_unpaired, 0);
+  std::cout << "two devices: pair skew " << h.pair_skew_ms << " ms, " << h.frames_unpaired
+            << " frames unpaired of " << h.frames_completed << "\n";
 }
 
 TEST_F(FakeAravis, FivePercentPacketLossKeepsFramesComingAndIsCounted) {
