@@ -29,7 +29,9 @@ int describeRecording(const std::filesystem::path& folder, std::ostream& out) {
         << "  frames: " << frames.size() << "\n"
         << "  duration s: " << duration << "\n";
     if (duration > 0) out << "  rate hz: " << static_cast<double>(frames.size() - 1) / duration << "\n";
-    out << "  depth scale (units per metre): " << camera.depth_scale << "\n";
+    // Metres per raw unit, the project's one depth unit; the recording stores PNG units per metre.
+    out << "  depth scale: " << 1.0 / camera.depth_scale
+        << " m per unit (recording.yaml: " << camera.depth_scale << " PNG units per metre)\n";
     if (camera.model) {
       const Intrinsics& K = camera.model->intrinsics();
       out << "  intrinsics: " << K.width << "x" << K.height << " fx " << K.fx << " fy " << K.fy << " cx "

@@ -24,6 +24,7 @@
 #include "holo/display/test_pattern.hpp"
 #include "holo/kiosk/fault_injector.hpp"
 #include "holo/kiosk/kiosk_loop.hpp"
+#include "holo/pipeline/calibrated_display.hpp"
 #include "holo/pipeline/frame_loop.hpp"
 #include "holo/pipeline/installation.hpp"
 #include "holo/pipeline/kiosk_frame_source.hpp"
@@ -41,6 +42,7 @@ struct KioskOptions {
   std::string config = "/etc/holopyramid/holopyramid.yaml";
   std::string state_dir = "/var/lib/holopyramid";
   bool headless = false;
+  bool relearn_background = false;
   std::string source = "pipeline";
   std::string scene = "museum";
   int view_size = FrameLoopOptions{}.view_size;
@@ -53,7 +55,7 @@ struct KioskOptions {
 // it names no cameras (then the simulated museum).
 kiosk::RenderFrame makeFrameSource(const kiosk::LoadedConfig& config, const KioskOptions& options,
                                    std::optional<Installation> installation) {
-  const display::DisplayConfig display_config = display::displayConfigOf(config.root);
+  const display::DisplayConfig display_config = calibratedDisplayConfig(config.root);
   if (options.source == "test-pattern")
     return pipeline::testPatternFrameSource(display_config, options.headless);
   if (!installation)
@@ -74,10 +76,11 @@ int runKiosk(const KioskOptions& options) {
   // last good copy instead of leaving the screen black. The installation of the configuration
   // validated last (the one loaded) is kept for the frame source, so its files are read once.
   std::optional<Installation> installation;
-  const auto validate = [&installation](const ConfigNode& root) {
+  const auto validate = [&installation, &options](const ConfigNode& root) {
     installation.reset();
-    display::displayConfigOf(root);
-    if (describesCameras(root)) installation = loadInstallation(root);
+    calibratedDisplayConfig(root);
+    if (describesCameras(root))
+      installation = loadInstallation(root, {.relearn_background = options.relearn_background});
   };
   const auto load = [&] {
     kiosk::LoadedConfig loaded = kiosk::loadConfigWithFallback(options.config, last_good, validate);
@@ -120,6 +123,8 @@ HOLO_REGISTER_COMMAND(Command{
                      "YAML configuration (kiosk:, display:, and capture: and exhibit: for real cameras)")
           ->capture_default_str();
       sub.add_flag("--headless", options->headless, "Render offscreen through EGL, no windows");
+      sub.add_flag("--relearn-background", options->relearn_background,
+                   "Learn the background from the first frames even when the calibration captured one");
       sub.add_option("--source", options->source,
                      "pipeline (the product) | test-pattern (the alignment pattern, for supervision checks)")
           ->check(CLI::IsMember({"pipeline", "test-pattern"}))

@@ -15,6 +15,7 @@
 #include "holo/core/log.hpp"
 #include "holo/core/progress.hpp"
 #include "holo/display/display_config.hpp"
+#include "holo/pipeline/calibrated_display.hpp"
 #include "holo/pipeline/frame_loop.hpp"
 
 namespace holo::app {
@@ -28,6 +29,7 @@ struct RunOptions {
   std::string config_file;
   std::string layout;
   bool headless = false;
+  bool relearn_background = false;
   int frames = 0;
   std::string out = "out/run";
   std::string json;
@@ -38,12 +40,14 @@ int runPipeline(RunOptions options) {
   setAntiAliasing(options.loop.tracer, reflect::parseAntiAliasing(options.aa, "--aa"));
   std::optional<ConfigNode> config;
   if (!options.config_file.empty()) config = ConfigNode::loadFile(options.config_file);
+  std::optional<display::LayoutKind> layout;
+  if (!options.layout.empty()) layout = display::parseLayoutKind(options.layout, "--layout");
   display::DisplayConfig display_config =
-      config ? display::displayConfigOf(*config) : display::DisplayConfig{};
+      config ? calibratedDisplayConfig(*config, layout) : display::DisplayConfig{};
+  if (layout) display_config.layout = *layout;
   // A configuration that names cameras runs on them; one with only a display: section lays out
   // the simulated scene.
   if (config && describesCameras(*config)) options.loop.config = options.config_file;
-  if (!options.layout.empty()) display_config.layout = display::parseLayoutKind(options.layout, "--layout");
   const int frames = options.frames > 0 ? options.frames : (options.headless ? 30 : 0);
   // Headless runs are deterministic unless --live: the same scene always gives the same frames,
   // whatever the machine's speed.
@@ -53,7 +57,7 @@ int runPipeline(RunOptions options) {
   Installation installation =
       options.loop.config.empty()
           ? simulatedInstallation(options.loop.scene, options.loop.live, options.loop.panorama_width)
-          : loadInstallation(*config);
+          : loadInstallation(*config, {.relearn_background = options.relearn_background});
   std::unique_ptr<display::QuadViewPresenter> presenter;
   const std::filesystem::path out(options.out);
   if (options.headless) {
@@ -108,6 +112,8 @@ HOLO_REGISTER_COMMAND(Command{
                      "those cameras, calibration, relic and panorama instead of --scene");
       sub.add_option("--layout", options->layout, "monitors | cross (overrides the configuration)");
       sub.add_flag("--headless", options->headless, "Render offscreen through EGL into --out, no windows");
+      sub.add_flag("--relearn-background", options->relearn_background,
+                   "Learn the background from the first frames even when the calibration captured one");
       sub.add_flag("--live", options->loop.live,
                    "Headless too: capture threads at the cameras' rate (not deterministic)");
       sub.add_option("--frames", options->frames, "Frames to run (0: until the window closes; headless: 30)");

@@ -21,6 +21,9 @@ namespace {
 
 // A hand-edited rotation typed with a few decimals still passes; a scaled or sheared one does not.
 constexpr double kRotationTolerance = 1e-3;
+// A camera whose colour needs more than a tenfold correction is misconfigured, not matched.
+constexpr double kMinColourGain = 0.1;
+constexpr double kMaxColourGain = 10.0;
 
 std::string str(double v) {
   char buffer[64];
@@ -90,6 +93,13 @@ class Reader {
   }
 
   double real(const std::string& key) const { return number(required(key), key); }
+
+  // Optional fields of newer files: absent (or null) in older ones.
+  bool has(const std::string& key) const {
+    if (!node_.IsMap()) return false;
+    const YAML::Node n = node_[key];
+    return n.IsDefined() && !n.IsNull();
+  }
 
   int integer(const std::string& key) const {
     const YAML::Node n = required(key);
@@ -231,7 +241,19 @@ void validateCamera(const CameraCalibration& c, const std::string& file) {
   validateRigid(toCv(c.T_world_camera), fail, "T_world_camera");
   if (!(c.depth_scale > 0) || !std::isfinite(c.depth_scale))
     fail("depth_scale", "metres per depth unit > 0", str(c.depth_scale));
+  if (c.depth_scale >= 1.0)
+    fail("depth_scale", "metres per raw depth unit (0.001 = millimetres)",
+         str(c.depth_scale) + " looks like units per metre (the inverse): write " + str(1.0 / c.depth_scale));
   if (!(c.rms >= 0) || !std::isfinite(c.rms)) fail("rms", "an RMS error >= 0 pixels", str(c.rms));
+  if (c.depth_intrinsics) {
+    validateIntrinsics(*c.depth_intrinsics, [&](const std::string& field, const std::string& e,
+                                                const std::string& g) { fail("depth_" + field, e, g); });
+    validateRigid(toCv(c.T_colour_depth), fail, "T_colour_depth");
+  }
+  for (int i = 0; i < 3; ++i)
+    if (!(c.colour_gains[i] >= kMinColourGain && c.colour_gains[i] <= kMaxColourGain))
+      fail("colour_gains", "linear gains in [" + str(kMinColourGain) + ", " + str(kMaxColourGain) + "]",
+           str(c.colour_gains[i]) + " (element " + std::to_string(i) + ")");
 }
 
 void validatePyramid(const PyramidCalibration& p, const std::string& file) {
@@ -249,6 +271,10 @@ void validatePyramid(const PyramidCalibration& p, const std::string& file) {
     throw InputError(file, "panorama_yaw_rad", "a finite angle in radians", str(p.panorama_yaw_rad));
   if (!isFinite(p.panorama_position))
     throw InputError(file, "panorama_position", "a finite position in metres");
+  if (p.face_view_width < 16 || p.face_view_width > 16384)
+    throw InputError(file, "face_view_width", "16..16384 pixels", std::to_string(p.face_view_width));
+  if (p.face_view_height < 16 || p.face_view_height > 16384)
+    throw InputError(file, "face_view_height", "16..16384 pixels", std::to_string(p.face_view_height));
 }
 
 void writeCamera(const fs::path& tmp, const CameraCalibration& c) {
@@ -263,6 +289,18 @@ void writeCamera(const fs::path& tmp, const CameraCalibration& c) {
   for (int i = 0; i < 5; ++i) dist.at<double>(0, i) = K.distortion[static_cast<std::size_t>(i)];
   out << "distortion_coefficients" << dist;
   out << "T_world_camera" << cv::Mat(toCv(c.T_world_camera));
+  // The optional fields before the required ones: a file cut short loses a required field.
+  if (c.depth_intrinsics) {
+    const Intrinsics& D = *c.depth_intrinsics;
+    out << "depth_image_width" << D.width << "depth_image_height" << D.height;
+    out << "depth_camera_matrix" << cv::Mat(cv::Matx33d(D.fx, 0, D.cx, 0, D.fy, D.cy, 0, 0, 1));
+    cv::Mat depth_dist(1, 5, CV_64F);
+    for (int i = 0; i < 5; ++i) depth_dist.at<double>(0, i) = D.distortion[static_cast<std::size_t>(i)];
+    out << "depth_distortion_coefficients" << depth_dist;
+    out << "T_colour_depth" << cv::Mat(toCv(c.T_colour_depth));
+  }
+  out << "depth_scale_fitted" << static_cast<int>(c.depth_scale_fitted);
+  out << "colour_gains" << cv::Mat(cv::Matx13d(c.colour_gains.r, c.colour_gains.g, c.colour_gains.b));
   out << "depth_scale" << c.depth_scale << "date" << c.date << "rms" << c.rms;
   out.release();
 }
@@ -278,6 +316,7 @@ void writePyramid(const fs::path& tmp, const PyramidCalibration& p) {
         << a.rotation_deg << "mirror" << static_cast<int>(a.mirror) << "}";
   }
   out << "]";
+  out << "face_view_width" << p.face_view_width << "face_view_height" << p.face_view_height;
   out << "panorama_yaw_rad" << p.panorama_yaw_rad;
   out << "panorama_position"
       << cv::Mat(cv::Matx31d(p.panorama_position.x, p.panorama_position.y, p.panorama_position.z));
@@ -395,6 +434,39 @@ CameraCalibration loadCameraCalibration(const fs::path& path) {
   c.depth_scale = in.real("depth_scale");
   c.date = in.text("date");
   c.rms = in.real("rms");
+  if (in.has("depth_camera_matrix") || in.has("T_colour_depth")) {
+    Intrinsics D;
+    D.width = in.integer("depth_image_width");
+    D.height = in.integer("depth_image_height");
+    const cv::Mat DK = in.matrix("depth_camera_matrix", 3, 3);
+    if (DK.at<double>(2, 0) != 0 || DK.at<double>(2, 1) != 0 || DK.at<double>(2, 2) != 1 ||
+        DK.at<double>(1, 0) != 0 || DK.at<double>(0, 1) != 0)
+      in.fail("depth_camera_matrix", "[fx 0 cx; 0 fy cy; 0 0 1]", "a matrix of another form");
+    D.fx = static_cast<float>(DK.at<double>(0, 0));
+    D.fy = static_cast<float>(DK.at<double>(1, 1));
+    D.cx = static_cast<float>(DK.at<double>(0, 2));
+    D.cy = static_cast<float>(DK.at<double>(1, 2));
+    const cv::Mat depth_dist = in.matrix("depth_distortion_coefficients", 1, 5, true);
+    for (int i = 0; i < 5; ++i)
+      D.distortion[static_cast<std::size_t>(i)] = static_cast<float>(depth_dist.at<double>(0, i));
+    c.depth_intrinsics = D;
+    const cv::Mat TCD = in.matrix("T_colour_depth", 4, 4);
+    auto fail_depth = [&](const std::string& f, const std::string& e, const std::string& g) {
+      in.fail(f, e, g);
+    };
+    validateRigid(cv::Matx44d(TCD), fail_depth, "T_colour_depth");
+    c.T_colour_depth = toGlm(cv::Matx44d(TCD));
+  }
+  if (in.has("depth_scale_fitted")) {
+    const int fitted = in.integer("depth_scale_fitted");
+    if (fitted != 0 && fitted != 1) in.fail("depth_scale_fitted", "0 or 1", std::to_string(fitted));
+    c.depth_scale_fitted = fitted == 1;
+  }
+  if (in.has("colour_gains")) {
+    const cv::Mat gains = in.matrix("colour_gains", 1, 3, true);
+    c.colour_gains = {static_cast<float>(gains.at<double>(0)), static_cast<float>(gains.at<double>(1)),
+                      static_cast<float>(gains.at<double>(2))};
+  }
   // Validate against the double-precision matrix, not its float copy.
   auto fail = [&](const std::string& f, const std::string& e, const std::string& g) { in.fail(f, e, g); };
   validateRigid(cv::Matx44d(T), fail, "T_world_camera");
@@ -427,6 +499,8 @@ PyramidCalibration loadPyramidCalibration(const fs::path& path) {
   const cv::Mat pos = in.matrix("panorama_position", 3, 1, true);
   p.panorama_position = {static_cast<float>(pos.at<double>(0)), static_cast<float>(pos.at<double>(1)),
                          static_cast<float>(pos.at<double>(2))};
+  if (in.has("face_view_width")) p.face_view_width = in.integer("face_view_width");
+  if (in.has("face_view_height")) p.face_view_height = in.integer("face_view_height");
   p.date = in.text("date");
   validatePyramid(p, path.string());
   return p;

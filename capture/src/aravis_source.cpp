@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <functional>
 #include <mutex>
 
@@ -205,6 +206,7 @@ struct Popped {
   GrabStatus status = GrabStatus::Timeout;
   cv::Mat image;
   Nanoseconds device_time{0};
+  Nanoseconds host_time{0};  // arrival, on the host's clock (common to both devices)
   std::string message;
 };
 
@@ -229,8 +231,14 @@ Popped popOne(AravisDevice& d, Nanoseconds timeout, bool wait, Convert convert) 
           RawImage{data, size, arv_buffer_get_image_width(buffer), arv_buffer_get_image_height(buffer), 0});
       out.status = GrabStatus::Ok;
       const guint64 t = arv_buffer_get_timestamp(buffer);
-      out.device_time =
-          Nanoseconds(static_cast<std::int64_t>(t ? t : arv_buffer_get_system_timestamp(buffer)));
+      // Arrival on the host's real-time clock; a stream that does not stamp it (0) gets the time
+      // it is popped, on the same clock.
+      const guint64 arrival = arv_buffer_get_system_timestamp(buffer);
+      out.host_time =
+          arrival
+              ? Nanoseconds(static_cast<std::int64_t>(arrival))
+              : std::chrono::duration_cast<Nanoseconds>(std::chrono::system_clock::now().time_since_epoch());
+      out.device_time = t ? Nanoseconds(static_cast<std::int64_t>(t)) : out.host_time;
     } catch (const Error& e) {
       out.status = GrabStatus::Failed;
       out.message = e.what();
@@ -296,6 +304,7 @@ void AravisSource::stop() {
   resends_before_ += resends;
   colour_.reset();
   depth_.reset();
+  pairer_.clear();  // a reopened device's frames pair afresh
 }
 
 GrabResult AravisSource::grab(Nanoseconds timeout) {
@@ -305,24 +314,43 @@ GrabResult AravisSource::grab(Nanoseconds timeout) {
   auto toDepth = [&](const RawImage& raw) { return convertToDepth(depth_->format, raw, scale); };
 
   GrabResult result;
-  Popped main = colour_ ? popOne(*colour_, timeout, true, toColour) : popOne(*depth_, timeout, true, toDepth);
-  health().resends.store(
-      resends_before_ + (colour_ ? colour_->resends() : 0) + (depth_ ? depth_->resends() : 0),
-      std::memory_order_relaxed);
-  if (main.status != GrabStatus::Ok) return {main.status, {}, main.message};
-  (colour_ ? result.frame.colour : result.frame.depth) = main.image;
-  result.frame.device_time = main.device_time;
-
+  const auto countResends = [&] {
+    health().resends.store(
+        resends_before_ + (colour_ ? colour_->resends() : 0) + (depth_ ? depth_->resends() : 0),
+        std::memory_order_relaxed);
+  };
   if (colour_ && depth_) {
-    // Pair with a depth buffer from the second device, waiting at most one more timeout.
-    Popped depth = popOne(*depth_, timeout, true, toDepth);
-    if (depth.status == GrabStatus::Disconnected) return {depth.status, {}, depth.message};
-    if (depth.status == GrabStatus::Ok && depth.image.size() == main.image.size()) {
-      result.frame.depth = depth.image;
-    } else if (depth.status == GrabStatus::Ok) {
-      HOLO_LOG_WARN("{}: depth {}x{} does not match colour {}x{}; frame without depth", name(),
-                    depth.image.cols, depth.image.rows, main.image.cols, main.image.rows);
+    // Two devices: colour and depth paired by arrival time (frame_pairing.hpp). Each pop waits
+    // at most `timeout`; frames already popped stay in the pairer for the next grab.
+    for (;;) {
+      if (std::optional<FramePair> pair = pairer_.pop()) {
+        result.frame.colour = std::move(pair->colour.image);
+        result.frame.depth = std::move(pair->depth.image);  // its own size: the loop registers it
+        result.frame.device_time = pair->colour.device_time;
+        health().pair_skew_us.store(static_cast<std::int64_t>(std::llround(pair->skew_ms * 1e3)),
+                                    std::memory_order_relaxed);
+        break;
+      }
+      health().frames_unpaired.store(pairer_.droppedColour() + pairer_.droppedDepth(),
+                                     std::memory_order_relaxed);
+      const bool want_colour = !pairer_.hasColour();
+      Popped popped =
+          want_colour ? popOne(*colour_, timeout, true, toColour) : popOne(*depth_, timeout, true, toDepth);
+      countResends();
+      if (popped.status != GrabStatus::Ok) return {popped.status, {}, popped.message};
+      StampedImage frame{std::move(popped.image), popped.host_time, popped.device_time};
+      if (want_colour)
+        pairer_.pushColour(std::move(frame));
+      else
+        pairer_.pushDepth(std::move(frame));
     }
+  } else {
+    Popped main =
+        colour_ ? popOne(*colour_, timeout, true, toColour) : popOne(*depth_, timeout, true, toDepth);
+    countResends();
+    if (main.status != GrabStatus::Ok) return {main.status, {}, main.message};
+    (colour_ ? result.frame.colour : result.frame.depth) = main.image;
+    result.frame.device_time = main.device_time;
   }
   result.status = GrabStatus::Ok;
   result.frame.sequence = sequence_++;

@@ -29,6 +29,8 @@ CameraHealth HealthCounters::snapshot(Clock::time_point now) const {
   h.resends = resends.load(std::memory_order_relaxed);
   h.disconnects = disconnects.load(std::memory_order_relaxed);
   h.reconnects = reconnects.load(std::memory_order_relaxed);
+  h.frames_unpaired = frames_unpaired.load(std::memory_order_relaxed);
+  h.pair_skew_ms = static_cast<double>(pair_skew_us.load(std::memory_order_relaxed)) * 1e-3;
   h.connected = connected.load(std::memory_order_relaxed);
   const std::int64_t last = last_frame_ns.load(std::memory_order_relaxed);
   if (last >= 0) {

@@ -1,6 +1,9 @@
 #include "holo/capture/capture_config.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <set>
 
@@ -36,10 +39,18 @@ double rate(const ConfigNode& node, const std::string& key) {
   return value;
 }
 
+// Metres per raw depth unit. Before 2026-11-25 this field was the inverse (units per metre,
+// 1000 for millimetres); a value that can only be that is refused with the conversion spelled
+// out rather than silently inverted, so an old file is fixed once, knowingly.
 double depthScale(const ConfigNode& node) {
-  if (!node.has("depth_scale")) return 1000.0;
+  if (!node.has("depth_scale")) return kDefaultMetresPerDepthUnit;
   const double value = node["depth_scale"].as<double>();
-  if (!(value > 0)) node["depth_scale"].fail("a positive number of raw units per metre (1000 = millimetres)");
+  if (value >= 1.0 && std::isfinite(value))
+    node["depth_scale"].fail(
+        "metres per raw depth unit (0.001 = millimetres); " + fmt::format("{:g}", value) +
+        " looks like units per metre, the old convention: write " + fmt::format("{:g}", 1.0 / value));
+  if (!(value > 0.0 && value <= kMaxMetresPerDepthUnit))
+    node["depth_scale"].fail("metres per raw depth unit in (0, 0.1] (0.001 = millimetres)");
   return value;
 }
 
@@ -182,7 +193,7 @@ const char* toString(Backend backend) {
 
 CaptureConfig parseCaptureConfig(const ConfigNode& capture) {
   capture.rejectUnknownKeys({"calibration_dir", "grab_timeout_ms", "silence_timeout_ms", "initial_backoff_ms",
-                             "max_backoff_ms", "cameras"});
+                             "max_backoff_ms", "pair_tolerance_ms", "cameras"});
   CaptureConfig config;
   if (capture.has("calibration_dir"))
     config.calibration_dir = capture.pathBesideFile(capture["calibration_dir"].as<std::string>());
@@ -194,6 +205,9 @@ CaptureConfig parseCaptureConfig(const ConfigNode& capture) {
   config.options.max_backoff = millis(capture, "max_backoff_ms", config.options.max_backoff);
   if (config.options.max_backoff < config.options.initial_backoff)
     capture["max_backoff_ms"].fail("at least initial_backoff_ms");
+  config.pair_tolerance_ms = capture.get<double>("pair_tolerance_ms", kDefaultPairToleranceMs);
+  if (!(config.pair_tolerance_ms > 0.0 && config.pair_tolerance_ms <= 1000.0))
+    capture["pair_tolerance_ms"].fail("milliseconds in (0, 1000] (default 16: half a frame at 30 Hz)");
 
   const ConfigNode cameras = capture["cameras"];
   if (!cameras.isSequence() || cameras.size() == 0 || cameras.size() > 4)
@@ -201,6 +215,8 @@ CaptureConfig parseCaptureConfig(const ConfigNode& capture) {
   std::set<int> faces;
   for (std::size_t i = 0; i < cameras.size(); ++i) {
     CameraEntry e = parseCamera(cameras[i]);
+    e.aravis.pair_tolerance =
+        Nanoseconds(static_cast<std::int64_t>(std::llround(config.pair_tolerance_ms * 1e6)));
     if (!faces.insert(e.face).second)
       cameras[i]["face"].fail("a face no other camera has", "face " + std::to_string(e.face) + " again");
     config.cameras.push_back(std::move(e));

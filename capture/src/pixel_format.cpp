@@ -152,13 +152,13 @@ cv::Mat convertToColour(PixelFormat format, const RawImage& raw) {
   return out;
 }
 
-cv::Mat convertToDepth(PixelFormat format, const RawImage& raw, double units_per_metre) {
+cv::Mat convertToDepth(PixelFormat format, const RawImage& raw, double metres_per_unit) {
   if (format != PixelFormat::Mono16 && format != PixelFormat::Z16 && format != PixelFormat::Coord3D_C16)
     throw Error(toString(format) + " cannot carry depth (use Mono16, Z16 or Coord3D_C16)");
-  if (!(units_per_metre > 0)) throw Error("depth scale must be positive");
+  if (!(metres_per_unit > 0)) throw Error("depth scale must be positive");
   // All three are little-endian uint16, as is every host this runs on (x86-64, aarch64).
   cv::Mat out;
-  wrap(format, raw, CV_16UC1).convertTo(out, CV_32FC1, 1.0 / units_per_metre);
+  wrap(format, raw, CV_16UC1).convertTo(out, CV_32FC1, metres_per_unit);
   return out;
 }
 

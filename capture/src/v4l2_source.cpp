@@ -353,7 +353,7 @@ void checkFormat(const V4l2StreamConfig& s, bool depth, const std::string& who) 
   if (depth ? f != PixelFormat::Z16 : (f != PixelFormat::YUYV && f != PixelFormat::MJPEG))
     throw InputError(who, field, depth ? "Z16" : "YUYV or MJPG", s.pixel_format);
   if (depth && !(s.depth_scale > 0))
-    throw InputError(who, "depth.depth_scale", "a positive number of units per metre");
+    throw InputError(who, "depth.depth_scale", "a positive number of metres per raw unit");
 }
 }  // namespace
 

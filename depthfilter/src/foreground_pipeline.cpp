@@ -32,11 +32,10 @@ std::array<float, 256> srgbTable() {
 // Back-projects the filtered depth and the border layer. Both are 0 outside `box` (the filter
 // outputs only on the mask; see borderBox), so only the box is read.
 void appendPoints(const CameraModel& camera, std::uint16_t camera_index, const std::vector<vec3>& directions,
-                  const cv::Mat& colour, const CameraForeground& result, const cv::Rect& box, float exposure,
-                  std::vector<ForegroundPoint>& out) {
+                  const cv::Mat& colour, const CameraForeground& result, const cv::Rect& box,
+                  vec3 gains_over_exposure, std::vector<ForegroundPoint>& out) {
   static const std::array<float, 256> kLinear = srgbTable();
   const mat4& T = camera.T_world_camera();
-  const float inverse_exposure = 1.0f / exposure;
   for (int y = box.y; y < box.y + box.height; ++y) {
     const float* depth = result.depth.ptr<float>(y);
     const float* border_weight = result.border.weight.ptr<float>(y);
@@ -52,7 +51,7 @@ void appendPoints(const CameraModel& camera, std::uint16_t camera_index, const s
       ForegroundPoint p;
       p.position =
           transformPoint(T, directions[std::size_t(y) * std::size_t(result.depth.cols) + std::size_t(x)] * d);
-      p.radiance = vec3(kLinear[bgr[x][2]], kLinear[bgr[x][1]], kLinear[bgr[x][0]]) * inverse_exposure;
+      p.radiance = vec3(kLinear[bgr[x][2]], kLinear[bgr[x][1]], kLinear[bgr[x][0]]) * gains_over_exposure;
       p.weight = std::min(w, 1.0f);
       p.camera = camera_index;
       p.x = static_cast<std::uint16_t>(x);
@@ -61,6 +60,12 @@ void appendPoints(const CameraModel& camera, std::uint16_t camera_index, const s
       out.push_back(p);
     }
   }
+}
+
+// Camera i's colour gains (1 when not given) over the exposure: one multiply per point.
+vec3 gainsOverExposure(const ForegroundPipelineConfig& config, std::size_t camera) {
+  const vec3 gains = camera < config.colour_gains.size() ? config.colour_gains[camera] : vec3(1.0f);
+  return gains / config.exposure;
 }
 
 void checkFrame(const RgbdFrame& frame, const CameraModel& camera, std::size_t index) {
@@ -82,6 +87,9 @@ ForegroundPipeline::ForegroundPipeline(std::vector<CameraModel> cameras, Foregro
   if (cameras_.empty()) throw Error("ForegroundPipeline: expected at least one camera");
   if (!(config_.exposure > 0.0f) || !std::isfinite(config_.exposure))
     throw Error("ForegroundPipeline: exposure must be positive and finite");
+  for (const vec3& gains : config_.colour_gains)
+    if (!(gains.r > 0.0f && gains.g > 0.0f && gains.b > 0.0f) || !isFinite(gains))
+      throw Error("ForegroundPipeline: colour gains must be positive and finite");
   stages_.reserve(cameras_.size());
   for (std::size_t i = 0; i < cameras_.size(); ++i) {
     ForegroundMaskConfig mask_config = config_.mask;
@@ -147,7 +155,7 @@ ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> frames) {
     result.border = expandBorder(result.mask, result.depth, config_.border);
     frame.colour.copyTo(stage.previous_colour);  // reuses the buffer of the frame before
     appendPoints(cameras_[i], static_cast<std::uint16_t>(i), stage.plane_directions, frame.colour, result,
-                 borderBox(result.mask, config_.border), config_.exposure, stage.points);
+                 borderBox(result.mask, config_.border), gainsOverExposure(config_, i), stage.points);
   };
   if (config_.parallel)
     tbb::parallel_for(std::size_t(0), stages_.size(), run_camera);

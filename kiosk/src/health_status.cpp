@@ -110,6 +110,7 @@ nlohmann::json HealthStatus::toJson() const {
   j["stage_ms"] = nlohmann::json::object();
   for (const auto& [stage, ms] : stage_ms) j["stage_ms"][validUtf8(stage)] = finite(ms);
   j["foreground_share"] = foreground_share ? nlohmann::json(finite(*foreground_share)) : nlohmann::json();
+  j["camera_skew_ms"] = camera_skew_ms ? nlohmann::json(finite(*camera_skew_ms)) : nlohmann::json();
   j["cameras"] = nlohmann::json::array();
   for (const auto& c : cameras) {
     j["cameras"].push_back({{"name", validUtf8(c.name)},
@@ -117,7 +118,9 @@ nlohmann::json HealthStatus::toJson() const {
                             {"frames", c.frames},
                             {"dropped", c.dropped},
                             {"reconnects", c.reconnects},
-                            {"last_frame_age_s", finite(c.last_frame_age_s)}});
+                            {"last_frame_age_s", finite(c.last_frame_age_s)},
+                            {"unpaired", c.unpaired},
+                            {"pair_skew_ms", finite(c.pair_skew_ms)}});
   }
   j["cameras_alive"] = camerasAlive();
   j["uptime_s"] = finite(uptime_s);
@@ -143,6 +146,11 @@ std::string HealthStatus::toPrometheus() const {
     e.family("foreground_share", "gauge", "Fraction of view pixels showing foreground.");
     e.sample("foreground_share", *foreground_share);
   }
+  if (camera_skew_ms) {
+    e.family("camera_skew_seconds", "gauge",
+             "Spread of the arrival times of the camera frames the last frame was made of.");
+    e.sample("camera_skew_seconds", *camera_skew_ms / 1000.0);
+  }
   e.family("frames_total", "counter", "Frames rendered since start.");
   e.sample("frames_total", static_cast<double>(frames));
   e.family("uptime_seconds", "gauge", "Seconds since the kiosk started.");
@@ -167,6 +175,13 @@ std::string HealthStatus::toPrometheus() const {
   e.family("camera_last_frame_age_seconds", "gauge", "Seconds since the camera's newest frame.");
   for (const auto& c : cameras)
     e.sample("camera_last_frame_age_seconds", c.last_frame_age_s, label("camera", c.name));
+  e.family("camera_unpaired_frames_total", "counter",
+           "Colour and depth frames of a two-device camera dropped for want of a partner in time.");
+  for (const auto& c : cameras)
+    e.sample("camera_unpaired_frames_total", static_cast<double>(c.unpaired), label("camera", c.name));
+  e.family("camera_pair_skew_seconds", "gauge", "A two-device camera's last depth - colour arrival time.");
+  for (const auto& c : cameras)
+    e.sample("camera_pair_skew_seconds", c.pair_skew_ms / 1000.0, label("camera", c.name));
   e.family("recent_errors", "gauge", "Errors kept in the health JSON's last_errors (at most 10).");
   e.sample("recent_errors", static_cast<double>(last_errors.size()));
   e.family("config_fallback", "gauge",

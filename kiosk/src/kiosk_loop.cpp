@@ -161,6 +161,7 @@ void KioskLoop::frame(SystemdNotifier& notifier) {
     health_.stage_ms["frame"] = frame_ms;
     health_.cameras = report.cameras;
     health_.foreground_share = report.foreground_share;
+    health_.camera_skew_ms = report.camera_skew_ms;
     const double window_s = std::chrono::duration<double>(t1 - fps_window_start_).count();
     if (window_s >= 1.0) {
       health_.fps = static_cast<double>(fps_window_frames_) / window_s;

@@ -95,9 +95,13 @@ FrameLoop::FrameLoop(FrameLoopOptions options, Installation installation,
           throw InputError(installation.name, "cameras", "at least one camera");
         depthfilter::ForegroundPipelineConfig config;
         config.exposure = installation.camera_exposure;
+        config.colour_gains = installation.colour_gains;
         return depthfilter::ForegroundPipeline(installation.cameras, config);
       }()),
       camera_exposure_(installation.camera_exposure),
+      colour_gains_(installation.colour_gains),
+      depth_correction_(installation.depth_correction),
+      depth_to_colour_(installation.depth_to_colour),
       eye_tracker_(options_.eyes),
       presenter_(std::move(presenter)) {
   if (options_.view_size < 16 || options_.view_size > 4096)
@@ -106,7 +110,8 @@ FrameLoop::FrameLoop(FrameLoopOptions options, Installation installation,
   if (installation.sources.size() != n || installation.capture_options.size() != n)
     throw Error("installation " + installation.name + ": one source and capture setting per camera expected");
 
-  environment_ = reflect::Environment(installation.panorama, installation.panorama_yaw_rad);
+  environment_ =
+      reflect::Environment(installation.panorama, installation.panorama_yaw_rad, installation.panorama_proxy);
   ibl_ = reflect::PrefilteredIbl(environment_);
   render_scene_ = std::make_unique<reflect::RenderScene>(installation.relic, std::vector<Model>{});
   renderer_ = std::make_unique<reflect::FrameRenderer>(*render_scene_, ibl_, options_.tracer);
@@ -151,6 +156,7 @@ void FrameLoop::learnBackground(const Installation& installation) {
   ProgressReporter progress(installation.background_frames, "learning the background");
   for (int k = 0; k < installation.background_frames; ++k) {
     std::vector<RgbdFrame> frames = options_.live ? waitLive() : grabDeterministic().frames;
+    correctDepth(frames);
     rejectUnusable(frames);
     foreground_.learnBackground(frames);
     progress.update(1);
@@ -235,14 +241,20 @@ FrameLoop::CameraFrames FrameLoop::acquire(double& wait_ms) {
 
 std::vector<reflect::ForegroundCameraImage> FrameLoop::cameraImages(const std::vector<RgbdFrame>& frames,
                                                                     const std::vector<cv::Mat>& masks) {
-  // sRGB bytes -> linear radiance in one table read per channel (the camera's exposure folded in).
-  const float exposure = camera_exposure_;
-  std::array<float, 256> table{};
-  for (int i = 0; i < 256; ++i) table[std::size_t(i)] = srgbToLinear(float(i) / 255.0f) / exposure;
+  // sRGB bytes -> linear radiance in one table read per channel (the camera's exposure and
+  // colour gains folded in).
+  std::array<float, 256> linear_table{};
+  for (int i = 0; i < 256; ++i)
+    linear_table[std::size_t(i)] = srgbToLinear(float(i) / 255.0f) / camera_exposure_;
   linear_colour_.resize(frames.size());
   std::vector<reflect::ForegroundCameraImage> images(frames.size());
   for (std::size_t i = 0; i < frames.size(); ++i) {
     if (masks[i].empty() || frames[i].colour.empty()) continue;  // no image: its points are ignored
+    const vec3 gains = i < colour_gains_.size() ? colour_gains_[i] : vec3(1.0f);
+    // BGR order, as the bytes are.
+    std::array<std::array<float, 256>, 3> table{};
+    for (std::size_t c = 0; c < 3; ++c)
+      for (std::size_t k = 0; k < 256; ++k) table[c][k] = linear_table[k] * gains[2 - static_cast<int>(c)];
     const cv::Mat& srgb = frames[i].colour;
     cv::Mat& linear = linear_colour_[i];
     linear.create(srgb.size(), CV_32FC3);
@@ -253,13 +265,29 @@ std::vector<reflect::ForegroundCameraImage> FrameLoop::cameraImages(const std::v
     tbb::parallel_for(box.y, box.y + box.height, [&](int y) {
       const std::uint8_t* in = srgb.ptr<std::uint8_t>(y) + 3 * box.x;
       float* out = linear.ptr<float>(y) + 3 * box.x;
-      for (int k = 0; k < 3 * box.width; ++k) out[k] = table[in[k]];
+      for (int k = 0; k < 3 * box.width; ++k) out[k] = table[std::size_t(k % 3)][in[k]];
     });
     images[i].camera = cameras_[i];
     images[i].colour_bgr = linear;
     images[i].mask = masks[i];
   }
   return images;
+}
+
+void FrameLoop::correctDepth(std::vector<RgbdFrame>& frames) const {
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    RgbdFrame& frame = frames[i];
+    if (frame.depth.empty() || frame.depth.type() != CV_32FC1) continue;  // rejectUnusable says why
+    // Into new buffers: the frame's depth may be shared (the live mailbox, preloaded frames).
+    if (i < depth_correction_.size() && depth_correction_[i] != 1.0f) {
+      cv::Mat corrected;
+      frame.depth.convertTo(corrected, CV_32FC1, depth_correction_[i]);
+      frame.depth = corrected;
+    }
+    if (i < depth_to_colour_.size() && depth_to_colour_[i] &&
+        frame.depth.size() == depth_to_colour_[i]->depthSize())
+      frame.depth = depth_to_colour_[i]->apply(frame.depth);
+  }
 }
 
 void FrameLoop::rejectUnusable(std::vector<RgbdFrame>& frames) {
@@ -287,8 +315,17 @@ void FrameLoop::rejectUnusable(std::vector<RgbdFrame>& frames) {
 FrameLoop::ForegroundFrame FrameLoop::runForeground() {
   ForegroundFrame out;
   out.acquired = acquire(out.acquisition_ms);
+  correctDepth(out.acquired.frames);
   rejectUnusable(out.acquired.frames);
-  for (const RgbdFrame& f : out.acquired.frames) out.cameras_live += f.colour.empty() ? 0 : 1;
+  std::optional<Clock::time_point> oldest, newest;
+  for (const RgbdFrame& f : out.acquired.frames) {
+    if (f.colour.empty()) continue;
+    ++out.cameras_live;
+    if (!oldest || f.host_time < *oldest) oldest = f.host_time;
+    if (!newest || f.host_time > *newest) newest = f.host_time;
+  }
+  if (out.cameras_live >= 2)
+    out.camera_skew_ms = std::chrono::duration<double, std::milli>(*newest - *oldest).count();
   if (out.acquired.ended && out.cameras_live == 0) return out;  // nothing more will come
   const auto t0 = Clock::now();
   out.cloud = foreground_.process(out.acquired.frames);
@@ -314,6 +351,7 @@ FrameReport FrameLoop::step() {
   const std::vector<RgbdFrame>& frames = fg.acquired.frames;
   report.times.acquisition = fg.acquisition_ms;
   report.cameras_live = fg.cameras_live;
+  report.camera_skew_ms = fg.camera_skew_ms;
   if (fg.acquired.ended && fg.cameras_live == 0) {  // nothing more will come: no frame to render
     report.cameras_ended = true;
     return report;

@@ -1,10 +1,12 @@
 #include "holo/pipeline/installation.hpp"
 
+#include <fmt/format.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
 #include <utility>
+#include <opencv2/imgcodecs.hpp>
 
 #include "holo/calib/calibration_io.hpp"
 #include "holo/capture/capture_config.hpp"
@@ -57,10 +59,17 @@ cv::Mat loadPanorama(const ConfigNode& exhibit) {
   return hdr.pixels;
 }
 
+struct CalibratedCamera {
+  CameraModel model;
+  vec3 colour_gains{1.0f};
+  float depth_correction = 1.0f;
+  std::optional<capture::DepthToColour> depth_to_colour;
+};
+
 // The model of configured camera `entry`: its calibration file when there is one, else the
 // source's own (recordings and the simulation know theirs).
-CameraModel cameraModelOf(const capture::CaptureConfig& config, const capture::CameraEntry& entry,
-                          const capture::CameraSource& source) {
+CalibratedCamera calibratedCameraOf(const capture::CaptureConfig& config, const capture::CameraEntry& entry,
+                                    const capture::CameraSource& source) {
   const std::string serial = source.serial();
   std::error_code ec;
   if (!serial.empty()) {
@@ -68,13 +77,35 @@ CameraModel cameraModelOf(const capture::CaptureConfig& config, const capture::C
     if (fs::is_regular_file(file, ec)) {
       const calib::CameraCalibration calibration = calib::loadCameraCalibration(file);
       HOLO_LOG_INFO("camera {} (face {}): calibration {}", source.name(), entry.face, file.string());
-      return calib::toCameraModel(calibration, file.string());
+      float depth_correction = 1.0f;
+      if (calibration.depth_scale_fitted) {
+        depth_correction = static_cast<float>(calibration.depth_scale / source.metresPerDepthUnit());
+        HOLO_LOG_INFO("camera {}: fitted depth scale {:.6g} m per unit against the nominal {:.6g} (x{:.4f})",
+                      source.name(), calibration.depth_scale, source.metresPerDepthUnit(), depth_correction);
+        // A fitted scale more than 20% off its nominal one is a wrong unit, not a calibration.
+        if (!(depth_correction > 0.8f && depth_correction < 1.25f))
+          throw InputError(file.string(), "depth_scale",
+                           "a fitted scale within 20% of the source's nominal " +
+                               fmt::format("{:g}", source.metresPerDepthUnit()) +
+                               " metres per raw unit (capture.cameras[].depth.depth_scale)",
+                           fmt::format("{:g}", calibration.depth_scale));
+      }
+      std::optional<capture::DepthToColour> depth_to_colour;
+      if (calibration.depth_intrinsics) {
+        depth_to_colour.emplace(*calibration.depth_intrinsics, calibration.intrinsics,
+                                calibration.T_colour_depth);
+        HOLO_LOG_INFO("camera {}: depth from a second device ({}x{}), reprojected into the colour image",
+                      source.name(), calibration.depth_intrinsics->width,
+                      calibration.depth_intrinsics->height);
+      }
+      return {calib::toCameraModel(calibration, file.string()), calibration.colour_gains, depth_correction,
+              std::move(depth_to_colour)};
     }
   }
   if (const std::optional<CameraModel> model = source.cameraModel()) {
     HOLO_LOG_INFO("camera {} (face {}): no calibration file in {}, the source's own model", source.name(),
                   entry.face, config.calibration_dir.string());
-    return *model;
+    return {*model, vec3(1.0f), 1.0f, std::nullopt};
   }
   const std::string expected_file =
       serial.empty() ? (config.calibration_dir / "camera_SERIAL.yml").string()
@@ -120,12 +151,35 @@ Installation simulatedInstallation(const std::string& scene, bool paced, int pan
   return installation;
 }
 
-Installation loadInstallation(const ConfigNode& root) {
+std::optional<RgbdFrame> loadCalibratedBackground(const fs::path& dir, std::size_t index, cv::Size size) {
+  const fs::path colour_file = dir / ("background_camera" + std::to_string(index) + ".png");
+  const fs::path depth_file = dir / ("background_depth_camera" + std::to_string(index) + ".png");
+  std::error_code ec;
+  if (!fs::is_regular_file(colour_file, ec) || !fs::is_regular_file(depth_file, ec)) return std::nullopt;
+  const auto check = [&](const fs::path& file, const cv::Mat& image, int type, const std::string& kind) {
+    if (image.empty() || image.type() != type || image.size() != size)
+      throw InputError(file.string(), "",
+                       kind + " of " + std::to_string(size.width) + "x" + std::to_string(size.height) +
+                           " (the camera's calibrated size)",
+                       image.empty() ? std::string("not a readable PNG")
+                                     : std::to_string(image.cols) + "x" + std::to_string(image.rows) +
+                                           " of type " + std::to_string(image.type()));
+  };
+  RgbdFrame frame;
+  frame.colour = cv::imread(colour_file.string(), cv::IMREAD_COLOR);
+  check(colour_file, frame.colour, CV_8UC3, "an 8-bit colour PNG");
+  const cv::Mat depth_mm = cv::imread(depth_file.string(), cv::IMREAD_ANYDEPTH);
+  check(depth_file, depth_mm, CV_16UC1, "a 16-bit depth PNG in millimetres");
+  depth_mm.convertTo(frame.depth, CV_32FC1, 0.001);
+  return frame;
+}
+
+Installation loadInstallation(const ConfigNode& root, const InstallationOptions& installation_options) {
   const capture::CaptureConfig capture = capture::parseCaptureConfig(root["capture"]);
   if (capture.cameras.empty()) root["capture"].fail("at least one camera in capture.cameras");
   const ConfigNode exhibit = root["exhibit"];
   exhibit.rejectUnknownKeys(
-      {"relic", "fit_relic", "panorama", "camera_exposure", "background_frames", "fps"});
+      {"relic", "fit_relic", "panorama", "hall_radius", "camera_exposure", "background_frames", "fps"});
 
   Installation installation;
   installation.name = root.file();
@@ -144,20 +198,59 @@ Installation loadInstallation(const ConfigNode& root) {
   // The pyramid file: where the panorama's directions point in the world.
   const fs::path pyramid = calib::pyramidCalibrationPath(capture.calibration_dir);
   std::error_code ec;
+  if (exhibit.has("hall_radius")) {
+    installation.panorama_proxy.radius = exhibit.getInRange("hall_radius", 10.0f, 0.5f, 1000.0f);
+  }
   if (fs::is_regular_file(pyramid, ec)) {
-    installation.panorama_yaw_rad = calib::loadPyramidCalibration(pyramid).panorama_yaw_rad;
-    HOLO_LOG_INFO("panorama yaw {:.2f} degrees from {}", installation.panorama_yaw_rad * 180.0f / kPi,
-                  pyramid.string());
+    const calib::PyramidCalibration calibration = calib::loadPyramidCalibration(pyramid);
+    installation.panorama_yaw_rad = calibration.panorama_yaw_rad;
+    installation.panorama_proxy.centre = calibration.panorama_position;
+    HOLO_LOG_INFO("panorama yaw {:.2f} degrees, captured at ({:.2f}, {:.2f}, {:.2f}) m from {}",
+                  installation.panorama_yaw_rad * 180.0f / kPi, calibration.panorama_position.x,
+                  calibration.panorama_position.y, calibration.panorama_position.z, pyramid.string());
   } else {
     HOLO_LOG_WARN("{}: no pyramid calibration, the panorama is used unrotated (yaw 0)", pyramid.string());
   }
+  // The pyramid (the world origin) must stand inside the hall the panorama is projected onto.
+  if (!installation.panorama_proxy.infinite() &&
+      installation.panorama_proxy.radius <= glm::length(installation.panorama_proxy.centre) + 0.5f)
+    exhibit["hall_radius"].fail("a radius at least 0.5 m beyond the pyramid (the panorama was captured " +
+                                fmt::format("{:.2f}", glm::length(installation.panorama_proxy.centre)) +
+                                " m from it, pyramid.yml's panorama_position)");
 
   installation.sources = capture::makeSources(capture);
   for (std::size_t i = 0; i < capture.cameras.size(); ++i) {
-    installation.cameras.push_back(cameraModelOf(capture, capture.cameras[i], *installation.sources[i]));
+    const CalibratedCamera camera = calibratedCameraOf(capture, capture.cameras[i], *installation.sources[i]);
+    installation.cameras.push_back(camera.model);
+    installation.colour_gains.push_back(camera.colour_gains);
+    installation.depth_correction.push_back(camera.depth_correction);
+    installation.depth_to_colour.push_back(camera.depth_to_colour);
     capture::CaptureOptions options = capture::makeCaptureOptions(capture, capture.cameras[i]);
     options.camera_id = static_cast<int>(i);  // the loop's camera index, not the face
     installation.capture_options.push_back(options);
+  }
+  // The background the calibration captured, unless asked to learn it again; only when every
+  // camera has one (the loop's learning frames serve all cameras at once).
+  if (!installation_options.relearn_background) {
+    std::vector<RgbdFrame> background;
+    for (std::size_t i = 0; i < installation.cameras.size(); ++i) {
+      const CameraModel& camera = installation.cameras[i];
+      std::optional<RgbdFrame> frame =
+          loadCalibratedBackground(capture.calibration_dir, i, {camera.width(), camera.height()});
+      if (!frame) {
+        HOLO_LOG_INFO("camera {}: no captured background in {}, learning it from the first {} frames", i,
+                      capture.calibration_dir.string(), installation.background_frames);
+        background.clear();
+        break;
+      }
+      background.push_back(std::move(*frame));
+    }
+    if (!background.empty()) {
+      HOLO_LOG_INFO("background of {} cameras from {} (--relearn-background learns it again)",
+                    background.size(), capture.calibration_dir.string());
+      installation.background = std::move(background);
+      installation.background_frames = 0;
+    }
   }
   installation.simulated_cameras =
       std::all_of(installation.sources.begin(), installation.sources.end(), [](const auto& source) {

@@ -133,6 +133,7 @@ class PipelineSource {
     report.foreground_share =
         camera_pixels_ > 0 ? std::min(1.0, static_cast<double>(frame.foreground_points) / camera_pixels_)
                            : 0.0;
+    if (frame.camera_skew_ms >= 0) report.camera_skew_ms = frame.camera_skew_ms;
     const std::vector<capture::CameraHealth> health = loop_->cameraHealth();
     for (std::size_t i = 0; i < health.size(); ++i) {
       kiosk::CameraHealth camera;
@@ -143,6 +144,8 @@ class PipelineSource {
       camera.dropped = health[i].frames_failed + health[i].frames_incomplete + health[i].frames_timed_out;
       camera.reconnects = health[i].reconnects;
       camera.last_frame_age_s = health[i].last_frame_age_s;
+      camera.unpaired = health[i].frames_unpaired;
+      camera.pair_skew_ms = health[i].pair_skew_ms;
       // Each loss and each return, once, named: the mode change alone does not say which camera.
       if (i < was_alive_.size() && camera.alive != was_alive_[i]) {
         if (camera.alive)

@@ -16,9 +16,41 @@ double Environment::pixelSolidAngle(int y, int width, int height) {
   return (2.0 * double(kPi) / width) * (std::cos(theta0) - std::cos(theta1));
 }
 
-Environment::Environment(const cv::Mat& panorama, float yaw) : yaw_(yaw) {
+namespace {
+
+// Distance along unit `direction` from `origin` (inside the sphere) to the sphere; negative when
+// the origin is not inside it.
+float exitDistance(const PanoramaProxy& proxy, const vec3& origin, const vec3& direction) {
+  const vec3 m = origin - proxy.centre;
+  const float c = glm::dot(m, m) - proxy.radius * proxy.radius;
+  if (!(c < 0.0f)) return -1.0f;
+  const float b = glm::dot(m, direction);
+  return -b + std::sqrt(b * b - c);
+}
+
+}  // namespace
+
+vec3 PanoramaProxy::lookupDirection(const vec3& origin, const vec3& direction) const {
+  if (infinite()) return direction;
+  const float t = exitDistance(*this, origin, direction);
+  if (!(t > 0.0f)) return direction;
+  return glm::normalize(origin + t * direction - centre);
+}
+
+float PanoramaProxy::solidAngleRatio(const vec3& origin, const vec3& direction) const {
+  if (infinite()) return 1.0f;
+  const float t = exitDistance(*this, origin, direction);
+  if (!(t > 0.0f)) return 1.0f;
+  const vec3 normal = (origin + t * direction - centre) / radius;
+  const float cosine = std::max(glm::dot(normal, direction), 1e-6f);
+  return t * t / (radius * radius * cosine);
+}
+
+Environment::Environment(const cv::Mat& panorama, float yaw, PanoramaProxy proxy) : yaw_(yaw), proxy_(proxy) {
   if (panorama.empty() || panorama.type() != CV_32FC3)
     throw InputError("", "panorama", "a non-empty CV_32FC3 linear BGR image");
+  if (!isFinite(proxy_.centre) || !(proxy_.radius > 0.0f))
+    throw InputError("", "panorama proxy", "a finite centre and a radius > 0 metres (infinite: no parallax)");
   panorama_ = panorama.clone();
   repaired_ = sanitizeRadiance(panorama_);
   if (repaired_.total() > 0) {
@@ -42,6 +74,10 @@ Environment::Environment(const cv::Mat& panorama, float yaw) : yaw_(yaw) {
         hash *= 1099511628211ull;
       }
     }
+  }
+  for (const float f : {proxy_.centre.x, proxy_.centre.y, proxy_.centre.z, proxy_.radius}) {
+    hash ^= std::bit_cast<std::uint32_t>(f);
+    hash *= 1099511628211ull;
   }
   hash_ = hash ^ (std::uint64_t(w) << 32) ^ std::uint64_t(h);
   integral_ = vec3(integral);
@@ -87,6 +123,27 @@ EnvironmentSample Environment::sample(const vec2& u) const {
   s.direction = equirect::uvToDirection({u_lon, v}, yaw_);
   s.radiance = rgbAt(panorama_, cell.x, cell.y);
   s.pdf = float(cell.probability / row_solid_angle_[cell.y]);
+  return s;
+}
+
+vec3 Environment::radiance(const vec3& origin, const vec3& direction) const {
+  return radiance(proxy_.lookupDirection(origin, direction));
+}
+
+float Environment::pdf(const vec3& origin, const vec3& direction) const {
+  if (proxy_.infinite()) return pdf(direction);
+  // p_origin(w) = p_centre(d) * dOmega_centre / dOmega_origin for the same patch of the sphere.
+  return pdf(proxy_.lookupDirection(origin, direction)) * proxy_.solidAngleRatio(origin, direction);
+}
+
+EnvironmentSample Environment::sample(const vec2& u, const vec3& origin) const {
+  EnvironmentSample s = sample(u);
+  if (proxy_.infinite() || !(s.pdf > 0.0f)) return s;
+  const vec3 m = origin - proxy_.centre;
+  if (!(glm::dot(m, m) < proxy_.radius * proxy_.radius)) return s;  // outside the hall: no parallax
+  const vec3 to_point = proxy_.centre + proxy_.radius * s.direction - origin;
+  s.direction = glm::normalize(to_point);
+  s.pdf *= proxy_.solidAngleRatio(origin, s.direction);
   return s;
 }
 

@@ -86,7 +86,7 @@ vec3 PathTracer::traceFromRelic(const Ray& primary, const RayHit& relic_hit, Sam
     const vec2 u_light = stream.next2D();  // drawn in every mode: the streams stay aligned
     const LightSampling mode = options_.sampling;
     if (mode != LightSampling::kBsdfOnly && bsdf.hasNonDelta()) {
-      const EnvironmentSample ls = environment_.sample(u_light);
+      const EnvironmentSample ls = environment_.sample(u_light, p);
       if (ls.pdf > 0.0f && reflects(ls.direction)) {
         const vec3 f = bsdf.eval(wo, ls.direction);
         if (f.x > 0.0f || f.y > 0.0f || f.z > 0.0f) {
@@ -118,11 +118,11 @@ vec3 PathTracer::traceFromRelic(const Ray& primary, const RayHit& relic_hit, Sam
     hit_scene = &all;
     if (!hit.hit()) {
       // Leaving an open volume through a hole: its medium ends there (no infinite absorption).
-      const vec3 le = environment_.radiance(ray.direction);
+      const vec3 le = environment_.radiance(ray.origin, ray.direction);
       float weight = 1.0f;
       if (!bs->delta) {
         if (mode == LightSampling::kMis) {
-          const float light_pdf = environment_.pdf(ray.direction);
+          const float light_pdf = environment_.pdf(ray.origin, ray.direction);
           weight = bs->pdf / (bs->pdf + light_pdf);
         } else if (mode == LightSampling::kEnvironmentOnly) {
           weight = 0.0f;

@@ -59,7 +59,7 @@ OctahedralMap resamplePanorama(const cv::Mat& pano, float yaw, int size) {
 }  // namespace
 
 PrefilteredIbl::PrefilteredIbl(const Environment& env, PrefilterOptions options)
-    : sh_(env), source_hash_(env.contentHash()) {
+    : sh_(env), proxy_(env.proxy()), source_hash_(env.contentHash()) {
   const int levels = std::max(2, options.levels);
   int base = options.base_size;
   if (base <= 0) base = std::clamp(floorPow2(std::max(1, env.panorama().cols / 4)), 16, 1024);
@@ -115,7 +115,7 @@ vec3 PrefilteredIbl::specular(const vec3& direction, float roughness) const {
 }
 
 SplitSumShading PrefilteredIbl::shadeParts(const SurfaceMaterial& m, const vec3& n, const vec3& wo,
-                                           const vec3& reflected) const {
+                                           const vec3& reflected, const vec3& position) const {
   SplitSumShading parts;
   const float nv = glm::dot(n, wo);
   if (!(nv > 0.0f)) return parts;
@@ -126,14 +126,15 @@ SplitSumShading PrefilteredIbl::shadeParts(const SurfaceMaterial& m, const vec3&
   const vec3 f0 = (1.0f - metallic) * kDielectricF0 * s + metallic * base;
   const float f90 = (1.0f - metallic) * s + metallic;
   parts.specular_scale = f0 * ab.x + f90 * ab.y;
-  parts.environment = specular(reflected, m.roughness);
+  parts.environment = specular(proxy_.lookupDirection(position, reflected), m.roughness);
   const float dielectric_reflectance = kDielectricF0 * s * ab.x + s * ab.y;
   parts.diffuse = (1.0f - metallic) * (1.0f - dielectric_reflectance) * base * irradiance(n) / kPi;
   return parts;
 }
 
-vec3 PrefilteredIbl::shade(const SurfaceMaterial& m, const vec3& n, const vec3& wo) const {
-  const SplitSumShading parts = shadeParts(m, n, wo, glm::reflect(-wo, n));
+vec3 PrefilteredIbl::shade(const SurfaceMaterial& m, const vec3& n, const vec3& wo,
+                           const vec3& position) const {
+  const SplitSumShading parts = shadeParts(m, n, wo, glm::reflect(-wo, n), position);
   return parts.environment * parts.specular_scale + parts.diffuse;
 }
 

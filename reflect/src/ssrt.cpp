@@ -131,7 +131,8 @@ cv::Mat renderSsrt(const RenderScene& scene, const PrefilteredIbl& ibl,
           if (!(nv > 0.0f)) continue;
           // The split-sum shading of the static IBL, as ours.
           const SurfaceMaterial& m = hp.material;
-          const SplitSumShading shading = ibl.shadeParts(m, hp.normal, hp.to_viewer, hp.reflected);
+          const SplitSumShading shading =
+              ibl.shadeParts(m, hp.normal, hp.to_viewer, hp.reflected, hp.position);
           const vec3& scale = shading.specular_scale;
           const vec3& diffuse = shading.diffuse;
           const vec3 psi_s = scale * shading.environment;

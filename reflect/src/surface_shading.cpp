@@ -191,8 +191,8 @@ SurfacePoint resolveSurface(const RenderScene& scene, const RayScene& traced, co
 }
 
 SplitSumShading shadeSurface(const PrefilteredIbl& ibl, const SurfacePoint& surface, const vec3& wo) {
-  SplitSumShading parts =
-      ibl.shadeParts(surface.material, surface.normal, wo, glm::reflect(-wo, surface.normal));
+  SplitSumShading parts = ibl.shadeParts(surface.material, surface.normal, wo,
+                                         glm::reflect(-wo, surface.normal), surface.position);
   parts.specular_scale *= surface.occlusion;
   parts.diffuse = surface.occlusion * parts.diffuse + surface.emission;
   return parts;

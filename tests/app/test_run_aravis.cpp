@@ -60,12 +60,13 @@ TEST(RunAravis, TheFrameLoopRunsOnFakeGigECamerasNamedInTheConfiguration) {
         "    - face: " + std::to_string(c) + "\n      backend: aravis\n      color: {serial: \"" + colour +
         "\", pixel_format: BayerGB8, width: 320, height: 240, frame_rate: 25}\n"
         "      depth: {serial: \"" +
-        depth + "\", pixel_format: Mono16, width: 320, height: 240, frame_rate: 25, depth_scale: 1000}\n";
+        depth + "\", pixel_format: Mono16, width: 320, height: 240, frame_rate: 25, depth_scale: 0.001}\n";
   }
   holo::saveHdr(dir / "hall.exr", museum.renderPanorama(128, 64));
   {
     std::ofstream config(dir / "aravis.yaml");
-    config << "capture:\n  calibration_dir: calibration\n  cameras:\n"
+    // Two free-running fake devices per camera at 25 Hz: their frames arrive up to 20 ms apart.
+    config << "capture:\n  calibration_dir: calibration\n  pair_tolerance_ms: 20\n  cameras:\n"
            << cameras
            << "exhibit:\n  relic: kettle\n  panorama: hall.exr\n  background_frames: 3\n  fps: 25\n"
               "display:\n  layout: cross\n  output_size: [144, 144]\n";

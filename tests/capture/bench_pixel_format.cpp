@@ -39,7 +39,7 @@ void BM_Convert(benchmark::State& state) {
   const RawImage raw{buffer.data(), buffer.size(), width, height, 0};
   const bool depth = isDepthFormat(format);
   for (auto _ : state) {
-    cv::Mat out = depth ? convertToDepth(format, raw, 1000.0) : convertToColour(format, raw);
+    cv::Mat out = depth ? convertToDepth(format, raw, 0.001) : convertToColour(format, raw);
     benchmark::DoNotOptimize(out.data);
   }
   state.SetLabel(toString(format) + " " + std::to_string(width) + "x" + std::to_string(height));

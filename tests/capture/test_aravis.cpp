@@ -164,7 +164,9 @@ TEST_F(FakeAravis, ColourPlusDepthFromTwoDevices) {
   config.depth = config.colour;
   config.depth.serial = serial(1);
   config.depth.pixel_format = "Mono16";
-  config.depth.depth_scale = 1000;
+  config.depth.depth_scale = 0.001;
+  // Two free-running fake devices at 25 Hz: their frames arrive up to 20 ms apart (half a period).
+  config.pair_tolerance = 20ms;
   CaptureThread& t = startCapture(0, config);
   ASSERT_TRUE(waitFor([&] { return t.health().frames_completed >= 5; }, 8000ms));
   std::optional<RgbdFrame> f;
@@ -175,6 +177,12 @@ TEST_F(FakeAravis, ColourPlusDepthFromTwoDevices) {
   cv::minMaxLoc(f->depth, nullptr, &hi);
   EXPECT_GT(hi, 0.0);
   EXPECT_LE(hi, 65.535 + 1e-3);  // uint16 / 1000
+  // Paired by arrival time: the pair's skew is within the tolerance, and it is reported.
+  const CameraHealth h = t.health();
+  EXPECT_LE(std::abs(h.pair_skew_ms), 20.0);
+  EXPECT_GE(h.frames_unpaired, 0);
+  std::cout << "two devices: pair skew " << h.pair_skew_ms << " ms, " << h.frames_unpaired
+            << " frames unpaired of " << h.frames_completed << "\n";
 }
 
 TEST_F(FakeAravis, FivePercentPacketLossKeepsFramesComingAndIsCounted) {

@@ -37,12 +37,12 @@ capture:
     - face: 2
       backend: v4l2
       color: {device: "serial:843112071234", pixel_format: YUYV, width: 640, height: 480, frame_rate: 30}
-      depth: {device: "/dev/video4", pixel_format: Z16, depth_scale: 4000}
+      depth: {device: "/dev/video4", pixel_format: Z16, depth_scale: 0.00025}
     - face: 0
       backend: aravis
       name: north
       color: {serial: GV-0001, pixel_format: BayerRG8, width: 640, height: 360}
-      depth: {serial: GV-0002, pixel_format: Coord3D_C16, depth_scale: 1000, packet_socket: off,
+      depth: {serial: GV-0002, pixel_format: Coord3D_C16, depth_scale: 0.001, packet_socket: off,
               features: {ExposureTime: 8000, GainAuto: "Off"}}
 )");
   ASSERT_EQ(c.cameras.size(), 2u);
@@ -67,7 +67,7 @@ capture:
   EXPECT_EQ(south.v4l2.colour.device, "serial:843112071234");
   EXPECT_EQ(south.v4l2.colour.pixel_format, "YUYV");
   EXPECT_DOUBLE_EQ(south.v4l2.colour.frame_rate, 30.0);
-  EXPECT_DOUBLE_EQ(south.v4l2.depth.depth_scale, 4000.0);
+  EXPECT_DOUBLE_EQ(south.v4l2.depth.depth_scale, 0.00025);
   EXPECT_EQ(makeCaptureOptions(c, south).camera_id, 2);
   // Sources are built without opening anything.
   EXPECT_EQ(makeSource(north)->name(), "north");
@@ -94,6 +94,15 @@ TEST(CaptureConfig, ErrorsNameTheFileAndTheField) {
   const std::string scale = errorOf(
       "capture:\n  cameras:\n    - {face: 0, backend: aravis, depth: {serial: D, depth_scale: -1}}\n");
   EXPECT_TRUE(contains(scale, "capture.cameras[0].depth.depth_scale")) << scale;
+  // The old inverse convention (units per metre) is refused with the value to write instead.
+  const std::string inverse = errorOf(
+      "capture:\n  cameras:\n    - {face: 0, backend: aravis, depth: {serial: D, depth_scale: 1000}}\n");
+  EXPECT_TRUE(contains(inverse, "capture.cameras[0].depth.depth_scale")) << inverse;
+  EXPECT_TRUE(contains(inverse, "metres per raw depth unit")) << inverse;
+  EXPECT_TRUE(contains(inverse, "write 0.001")) << inverse;
+  const std::string coarse = errorOf(
+      "capture:\n  cameras:\n    - {face: 0, backend: aravis, depth: {serial: D, depth_scale: 0.5}}\n");
+  EXPECT_TRUE(contains(coarse, "(0, 0.1]")) << coarse;
 
   const std::string typo =
       errorOf("capture:\n  cameras:\n    - {face: 0, backend: aravis, colour: {serial: A}}\n");
@@ -143,4 +152,15 @@ capture:
   const std::string streams =
       errorOf("capture:\n  cameras:\n    - {face: 0, backend: sim, scene: room, color: {serial: A}}\n");
   EXPECT_TRUE(contains(streams, "sim camera")) << streams;
+}
+
+TEST(CaptureConfig, PairToleranceReachesTwoDeviceCamerasWithItsDefaultStated) {
+  const std::string cameras = "  cameras:\n    - {face: 0, backend: aravis, color: {serial: C}, depth: {serial: D}}\n";
+  const CaptureConfig defaults = parse("capture:\n" + cameras);
+  EXPECT_DOUBLE_EQ(defaults.pair_tolerance_ms, 16.0);
+  EXPECT_EQ(defaults.cameras[0].aravis.pair_tolerance, std::chrono::milliseconds(16));
+  const CaptureConfig loose = parse("capture:\n  pair_tolerance_ms: 25\n" + cameras);
+  EXPECT_EQ(loose.cameras[0].aravis.pair_tolerance, std::chrono::milliseconds(25));
+  const std::string zero = errorOf("capture:\n  pair_tolerance_ms: 0\n" + cameras);
+  EXPECT_TRUE(contains(zero, "capture.pair_tolerance_ms")) << zero;
 }

@@ -57,18 +57,18 @@ TEST(PixelFormat, MjpegDecodesAndRejectsTruncatedOrMisSizedImages) {
   EXPECT_THROW(convertToColour(PixelFormat::MJPEG, raw(cut, 64, 48)), Error);
 }
 
-TEST(PixelFormat, Z16IsLittleEndianUnitsPerMetre) {
+TEST(PixelFormat, Z16IsLittleEndianTimesMetresPerUnit) {
   // Three pixels: 1234 units, 0 (invalid), 65535 units.
   std::vector<std::uint8_t> bytes{0xD2, 0x04, 0x00, 0x00, 0xFF, 0xFF};
-  const cv::Mat d = convertToDepth(PixelFormat::Z16, raw(bytes, 3, 1), 1000.0);
+  const cv::Mat d = convertToDepth(PixelFormat::Z16, raw(bytes, 3, 1), 0.001);
   ASSERT_EQ(d.type(), CV_32FC1);
   EXPECT_FLOAT_EQ(d.at<float>(0, 0), 1.234f);
   EXPECT_FLOAT_EQ(d.at<float>(0, 1), 0.0f);
   EXPECT_FLOAT_EQ(d.at<float>(0, 2), 65.535f);
-  const cv::Mat c16 = convertToDepth(PixelFormat::Coord3D_C16, raw(bytes, 3, 1), 5000.0);
-  EXPECT_FLOAT_EQ(c16.at<float>(0, 0), 1234.0f / 5000.0f);
-  EXPECT_THROW(convertToDepth(PixelFormat::Z16, raw(bytes, 4, 1), 1000.0), Error);  // too short
-  EXPECT_THROW(convertToDepth(PixelFormat::RGB8, raw(bytes, 1, 1), 1000.0), Error);
+  const cv::Mat c16 = convertToDepth(PixelFormat::Coord3D_C16, raw(bytes, 3, 1), 0.0002);
+  EXPECT_FLOAT_EQ(c16.at<float>(0, 0), 1234.0f * 0.0002f);
+  EXPECT_THROW(convertToDepth(PixelFormat::Z16, raw(bytes, 4, 1), 0.001), Error);  // too short
+  EXPECT_THROW(convertToDepth(PixelFormat::RGB8, raw(bytes, 1, 1), 0.001), Error);
 }
 
 TEST(PixelFormat, MonoAndRgbLayouts) {
@@ -135,7 +135,7 @@ TEST(PixelFormat, ACameraAnnouncing64kBy64kIsRefusedWithTheLimit) {
     const PixelFormat format = pixelFormatFromName(name);
     try {
       if (isDepthFormat(format))
-        convertToDepth(format, raw(bytes, 65536, 65536), 1000.0);
+        convertToDepth(format, raw(bytes, 65536, 65536), 0.001);
       else
         convertToColour(format, raw(bytes, 65536, 65536));
       ADD_FAILURE() << name << " converted a 65536x65536 frame";
@@ -161,6 +161,6 @@ TEST(PixelFormat, OddStrideOfASixteenBitFormatIsAFailedFrame) {
   std::vector<std::uint8_t> bytes(64);
   RawImage image = raw(bytes, 4, 4);
   image.stride = 9;
-  EXPECT_THROW(convertToDepth(PixelFormat::Z16, image, 1000.0), Error);
+  EXPECT_THROW(convertToDepth(PixelFormat::Z16, image, 0.001), Error);
   EXPECT_THROW(convertToColour(PixelFormat::Mono16, image), Error);
 }

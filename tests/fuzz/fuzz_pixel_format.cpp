@@ -15,13 +15,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const int width = data[1] | (data[2] << 8);
   const int height = data[3] | (data[4] << 8);
   const std::size_t padding = data[5];
-  const double units_per_metre = data[6] == 0 ? 0.0 : 1000.0 / data[6];
+  const double metres_per_unit = data[6] / 1000.0;
   const bool packed = (data[7] & 1) != 0;
   const std::size_t row = static_cast<std::size_t>(width) * static_cast<std::size_t>(bytesPerPixel(format));
   const holo::capture::RawImage raw{data + 8, size - 8, width, height, packed ? 0 : row + padding};
   try {
     const cv::Mat out = holo::capture::isDepthFormat(format) || format == PixelFormat::Mono16
-                            ? holo::capture::convertToDepth(format, raw, units_per_metre)
+                            ? holo::capture::convertToDepth(format, raw, metres_per_unit)
                             : holo::capture::convertToColour(format, raw);
     if (out.cols != width || out.rows != height) __builtin_trap();
   } catch (const holo::Error&) {

@@ -60,7 +60,7 @@ void BM_IblShadeLookup(benchmark::State& state) {
   std::size_t i = 0;
   for (auto _ : state) {
     const vec3& n = dirs[i++ & 4095];
-    benchmark::DoNotOptimize(ibl.shade(m, n, glm::normalize(n + dirs[(i * 7) & 4095] * 0.5f)));
+    benchmark::DoNotOptimize(ibl.shade(m, n, glm::normalize(n + dirs[(i * 7) & 4095] * 0.5f), vec3(0.0f)));
   }
   state.SetItemsProcessed(state.iterations());
 }

@@ -239,8 +239,8 @@ TEST(PrefilteredIbl, HostilePanoramasGiveFiniteMaps) {
           ASSERT_TRUE(isFinite(t) && t.x >= 0 && t.y >= 0 && t.z >= 0) << "level " << l;
         }
     for (const vec3& d : fibonacciDirections(8)) {
-      EXPECT_TRUE(isFinite(ibl.shade({vec3(0.9f), 0.5f, 0.0f, 1.0f}, d, d)));
-      EXPECT_TRUE(isFinite(ibl.shade({vec3(0.9f), 0.5f, 1.0f, 1.0f}, d, -d)));
+      EXPECT_TRUE(isFinite(ibl.shade({vec3(0.9f), 0.5f, 0.0f, 1.0f}, d, d, vec3(0.0f))));
+      EXPECT_TRUE(isFinite(ibl.shade({vec3(0.9f), 0.5f, 1.0f, 1.0f}, d, -d, vec3(0.0f))));
     }
   }
   // The single bright pixel keeps its power through the prefilter (to the box filter's accuracy).

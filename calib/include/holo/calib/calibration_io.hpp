@@ -12,6 +12,17 @@
 //   depth_scale                      double > 0: metres per raw depth unit (0.001 for millimetres)
 //   date                             string, ISO 8601 UTC time of the calibration
 //   rms                              double >= 0: RMS reprojection error of the intrinsics, pixels
+//   depth_scale_fitted               optional int 0/1: depth_scale was measured against the board
+//                                    (depth_registration.hpp) and the live loop uses it; 0 or
+//                                    absent: the nominal value, the capture configuration's rules
+//   depth_image_width, depth_image_height, depth_camera_matrix, depth_distortion_coefficients,
+//   T_colour_depth                   optional, together: a camera whose depth comes from a second
+//                                    device - that device's intrinsics (as the colour ones) and
+//                                    its pose in the colour camera's frame (4x4 rigid, metres;
+//                                    depth_registration.hpp); the live loop reprojects its depth
+//                                    into the colour image
+//   colour_gains                     optional 1x3 double, linear R G B multipliers in [0.1, 10]
+//                                    (colour_gains.hpp); absent in older files: 1 1 1
 // Pyramid file (pyramid.yml): the four faces' display alignment and the panorama's alignment.
 //
 // Saving is atomic and keeps the previous file: the new content goes to a temporary file in the
@@ -23,6 +34,7 @@
 #include <array>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "holo/core/camera_model.hpp"
@@ -30,12 +42,17 @@
 namespace holo::calib {
 
 struct CameraCalibration {
-  std::string serial;          // stored as camera_name; names the file
-  Intrinsics intrinsics;       // image size, focal lengths, principal point, distortion
-  mat4 T_world_camera{1.0f};   // camera -> world (pyramid frame), metres
-  double depth_scale = 0.001;  // metres per raw depth unit
-  std::string date;            // ISO 8601 UTC; filled in by saveCameraCalibration when empty
-  double rms = 0.0;            // RMS reprojection error of the intrinsics, pixels
+  std::string serial;               // stored as camera_name; names the file
+  Intrinsics intrinsics;            // image size, focal lengths, principal point, distortion
+  mat4 T_world_camera{1.0f};        // camera -> world (pyramid frame), metres
+  double depth_scale = 0.001;       // metres per raw depth unit
+  bool depth_scale_fitted = false;  // measured (used by the live loop) rather than nominal
+  std::string date;                 // ISO 8601 UTC; filled in by saveCameraCalibration when empty
+  double rms = 0.0;                 // RMS reprojection error of the intrinsics, pixels
+  vec3 colour_gains{1.0f};          // linear RGB multipliers matching this camera to the others
+  // Two-device cameras: the depth device's intrinsics and depth camera -> colour camera.
+  std::optional<Intrinsics> depth_intrinsics;
+  mat4 T_colour_depth{1.0f};
 };
 
 // Display alignment of one pyramid face: the face view is optionally mirrored left-right, scaled
@@ -54,7 +71,11 @@ struct PyramidCalibration {
   std::array<FaceAlignment, kPyramidFaces> faces{};  // face f faces azimuth f * 90 degrees
   float panorama_yaw_rad = 0.0f;  // rotation about world +Y taking panorama directions to world
   vec3 panorama_position{0.0f};   // where the panorama was captured, world metres
-  std::string date;               // ISO 8601 UTC; filled in on save when empty
+  // The face view the alignment was measured in (offsets are its pixels); optional in the file
+  // (face_view_width, face_view_height), older files: 960 x 540.
+  int face_view_width = 960;
+  int face_view_height = 540;
+  std::string date;  // ISO 8601 UTC; filled in on save when empty
 };
 
 // Conversions to and from the camera model the pipeline uses. toCameraModel throws InputError

@@ -19,17 +19,18 @@
 #include <vector>
 
 #include "holo/capture/camera_source.hpp"
+#include "holo/capture/frame_pairing.hpp"
 #include "holo/capture/pixel_format.hpp"
 
 namespace holo::capture {
 
 struct AravisStreamConfig {
-  std::string serial;         // device serial number (DeviceSerialNumber)
-  std::string pixel_format;   // PFNC name; "" keeps the device's current format
-  int width = 0, height = 0;  // 0 keeps the device's current region
-  double frame_rate = 0;      // Hz; 0 keeps the device's current rate
-  double depth_scale = 1000;  // depth stream: units per metre (1000 = millimetres)
-  int buffers = 8;            // buffer pool size
+  std::string serial;          // device serial number (DeviceSerialNumber)
+  std::string pixel_format;    // PFNC name; "" keeps the device's current format
+  int width = 0, height = 0;   // 0 keeps the device's current region
+  double frame_rate = 0;       // Hz; 0 keeps the device's current rate
+  double depth_scale = 0.001;  // depth stream: metres per raw unit (0.001 = millimetres)
+  int buffers = 8;             // buffer pool size
   // Further GenICam features set in this order after the format, region and rate, by name and
   // value as text ("ExposureTime" = "8000", "GainAuto" = "Off"). An unknown feature or a
   // rejected value is an InputError naming the feature.
@@ -42,6 +43,9 @@ struct AravisCameraConfig {
   std::string name;           // for logs and statistics; defaults to the colour serial
   AravisStreamConfig colour;  // serial empty = no colour stream
   AravisStreamConfig depth;   // serial empty = no depth stream
+  // Colour and depth from two devices: frames further apart than this are not paired
+  // (frame_pairing.hpp, capture.pair_tolerance_ms).
+  Nanoseconds pair_tolerance{static_cast<std::int64_t>(kDefaultPairToleranceMs * 1e6)};
 };
 
 struct AravisDevice;  // one opened GenICam device and its stream (aravis_source.cpp)
@@ -57,13 +61,15 @@ class AravisSource : public CameraSource {
   void start() override;
   void stop() override;
   GrabResult grab(Nanoseconds timeout) override;
+  double metresPerDepthUnit() const override { return config_.depth.depth_scale; }
 
  private:
   AravisCameraConfig config_;
   std::unique_ptr<AravisDevice> colour_;
   std::unique_ptr<AravisDevice> depth_;
   std::uint64_t sequence_ = 0;
-  std::int64_t resends_before_ = 0;  // resends of earlier connections
+  std::int64_t resends_before_ = 0;             // resends of earlier connections
+  FramePairer pairer_{config_.pair_tolerance};  // colour and depth devices
 };
 
 // One GenICam device found on the network or USB.

@@ -40,6 +40,10 @@ struct CameraHealth {
   std::int64_t resends = 0;            // packets the device re-sent on request (GigE Vision)
   std::int64_t disconnects = 0;        // times the source was lost
   std::int64_t reconnects = 0;         // times it came back after a loss
+  // Two-device cameras (frame_pairing.hpp): colour and depth frames dropped for want of a
+  // partner within the pairing tolerance, and the last pair's depth - colour arrival time.
+  std::int64_t frames_unpaired = 0;
+  double pair_skew_ms = 0.0;
   bool connected = false;
   double last_frame_age_s = -1.0;  // seconds since the last complete frame; -1 = never
 };
@@ -54,6 +58,8 @@ class HealthCounters {
   std::atomic<std::int64_t> resends{0};
   std::atomic<std::int64_t> disconnects{0};
   std::atomic<std::int64_t> reconnects{0};
+  std::atomic<std::int64_t> frames_unpaired{0};
+  std::atomic<std::int64_t> pair_skew_us{0};
   std::atomic<bool> connected{false};
   std::atomic<std::int64_t> last_frame_ns{-1};  // steady_clock time of the last complete frame
 
@@ -85,6 +91,10 @@ class CameraSource {
 
   // Intrinsics and pose when the source knows them (a recording, the simulation).
   virtual std::optional<CameraModel> cameraModel() const { return std::nullopt; }
+  // The metres per raw depth unit the source converts its depth with (its configured or
+  // recorded scale); a calibration that fitted the camera's true scale corrects by the ratio.
+  // Simulated cameras model millimetre sensors.
+  virtual double metresPerDepthUnit() const { return 0.001; }
 
   HealthCounters& health() { return health_; }
   const HealthCounters& health() const { return health_; }

@@ -6,15 +6,17 @@
 //     grab_timeout_ms: 200                # capture thread settings, all optional
 //     silence_timeout_ms: 2000
 //     max_backoff_ms: 5000
+//     pair_tolerance_ms: 16               # colour and depth from two devices: frames further apart
+//                                         # (arrival time) are dropped, counted (frame_pairing.hpp)
 //     cameras:
 //       - face: 0                         # 0..3: the side facing +Z, +X, -Z, -X
 //         backend: aravis                 # aravis | v4l2 | recording
 //         colour: {serial: "GV-0001", pixel_format: BayerRG8, width: 640, height: 360, frame_rate: 30}
-//         depth: {serial: "GV-0002", pixel_format: Coord3D_C16, depth_scale: 1000}
+//         depth: {serial: "GV-0002", pixel_format: Coord3D_C16, depth_scale: 0.001}
 //       - face: 1
 //         backend: v4l2
 //         colour: {device: "serial:843112071234", pixel_format: YUYV, width: 640, height: 480}
-//         depth: {device: "serial:843112071234-depth", pixel_format: Z16, depth_scale: 1000}
+//         depth: {device: "serial:843112071234-depth", pixel_format: Z16, depth_scale: 0.001}
 //       - face: 2
 //         backend: recording
 //         path: recordings/hall-monday    # a recording folder (recording.hpp)
@@ -25,9 +27,11 @@
 //         camera: 3                       # which simulated camera; default = face
 //         paced: true                     # frames at the scene's fps (default)
 //
-// depth_scale is in raw units per metre (1000 = millimetres). Every error is a holo::InputError
-// naming the file and the dotted field ("capture.cameras[1].colour.pixel_format"). Parsing opens
-// nothing; makeSources() builds the sources (and loads simulated scenes).
+// depth_scale is in metres per raw depth unit (0.001 = millimetres; default 0.001), the unit of
+// every depth scale in the project (calibration files too). A value of 1 or more is the old
+// inverse convention (units per metre) and is refused with the value to write instead. Every error is a
+// holo::InputError naming the file and the dotted field ("capture.cameras[1].colour.pixel_format"). Parsing
+// opens nothing; makeSources() builds the sources (and loads simulated scenes).
 #pragma once
 
 #include <filesystem>
@@ -42,6 +46,9 @@
 #include "holo/core/config.hpp"
 
 namespace holo::capture {
+
+inline constexpr double kDefaultMetresPerDepthUnit = 0.001;  // millimetres
+inline constexpr double kMaxMetresPerDepthUnit = 0.1;        // coarser is no depth camera
 
 enum class Backend { Aravis, V4l2, Recording, Simulated };
 const char* toString(Backend backend);
@@ -62,6 +69,7 @@ struct CameraEntry {
 struct CaptureConfig {
   std::filesystem::path calibration_dir = "calibration";  // relative paths: to the config file
   CaptureOptions options;                                 // camera_id is set per camera by makeCaptureOptions
+  double pair_tolerance_ms = kDefaultPairToleranceMs;     // two-device cameras' colour/depth pairing
   std::vector<CameraEntry> cameras;                       // sorted by face
 };
 

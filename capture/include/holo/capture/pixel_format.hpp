@@ -59,7 +59,7 @@ struct RawImage {
 // width x height (or its stride is not a whole number of pixels), or it cannot be decoded (a
 // truncated JPEG); the caller counts the frame as failed.
 cv::Mat convertToColour(PixelFormat format, const RawImage& raw);
-// Mono16, Z16 and Coord3D_C16: units / units_per_metre; 0 stays 0 (invalid).
-cv::Mat convertToDepth(PixelFormat format, const RawImage& raw, double units_per_metre);
+// Mono16, Z16 and Coord3D_C16: units * metres_per_unit; 0 stays 0 (invalid).
+cv::Mat convertToDepth(PixelFormat format, const RawImage& raw, double metres_per_unit);
 
 }  // namespace holo::capture

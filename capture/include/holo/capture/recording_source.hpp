@@ -27,6 +27,8 @@ class RecordingSource : public CameraSource {
   void stop() override {}
   GrabResult grab(Nanoseconds timeout) override;
   std::optional<CameraModel> cameraModel() const override { return camera_.model; }
+  // The recording stores PNG units per metre (recording.hpp, the TUM convention).
+  double metresPerDepthUnit() const override { return 1.0 / camera_.depth_scale; }
 
   std::size_t frameCount() const { return camera_.frames.size(); }
   // Loads frame `index` directly (tests, `info`); throws InputError for an unreadable file.

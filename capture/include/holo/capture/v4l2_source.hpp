@@ -26,12 +26,12 @@
 namespace holo::capture {
 
 struct V4l2StreamConfig {
-  std::string device;         // "/dev/videoN", "bus:BUS_INFO" or "serial:SERIAL"; "" = no stream
-  std::string pixel_format;   // YUYV, MJPG (colour) or Z16 (depth); "" keeps the current one
-  int width = 0, height = 0;  // 0 keeps the current size
-  double frame_rate = 0;      // Hz; 0 keeps the current rate
-  double depth_scale = 1000;  // depth stream: units per metre (RealSense Z16: 1000 = millimetres)
-  int buffers = 4;            // mmap buffer count (the driver may grant more or fewer)
+  std::string device;          // "/dev/videoN", "bus:BUS_INFO" or "serial:SERIAL"; "" = no stream
+  std::string pixel_format;    // YUYV, MJPG (colour) or Z16 (depth); "" keeps the current one
+  int width = 0, height = 0;   // 0 keeps the current size
+  double frame_rate = 0;       // Hz; 0 keeps the current rate
+  double depth_scale = 0.001;  // depth stream: metres per raw unit (RealSense Z16: 0.001 = millimetres)
+  int buffers = 4;             // mmap buffer count (the driver may grant more or fewer)
 };
 
 struct V4l2CameraConfig {
@@ -76,6 +76,7 @@ class V4l2Source : public CameraSource {
   void start() override;
   void stop() override;
   GrabResult grab(Nanoseconds timeout) override;
+  double metresPerDepthUnit() const override { return config_.depth.depth_scale; }
 
  private:
   V4l2CameraConfig config_;

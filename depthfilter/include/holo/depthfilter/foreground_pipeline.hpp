@@ -2,7 +2,8 @@
 // camera, in parallel (oneTBB), the foreground mask phi_i, the precursor flow lambda_i, the
 // pull-push temporal depth filter and the border expansion; then every filtered foreground pixel
 // is back-projected into the world (pyramid) frame with that camera's CameraModel, its sRGB colour
-// linearised and divided by the exposure, its source (camera, pixel) kept.
+// linearised, multiplied by the camera's colour gains and divided by the exposure, its source
+// (camera, pixel) kept.
 //
 // A camera whose frame is missing (empty RgbdFrame) contributes nothing this frame and its
 // filter forgets its history (counted as "Depthfilter/Missing camera frames").
@@ -29,7 +30,10 @@ struct ForegroundPipelineConfig {
   TemporalDepthFilterConfig filter;
   BorderExpansionConfig border;
   float exposure = 1.0f;  // radiance = srgbToLinear(colour) / exposure (the camera's exposure)
-  bool parallel = true;   // cameras in parallel with oneTBB
+  // Per camera, linear RGB multipliers that match its colours to the other cameras' (the
+  // calibration's colour gains); missing entries are 1.
+  std::vector<vec3> colour_gains;
+  bool parallel = true;  // cameras in parallel with oneTBB
 };
 
 // What one camera produced in the last frame (for the reflection stage's pyramids and for tests).

@@ -19,6 +19,10 @@ struct CameraHealth {
   std::int64_t dropped = 0;     // frames dropped (late, corrupt)
   std::int64_t reconnects = 0;  // times the source was reopened
   double last_frame_age_s = 0;  // seconds since its newest frame
+  // Colour and depth from two devices: frames dropped for want of a partner in time, and the
+  // last pair's depth - colour arrival time (capture/frame_pairing.hpp); 0 for one device.
+  std::int64_t unpaired = 0;
+  double pair_skew_ms = 0;
 };
 
 struct HealthStatus {
@@ -29,6 +33,9 @@ struct HealthStatus {
   double frame_ms = 0;                     // smoothed frame time
   std::map<std::string, double> stage_ms;  // last frame's stage times
   std::optional<double> foreground_share;  // fraction of view pixels showing foreground, [0, 1]
+  // Spread of the arrival times of the camera frames the last frame was made of (newest - oldest,
+  // ms): how far apart in time the cameras' views of a visitor are. None with fewer than 2 cameras.
+  std::optional<double> camera_skew_ms;
   std::vector<CameraHealth> cameras;
   double uptime_s = 0;
   std::int64_t frames = 0;

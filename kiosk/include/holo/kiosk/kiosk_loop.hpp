@@ -41,6 +41,7 @@ struct FrameReport {
   std::map<std::string, double> stage_ms;  // per stage, milliseconds
   std::vector<CameraHealth> cameras;       // one entry per configured camera (may be empty)
   std::optional<double> foreground_share;  // [0, 1]
+  std::optional<double> camera_skew_ms;    // HealthStatus::camera_skew_ms
   std::vector<std::string> errors;         // faults of this frame, for the health JSON
 };
 

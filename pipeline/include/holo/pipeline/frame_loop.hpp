@@ -98,7 +98,10 @@ struct FrameReport {
   StageTimes times;
   std::size_t foreground_points = 0;
   int cameras_live = 0;  // cameras whose frame reached the foreground stage
-  std::string plan;      // the effect plan of face 0 ("HitPoints,... (reason)")
+  // Newest - oldest arrival time (host clock, ms) of the camera frames this frame was made of;
+  // -1 with fewer than 2 of them.
+  double camera_skew_ms = -1;
+  std::string plan;  // the effect plan of face 0 ("HitPoints,... (reason)")
   std::array<bool, 4> eyes_tracked{};
   bool presented = false;
   // HDR pixels of the four views with a NaN or infinite channel (the composition guarantees 0;
@@ -192,12 +195,16 @@ class FrameLoop {
     depthfilter::ForegroundCloud cloud;
     std::vector<cv::Mat> masks;  // per camera, copied from the pipeline; empty: no image
     int cameras_live = 0;
+    double camera_skew_ms = -1;  // FrameReport::camera_skew_ms
     double acquisition_ms = 0, foreground_ms = 0;
   };
   ForegroundFrame runForeground();
   // Frames the foreground cannot use (no depth, a size other than the calibrated camera's) become
   // missing ones, with a warning per camera and problem: a camera never stops the loop.
   void rejectUnusable(std::vector<RgbdFrame>& frames);
+  // The calibration's fitted depth scale (Installation::depth_correction), then two-device
+  // cameras' depth reprojected into their colour image (Installation::depth_to_colour).
+  void correctDepth(std::vector<RgbdFrame>& frames) const;
   std::vector<reflect::ForegroundCameraImage> cameraImages(const std::vector<RgbdFrame>& frames,
                                                            const std::vector<cv::Mat>& masks);
 
@@ -223,7 +230,10 @@ class FrameLoop {
   std::vector<reflect::ForegroundCameraImage> last_images_;  // the last frame's, for renderReference
   depthfilter::ForegroundPipeline foreground_;
   depthfilter::ForegroundCloud cloud_;
-  float camera_exposure_ = 1.0f;  // the cameras': radiance = srgbToLinear(colour) / exposure
+  float camera_exposure_ = 1.0f;         // the cameras': radiance = srgbToLinear(colour) / exposure
+  std::vector<vec3> colour_gains_;       // per camera, linear RGB (Installation::colour_gains)
+  std::vector<float> depth_correction_;  // per camera (Installation::depth_correction)
+  std::vector<std::optional<capture::DepthToColour>> depth_to_colour_;  // per camera
   reflect::Environment environment_;
   reflect::PrefilteredIbl ibl_;
   std::unique_ptr<reflect::RenderScene> render_scene_;

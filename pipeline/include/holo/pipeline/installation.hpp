@@ -11,9 +11,24 @@
 //     relic: relics/amphora.glb   # glTF 2.0 file (relative to this file) or vase|kettle|tripod|sphere
 //     fit_relic: false            # scale and centre a relic file on the pedestal (built-in: always)
 //     panorama: hall.hdr          # equirectangular linear HDR of the hall (.hdr or .exr)
+//     hall_radius: 8.0            # metres from the panorama's capture point to the hall's walls:
+//                                 # reflections get the hall's parallax (reflect::PanoramaProxy);
+//                                 # absent: the hall is infinitely far (no parallax)
 //     camera_exposure: 1.0        # the cameras' exposure: radiance = linear(sRGB) / exposure
 //     background_frames: 30       # first frames of every camera that only teach the background
 //     fps: 30                     # the cameras' frame rate (timing of the MP4, eye smoothing)
+//
+// The background: when the calibration folder holds the background the calibration captured
+// for every camera (background_cameraN.png, 8-bit BGR, and background_depth_cameraN.png, 16-bit
+// millimetres, 0 = invalid; N = the camera's index in capture.cameras), it is loaded and
+// exhibit.background_frames is not spent relearning it; `relearn_background` (the commands'
+// --relearn-background) ignores it and learns from the first frames as without one.
+//
+// Two-device cameras: a camera file with the depth device's intrinsics and T_colour_depth has its
+// depth reprojected into the colour image before the foreground pipeline.
+//
+// The depth scale: a camera file whose depth_scale was fitted (depth_scale_fitted: 1) corrects
+// the source's nominal scale (capture.cameras[i].depth.depth_scale, the recording's) by the ratio.
 //
 // A camera's model comes from DIR/camera_SERIAL.yml when the calibration folder has it, else
 // from the source itself when it knows it (a recording, the simulation); a camera with neither
@@ -24,15 +39,18 @@
 #include <filesystem>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "holo/capture/camera_source.hpp"
 #include "holo/capture/capture_thread.hpp"
+#include "holo/capture/depth_to_colour.hpp"
 #include "holo/core/camera_model.hpp"
 #include "holo/core/config.hpp"
 #include "holo/core/mesh.hpp"
 #include "holo/core/rgbd_frame.hpp"
+#include "holo/reflect/environment.hpp"
 
 namespace holo::pipeline {
 
@@ -52,10 +70,23 @@ struct Installation {
   std::vector<RgbdFrame> background;
   int background_frames = 0;
   float camera_exposure = 1.0f;  // radiance = srgbToLinear(colour) / camera_exposure
-  double fps = 30.0;             // the cameras' frame rate
-  Model relic;                   // world frame, standing on the base
-  cv::Mat panorama;              // CV_32FC3 linear BGR, equirectangular
+  // Per camera (same order), the calibration's colour gains: linear RGB multipliers matching its
+  // colours to the other cameras' (calib/colour_gains.hpp); empty or 1 when not calibrated.
+  std::vector<vec3> colour_gains;
+  // Per camera (same order), the factor its depth is multiplied by: the calibration's fitted
+  // metres per raw unit over the source's nominal one (1 when the scale was not fitted).
+  std::vector<float> depth_correction;
+  // Per camera (same order, may be shorter): for a camera whose depth comes from a second device,
+  // the reprojection of its depth into the colour image (the calibration's T_colour_depth and
+  // depth intrinsics); empty where colour and depth share one geometry.
+  std::vector<std::optional<capture::DepthToColour>> depth_to_colour;
+  double fps = 30.0;  // the cameras' frame rate
+  Model relic;        // world frame, standing on the base
+  cv::Mat panorama;   // CV_32FC3 linear BGR, equirectangular
   float panorama_yaw_rad = 0.0f;
+  // Where the panorama's pixels are: centre = its capture point (pyramid.yml's
+  // panorama_position), radius = exhibit.hall_radius; infinite by default.
+  reflect::PanoramaProxy panorama_proxy;
 };
 
 // The simulated museum's scene `scene` (built-in name or YAML file). `paced`: the cameras deliver
@@ -64,9 +95,19 @@ struct Installation {
 Installation simulatedInstallation(const std::string& scene, bool paced, int panorama_width,
                                    const std::string& relic = "");
 
+struct InstallationOptions {
+  bool relearn_background = false;  // ignore the calibration's background (see above)
+};
+
 // The installation a configuration document describes (`root` is the whole document; its
 // `capture:` and `exhibit:` sections are read). Throws InputError naming the file and field.
-Installation loadInstallation(const ConfigNode& root);
+Installation loadInstallation(const ConfigNode& root, const InstallationOptions& options = {});
+
+// The background the calibration captured for camera `index` (see above), checked against the
+// camera's image size; nullopt when either file is absent. InputError naming the file when it is
+// not a picture of that size and kind.
+std::optional<RgbdFrame> loadCalibratedBackground(const std::filesystem::path& calibration_dir,
+                                                  std::size_t index, cv::Size size);
 
 // True when the document has a `capture:` section (then it describes real cameras).
 bool describesCameras(const ConfigNode& root);

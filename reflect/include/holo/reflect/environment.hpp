@@ -1,5 +1,9 @@
-// The environment beyond the scene: an equirectangular linear HDR panorama (CV_32FC3 BGR) seen
-// from infinitely far away, with its importance-sampling distribution built once.
+// The environment beyond the scene: an equirectangular linear HDR panorama (CV_32FC3 BGR), with
+// its importance-sampling distribution built once. By default the panorama is seen from
+// infinitely far away (every point of the scene reads direction d's pixel for direction d). A
+// hall is not infinitely far: with a finite PanoramaProxy the panorama's pixels lie on a sphere
+// of the hall's size around the point where it was captured, and a ray from p reads the pixel
+// of the direction from that point to where the ray meets the sphere (parallax).
 //
 // Direction <-> pixel: core/equirect.hpp is the one mapping (with the calibrated yaw). Radiance
 // is piecewise constant per pixel (nearest pixel), exactly the function the distribution
@@ -12,12 +16,31 @@
 // construction); an all-black panorama is valid and samples nothing.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "holo/core/image.hpp"
 #include "holo/reflect/distribution.hpp"
 
 namespace holo::reflect {
+
+// Where the panorama's pixels are. radius: metres from `centre` (the capture point, world frame)
+// to the hall's walls; infinite = at infinity (the default, no parallax). Points the lookup is
+// asked about should lie inside the sphere; from outside it (or with an infinite radius) the
+// lookup falls back to the ray's own direction.
+struct PanoramaProxy {
+  vec3 centre{0.0f};
+  float radius = std::numeric_limits<float>::infinity();
+
+  bool infinite() const { return !std::isfinite(radius); }
+  // The panorama direction a ray from `origin` along unit `direction` reads.
+  vec3 lookupDirection(const vec3& origin, const vec3& direction) const;
+  // Solid-angle density at `origin` over density at the centre, for the point on the sphere the
+  // ray from `origin` along `direction` meets (|q - origin|^2 / (R^2 cos)): pdf conversion. 1 when
+  // infinite.
+  float solidAngleRatio(const vec3& origin, const vec3& direction) const;
+};
 
 struct EnvironmentSample {
   vec3 direction{0.0f, 1.0f, 0.0f};  // world, unit, pointing away from the scene
@@ -28,21 +51,28 @@ struct EnvironmentSample {
 class Environment {
  public:
   Environment() = default;
-  // Copies the panorama; yaw in radians as in core/equirect.hpp.
-  explicit Environment(const cv::Mat& panorama_bgr32f, float yaw = 0.0f);
+  // Copies the panorama; yaw in radians as in core/equirect.hpp. Throws InputError when the
+  // proxy's radius is not positive or its centre not finite.
+  explicit Environment(const cv::Mat& panorama_bgr32f, float yaw = 0.0f, PanoramaProxy proxy = {});
   // A constant environment (the white furnace); small, exact.
   static Environment uniform(const vec3& radiance, int width = 64, int height = 32);
 
+  // Seen from the capture point (or from anywhere when the proxy is infinite).
   vec3 radiance(const vec3& direction) const;  // nearest pixel, RGB
   EnvironmentSample sample(const vec2& u) const;
   float pdf(const vec3& direction) const;  // pdf of sample() at this direction
+  // Seen from `origin` through the proxy: the same three, per unit solid angle at `origin`.
+  vec3 radiance(const vec3& origin, const vec3& direction) const;
+  EnvironmentSample sample(const vec2& u, const vec3& origin) const;
+  float pdf(const vec3& origin, const vec3& direction) const;
+  const PanoramaProxy& proxy() const { return proxy_; }
   bool black() const { return distribution_.empty(); }
 
   // Integral of radiance over the sphere (RGB, W/m^2 per unit radiance scale).
   vec3 integral() const { return integral_; }
   const cv::Mat& panorama() const { return panorama_; }
   float yaw() const { return yaw_; }
-  std::uint64_t contentHash() const { return hash_; }  // changes whenever the pixels or yaw do
+  std::uint64_t contentHash() const { return hash_; }  // changes whenever the pixels, yaw or proxy do
   const RepairCounts& repaired() const { return repaired_; }
 
   // Row y's colatitude span [theta0, theta1] and a pixel's solid angle (exact, steradians).
@@ -52,6 +82,7 @@ class Environment {
   ivec2 pixelOf(const vec3& direction) const;
   cv::Mat panorama_;
   float yaw_ = 0.0f;
+  PanoramaProxy proxy_;
   Distribution2D distribution_;
   std::vector<double> row_solid_angle_;
   vec3 integral_{0.0f};

@@ -47,15 +47,20 @@ class PrefilteredIbl {
   PrefilteredIbl() = default;
   explicit PrefilteredIbl(const Environment& environment, PrefilterOptions options = {});
 
-  // Prefiltered radiance around `direction` for a GGX lobe of this perceptual roughness.
+  // Prefiltered radiance around `direction` for a GGX lobe of this perceptual roughness, seen
+  // from the panorama's capture point.
   vec3 specular(const vec3& direction, float roughness) const;
   vec3 irradiance(const vec3& normal) const { return sh_.irradiance(normal); }
-  // Radiance leaving a surface towards `wo` (split-sum specular + SH diffuse).
-  vec3 shade(const SurfaceMaterial& material, const vec3& normal, const vec3& wo) const;
+  // Radiance leaving a surface at `position` (world, metres) towards `wo` (split-sum specular +
+  // SH diffuse). The specular lookup goes through the environment's PanoramaProxy: the lobe's
+  // centre direction from `position` is turned into the panorama direction it meets (parallax
+  // correction of the lookup; the lobe's width stays the one prefiltered at the capture point).
+  vec3 shade(const SurfaceMaterial& material, const vec3& normal, const vec3& wo, const vec3& position) const;
   // shade() in parts; `reflected` is wo mirrored about the normal. All zero when wo is not in
   // front of the surface.
   SplitSumShading shadeParts(const SurfaceMaterial& material, const vec3& normal, const vec3& wo,
-                             const vec3& reflected) const;
+                             const vec3& reflected, const vec3& position) const;
+  const PanoramaProxy& proxy() const { return proxy_; }
 
   int levelCount() const { return static_cast<int>(levels_.size()); }
   float levelRoughness(int level) const { return level_roughness_.at(static_cast<std::size_t>(level)); }
@@ -67,6 +72,7 @@ class PrefilteredIbl {
   std::vector<OctahedralMap> levels_;
   std::vector<float> level_roughness_;
   IrradianceSH sh_;
+  PanoramaProxy proxy_;
   std::uint64_t source_hash_ = 0;
 };
 

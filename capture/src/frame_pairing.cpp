@@ -1,0 +1,58 @@
+#include "holo/capture/frame_pairing.hpp"
+
+#include <cstdlib>
+
+namespace holo::capture {
+
+FramePairer::FramePairer(Nanoseconds tolerance) : tolerance_(tolerance) {}
+
+void FramePairer::pushColour(StampedImage frame) {
+  colour_.push_back(std::move(frame));
+}
+
+void FramePairer::pushDepth(StampedImage frame) {
+  depth_.push_back(std::move(frame));
+}
+
+bool FramePairer::waitingForDepth() const {
+  return !colour_.empty() && (depth_.empty() || depth_.back().time < colour_.front().time);
+}
+
+void FramePairer::clear() {
+  colour_.clear();
+  depth_.clear();
+}
+
+std::optional<FramePair> FramePairer::pop() {
+  while (!colour_.empty() && !waitingForDepth()) {
+    StampedImage colour = std::move(colour_.front());
+    colour_.pop_front();
+    // depth_ holds a frame at or after the colour's: the nearest is it or the one before it.
+    std::size_t first_after = 0;
+    while (depth_[first_after].time < colour.time) ++first_after;
+    std::size_t nearest = first_after;
+    if (first_after > 0 &&
+        colour.time - depth_[first_after - 1].time < depth_[first_after].time - colour.time)
+      nearest = first_after - 1;
+    const Nanoseconds gap = depth_[nearest].time - colour.time;
+    if (std::llabs(gap.count()) > tolerance_.count()) {
+      // Nothing near enough: the colour frame goes; the depth frames before it can match no later
+      // colour frame either.
+      ++dropped_colour_;
+      dropped_depth_ += static_cast<std::int64_t>(first_after);
+      depth_.erase(depth_.begin(), depth_.begin() + static_cast<std::ptrdiff_t>(first_after));
+      continue;
+    }
+    FramePair pair;
+    pair.colour = std::move(colour);
+    pair.depth = std::move(depth_[nearest]);
+    pair.skew_ms = static_cast<double>(gap.count()) * 1e-6;
+    dropped_depth_ += static_cast<std::int64_t>(nearest);
+    depth_.erase(depth_.begin(), depth_.begin() + static_cast<std::ptrdiff_t>(nearest) + 1);
+    ++paired_;
+    return pair;
+  }
+  return std::nullopt;
+}
+
+}  // namespace holo::capture
