@@ -26,6 +26,9 @@ RenderScene::RenderScene(const Model& relic, const std::vector<Model>& emitters)
       mesh.computeTangents(material.normal_texture.tex_coord);
     }
     const auto opacity = [this, i](const Ray& ray, const RayHit& hit) {
+      // A transmissive override (a glass study on any mesh) culls no back face: a ray inside
+      // the glass must be able to leave it.
+      if (override_ && override_->transmission > 0.0f) return 1.0f;
       return surfaceOpacity(relic_model_, i, ray, hit);
     };
     const std::uint32_t id = all_->addMesh(mesh);

@@ -37,8 +37,9 @@ class RenderScene {
   const Material& relicGltfMaterial(const RayHit& hit, const RayScene& scene) const;
   // Every relic surface gets this material's parameters instead of its glTF ones (base colour,
   // metallic, roughness and specular textures ignored; normal, occlusion and emission maps and
-  // the opacity stay the glTF material's): for analytic tests and material studies that glTF
-  // cannot state (a pure Lambert surface needs SurfaceMaterial::specular = 0).
+  // the opacity stay the glTF material's, except that a transmissive override culls no back
+  // face): for analytic tests and material studies that glTF cannot state (a pure Lambert surface
+  // needs SurfaceMaterial::specular = 0).
   void overrideRelicMaterial(const SurfaceMaterial& material) { override_ = material; }
   const std::optional<SurfaceMaterial>& relicMaterialOverride() const { return override_; }
   const Model& relic() const { return relic_model_; }
