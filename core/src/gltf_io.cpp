@@ -34,6 +34,7 @@
 #include "holo/core/error.hpp"
 #include "holo/core/files.hpp"
 #include "holo/core/log.hpp"
+#include "holo/core/skinned_mesh.hpp"
 #include "holo/core/stats.hpp"
 
 namespace holo {
@@ -164,6 +165,84 @@ class Reader {
                  "componentType " + std::to_string(ct));
         }
         out[i][k] = v;
+      }
+    });
+    return out;
+  }
+
+  // `components` floats per element (FLOAT, or normalised integers of any glTF type), with the
+  // accessor's type checked to have that many components.
+  std::vector<float> readFloats(int accessor_index, const std::string& field, int components,
+                                const std::string& type_name) const {
+    if (accessor_index < 0 || accessor_index >= static_cast<int>(gltf_.accessors.size()))
+      fail(field, "an accessor index < " + std::to_string(gltf_.accessors.size()),
+           std::to_string(accessor_index));
+    const auto& acc = accessor(accessor_index);
+    if (tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(acc.type)) != components)
+      fail(field, "a " + type_name + " accessor");
+    if (acc.count > kMaxGltfVertices)
+      fail(field, "at most " + std::to_string(kMaxGltfVertices) + " elements", std::to_string(acc.count));
+    const int ct = acc.componentType;
+    const Span elements = span(accessor_index, field);
+    std::vector<float> out(elements.count * static_cast<std::size_t>(components));
+    forEach(elements, [&](std::size_t i, const unsigned char* p) {
+      for (int k = 0; k < components; ++k) {
+        float v = 0;
+        switch (ct) {
+          case TINYGLTF_COMPONENT_TYPE_FLOAT:
+            std::memcpy(&v, p + 4 * k, 4);
+            break;
+          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+            v = p[k] / 255.0f;
+            break;
+          case TINYGLTF_COMPONENT_TYPE_BYTE:
+            v = std::max(static_cast<float>(static_cast<std::int8_t>(p[k])) / 127.0f, -1.0f);
+            break;
+          case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+            std::uint16_t u;
+            std::memcpy(&u, p + 2 * k, 2);
+            v = u / 65535.0f;
+            break;
+          }
+          case TINYGLTF_COMPONENT_TYPE_SHORT: {
+            std::int16_t u;
+            std::memcpy(&u, p + 2 * k, 2);
+            v = std::max(u / 32767.0f, -1.0f);
+            break;
+          }
+          default:
+            fail(field, "FLOAT or normalised integer components", "componentType " + std::to_string(ct));
+        }
+        if (!std::isfinite(v)) fail(field, "finite numbers", "NaN or Inf in element " + std::to_string(i));
+        out[i * static_cast<std::size_t>(components) + static_cast<std::size_t>(k)] = v;
+      }
+    });
+    return out;
+  }
+
+  // JOINTS_n: VEC4 of UNSIGNED_BYTE or UNSIGNED_SHORT (not normalised).
+  std::vector<glm::uvec4> readJoints(int accessor_index, const std::string& field) const {
+    if (accessor_index < 0 || accessor_index >= static_cast<int>(gltf_.accessors.size()))
+      fail(field, "an accessor index < " + std::to_string(gltf_.accessors.size()),
+           std::to_string(accessor_index));
+    const auto& acc = accessor(accessor_index);
+    if (acc.type != TINYGLTF_TYPE_VEC4) fail(field, "a VEC4 accessor");
+    const int ct = acc.componentType;
+    if (ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && ct != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT)
+      fail(field, "UNSIGNED_BYTE or UNSIGNED_SHORT joint indices", "componentType " + std::to_string(ct));
+    if (acc.count > kMaxGltfVertices)
+      fail(field, "at most " + std::to_string(kMaxGltfVertices) + " vertices", std::to_string(acc.count));
+    const Span elements = span(accessor_index, field);
+    std::vector<glm::uvec4> out(elements.count);
+    forEach(elements, [&](std::size_t i, const unsigned char* p) {
+      for (int k = 0; k < 4; ++k) {
+        if (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
+          out[i][k] = p[k];
+        } else {
+          std::uint16_t u;
+          std::memcpy(&u, p + 2 * k, 2);
+          out[i][k] = u;
+        }
       }
     });
     return out;
@@ -580,7 +659,18 @@ Material readMaterial(const tinygltf::Model& gltf, std::size_t index, const Mate
   return mat;
 }
 
-Model convert(const tinygltf::Model& gltf, const std::string& file) {
+// Where a loaded TriangleMesh came from, for the skinned loader (which keeps meshes in their own
+// space and poses them itself).
+struct MeshSource {
+  int node = -1;  // -1: a file without scenes
+  int mesh = -1;
+  int primitive = -1;
+};
+
+// With `sources`, meshes stay in their own space (node transforms not applied) and their
+// origins are listed in mesh order.
+Model convert(const tinygltf::Model& gltf, const std::string& file,
+              std::vector<MeshSource>* sources = nullptr) {
   for (const auto& ext : gltf.extensionsRequired) {
     if (ext == kDraco)
       throw InputError(file, "extensionsRequired",
@@ -642,7 +732,7 @@ Model convert(const tinygltf::Model& gltf, const std::string& file) {
   std::size_t total_triangles = 0;
   std::size_t total_vertices = 0;
 
-  auto addMesh = [&](int mesh_index, const mat4& T) {
+  auto addMesh = [&](int mesh_index, const mat4& T, int node_index) {
     if (mesh_index < 0 || mesh_index >= static_cast<int>(gltf.meshes.size()))
       reader.fail("nodes[].mesh", "a mesh index < " + std::to_string(gltf.meshes.size()),
                   std::to_string(mesh_index));
@@ -760,7 +850,11 @@ Model convert(const tinygltf::Model& gltf, const std::string& file) {
         // whose maps it cannot orient.
         out.computeTangents(normal_map ? normal_map->tex_coord : 0);
       }
-      out.transform(T);
+      if (sources) {
+        sources->push_back({node_index, mesh_index, static_cast<int>(p)});
+      } else {
+        out.transform(T);
+      }
       model.meshes.push_back(std::move(out));
     }
   };
@@ -776,7 +870,7 @@ Model convert(const tinygltf::Model& gltf, const std::string& file) {
                   "more (nodes shared by many parents)");
     const auto& node = gltf.nodes[static_cast<std::size_t>(node_index)];
     const mat4 T = parent * nodeMatrix(node);
-    if (node.mesh >= 0) addMesh(node.mesh, T);
+    if (node.mesh >= 0) addMesh(node.mesh, T, node_index);
     for (int child : node.children) visit(child, T, depth + 1);
   };
 
@@ -786,7 +880,7 @@ Model convert(const tinygltf::Model& gltf, const std::string& file) {
                           : 0;
     for (int root : gltf.scenes[static_cast<std::size_t>(scene)].nodes) visit(root, mat4(1.0f), 0);
   } else {
-    for (int i = 0; i < static_cast<int>(gltf.meshes.size()); ++i) addMesh(i, mat4(1.0f));
+    for (int i = 0; i < static_cast<int>(gltf.meshes.size()); ++i) addMesh(i, mat4(1.0f), -1);
   }
   if (used_default) {
     Material fallback;
@@ -1100,6 +1194,213 @@ Model loadGlbFromMemory(const std::vector<std::uint8_t>& glb, const std::string&
   if (!loadConfined(loader, gltf, err, warn, glb.data(), glb.size(), true, {}, origin))
     loadFailed(origin, err, mentionsDraco(std::string(glb.begin(), glb.end())));
   return convert(gltf, origin);
+}
+
+SkinnedModel loadSkinnedGltf(const fs::path& path) {
+  const tinygltf::Model gltf = parseFile(path);
+  const std::string file = path.string();
+  const Reader reader(gltf, file);
+  std::vector<MeshSource> sources;
+  Model flat = convert(gltf, file, &sources);
+  SkinnedModel out;
+  out.materials = std::move(flat.materials);
+  out.textures = std::move(flat.textures);
+
+  // Every node, with its parent and rest transform; `order` puts parents first.
+  Skeleton& skeleton = out.skeleton;
+  const int node_count = static_cast<int>(gltf.nodes.size());
+  skeleton.nodes.resize(gltf.nodes.size());
+  for (int i = 0; i < node_count; ++i) {
+    const auto& node = gltf.nodes[static_cast<std::size_t>(i)];
+    SkeletonNode& n = skeleton.nodes[static_cast<std::size_t>(i)];
+    n.name = node.name;
+    const std::string field = "nodes[" + std::to_string(i) + "]";
+    if (node.matrix.size() == 16) {
+      n.matrix = nodeMatrix(node);
+      for (int k = 0; k < 16; ++k)
+        if (!std::isfinite(glm::value_ptr(n.matrix)[k])) reader.fail(field + ".matrix", "finite numbers");
+    }
+    if (node.translation.size() == 3)
+      n.translation = vec3(static_cast<float>(node.translation[0]), static_cast<float>(node.translation[1]),
+                           static_cast<float>(node.translation[2]));
+    if (node.rotation.size() == 4)
+      n.rotation = glm::quat(static_cast<float>(node.rotation[3]), static_cast<float>(node.rotation[0]),
+                             static_cast<float>(node.rotation[1]), static_cast<float>(node.rotation[2]));
+    if (node.scale.size() == 3)
+      n.scale = vec3(static_cast<float>(node.scale[0]), static_cast<float>(node.scale[1]),
+                     static_cast<float>(node.scale[2]));
+    if (!isFinite(n.translation) || !isFinite(n.scale) ||
+        !isFinite(vec4(n.rotation.x, n.rotation.y, n.rotation.z, n.rotation.w)))
+      reader.fail(field, "a finite translation, rotation and scale");
+    for (int child : node.children) {
+      if (child < 0 || child >= node_count)
+        reader.fail(field + ".children", "node indices < " + std::to_string(node_count),
+                    std::to_string(child));
+      SkeletonNode& c = skeleton.nodes[static_cast<std::size_t>(child)];
+      if (c.parent >= 0 || child == i)
+        reader.fail(field + ".children", "a tree (every node has at most one parent)",
+                    "node " + std::to_string(child) + " has two");
+      c.parent = i;
+    }
+  }
+  std::vector<std::vector<int>> children(skeleton.nodes.size());
+  for (int i = 0; i < node_count; ++i)
+    if (const int parent = skeleton.nodes[static_cast<std::size_t>(i)].parent; parent >= 0)
+      children[static_cast<std::size_t>(parent)].push_back(i);
+  for (int i = 0; i < node_count; ++i) {
+    if (skeleton.nodes[static_cast<std::size_t>(i)].parent >= 0) continue;
+    std::vector<int> stack{i};
+    while (!stack.empty()) {
+      const int n = stack.back();
+      stack.pop_back();
+      skeleton.order.push_back(n);
+      for (int c : children[static_cast<std::size_t>(n)]) stack.push_back(c);
+    }
+  }
+  // A cycle has no root, so its nodes never reach `order`.
+  if (skeleton.order.size() != skeleton.nodes.size())
+    reader.fail("nodes", "an acyclic node hierarchy", "a cycle of children");
+
+  for (std::size_t s = 0; s < gltf.skins.size(); ++s) {
+    const auto& gskin = gltf.skins[s];
+    const std::string field = "skins[" + std::to_string(s) + "]";
+    Skin skin;
+    skin.name = gskin.name;
+    if (gskin.joints.empty()) reader.fail(field + ".joints", "at least one joint", "none");
+    for (int j : gskin.joints) {
+      if (j < 0 || j >= node_count)
+        reader.fail(field + ".joints", "node indices < " + std::to_string(node_count), std::to_string(j));
+      skin.joints.push_back(j);
+    }
+    skin.inverse_bind.assign(skin.joints.size(), mat4(1.0f));
+    if (gskin.inverseBindMatrices >= 0) {
+      const std::string ibm_field = field + ".inverseBindMatrices";
+      const std::vector<float> m = reader.readFloats(gskin.inverseBindMatrices, ibm_field, 16, "MAT4");
+      if (m.size() / 16 < skin.joints.size())
+        reader.fail(ibm_field, "one matrix per joint (" + std::to_string(skin.joints.size()) + ")",
+                    std::to_string(m.size() / 16));
+      for (std::size_t j = 0; j < skin.joints.size(); ++j)
+        std::memcpy(glm::value_ptr(skin.inverse_bind[j]), m.data() + 16 * j, 16 * sizeof(float));
+    }
+    skeleton.skins.push_back(std::move(skin));
+  }
+
+  for (std::size_t i = 0; i < flat.meshes.size(); ++i) {
+    const MeshSource& src = sources[i];
+    SkinnedMesh sm;
+    sm.mesh = std::move(flat.meshes[i]);
+    sm.node = src.node;
+    const int skin = src.node >= 0 ? gltf.nodes[static_cast<std::size_t>(src.node)].skin : -1;
+    const auto& prim =
+        gltf.meshes[static_cast<std::size_t>(src.mesh)].primitives[static_cast<std::size_t>(src.primitive)];
+    const std::string field = "meshes[" + std::to_string(src.mesh) + "].primitives[" +
+                              std::to_string(src.primitive) + "].attributes";
+    const auto joints_it = prim.attributes.find("JOINTS_0");
+    const auto weights_it = prim.attributes.find("WEIGHTS_0");
+    if (skin >= static_cast<int>(skeleton.skins.size()))
+      reader.fail("nodes[" + std::to_string(src.node) + "].skin",
+                  "a skin index < " + std::to_string(skeleton.skins.size()), std::to_string(skin));
+    if (skin >= 0 && joints_it != prim.attributes.end() && weights_it != prim.attributes.end()) {
+      sm.skin = skin;
+      const std::size_t n = sm.mesh.positions.size();
+      const std::size_t joint_count = skeleton.skins[static_cast<std::size_t>(skin)].joints.size();
+      sm.joints = reader.readJoints(joints_it->second, field + ".JOINTS_0");
+      const std::vector<float> w = reader.readFloats(weights_it->second, field + ".WEIGHTS_0", 4, "VEC4");
+      if (sm.joints.size() != n) reader.fail(field + ".JOINTS_0", "one entry per position");
+      if (w.size() != 4 * n) reader.fail(field + ".WEIGHTS_0", "one entry per position");
+      sm.weights.resize(n);
+      for (std::size_t v = 0; v < n; ++v) {
+        vec4 wv(w[4 * v], w[4 * v + 1], w[4 * v + 2], w[4 * v + 3]);
+        for (int k = 0; k < 4; ++k) {
+          if (wv[k] < 0.0f)
+            reader.fail(field + ".WEIGHTS_0", "weights >= 0",
+                        std::to_string(wv[k]) + " at vertex " + std::to_string(v));
+          if (wv[k] > 0.0f && sm.joints[v][k] >= joint_count)
+            reader.fail(field + ".JOINTS_0",
+                        "joint indices < the skin's " + std::to_string(joint_count) + " joints",
+                        std::to_string(sm.joints[v][k]) + " at vertex " + std::to_string(v));
+        }
+        const float sum = wv.x + wv.y + wv.z + wv.w;
+        if (std::abs(sum - 1.0f) > 0.01f)
+          reader.fail(field + ".WEIGHTS_0", "weights summing to 1 (within 0.01)",
+                      std::to_string(sum) + " at vertex " + std::to_string(v));
+        sm.weights[v] = wv / sum;
+      }
+    } else if (skin >= 0) {
+      reader.fail(field, "JOINTS_0 and WEIGHTS_0 on a primitive of a skinned node", "missing");
+    }
+    out.meshes.push_back(std::move(sm));
+  }
+
+  for (std::size_t a = 0; a < gltf.animations.size(); ++a) {
+    const auto& anim = gltf.animations[a];
+    AnimationClip clip;
+    clip.name = anim.name.empty() ? "animation" + std::to_string(a) : anim.name;
+    for (std::size_t c = 0; c < anim.channels.size(); ++c) {
+      const auto& ch = anim.channels[c];
+      const std::string field = "animations[" + std::to_string(a) + "].channels[" + std::to_string(c) + "]";
+      if (ch.target_path == "weights") {  // morph targets: this build has none to drive
+        stats::add("glTF/Morph target animations ignored");
+        HOLO_LOG_WARN("{}: {} animates morph target weights: ignored (not read)", file, field);
+        continue;
+      }
+      AnimationChannel out_channel;
+      if (ch.target_path == "translation") {
+        out_channel.path = AnimationPath::translation;
+      } else if (ch.target_path == "rotation") {
+        out_channel.path = AnimationPath::rotation;
+      } else if (ch.target_path == "scale") {
+        out_channel.path = AnimationPath::scale;
+      } else {
+        reader.fail(field + ".target.path", "translation, rotation, scale or weights", ch.target_path);
+      }
+      if (ch.target_node < 0 || ch.target_node >= node_count)
+        reader.fail(field + ".target.node", "a node index < " + std::to_string(node_count),
+                    std::to_string(ch.target_node));
+      out_channel.node = ch.target_node;
+      if (ch.sampler < 0 || ch.sampler >= static_cast<int>(anim.samplers.size()))
+        reader.fail(field + ".sampler", "a sampler index < " + std::to_string(anim.samplers.size()),
+                    std::to_string(ch.sampler));
+      const auto& sampler = anim.samplers[static_cast<std::size_t>(ch.sampler)];
+      const std::string sfield =
+          "animations[" + std::to_string(a) + "].samplers[" + std::to_string(ch.sampler) + "]";
+      if (sampler.interpolation == "LINEAR" || sampler.interpolation.empty()) {
+        out_channel.interpolation = Interpolation::linear;
+      } else if (sampler.interpolation == "STEP") {
+        out_channel.interpolation = Interpolation::step;
+      } else if (sampler.interpolation == "CUBICSPLINE") {
+        out_channel.interpolation = Interpolation::cubic_spline;
+      } else {
+        reader.fail(sfield + ".interpolation", "LINEAR, STEP or CUBICSPLINE", sampler.interpolation);
+      }
+      out_channel.times = reader.readFloats(sampler.input, sfield + ".input", 1, "SCALAR");
+      if (out_channel.times.empty()) reader.fail(sfield + ".input", "at least one key time", "none");
+      for (std::size_t k = 1; k < out_channel.times.size(); ++k)
+        if (out_channel.times[k] < out_channel.times[k - 1])
+          reader.fail(
+              sfield + ".input", "non-decreasing key times",
+              std::to_string(out_channel.times[k]) + " after " + std::to_string(out_channel.times[k - 1]));
+      const bool rotation = out_channel.path == AnimationPath::rotation;
+      const int components = rotation ? 4 : 3;
+      const std::vector<float> values =
+          reader.readFloats(sampler.output, sfield + ".output", components, rotation ? "VEC4" : "VEC3");
+      const std::size_t per_key = out_channel.interpolation == Interpolation::cubic_spline ? 3 : 1;
+      const std::size_t count = values.size() / static_cast<std::size_t>(components);
+      if (count != per_key * out_channel.times.size())
+        reader.fail(sfield + ".output",
+                    std::to_string(per_key) + " value(s) per key time (" +
+                        std::to_string(per_key * out_channel.times.size()) + ")",
+                    std::to_string(count));
+      for (std::size_t k = 0; k < count; ++k) {
+        const float* v = values.data() + k * static_cast<std::size_t>(components);
+        out_channel.values.emplace_back(v[0], v[1], v[2], rotation ? v[3] : 0.0f);
+      }
+      clip.duration = std::max(clip.duration, out_channel.times.back());
+      clip.channels.push_back(std::move(out_channel));
+    }
+    out.clips.push_back(std::move(clip));
+  }
+  return out;
 }
 
 namespace {
