@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "holo/core/error.hpp"
@@ -15,6 +16,7 @@ namespace holo::display {
 namespace {
 
 constexpr double kFallbackFrameS = 1.0 / 30.0;
+constexpr float kSqrt2 = 1.41421356f;
 
 // Horizontal grid of head_radius cells over the square |x|, |z| <= half_extent (the tracker adds
 // only points within max_distance of the axis), so a head's neighbours lie in the 3x3 cells
@@ -110,21 +112,64 @@ std::array<std::vector<vec3>, kFaceCount> headBandPoints(const depthfilter::Fore
     for (std::size_t f = 0; f < bands.size(); ++f) {
       const float along = p.x * normals[f].x + p.z * normals[f].z;
       const float across = p.x * tangents[f].x + p.z * tangents[f].z;
-      if (along > 0.0f && along >= std::abs(across)) bands[f].push_back(p);
+      // A head whose top is in the sector is measured whole: its points up to head_radius past
+      // the sector's border come along (inSector picks the tops).
+      if (along > 0.0f && along - std::abs(across) >= -kSqrt2 * settings.head_radius) bands[f].push_back(p);
     }
   }
   if (non_finite > 0) stats::add("Display/Eye tracker non-finite points ignored", non_finite);
   return bands;
 }
 
-std::optional<vec3> detectEyeAmong(const std::vector<vec3>& band, const EyeTrackerSettings& settings,
-                                   const std::optional<vec3>& near) {
+// Horizontal unit vector across the line from the pyramid's axis to `p` (the base cameras' rays
+// run along that line, so depth noise and flying pixels spread along it, not across).
+vec3 acrossTheRays(const vec3& p) {
+  const float radial = std::hypot(p.x, p.z);
+  return radial > 0.0f ? vec3(p.z / radial, 0.0f, -p.x / radial) : vec3(1.0f, 0.0f, 0.0f);
+}
+
+// The span [lo, hi] across the rays of the surface under `top`: the points of `head` between
+// width_band_top and width_band_bottom below it, sorted across, grown from the top's own position
+// both ways until a gap wider than max_surface_gap (so a raised arm beside the head, or the head
+// beside an arm, is a separate piece). `top` is a head's top if that piece is at least
+// min_head_width wide and the top lies over its middle half; a raised forearm or hand is thinner.
+std::optional<std::pair<float, float>> headSpan(const std::vector<vec3>& head, const vec3& top,
+                                                const EyeTrackerSettings& settings) {
+  const vec3 across = acrossTheRays(top);
+  std::vector<float> slice;
+  for (const vec3& p : head)
+    if (p.y <= top.y - settings.width_band_top && p.y >= top.y - settings.width_band_bottom)
+      slice.push_back(p.x * across.x + p.z * across.z);
+  if (slice.empty()) return std::nullopt;
+  std::sort(slice.begin(), slice.end());
+  const float at = top.x * across.x + top.z * across.z;
+  // Start from the slice point nearest the top, across.
+  std::size_t first = std::size_t(std::lower_bound(slice.begin(), slice.end(), at) - slice.begin());
+  if (first == slice.size() || (first > 0 && at - slice[first - 1] < slice[first] - at)) --first;
+  if (std::abs(slice[first] - at) > settings.max_surface_gap) return std::nullopt;
+  std::size_t last = first;
+  while (first > 0 && slice[first] - slice[first - 1] <= settings.max_surface_gap) --first;
+  while (last + 1 < slice.size() && slice[last + 1] - slice[last] <= settings.max_surface_gap) ++last;
+  const float lo = slice[first], hi = slice[last], width = hi - lo;
+  if (width < settings.min_head_width || std::abs(at - 0.5f * (lo + hi)) > 0.25f * width) return std::nullopt;
+  return std::pair<float, float>(lo, hi);
+}
+
+bool inSector(const vec3& p, int face) {
+  const vec3 normal = faceNormal(face);
+  const float along = p.x * normal.x + p.z * normal.z;
+  const float across = p.x * normal.z - p.z * normal.x;
+  return along > 0.0f && along >= std::abs(across);
+}
+
+std::optional<vec3> detectEyeAmong(const std::vector<vec3>& band, int face,
+                                   const EyeTrackerSettings& settings, const std::optional<vec3>& near) {
   std::vector<vec3> candidates;
   ColumnGrid grid(settings.head_radius, settings.max_distance);
   for (const vec3& p : band) {
     grid.add(p);
     // A head's top must itself be at a plausible head height.
-    if (p.y >= settings.floor_y + settings.min_head_top) candidates.push_back(p);
+    if (p.y >= settings.floor_y + settings.min_head_top && inSector(p, face)) candidates.push_back(p);
   }
   grid.finish();
   // Candidates are visited from the highest down and the first few usually make a head: a heap
@@ -147,9 +192,22 @@ std::optional<vec3> detectEyeAmong(const std::vector<vec3>& band, const EyeTrack
     const auto near_top = std::count_if(head.begin(), head.end(),
                                         [&](const vec3& p) { return p.y >= top.y - settings.top_band; });
     if (near_top < settings.min_top_support) return std::nullopt;
+    const auto span = headSpan(head, top, settings);
+    if (!span) {
+      stats::add("Display/Eye tracker thin tops rejected (raised arms)", 1);
+      return std::nullopt;
+    }
+    // The centroid of the head's own piece: an arm beside it stays out.
+    const vec3 across = acrossTheRays(top);
     vec3 sum(0.0f);
-    for (const vec3& p : head) sum += p;
-    const vec3 centroid = sum / static_cast<float>(head.size());
+    int count = 0;
+    for (const vec3& p : head) {
+      const float s = p.x * across.x + p.z * across.z;
+      if (s < span->first - settings.max_surface_gap || s > span->second + settings.max_surface_gap) continue;
+      sum += p;
+      ++count;
+    }
+    const vec3 centroid = sum / static_cast<float>(count);
     return vec3(centroid.x, top.y - settings.eye_below_top, centroid.z);
   };
   // Candidates go from the highest down; a rejected one is a stray point (too little support).
@@ -172,7 +230,7 @@ std::optional<vec3> detectEyeAmong(const std::vector<vec3>& band, const EyeTrack
 std::optional<vec3> detectEye(const depthfilter::ForegroundCloud& cloud, int face,
                               const EyeTrackerSettings& settings, const std::optional<vec3>& near) {
   checkFace(face);
-  return detectEyeAmong(headBandPoints(cloud, settings)[std::size_t(face)], settings, near);
+  return detectEyeAmong(headBandPoints(cloud, settings)[std::size_t(face)], face, settings, near);
 }
 
 EyeTracker::EyeTracker(EyeTrackerSettings settings) : settings_(settings) {
@@ -197,7 +255,7 @@ const std::array<FaceEye, kFaceCount>& EyeTracker::update(const depthfilter::For
     std::optional<vec3> predicted;
     if (eye.tracked) predicted = eye.position + eye.velocity * static_cast<float>(now - eye.last_seen_s);
     detections[static_cast<std::size_t>(f)] =
-        detectEyeAmong(bands[static_cast<std::size_t>(f)], settings_, predicted);
+        detectEyeAmong(bands[static_cast<std::size_t>(f)], f, settings_, predicted);
   });
   for (int f = 0; f < kFaceCount; ++f) updateFace(f, detections[static_cast<std::size_t>(f)], now);
   return eyes_;

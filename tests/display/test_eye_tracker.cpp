@@ -115,6 +115,39 @@ TEST(EyeTracker, StrayPointsAboveTheHeadAreNotAHead) {
   EXPECT_LT(glm::length(*eye - anatomicalEye(head)), 0.05f);
 }
 
+// A visitor waving: the forearm and hand raised 0.3 m above the crown, beside the head, are the
+// highest dense surface in the cloud, but a 7 cm thin one apart from the head; the head is what
+// the eye follows.
+TEST(EyeTracker, ARaisedArmAboveTheHeadIsNotTheHead) {
+  std::mt19937 rng(5);
+  std::normal_distribution<float> normal(0.0f, 1.0f);
+  std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+  const vec3 head = headAt(5.0f, 1.1f);
+  depthfilter::ForegroundCloud cloud;
+  addVisitor(cloud, head, rng);
+  const vec3 towards_axis = glm::normalize(vec3(-head.x, 0.0f, -head.z));
+  const vec3 side(towards_axis.z, 0.0f, -towards_axis.x);
+  const vec3 arm_axis = head + 0.2f * side;  // above the left shoulder, 6.5 cm from the 0.1 m head
+  constexpr float kArmRadius = 0.035f;
+  for (int i = 0; i < 600; ++i) {  // the half of the arm facing the axis, from the ear to the fist
+    const float angle = (uniform(rng) - 0.5f) * kPi;
+    const vec3 around = kArmRadius * (std::cos(angle) * towards_axis + std::sin(angle) * side);
+    depthfilter::ForegroundPoint point;
+    point.position = arm_axis + around + vec3(0.0f, -0.05f + 0.45f * uniform(rng), 0.0f) +
+                     0.005f * vec3(normal(rng), normal(rng), normal(rng));
+    cloud.points.push_back(point);
+  }
+  const auto eye = detectEye(cloud, 0, EyeTrackerSettings{});
+  ASSERT_TRUE(eye);
+  EXPECT_LT(glm::length(*eye - anatomicalEye(head)), 0.05f);
+  // Without the width test the fist is taken for the head: the arm is what the test rejects.
+  EyeTrackerSettings no_width_test;
+  no_width_test.min_head_width = 0.0f;
+  const auto fooled = detectEye(cloud, 0, no_width_test);
+  ASSERT_TRUE(fooled);
+  EXPECT_GT(fooled->y, head.y + 0.2f);
+}
+
 TEST(EyeTracker, NonFinitePointsAreIgnored) {
   std::mt19937 rng(5);
   const vec3 head = headAt(0.0f, 0.9f);

@@ -11,8 +11,14 @@
 // where a head can be ([min_head_top, max_head_top] above the floor). The head is the highest
 // such point that has at least min_top_support points within head_radius horizontally and
 // top_band below it, and min_support within head_depth below it (flying pixels above a head are
-// sparse and are not its top). The eye is at the horizontal centroid
-// of those points (the cameras on the base see the visitor's face side, so the centroid of the
+// sparse and are not its top), and whose slice between width_band_top and width_band_bottom
+// below the top, as one piece with no gap wider than max_surface_gap, is at least min_head_width
+// wide across the line of sight from the axis, with the top over its middle half (a raised arm's
+// forearm and hand, the highest points of a visitor waving, are thinner than a head, and apart
+// from it; the width is measured across, not along, the base cameras' rays, so depth noise and
+// flying pixels, which spread along the rays, do not widen an arm into a head). The centroid
+// below uses that piece only. The eye is at the horizontal
+// centroid of those points (the cameras on the base see the visitor's face side, so the centroid of the
 // visible head lies near the eyes) and eye_below_top under that top. (The cameras look up at the
 // head and see little of its crown; a percentile of the heights would put the eye too low.)
 //
@@ -53,6 +59,11 @@ struct EyeTrackerSettings {
   float top_band = 0.05f;           // metres: the top of a head is a dense surface, so...
   int min_top_support = 5;          // ...this many points lie within top_band below it
   float eye_below_top = 0.10f;      // metres from the top of the head down to the eyes
+  float width_band_top = 0.04f;     // metres below the top: the slice whose width is measured...
+  float width_band_bottom = 0.12f;  // ...down to here (a head's widest part, around the eyes)
+  float min_head_width = 0.11f;     // metres across the slice: a head is 0.14-0.19, a raised
+                                    // forearm or hand 0.06-0.09
+  float max_surface_gap = 0.02f;    // metres across: a wider gap in the slice separates two parts
   float alpha = 0.35f;              // position gain of the alpha-beta filter, (0, 1]
   float beta = 0.05f;               // velocity gain, [0, 2)
   float max_speed = 3.0f;           // m/s: a faster filtered velocity is clamped
