@@ -237,6 +237,8 @@ EyeTracker::EyeTracker(EyeTrackerSettings settings) : settings_(settings) {
   if (!(settings_.alpha > 0.0f && settings_.alpha <= 1.0f) ||
       !(settings_.beta >= 0.0f && settings_.beta < 2.0f))
     throw Error("display: eye tracker gains need 0 < alpha <= 1 and 0 <= beta < 2");
+  if (!(settings_.reference_interval_s > 0.0 && std::isfinite(settings_.reference_interval_s)))
+    throw Error("display: eye tracker reference_interval_s needs a finite number of seconds > 0");
   for (int f = 0; f < kFaceCount; ++f) eyes_[static_cast<std::size_t>(f)].position = defaultEye(f, settings_);
 }
 
@@ -276,9 +278,16 @@ void EyeTracker::updateFace(int face, const std::optional<vec3>& detection, doub
     eye.position = *detection;  // a new visitor: start where they are, at rest
     eye.velocity = vec3(0.0f);
   } else {
+    // The gains are set for updates every reference_interval_s; a longer step keeps the filter's
+    // bandwidth and damping (alpha ~ step, beta ~ step^2), else a fixed-gain filter updated at
+    // 10 Hz lags a visitor on the curve around the pyramid by acceleration * step^2 / beta:
+    // 1 m/s^2 * (0.1 s)^2 / 0.05 = 0.2 m.
+    const float scale = std::max(1.0f, step / static_cast<float>(settings_.reference_interval_s));
+    const float alpha = std::min(1.0f, settings_.alpha * scale);
+    const float beta = std::min(1.0f, settings_.beta * scale * scale);
     const vec3 residual = *detection - predicted;
-    eye.position = predicted + settings_.alpha * residual;
-    eye.velocity += (settings_.beta / step) * residual;
+    eye.position = predicted + alpha * residual;
+    eye.velocity += (beta / step) * residual;
     const float speed = glm::length(eye.velocity);
     if (speed > settings_.max_speed) eye.velocity *= settings_.max_speed / speed;
   }

@@ -288,6 +288,37 @@ TEST(EyeTracker, BadGainsAreRejected) {
   EyeTrackerSettings settings;
   settings.alpha = 0.0f;
   EXPECT_THROW(EyeTracker{settings}, Error);
+  EyeTrackerSettings no_interval;
+  no_interval.reference_interval_s = 0.0;
+  EXPECT_THROW(EyeTracker{no_interval}, Error);
+}
+
+// Updated at 10 Hz instead of 30, the filter keeps its bandwidth: a visitor walking round the
+// pyramid at 1 m/s on a 1 m circle (1 m/s^2 inward) is followed within the 30 Hz filter's lag,
+// not the 0.2 m that the fixed 30 Hz gains would leave at a third of the updates.
+TEST(EyeTracker, UpdatedAtTenHertzTheEyeDoesNotLagTheCurve) {
+  // Worst eye error once settled, walking across face 0's sector at 10 Hz updates.
+  const auto worstError = [](const EyeTrackerSettings& settings) {
+    EyeTracker tracker(settings);
+    float worst = 0.0f;
+    for (int update = 0; update <= 15; ++update) {
+      const double t = update * 0.1;
+      const vec3 head = headAt(-44.0f + static_cast<float>(t) * 180.0f / kPi, 1.0f);  // 1 m/s
+      depthfilter::ForegroundCloud cloud;
+      cloud.time_s = t;
+      std::mt19937 rng(static_cast<unsigned>(update));
+      addVisitor(cloud, head, rng, 0.002f);
+      const auto& eyes = tracker.update(cloud);
+      if (update >= 6 && update <= 14)
+        worst = std::max(worst, glm::length(eyes[0].position - anatomicalEye(head)));
+    }
+    return worst;
+  };
+  EXPECT_LT(worstError(EyeTrackerSettings{}), 0.04f);
+  // The same gains without the scaling (as if 10 Hz were the rate they are for) lag behind.
+  EyeTrackerSettings fixed_gains;
+  fixed_gains.reference_interval_s = 0.1;
+  EXPECT_GT(worstError(fixed_gains), 0.08f);
 }
 
 }  // namespace

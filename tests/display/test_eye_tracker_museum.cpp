@@ -81,7 +81,9 @@ TEST(EyeTrackerMuseum, EyeOfTheFaceHeStandsAtMovesWithHim) {
     const vec3 error = eye.position - anatomical_eye;
     errors.push_back(glm::length(error));
     vertical_sum += error.y;
-    if (previous_face == face) {
+    // "With him" needs him to move: the articulated visitor stands still for seconds (his head
+    // moves 0 mm between those updates), where any eye jitter would count against the tracker.
+    if (previous_face == face && glm::length(head - previous_head) > 0.001f) {
       ++steps;
       if (glm::dot(eye.position - previous_eye, head - previous_head) > 0.0f) ++moved_with_him;
     }
@@ -98,7 +100,8 @@ TEST(EyeTrackerMuseum, EyeOfTheFaceHeStandsAtMovesWithHim) {
   const float vertical_bias = vertical_sum / static_cast<float>(errors.size());
   RecordProperty("vertical_bias_mm", static_cast<int>(vertical_bias * 1000));
   // The base's cameras look up at the head and barely see its top, so the eye comes out about
-  // 2 cm low; walking adds the filter's lag along his path. Measured: median 61 mm, p90 138 mm.
+  // 3 cm low; walking adds the filter's lag along his path. Measured (articulated visitor who
+  // stops and raises an arm): median 33 mm, p90 46 mm, vertical bias -32 mm.
   EXPECT_LT(median, 0.10f) << "p90 " << p90 << ", vertical bias " << vertical_bias;
   EXPECT_LT(p90, 0.15f) << "median " << median << ", vertical bias " << vertical_bias;
   EXPECT_GE(moved_with_him, steps * 9 / 10) << "of " << steps << " steps";

@@ -31,6 +31,10 @@
 // leave about half the rms jitter of white detection noise ((2a^2 + b(2 - 3a)) / (a(4 - b - 2a))
 // = 0.26 of its variance), settle in a few frames and, being constant-velocity, do not lag a
 // visitor walking at a steady pace (about 1.5 cm behind one turning around the pyramid at 1 m).
+// Updated less often than every reference_interval_s (a busy kiosk, a test at 10 Hz), the gains
+// grow with the step (alpha linearly, beta with its square, both at most 1), which keeps the
+// filter's bandwidth and damping in seconds: fixed gains at 10 Hz would lag a visitor walking
+// round the pyramid (1 m/s^2 centripetal) by 0.2 m.
 // A detection farther than `gate` from the prediction starts a new track (another visitor);
 // with a track, the highest head within the gate is preferred over a taller visitor elsewhere.
 // After lost_timeout_s without a detection the face goes back to its default eye.
@@ -46,29 +50,31 @@
 namespace holo::display {
 
 struct EyeTrackerSettings {
-  float floor_y = -1.0f;            // world height of the floor (the simulated museum's)
-  float default_eye_height = 1.6f;  // above the floor: an adult standing visitor's eyes
-  float default_distance = 1.0f;    // from the pyramid's axis, along the face's normal
-  float min_head_top = 1.0f;        // above the floor: a child
-  float max_head_top = 2.2f;        // above the floor: a tall adult
-  float min_distance = 0.25f;       // horizontal, from the axis: closer is the pyramid itself
-  float max_distance = 3.0f;        // farther away is not "standing at the face"
-  float head_radius = 0.15f;        // metres, horizontal
-  float head_depth = 0.25f;         // metres below the top that count as head
-  int min_support = 15;             // points the head needs
-  float top_band = 0.05f;           // metres: the top of a head is a dense surface, so...
-  int min_top_support = 5;          // ...this many points lie within top_band below it
-  float eye_below_top = 0.10f;      // metres from the top of the head down to the eyes
-  float width_band_top = 0.04f;     // metres below the top: the slice whose width is measured...
-  float width_band_bottom = 0.12f;  // ...down to here (a head's widest part, around the eyes)
-  float min_head_width = 0.11f;     // metres across the slice: a head is 0.14-0.19, a raised
-                                    // forearm or hand 0.06-0.09
-  float max_surface_gap = 0.02f;    // metres across: a wider gap in the slice separates two parts
-  float alpha = 0.35f;              // position gain of the alpha-beta filter, (0, 1]
-  float beta = 0.05f;               // velocity gain, [0, 2)
-  float max_speed = 3.0f;           // m/s: a faster filtered velocity is clamped
-  float gate = 0.5f;                // metres: a detection farther from the prediction restarts
-  double lost_timeout_s = 1.0;      // seconds without a detection before the default eye
+  float floor_y = -1.0f;                     // world height of the floor (the simulated museum's)
+  float default_eye_height = 1.6f;           // above the floor: an adult standing visitor's eyes
+  float default_distance = 1.0f;             // from the pyramid's axis, along the face's normal
+  float min_head_top = 1.0f;                 // above the floor: a child
+  float max_head_top = 2.2f;                 // above the floor: a tall adult
+  float min_distance = 0.25f;                // horizontal, from the axis: closer is the pyramid itself
+  float max_distance = 3.0f;                 // farther away is not "standing at the face"
+  float head_radius = 0.15f;                 // metres, horizontal
+  float head_depth = 0.25f;                  // metres below the top that count as head
+  int min_support = 15;                      // points the head needs
+  float top_band = 0.05f;                    // metres: the top of a head is a dense surface, so...
+  int min_top_support = 5;                   // ...this many points lie within top_band below it
+  float eye_below_top = 0.10f;               // metres from the top of the head down to the eyes
+  float width_band_top = 0.04f;              // metres below the top: the slice whose width is measured...
+  float width_band_bottom = 0.12f;           // ...down to here (a head's widest part, around the eyes)
+  float min_head_width = 0.11f;              // metres across the slice: a head is 0.14-0.19, a raised
+                                             // forearm or hand 0.06-0.09
+  float max_surface_gap = 0.02f;             // metres across: a wider gap in the slice separates two parts
+  float alpha = 0.35f;                       // position gain of the alpha-beta filter, (0, 1]
+  float beta = 0.05f;                        // velocity gain, [0, 2)
+  double reference_interval_s = 1.0 / 30.0;  // the update interval alpha and beta are for; a
+                                             // longer one scales them (alpha x, beta x^2, <= 1)
+  float max_speed = 3.0f;                    // m/s: a faster filtered velocity is clamped
+  float gate = 0.5f;                         // metres: a detection farther from the prediction restarts
+  double lost_timeout_s = 1.0;               // seconds without a detection before the default eye
 };
 
 struct FaceEye {
