@@ -69,7 +69,10 @@ StepVerdict judgeLoopClosure(const std::string& step, double translation_mm, dou
 StepVerdict judgeBackground(const std::string& step, double invalid_fraction, double colour_mad) {
   StepVerdict v{step, "invalid depth fraction", invalid_fraction, kBackgroundMaxInvalid, false, {}};
   if (invalid_fraction >= kBackgroundMaxInvalid)
-    v.hint = "too much missing depth: remove shiny or black objects near the camera, avoid direct sunlight";
+    v.hint =
+        "too much missing depth: check that the lens is not covered or in direct sunlight and that the "
+        "camera "
+        "looks at the room, not the ceiling; remove shiny or black objects near it";
   else if (colour_mad >= kBackgroundMaxColourMad)
     v.hint = "the scene changed while capturing (colour varies by " + number(colour_mad) +
              " levels): make sure nobody walks in front of the cameras and the lights are steady";

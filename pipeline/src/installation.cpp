@@ -5,8 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <utility>
 #include <opencv2/imgcodecs.hpp>
+#include <utility>
 
 #include "holo/calib/calibration_io.hpp"
 #include "holo/capture/capture_config.hpp"

@@ -155,7 +155,8 @@ capture:
 }
 
 TEST(CaptureConfig, PairToleranceReachesTwoDeviceCamerasWithItsDefaultStated) {
-  const std::string cameras = "  cameras:\n    - {face: 0, backend: aravis, color: {serial: C}, depth: {serial: D}}\n";
+  const std::string cameras =
+      "  cameras:\n    - {face: 0, backend: aravis, color: {serial: C}, depth: {serial: D}}\n";
   const CaptureConfig defaults = parse("capture:\n" + cameras);
   EXPECT_DOUBLE_EQ(defaults.pair_tolerance_ms, 16.0);
   EXPECT_EQ(defaults.cameras[0].aravis.pair_tolerance, std::chrono::milliseconds(16));

@@ -548,7 +548,8 @@ TEST(Dielectric, GlassRelicsInAWhiteFurnaceAreInvisible) {
         for (int i = 0; i < kSpp; ++i) {
           SampleStream stream(9, std::uint32_t(y * camera.width() + x), std::uint32_t(i));
           PathRecord record;
-          energy += double(tracer.traceFromRelic(ray, hit, stream, 0.0f, &record).y) + record.truncated_throughput;
+          energy +=
+              double(tracer.traceFromRelic(ray, hit, stream, 0.0f, &record).y) + record.truncated_throughput;
         }
         EXPECT_NEAR(energy / kSpp, 1.0, 0.01) << x << "," << y;
       }
