@@ -4,7 +4,6 @@
 // calibrates one camera from photos of a board, prints fx, fy, cx, cy and the RMS reprojection
 // error with a pass/fail verdict, and writes FILE.yml (atomically, the old one kept as .bak)
 // and FILE.corners.png (every photo with its detected corners).
-#include <glob.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -31,18 +30,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::vector<std::string> expandGlob(const std::string& pattern) {
-  glob_t found{};
-  const int rc = ::glob(pattern.c_str(), 0, nullptr, &found);
-  std::vector<std::string> files;
-  if (rc == 0)
-    for (std::size_t i = 0; i < found.gl_pathc; ++i) files.emplace_back(found.gl_pathv[i]);
-  ::globfree(&found);
-  std::sort(files.begin(), files.end());
-  if (files.empty()) throw InputError(pattern, "--images", "a pattern matching image files", "no match");
-  return files;
-}
-
 // A serial usable as camera_name: the output file's stem, reduced to the allowed characters.
 std::string serialFromPath(const fs::path& out) {
   std::string serial = out.stem().string();
@@ -61,7 +48,7 @@ struct IntrinsicsOptions {
 
 int runIntrinsics(const IntrinsicsOptions& options) {
   const calib::BoardSpec board = calib::BoardSpec::parse(options.board);
-  const std::vector<std::string> files = expandGlob(options.images);
+  const std::vector<std::string> files = calib::PhotoSource::expand(options.images);
   std::vector<calib::BoardView> views;
   std::vector<cv::Mat> drawn;
   std::vector<double> fractions;
