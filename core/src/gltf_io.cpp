@@ -1096,11 +1096,10 @@ GltfSupport slotSupport(const std::string& slot) {
              : GltfSupport::LoadedNotRendered;
 }
 
+// Every extension convert() reads has its factors rendered by both renderers; the textures of
+// transmission, thickness, clearcoat and specular colour are listed per slot.
 GltfSupport extensionSupport(const std::string& extension) {
-  if (!readsExtension(extension)) return GltfSupport::Ignored;
-  return extension == "KHR_texture_transform" || extension == "KHR_materials_emissive_strength"
-             ? GltfSupport::Rendered
-             : GltfSupport::LoadedNotRendered;
+  return readsExtension(extension) ? GltfSupport::Rendered : GltfSupport::Ignored;
 }
 
 }  // namespace
