@@ -210,7 +210,7 @@ TEST(GltfMaterials, UnsupportedOptionalExtensionIsACountedWarning) {
   const GltfInventory inventory = inspectGltf(path);
   ASSERT_EQ(inventory.extensions.size(), 3u);
   EXPECT_EQ(inventory.extensions[0].support, GltfSupport::Ignored);
-  EXPECT_EQ(inventory.extensions[2].support, GltfSupport::LoadedNotRendered);
+  EXPECT_EQ(inventory.extensions[2].support, GltfSupport::Rendered);
 }
 
 // Each bad factor is named with its material: a technician can find it in the exporter.
@@ -313,7 +313,7 @@ TEST(GltfMaterials, KhronosRelicsLoadEveryMaterial) {
     EXPECT_TRUE(glass.occlusion_texture.used());
     EXPECT_FALSE(inv.model.materials[0].transmissive());
     ASSERT_EQ(inv.extensions.size(), 2u);
-    for (const auto& e : inv.extensions) EXPECT_EQ(e.support, GltfSupport::LoadedNotRendered) << e.name;
+    for (const auto& e : inv.extensions) EXPECT_EQ(e.support, GltfSupport::Rendered) << e.name;
     bool thickness_slot = false, base_rendered = false;
     for (const auto& s : inv.texture_slots) {
       thickness_slot |= s.name == "thicknessTexture" && s.materials == 1;
