@@ -11,23 +11,15 @@
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 
+#include "command_output.hpp"
 #include "run_holopyramid.hpp"
 #include "shared_data.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string logText(const fs::path& log) {
-  std::ifstream in(log);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-nlohmann::json readJson(const fs::path& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("missing " + path.string());
-  return nlohmann::json::parse(in);
-}
+using holo::test::logText;
+using holo::test::readJson;
 
 void expectShare(const nlohmann::json& value, const std::string& what) {
   ASSERT_TRUE(value.is_number()) << what << " = " << value.dump();

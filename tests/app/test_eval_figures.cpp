@@ -12,25 +12,17 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "command_output.hpp"
 #include "run_holopyramid.hpp"
 #include "shared_data.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
+using holo::test::logText;
+using holo::test::readJson;
 
 const std::string kCache = std::string(HOLO_BINARY_DIR) + "/eval-gt-cache";
-
-std::string logText(const fs::path& log) {
-  std::ifstream in(log);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-
-nlohmann::json readJson(const fs::path& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error("missing " + path.string());
-  return nlohmann::json::parse(in);
-}
 
 // Runs `holopyramid eval ARGS` and returns the one scene of eval tracer's results.json.
 nlohmann::json evalTracerScene(const std::string& name, const std::string& arguments) {

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "base64.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/gltf_io.hpp"
 #include "holo/core/skinned_mesh.hpp"
@@ -14,27 +15,7 @@ namespace holo {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string base64(const std::string& bytes) {
-  static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  std::size_t i = 0;
-  for (; i + 2 < bytes.size(); i += 3) {
-    const unsigned v = static_cast<unsigned>(static_cast<unsigned char>(bytes[i]) << 16 |
-                                             static_cast<unsigned char>(bytes[i + 1]) << 8 |
-                                             static_cast<unsigned char>(bytes[i + 2]));
-    for (int k = 3; k >= 0; --k) out += table[(v >> (6 * k)) & 63];
-  }
-  if (i + 1 == bytes.size()) {
-    const unsigned v = static_cast<unsigned>(static_cast<unsigned char>(bytes[i]) << 16);
-    out += std::string{table[(v >> 18) & 63], table[(v >> 12) & 63], '=', '='};
-  } else if (i + 2 == bytes.size()) {
-    const unsigned v = static_cast<unsigned>(static_cast<unsigned char>(bytes[i]) << 16 |
-                                             static_cast<unsigned char>(bytes[i + 1]) << 8);
-    out += std::string{table[(v >> 18) & 63], table[(v >> 12) & 63], table[(v >> 6) & 63], '='};
-  }
-  return out;
-}
+using test::base64;
 
 // Builds a .gltf with one embedded buffer: each accessor gets its own buffer view.
 struct GltfWriter {
