@@ -15,6 +15,7 @@
 #include "holo/core/gltf_io.hpp"
 #include "holo/core/hdr_io.hpp"
 #include "holo/core/log.hpp"
+#include "holo/pipeline/exhibit_config.hpp"
 #include "holo/sim/museum.hpp"
 #include "holo/sim/relics.hpp"
 
@@ -23,30 +24,30 @@ namespace {
 
 namespace fs = std::filesystem;
 
-Model loadRelic(const ConfigNode& exhibit) {
-  const ConfigNode field = exhibit["relic"];
-  const std::string value = field.as<std::string>();
-  const auto builtin = sim::builtinRelicNames();
-  if (std::find(builtin.begin(), builtin.end(), value) != builtin.end()) {
-    Model relic = sim::makeRelic(value, exhibit.file());
+// The files the parsed section names, loaded now; a missing or unreadable one fails naming its
+// field.
+Model loadRelic(const ConfigNode& exhibit, const ExhibitConfig& config) {
+  if (!config.builtin_relic.empty()) {
+    Model relic = sim::makeRelic(config.builtin_relic, exhibit.file());
     sim::fitOnPedestal(relic);
     return relic;
   }
-  const fs::path path = exhibit.pathBesideFile(value);
+  const ConfigNode field = exhibit["relic"];
   std::error_code ec;
-  if (!fs::is_regular_file(path, ec))
+  if (!fs::is_regular_file(config.relic_file, ec))
     field.fail("a glTF file (.gltf/.glb, relative to the configuration) or a built-in relic (" +
                    sim::relicNameList() + ")",
-               "'" + value + "' (no such file: " + path.string() + ")");
-  Model relic = loadGltf(path);
-  if (relic.meshes.empty()) field.fail("a glTF file with at least one triangle mesh", path.string());
-  if (exhibit.get<bool>("fit_relic", false)) sim::fitOnPedestal(relic);
+               "'" + field.as<std::string>() + "' (no such file: " + config.relic_file.string() + ")");
+  Model relic = loadGltf(config.relic_file);
+  if (relic.meshes.empty())
+    field.fail("a glTF file with at least one triangle mesh", config.relic_file.string());
+  if (config.fit_relic) sim::fitOnPedestal(relic);
   return relic;
 }
 
-cv::Mat loadPanorama(const ConfigNode& exhibit) {
+cv::Mat loadPanorama(const ConfigNode& exhibit, const ExhibitConfig& config) {
   const ConfigNode field = exhibit["panorama"];
-  const fs::path path = exhibit.pathBesideFile(field.as<std::string>());
+  const fs::path& path = config.panorama_file;
   std::error_code ec;
   if (!fs::is_regular_file(path, ec))
     field.fail("an equirectangular HDR panorama (.hdr or .exr, relative to the configuration)",
@@ -178,29 +179,20 @@ Installation loadInstallation(const ConfigNode& root, const InstallationOptions&
   const capture::CaptureConfig capture = capture::parseCaptureConfig(root["capture"]);
   if (capture.cameras.empty()) root["capture"].fail("at least one camera in capture.cameras");
   const ConfigNode exhibit = root["exhibit"];
-  exhibit.rejectUnknownKeys(
-      {"relic", "fit_relic", "panorama", "hall_radius", "camera_exposure", "background_frames", "fps"});
+  const ExhibitConfig exhibit_config = parseExhibitConfig(exhibit);
 
   Installation installation;
   installation.name = root.file();
-  installation.relic = loadRelic(exhibit);
-  installation.panorama = loadPanorama(exhibit);
-  installation.camera_exposure = exhibit.get<float>("camera_exposure", 1.0f);
-  if (!(installation.camera_exposure > 0.0f) || !std::isfinite(installation.camera_exposure))
-    exhibit["camera_exposure"].fail("a positive number");
-  installation.background_frames = exhibit.get<int>("background_frames", 30);
-  if (installation.background_frames < 0 || installation.background_frames > 10000)
-    exhibit["background_frames"].fail("a number of frames in 0..10000");
-  installation.fps = exhibit.get<double>("fps", 30.0);
-  if (!(installation.fps > 0.0 && installation.fps <= 1000.0))
-    exhibit["fps"].fail("a frame rate in Hz in (0, 1000]");
+  installation.relic = loadRelic(exhibit, exhibit_config);
+  installation.panorama = loadPanorama(exhibit, exhibit_config);
+  installation.camera_exposure = exhibit_config.camera_exposure;
+  installation.background_frames = exhibit_config.background_frames;
+  installation.fps = exhibit_config.fps;
 
   // The pyramid file: where the panorama's directions point in the world.
   const fs::path pyramid = calib::pyramidCalibrationPath(capture.calibration_dir);
   std::error_code ec;
-  if (exhibit.has("hall_radius")) {
-    installation.panorama_proxy.radius = exhibit.getInRange("hall_radius", 10.0f, 0.5f, 1000.0f);
-  }
+  if (exhibit_config.hall_radius_m) installation.panorama_proxy.radius = *exhibit_config.hall_radius_m;
   if (fs::is_regular_file(pyramid, ec)) {
     const calib::PyramidCalibration calibration = calib::loadPyramidCalibration(pyramid);
     installation.panorama_yaw_rad = calibration.panorama_yaw_rad;

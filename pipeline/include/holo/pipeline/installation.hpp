@@ -5,18 +5,8 @@
 //  * a configuration file (`--config FILE` with a `capture:` section): the configured cameras
 //    (capture_config.hpp: Aravis, V4L2, recordings, simulated scenes), each camera's model from
 //    the calibration folder (calibration_io.hpp: camera_SERIAL.yml, pyramid.yml for the
-//    panorama's yaw), and the `exhibit:` section:
-//
-//   exhibit:
-//     relic: relics/amphora.glb   # glTF 2.0 file (relative to this file) or vase|kettle|tripod|sphere
-//     fit_relic: false            # scale and centre a relic file on the pedestal (built-in: always)
-//     panorama: hall.hdr          # equirectangular linear HDR of the hall (.hdr or .exr)
-//     hall_radius: 8.0            # metres from the panorama's capture point to the hall's walls:
-//                                 # reflections get the hall's parallax (reflect::PanoramaProxy);
-//                                 # absent: the hall is infinitely far (no parallax)
-//     camera_exposure: 1.0        # the cameras' exposure: radiance = linear(sRGB) / exposure
-//     background_frames: 30       # first frames of every camera that only teach the background
-//     fps: 30                     # the cameras' frame rate (timing of the MP4, eye smoothing)
+//    panorama's yaw), and the `exhibit:` section (exhibit_config.hpp: the relic, the panorama
+//    and their settings).
 //
 // The background: when the calibration folder holds the background the calibration captured
 // for every camera (background_cameraN.png, 8-bit BGR, and background_depth_cameraN.png, 16-bit
