@@ -1,11 +1,16 @@
-// The YAML files an installer edits: the appliance configuration (its kiosk:, display: and
-// capture: sections, through ConfigNode and yaml-cpp) and the calibration files (OpenCV
+// The YAML files an installer edits: the appliance configuration (its kiosk:, display:, exhibit:
+// and capture: sections, through ConfigNode and yaml-cpp) and the calibration files (OpenCV
 // FileStorage YAML, read with yaml-cpp). The first byte picks the reader; an appliance document
 // goes through every section's parser, as the kiosk reads one file for all of them. Only
-// holo::InputError may come out.
+// holo::InputError may come out, and a parsed exhibit: section must keep its promises (one relic,
+// paths resolved beside the configuration file, every number in its range).
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <string_view>
+#include <vector>
 
 #include "fuzz_files.hpp"
 #include "holo/calib/calibration_io.hpp"
@@ -15,9 +20,43 @@
 #include "holo/core/log.hpp"
 #include "holo/display/display_config.hpp"
 #include "holo/kiosk/kiosk_config.hpp"
+#include "holo/pipeline/exhibit_config.hpp"
+#include "holo/sim/relics.hpp"
+
+namespace {
+
+// An appliance document's origin: an existing file, so that relative paths resolve beside it as
+// in the kiosk. The exhibit parser must not open what they name (nothing is there).
+const std::string& applianceFile() {
+  static const std::string file = [] {
+    const auto path = holo::fuzz::scratchDir() / "appliance.yaml";
+    holo::fuzz::writeBytes(path, "");
+    return path.string();
+  }();
+  return file;
+}
+
+void checkExhibit(const holo::ConfigNode& root) {
+  const holo::pipeline::ExhibitConfig exhibit = holo::pipeline::parseExhibitConfig(root["exhibit"]);
+  const std::vector<std::string> builtin = holo::sim::relicNames();
+  if (exhibit.builtin_relic.empty() == exhibit.relic_file.empty()) __builtin_trap();
+  if (!exhibit.builtin_relic.empty() &&
+      std::find(builtin.begin(), builtin.end(), exhibit.builtin_relic) == builtin.end())
+    __builtin_trap();
+  if (exhibit.builtin_relic.empty() && !exhibit.relic_file.is_absolute()) __builtin_trap();
+  if (!exhibit.panorama_file.is_absolute()) __builtin_trap();
+  if (exhibit.hall_radius_m && !(*exhibit.hall_radius_m >= 0.5f && *exhibit.hall_radius_m <= 1000.0f))
+    __builtin_trap();
+  if (!(exhibit.camera_exposure > 0.0f) || !std::isfinite(exhibit.camera_exposure)) __builtin_trap();
+  if (exhibit.background_frames < 0 || exhibit.background_frames > 10000) __builtin_trap();
+  if (!(exhibit.fps > 0.0 && exhibit.fps <= 1000.0)) __builtin_trap();
+}
+
+}  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
   holo::initLogging(holo::LogLevel::Off);
+  (void)applianceFile();
   return 0;
 }
 
@@ -28,9 +67,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     switch (data[0] % 4) {
       case 0: {
-        const holo::ConfigNode root = holo::ConfigNode::parse(std::string(text), "fuzz.yaml");
+        const holo::ConfigNode root = holo::ConfigNode::parse(std::string(text), applianceFile());
         try {
           (void)holo::kiosk::parseKioskConfig(root);
+        } catch (const holo::InputError&) {
+        }
+        try {
+          checkExhibit(root);
         } catch (const holo::InputError&) {
         }
         (void)holo::display::displayConfigOf(root);
