@@ -7,6 +7,7 @@
 #include "holo/calib/pose.hpp"
 #include "holo/calib/synthetic_board.hpp"
 #include "holo/core/equirect.hpp"
+#include "holo/core/image.hpp"
 
 namespace holo::calib {
 
@@ -135,9 +136,19 @@ RgbdFrame SimulatedRig::boardFrame(const BoardTexture& texture, const Intrinsics
   SyntheticViewOptions options;
   options.seed = seed;
   options.blur_sigma = blur;
+  // The printed white reflects 85% of the hall's light: the camera does not saturate on it (the
+  // colour matching refuses clipped white).
+  static const cv::Mat paper = [] {
+    cv::Mat table(1, 256, CV_8UC1);
+    for (int v = 0; v < 256; ++v)
+      table.at<std::uint8_t>(v) = cv::saturate_cast<std::uint8_t>(
+          std::lround(255.0f * linearToSrgb(0.85f * srgbToLinear(static_cast<float>(v) / 255.0f))));
+    return table;
+  }();
+  cv::Mat grey;
+  cv::LUT(renderBoardView(texture, K, T_camera_board, options, hall.colour), paper, grey);
   RgbdFrame out;
-  cv::cvtColor(renderBoardView(texture, K, T_camera_board, options, hall.colour), out.colour,
-               cv::COLOR_GRAY2BGR);
+  cv::cvtColor(grey, out.colour, cv::COLOR_GRAY2BGR);
   // The depth device sees the board where it stood depth_delay_s_ later (the same pose while it
   // is held still), with a structured-light camera's noise at that distance.
   const double z = T_depth_board(2, 3);
