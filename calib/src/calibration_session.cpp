@@ -270,7 +270,12 @@ void CalibrationSession::measureDepthAndColour(StepOutcome& out, std::ostream& l
     cal.depth_scale_fitted = false;
     cal.depth_intrinsics.reset();
     cal.T_colour_depth = mat4(1.0f);
-    if (cal.intrinsics.fx <= 0 || views.empty()) continue;  // its intrinsics failed: nothing to build on
+    // Both build on the camera's intrinsics: a camera whose intrinsics failed gets neither.
+    const std::string intrinsics_step = "intrinsics camera " + std::to_string(c);
+    const bool intrinsics_passed =
+        std::any_of(out.verdicts.begin(), out.verdicts.end(),
+                    [&](const StepVerdict& v) { return v.step == intrinsics_step && v.pass; });
+    if (!intrinsics_passed || views.empty()) continue;
     const std::string label = cameraLabel(rig_, c);
 
     // Depth: the board's plane from its corners against the plane fitted to its depth pixels.
