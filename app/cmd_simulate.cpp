@@ -14,7 +14,17 @@
 // intrinsics board held before every camera, the easel at each marked spot, the empty hall; its
 // length is scene.txt's calibration_frames), the visitors' frames follow (truth/ names them by
 // their recorded frame number), and installation.yaml describes the recording as an installation
-// for `calibrate --auto --config` and `run --config`.
+// for `calibrate --auto --config` and `run --config`. The cameras then behave like a real
+// installation's (sim/device_errors.hpp): colour and depth are two devices, the depth frames
+// --depth-skew-ms later (depth.txt and associations.txt carry their own times; the visitors are
+// posed at that time in the depth images), the depth --depth-scale-error off its nominal scale,
+// each camera's colour with its own white balance; and the truth a calibration should find is
+// written as a calibration folder:
+//   truth/calibration/camera_SERIAL.yml   true intrinsics and pose, the true depth scale
+//                                         (depth_scale_fitted: 1), the colour gains that match
+//                                         the cameras (mean response / response per channel)
+//   truth/calibration/pyramid.yml         panorama yaw 0 (panorama.exr is not turned), its
+//                                         capture position, the default display layout
 //
 // The whole folder is written under DIR.partial-PID and renamed to DIR at the end, so DIR either
 // does not exist or is complete. DIR must not exist yet.
@@ -33,6 +43,7 @@
 #include "holo/core/files.hpp"
 #include "holo/core/hdr_io.hpp"
 #include "holo/core/progress.hpp"
+#include "holo/sim/device_errors.hpp"
 #include "holo/sim/museum.hpp"
 
 namespace holo::app {
@@ -48,6 +59,8 @@ struct SimulateOptions {
   int panorama_width = 2048;
   bool calibration = false;
   int background_frames = 9;
+  double depth_skew_ms = 15.0;
+  double depth_scale_error = 0.02;
   bool quiet = false;
 };
 
@@ -137,6 +150,15 @@ int simulate(const SimulateOptions& o) {
   const int cameras = museum.cameraCount();
   std::optional<calib::SimulatedRig> rig;
   int calibration_frames = 0;  // recorded before the visitors' frames
+  if (!(o.depth_skew_ms >= 0.0 && o.depth_skew_ms < 1000.0 / scene.camera.fps))
+    throw InputError("", "--depth-skew-ms", "0 up to a frame period", std::to_string(o.depth_skew_ms));
+  if (!(o.depth_scale_error > -0.2 && o.depth_scale_error < 0.2))
+    throw InputError("", "--depth-scale-error", "a share within (-0.2, 0.2)",
+                     std::to_string(o.depth_scale_error));
+  sim::DeviceErrors errors;
+  errors.depth_skew_s = o.depth_skew_ms / 1000.0;
+  errors.depth_scale_error = o.depth_scale_error;
+  errors.seed = scene.seed;
   if (o.calibration) {
     calib::AutoCalibrationConfig config;
     config.intrinsics_board = calib::BoardSpec::parse(calib::kDefaultIntrinsicsBoard);
@@ -146,6 +168,7 @@ int simulate(const SimulateOptions& o) {
       throw InputError("", "--background-frames", "at least 1", std::to_string(o.background_frames));
     config.background_frames = o.background_frames;
     rig.emplace(scene, config);
+    rig->setDepthDelay(errors.depth_skew_s);
     for (const auto activity : {calib::RigActivity::HandHeldBoard, calib::RigActivity::PlacementBoard,
                                 calib::RigActivity::EmptyHall})
       calibration_frames += rig->frameCount(activity);
@@ -171,6 +194,12 @@ int simulate(const SimulateOptions& o) {
       frame.sequence = static_cast<std::uint64_t>(recorded);
       frame.device_time = Nanoseconds(std::llround(recorded * 1e9 / static_cast<double>(scene.camera.fps)));
     };
+    // With --calibration the depth is a second device: its own time, its scale error.
+    const auto record = [&](RgbdFrame& frame, int c) {
+      if (!rig) return recorder.write(frame);
+      sim::applyDeviceErrors(errors, c, frame);
+      recorder.write(frame, frame.device_time + Nanoseconds(std::llround(errors.depth_skew_s * 1e9)));
+    };
     // The calibration session first, as the simulated technician acts it out for the wizard.
     if (rig) {
       int recorded = 0;
@@ -180,7 +209,7 @@ int simulate(const SimulateOptions& o) {
           for (int c = 0; c < cameras; ++c) {
             RgbdFrame frame = rig->frame(activity, c, i);
             stamp(frame, c, recorded);
-            recorder.write(frame);
+            record(frame, c);
             progress.update();
           }
     }
@@ -188,8 +217,10 @@ int simulate(const SimulateOptions& o) {
       const int recorded = calibration_frames + frame;
       for (int c = 0; c < cameras; ++c) {
         sim::SimulatedFrame f = museum.renderCamera(c, frame);
+        if (rig && errors.depth_skew_s > 0)
+          f.frame.depth = museum.renderCamera(c, frame, true, errors.depth_skew_s).frame.depth;
         stamp(f.frame, c, recorded);
-        recorder.write(f.frame);
+        record(f.frame, c);
         const fs::path truth = tmp / "truth" / ("cam" + std::to_string(c));
         writePng(truth / "depth" / frameName(recorded),
                  capture::depthToU16(f.true_depth, capture::kDefaultDepthScale, &clipped));
@@ -222,8 +253,27 @@ int simulate(const SimulateOptions& o) {
       tmp / "scene.txt",
       "scene: " + scene.name + "\nsource: " + scene.source + "\nseed: " + std::to_string(scene.seed) +
           "\nsensor: " + sim::sensorProfileName(scene.noise.profile) + "\nframes: " +
-          std::to_string(o.frames) + "\ncalibration_frames: " + std::to_string(calibration_frames) + "\n");
-  if (rig) writeFileAtomically(tmp / "installation.yaml", installationYaml(scene, cameras));
+          std::to_string(o.frames) + "\ncalibration_frames: " + std::to_string(calibration_frames) + "\n" +
+          (rig ? "depth_skew_ms: " + std::to_string(o.depth_skew_ms) +
+                     "\ndepth_scale_error: " + std::to_string(o.depth_scale_error) + "\n"
+               : std::string()));
+  if (rig) {
+    writeFileAtomically(tmp / "installation.yaml", installationYaml(scene, cameras));
+    const fs::path truth = tmp / "truth" / "calibration";
+    fs::create_directories(truth);
+    const std::vector<vec3> gains = sim::matchingGains(errors, cameras);
+    for (int c = 0; c < cameras; ++c) {
+      calib::CameraCalibration camera =
+          calib::fromCameraModel(museum.camera(c), recorder_cameras[static_cast<std::size_t>(c)].serial, 0.0,
+                                 sim::trueMetresPerUnit(errors, 1.0 / capture::kDefaultDepthScale));
+      camera.depth_scale_fitted = true;
+      camera.colour_gains = gains[static_cast<std::size_t>(c)];
+      calib::saveCameraCalibration(calib::cameraCalibrationPath(truth, camera.serial), camera);
+    }
+    calib::PyramidCalibration pyramid;
+    pyramid.panorama_position = scene.panorama_position;
+    calib::savePyramidCalibration(calib::pyramidCalibrationPath(truth), pyramid);
+  }
   progress.done();
   fs::rename(tmp, out);
   std::cout << "wrote " << o.frames << " frames of " << cameras << " cameras of scene '" << scene.name
@@ -251,6 +301,12 @@ HOLO_REGISTER_COMMAND(Command{
                    "each marked spot, the empty hall) and write installation.yaml");
       sub.add_option("--background-frames", o->background_frames,
                      "With --calibration: frames of the empty hall")
+          ->capture_default_str();
+      sub.add_option("--depth-skew-ms", o->depth_skew_ms,
+                     "With --calibration: how much later than colour each depth frame is taken")
+          ->capture_default_str();
+      sub.add_option("--depth-scale-error", o->depth_scale_error,
+                     "With --calibration: true / nominal depth - 1 of every depth device")
           ->capture_default_str();
       sub.add_flag("-q,--quiet", o->quiet, "No progress output");
       return [o] { return simulate(*o); };

@@ -8,6 +8,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "holo/calib/background.hpp"
+#include "holo/calib/colour_gains.hpp"
+#include "holo/calib/depth_registration.hpp"
 #include "holo/calib/display_alignment.hpp"
 #include "holo/calib/extrinsics.hpp"
 #include "holo/calib/intrinsics.hpp"
@@ -163,6 +165,7 @@ StepOutcome CalibrationSession::measureIntrinsics(std::ostream& log, bool quiet,
   log << "  board " << config_.intrinsics_board.describe() << " (" << rig_.describe() << ")\n";
   rig_.begin(RigActivity::HandHeldBoard);
   intrinsics_observations_.assign(static_cast<std::size_t>(rig_.cameraCount()), {});
+  intrinsics_views_.assign(static_cast<std::size_t>(rig_.cameraCount()), {});
   for (int c = 0; c < rig_.cameraCount(); ++c) {
     IntrinsicsViewSelector selector(config_.intrinsics_board, c, rig_.imageSize(c), rig_.stills());
     int frames = 0, gone = 0;
@@ -179,6 +182,7 @@ StepOutcome CalibrationSession::measureIntrinsics(std::ostream& log, bool quiet,
               std::to_string(rig_.imageSize(c).width) + "x" + std::to_string(rig_.imageSize(c).height),
               std::to_string(frame->colour.cols) + "x" + std::to_string(frame->colour.rows));
         const BoardFrameObservation& obs = selector.add(*frame, "frame " + std::to_string(frames));
+        if (obs.kept) intrinsics_views_[static_cast<std::size_t>(c)].push_back({*frame, obs.detection});
         ++frames;
         progress.update();
         if (obs.detection.usable()) {
@@ -250,7 +254,123 @@ StepOutcome CalibrationSession::measureIntrinsics(std::ostream& log, bool quiet,
                judgeIntrinsics("intrinsics camera " + std::to_string(c), result.rms,
                                static_cast<int>(result.used_views.size()), frames, median(fractions)));
   }
+  measureDepthAndColour(out, log);
   return out;
+}
+
+void CalibrationSession::measureDepthAndColour(StepOutcome& out, std::ostream& log) {
+  const BoardSpec& board = config_.intrinsics_board;
+  std::vector<BoardSquareLevels> levels;
+  std::vector<std::size_t> levelled;  // the cameras `levels` belong to
+  for (int c = 0; c < rig_.cameraCount(); ++c) {
+    const auto i = static_cast<std::size_t>(c);
+    CameraCalibration& cal = cameras_[i];
+    const std::vector<KeptView>& views = intrinsics_views_[i];
+    cal.colour_gains = vec3(1.0f);  // a measurement again starts from none
+    cal.depth_scale_fitted = false;
+    cal.depth_intrinsics.reset();
+    cal.T_colour_depth = mat4(1.0f);
+    // Both build on the camera's intrinsics: a camera whose intrinsics failed gets neither.
+    const std::string intrinsics_step = "intrinsics camera " + std::to_string(c);
+    const bool intrinsics_passed =
+        std::any_of(out.verdicts.begin(), out.verdicts.end(),
+                    [&](const StepVerdict& v) { return v.step == intrinsics_step && v.pass; });
+    if (!intrinsics_passed || views.empty()) continue;
+    const std::string label = cameraLabel(rig_, c);
+
+    // Depth: the board's plane from its corners against the plane fitted to its depth pixels.
+    std::vector<PlanePair> pairs;
+    bool has_depth = false, other_size = false;
+    for (const KeptView& view : views) {
+      if (view.frame.depth.empty()) continue;
+      has_depth = true;
+      // A depth image of another size needs the depth device's own intrinsics, which this step
+      // does not measure.
+      if (view.frame.depth.size() != view.frame.colour.size()) {
+        other_size = true;
+        continue;
+      }
+      const std::optional<Plane> colour_plane = boardPlaneInCamera(view.detection, cal.intrinsics);
+      const std::optional<cv::Matx44d> pose = boardPoseInCamera(view.detection, cal.intrinsics);
+      if (!colour_plane || !pose) continue;
+      const std::optional<DepthPlaneFit> fit =
+          fitBoardPlaneInDepth(view.frame.depth, cal.intrinsics, board, *pose, cv::Matx44d::eye());
+      if (fit) pairs.push_back({*colour_plane, fit->plane});
+    }
+    if (other_size)
+      log << "  camera " << c << ": depth of another size than colour; its registration needs the depth "
+          << "device's intrinsics and is left out\n";
+    if (has_depth && !other_size) {
+      const std::string step = "depth registration camera " + std::to_string(c);
+      if (static_cast<int>(pairs.size()) < kDepthRegistrationMinViews) {
+        addVerdict(out, log,
+                   judgeDepthRegistration(step, std::numeric_limits<double>::quiet_NaN(),
+                                          static_cast<int>(pairs.size())));
+      } else {
+        try {
+          const DepthRegistration reg = fitDepthRegistration(pairs, label);
+          const double t_mm = 1000.0 * cv::norm(cv::Vec3d(reg.T_colour_depth(0, 3), reg.T_colour_depth(1, 3),
+                                                          reg.T_colour_depth(2, 3)));
+          const double r_deg = rotationErrorDeg(reg.T_colour_depth, cv::Matx44d::eye());
+          const StepVerdict verdict = judgeDepthRegistration(step, reg.rms_distance_mm, reg.views);
+          log << "  camera " << c << ": depth scale x" << std::setprecision(5) << reg.scale_factor << " over "
+              << reg.views << " views, depth to colour " << std::setprecision(3) << t_mm << " mm, " << r_deg
+              << " deg" << std::setprecision(6) << "\n";
+          if (verdict.pass) {
+            cal.depth_scale = rig_.metresPerDepthUnit(c) * reg.scale_factor;
+            cal.depth_scale_fitted = true;
+            if (t_mm > kDepthRegistrationIdentityMm || r_deg > kDepthRegistrationIdentityDeg) {
+              cal.depth_intrinsics = cal.intrinsics;
+              cal.T_colour_depth = toMat4(reg.T_colour_depth);
+            } else {
+              cal.depth_intrinsics.reset();
+              cal.T_colour_depth = mat4(1.0f);
+            }
+          }
+          addVerdict(out, log, verdict);
+        } catch (const InputError& e) {
+          StepVerdict verdict = judgeDepthRegistration(step, std::numeric_limits<double>::quiet_NaN(),
+                                                       static_cast<int>(pairs.size()));
+          verdict.hint = e.what();
+          addVerdict(out, log, verdict);
+        }
+      }
+    }
+
+    // Colour: the view with the most squares found whose white is not clipped.
+    std::vector<std::size_t> order(views.size());
+    for (std::size_t v = 0; v < order.size(); ++v) order[v] = v;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+      return views[a].detection.image_points.size() > views[b].detection.image_points.size();
+    });
+    std::string refusal;
+    for (const std::size_t v : order) {
+      try {
+        levels.push_back(measureBoardSquares(board, views[v].frame.colour, views[v].detection, label));
+        levelled.push_back(i);
+        refusal.clear();
+        break;
+      } catch (const InputError& e) {
+        if (refusal.empty()) refusal = e.what();
+      }
+    }
+    if (!refusal.empty()) {
+      StepVerdict verdict = judgeColourGains("colour gains camera " + std::to_string(c), vec3(0.0f));
+      verdict.hint = refusal;
+      addVerdict(out, log, verdict);
+    }
+  }
+  // Matching needs at least two cameras to match.
+  if (levels.size() < 2) return;
+  const std::vector<vec3> gains = matchCameraColours(levels);
+  for (std::size_t k = 0; k < levelled.size(); ++k) {
+    const vec3 g = gains[k];
+    const StepVerdict verdict = judgeColourGains("colour gains camera " + std::to_string(levelled[k]), g);
+    log << "  camera " << levelled[k] << ": colour gains R " << std::setprecision(4) << g.r << " G " << g.g
+        << " B " << g.b << std::setprecision(6) << "\n";
+    if (verdict.pass) cameras_[levelled[k]].colour_gains = g;
+    addVerdict(out, log, verdict);
+  }
 }
 
 StepOutcome CalibrationSession::measurePoses(std::ostream& log, const PreviewCallback& on_preview) {

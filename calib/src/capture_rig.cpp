@@ -143,6 +143,10 @@ std::optional<RgbdFrame> CaptureRig::nextFrame(int camera) {
   return frame;
 }
 
+double CaptureRig::metresPerDepthUnit(int camera) const {
+  return cameras_.at(static_cast<std::size_t>(camera)).source->metresPerDepthUnit();
+}
+
 std::optional<CameraModel> CaptureRig::sourceModel(int camera) const {
   return cameras_.at(static_cast<std::size_t>(camera)).source->cameraModel();
 }

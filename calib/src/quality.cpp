@@ -1,5 +1,6 @@
 #include "holo/calib/quality.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 namespace holo::calib {
@@ -97,6 +98,37 @@ StepVerdict judgeDisplay(const std::string& step, double residual_px) {
     v.hint =
         "the face's picture is distorted, not just shifted or turned: check the monitor's own scaling "
         "(set it to native resolution, no overscan)";
+  v.pass = v.hint.empty();
+  return v;
+}
+
+StepVerdict judgeDepthRegistration(const std::string& step, double rms_distance_mm, int views) {
+  StepVerdict v{step,
+                "board plane distance, depth against colour (RMS mm)",
+                rms_distance_mm,
+                kDepthRegistrationMaxRmsMm,
+                false,
+                {}};
+  if (views < kDepthRegistrationMinViews)
+    v.hint = "the board was found in depth in only " + std::to_string(views) +
+             " views: hold it flat and uncovered, 30-60 cm away, tilted both ways";
+  else if (!(rms_distance_mm < kDepthRegistrationMaxRmsMm))
+    v.hint = "the board's depth disagrees with its corners by " + number(rms_distance_mm) +
+             " mm: is the board bent, or the depth camera's picture from another instant (hold it still)?";
+  v.pass = v.hint.empty();
+  return v;
+}
+
+StepVerdict judgeColourGains(const std::string& step, vec3 gains) {
+  double worst = 1.0;
+  for (int c = 0; c < 3; ++c) {
+    const double g = gains[c];
+    worst = std::max(worst, g > 0 ? std::max(g, 1.0 / g) : 1e9);
+  }
+  StepVerdict v{step, "largest colour correction (factor)", worst, kColourMaxCorrection, false, {}};
+  if (!(worst < kColourMaxCorrection))
+    v.hint = "this camera's colours are " + number(worst) +
+             " times off the others': set its white balance and exposure like theirs, then calibrate again";
   v.pass = v.hint.empty();
   return v;
 }

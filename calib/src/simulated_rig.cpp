@@ -7,6 +7,7 @@
 #include "holo/calib/pose.hpp"
 #include "holo/calib/synthetic_board.hpp"
 #include "holo/core/equirect.hpp"
+#include "holo/core/image.hpp"
 
 namespace holo::calib {
 
@@ -129,16 +130,32 @@ int SimulatedRig::frameCount(RigActivity activity) const {
 }
 
 RgbdFrame SimulatedRig::boardFrame(const BoardTexture& texture, const Intrinsics& K,
-                                   const cv::Matx44d& T_camera_board, int camera, std::uint64_t seed,
-                                   float blur) const {
+                                   const cv::Matx44d& T_camera_board, const cv::Matx44d& T_depth_board,
+                                   int camera, std::uint64_t seed, float blur) const {
   const RgbdFrame& hall = hallFrame(camera);
   SyntheticViewOptions options;
   options.seed = seed;
   options.blur_sigma = blur;
+  // The printed white reflects 85% of the hall's light: the camera does not saturate on it (the
+  // colour matching refuses clipped white).
+  static const cv::Mat paper = [] {
+    cv::Mat table(1, 256, CV_8UC1);
+    for (int v = 0; v < 256; ++v)
+      table.at<std::uint8_t>(v) = cv::saturate_cast<std::uint8_t>(
+          std::lround(255.0f * linearToSrgb(0.85f * srgbToLinear(static_cast<float>(v) / 255.0f))));
+    return table;
+  }();
+  cv::Mat grey;
+  cv::LUT(renderBoardView(texture, K, T_camera_board, options, hall.colour), paper, grey);
   RgbdFrame out;
-  cv::cvtColor(renderBoardView(texture, K, T_camera_board, options, hall.colour), out.colour,
-               cv::COLOR_GRAY2BGR);
+  cv::cvtColor(grey, out.colour, cv::COLOR_GRAY2BGR);
+  // The depth device sees the board where it stood depth_delay_s_ later (the same pose while it
+  // is held still), with a structured-light camera's noise at that distance.
+  const double z = T_depth_board(2, 3);
+  const cv::Mat board =
+      renderBoardDepth(texture, K, T_depth_board, 0.001 + 0.0025 * z * z, seed ^ 0xde97full);
   out.depth = hall.depth.clone();
+  board.copyTo(out.depth, board > 0);
   return out;
 }
 
@@ -153,15 +170,21 @@ RgbdFrame SimulatedRig::frame(RigActivity activity, int camera, int index) const
         out.colour = out.colour.clone();
         break;
       }
-      cv::Matx44d T = handHeldPose(config_.intrinsics_board, kHandHeldPose[pose]);
+      cv::Matx44d T = handHeldPose(config_.intrinsics_board, kHandHeldPose[pose]), T_depth = T;
       if (step == 0) {
-        // On the way from the previous pose: half-way there, and blurred by the motion.
+        // On the way from the previous pose: half-way there (the frame before arrives a frame
+        // period earlier), and blurred by the motion; the depth device sees it further along.
         const double* from = kHandHeldPose[pose == 0 ? kHandHeldPoses - 1 : pose - 1];
-        double between[6];
-        for (int i = 0; i < 6; ++i) between[i] = 0.5 * (from[i] + kHandHeldPose[pose][i]);
-        T = handHeldPose(config_.intrinsics_board, between);
+        const double fps = museum_.description().camera.fps;
+        const auto between = [&](double share) {
+          double p[6];
+          for (int i = 0; i < 6; ++i) p[i] = from[i] + share * (kHandHeldPose[pose][i] - from[i]);
+          return handHeldPose(config_.intrinsics_board, p);
+        };
+        T = between(0.5);
+        T_depth = between(std::min(1.0, 0.5 + 0.5 * depth_delay_s_ * fps));
       }
-      out = boardFrame(intrinsics_texture_, K, T, camera,
+      out = boardFrame(intrinsics_texture_, K, T, T_depth, camera,
                        static_cast<std::uint64_t>(1000 + 100 * camera + index), step == 0 ? 1.5f : 0.0f);
       break;
     }
@@ -175,7 +198,7 @@ RgbdFrame SimulatedRig::frame(RigActivity activity, int camera, int index) const
         out.colour = out.colour.clone();
         break;
       }
-      out = boardFrame(placement_texture_, K, T, camera,
+      out = boardFrame(placement_texture_, K, T, T, camera,
                        static_cast<std::uint64_t>(2000 + 100 * camera + index), 0.5f);
       break;
     }

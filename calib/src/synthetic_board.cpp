@@ -97,4 +97,43 @@ cv::Mat renderBoardView(const BoardTexture& texture, const Intrinsics& K, const 
   return image;
 }
 
+cv::Mat renderBoardDepth(const BoardTexture& texture, const Intrinsics& K, const cv::Matx44d& T_camera_board,
+                         double noise_sigma_m, std::uint64_t seed) {
+  const cv::Size size(K.width, K.height);
+  cv::Mat depth = cv::Mat::zeros(size, CV_32FC1);
+  const cv::Vec3d normal(T_camera_board(0, 2), T_camera_board(1, 2), T_camera_board(2, 2));
+  const cv::Vec3d origin(T_camera_board(0, 3), T_camera_board(1, 3), T_camera_board(2, 3));
+  const double offset = origin.dot(normal);
+  if (offset <= 0) return depth;  // the board's back faces the camera
+  std::vector<cv::Point2f> pixels;
+  pixels.reserve(static_cast<std::size_t>(size.area()));
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x) pixels.emplace_back(static_cast<float>(x), static_cast<float>(y));
+  std::vector<cv::Point2f> rays;
+  const cv::Matx33d Kmat(K.fx, 0, K.cx, 0, K.fy, K.cy, 0, 0, 1);
+  const cv::Vec<double, 5> dist(K.distortion[0], K.distortion[1], K.distortion[2], K.distortion[3],
+                                K.distortion[4]);
+  cv::undistortPoints(pixels, rays, Kmat, dist, cv::noArray(), cv::noArray(),
+                      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 20, 1e-8));
+  const cv::Matx33d R_board_camera(T_camera_board(0, 0), T_camera_board(1, 0), T_camera_board(2, 0),
+                                   T_camera_board(0, 1), T_camera_board(1, 1), T_camera_board(2, 1),
+                                   T_camera_board(0, 2), T_camera_board(1, 2), T_camera_board(2, 2));
+  cv::RNG rng(seed);
+  for (int y = 0; y < size.height; ++y)
+    for (int x = 0; x < size.width; ++x) {
+      const cv::Point2f& r = rays[static_cast<std::size_t>(y * size.width + x)];
+      const cv::Vec3d ray(r.x, r.y, 1.0);
+      const double along = normal.dot(ray);
+      if (along <= 1e-9) continue;
+      const double z = offset / along;  // the ray's z is 1, so its parameter is the depth
+      const cv::Vec3d on_board = R_board_camera * (z * ray - origin);
+      const cv::Vec3d texel = texture.board_to_pixel * cv::Vec3d(on_board[0], on_board[1], 1.0);
+      if (texel[0] < -0.5 || texel[1] < -0.5 || texel[0] > texture.image.cols - 0.5 ||
+          texel[1] > texture.image.rows - 0.5)
+        continue;
+      depth.at<float>(y, x) = static_cast<float>(z + (noise_sigma_m > 0 ? rng.gaussian(noise_sigma_m) : 0.0));
+    }
+  return depth;
+}
+
 }  // namespace holo::calib

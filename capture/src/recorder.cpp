@@ -73,7 +73,7 @@ Recorder::~Recorder() {
   }
 }
 
-void Recorder::write(const RgbdFrame& frame) {
+void Recorder::write(const RgbdFrame& frame, std::optional<Nanoseconds> depth_time) {
   frame.validate();
   if (frame.camera_id >= static_cast<int>(cameras_.size()))
     throw Error("recorder: frame of camera " + std::to_string(frame.camera_id) + " but only " +
@@ -90,7 +90,8 @@ void Recorder::write(const RgbdFrame& frame) {
     if (!first_host_time_) first_host_time_ = frame.host_time;
     t = std::chrono::duration<double>(frame.host_time - *first_host_time_).count();
   }
-  Entry entry{t, "", ""};
+  const double t_depth = depth_time ? std::chrono::duration<double>(*depth_time).count() : t;
+  Entry entry{t, t_depth, "", ""};
   if (!frame.colour.empty()) {
     entry.colour = "rgb/" + file;
     writePng(dir / entry.colour, frame.colour);
@@ -127,9 +128,10 @@ void Recorder::writeIndices() const {
     for (const Entry& e : entries_[i]) {
       const std::string t = timestampText(e.t);
       if (!e.colour.empty()) rgb << t << ' ' << e.colour << '\n';
-      if (!e.depth.empty()) depth << t << ' ' << e.depth << '\n';
+      const std::string t_depth = timestampText(e.t_depth);
+      if (!e.depth.empty()) depth << t_depth << ' ' << e.depth << '\n';
       if (!e.colour.empty() && !e.depth.empty())
-        assoc << t << ' ' << e.colour << ' ' << t << ' ' << e.depth << '\n';
+        assoc << t << ' ' << e.colour << ' ' << t_depth << ' ' << e.depth << '\n';
     }
     const fs::path dir = root_ / cameraFolder(i);
     writeFileAtomically(dir / "rgb.txt", rgb.str());

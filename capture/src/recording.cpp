@@ -138,7 +138,7 @@ std::vector<RecordedFrame> readAssociations(const fs::path& dir) {
     for (const std::string& named : {rgb, depth})
       if (!folder.holds(named))
         throw InputError(file.string(), "line " + std::to_string(line_number), kStaysInside, named);
-    frames.push_back({t_rgb, dir / rgb, dir / depth});
+    frames.push_back({t_rgb, dir / rgb, dir / depth, t_depth});
   }
   return frames;
 }
@@ -152,7 +152,7 @@ std::vector<RecordedFrame> associate(const fs::path& dir) {
   for (const auto& [t, file] : rgb) {
     while (j + 1 < depth.size() && std::abs(depth[j + 1].first - t) <= std::abs(depth[j].first - t)) ++j;
     if (j < depth.size() && std::abs(depth[j].first - t) <= 0.02)
-      frames.push_back({t, dir / file, dir / depth[j].second});
+      frames.push_back({t, dir / file, dir / depth[j].second, depth[j].first});
   }
   return frames;
 }
@@ -263,7 +263,7 @@ Recording readRecording(const fs::path& folder) {
   } else if (const fs::path colour = firstExisting(folder, {"color.png", "rgb.png"});
              !colour.empty() && fs::exists(folder / "depth.png")) {
     rec.layout = "single-frame";
-    cam.frames.push_back({0.0, colour, folder / "depth.png"});
+    cam.frames.push_back({0.0, colour, folder / "depth.png", 0.0});
   } else {
     throw InputError(
         folder.string(), "",

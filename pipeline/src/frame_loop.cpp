@@ -151,7 +151,12 @@ FrameLoop::~FrameLoop() {
 
 void FrameLoop::learnBackground(const Installation& installation) {
   // The background gamma_s each camera learns its mask against (docs/architecture.md, live frame step 2).
-  if (!installation.background.empty()) foreground_.learnBackground(installation.background);
+  // The calibration's background is depth as the cameras measured it: corrected like every frame.
+  if (!installation.background.empty()) {
+    std::vector<RgbdFrame> background = installation.background;
+    correctDepth(background);
+    foreground_.learnBackground(background);
+  }
   if (installation.background_frames <= 0) return;
   ProgressReporter progress(installation.background_frames, "learning the background");
   for (int k = 0; k < installation.background_frames; ++k) {

@@ -354,11 +354,12 @@ std::vector<vec3> Museum::visitorHeads(int frame) const {
   return heads;
 }
 
-SimulatedFrame Museum::renderCamera(int index, int frame, bool with_visitors) const {
+SimulatedFrame Museum::renderCamera(int index, int frame, bool with_visitors, double time_offset_s) const {
   const Impl& m = *impl_;
   const CameraModel& cam = camera(index);
   const CameraSettings& settings = m.description.camera;
-  const Model people = with_visitors ? visitors(frame) : Model{};
+  const Model people =
+      with_visitors ? buildVisitors(m.plans, frameTime(frame) + static_cast<float>(time_offset_s)) : Model{};
   RayScene people_scene;
   for (const auto& mesh : people.meshes) people_scene.addMesh(mesh);
   people_scene.commit();

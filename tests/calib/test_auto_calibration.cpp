@@ -26,7 +26,8 @@ TEST(AutoCalibration, SimulatedMuseumRecoversTheTruth) {
   const AutoCalibrationReport report = runAutoCalibration(rig, config, dir, log, true);
   std::cout << log.str();
   EXPECT_TRUE(report.allPassed());
-  EXPECT_EQ(report.verdicts.size(), 4u * 3u + 1u + 4u);  // intrinsics, pose, background; yaw; faces
+  // Per camera intrinsics, depth registration, colour gains, pose, background; the yaw; 4 faces.
+  EXPECT_EQ(report.verdicts.size(), 4u * 5u + 1u + 4u);
 
   for (int c = 0; c < rig.cameraCount(); ++c) {
     const CameraCalibration saved = loadCameraCalibration(cameraCalibrationPath(dir, rig.serial(c)));
@@ -36,6 +37,11 @@ TEST(AutoCalibration, SimulatedMuseumRecoversTheTruth) {
     const cv::Matx44d got = toMatx(saved.T_world_camera), want = toMatx(rig.trueCamera(c).T_world_camera());
     EXPECT_LT(translationError(got, want), 0.003) << "camera " << c;
     EXPECT_LT(rotationErrorDeg(got, want), 0.3) << "camera " << c;
+    // The simulated rig's cameras are alike and their depth true: scale and gains near 1.
+    EXPECT_TRUE(saved.depth_scale_fitted) << "camera " << c;
+    EXPECT_NEAR(saved.depth_scale, 0.001, 0.003 * 0.001) << "camera " << c;
+    EXPECT_FALSE(saved.depth_intrinsics.has_value()) << "camera " << c << ": registered depth resampled";
+    for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(saved.colour_gains[ch], 1.0f, 0.02f) << "camera " << c;
     EXPECT_TRUE(fs::exists(dir / ("background_camera" + std::to_string(c) + ".png")));
     EXPECT_TRUE(fs::exists(dir / ("intrinsics_camera" + std::to_string(c) + ".png")));
   }

@@ -45,6 +45,13 @@ class CalibrationRig {
   // previous one to tell whether the board was held still.
   virtual bool stills() const { return false; }
 
+  // The depth device's nominal metres per raw unit (the scale its depth frames were converted
+  // with); the depth registration fits the true one relative to it.
+  virtual double metresPerDepthUnit(int camera) const {
+    (void)camera;
+    return 0.001;
+  }
+
   virtual cv::Mat panorama() const = 0;  // CV_32FC3 linear BGR, equirectangular
   // Where each dot of testPatternDots(view) appeared on face `face` (screen pixels).
   virtual std::vector<cv::Point2f> observedTestPattern(int face, cv::Size view) const = 0;

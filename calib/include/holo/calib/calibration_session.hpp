@@ -11,7 +11,11 @@
 //               board is steady and the view adds pose diversity (coverage grid of the image and
 //               of tilt); the camera is done when it has kIntrinsicsMinViews views and the board
 //               has been gone for kBoardGoneFrames frames (or the frames end, or the budget). Per-view errors
-//               are listed, outliers dropped (intrinsics.hpp).
+//               are listed, outliers dropped (intrinsics.hpp). The same views then give, per
+//               camera with depth, the depth registration (depth_registration.hpp: the board's
+//               plane seen in colour and in depth; the fitted depth scale, and T_colour_depth when
+//               it is distinguishable from identity) and, over all cameras, the colour gains
+//               (colour_gains.hpp: the board's white and black squares), each with its verdicts.
 //   poses       every camera's frames in step: the board is carried from marked spot to marked
 //               spot in camera order; spot i is taken when camera i has seen it steady for
 //               kPlacementSteadyFrames frames, the next spot is awaited once it has left camera
@@ -103,6 +107,8 @@ class CalibrationSession {
 
  private:
   StepOutcome measureIntrinsics(std::ostream& log, bool quiet, const PreviewCallback& on_preview);
+  // Depth registration and colour gains from the intrinsics step's kept views (cameras_ updated).
+  void measureDepthAndColour(StepOutcome& out, std::ostream& log);
   StepOutcome measurePoses(std::ostream& log, const PreviewCallback& on_preview);
   StepOutcome measureBackground(std::ostream& log, bool quiet, const PreviewCallback& on_preview);
   StepOutcome measurePanorama(std::ostream& log, const PreviewCallback& on_preview);
@@ -112,6 +118,12 @@ class CalibrationSession {
   AutoCalibrationConfig config_;
   std::vector<std::vector<BoardFrameObservation>> intrinsics_observations_;  // per camera
   std::vector<std::vector<BoardFrameObservation>> placement_observations_;   // per camera
+  // Per camera: the frames the intrinsics step kept as views, with their detections.
+  struct KeptView {
+    RgbdFrame frame;
+    BoardDetection detection;
+  };
+  std::vector<std::vector<KeptView>> intrinsics_views_;
   std::vector<LoopClosure> loop_closures_;
   std::vector<RgbdFrame> hall_frames_;  // per camera: the background step's first frame
   std::vector<CameraCalibration> cameras_;

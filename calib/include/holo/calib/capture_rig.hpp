@@ -59,6 +59,7 @@ class CaptureRig : public CalibrationRig {
   std::string describe() const override { return description_; }
   std::optional<RgbdFrame> nextFrame(int camera) override;
   bool stills() const override { return stills_; }
+  double metresPerDepthUnit(int camera) const override;
   cv::Mat panorama() const override { return panorama_; }
   std::vector<cv::Point2f> observedTestPattern(int face, cv::Size view) const override;
   // The model the source itself carries (a recording's intrinsics and pose), for checking.

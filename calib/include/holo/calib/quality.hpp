@@ -8,10 +8,15 @@
 //   background   invalid depth < 20 % of pixels, colour noise (median absolute deviation) < 6 levels
 //   panorama     normalised correlation of the camera view with the panorama >= 0.5
 //   display      test pattern residual < 2 px
+//   depth        the board's plane in depth against its plane from the colour corners, RMS
+//                distance < 5 mm over >= 4 views
+//   colour       every channel's gain within 0.5-2 (a larger correction is a camera set wrong)
 #pragma once
 
 #include <string>
 #include <vector>
+
+#include "holo/core/math.hpp"
 
 namespace holo::calib {
 
@@ -43,6 +48,14 @@ inline constexpr double kBackgroundMaxInvalid = 0.6;
 inline constexpr double kBackgroundMaxColourMad = 6.0;
 inline constexpr double kPanoramaMinCorrelation = 0.5;
 inline constexpr double kDisplayMaxResidualPx = 2.0;
+inline constexpr double kDepthRegistrationMaxRmsMm = 5.0;
+inline constexpr int kDepthRegistrationMinViews = 4;
+// A fitted depth-to-colour pose closer to identity than this is within its own uncertainty
+// (docs/calib.md: 1.3 mm and 0.04 degrees measured on 8 views) and not applied: reprojecting
+// depth that is already registered would only resample it.
+inline constexpr double kDepthRegistrationIdentityMm = 3.0;
+inline constexpr double kDepthRegistrationIdentityDeg = 0.3;
+inline constexpr double kColourMaxCorrection = 2.0;  // a gain outside [1/2, 2] fails
 
 // `views` used of `offered` frames; `board_fraction` is the median share of the image width the board
 // spans (small boards mean "board too far").
@@ -53,5 +66,8 @@ StepVerdict judgeLoopClosure(const std::string& step, double translation_mm, dou
 StepVerdict judgeBackground(const std::string& step, double invalid_fraction, double colour_mad);
 StepVerdict judgePanorama(const std::string& step, double correlation);
 StepVerdict judgeDisplay(const std::string& step, double residual_px);
+StepVerdict judgeDepthRegistration(const std::string& step, double rms_distance_mm, int views);
+// `gains`: linear RGB multipliers; the figure is the largest correction factor max(g, 1/g).
+StepVerdict judgeColourGains(const std::string& step, vec3 gains);
 
 }  // namespace holo::calib

@@ -1,13 +1,14 @@
 // The calibration rig of the simulated museum: a simulated technician acts out what each step
 // asks (begin()): moves the intrinsics board in front of each camera, holding it still at 16
 // poses with a moving frame between them; stands the placement board on the easel at each marked
-// spot in turn; clears the hall. The four cameras film it over their view of the hall (frame()),
-// the simulated monitors show the test pattern with a known misalignment. Everything is seeded,
-// and the truth (intrinsics, poses, panorama yaw, face alignment) is exposed for checking.
-// `holopyramid simulate --calibration` records the same frames, so a calibration from that
+// spot in turn; clears the hall. The four cameras film it over their view of the hall (frame();
+// the boards in colour and in depth), the simulated monitors show the test pattern with a known misalignment.
+// Everything is seeded, and the truth (intrinsics, poses, panorama yaw, face alignment) is exposed for
+// checking. `holopyramid simulate --calibration` records the same frames, so a calibration from that
 // recording (capture_rig.hpp) runs the very steps a calibration on this rig runs.
 #pragma once
 
+#include <algorithm>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -39,6 +40,10 @@ class SimulatedRig : public CalibrationRig {
   int frameCount(RigActivity activity) const;
   RgbdFrame frame(RigActivity activity, int camera, int index) const;
 
+  // The depth device's frames lag the colour device's by `seconds` (>= 0): its picture of a
+  // moving board shows the board further along (sim/device_errors.hpp). Default 0.
+  void setDepthDelay(double seconds) { depth_delay_s_ = std::max(0.0, seconds); }
+
   // The truth the calibration should recover.
   const sim::Museum& museum() const { return museum_; }
   const CameraModel& trueCamera(int camera) const;
@@ -48,7 +53,7 @@ class SimulatedRig : public CalibrationRig {
  private:
   const RgbdFrame& hallFrame(int camera) const;  // the camera's frame of the empty hall (cached)
   RgbdFrame boardFrame(const BoardTexture& texture, const Intrinsics& K, const cv::Matx44d& T_camera_board,
-                       int camera, std::uint64_t seed, float blur) const;
+                       const cv::Matx44d& T_depth_board, int camera, std::uint64_t seed, float blur) const;
 
   sim::Museum museum_;
   std::string scene_;
@@ -57,6 +62,7 @@ class SimulatedRig : public CalibrationRig {
   BoardTexture placement_texture_;
   float panorama_yaw_ = 0.0f;
   int panorama_shift_px_ = 0;
+  double depth_delay_s_ = 0.0;
   RigActivity activity_ = RigActivity::HandHeldBoard;
   std::vector<int> next_;  // per camera: the next frame of the current activity
   mutable std::mutex cache_mutex_;

@@ -24,4 +24,11 @@ struct SyntheticViewOptions {
 cv::Mat renderBoardView(const BoardTexture& texture, const Intrinsics& K, const cv::Matx44d& T_camera_board,
                         const SyntheticViewOptions& options = {}, const cv::Mat& background = {});
 
+// The board's depth as a depth camera with intrinsics K at T_camera_board sees it: CV_32FC1,
+// camera-frame Z in metres where a pixel's ray meets the printed sheet (the texture's extent,
+// margin included) from its front, 0 elsewhere; Gaussian noise of `noise_sigma_m` (seeded by
+// `seed`) on every board pixel.
+cv::Mat renderBoardDepth(const BoardTexture& texture, const Intrinsics& K, const cv::Matx44d& T_camera_board,
+                         double noise_sigma_m = 0.0, std::uint64_t seed = 1);
+
 }  // namespace holo::calib

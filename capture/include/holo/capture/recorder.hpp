@@ -31,8 +31,9 @@ class Recorder {
   Recorder& operator=(const Recorder&) = delete;
 
   // Writes the frame of camera frame.camera_id (0-based index into `cameras`). The timestamp is
-  // frame.device_time when set, else host_time relative to the first frame written.
-  void write(const RgbdFrame& frame);
+  // frame.device_time when set, else host_time relative to the first frame written; the depth
+  // image's is `depth_time` when given (a second device's clock), else the same.
+  void write(const RgbdFrame& frame, std::optional<Nanoseconds> depth_time = std::nullopt);
   // Writes the indices and recording.yaml; idempotent.
   void finish();
 
@@ -44,6 +45,7 @@ class Recorder {
  private:
   struct Entry {
     double t;
+    double t_depth;
     std::string colour;  // relative to the camera folder, "" when none
     std::string depth;
   };

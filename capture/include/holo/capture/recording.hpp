@@ -6,7 +6,8 @@
 //   DIR/cam0/rgb/000000.png   colour, 8-bit BGR PNG (bit-exact)
 //   DIR/cam0/depth/000000.png depth, 16-bit PNG: metres * depth_scale, 0 = no measurement
 //   DIR/cam0/rgb.txt, depth.txt   "timestamp file" per line (seconds), '#' comments (TUM format)
-//   DIR/cam0/associations.txt     "t_rgb rgb/x.png t_depth depth/x.png" per frame
+//   DIR/cam0/associations.txt     "t_rgb rgb/x.png t_depth depth/x.png" per frame (the two times
+//                                 differ for a camera whose colour and depth are two devices)
 //
 // readRecording() also reads
 //   * a plain TUM sequence folder (rgb.txt + depth.txt, associations.txt optional; depth scale
@@ -32,9 +33,12 @@ inline constexpr double kDefaultDepthScale = 1000.0;  // ours: millimetres, up t
 inline constexpr const char* kRecordingFile = "recording.yaml";
 
 struct RecordedFrame {
-  double timestamp_s = 0;        // seconds, source-defined epoch
+  double timestamp_s = 0;        // seconds, source-defined epoch (the colour image's)
   std::filesystem::path colour;  // absolute; empty when the frame has no colour
   std::filesystem::path depth;   // absolute; empty when the frame has no depth
+  // The depth image's own time: colour and depth from two devices are paired within a tolerance
+  // (associations.txt), not taken at one instant.
+  double depth_timestamp_s = 0;
 };
 
 struct RecordedCamera {

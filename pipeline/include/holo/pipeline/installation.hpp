@@ -10,7 +10,8 @@
 //
 // The background: when the calibration folder holds the background the calibration captured
 // for every camera (background_cameraN.png, 8-bit BGR, and background_depth_cameraN.png, 16-bit
-// millimetres, 0 = invalid; N = the camera's index in capture.cameras), it is loaded and
+// millimetres as the camera measured them, 0 = invalid; N = the camera's index in capture.cameras;
+// the loop corrects its depth like every frame's: fitted scale, reprojection), it is loaded and
 // exhibit.background_frames is not spent relearning it; `relearn_background` (the commands'
 // --relearn-background) ignores it and learns from the first frames as without one.
 //

@@ -166,7 +166,10 @@ class Museum {
   std::vector<vec3> visitorHeads(int frame) const;
 
   // Renders camera `index` at `frame` with Embree. `with_visitors = false` gives the empty hall.
-  SimulatedFrame renderCamera(int index, int frame, bool with_visitors = true) const;
+  // `time_offset_s` poses the visitors that much after the frame's time (a depth device whose
+  // frames lag the colour device's); the sensor noise stays the frame's.
+  SimulatedFrame renderCamera(int index, int frame, bool with_visitors = true,
+                              double time_offset_s = 0.0) const;
   // The background frame gamma_s of a camera: the empty hall, with sensor noise.
   RgbdFrame backgroundFrame(int index) const;
   // Equirectangular linear HDR (CV_32FC3 BGR) of the empty hall seen from panorama_position;
