@@ -81,6 +81,11 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--refraction-depth", options->loop.tracer.refraction_depth,
                      "Interface events a transmitted path follows (0: measured on the relic)")
           ->capture_default_str();
+      sub.add_option("--refraction-stride", options->loop.tracer.refraction_stride,
+                     "Pixels between the traced transmitted paths; the samples between blend them (1: every "
+                     "sample traces)")
+          ->capture_default_str()
+          ->check(CLI::Range(1, 4));
       sub.add_option("--view-size", options->loop.view_size, "Pixels per face view")->capture_default_str();
       sub.add_option("--frames", options->frames, "Measured frames")->capture_default_str();
       sub.add_option("--warmup", options->warmup, "Frames run before measuring")->capture_default_str();

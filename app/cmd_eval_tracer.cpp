@@ -330,6 +330,11 @@ HOLO_REGISTER_COMMAND(Command{
              "Ours, glass relics: interface events a transmitted path follows (0: measured on the relic)")
           ->capture_default_str()
           ->check(CLI::Range(0, 32));
+      sub.add_option("--refraction-stride", o->tracer.refraction_stride,
+                     "Ours, glass relics: pixels between the traced transmitted paths; the samples between "
+                     "blend them (1: every sample traces)")
+          ->capture_default_str()
+          ->check(CLI::Range(1, 4));
       sub.add_option("--transmitted-lobe-scale", o->tracer.transmitted_roughness_scale,
                      "Ours, glass relics: scales the transmitted lobe's derived roughness (checks)")
           ->capture_default_str()

@@ -88,6 +88,7 @@ AccuracySweep sweepAccuracy(const AccuracyOptions& o) {
     int lobe_components;
     int refraction_depth = 0;  // 0: measured on the relic
     float transmitted_roughness_scale = 1.0f;
+    int refraction_stride = reflect::TracerSettings{}.refraction_stride;
   };
   const int lobe = reflect::TracerSettings{}.lobe_components;
   std::vector<OursConfig> ours;
@@ -105,6 +106,9 @@ AccuracySweep sweepAccuracy(const AccuracyOptions& o) {
       ours.push_back({d.aa_samples, d.pyramid_levels, d.grid.voxel_size, 0.0f, lobe, depth, 1.0f});
     for (float scale : {0.0f, 0.5f, 2.0f})
       ours.push_back({d.aa_samples, d.pyramid_levels, d.grid.voxel_size, 0.0f, lobe, 0, scale});
+    for (int stride : {1, 2, 3, 4})
+      if (stride != d.refraction_stride)
+        ours.push_back({d.aa_samples, d.pyramid_levels, d.grid.voxel_size, 0.0f, lobe, 0, 1.0f, stride});
   }
   const std::vector<int> ibl_levels = {6, 8, 10}, ssrt_rays = {1, 2, 4, 8, 16};
   int mcpt_steps = 0;
@@ -120,13 +124,15 @@ AccuracySweep sweepAccuracy(const AccuracyOptions& o) {
     s.tracer.lobe_components = c.lobe_components;
     s.tracer.refraction_depth = c.refraction_depth;
     s.tracer.transmitted_roughness_scale = c.transmitted_roughness_scale;
+    s.tracer.refraction_stride = c.refraction_stride;
     std::string knob = "aa=" + std::to_string(c.aa) + " levels=" + std::to_string(c.levels) +
                        " voxel_cm=" + fmt(100 * c.voxel, 4) + " level_bias=" + fmt(c.bias, 2) +
                        " lobe=" + std::to_string(c.lobe_components);
     if (transmissive)
       knob +=
           " internal_depth=" + (c.refraction_depth > 0 ? std::to_string(c.refraction_depth) : "measured") +
-          " transmitted_lobe_scale=" + fmt(c.transmitted_roughness_scale, 2);
+          " transmitted_lobe_scale=" + fmt(c.transmitted_roughness_scale, 2) +
+          " refraction_stride=" + std::to_string(c.refraction_stride);
     run("ours", knob, s);
     progress.update();
   }

@@ -62,6 +62,8 @@ void TracerSettings::validate() const {
   if (!std::isfinite(transmitted_roughness_scale) || transmitted_roughness_scale < 0.0f ||
       transmitted_roughness_scale > 4.0f)
     throw InputError(src, "transmitted_roughness_scale", "0..4", std::to_string(transmitted_roughness_scale));
+  if (refraction_stride < 1 || refraction_stride > 4)
+    throw InputError(src, "refraction_stride", "1..4 pixels", std::to_string(refraction_stride));
   grid.validate(src + " grid");
 }
 

@@ -47,13 +47,12 @@ float safeIor(float ior) {
   return std::isfinite(ior) && ior >= 1.0f ? ior : 1.0f;
 }
 
-}  // namespace
-
-TransmittedPath traceTransmission(const RenderScene& scene, const PrefilteredIbl& ibl,
-                                  const TracerSettings& settings, int depth, const vec3& entry_position,
-                                  const vec3& entry_normal, const vec3& entry_direction,
-                                  const Material& entry, const SurfaceMaterial* entry_textured,
-                                  std::vector<double>* alive) {
+// The path per unit of light entering: scale, resolved and reflected leave out path.entry, which
+// the caller multiplies in (traceTransmission), or a neighbour's own (a blended sample).
+TransmittedPath traceUnit(const RenderScene& scene, const PrefilteredIbl& ibl, const TracerSettings& settings,
+                          int depth, const vec3& entry_position, const vec3& entry_normal,
+                          const vec3& entry_direction, const Material& entry,
+                          const SurfaceMaterial* entry_textured, std::vector<double>* alive) {
   TransmittedPath path;
   const RayScene& relic = scene.relicOnly();
   const float offset = std::max(settings.ray_offset, 1e-5f);
@@ -116,7 +115,11 @@ TransmittedPath traceTransmission(const RenderScene& scene, const PrefilteredIbl
           path.resolved +=
               throughput * (1.0f - fresnel) * (1.0f - transmitted) * tint * ibl.irradiance(normal) / kPi;
       }
-      throughput *= (1.0f - fresnel) * transmitted * tint;
+      const vec3 weight = (1.0f - fresnel) * transmitted * tint;
+      if (first)
+        path.entry = weight;
+      else
+        throughput *= weight;
       alpha2 += spread * spread;
       if (!thin) {
         direction = refractThrough(direction, normal, eta);
@@ -126,7 +129,7 @@ TransmittedPath traceTransmission(const RenderScene& scene, const PrefilteredIbl
       }
     }
     ++path.events;
-    if (alive && first) (*alive)[0] += luminance(throughput);
+    if (alive && first) (*alive)[0] += luminance(path.entry * throughput);
     // From the interface itself, past `offset` (against meeting it again), so a segment's length
     // is the distance between the interfaces.
     const Ray ray{position, direction};
@@ -150,7 +153,7 @@ TransmittedPath traceTransmission(const RenderScene& scene, const PrefilteredIbl
     material = &scene.relicGltfMaterial(hit, relic);
     if (!isFinite(position) || !isFinite(normal)) break;
     if (alive && path.events < int(alive->size()))
-      (*alive)[std::size_t(path.events)] += luminance(throughput);
+      (*alive)[std::size_t(path.events)] += luminance(path.entry * throughput);
   }
   path.exited = true;
   path.exit_position = position + direction * offset;
@@ -158,6 +161,36 @@ TransmittedPath traceTransmission(const RenderScene& scene, const PrefilteredIbl
   path.roughness = lobe();
   path.scale = throughput;
   path.environment = ibl.specular(direction, path.roughness);
+  return path;
+}
+
+// The weight path.entry of a sample's own entry (traceUnit's first event).
+vec3 entryWeight(const vec3& normal, const vec3& direction, const Material& m,
+                 const SurfaceMaterial* textured) {
+  const float cos_i = std::max(-glm::dot(direction, normal), 1e-6f);
+  const float fresnel = fresnelDielectric(cos_i, safeIor(m.ior));
+  const float transmitted =
+      (1.0f - clamp01(textured ? textured->metallic : m.metallic)) * clamp01(m.transmission);
+  return (1.0f - fresnel) * transmitted *
+         glm::clamp(textured ? textured->base_colour : m.base_colour, vec3(0.0f), vec3(1.0f));
+}
+
+void applyEntry(TransmittedPath& path) {
+  path.scale *= path.entry;
+  path.resolved *= path.entry;
+  path.reflected *= path.entry;
+}
+
+}  // namespace
+
+TransmittedPath traceTransmission(const RenderScene& scene, const PrefilteredIbl& ibl,
+                                  const TracerSettings& settings, int depth, const vec3& entry_position,
+                                  const vec3& entry_normal, const vec3& entry_direction,
+                                  const Material& entry, const SurfaceMaterial* entry_textured,
+                                  std::vector<double>* alive) {
+  TransmittedPath path = traceUnit(scene, ibl, settings, depth, entry_position, entry_normal, entry_direction,
+                                   entry, entry_textured, alive);
+  applyEntry(path);
   return path;
 }
 
@@ -216,18 +249,125 @@ MaterialLayers::MaterialLayers(const RenderScene& scene, const PrefilteredIbl& i
       refraction_(refraction),
       clearcoat_(clearcoat) {}
 
+namespace {
+
+// Where a sample may take its anchors' blend (refraction_pass.hpp): the same smooth piece of the
+// relic (normals within ~25 degrees, the anchor within ~11 degrees of the sample's tangent
+// plane) and the same light inside (exit directions within ~8 degrees).
+constexpr float kAnchorNormalCos = 0.9f;
+constexpr float kAnchorPlaneSine = 0.2f;
+constexpr float kAnchorExitCos = 0.99f;
+
+// Which sample of pixel p is its anchor: the centre where it was traced, else the first valid
+// sub-sample (Full anti-aliasing traces no centres); hits.hits.size() when none is transmissive.
+std::size_t anchorSample(const HitPointBuffer& hits, std::size_t p) {
+  if (hits.valid[p] && hits.hits[p].gltf && hits.hits[p].gltf->transmission > 0.0f) return p;
+  if (hits.first_sub[p] == HitPointBuffer::kCentreOnly) return hits.hits.size();
+  for (std::size_t i = hits.first_sub[p]; i < hits.first_sub[p] + 4; ++i)
+    if (hits.valid[i] && hits.hits[i].gltf && hits.hits[i].gltf->transmission > 0.0f) return i;
+  return hits.hits.size();
+}
+
+// Whether a sample lies on the same smooth piece of the relic as an anchor.
+bool sameSurface(const RefractionAnchor& a, const HitPoint& hp) {
+  if (a.material != hp.gltf || glm::dot(a.normal, hp.normal) < kAnchorNormalCos) return false;
+  const vec3 d = a.position - hp.position;
+  return std::abs(glm::dot(d, hp.normal)) <= kAnchorPlaneSine * glm::length(d);
+}
+
+// The anchors' bilinear blend at image position `at` (pixels, pixel centres at integers), per
+// unit of entry; false where a sample must trace its own path.
+bool blendAnchors(const std::vector<RefractionAnchor>& anchors, int grid_width, int grid_height, int stride,
+                  const HitPoint& hp, const vec2& at, TransmittedPath& out) {
+  const vec2 u = at / float(stride);
+  const vec2 cell = glm::floor(u), f = u - cell;
+  const RefractionAnchor* used[4];
+  float weights[4];
+  int n = 0;
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) {
+      const float w = (i ? f.x : 1.0f - f.x) * (j ? f.y : 1.0f - f.y);
+      if (!(w > 1e-6f)) continue;
+      const int ax = int(cell.x) + i, ay = int(cell.y) + j;
+      if (ax < 0 || ay < 0 || ax >= grid_width || ay >= grid_height) return false;
+      const RefractionAnchor& a = anchors[std::size_t(ay) * std::size_t(grid_width) + std::size_t(ax)];
+      if (!sameSurface(a, hp)) return false;
+      if (n > 0 && (a.unit.events != used[0]->unit.events || a.unit.exited != used[0]->unit.exited ||
+                    glm::dot(a.unit.exit_direction, used[0]->unit.exit_direction) < kAnchorExitCos))
+        return false;
+      used[n] = &a;
+      weights[n++] = w;
+    }
+  if (n == 0) return false;
+  float total = 0.0f;
+  for (int k = 0; k < n; ++k) total += weights[k];
+  out = TransmittedPath{};
+  vec3 direction(0.0f);
+  for (int k = 0; k < n; ++k) {
+    const TransmittedPath& a = used[k]->unit;
+    const float w = weights[k] / total;
+    out.scale += w * a.scale;
+    out.resolved += w * a.resolved;
+    out.reflected += w * a.reflected;
+    out.exit_position += w * a.exit_position;
+    direction += w * a.exit_direction;
+    out.roughness += w * a.roughness;
+  }
+  const float length = glm::length(direction);
+  if (!(length > 1e-6f)) return false;
+  out.exit_direction = direction / length;
+  out.exited = used[0]->unit.exited;
+  out.events = used[0]->unit.events;
+  return true;
+}
+
+}  // namespace
+
 LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitSumShading>& shading,
                                   LayerBuffers& buffers) const {
   buffers.layers.resize(hits.hits.size());
   buffers.layered.assign(hits.hits.size(), 0);
   std::atomic<std::uint64_t> rays{0}, refracted{0}, capped{0}, coated{0};
+  // The anchors first (refraction_stride > 1): every sample below reads its neighbours'.
+  const int stride = refraction_ ? settings_.refraction_stride : 1;
+  const int grid_width = stride > 1 ? (hits.width - 1) / stride + 1 : 0;
+  const int grid_height = stride > 1 ? (hits.height - 1) / stride + 1 : 0;
+  buffers.anchors.assign(std::size_t(grid_width) * std::size_t(grid_height), RefractionAnchor{});
+  if (stride > 1)
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
+        [&](const tbb::blocked_range<std::size_t>& r) {
+          std::uint64_t local_rays = 0;
+          for (std::size_t k = r.begin(); k < r.end(); ++k) {
+            const std::size_t p = hits.covered[k];
+            const int x = int(p % std::size_t(hits.width)), y = int(p / std::size_t(hits.width));
+            if (x % stride != 0 || y % stride != 0) continue;
+            const std::size_t i = anchorSample(hits, p);
+            if (i == hits.hits.size()) continue;
+            const HitPoint& hp = hits.hits[i];
+            RefractionAnchor& a =
+                buffers.anchors[std::size_t(y / stride) * std::size_t(grid_width) + std::size_t(x / stride)];
+            a.position = hp.position;
+            a.normal = hp.normal;
+            a.material = hp.gltf;
+            a.unit = traceUnit(scene_, ibl_, settings_, depth_, hp.position, hp.normal, -hp.to_viewer,
+                               *hp.gltf, &hp.material, nullptr);
+            local_rays += a.unit.rays;
+          }
+          rays += local_rays;
+        });
+  const std::vector<vec2> pattern = subsamplePattern(4);
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, hits.covered.size(), 64),
       [&](const tbb::blocked_range<std::size_t>& r) {
         std::uint64_t local_rays = 0, local_refracted = 0, local_capped = 0, local_coated = 0;
         for (std::size_t k = r.begin(); k < r.end(); ++k) {
           const std::size_t p = hits.covered[k];
+          const vec2 centre(float(p % std::size_t(hits.width)), float(p / std::size_t(hits.width)));
           const std::size_t first = hits.firstSample(p);
+          // The path of the first sub-sample that traced its own, shared by the pixel's others on
+          // the same surface (refraction_stride > 1).
+          RefractionAnchor shared;
           for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i) {
             if (!hits.valid[i] || hits.hits[i].gltf == nullptr) continue;
             const HitPoint& hp = hits.hits[i];
@@ -255,9 +395,28 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
                 sh.specular_scale[c] =
                     before[c] > 0.0f ? sh.specular_scale[c] * after[c] / before[c] : after[c];
               sh.diffuse *= 1.0f - clamp01(m.transmission);
-              const TransmittedPath path = traceTransmission(scene_, ibl_, settings_, depth_, hp.position,
-                                                             hp.normal, -hp.to_viewer, m, &sm);
-              local_rays += path.rays;
+              const vec2 at = centre + (i == p ? vec2(0.0f) : pattern[i - first]);
+              TransmittedPath path;
+              const bool blended =
+                  stride > 1 &&
+                  (blendAnchors(buffers.anchors, grid_width, grid_height, stride, hp, at, path) ||
+                   (shared.material && sameSurface(shared, hp) && (path = shared.unit, true)));
+              if (blended) {
+                path.entry = entryWeight(hp.normal, -hp.to_viewer, m, &sm);
+                applyEntry(path);
+                if (path.exited) path.environment = ibl_.specular(path.exit_direction, path.roughness);
+              } else {
+                path = traceUnit(scene_, ibl_, settings_, depth_, hp.position, hp.normal, -hp.to_viewer, m,
+                                 &sm, nullptr);
+                if (stride > 1 && i != p && !shared.material) {
+                  shared.position = hp.position;
+                  shared.normal = hp.normal;
+                  shared.material = hp.gltf;
+                  shared.unit = path;
+                }
+                applyEntry(path);
+                local_rays += path.rays;
+              }
               ++local_refracted;
               local_capped += path.exited ? 0 : 1;
               sh.diffuse += path.resolved;

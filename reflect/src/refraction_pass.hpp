@@ -27,6 +27,16 @@
 // transmitted_roughness_scale), each rough internal reflection by alpha. At the depth cap the
 // energy still inside goes to the IBL along the last direction.
 //
+// Sparse paths (TracerSettings::refraction_stride s > 1): paths are traced only at anchors, the
+// pixel centres (x, y) with x and y multiples of s, and every other sample takes the bilinear blend
+// of the anchors around it where all of them are on the same smooth piece of the relic as the
+// sample (same material, normals within ~25 degrees, the anchor near the sample's tangent plane)
+// and agree on what the light does inside (the same events, all exited or all capped, exit
+// directions within ~8 degrees); elsewhere (silhouettes, creases, the rim, where the exit
+// direction turns fast) the sample traces its own path. What is blended is the path per unit of
+// light entering, times the sample's own entry weight (its exact Fresnel and tint), so a blend
+// keeps the white furnace; the exit ray's IBL is read along the blended direction.
+//
 // Internal depth: measureInternalDepth traces probe rays from a sphere of directions around the
 // relic with a cap of kMaxInternalDepth and keeps the share of the transmitted light still being
 // followed after k events; the plan takes the smallest k whose share is below
@@ -64,6 +74,8 @@ struct TransmittedPath {
                            // reflection (its environment and its visitors)
   vec3 exit_position{0.0f}, exit_direction{0.0f, 0.0f, 1.0f};
   float roughness = 0.0f;  // of the transmitted lobe at the exit (perceptual)
+  vec3 entry{0.0f};        // weight of the light entering at the first event: (1 - F)(1 - metallic)
+                           // transmission base_colour; scale, resolved and reflected include it
   bool exited = false;     // the path left the relic before the cap (its exit ray can be walked)
   int events = 0;          // interface events followed
   std::uint32_t rays = 0;  // Embree rays cast
@@ -100,15 +112,23 @@ struct SampleLayers {
   vec3 coat_scale{0.0f}, coat_environment{0.0f};
 };
 
+// A traced path at an anchor pixel (refraction_stride > 1), per unit of light entering.
+struct RefractionAnchor {
+  vec3 position{0.0f}, normal{0.0f, 1.0f, 0.0f};
+  const Material* material = nullptr;  // null: no anchor there
+  TransmittedPath unit;                // scale, resolved and reflected per unit entry weight
+};
+
 struct LayerBuffers {
   std::vector<SampleLayers> layers;  // per entry of hits.hits; meaningful where layered[i]
   std::vector<std::uint8_t> layered;
   std::vector<ForegroundSample> transmitted_fg;  // per entry, this frame's walk of the exit rays
+  std::vector<RefractionAnchor> anchors;         // scratch: the anchor grid, row-major
 };
 
 struct LayerCounts {
   std::uint64_t refraction_rays = 0;    // Embree rays of the transmitted paths
-  std::uint64_t refracted_samples = 0;  // samples with a transmitted path
+  std::uint64_t refracted_samples = 0;  // samples with a transmitted path (traced or blended)
   std::uint64_t capped_paths = 0;       // paths that reached the depth cap
   std::uint64_t coated_samples = 0;
 };

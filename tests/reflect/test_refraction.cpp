@@ -263,6 +263,47 @@ TEST(Refraction, StabilityCasesStayFiniteAndInRange) {
   }
 }
 
+// Sparse paths: with a stride of 2 or 4 pixels between the traced paths the samples between blend
+// their anchors where these agree and a refined pixel's sub-samples share one path; the image
+// stays within a few percent of every sample tracing its own path, for a fraction of the rays,
+// and renders the same twice.
+TEST(Refraction, SparsePathsBlendTheAnchorsForAFractionOfTheRays) {
+  const auto sky = [](const vec3& d) {
+    return vec3(0.5f + 0.5f * std::max(d.y, 0.0f), 0.4f + 0.2f * d.z, 0.3f + 0.2f * d.x);
+  };
+  const PrefilteredIbl ibl(panorama(sky), PrefilterOptions{4, 64, 8});
+  const RenderScene scene(glassSphere(1.5f), {});
+  const CameraModel view = lookAtCamera(vec3(0.0f, 0.3f, 1.2f), vec3(0.0f, 0.3f, 0.0f), 16.0f, 48, 48);
+  const auto render = [&](int stride) {
+    TracerSettings settings = staticOnly();
+    settings.edge_aa = true;
+    settings.refraction_stride = stride;
+    return renderOnce(scene, ibl, settings, view);
+  };
+  const ViewImages every = render(1), two = render(2), four = render(4);
+  EXPECT_EQ(two.refracted_samples, every.refracted_samples);
+  EXPECT_EQ(four.refracted_samples, every.refracted_samples);
+  EXPECT_LT(double(two.refraction_rays), 0.5 * double(every.refraction_rays));
+  // Wider strides leave more samples between anchors that disagree: no fewer rays on this sphere.
+  EXPECT_LT(four.refraction_rays, every.refraction_rays);
+  for (const ViewImages* sparse : {&two, &four}) {
+    double difference = 0.0, sum = 0.0;
+    float largest = 0.0f;
+    for (int y = 0; y < 48; ++y)
+      for (int x = 0; x < 48; ++x) {
+        if (every.coverage.at<float>(y, x) < 1.0f) continue;
+        const vec3 a = rgbAt(every.hdr, x, y), b = rgbAt(sparse->hdr, x, y);
+        difference += glm::length(a - b);
+        sum += glm::length(a);
+        largest = std::max(largest, glm::length(a - b) / glm::length(a));
+      }
+    EXPECT_LT(difference / sum, 0.02) << "mean relative difference";
+    EXPECT_LT(largest, 0.2f) << "largest relative difference of a pixel";
+  }
+  const ViewImages again = render(2);
+  EXPECT_EQ(cv::norm(two.hdr, again.hdr, cv::NORM_INF), 0.0);
+}
+
 // The plan: an opaque relic runs no material pass and traces no refraction ray; glass does, with
 // the depth measured on the relic and its reason in the statistics.
 TEST(Refraction, OnlyATransmissiveRelicPaysForRefraction) {
