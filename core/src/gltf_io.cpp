@@ -20,6 +20,7 @@
 #include "holo/core/gltf_io.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <functional>
 #include <glm/gtc/matrix_transform.hpp>
@@ -435,11 +436,20 @@ int smallInteger(const tinygltf::Value& v) {
   return d >= 0.0 && d < 1e9 && d == std::floor(d) ? static_cast<int>(d) : -1;
 }
 
+// glTF's colour slots hold sRGB-encoded colour; every other slot holds linear data.
+TextureEncoding encodingOf(const std::string& field) {
+  for (const char* colour_slot : {"baseColorTexture", "emissiveTexture", "specularColorTexture"})
+    if (field.size() >= std::strlen(colour_slot) &&
+        field.compare(field.size() - std::strlen(colour_slot), std::string::npos, colour_slot) == 0)
+      return TextureEncoding::Srgb;
+  return TextureEncoding::Linear;
+}
+
 // Reads one material's factors and texture references, rejecting what no renderer could use.
 class MaterialReader {
  public:
   MaterialReader(const tinygltf::Model& gltf, const std::string& file, std::size_t index,
-                 const std::function<int(int)>& texture_for)
+                 const std::function<int(int, TextureEncoding)>& texture_for)
       : file_(file), texture_for_(texture_for) {
     const auto& m = gltf.materials[index];
     where_ = "materials[" + std::to_string(index) + "]" + (m.name.empty() ? "" : " (\"" + m.name + "\")");
@@ -491,7 +501,7 @@ class MaterialReader {
                      const std::string& field) const {
     TextureRef ref;
     if (index < 0) return ref;
-    ref.index = texture_for_(index);
+    ref.index = texture_for_(index, encodingOf(field));
     if (ref.index < 0) return ref;
     ref.tex_coord = texCoord(tex_coord, field + ".texCoord");
     if (auto it = extensions.find(kTextureTransform); it != extensions.end()) {
@@ -554,7 +564,7 @@ class MaterialReader {
 
  private:
   const std::string& file_;
-  const std::function<int(int)>& texture_for_;
+  const std::function<int(int, TextureEncoding)>& texture_for_;
   std::string where_;
 };
 
@@ -690,13 +700,15 @@ Model convert(const tinygltf::Model& gltf, const std::string& file,
   const Reader reader(gltf, file);
   Model model;
 
-  // Textures: glTF texture index -> Model::textures index (decoded, mip chain built, once).
-  std::vector<int> texture_slot(gltf.textures.size(), -1);
-  const std::function<int(int)> textureFor = [&](int gltf_texture) -> int {
+  // Textures: (glTF texture index, encoding) -> Model::textures index (decoded, mip chain built,
+  // once). A texture a colour slot and a data slot both use is built once per encoding.
+  std::vector<std::array<int, 2>> texture_slot(gltf.textures.size(), {-1, -1});
+  const std::function<int(int, TextureEncoding)> textureFor = [&](int gltf_texture,
+                                                                  TextureEncoding encoding) -> int {
     if (gltf_texture < 0 || gltf_texture >= static_cast<int>(gltf.textures.size()))
       reader.fail("textures", "a texture index < " + std::to_string(gltf.textures.size()),
                   std::to_string(gltf_texture));
-    auto& slot = texture_slot[static_cast<std::size_t>(gltf_texture)];
+    auto& slot = texture_slot[static_cast<std::size_t>(gltf_texture)][encoding == TextureEncoding::Srgb];
     if (slot >= 0) return slot;
     const auto& texture = gltf.textures[static_cast<std::size_t>(gltf_texture)];
     const int source = texture.source;
@@ -721,7 +733,7 @@ Model convert(const tinygltf::Model& gltf, const std::string& file,
       sampler = samplerFrom(gltf.samplers[static_cast<std::size_t>(texture.sampler)]);
     }
     slot = static_cast<int>(model.textures.size());
-    model.textures.emplace_back(std::move(decoded), sampler);
+    model.textures.emplace_back(std::move(decoded), sampler, encoding);
     return slot;
   };
 

@@ -89,6 +89,7 @@ class KeyHash {
     for (const Texture& texture : model.textures) {
       image(texture.image());  // the mip chain is built from it
       value(texture.sampler);
+      value(texture.encoding);  // sRGB texels are filtered in linear light
     }
   }
   std::uint64_t digest() const { return h_; }

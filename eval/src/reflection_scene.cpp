@@ -137,16 +137,26 @@ VisitorView visitorView(const SceneOptions& o) {
   for (int frame = 0; frame < kFrames; frame += kStride) {
     const reflect::RenderScene visitors(Model{}, {museum.visitors(frame)});
     for (int f = 0; f < 4; ++f) {
-      int relic_pixels = 0, met = 0;
+      int relic_pixels = 0, reflected = 0, seen_through = 0, either = 0;
       const reflect::HitPointBuffer& h = hits[std::size_t(f)];
       for (std::size_t i = 0; i < h.hits.size(); ++i) {
         if (!h.valid[i]) continue;
         ++relic_pixels;
         const reflect::HitPoint& hp = h.hits[i];
-        met += visitors.all().intersect(Ray{hp.position + hp.normal * 1e-3f, hp.reflected}).hit();
+        const bool mirror =
+            visitors.all().intersect(Ray{hp.position + hp.normal * 1e-3f, hp.reflected}).hit();
+        // The straight continuation stands in for the refracted path: it only picks the view, and
+        // a thick wall's refraction offsets the ray more than it turns it.
+        const bool through =
+            hp.gltf != nullptr && hp.gltf->transmissive() &&
+            visitors.all().intersect(Ray{hp.position - hp.normal * 1e-3f, -hp.to_viewer}).hit();
+        reflected += mirror;
+        seen_through += through;
+        either += mirror || through;
       }
-      const float fraction = relic_pixels > 0 ? float(met) / float(relic_pixels) : 0.0f;
-      if (fraction > best_score) best_score = fraction, best = {frame, f, fraction};
+      const auto share = [&](int n) { return relic_pixels > 0 ? float(n) / float(relic_pixels) : 0.0f; };
+      if (share(either) > best_score)
+        best_score = share(either), best = {frame, f, share(reflected), share(seen_through)};
     }
   }
   return best;

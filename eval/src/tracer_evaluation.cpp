@@ -69,6 +69,7 @@ SceneResult evaluateTracerScene(const std::string& hall, const std::string& reli
   res.frame = pick.frame;
   res.face = pick.face;
   res.reflected_fraction = pick.reflected_fraction;
+  res.seen_through_fraction = pick.seen_through_fraction;
   res.foreground_points = scene.foreground.points.size();
   HOLO_LOG_INFO("eval tracer: {} x {}, frame {}, face {}", hall, relic, pick.frame, pick.face);
 
@@ -131,6 +132,27 @@ SceneResult evaluateTracerScene(const std::string& hall, const std::string& reli
     }
   res.entries.push_back(ours);
   res.entries.push_back(ibl_same_aa);
+
+  // A glass relic's two references: the same renderer with the glass shaded as opaque, and with
+  // its refraction reading the IBL only (no visitors seen through it).
+  const bool glass = std::any_of(scene.relic.materials.begin(), scene.relic.materials.end(),
+                                 [](const Material& m) { return m.transmissive(); });
+  if (glass && base.tracer.refraction_enabled) {
+    MethodSettings opaque = base;
+    opaque.tracer.refraction_enabled = false;
+    Entry e = timed("ours", ours_knob + ",no-refraction", scene, camera, opaque, o.repeats);
+    e.method = "ours_glass_opaque";
+    score(e);
+    res.entries.push_back(e);
+    if (base.tracer.refracted_foreground) {
+      MethodSettings ibl_only = base;
+      ibl_only.tracer.refracted_foreground = false;
+      e = timed("ours", ours_knob + ",no-refracted-foreground", scene, camera, ibl_only, o.repeats);
+      e.method = "ours_ibl_refraction";
+      score(e);
+      res.entries.push_back(e);
+    }
+  }
 
   Entry ibl = timed("ibl-baseline", "levels=9,samples=64", scene, camera, base, std::max(1, o.repeats / 2));
   ibl.method = "ibl";

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "holo/core/image.hpp"
-
 namespace holo::reflect {
 namespace {
 
@@ -52,10 +50,6 @@ vec4 sampleSlot(const Model& model, const TriangleMesh& mesh, const Corner& c, c
   const float footprint = footprint_metres * uvPerMetre(mesh, c, uvs) * scale;
   return sampleTexture(model.textures[std::size_t(ref.index)], uv,
                        std::isfinite(footprint) ? footprint : 0.0f);
-}
-
-vec3 srgbDecode(const vec4& texel) {
-  return {srgbToLinear(texel.r), srgbToLinear(texel.g), srgbToLinear(texel.b)};
 }
 
 const Material& meshMaterial(const Model& model, std::size_t mesh) {
@@ -136,7 +130,7 @@ SurfacePoint resolveSurface(const RenderScene& scene, const RayScene& traced, co
   const float footprint = std::isfinite(cone_width) ? std::max(cone_width, 0.0f) / cosine : 0.0f;
 
   const vec4 base = sampleSlot(model, mesh, c, m.base_colour_texture, footprint);
-  s.material.base_colour = glm::clamp(m.base_colour * srgbDecode(base), vec3(0.0f), vec3(1.0f));
+  s.material.base_colour = glm::clamp(m.base_colour * vec3(base), vec3(0.0f), vec3(1.0f));
   const vec4 orm = sampleSlot(model, mesh, c, m.metallic_roughness_texture, footprint);
   s.material.roughness = std::clamp(m.roughness * orm.g, 0.0f, 1.0f);
   s.material.metallic = std::clamp(m.metallic * orm.b, 0.0f, 1.0f);
@@ -156,7 +150,7 @@ SurfacePoint resolveSurface(const RenderScene& scene, const RayScene& traced, co
     s.occlusion = std::clamp(1.0f + m.occlusion_strength * (ao - 1.0f), 0.0f, 1.0f);
   }
   if (m.emission != vec3(0.0f)) {
-    const vec3 e = m.emission * srgbDecode(sampleSlot(model, mesh, c, m.emissive_texture, footprint));
+    const vec3 e = m.emission * vec3(sampleSlot(model, mesh, c, m.emissive_texture, footprint));
     s.emission = isFinite(e) ? glm::max(e, vec3(0.0f)) : vec3(0.0f);
   }
   if (const auto& material = scene.relicMaterialOverride()) s.material = *material;

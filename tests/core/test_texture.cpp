@@ -33,6 +33,28 @@ TEST(Texture, MipChainHalvesDownToOneTexelAndKeepsTheMean) {
   EXPECT_EQ(Texture(checker).levels.back().at<cv::Vec3b>(0, 0), cv::Vec3b::all(100));
 }
 
+// An sRGB colour texture is filtered in linear light: a black and white checker's mean is half
+// the light (0.5, stored as sRGB byte 188), not the mean of the encoded bytes (0.5 encoded, 0.214
+// in light), and halfway between a black and a white texel reads 0.5 too.
+TEST(Texture, SrgbTexturesAreFilteredAndMipMappedInLinearLight) {
+  cv::Mat checker(8, 8, CV_8UC4);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x)
+      checker.at<cv::Vec4b>(y, x) = (x + y) % 2 ? cv::Vec4b(255, 255, 255, 255) : cv::Vec4b(0, 0, 0, 0);
+  const Texture srgb(checker, {}, TextureEncoding::Srgb);
+  EXPECT_EQ(srgb.levels.back().at<cv::Vec4b>(0, 0), cv::Vec4b(188, 188, 188, 128));  // alpha stays linear
+  const vec4 whole = sampleTexture(srgb, {0.5f, 0.5f}, 1.0f);  // one pixel covers the texture
+  EXPECT_NEAR(whole.r, 0.5f, 0.005f);
+  EXPECT_NEAR(whole.a, 0.5f, 0.005f);
+  const Texture linear(checker);  // the same bytes as data: their plain mean
+  EXPECT_NEAR(sampleTexture(linear, {0.5f, 0.5f}, 1.0f).r, 0.5f, 0.005f);
+
+  const Texture edge(row({0, 255}), wrapBoth(TextureWrap::ClampToEdge), TextureEncoding::Srgb);
+  EXPECT_FLOAT_EQ(sampleTexture(edge, {0.5f, 0.5f}, 0.0f).r, 0.5f);  // halfway: half the light
+  const Texture grey(row({128}), {}, TextureEncoding::Srgb);
+  EXPECT_NEAR(sampleTexture(grey, {0.5f, 0.5f}, 0.0f).g, 0.2158f, 1e-4f);  // the byte decoded
+}
+
 TEST(Texture, BilinearBetweenTexelCentres) {
   const Texture t(row({0, 255}), wrapBoth(TextureWrap::ClampToEdge));
   EXPECT_FLOAT_EQ(sampleTexture(t, {0.25f, 0.5f}, 0.0f).r, 0.0f);  // centre of texel 0

@@ -4,10 +4,12 @@
 //
 // Units: uv in glTF texture space ([0,1] spans the image once, v downwards, +u right); a
 // footprint is the width in uv units that one shaded pixel covers (the larger of |duv/dx| and
-// |duv/dy|). Samples are the stored 8-bit values scaled to [0,1], RGBA, still encoded: the
-// material slot says whether they are sRGB (base colour, emissive, specular colour) or linear.
+// |duv/dy|). Samples are linear RGBA in [0,1]: a texture holds sRGB-encoded colour (the slots
+// base colour, emissive and specular colour) or linear data (every other slot), and sRGB texels
+// are decoded before they are filtered, as GPUs do for sRGB formats; alpha is always linear.
 // Invariants: levels[0] is the decoded image; levels[k+1] halves levels[k] (rounding up, at
-// least 1x1) down to 1x1; every level has the same type, CV_8UC3 BGR or CV_8UC4 BGRA.
+// least 1x1) down to 1x1, each texel the mean light of those it covers, stored in the texture's
+// encoding; every level has the same type, CV_8UC3 BGR or CV_8UC4 BGRA.
 #pragma once
 
 #include <opencv2/core.hpp>
@@ -31,13 +33,18 @@ struct TextureSampler {
   bool blend_mips = true;      // *_MIPMAP_LINEAR: blend the two nearest levels
 };
 
+// How the stored bytes encode the values: sRGB colour, or linear data (normals, roughness...).
+enum class TextureEncoding { Linear, Srgb };
+
 struct Texture {
   std::vector<cv::Mat> levels;  // the mip chain (see the invariants above)
   TextureSampler sampler;
+  TextureEncoding encoding = TextureEncoding::Linear;
 
   Texture() = default;
-  // Builds the mip chain once (OpenCV's area resampling: each texel the mean of those it covers).
-  explicit Texture(cv::Mat image, TextureSampler sampler = {});
+  // Builds the mip chain once.
+  explicit Texture(cv::Mat image, TextureSampler sampler = {},
+                   TextureEncoding encoding = TextureEncoding::Linear);
 
   const cv::Mat& image() const { return levels.front(); }
   bool empty() const { return levels.empty() || levels.front().empty(); }

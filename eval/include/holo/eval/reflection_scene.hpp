@@ -51,13 +51,16 @@ struct ReflectionScene {
 ReflectionScene loadReflectionScene(const SceneOptions& options);
 
 // The view where visitors matter most: among the frames of the first ten seconds (every third of
-// a second) and the four faces, the one where the most mirror-reflected rays from the relic (one
-// per pixel of a 48^2 face view) meet the real visitors' geometry. Neutral to every method (true
+// a second) and the four faces, the one where the most relic pixels of a 48^2 face view see a
+// visitor: by their mirror-reflected ray or, on glass, through the relic. Neutral to every method (true
 // geometry, no renderer); "the face on the nearest visitor's side" left most views with no
 // foreground reflection at all (docs/tracer.md).
 struct VisitorView {
   int frame = 0, face = 0;
   float reflected_fraction = 0.0f;  // of the relic's pixels whose mirror ray meets a visitor
+  // Of the relic's pixels on a transmissive material whose view ray, continued straight through
+  // the relic, meets a visitor (0 for an opaque relic): where visitors are seen through glass.
+  float seen_through_fraction = 0.0f;
 };
 VisitorView visitorView(const SceneOptions& options);
 

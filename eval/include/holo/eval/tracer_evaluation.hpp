@@ -4,6 +4,8 @@
 // visitors (ground_truth_cache.hpp), then
 //   ours                 the reflection tracer (FrameRenderer), median of `repeats` runs;
 //   ibl_same_aa          the same renderer with no foreground (ours' hit points, static shading);
+//   ours_glass_opaque    (glass relics) ours with the glass shaded as opaque (no refraction pass);
+//   ours_ibl_refraction  (glass relics) ours refracting the IBL only, no visitors through the glass;
 //   ibl                  the paper's IBL: the foreground reprojected into the panorama around the
 //                        relic and prefiltered again (it must be, every frame), then shaded;
 //   ibl_static           the static hall's IBL alone, map built once, the shading per view;
@@ -83,8 +85,9 @@ struct Entry {
 struct SceneResult {
   std::string hall, relic;
   int frame = 0, face = 0, fg_pixels = 0;
-  float reflected_fraction = 0;  // of the relic's mirror rays meeting a visitor (the view pick)
-  double mcpt_build_ms = 0;      // the voxel scene's Embree build, not in the mcpt times
+  float reflected_fraction = 0;     // of the relic's mirror rays meeting a visitor (the view pick)
+  float seen_through_fraction = 0;  // of its pixels seeing a visitor through glass (the view pick)
+  double mcpt_build_ms = 0;         // the voxel scene's Embree build, not in the mcpt times
   // Parts of every method's fg_mse that no renderer of the reconstructed foreground can remove
   // (both in fg_mse units, < 0: not measured): the ground truth's own noise, and the fg_mse of path
   // tracing the reconstruction (voxels plus panorama) extrapolated to infinitely many samples,
@@ -96,6 +99,11 @@ struct SceneResult {
   // gt | ours | ibl | ssrt | mcpt_equal_time | mcpt_equal_quality | the foreground region, displayed
   // (CV_8UC3)
   cv::Mat strip;
+  bool has(const std::string& method) const {
+    for (const Entry& e : entries)
+      if (e.method == method) return true;
+    return false;
+  }
   const Entry& at(const std::string& method) const {
     for (const Entry& e : entries)
       if (e.method == method) return e;
