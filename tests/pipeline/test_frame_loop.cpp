@@ -1,6 +1,9 @@
 // The live frame loop run in-process on the simulated museum: frames come out with the relic on
 // them, the same inputs give the same images, and a camera whose stream ends leaves the
 // foreground while the others go on. Small views (48 pixels) and a small panorama keep it quick.
+// The overlapped foreground worker (the next frame's acquisition and foreground point cloud while
+// this one renders) runs in every test here; CI runs them under ThreadSanitizer
+// (docs/security.md).
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -88,6 +91,59 @@ TEST(FrameLoop, ACameraWhoseStreamEndsIsDroppedAndTheOthersGoOn) {
     live.push_back(report.cameras_live);
   }
   EXPECT_EQ(live, (std::vector<int>{4, 4, 3, 3}));
+}
+
+// Overlap on and off see the same frames in the same order (deterministic mode), so they give the
+// same images: the worker changes when the foreground runs, never what it computes.
+TEST(FrameLoop, OverlappedForegroundGivesTheSameImagesAsSequential) {
+  std::vector<std::vector<cv::Mat>> runs;
+  for (const bool overlap : {true, false}) {
+    FrameLoopOptions options = smallOptions();
+    options.overlap = overlap;
+    FrameLoop loop(options, nullptr);
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(loop.step().cameras_live, 4);
+    runs.push_back(displayedViews(loop));
+  }
+  ASSERT_EQ(runs[0].size(), 4u);
+  ASSERT_EQ(runs[1].size(), 4u);
+  for (std::size_t v = 0; v < runs[0].size(); ++v)
+    EXPECT_EQ(cv::norm(runs[0][v], runs[1][v], cv::NORM_L1), 0.0) << "view " << v;
+}
+
+// Live mode with the overlap: four capture threads publish into their mailboxes while the worker
+// takes their frames and runs the foreground and the loop's thread renders the frame before and
+// reads the mailboxes' counters. A camera stays in the foreground however slowly the simulation
+// delivers (no staleness), so once each has published, every frame has all four.
+TEST(FrameLoop, LiveCamerasFeedTheOverlappedForegroundWhileFramesRender) {
+  FrameLoopOptions options = smallOptions();
+  options.live = true;
+  options.overlap = true;
+  options.stale_camera_s = 1e6;
+  FrameLoop loop(options, nullptr);
+  int frames_with_all = 0;
+  std::int64_t dropped = 0;
+  for (int i = 0; i < 2000 && frames_with_all < 4; ++i) {
+    const FrameReport report = loop.step();
+    ASSERT_FALSE(report.cameras_ended);
+    EXPECT_EQ(report.non_finite_pixels, 0);
+    EXPECT_GT(report.relic_pixels, 0u);
+    EXPECT_GE(report.dropped_frames, 0);
+    dropped += report.dropped_frames;
+    if (report.cameras_live == 4) {
+      ++frames_with_all;
+      EXPECT_GT(report.foreground_points, 0u);  // the museum's visitors
+    }
+  }
+  EXPECT_EQ(frames_with_all, 4);
+  loop.waitForWorker();
+  const CameraFrameCounts counts = loop.cameraFrameCounts();
+  EXPECT_TRUE(counts.live);
+  EXPECT_GE(counts.consumed, 4);  // each camera's frames were taken at least once
+  // Every frame published was taken, overwritten, or is still waiting: at most one per mailbox.
+  EXPECT_GE(counts.unconsumed - counts.dropped, 0);
+  EXPECT_LE(counts.unconsumed - counts.dropped, 4);
+  EXPECT_GE(counts.dropped, dropped);  // the steps' drops plus those since the last step
+  EXPECT_EQ(counts.rejected, 0);
 }
 
 // With simulated cameras, the table keeps their rendering apart from the appliance's stages and
