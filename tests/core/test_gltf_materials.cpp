@@ -128,14 +128,18 @@ TEST(GltfMaterials, ReadsEveryPropertyAndExtension) {
   EXPECT_FLOAT_EQ(m.attenuation_colour.g, 0.9f);
   EXPECT_FLOAT_EQ(m.attenuation_distance, 0.05f);
   EXPECT_FLOAT_EQ(m.ior, 2.42f);
-  // All twelve slots point at the one texture; the texture carries its sampler and mips.
-  for (const TextureRef* slot :
-       {&m.base_colour_texture, &m.metallic_roughness_texture, &m.normal_texture, &m.occlusion_texture,
-        &m.emissive_texture, &m.specular_texture, &m.specular_colour_texture, &m.clearcoat_texture,
-        &m.clearcoat_roughness_texture, &m.clearcoat_normal_texture, &m.transmission_texture,
-        &m.thickness_texture})
+  // All twelve slots use the one glTF texture; it is built once as sRGB colour (the colour slots,
+  // read first) and once as linear data (the other nine), each with its sampler and mips.
+  for (const TextureRef* slot : {&m.base_colour_texture, &m.emissive_texture, &m.specular_colour_texture})
     EXPECT_EQ(slot->index, 0);
-  ASSERT_EQ(model.textures.size(), 1u);
+  for (const TextureRef* slot : {&m.metallic_roughness_texture, &m.normal_texture, &m.occlusion_texture,
+                                 &m.specular_texture, &m.clearcoat_texture, &m.clearcoat_roughness_texture,
+                                 &m.clearcoat_normal_texture, &m.transmission_texture, &m.thickness_texture})
+    EXPECT_EQ(slot->index, 1);
+  ASSERT_EQ(model.textures.size(), 2u);
+  EXPECT_EQ(model.textures[0].encoding, TextureEncoding::Srgb);
+  EXPECT_EQ(model.textures[1].encoding, TextureEncoding::Linear);
+  EXPECT_EQ(cv::norm(model.textures[0].image(), model.textures[1].image(), cv::NORM_INF), 0.0);
   const Texture& t = model.textures[0];
   EXPECT_EQ(t.levels.size(), 2u);  // 2x2, 1x1
   EXPECT_EQ(t.image().at<cv::Vec3b>(0, 0), cv::Vec3b(10, 20, 30));
@@ -184,7 +188,10 @@ TEST(GltfMaterials, RoundTripKeepsEveryProperty) {
   EXPECT_EQ(b.base_colour_texture.tex_coord, 1);
   EXPECT_FLOAT_EQ(b.base_colour_texture.rotation, a.base_colour_texture.rotation);
   EXPECT_EQ(b.base_colour_texture.offset, a.base_colour_texture.offset);
-  EXPECT_EQ(b.clearcoat_normal_texture.index, 0);
+  ASSERT_TRUE(b.clearcoat_normal_texture.used() && b.base_colour_texture.used());
+  EXPECT_EQ(back.textures.at(std::size_t(b.clearcoat_normal_texture.index)).encoding,
+            TextureEncoding::Linear);
+  EXPECT_EQ(back.textures.at(std::size_t(b.base_colour_texture.index)).encoding, TextureEncoding::Srgb);
   EXPECT_EQ(back.meshes.at(0).uvs1, model.meshes.at(0).uvs1);
   EXPECT_EQ(back.meshes.at(0).tangents, model.meshes.at(0).tangents);
 }
