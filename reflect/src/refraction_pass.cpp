@@ -47,6 +47,16 @@ float safeIor(float ior) {
   return std::isfinite(ior) && ior >= 1.0f ? ior : 1.0f;
 }
 
+// An interface's transmitted share of the light past its Fresnel reflection, and the tint it
+// transmits with: the entry's as its hit point sampled the textures, later hits' factors.
+float transmittedShare(const Material& m, const SurfaceMaterial* textured) {
+  return (1.0f - clamp01(textured ? textured->metallic : m.metallic)) * clamp01(m.transmission);
+}
+
+vec3 transmissionTint(const Material& m, const SurfaceMaterial* textured) {
+  return glm::clamp(textured ? textured->base_colour : m.base_colour, vec3(0.0f), vec3(1.0f));
+}
+
 // The path per unit of light entering: scale, resolved and reflected leave out path.entry, which
 // the caller multiplies in (traceTransmission), or a neighbour's own (a blended sample).
 TransmittedPath traceUnit(const RenderScene& scene, const PrefilteredIbl& ibl, const TracerSettings& settings,
@@ -80,9 +90,8 @@ TransmittedPath traceUnit(const RenderScene& scene, const PrefilteredIbl& ibl, c
     const bool thin = !(m.thickness > 0.0f);
     const float eta = thin || !inside ? ior : 1.0f / medium_ior;
     const float fresnel = fresnelDielectric(cos_i, eta);
-    const float transmitted =
-        (1.0f - clamp01(textured ? textured->metallic : m.metallic)) * clamp01(m.transmission);
-    const vec3 tint = glm::clamp(textured ? textured->base_colour : m.base_colour, vec3(0.0f), vec3(1.0f));
+    const float transmitted = transmittedShare(m, textured);
+    const vec3 tint = transmissionTint(m, textured);
     const float roughness = clamp01(textured ? textured->roughness : m.roughness);
     const float alpha = roughness * roughness;
     const float spread = alpha * std::min(ior - 1.0f, 2.0f) * 0.5f;
@@ -169,10 +178,7 @@ vec3 entryWeight(const vec3& normal, const vec3& direction, const Material& m,
                  const SurfaceMaterial* textured) {
   const float cos_i = std::max(-glm::dot(direction, normal), 1e-6f);
   const float fresnel = fresnelDielectric(cos_i, safeIor(m.ior));
-  const float transmitted =
-      (1.0f - clamp01(textured ? textured->metallic : m.metallic)) * clamp01(m.transmission);
-  return (1.0f - fresnel) * transmitted *
-         glm::clamp(textured ? textured->base_colour : m.base_colour, vec3(0.0f), vec3(1.0f));
+  return (1.0f - fresnel) * transmittedShare(m, textured) * transmissionTint(m, textured);
 }
 
 void applyEntry(TransmittedPath& path) {
@@ -261,10 +267,10 @@ constexpr float kAnchorExitCos = 0.99f;
 // Which sample of pixel p is its anchor: the centre where it was traced, else the first valid
 // sub-sample (Full anti-aliasing traces no centres); hits.hits.size() when none is transmissive.
 std::size_t anchorSample(const HitPointBuffer& hits, std::size_t p) {
-  if (hits.valid[p] && hits.hits[p].gltf && hits.hits[p].gltf->transmission > 0.0f) return p;
+  if (hits.valid[p] && hits.hits[p].gltf && hits.hits[p].gltf->transmissive()) return p;
   if (hits.first_sub[p] == HitPointBuffer::kCentreOnly) return hits.hits.size();
   for (std::size_t i = hits.first_sub[p]; i < hits.first_sub[p] + 4; ++i)
-    if (hits.valid[i] && hits.hits[i].gltf && hits.hits[i].gltf->transmission > 0.0f) return i;
+    if (hits.valid[i] && hits.hits[i].gltf && hits.hits[i].gltf->transmissive()) return i;
   return hits.hits.size();
 }
 
