@@ -97,9 +97,14 @@ StereoCalibration calibrateStereoPhotos(const std::string& left_pattern, const s
   out.left = report.cameras[0];
   out.right = report.cameras[1];
 
-  // Photo k of each set was taken at the same moment; the step looked at every photo in order.
+  // Photo k of each set was taken at the same moment. The step looks at the photos in order and
+  // stops once it has its views and the board has been missing from 3 photos in a row (a live
+  // camera's "board taken away"): pairs after that are not looked at, and are named.
   std::vector<SharedBoardView> views;
   const std::size_t looked = std::min(observations[0]->size(), observations[1]->size());
+  if (looked < n)
+    log << "  pairs from " << fileName(out.left_files[looked]) << " / " << fileName(out.right_files[looked])
+        << " on not looked at: the step stopped after 3 photos without the board\n";
   for (std::size_t k = 0; k < looked; ++k) {
     const BoardDetection& a = (*observations[0])[k].detection;
     const BoardDetection& b = (*observations[1])[k].detection;
