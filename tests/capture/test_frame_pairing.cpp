@@ -60,6 +60,11 @@ TEST(FramePairing, ALostDepthFrameDropsItsColourFrameInsteadOfMispairingIt) {
   ASSERT_EQ(early_pairs.size(), 29u);
   EXPECT_NEAR(early_pairs.front().skew_ms, -10.0, 1e-6);
   EXPECT_TRUE(early.waitingForDepth());
+  // At the streams' end the waiting colour frame pairs with the depth frame before it.
+  const std::optional<FramePair> last = early.pop(/*streams_ended=*/true);
+  ASSERT_TRUE(last.has_value());
+  EXPECT_NEAR(last->skew_ms, -10.0, 1e-6);
+  EXPECT_FALSE(early.hasColour());
 }
 
 TEST(FramePairing, ASkewBeyondTheToleranceIsDroppedAndCounted) {
@@ -68,6 +73,9 @@ TEST(FramePairing, ASkewBeyondTheToleranceIsDroppedAndCounted) {
   EXPECT_TRUE(pairs.empty());
   EXPECT_EQ(pairer.droppedColour(), 30);
   EXPECT_EQ(pairer.droppedDepth(), 29);  // each passed over; the last may still pair
+  // At the streams' end (a recording's last frame) nothing more can come: the last depth frame goes.
+  EXPECT_FALSE(pairer.pop(/*streams_ended=*/true));
+  EXPECT_EQ(pairer.droppedDepth(), 30);
 }
 
 }  // namespace

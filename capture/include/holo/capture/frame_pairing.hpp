@@ -39,8 +39,10 @@ class FramePairer {
   void pushColour(StampedImage frame);
   void pushDepth(StampedImage frame);
   // The oldest colour frame whose pairing is decided: its pair, or nothing (then it was dropped,
-  // and the next one is looked at). nullopt when no decided pair is waiting.
-  std::optional<FramePair> pop();
+  // and the next one is looked at). nullopt when no decided pair is waiting. `streams_ended`: no
+  // frame will follow (a recording's end), so every colour frame is decided against the depth
+  // frames there are, and depth frames left after the last colour frame are dropped.
+  std::optional<FramePair> pop(bool streams_ended = false);
   // True when the oldest colour frame waits for a depth frame at or after it.
   bool waitingForDepth() const;
   bool hasColour() const { return !colour_.empty(); }
