@@ -218,6 +218,7 @@ CaptureConfig parseCaptureConfig(const ConfigNode& capture) {
     e.aravis.pair_tolerance =
         Nanoseconds(static_cast<std::int64_t>(std::llround(config.pair_tolerance_ms * 1e6)));
     e.replay.pair_tolerance = e.aravis.pair_tolerance;
+    e.v4l2.pair_tolerance = e.aravis.pair_tolerance;
     if (!faces.insert(e.face).second)
       cameras[i]["face"].fail("a face no other camera has", "face " + std::to_string(e.face) + " again");
     config.cameras.push_back(std::move(e));

@@ -1,5 +1,6 @@
 #include "holo/capture/frame_pairing.hpp"
 
+#include <cmath>
 #include <cstdlib>
 
 namespace holo::capture {
@@ -58,6 +59,26 @@ std::optional<FramePair> FramePairer::pop(bool streams_ended) {
     depth_.clear();
   }
   return std::nullopt;
+}
+
+PairedGrab grabPair(FramePairer& pairer, HealthCounters& health,
+                    const std::function<StreamPop(bool colour)>& pop) {
+  for (;;) {
+    if (std::optional<FramePair> pair = pairer.pop()) {
+      health.pair_skew_us.store(static_cast<std::int64_t>(std::llround(pair->skew_ms * 1e3)),
+                                std::memory_order_relaxed);
+      health.frames_unpaired.store(pairer.droppedColour() + pairer.droppedDepth(), std::memory_order_relaxed);
+      return {GrabStatus::Ok, std::move(*pair), {}};
+    }
+    health.frames_unpaired.store(pairer.droppedColour() + pairer.droppedDepth(), std::memory_order_relaxed);
+    const bool colour = !pairer.hasColour();
+    StreamPop popped = pop(colour);
+    if (popped.status != GrabStatus::Ok) return {popped.status, {}, std::move(popped.message)};
+    if (colour)
+      pairer.pushColour(std::move(popped.frame));
+    else
+      pairer.pushDepth(std::move(popped.frame));
+  }
 }
 
 }  // namespace holo::capture
