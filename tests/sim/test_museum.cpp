@@ -1,12 +1,15 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
+#include <map>
 #include <opencv2/imgcodecs.hpp>
+#include <tuple>
 
 #include "holo/core/equirect.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/image.hpp"
 #include "holo/sim/halls.hpp"
 #include "holo/sim/museum.hpp"
+#include "holo/sim/visitors.hpp"
 #include "shared_data.hpp"
 
 namespace holo::sim {
@@ -133,9 +136,74 @@ TEST(Museum, VisitorsWalkAroundThePyramidOutsideTheBase) {
       EXPECT_LT(r, 3.5f);
       EXPECT_GT(head.y, 0.3f);  // 1.55-1.9 m tall, floor at -1
     }
-  // They move: 2 s later every head is somewhere else.
-  const auto a = m.visitorHeads(0), b = m.visitorHeads(60);
+  // They move: 6 s later every head is somewhere else (a stop lasts at most 3.7 s).
+  const auto a = m.visitorHeads(0), b = m.visitorHeads(180);
   for (std::size_t i = 0; i < a.size(); ++i) EXPECT_GT(glm::length(a[i] - b[i]), 0.3f);
+}
+
+// Once per pace cycle a walker stops: the feet stay put, the body turns to face the pyramid's axis
+// and leans towards it, the legs stand together; then it walks on along its lane.
+TEST(Museum, WalkersStopTurnToThePyramidAndWalkOn) {
+  const auto plans = planVisitors(3, 7, "atrium");
+  for (const VisitorPlan& plan : plans) {
+    int standing = 0, walking = 0;
+    for (int frame = 0; frame < 900; ++frame) {  // 30 s, at least one pace cycle
+      const float t = static_cast<float>(frame) / 30.0f;
+      const VisitorPose pose = poseAt(plan, t), next = poseAt(plan, t + 1.0f / 30.0f);
+      const vec3 inward = -glm::normalize(vec3(pose.feet.x, 0.0f, pose.feet.z));
+      if (pose.facing_pyramid == 1.0f) {
+        ++standing;
+        EXPECT_LT(glm::length(next.feet - pose.feet), 1e-4f) << t;
+        EXPECT_NEAR(glm::dot(pose.forward, inward), 1.0f, 1e-5f) << t;
+        EXPECT_EQ(pose.swing, 0.0f) << t;
+        EXPECT_GT(pose.lean, 0.05f) << t;
+      } else if (pose.facing_pyramid == 0.0f) {
+        ++walking;
+        EXPECT_LT(std::abs(glm::dot(pose.forward, inward)), 1e-4f) << t;
+        EXPECT_GT(glm::length(next.feet - pose.feet), 1e-3f) << t;
+      }
+    }
+    EXPECT_GT(standing, 30) << "stands at least a second";
+    EXPECT_GT(walking, 300) << "walks most of the time";
+  }
+}
+
+// The bodies: ~5k triangles per visitor in smooth closed parts, the lower foot on the floor, the
+// same mesh for the same time.
+TEST(Museum, VisitorBodiesAreClosedAndStandOnTheFloor) {
+  const auto plans = planVisitors(4, 11, "gallery");
+  for (float t : {0.0f, 1.3f, 7.9f}) {
+    const Model people = buildVisitors(plans, t);
+    EXPECT_GE(people.triangleCount(), 4u * 4500u);
+    EXPECT_LE(people.triangleCount(), 4u * 6000u);
+    std::vector<float> lowest(plans.size(), 1e9f);
+    for (const TriangleMesh& mesh : people.meshes) {
+      const std::size_t who = std::stoul(mesh.name.substr(7));  // "visitor<i>_<part>"
+      for (const vec3& v : mesh.positions) lowest[who] = std::min(lowest[who], v.y);
+      // Closed: with the seams' duplicated vertices welded, every edge has exactly two triangles.
+      std::map<std::tuple<float, float, float>, unsigned> weld;
+      std::vector<unsigned> id(mesh.positions.size());
+      for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+        const vec3 q = glm::round(mesh.positions[i] * 1e5f);
+        id[i] =
+            weld.emplace(std::make_tuple(q.x, q.y, q.z), static_cast<unsigned>(weld.size())).first->second;
+      }
+      std::map<std::pair<unsigned, unsigned>, int> edges;
+      for (const uvec3& tri : mesh.triangles) {
+        const unsigned v[3] = {id[tri[0]], id[tri[1]], id[tri[2]]};
+        if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0]) continue;  // a closing point's fan
+        for (int e = 0; e < 3; ++e) ++edges[{std::min(v[e], v[(e + 1) % 3]), std::max(v[e], v[(e + 1) % 3])}];
+      }
+      int open = 0;
+      for (const auto& [edge, count] : edges) open += count != 2;
+      EXPECT_EQ(open, 0) << mesh.name << " at " << t;
+    }
+    for (float y : lowest) EXPECT_NEAR(y, -kBaseHeight, 0.005f) << t;
+    const Model again = buildVisitors(plans, t);
+    ASSERT_EQ(again.meshes.size(), people.meshes.size());
+    for (std::size_t i = 0; i < people.meshes.size(); ++i)
+      EXPECT_EQ(again.meshes[i].positions, people.meshes[i].positions);
+  }
 }
 
 // The gallery's east wall (+X) is blue and its west wall (-X) red; a ceiling lamp hangs at

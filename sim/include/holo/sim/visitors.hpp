@@ -1,11 +1,16 @@
-// Visitors: articulated figures built from primitives (legs, torso, arms, neck, head) that walk
-// seeded paths around the pyramid, some carrying a book or a bag in a saturated colour.
+// Visitors: articulated human bodies that walk seeded paths around the pyramid, stop, turn to it
+// and lean towards it, some carrying a book or a bag in a saturated colour.
 //
+// A body is 18 smooth closed parts (head, hair, neck, torso, pelvis, upper and lower arms, hands,
+// thighs, shins, feet; ~5k triangles) posed rigidly by a joint hierarchy: hips and knees from the
+// gait, the spine leaning and twisting, shoulders and elbows swinging against the legs, holding
+// what is carried or reaching out. Height, build, skin, hair and clothes come from the seed.
 // Each visitor walks its own lane (a ring between the hall's inner and outer radius, so visitors
-// never walk through each other), with a slowly varying speed (0.4 to 0.9 m/s on average, slowing
-// down and speeding up), a radial sway inside the lane and a leg/arm swing tied to the distance
-// walked. A pose is a closed-form function of time, so any frame can be rendered on its own.
-// Every surface is an emitter with baked radiance, like the hall (see museum.hpp).
+// never walk through each other); the pace rises and falls (0.35 to 0.7 m/s on average) down to a
+// standstill of 1.5-4 s once per pace cycle, during which the visitor turns to face the pyramid
+// and leans towards it. Legs and arms swing with the distance walked, their swing fading as the
+// visitor slows. A pose is a closed-form function of time, so any frame can be rendered on its
+// own. Every surface is an emitter with baked radiance, like the hall (see museum.hpp).
 #pragma once
 
 #include <cstdint>
@@ -19,24 +24,28 @@ namespace holo::sim {
 enum class Carried { nothing, book, bag };
 
 struct VisitorPlan {
-  float lane_radius = 1.5f;  // metres from the pyramid axis
-  float sway = 0.05f;        // radial sway amplitude, metres
-  float sway_hz = 0.1f;
+  float lane_radius = 1.5f;    // metres from the pyramid axis
+  float sway = 0.05f;          // radial sway amplitude, metres
+  float sway_hz = 0.1f;        // per second of walking at the mean pace (it pauses with the visitor)
   float start_angle = 0.0f;    // radians, azimuth at t = 0 (0 = +Z, pi/2 = +X)
   float angular_speed = 0.4f;  // mean, radians per second; the sign gives the direction
   float pace_hz = 0.08f;       // how often the visitor slows down and speeds up
   float pace_phase = 0.0f;
-  float height = 1.75f;  // metres, feet to the top of the head
-  vec3 skin{0.6f}, shirt{0.5f}, trousers{0.1f};
+  float height = 1.75f;      // metres, feet to the top of the head
+  float build = 1.0f;        // width of shoulders, hips and torso relative to the mean, 0.9-1.15
+  float hair_length = 0.3f;  // 0: cropped to the crown, 1: down to the neck
+  bool short_sleeves = false;
+  vec3 skin{0.6f}, hair{0.05f}, shirt{0.5f}, trousers{0.1f}, shoes{0.05f};
   Carried carried = Carried::nothing;
   vec3 carried_colour{0.0f};
   // A close visitor (planCloseVisitors) stands facing the pyramid's axis instead of walking: the
-  // legs stay still, the azimuth shuffles by +-drift radians around start_angle (angular_speed
-  // 0), and the free arm is raised forward by `reach` radians (0: it swings as usual).
+  // feet stay at lane_radius, the azimuth shuffles by +-drift radians around start_angle
+  // (angular_speed 0), the spine leans in and out so the head moves by +-sway metres, and the free
+  // arm is raised forward by `reach` radians (0: it swings as usual).
   bool faces_pyramid = false;
   float drift = 0.0f;  // radians
   float drift_hz = 0.0f;
-  float reach = 0.0f;  // radians from hanging down, towards the pyramid
+  float reach = 0.0f;  // radians from hanging down, towards the pyramid, in the floor's frame
 };
 
 // `count` visitors for a hall (room, gallery, atrium, none), from the seed.
@@ -50,14 +59,18 @@ std::vector<VisitorPlan> planVisitors(int count, std::uint64_t seed, const std::
 std::vector<VisitorPlan> planCloseVisitors(int count, std::uint64_t seed, const std::string& hall);
 
 struct VisitorPose {
-  vec3 feet;            // world position of the point between the feet (on the floor)
-  vec3 forward;         // unit walking direction in the floor plane
-  float stride = 0.0f;  // leg swing angle, radians
-  vec3 head;            // world centre of the head
+  vec3 feet;                    // world position of the point between the feet (on the floor)
+  vec3 forward;                 // unit direction the body faces, in the floor plane
+  float gait_phase = 0.0f;      // radians, pi per step: pi x distance walked / step length
+  float swing = 0.0f;           // amplitude of the thighs' swing, radians (0 when standing)
+  float lean = 0.0f;            // forward tilt of the spine at the hips, radians
+  float facing_pyramid = 0.0f;  // 0 walking along the lane .. 1 turned to face the pyramid's axis
+  vec3 head;                    // world centre of the head
 };
 VisitorPose poseAt(const VisitorPlan& plan, float t);
 
-// The visitors at time t, one mesh per visitor and material (skin, shirt, trousers, carried).
+// The visitors at time t, one mesh per visitor and material (skin, hair, shirt, trousers, shoes,
+// carried), every part a closed surface.
 Model buildVisitors(const std::vector<VisitorPlan>& plans, float t);
 
 }  // namespace holo::sim
