@@ -15,7 +15,7 @@ namespace {
 constexpr float kStrideLength = 0.7f;  // metres per step
 
 // The pace factor is max(0, 1 + kPaceDepth sin(2 pi pace_hz t + pace_phase)) / kPaceMean: it
-// reaches 2.15x the mean and rests at 0 for 18.6% of each pace cycle (a stop of 1.5-4 s).
+// reaches 2.15x the mean and rests at 0 for 18.6% of each pace cycle (a stop of 1.5-3.7 s).
 constexpr float kPaceDepth = 1.2f;
 
 // Antiderivative of max(0, 1 + kPaceDepth sin u), 0 at u = 0, continuous and non-decreasing.
