@@ -69,7 +69,8 @@ const vec3 kCarried[] = {{0.85f, 0.02f, 0.02f}, {0.9f, 0.8f, 0.0f}, {0.0f, 0.7f,
                          {0.8f, 0.0f, 0.6f},    {0.0f, 0.6f, 0.8f}, {0.95f, 0.35f, 0.0f}};
 
 // Height, skin, shirt and trousers from the visitor's stream `rng`; build, hair, sleeves and
-// shoes from a stream of their own (`extra`), so the first four stay as they were before bodies.
+// shoes from a stream of their own (`extra`), so what the path's stream draws after the looks
+// (what is carried) does not depend on how many the body needs.
 void drawLooks(VisitorPlan& p, PixelRng& rng, PixelRng extra) {
   p.height = 1.55f + 0.35f * rng.uniform();
   p.skin = kSkins[rng.next() % 6];
