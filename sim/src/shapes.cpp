@@ -62,7 +62,9 @@ TriangleMesh makeEllipticSweep(const std::vector<EllipseRing>& rings, int segmen
   for (int i = 0; i < rows; ++i) {
     const EllipseRing& r = rings[static_cast<std::size_t>(i)];
     for (int j = 0; j < cols; ++j) {
-      const float a = 2.0f * kPi * static_cast<float>(j) / static_cast<float>(segments);
+      // The seam's copy takes angle 0 itself (sin 2 pi is not 0 in floats): watertight bit for bit.
+      const float a =
+          j == segments ? 0.0f : 2.0f * kPi * static_cast<float>(j) / static_cast<float>(segments);
       m.positions.push_back({r.half_x * std::sin(a), r.y, r.centre_z + r.half_z * std::cos(a)});
       m.uvs.push_back({static_cast<float>(j) / static_cast<float>(segments),
                        rows > 1 ? static_cast<float>(i) / static_cast<float>(rows - 1) : 0.0f});

@@ -14,20 +14,39 @@ namespace {
 
 constexpr float kStrideLength = 0.7f;  // metres per step
 
-// The pace factor is max(0, 1 + kPaceDepth sin(2 pi pace_hz t + pace_phase)) / kPaceMean: it
-// reaches 2.15x the mean and rests at 0 for 18.6% of each pace cycle (a stop of 1.5-3.7 s).
-constexpr float kPaceDepth = 1.2f;
+// The pace: a walker cruises, slows down, stands, and speeds up again, once per pace cycle. The
+// pace factor is clamp(kPaceBase + kPaceDepth sin(2 pi pace_hz t + pace_phase), 0, 1): cruising
+// (1) for 41% of the cycle, standing (0) for 18.6% of it (a stop of 1.5-3.7 s). Divided by its
+// mean (kPaceMean, 0.596) it keeps angular_speed the mean: the cruise is 1.68x that.
+constexpr float kPaceBase = 0.75f, kPaceDepth = 0.9f;
 
-// Antiderivative of max(0, 1 + kPaceDepth sin u), 0 at u = 0, continuous and non-decreasing.
+// Antiderivative of the pace factor over u = 2 pi pace_hz t + pace_phase, 0 at u = 0,
+// continuous and non-decreasing.
 float clampedPaceIntegral(float u) {
-  const float s = std::asin(1.0f / kPaceDepth);
-  const float a = kPi + s, b = 2.0f * kPi - s;  // the factor is 0 on [a, b] of each period
-  auto F = [](float v) { return v - kPaceDepth * std::cos(v); };
-  const float per_period = F(a) - F(0.0f) + F(2.0f * kPi) - F(b);
+  const float up = std::asin((1.0f - kPaceBase) / kPaceDepth);  // where it reaches 1
+  const float down = std::asin(kPaceBase / kPaceDepth);         // sin u = -down: where it reaches 0
+  auto F = [](float v) { return kPaceBase * v - kPaceDepth * std::cos(v); };
+  enum Kind { rising, cruising, standing };
+  struct Piece {
+    float lo, hi;
+    Kind kind;
+  };
+  const Piece pieces[] = {{0.0f, up, rising},
+                          {up, kPi - up, cruising},
+                          {kPi - up, kPi + down, rising},
+                          {kPi + down, 2.0f * kPi - down, standing},
+                          {2.0f * kPi - down, 2.0f * kPi, rising}};
+  auto within = [&](float v) {  // v in [0, 2 pi]
+    float sum = 0.0f;
+    for (const Piece& p : pieces) {
+      if (v <= p.lo) break;
+      const float hi = std::min(v, p.hi);
+      sum += p.kind == rising ? F(hi) - F(p.lo) : p.kind == cruising ? hi - p.lo : 0.0f;
+    }
+    return sum;
+  };
   const float k = std::floor(u / (2.0f * kPi));
-  const float v = u - 2.0f * kPi * k;
-  const float within = v <= a ? F(v) - F(0.0f) : v <= b ? F(a) - F(0.0f) : F(a) - F(0.0f) + F(v) - F(b);
-  return k * per_period + within;
+  return k * within(2.0f * kPi) + within(u - 2.0f * kPi * k);
 }
 const float kPaceMean = clampedPaceIntegral(2.0f * kPi) / (2.0f * kPi);
 
@@ -44,9 +63,9 @@ float angleAt(const VisitorPlan& p, float t) {
                              (clampedPaceIntegral(w * t + p.pace_phase) - clampedPaceIntegral(p.pace_phase));
 }
 
-// 1 + kPaceDepth sin(...) before clamping: <= 0 while the visitor stands.
+// The pace factor before clamping: <= 0 while the visitor stands, >= 1 while it cruises.
 float paceDrive(const VisitorPlan& p, float t) {
-  return 1.0f + kPaceDepth * std::sin(2.0f * kPi * p.pace_hz * t + p.pace_phase);
+  return kPaceBase + kPaceDepth * std::sin(2.0f * kPi * p.pace_hz * t + p.pace_phase);
 }
 
 float smoothstep(float e0, float e1, float x) {
@@ -302,10 +321,10 @@ VisitorPose poseAt(const VisitorPlan& plan, float t) {
     const float a = angleAt(plan, t);
     const vec3 along = direction * vec3(std::cos(a), 0.0f, -std::sin(a));
     const float drive = paceDrive(plan, t);
-    pose.facing_pyramid = 1.0f - smoothstep(-0.1f, 0.35f, drive);
+    pose.facing_pyramid = 1.0f - smoothstep(0.0f, 0.3f, drive);
     pose.forward = glm::normalize(glm::mix(along, inward, pose.facing_pyramid));
     pose.gait_phase = kPi * plan.lane_radius * std::abs(a - plan.start_angle) / kStrideLength;
-    pose.swing = 0.4f * smoothstep(0.0f, 0.5f, std::max(drive, 0.0f) / kPaceMean);
+    pose.swing = 0.4f * smoothstep(0.0f, 0.5f, drive);
     pose.lean = 0.1f * pose.swing + 0.1f * pose.facing_pyramid;
   }
   const Skeleton k = articulate(plan, pose, b);
