@@ -8,9 +8,10 @@
 // Each visitor walks its own lane (a ring between the hall's inner and outer radius, so visitors
 // never walk through each other); it cruises (0.6-1.2 m/s; 0.35-0.7 m/s on average), slows
 // down to a standstill of 1.5-3.7 s once per pace cycle, during which it turns to face the
-// pyramid and leans towards it, and speeds up again. Legs and arms swing with the distance walked, their
-// swing fading as the visitor slows. A pose is a closed-form function of time, so any frame can be rendered
-// on its own. Every surface is an emitter with baked radiance, like the hall (see museum.hpp).
+// pyramid and leans towards it, and speeds up again. Legs and arms swing with the distance
+// walked, their swing fading as the visitor slows. A pose is a closed-form function of time, so
+// any frame can be rendered on its own. Every surface is an emitter with baked radiance, like the
+// hall (see museum.hpp).
 #pragma once
 
 #include <cstdint>
