@@ -4,6 +4,9 @@
 // calibrates one camera from photos of a board, prints fx, fy, cx, cy and the RMS reprojection
 // error with a pass/fail verdict, and writes FILE.yml (atomically, the old one kept as .bak)
 // and FILE.corners.png (every photo with its detected corners).
+//   holopyramid calibrate stereo --left 'GLOB' --right 'GLOB' --board SPEC --out FILE.yml
+// calibrates a stereo pair from two photo sets: both cameras' intrinsics, their relative pose and
+// its loop closure, FILE.yml and FILE.png (the first pair rectified, with epipolar lines).
 
 #include <algorithm>
 #include <filesystem>
@@ -20,6 +23,7 @@
 #include "holo/calib/pose.hpp"
 #include "holo/calib/quality.hpp"
 #include "holo/calib/simulated_rig.hpp"
+#include "holo/calib/stereo_calibration.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/files.hpp"
 #include "holo/core/log.hpp"
@@ -124,6 +128,55 @@ int runIntrinsics(const IntrinsicsOptions& options) {
   return verdict.pass ? 0 : 3;
 }
 
+struct StereoOptions {
+  std::string left;
+  std::string right;
+  std::string board;
+  std::string out;
+  bool quiet = false;
+};
+
+int runStereo(const StereoOptions& options) {
+  const calib::BoardSpec board = calib::BoardSpec::parse(options.board);
+  const calib::StereoCalibration s =
+      calib::calibrateStereoPhotos(options.left, options.right, board, std::cout, options.quiet);
+  const fs::path out = options.out;
+  calib::saveStereoCalibration(out, s);
+  fs::path picture_path = out;
+  picture_path.replace_extension(".png");
+  writeAtomically(picture_path, [&](const fs::path& tmp) {
+    if (!cv::imwrite(tmp.string(), s.picture)) throw Error("could not write " + tmp.string());
+  });
+  cv::Vec3d rvec, tvec;
+  calib::poseToRt(s.pose.T_a_b, rvec, tvec);
+  const auto camera = [](const char* name, const calib::CameraCalibration& c) {
+    const Intrinsics& K = c.intrinsics;
+    std::cout << name << ": fx " << K.fx << " fy " << K.fy << " cx " << K.cx << " cy " << K.cy
+              << ", distortion " << K.distortion[0] << " " << K.distortion[1] << " " << K.distortion[2] << " "
+              << K.distortion[3] << " " << K.distortion[4] << ", RMS " << c.rms << " px\n";
+  };
+  std::cout << std::fixed << std::setprecision(3);
+  camera("left", s.left);
+  camera("right", s.right);
+  std::cout << "pairs: " << s.pose.pairs << " of " << s.left_files.size() << " with the board in both\n"
+            << "right camera in the left frame: " << tvec * 1000.0 << " mm (baseline " << s.baseline_mm
+            << " mm), rotation " << s.rotation_deg << " deg\n"
+            << "rms: " << s.pose.rms_px << " px (both cameras, joint adjustment)\n"
+            << "loop closure per pair: median " << s.loop_median_mm << " mm / " << s.loop_median_deg
+            << " deg, worst " << s.loop_worst_mm << " mm / " << s.loop_worst_deg << " deg\n"
+            << "cv::stereoCalibrate (intrinsics fixed): rms " << s.opencv_rms_px << " px, "
+            << s.opencv_difference_mm << " mm / " << s.opencv_difference_deg << " deg from the joint pose\n"
+            << "rectified rows of corresponding corners: median " << s.rectified_row_median_px
+            << " px, worst " << s.rectified_row_worst_px << " px\n"
+            << "saved: " << out.string() << "\nrectified pair: " << picture_path.string() << "\n";
+  bool pass = true;
+  for (const calib::StepVerdict& verdict : s.verdicts) {
+    std::cout << calib::formatVerdict(verdict) << "\n";
+    pass = pass && verdict.pass;
+  }
+  return pass ? 0 : 3;
+}
+
 struct AutoOptions {
   bool enabled = false;
   std::string scene = "museum";
@@ -204,6 +257,22 @@ HOLO_REGISTER_COMMAND(Command{
       intr->add_option("--serial", intrinsics->serial,
                        "Camera serial (default: kept from --out, else its name)");
       intr->add_flag("--quiet", intrinsics->quiet, "No progress output");
+      auto stereo = std::make_shared<StereoOptions>();
+      CLI::App* st = sub.add_subcommand(
+          "stereo", "Calibrate a stereo pair from two photo sets (photo k of each taken at the same moment)");
+      st->add_option("--left", stereo->left, "Left camera's photos, as a quoted glob ('photos/left*.jpg')")
+          ->required();
+      st->add_option("--right", stereo->right,
+                     "Right camera's photos, as many as --left, paired in sorted order")
+          ->required();
+      st->add_option("--board", stereo->board,
+                     "chessboard:COLSxROWS:SQUARE_M (inner corners) or "
+                     "charuco:COLSxROWS:SQUARE_M:MARKER_M:DICT (squares)")
+          ->required();
+      st->add_option("--out", stereo->out,
+                     "Stereo calibration to write (FileStorage YAML; FILE.png beside it)")
+          ->required();
+      st->add_flag("--quiet", stereo->quiet, "No progress output");
       auto automatic = std::make_shared<AutoOptions>();
       sub.add_flag("--auto", automatic->enabled,
                    "Run every step without a window (on the simulated museum, or the cameras of --config)");
@@ -223,8 +292,9 @@ HOLO_REGISTER_COMMAND(Command{
           ->capture_default_str();
       sub.add_flag("--quiet", automatic->quiet, "No progress output");
       const WizardSubcommand wizard = addWizardSubcommand(sub);
-      return std::function<int()>([intr, intrinsics, automatic, wizard, parent = &sub]() -> int {
+      return std::function<int()>([intr, intrinsics, st, stereo, automatic, wizard, parent = &sub]() -> int {
         if (intr->parsed()) return runIntrinsics(*intrinsics);
+        if (st->parsed()) return runStereo(*stereo);
         if (wizard.app->parsed()) return wizard.run();
         if (automatic->enabled) return runAuto(*automatic);
         std::cerr << parent->help();

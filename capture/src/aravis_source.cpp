@@ -320,30 +320,19 @@ GrabResult AravisSource::grab(Nanoseconds timeout) {
         std::memory_order_relaxed);
   };
   if (colour_ && depth_) {
-    // Two devices: colour and depth paired by arrival time (frame_pairing.hpp). Each pop waits
-    // at most `timeout`; frames already popped stay in the pairer for the next grab.
-    for (;;) {
-      if (std::optional<FramePair> pair = pairer_.pop()) {
-        result.frame.colour = std::move(pair->colour.image);
-        result.frame.depth = std::move(pair->depth.image);  // its own size: the loop registers it
-        result.frame.device_time = pair->colour.device_time;
-        health().pair_skew_us.store(static_cast<std::int64_t>(std::llround(pair->skew_ms * 1e3)),
-                                    std::memory_order_relaxed);
-        break;
-      }
-      health().frames_unpaired.store(pairer_.droppedColour() + pairer_.droppedDepth(),
-                                     std::memory_order_relaxed);
-      const bool want_colour = !pairer_.hasColour();
+    // Two devices: colour and depth paired by arrival time (frame_pairing.hpp).
+    PairedGrab paired = grabPair(pairer_, health(), [&](bool colour) {
       Popped popped =
-          want_colour ? popOne(*colour_, timeout, true, toColour) : popOne(*depth_, timeout, true, toDepth);
+          colour ? popOne(*colour_, timeout, true, toColour) : popOne(*depth_, timeout, true, toDepth);
       countResends();
-      if (popped.status != GrabStatus::Ok) return {popped.status, {}, popped.message};
-      StampedImage frame{std::move(popped.image), popped.host_time, popped.device_time};
-      if (want_colour)
-        pairer_.pushColour(std::move(frame));
-      else
-        pairer_.pushDepth(std::move(frame));
-    }
+      return StreamPop{popped.status,
+                       {std::move(popped.image), popped.host_time, popped.device_time},
+                       std::move(popped.message)};
+    });
+    if (paired.status != GrabStatus::Ok) return {paired.status, {}, paired.message};
+    result.frame.colour = std::move(paired.pair.colour.image);
+    result.frame.depth = std::move(paired.pair.depth.image);  // its own size: the loop registers it
+    result.frame.device_time = paired.pair.colour.device_time;
   } else {
     Popped main =
         colour_ ? popOne(*colour_, timeout, true, toColour) : popOne(*depth_, timeout, true, toDepth);

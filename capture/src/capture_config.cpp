@@ -217,6 +217,8 @@ CaptureConfig parseCaptureConfig(const ConfigNode& capture) {
     CameraEntry e = parseCamera(cameras[i]);
     e.aravis.pair_tolerance =
         Nanoseconds(static_cast<std::int64_t>(std::llround(config.pair_tolerance_ms * 1e6)));
+    e.replay.pair_tolerance = e.aravis.pair_tolerance;
+    e.v4l2.pair_tolerance = e.aravis.pair_tolerance;
     if (!faces.insert(e.face).second)
       cameras[i]["face"].fail("a face no other camera has", "face " + std::to_string(e.face) + " again");
     config.cameras.push_back(std::move(e));
@@ -239,7 +241,8 @@ std::unique_ptr<CameraSource> makeSource(const CameraEntry& entry) {
     case Backend::Recording: {
       Recording recording = readRecording(entry.recording);
       for (auto& camera : recording.cameras)
-        if (camera.id == entry.recording_camera) return std::make_unique<RecordingSource>(std::move(camera));
+        if (camera.id == entry.recording_camera)
+          return std::make_unique<RecordingSource>(std::move(camera), entry.replay);
       throw InputError(entry.recording.string(), "camera",
                        "a camera of the recording (it has " + std::to_string(recording.cameras.size()) + ")",
                        std::to_string(entry.recording_camera));

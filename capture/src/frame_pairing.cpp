@@ -1,5 +1,6 @@
 #include "holo/capture/frame_pairing.hpp"
 
+#include <cmath>
 #include <cstdlib>
 
 namespace holo::capture {
@@ -23,19 +24,20 @@ void FramePairer::clear() {
   depth_.clear();
 }
 
-std::optional<FramePair> FramePairer::pop() {
-  while (!colour_.empty() && !waitingForDepth()) {
+std::optional<FramePair> FramePairer::pop(bool streams_ended) {
+  while (!colour_.empty() && (streams_ended || !waitingForDepth())) {
     StampedImage colour = std::move(colour_.front());
     colour_.pop_front();
-    // depth_ holds a frame at or after the colour's: the nearest is it or the one before it.
+    // The nearest depth frame is the first at or after the colour's, or the one before it (at the
+    // streams' end there may be no later one).
     std::size_t first_after = 0;
-    while (depth_[first_after].time < colour.time) ++first_after;
+    while (first_after < depth_.size() && depth_[first_after].time < colour.time) ++first_after;
     std::size_t nearest = first_after;
-    if (first_after > 0 &&
-        colour.time - depth_[first_after - 1].time < depth_[first_after].time - colour.time)
+    if (first_after > 0 && (first_after == depth_.size() || colour.time - depth_[first_after - 1].time <
+                                                                depth_[first_after].time - colour.time))
       nearest = first_after - 1;
-    const Nanoseconds gap = depth_[nearest].time - colour.time;
-    if (std::llabs(gap.count()) > tolerance_.count()) {
+    const Nanoseconds gap = nearest < depth_.size() ? depth_[nearest].time - colour.time : Nanoseconds::max();
+    if (nearest >= depth_.size() || std::llabs(gap.count()) > tolerance_.count()) {
       // Nothing near enough: the colour frame goes; the depth frames before it can match no later
       // colour frame either.
       ++dropped_colour_;
@@ -52,7 +54,31 @@ std::optional<FramePair> FramePairer::pop() {
     ++paired_;
     return pair;
   }
+  if (streams_ended && colour_.empty()) {
+    dropped_depth_ += static_cast<std::int64_t>(depth_.size());
+    depth_.clear();
+  }
   return std::nullopt;
+}
+
+PairedGrab grabPair(FramePairer& pairer, HealthCounters& health,
+                    const std::function<StreamPop(bool colour)>& pop) {
+  for (;;) {
+    if (std::optional<FramePair> pair = pairer.pop()) {
+      health.pair_skew_us.store(static_cast<std::int64_t>(std::llround(pair->skew_ms * 1e3)),
+                                std::memory_order_relaxed);
+      health.frames_unpaired.store(pairer.droppedColour() + pairer.droppedDepth(), std::memory_order_relaxed);
+      return {GrabStatus::Ok, std::move(*pair), {}};
+    }
+    health.frames_unpaired.store(pairer.droppedColour() + pairer.droppedDepth(), std::memory_order_relaxed);
+    const bool colour = !pairer.hasColour();
+    StreamPop popped = pop(colour);
+    if (popped.status != GrabStatus::Ok) return {popped.status, {}, std::move(popped.message)};
+    if (colour)
+      pairer.pushColour(std::move(popped.frame));
+    else
+      pairer.pushDepth(std::move(popped.frame));
+  }
 }
 
 }  // namespace holo::capture

@@ -292,6 +292,7 @@ struct V4l2Stream {
     GrabStatus status = GrabStatus::Timeout;
     cv::Mat image;
     Nanoseconds device_time{0};
+    Nanoseconds pairing_time{0};  // CLOCK_MONOTONIC: the kernel's stamp, else the dequeue time
     std::string message;
   };
 
@@ -327,6 +328,9 @@ struct V4l2Stream {
         out.status = GrabStatus::Ok;
         out.device_time = Nanoseconds(static_cast<std::int64_t>(buf.timestamp.tv_sec) * 1000000000LL +
                                       static_cast<std::int64_t>(buf.timestamp.tv_usec) * 1000LL);
+        const bool monotonic =
+            (buf.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) == V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC;
+        out.pairing_time = monotonic ? out.device_time : Clock::now().time_since_epoch();
       } catch (const Error& e) {
         out.status = GrabStatus::Failed;
         out.message = path + ": " + e.what();
@@ -402,24 +406,28 @@ void V4l2Source::start() {
 void V4l2Source::stop() {
   colour_.reset();
   depth_.reset();
+  pairer_.clear();  // a reopened device's frames pair afresh
 }
 
 GrabResult V4l2Source::grab(Nanoseconds timeout) {
   if (!colour_ && !depth_) return {GrabStatus::Disconnected, {}, "not open"};
-  V4l2Stream& first = colour_ ? *colour_ : *depth_;
-  V4l2Stream::Popped main = first.pop(timeout);
-  if (main.status != GrabStatus::Ok) return {main.status, {}, main.message};
   GrabResult result;
-  (colour_ ? result.frame.colour : result.frame.depth) = main.image;
-  result.frame.device_time = main.device_time;
   if (colour_ && depth_) {
-    V4l2Stream::Popped depth = depth_->pop(timeout);
-    if (depth.status == GrabStatus::Disconnected) return {depth.status, {}, depth.message};
-    if (depth.status == GrabStatus::Ok && depth.image.size() == main.image.size())
-      result.frame.depth = depth.image;
-    else if (depth.status == GrabStatus::Ok)
-      HOLO_LOG_WARN("{}: depth {}x{} does not match colour {}x{}; frame without depth", name(),
-                    depth.image.cols, depth.image.rows, main.image.cols, main.image.rows);
+    PairedGrab paired = grabPair(pairer_, health(), [&](bool colour) {
+      V4l2Stream::Popped popped = (colour ? *colour_ : *depth_).pop(timeout);
+      return StreamPop{popped.status,
+                       {std::move(popped.image), popped.pairing_time, popped.device_time},
+                       std::move(popped.message)};
+    });
+    if (paired.status != GrabStatus::Ok) return {paired.status, {}, paired.message};
+    result.frame.colour = std::move(paired.pair.colour.image);
+    result.frame.depth = std::move(paired.pair.depth.image);  // its own size: the loop registers it
+    result.frame.device_time = paired.pair.colour.device_time;
+  } else {
+    V4l2Stream::Popped main = (colour_ ? *colour_ : *depth_).pop(timeout);
+    if (main.status != GrabStatus::Ok) return {main.status, {}, main.message};
+    (colour_ ? result.frame.colour : result.frame.depth) = main.image;
+    result.frame.device_time = main.device_time;
   }
   result.status = GrabStatus::Ok;
   result.frame.sequence = sequence_++;

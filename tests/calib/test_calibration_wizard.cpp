@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
@@ -165,8 +166,11 @@ TEST(CalibrationWizard, FailedStepShowsItsHintAndKeepsNextDisabled) {
   EXPECT_GT(orange, 200) << "hint text";
 }
 
-// The same window on a recording (`simulate --calibration`) through the capture-backed rig: every
-// step's button pressed, every verdict PASS, the saved poses as the recording's truth.
+// The same window on a recording (`simulate --calibration`: two-device cameras, depth 15 ms late
+// and 2 % short, each camera its own colour response) through the capture-backed rig: every step's
+// button pressed, every verdict PASS, the saved calibration against the recording's truth folder
+// (truth/calibration): intrinsics, poses, depth scale and colour gains within the bars of
+// `eval calibration`.
 TEST(CalibrationWizard, ScriptedRunOnARecording) {
   if (!std::getenv("DISPLAY")) GTEST_SKIP() << "no X display; ctest runs this under xvfb-run";
   const fs::path dir = holo::test::scratchDir("calib_wizard_recording");
@@ -189,8 +193,32 @@ TEST(CalibrationWizard, ScriptedRunOnARecording) {
     const cv::Matx44d got = toMatx(saved.T_world_camera), want = toMatx(camera.model->T_world_camera());
     EXPECT_LT(translationError(got, want), 0.003) << camera.serial;
     EXPECT_LT(rotationErrorDeg(got, want), 0.3) << camera.serial;
+    const CameraCalibration truth =
+        loadCameraCalibration(cameraCalibrationPath(rec / "truth" / "calibration", camera.serial));
+    const cv::Matx44d true_pose = toMatx(truth.T_world_camera);
+    const Intrinsics &a = saved.intrinsics, &b = truth.intrinsics;
+    const double intrinsics_pct =
+        100.0 * std::max({std::abs(a.fx / b.fx - 1.0f), std::abs(a.fy / b.fy - 1.0f),
+                          std::abs(a.cx / b.cx - 1.0f), std::abs(a.cy / b.cy - 1.0f)});
+    const double depth_scale_pct = 100.0 * std::abs(saved.depth_scale / truth.depth_scale - 1.0);
+    double gain_pct = 0.0;
+    for (int c = 0; c < 3; ++c)
+      gain_pct = std::max(gain_pct, 100.0 * std::abs(saved.colour_gains[c] / truth.colour_gains[c] - 1.0));
+    std::cout << camera.serial << " against truth/calibration: intrinsics " << intrinsics_pct
+              << " %, position " << 1000.0 * translationError(got, true_pose) << " mm, rotation "
+              << rotationErrorDeg(got, true_pose) << " deg, depth scale " << depth_scale_pct << " % (fitted "
+              << saved.depth_scale_fitted << "), colour gains " << gain_pct << " %\n";
+    EXPECT_LT(intrinsics_pct, 0.5) << camera.serial;
+    EXPECT_LT(translationError(got, true_pose), 0.003) << camera.serial;
+    EXPECT_LT(rotationErrorDeg(got, true_pose), 0.3) << camera.serial;
+    EXPECT_TRUE(saved.depth_scale_fitted) << camera.serial;
+    EXPECT_LT(depth_scale_pct, 0.3) << camera.serial;
+    EXPECT_LT(gain_pct, 2.0) << camera.serial;
   }
-  EXPECT_FALSE(cv::imread((dir / "screenshots" / "wizard_1_intrinsics.png").string()).empty());
+  for (const char* shot :
+       {"wizard_1_intrinsics.png", "wizard_2_camera_poses.png", "wizard_3_background.png",
+        "wizard_4_panorama_yaw.png", "wizard_5_display_alignment.png", "wizard_6_save.png"})
+    EXPECT_FALSE(cv::imread((dir / "screenshots" / shot).string()).empty()) << shot;
 }
 
 }  // namespace

@@ -156,12 +156,15 @@ capture:
 
 TEST(CaptureConfig, PairToleranceReachesTwoDeviceCamerasWithItsDefaultStated) {
   const std::string cameras =
-      "  cameras:\n    - {face: 0, backend: aravis, color: {serial: C}, depth: {serial: D}}\n";
+      "  cameras:\n    - {face: 0, backend: aravis, color: {serial: C}, depth: {serial: D}}\n"
+      "    - {face: 1, backend: v4l2, color: {device: /dev/video0}, depth: {device: /dev/video1}}\n";
   const CaptureConfig defaults = parse("capture:\n" + cameras);
   EXPECT_DOUBLE_EQ(defaults.pair_tolerance_ms, 16.0);
   EXPECT_EQ(defaults.cameras[0].aravis.pair_tolerance, std::chrono::milliseconds(16));
+  EXPECT_EQ(defaults.cameras[1].v4l2.pair_tolerance, std::chrono::milliseconds(16));
   const CaptureConfig loose = parse("capture:\n  pair_tolerance_ms: 25\n" + cameras);
   EXPECT_EQ(loose.cameras[0].aravis.pair_tolerance, std::chrono::milliseconds(25));
+  EXPECT_EQ(loose.cameras[1].v4l2.pair_tolerance, std::chrono::milliseconds(25));
   const std::string zero = errorOf("capture:\n  pair_tolerance_ms: 0\n" + cameras);
   EXPECT_TRUE(contains(zero, "capture.pair_tolerance_ms")) << zero;
 }

@@ -60,6 +60,11 @@ TEST(FramePairing, ALostDepthFrameDropsItsColourFrameInsteadOfMispairingIt) {
   ASSERT_EQ(early_pairs.size(), 29u);
   EXPECT_NEAR(early_pairs.front().skew_ms, -10.0, 1e-6);
   EXPECT_TRUE(early.waitingForDepth());
+  // At the streams' end the waiting colour frame pairs with the depth frame before it.
+  const std::optional<FramePair> last = early.pop(/*streams_ended=*/true);
+  ASSERT_TRUE(last.has_value());
+  EXPECT_NEAR(last->skew_ms, -10.0, 1e-6);
+  EXPECT_FALSE(early.hasColour());
 }
 
 TEST(FramePairing, ASkewBeyondTheToleranceIsDroppedAndCounted) {
@@ -68,6 +73,74 @@ TEST(FramePairing, ASkewBeyondTheToleranceIsDroppedAndCounted) {
   EXPECT_TRUE(pairs.empty());
   EXPECT_EQ(pairer.droppedColour(), 30);
   EXPECT_EQ(pairer.droppedDepth(), 29);  // each passed over; the last may still pair
+  // At the streams' end (a recording's last frame) nothing more can come: the last depth frame goes.
+  EXPECT_FALSE(pairer.pop(/*streams_ended=*/true));
+  EXPECT_EQ(pairer.droppedDepth(), 30);
+}
+
+// Two live streams as a device delivers them: each pop returns the stream's next frame, or a
+// timeout once it has none. Depth 15 ms behind colour, depth frame 2 lost in transit.
+struct TwoStreams {
+  std::vector<StampedImage> colour, depth;
+  std::size_t next_colour = 0, next_depth = 0;
+  int colour_pops = 0, depth_pops = 0;
+
+  StreamPop pop(bool want_colour) {
+    std::vector<StampedImage>& stream = want_colour ? colour : depth;
+    std::size_t& next = want_colour ? next_colour : next_depth;
+    ++(want_colour ? colour_pops : depth_pops);
+    if (next >= stream.size()) return {GrabStatus::Timeout, {}, "nothing arrived"};
+    return {GrabStatus::Ok, stream[next++], {}};
+  }
+};
+
+TEST(FramePairing, GrabPairPopsEachStreamAsThePairerNeedsAndReportsDropsAndSkew) {
+  TwoStreams streams;
+  for (int k = 0; k < 4; ++k) {
+    const double t = k * 1000.0 / 30.0;
+    streams.colour.push_back(stamped(t, static_cast<float>(k)));
+    if (k != 2) streams.depth.push_back(stamped(t + 15.0, static_cast<float>(k)));
+  }
+  FramePairer pairer(ms(kDefaultPairToleranceMs));
+  HealthCounters health;
+  const auto pop = [&](bool colour) { return streams.pop(colour); };
+
+  std::vector<float> paired;
+  for (int grab = 0; grab < 3; ++grab) {
+    PairedGrab g = grabPair(pairer, health, pop);
+    ASSERT_EQ(g.status, GrabStatus::Ok) << "grab " << grab << ": " << g.message;
+    EXPECT_EQ(g.pair.colour.image.at<float>(0, 0), g.pair.depth.image.at<float>(0, 0));
+    EXPECT_NEAR(static_cast<double>(health.pair_skew_us.load()), 15000.0, 1.0);
+    paired.push_back(g.pair.colour.image.at<float>(0, 0));
+  }
+  EXPECT_EQ(paired, (std::vector<float>{0.0f, 1.0f, 3.0f}));
+  // Colour frame 2 had no depth frame within 16 ms (depth 3 came 48 ms after it): dropped, counted.
+  EXPECT_EQ(health.frames_unpaired.load(), 1);
+  // Every frame was popped once, none twice: the loop asks a stream only when the pairer needs it.
+  EXPECT_EQ(streams.colour_pops, 4);
+  EXPECT_EQ(streams.depth_pops, 3);
+
+  // Both streams dry: the timeout comes back as such, with the stream's message.
+  PairedGrab none = grabPair(pairer, health, pop);
+  EXPECT_EQ(none.status, GrabStatus::Timeout);
+  EXPECT_EQ(none.message, "nothing arrived");
+}
+
+TEST(FramePairing, GrabPairKeepsWhatWasPoppedWhenAStreamFailsMidway) {
+  TwoStreams streams;
+  streams.colour.push_back(stamped(0.0, 7.0f));
+  FramePairer pairer(ms(kDefaultPairToleranceMs));
+  HealthCounters health;
+  const auto pop = [&](bool colour) { return streams.pop(colour); };
+  // The colour frame arrived, its depth frame not yet: a timeout, the colour frame kept.
+  EXPECT_EQ(grabPair(pairer, health, pop).status, GrabStatus::Timeout);
+  EXPECT_TRUE(pairer.hasColour());
+  streams.depth.push_back(stamped(5.0, 7.0f));
+  PairedGrab g = grabPair(pairer, health, pop);
+  ASSERT_EQ(g.status, GrabStatus::Ok);
+  EXPECT_EQ(g.pair.colour.image.at<float>(0, 0), 7.0f);
+  EXPECT_NEAR(g.pair.skew_ms, 5.0, 1e-6);
+  EXPECT_EQ(health.frames_unpaired.load(), 0);
 }
 
 }  // namespace

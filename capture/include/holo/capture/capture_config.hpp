@@ -7,7 +7,8 @@
 //     silence_timeout_ms: 2000
 //     max_backoff_ms: 5000
 //     pair_tolerance_ms: 16               # colour and depth from two devices: frames further apart
-//                                         # (arrival time) are dropped, counted (frame_pairing.hpp)
+//                                         # (arrival time; a recording's own times) are dropped,
+//                                         # counted (frame_pairing.hpp)
 //     cameras:
 //       - face: 0                         # 0..3: the side facing +Z, +X, -Z, -X
 //         backend: aravis                 # aravis | v4l2 | recording
@@ -42,6 +43,7 @@
 #include "holo/capture/aravis_source.hpp"
 #include "holo/capture/camera_source.hpp"
 #include "holo/capture/capture_thread.hpp"
+#include "holo/capture/recording_source.hpp"
 #include "holo/capture/v4l2_source.hpp"
 #include "holo/core/config.hpp"
 
@@ -61,6 +63,7 @@ struct CameraEntry {
   V4l2CameraConfig v4l2;
   std::filesystem::path recording;  // Backend::Recording: the folder, relative to the config file
   int recording_camera = 0;         // which camera of the recording
+  ReplayOptions replay;             // Backend::Recording: colour/depth paired within pair_tolerance_ms
   std::string scene;                // Backend::Simulated: built-in scene name or YAML file
   int sim_camera = 0;               // which simulated camera
   bool paced = true;                // Backend::Simulated: frames at the scene's rate

@@ -9,9 +9,12 @@
 
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <opencv2/core.hpp>
 #include <optional>
+#include <string>
 
+#include "holo/capture/camera_source.hpp"
 #include "holo/core/rgbd_frame.hpp"
 
 namespace holo::capture {
@@ -39,8 +42,10 @@ class FramePairer {
   void pushColour(StampedImage frame);
   void pushDepth(StampedImage frame);
   // The oldest colour frame whose pairing is decided: its pair, or nothing (then it was dropped,
-  // and the next one is looked at). nullopt when no decided pair is waiting.
-  std::optional<FramePair> pop();
+  // and the next one is looked at). nullopt when no decided pair is waiting. `streams_ended`: no
+  // frame will follow (a recording's end), so every colour frame is decided against the depth
+  // frames there are, and depth frames left after the last colour frame are dropped.
+  std::optional<FramePair> pop(bool streams_ended = false);
   // True when the oldest colour frame waits for a depth frame at or after it.
   bool waitingForDepth() const;
   bool hasColour() const { return !colour_.empty(); }
@@ -58,5 +63,26 @@ class FramePairer {
   std::int64_t dropped_depth_ = 0;
   std::int64_t paired_ = 0;
 };
+
+// One frame popped from one stream of a two-device camera, or why there is none.
+struct StreamPop {
+  GrabStatus status = GrabStatus::Timeout;
+  StampedImage frame;  // status Ok only
+  std::string message;
+};
+
+struct PairedGrab {
+  GrabStatus status = GrabStatus::Timeout;
+  FramePair pair;  // status Ok only
+  std::string message;
+};
+
+// Feeds `pairer` from a camera's two live streams until it decides a pair: `pop(true)` pops a
+// colour frame while none waits in the pairer, `pop(false)` a depth frame otherwise (each pop waits
+// as long as the device's timeout). The drops (frames_unpaired) and the pair's skew go to `health`.
+// A pop that fails ends the call with its status and message; frames popped before stay in the
+// pairer for the next call.
+PairedGrab grabPair(FramePairer& pairer, HealthCounters& health,
+                    const std::function<StreamPop(bool colour)>& pop);
 
 }  // namespace holo::capture

@@ -5,9 +5,11 @@
 // Kernel buffer timestamps (CLOCK_MONOTONIC, ns) become RgbdFrame::device_time.
 //
 // RealSense-class cameras expose colour and depth as two nodes; a V4l2CameraConfig names both,
-// and each colour frame is paired with the next depth frame. Buffers the driver flags as
-// erroneous (V4L2_BUF_FLAG_ERROR) are counted as incomplete and re-queued. A vanished device
-// (ENODEV, POLLERR) is reported as GrabStatus::Disconnected and the CaptureThread reconnects.
+// and colour and depth frames are paired by their kernel timestamps within pair_tolerance (one
+// clock for both nodes; a driver that stamps no monotonic time gets the dequeue time), as
+// frame_pairing.hpp does for two GigE devices; the depth frame keeps its own size. Buffers the driver flags
+// as erroneous (V4L2_BUF_FLAG_ERROR) are counted as incomplete and re-queued. A vanished device (ENODEV,
+// POLLERR) is reported as GrabStatus::Disconnected and the CaptureThread reconnects.
 //
 // Errors name the device and what it offers: a missing node, a busy device, a format or size the
 // device does not have ("/dev/video0: pixel_format: expected one the device offers: YUYV
@@ -21,6 +23,7 @@
 #include <vector>
 
 #include "holo/capture/camera_source.hpp"
+#include "holo/capture/frame_pairing.hpp"
 #include "holo/capture/pixel_format.hpp"
 
 namespace holo::capture {
@@ -38,6 +41,9 @@ struct V4l2CameraConfig {
   std::string name;         // for logs and statistics; defaults to "v4l2:<colour device>"
   V4l2StreamConfig colour;  // device empty = no colour stream
   V4l2StreamConfig depth;   // device empty = no depth stream
+  // Colour and depth nodes both named: frames further apart are dropped and counted
+  // (frame_pairing.hpp, capture.pair_tolerance_ms).
+  Nanoseconds pair_tolerance{static_cast<std::int64_t>(kDefaultPairToleranceMs * 1e6)};
 };
 
 // One capture node found under /dev.
@@ -83,6 +89,7 @@ class V4l2Source : public CameraSource {
   std::filesystem::path dev_dir_;
   std::unique_ptr<V4l2Stream> colour_;
   std::unique_ptr<V4l2Stream> depth_;
+  FramePairer pairer_{config_.pair_tolerance};  // colour and depth nodes
   std::uint64_t sequence_ = 0;
 };
 
