@@ -3,52 +3,15 @@
 #include <algorithm>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "holo/core/error.hpp"
 #include "holo/sim/halls.hpp"
 #include "holo/sim/museum.hpp"
 #include "holo/sim/sensor_noise.hpp"
-#include "holo/sim/shapes.hpp"
+#include "visitor_models.hpp"
 
 namespace holo::sim {
 
 namespace {
-
-constexpr float kStrideLength = 0.7f;  // metres per step
-
-// The pace: a walker cruises, slows down, stands, and speeds up again, once per pace cycle. The
-// pace factor is clamp(kPaceBase + kPaceDepth sin(2 pi pace_hz t + pace_phase), 0, 1): cruising
-// (1) for 41% of the cycle, standing (0) for 18.6% of it (a stop of 1.5-3.7 s). Divided by its
-// mean (kPaceMean, 0.596) it keeps angular_speed the mean: the cruise is 1.68x that.
-constexpr float kPaceBase = 0.75f, kPaceDepth = 0.9f;
-
-// Antiderivative of the pace factor over u = 2 pi pace_hz t + pace_phase, 0 at u = 0,
-// continuous and non-decreasing.
-float clampedPaceIntegral(float u) {
-  const float up = std::asin((1.0f - kPaceBase) / kPaceDepth);  // where it reaches 1
-  const float down = std::asin(kPaceBase / kPaceDepth);         // sin u = -down: where it reaches 0
-  auto F = [](float v) { return kPaceBase * v - kPaceDepth * std::cos(v); };
-  enum Kind { rising, cruising, standing };
-  struct Piece {
-    float lo, hi;
-    Kind kind;
-  };
-  const Piece pieces[] = {{0.0f, up, rising},
-                          {up, kPi - up, cruising},
-                          {kPi - up, kPi + down, rising},
-                          {kPi + down, 2.0f * kPi - down, standing},
-                          {2.0f * kPi - down, 2.0f * kPi, rising}};
-  auto within = [&](float v) {  // v in [0, 2 pi]
-    float sum = 0.0f;
-    for (const Piece& p : pieces) {
-      if (v <= p.lo) break;
-      const float hi = std::min(v, p.hi);
-      sum += p.kind == rising ? F(hi) - F(p.lo) : p.kind == cruising ? hi - p.lo : 0.0f;
-    }
-    return sum;
-  };
-  const float k = std::floor(u / (2.0f * kPi));
-  return k * within(2.0f * kPi) + within(u - 2.0f * kPi * k);
-}
-const float kPaceMean = clampedPaceIntegral(2.0f * kPi) / (2.0f * kPi);
 
 // Lanes per hall: close to the pyramid (its furniture stands within ~1.2 m) and inside the walls.
 void laneLimits(const std::string& hall, float& inner, float& outer) {
@@ -56,190 +19,53 @@ void laneLimits(const std::string& hall, float& inner, float& outer) {
   outer = hall == "room" ? 1.75f : hall == "gallery" ? 2.3f : hall == "atrium" ? 3.2f : 2.6f;
 }
 
-float angleAt(const VisitorPlan& p, float t) {
-  if (p.faces_pyramid) return p.start_angle + p.drift * std::sin(2.0f * kPi * p.drift_hz * t + p.pace_phase);
-  const float w = 2.0f * kPi * p.pace_hz;
-  return p.start_angle + p.angular_speed / (kPaceMean * w) *
-                             (clampedPaceIntegral(w * t + p.pace_phase) - clampedPaceIntegral(p.pace_phase));
-}
-
-// The pace factor before clamping: <= 0 while the visitor stands, >= 1 while it cruises.
-float paceDrive(const VisitorPlan& p, float t) {
-  return kPaceBase + kPaceDepth * std::sin(2.0f * kPi * p.pace_hz * t + p.pace_phase);
-}
-
-float smoothstep(float e0, float e1, float x) {
-  const float u = std::clamp((x - e0) / (e1 - e0), 0.0f, 1.0f);
-  return u * u * (3.0f - 2.0f * u);
-}
-
-// The palettes every visitor draws from.
+// The palettes both models draw from (skins are each model's own).
 const vec3 kShirts[] = {{0.55f, 0.08f, 0.06f}, {0.08f, 0.35f, 0.1f}, {0.1f, 0.15f, 0.55f},
                         {0.6f, 0.45f, 0.05f},  {0.45f, 0.1f, 0.4f},  {0.05f, 0.4f, 0.45f},
                         {0.6f, 0.6f, 0.58f},   {0.6f, 0.25f, 0.05f}};
 const vec3 kTrousers[] = {
     {0.04f, 0.05f, 0.12f}, {0.08f, 0.08f, 0.08f}, {0.2f, 0.17f, 0.12f}, {0.02f, 0.02f, 0.02f}};
-const vec3 kSkins[] = {{0.78f, 0.6f, 0.5f}, {0.7f, 0.5f, 0.38f},  {0.58f, 0.4f, 0.28f},
-                       {0.45f, 0.3f, 0.2f}, {0.32f, 0.2f, 0.13f}, {0.22f, 0.14f, 0.09f}};
-const vec3 kHair[] = {{0.02f, 0.015f, 0.01f}, {0.08f, 0.05f, 0.03f}, {0.2f, 0.13f, 0.06f},
-                      {0.55f, 0.42f, 0.22f},  {0.45f, 0.45f, 0.44f}, {0.3f, 0.08f, 0.03f}};
-const vec3 kShoes[] = {{0.03f, 0.03f, 0.03f}, {0.2f, 0.11f, 0.05f}, {0.6f, 0.6f, 0.6f}};
 const vec3 kCarried[] = {{0.85f, 0.02f, 0.02f}, {0.9f, 0.8f, 0.0f}, {0.0f, 0.7f, 0.1f},
                          {0.8f, 0.0f, 0.6f},    {0.0f, 0.6f, 0.8f}, {0.95f, 0.35f, 0.0f}};
 
-// Height, skin, shirt and trousers from the visitor's stream `rng`; build, hair, sleeves and
-// shoes from a stream of their own (`extra`), so what the path's stream draws after the looks
-// (what is carried) does not depend on how many the body needs.
+// Height, skin, shirt and trousers from the visitor's stream `rng`; a body's build, hair, sleeves
+// and shoes from a stream of their own (`extra`), so what the path's stream draws after the looks
+// (what is carried) is the same for both models.
 void drawLooks(VisitorPlan& p, PixelRng& rng, PixelRng extra) {
+  const bool body = p.model == VisitorModel::bodies;
   p.height = 1.55f + 0.35f * rng.uniform();
-  p.skin = kSkins[rng.next() % 6];
+  p.skin = body ? detail::bodySkin(rng.next()) : detail::figureSkin(rng.next());
   p.shirt = kShirts[rng.next() % 8];
   p.trousers = kTrousers[rng.next() % 4];
-  p.build = 0.9f + 0.25f * extra.uniform();
-  p.hair_length = extra.uniform();
-  p.short_sleeves = extra.uniform() < 0.4f;
-  p.hair = kHair[extra.next() % 6];
-  p.shoes = kShoes[extra.next() % 3];
-}
-
-// Body proportions, metres, from the height (s = height / 1.75 m) and the build (widths).
-struct Proportions {
-  float s, build;
-  float hip, torso;          // hip joints above the floor standing straight; hips to shoulder line
-  float thigh, shin, ankle;  // hip to knee, knee to ankle, ankle above the floor
-  float upper_arm, forearm, hand;
-  float shoulder_x, hip_x;  // joints' distance from the body's midline
-  float head_above_neck;    // head centre above the shoulder line
-};
-Proportions proportions(const VisitorPlan& p) {
-  Proportions b;
-  b.s = p.height / 1.75f;
-  b.build = p.build;
-  b.hip = 0.5f * p.height;
-  b.torso = p.height - 0.29f * b.s - b.hip;
-  b.ankle = 0.06f * b.s;
-  b.thigh = 0.245f * p.height;
-  b.shin = b.hip - b.thigh - b.ankle;
-  b.upper_arm = 0.17f * p.height;
-  b.forearm = 0.145f * p.height;
-  b.hand = 0.1f * b.s;
-  b.shoulder_x = 0.185f * b.s * p.build;
-  b.hip_x = 0.09f * b.s * p.build;
-  b.head_above_neck = 0.175f * b.s;
-  return b;
-}
-
-// A close visitor's mean spine lean towards the pyramid, radians.
-constexpr float kCloseLean = 0.06f;
-
-vec3 feetAt(const VisitorPlan& p, float t) {
-  const float a = angleAt(p, t);
-  // The sway follows the distance walked (sway_hz at the mean pace), so a standing visitor's feet
-  // stay put.
-  const float walked_s = p.angular_speed != 0.0f ? std::abs((a - p.start_angle) / p.angular_speed) : 0.0f;
-  const float sway =
-      p.faces_pyramid ? 0.0f : p.sway * std::sin(2.0f * kPi * p.sway_hz * walked_s + p.start_angle);
-  const float r = p.lane_radius + sway;
-  return {r * std::sin(a), -kBaseHeight, r * std::cos(a)};
-}
-
-mat4 rotX(float a) {
-  return glm::rotate(mat4(1.0f), a, vec3(1, 0, 0));
-}
-
-// Every bone's frame in the body's own frame (origin on the floor between the feet, +Y up, +Z
-// forward); a limb hangs along its frame's -Y from the joint at its origin. Index 0 is the
-// left side (x < 0), which carries; 1 the right, which reaches out.
-struct Skeleton {
-  mat4 pelvis, spine, neck, head;
-  mat4 upper_arm[2], forearm[2], hand[2];
-  mat4 thigh[2], shin[2], foot[2];
-};
-
-Skeleton articulate(const VisitorPlan& p, const VisitorPose& pose, const Proportions& b) {
-  Skeleton k;
-  const float phase = pose.gait_phase;
-  float drop = 0.0f;
-  float thigh[2], knee[2];
-  for (int i = 0; i < 2; ++i) {
-    const float side = i == 0 ? -1.0f : 1.0f;
-    thigh[i] = side * pose.swing * std::sin(phase);
-    // The knee folds while the leg swings forward (its thigh angle falling), most at mid-swing.
-    const float forward = std::max(0.0f, -side * std::cos(phase));
-    knee[i] = 0.05f + 1.6f * pose.swing * forward * forward;
-    drop = std::max(drop, b.thigh * std::cos(thigh[i]) + b.shin * std::cos(thigh[i] + knee[i]));
-  }
-  // The lower foot stands on the floor: the hips bob with the gait.
-  k.pelvis = glm::translate(mat4(1.0f), vec3(0.0f, drop + b.ankle, 0.0f));
-  const float twist = -0.3f * pose.swing * std::sin(phase);  // shoulders turn against the hips
-  k.spine = k.pelvis * rotX(pose.lean) * glm::rotate(mat4(1.0f), twist, vec3(0, 1, 0));
-  k.neck = k.spine * glm::translate(mat4(1.0f), vec3(0.0f, b.torso, 0.0f));
-  k.head = k.neck * rotX(-0.6f * pose.lean) *
-           glm::translate(mat4(1.0f), vec3(0.0f, b.head_above_neck, 0.012f * b.s));
-  for (int i = 0; i < 2; ++i) {
-    const float side = i == 0 ? -1.0f : 1.0f;
-    k.thigh[i] = k.pelvis * glm::translate(mat4(1.0f), vec3(side * b.hip_x, 0.0f, 0.0f)) * rotX(thigh[i]);
-    k.shin[i] = k.thigh[i] * glm::translate(mat4(1.0f), vec3(0.0f, -b.thigh, 0.0f)) * rotX(knee[i]);
-    k.foot[i] = k.shin[i] * glm::translate(mat4(1.0f), vec3(0.0f, -b.shin, 0.0f)) * rotX(-thigh[i] - knee[i]);
-
-    // Angles relative to the leaning torso (positive swings back): -lean hangs plumb.
-    const bool holds = i == 0 && p.carried != Carried::nothing;
-    const float swing = -side * 0.8f * pose.swing * std::sin(phase);  // against the legs
-    float shoulder = swing - pose.lean, elbow = -(0.2f + 0.5f * std::max(0.0f, -swing)), spread = 0.06f;
-    if (holds && p.carried == Carried::book) {  // forearm level in front, the book open on it
-      shoulder = -0.35f;
-      elbow = -1.2f;
-      spread = 0.15f;
-    } else if (holds) {  // the bag's weight keeps the arm nearly still, away from the leg
-      shoulder = 0.15f * swing - pose.lean;
-      elbow = -0.1f;
-      spread = 0.14f;
-    } else if (i == 1 && p.reach > 0.0f) {
-      shoulder = -p.reach - pose.lean;
-      elbow = -0.08f;
-      spread = 0.05f;
-    }
-    k.upper_arm[i] = k.spine * glm::translate(mat4(1.0f), vec3(side * b.shoulder_x, 0.93f * b.torso, 0.0f)) *
-                     glm::rotate(mat4(1.0f), side * spread, vec3(0, 0, 1)) * rotX(shoulder);
-    k.forearm[i] = k.upper_arm[i] * glm::translate(mat4(1.0f), vec3(0.0f, -b.upper_arm, 0.0f)) * rotX(elbow);
-    k.hand[i] = k.forearm[i] * glm::translate(mat4(1.0f), vec3(0.0f, -b.forearm, 0.0f));
-  }
-  return k;
-}
-
-// Rings of an ellipsoid with half extents (hx, hy, hz) centred at (0, cy, cz), pole to pole.
-std::vector<EllipseRing> ellipsoid(float hx, float hy, float hz, float cy = 0.0f, float cz = 0.0f,
-                                   int bands = 8) {
-  std::vector<EllipseRing> rings;
-  for (int i = 0; i <= bands; ++i) {
-    const float a = kPi * (static_cast<float>(i) / static_cast<float>(bands) - 0.5f);
-    const float c = i == 0 || i == bands ? 0.0f : std::cos(a);
-    rings.push_back({cy + hy * std::sin(a), hx * c, hz * c, cz});
-  }
-  return rings;
-}
-
-// A limb from its joint at y = 0 down to y = -length: radius r_top at the joint, r_mid halfway,
-// r_end at the far end (depth = flatten x width), each end a hemisphere of its radius.
-std::vector<EllipseRing> limb(float length, float r_top, float r_mid, float r_end, float flatten = 0.9f) {
-  std::vector<EllipseRing> rings;
-  auto ring = [&](float y, float r) { rings.push_back({y, r, flatten * r, 0.0f}); };
-  for (float a : {-90.0f, -60.0f, -30.0f})
-    ring(-length + r_end * std::sin(glm::radians(a)), a == -90.0f ? 0.0f : r_end * std::cos(glm::radians(a)));
-  for (float f : {1.0f, 0.75f, 0.5f, 0.25f, 0.0f}) {  // f: share of the length from the joint
-    // The quadratic through r_top (f = 0), r_mid (0.5) and r_end (1).
-    const float r = r_top * (1.0f - f) * (1.0f - 2.0f * f) + 4.0f * r_mid * f * (1.0f - f) +
-                    r_end * f * (2.0f * f - 1.0f);
-    ring(-length * f, r);
-  }
-  for (float a : {30.0f, 60.0f, 90.0f})
-    ring(r_top * std::sin(glm::radians(a)), a == 90.0f ? 0.0f : r_top * std::cos(glm::radians(a)));
-  return rings;
+  if (body) detail::drawBodyLooks(p, extra);
 }
 
 }  // namespace
 
-std::vector<VisitorPlan> planVisitors(int count, std::uint64_t seed, const std::string& hall) {
+std::string visitorModelName(VisitorModel model) {
+  return model == VisitorModel::bodies ? "bodies" : "figures";
+}
+
+std::vector<std::string> visitorModelNames() {
+  return {"figures", "bodies"};
+}
+
+VisitorModel visitorModelFromName(const std::string& name, const std::string& origin,
+                                  const std::string& field) {
+  if (name == "figures") return VisitorModel::figures;
+  if (name == "bodies") return VisitorModel::bodies;
+  throw InputError(origin, field, "a visitor model: figures or bodies", name);
+}
+
+namespace detail {
+mat4 visitorFrame(const VisitorPose& pose) {
+  const float yaw = std::atan2(pose.forward.x, pose.forward.z);
+  return glm::rotate(glm::translate(mat4(1.0f), pose.feet), yaw, vec3(0, 1, 0));
+}
+}  // namespace detail
+
+std::vector<VisitorPlan> planVisitors(int count, std::uint64_t seed, const std::string& hall,
+                                      VisitorModel model) {
   float inner = 0, outer = 0;
   laneLimits(hall, inner, outer);
   const int n = std::max(count, 0);
@@ -248,11 +74,13 @@ std::vector<VisitorPlan> planVisitors(int count, std::uint64_t seed, const std::
   for (int i = 0; i < n; ++i) {
     PixelRng rng(seed, 0x7151708ull, i, 0);
     VisitorPlan p;
+    p.model = model;
     p.lane_radius = inner + lane * (static_cast<float>(i) + 0.35f + 0.3f * rng.uniform());
     p.sway = 0.15f * lane * rng.uniform();
     p.sway_hz = 0.05f + 0.1f * rng.uniform();
     p.start_angle = 2.0f * kPi * rng.uniform();
-    const float speed = 0.35f + 0.35f * rng.uniform();
+    const float u = rng.uniform();
+    const float speed = model == VisitorModel::bodies ? detail::bodyMeanSpeed(u) : detail::figureMeanSpeed(u);
     p.angular_speed = (rng.uniform() < 0.5f ? -1.0f : 1.0f) * speed / p.lane_radius;
     p.pace_hz = 0.05f + 0.07f * rng.uniform();
     p.pace_phase = 2.0f * kPi * rng.uniform();
@@ -267,7 +95,8 @@ std::vector<VisitorPlan> planVisitors(int count, std::uint64_t seed, const std::
   return plans;
 }
 
-std::vector<VisitorPlan> planCloseVisitors(int count, std::uint64_t seed, const std::string& hall) {
+std::vector<VisitorPlan> planCloseVisitors(int count, std::uint64_t seed, const std::string& hall,
+                                           VisitorModel model) {
   // Faces (0..3: +Z, +X, -Z, -X) with room to stand: the room has its side table on +X and its
   // plant towards -Z; the gallery's info pole and the atrium's bollards stand on the diagonals.
   const std::vector<int> faces = hall == "room" ? std::vector<int>{0, 3} : std::vector<int>{0, 1, 2, 3};
@@ -278,6 +107,7 @@ std::vector<VisitorPlan> planCloseVisitors(int count, std::uint64_t seed, const 
   for (int i = 0; i < n; ++i) {
     PixelRng rng(seed, 0xC105E1ull, i, 0);
     VisitorPlan p;
+    p.model = model;
     p.faces_pyramid = true;
     p.lane_radius = 0.75f + 0.15f * rng.uniform();
     p.sway = 0.05f;  // leaning in and out
@@ -287,14 +117,11 @@ std::vector<VisitorPlan> planCloseVisitors(int count, std::uint64_t seed, const 
     p.angular_speed = 0.0f;
     p.drift = 0.1f + 0.1f * rng.uniform();
     p.drift_hz = 0.03f + 0.04f * rng.uniform();
+    // The shuffle's phase: the bodies were measured with every close visitor starting in phase
+    // (docs/sim.md), so their stream draws none.
+    if (model == VisitorModel::figures) p.pace_phase = 2.0f * kPi * rng.uniform();
     drawLooks(p, rng, PixelRng(seed, 0xC105E2ull, i, 0));
-    // The hand's centre comes to 0.55 m from the axis, a quarter metre from the glass, at the mean
-    // lean (which brings the shoulder forward): nearer, it would be inside the depth cameras' 0.2
-    // m minimum range, which no camera could see.
-    const Proportions b = proportions(p);
-    const float shoulder = p.lane_radius - std::sin(kCloseLean) * 0.93f * b.torso;
-    const float arm = b.upper_arm + b.forearm + 0.5f * b.hand;
-    p.reach = std::asin(std::clamp((shoulder - 0.55f) / arm, 0.0f, 1.0f));
+    p.reach = model == VisitorModel::bodies ? detail::bodyReach(p) : detail::figureReach(p);
     if (i == 0) {  // a bag: a book held up in front would reach into the pyramid
       p.carried = Carried::bag;
       p.carried_colour = kCarried[rng.next() % 6];
@@ -305,47 +132,18 @@ std::vector<VisitorPlan> planCloseVisitors(int count, std::uint64_t seed, const 
 }
 
 VisitorPose poseAt(const VisitorPlan& plan, float t) {
-  VisitorPose pose;
-  pose.feet = feetAt(plan, t);
-  const float r = std::hypot(pose.feet.x, pose.feet.z);
-  const vec3 inward = r > 1e-7f ? vec3(-pose.feet.x / r, 0.0f, -pose.feet.z / r) : vec3(0, 0, 1);
-  const Proportions b = proportions(plan);
-  if (plan.faces_pyramid) {
-    pose.forward = inward;
-    pose.facing_pyramid = 1.0f;
-    const float sway = std::asin(std::min(plan.sway / (b.torso + b.head_above_neck), 1.0f));
-    pose.lean = kCloseLean + sway * std::sin(2.0f * kPi * plan.sway_hz * t + plan.start_angle);
-  } else {
-    // Along the lane (the radial sway is slow beside it), turning to the pyramid while stopped.
-    const float direction = plan.angular_speed < 0.0f ? -1.0f : 1.0f;
-    const float a = angleAt(plan, t);
-    const vec3 along = direction * vec3(std::cos(a), 0.0f, -std::sin(a));
-    const float drive = paceDrive(plan, t);
-    pose.facing_pyramid = 1.0f - smoothstep(0.0f, 0.3f, drive);
-    pose.forward = glm::normalize(glm::mix(along, inward, pose.facing_pyramid));
-    pose.gait_phase = kPi * plan.lane_radius * std::abs(a - plan.start_angle) / kStrideLength;
-    pose.swing = 0.4f * smoothstep(0.0f, 0.5f, drive);
-    pose.lean = 0.1f * pose.swing + 0.1f * pose.facing_pyramid;
-  }
-  const Skeleton k = articulate(plan, pose, b);
-  const float yaw = std::atan2(pose.forward.x, pose.forward.z);
-  const mat4 world = glm::rotate(glm::translate(mat4(1.0f), pose.feet), yaw, vec3(0, 1, 0));
-  pose.head = transformPoint(world * k.head, vec3(0.0f));
-  return pose;
+  return plan.model == VisitorModel::bodies ? detail::bodyPose(plan, t) : detail::figurePose(plan, t);
 }
 
 Model buildVisitors(const std::vector<VisitorPlan>& plans, float t) {
   Model model;
-  // part() hands out references into meshes: reserve so no push_back moves them.
+  // part() hands out references into meshes: reserve so no push_back moves them (a body has the
+  // most materials, 6).
   model.meshes.reserve(6 * plans.size());
   for (std::size_t i = 0; i < plans.size(); ++i) {
     const VisitorPlan& p = plans[i];
     const VisitorPose pose = poseAt(p, t);
-    const Proportions b = proportions(p);
-    const Skeleton k = articulate(p, pose, b);
-    const float yaw = std::atan2(pose.forward.x, pose.forward.z);
-    const mat4 world = glm::rotate(glm::translate(mat4(1.0f), pose.feet), yaw, vec3(0, 1, 0));
-    auto part = [&](const std::string& what, const vec3& radiance) -> TriangleMesh& {
+    const detail::VisitorPart part = [&](const std::string& what, const vec3& radiance) -> TriangleMesh& {
       Material m;
       m.name = "visitor" + std::to_string(i) + "_" + what;
       m.base_colour = glm::clamp(radiance, 0.0f, 1.0f);
@@ -357,55 +155,10 @@ Model buildVisitors(const std::vector<VisitorPlan>& plans, float t) {
       model.meshes.push_back(std::move(mesh));
       return model.meshes.back();
     };
-    auto add = [&](TriangleMesh& mesh, const std::vector<EllipseRing>& rings, const mat4& bone,
-                   int segments = 16) { appendMesh(mesh, makeEllipticSweep(rings, segments), world * bone); };
-    const float s = b.s, w = b.build;
-
-    TriangleMesh& skin = part("skin", p.skin);
-    add(skin, ellipsoid(0.078f * s, 0.115f * s, 0.098f * s, 0.0f, 0.005f * s), k.head);
-    add(skin, limb(0.15f * s, 0.052f * s, 0.05f * s, 0.055f * s),
-        k.neck * glm::translate(mat4(1.0f), vec3(0.0f, 0.12f * s, 0.0f)));
-    TriangleMesh& hair = part("hair", p.hair);
-    // Over the crown and down the back of the head, lower for long hair; the face stays bare.
-    add(hair,
-        ellipsoid(1.08f * 0.078f * s, 0.115f * s * (0.75f + 0.3f * p.hair_length), 1.1f * 0.098f * s,
-                  0.115f * s * (0.3f - 0.3f * p.hair_length), -0.025f * s),
-        k.head);
-
-    TriangleMesh& shirt = part("shirt", p.shirt);
-    std::vector<EllipseRing> torso;
-    const float L = b.torso;
-    for (const vec4& r : {vec4(0.02f * L, 0.0f, 0.0f, 0.0f), vec4(0.06f * L, 0.125f, 0.09f, 0.0f),
-                          vec4(0.3f * L, 0.12f, 0.085f, 0.0f), vec4(0.55f * L, 0.14f, 0.095f, 0.008f),
-                          vec4(0.78f * L, 0.155f, 0.1f, 0.01f), vec4(0.93f * L, 0.16f, 0.09f, 0.0f),
-                          vec4(L, 0.14f, 0.07f, 0.0f), vec4(L + 0.035f * s, 0.08f, 0.045f, 0.0f),
-                          vec4(L + 0.045f * s, 0.0f, 0.0f, 0.0f)})
-      torso.push_back({r.x, r.y * s * w, r.z * s * (0.5f + 0.5f * w), r.w * s});
-    add(shirt, torso, k.spine, 20);
-    TriangleMesh& trousers = part("trousers", p.trousers);
-    add(trousers, ellipsoid(0.165f * s * w, 0.11f * s, 0.11f * s, 0.03f * s, -0.005f * s), k.pelvis);
-    TriangleMesh& shoes = part("shoes", p.shoes);
-    for (int side = 0; side < 2; ++side) {
-      add(shirt, limb(b.upper_arm, 0.052f * s, 0.047f * s, 0.038f * s), k.upper_arm[side]);
-      add(p.short_sleeves ? skin : shirt, limb(b.forearm, 0.038f * s, 0.036f * s, 0.027f * s),
-          k.forearm[side]);
-      add(skin, ellipsoid(0.018f * s, 0.5f * b.hand, 0.042f * s, -0.5f * b.hand), k.hand[side]);
-      add(trousers, limb(b.thigh, 0.085f * s * w, 0.07f * s * w, 0.052f * s), k.thigh[side]);
-      add(trousers, limb(b.shin, 0.052f * s, 0.055f * s, 0.036f * s), k.shin[side]);
-      add(shoes, ellipsoid(0.048f * s, 0.04f * s, 0.13f * s, -0.02f * s, 0.045f * s), k.foot[side]);
-    }
-    if (p.carried != Carried::nothing) {
-      TriangleMesh& object = part("carried", p.carried_colour);
-      if (p.carried == Carried::book)  // open on the left forearm, pages tilted to the face
-        appendMesh(object, makeBox({0.14f, 0.11f, 0.02f}),
-                   world * k.forearm[0] * glm::translate(mat4(1.0f), vec3(0.06f, -b.forearm - 0.02f, 0.05f)) *
-                       rotX(0.3f));
-      else  // hanging plumb from the left hand
-        appendMesh(
-            object, makeBox({0.07f, 0.16f, 0.18f}),
-            world * glm::translate(mat4(1.0f),
-                                   transformPoint(k.hand[0], vec3(0.0f, -0.5f * b.hand - 0.14f, 0.0f))));
-    }
+    if (p.model == VisitorModel::bodies)
+      detail::buildBody(p, pose, detail::visitorFrame(pose), part);
+    else
+      detail::buildFigure(p, pose, detail::visitorFrame(pose), part);
   }
   return model;
 }
