@@ -42,10 +42,6 @@ void drawLooks(VisitorPlan& p, PixelRng& rng, PixelRng extra) {
 
 }  // namespace
 
-std::string visitorModelName(VisitorModel model) {
-  return model == VisitorModel::bodies ? "bodies" : "figures";
-}
-
 std::vector<std::string> visitorModelNames() {
   return {"figures", "bodies"};
 }

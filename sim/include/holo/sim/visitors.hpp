@@ -33,8 +33,7 @@ enum class Carried { nothing, book, bag };
 
 // How visitors look and move; see the top of this file.
 enum class VisitorModel { figures, bodies };
-// "figures", "bodies".
-std::string visitorModelName(VisitorModel model);
+// "figures", "bodies", in VisitorModel's order.
 std::vector<std::string> visitorModelNames();
 // Throws InputError(origin, field, ...) naming both models for another name.
 VisitorModel visitorModelFromName(const std::string& name, const std::string& origin = "",
@@ -44,7 +43,7 @@ struct VisitorPlan {
   VisitorModel model = VisitorModel::figures;
   float lane_radius = 1.5f;    // metres from the pyramid axis
   float sway = 0.05f;          // radial sway amplitude, metres
-  float sway_hz = 0.1f;        // per second of walking at the mean pace (it pauses with the visitor)
+  float sway_hz = 0.1f;        // Hz; bodies: per second walked at the mean pace (pausing with them)
   float start_angle = 0.0f;    // radians, azimuth at t = 0 (0 = +Z, pi/2 = +X)
   float angular_speed = 0.4f;  // mean, radians per second; the sign gives the direction
   float pace_hz = 0.08f;       // how often the visitor slows down and speeds up
