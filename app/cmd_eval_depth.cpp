@@ -34,6 +34,7 @@ using namespace holo::depthfilter;
 
 struct Options {
   std::string scene = "museum";
+  std::string visitor_model;  // empty: the scene's own
   int frames = 60;
   int width = 0;
   int height = 0;
@@ -270,6 +271,8 @@ int run(const Options& o) {
   sim::SceneDescription description = sim::loadScene(o.scene);
   if (o.width > 0) description.camera.width = o.width;
   if (o.height > 0) description.camera.height = o.height;
+  if (!o.visitor_model.empty())
+    description.visitor_model = sim::visitorModelFromName(o.visitor_model, "", "--visitor-model");
   const sim::Museum museum(description);
 
   DepthEvaluationConfig config;
@@ -338,6 +341,8 @@ HOLO_REGISTER_COMMAND(Command{
           ->capture_default_str();
       sub.add_option("--width", o->width, "Camera width (default: the scene's)");
       sub.add_option("--height", o->height, "Camera height (default: the scene's)");
+      sub.add_option("--visitor-model", o->visitor_model,
+                     "Visitors instead of the scene's: figures (the default) or bodies");
       sub.add_option("--json", o->json, "Write the report to this JSON file");
       sub.add_option(
           "--images", o->images,

@@ -354,6 +354,8 @@ HOLO_REGISTER_COMMAND(Command{
                      "Visitors standing close to the pyramid, reaching out to it, besides the hall's walkers")
           ->capture_default_str()
           ->check(CLI::Range(0, 4));
+      sub.add_option("--visitor-model", o->visitor_model,
+                     "Visitors instead of the halls' own: figures (the default) or bodies");
       sub.add_option("--camera-tilt-deg", o->camera_tilt_deg, "Depth cameras' upwards tilt, degrees")
           ->capture_default_str()
           ->check(CLI::Range(-60.0f, 60.0f));

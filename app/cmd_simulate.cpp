@@ -53,7 +53,8 @@ namespace fs = std::filesystem;
 
 struct SimulateOptions {
   std::string scene;
-  std::string sensor;  // empty: the scene's own
+  std::string sensor;         // empty: the scene's own
+  std::string visitor_model;  // empty: the scene's own
   int frames = 30;
   std::string out;
   int panorama_width = 2048;
@@ -146,6 +147,8 @@ int simulate(const SimulateOptions& o) {
   sim::SceneDescription scene = sim::loadScene(o.scene);
   if (!o.sensor.empty())
     scene.noise = sim::sensorProfile(sim::sensorProfileFromName(o.sensor, "", "--sensor"));
+  if (!o.visitor_model.empty())
+    scene.visitor_model = sim::visitorModelFromName(o.visitor_model, "", "--visitor-model");
   const sim::Museum museum(scene);
   const int cameras = museum.cameraCount();
   std::optional<calib::SimulatedRig> rig;
@@ -293,6 +296,8 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--frames", o->frames, "Frames per camera")->capture_default_str();
       sub.add_option("--sensor", o->sensor,
                      "Depth-camera profile instead of the scene's: uniform, structured-light or stereo");
+      sub.add_option("--visitor-model", o->visitor_model,
+                     "Visitors instead of the scene's: figures (the default) or bodies");
       sub.add_option("--out", o->out, "Output folder (must not exist)")->required();
       sub.add_option("--panorama-width", o->panorama_width, "Panorama width in pixels")
           ->capture_default_str();

@@ -77,6 +77,8 @@ sim::SceneDescription sceneDescription(const SceneOptions& o) {
     d.hall = o.hall;
   }
   if (o.close_visitors >= 0) d.close_visitors = o.close_visitors;
+  if (!o.visitor_model.empty())
+    d.visitor_model = sim::visitorModelFromName(o.visitor_model, "command line", "--visitor-model");
   if (o.camera_vfov_deg > 0.0f) d.camera.vfov_deg = o.camera_vfov_deg;
   if (o.camera_tilt_deg != 0.0f) d.camera.tilt_deg = o.camera_tilt_deg;
   return d;
@@ -163,12 +165,14 @@ VisitorView visitorView(const SceneOptions& o) {
 }
 
 VisitorScene visitorScene(const std::string& hall, const std::string& relic, int close_visitors,
-                          float camera_tilt_deg, float camera_vfov_deg, int size) {
+                          float camera_tilt_deg, float camera_vfov_deg, int size,
+                          const std::string& visitor_model) {
   SceneOptions so;
   so.scene = hall;  // the built-in scene of that hall: its visitors
   so.hall = hall;
   so.relic = relic;
   so.close_visitors = close_visitors;
+  so.visitor_model = visitor_model;
   so.camera_tilt_deg = camera_tilt_deg;
   so.camera_vfov_deg = camera_vfov_deg;
   VisitorScene s;

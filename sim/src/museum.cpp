@@ -158,13 +158,14 @@ SceneDescription loadSceneFile(const fs::path& path) {
   const ConfigNode root = ConfigNode::loadFile(path);
   if (!root.isMap()) root.fail("a map of scene settings (hall, relic, visitors, seed, camera, noise, ...)");
   static const std::set<std::string> known = {
-      "base",           "hall", "relic",  "fit_relic", "relic_roughness", "relic_metallic",   "visitors",
-      "close_visitors", "seed", "camera", "sensor",    "noise",           "panorama_position"};
+      "base",           "hall",     "relic",         "fit_relic",        "relic_roughness",
+      "relic_metallic", "visitors", "visitor_model", "close_visitors",   "seed",
+      "camera",         "sensor",   "noise",         "panorama_position"};
   for (const auto& key : root.keys())
     if (!known.count(key))
       root[key].fail(
-          "one of base, hall, relic, fit_relic, relic_roughness, relic_metallic, visitors, close_visitors, "
-          "seed, camera, sensor, noise, panorama_position",
+          "one of base, hall, relic, fit_relic, relic_roughness, relic_metallic, visitors, visitor_model, "
+          "close_visitors, seed, camera, sensor, noise, panorama_position",
           key);
   SceneDescription d;
   if (root.has("base")) {
@@ -202,6 +203,13 @@ SceneDescription loadSceneFile(const fs::path& path) {
     d.visitors = root["visitors"].as<int>();
     if (d.visitors < 0 || d.visitors > 16)
       root["visitors"].fail("a visitor count in [0, 16]", std::to_string(d.visitors));
+  }
+  if (root.has("visitor_model")) {
+    const auto name = root["visitor_model"].as<std::string>();
+    const auto names = visitorModelNames();
+    if (std::find(names.begin(), names.end(), name) == names.end())
+      root["visitor_model"].fail("a visitor model: figures or bodies", name);
+    d.visitor_model = visitorModelFromName(name);
   }
   if (root.has("close_visitors")) {
     d.close_visitors = root["close_visitors"].as<int>();
@@ -312,10 +320,11 @@ Museum::Museum(SceneDescription description) : impl_(std::make_unique<Impl>()) {
     if (d.relic_metallic >= 0.0f) mat.metallic = std::min(d.relic_metallic, 1.0f);
   }
   if (d.fit_relic) fitOnPedestal(m.relic);
-  m.plans = planVisitors(d.visitors, d.seed, d.hall);
+  m.plans = planVisitors(d.visitors, d.seed, d.hall, d.visitor_model);
   if (d.close_visitors < 0 || d.close_visitors > 4)
     throw InputError(origin, "close_visitors", "a count in [0, 4]", std::to_string(d.close_visitors));
-  for (const VisitorPlan& p : planCloseVisitors(d.close_visitors, d.seed, d.hall)) m.plans.push_back(p);
+  for (const VisitorPlan& p : planCloseVisitors(d.close_visitors, d.seed, d.hall, d.visitor_model))
+    m.plans.push_back(p);
   const auto& c = d.camera;
   const Intrinsics K =
       Intrinsics::fromFov(c.width, c.height, c.hfov_deg * kPi / 180.0f, c.vfov_deg * kPi / 180.0f);

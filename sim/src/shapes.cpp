@@ -54,6 +54,42 @@ TriangleMesh makeLathe(const std::vector<vec2>& profile, int segments) {
   return m;
 }
 
+TriangleMesh makeEllipticSweep(const std::vector<EllipseRing>& rings, int segments) {
+  TriangleMesh m;
+  m.name = "sweep";
+  const int rows = static_cast<int>(rings.size());
+  const int cols = segments + 1;  // seam duplicated for uvs
+  for (int i = 0; i < rows; ++i) {
+    const EllipseRing& r = rings[static_cast<std::size_t>(i)];
+    for (int j = 0; j < cols; ++j) {
+      // The seam's copy takes angle 0 itself (sin 2 pi is not 0 in floats): watertight bit for bit.
+      const float a =
+          j == segments ? 0.0f : 2.0f * kPi * static_cast<float>(j) / static_cast<float>(segments);
+      m.positions.push_back({r.half_x * std::sin(a), r.y, r.centre_z + r.half_z * std::cos(a)});
+      m.uvs.push_back({static_cast<float>(j) / static_cast<float>(segments),
+                       rows > 1 ? static_cast<float>(i) / static_cast<float>(rows - 1) : 0.0f});
+    }
+  }
+  for (int i = 0; i + 1 < rows; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const auto a = static_cast<unsigned>(i * cols + j), b = a + 1, c = a + static_cast<unsigned>(cols),
+                 d = c + 1;
+      m.triangles.push_back({a, b, d});
+      m.triangles.push_back({a, d, c});
+    }
+  m.computeNormals();
+  // A closing point's copies each see only their own (degenerate-free) fan: give them one normal.
+  for (int i : {0, rows - 1}) {
+    const EllipseRing& r = rings[static_cast<std::size_t>(std::max(i, 0))];
+    if (rows < 2 || r.half_x > 0.0f || r.half_z > 0.0f) continue;
+    vec3 sum(0.0f);
+    for (int j = 0; j < segments; ++j) sum += m.normals[static_cast<std::size_t>(i * cols + j)];
+    const vec3 n = glm::length(sum) > 0.0f ? glm::normalize(sum) : vec3(0, i == 0 ? -1 : 1, 0);
+    for (int j = 0; j < cols; ++j) m.normals[static_cast<std::size_t>(i * cols + j)] = n;
+  }
+  return m;
+}
+
 TriangleMesh makeCylinder(float radius, float height, int segments) {
   TriangleMesh m = makeLathe(
       {{0, 0}, {radius, 0}, {radius, 0}, {radius, height}, {radius, height}, {0, height}}, segments);

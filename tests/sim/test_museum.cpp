@@ -1,12 +1,16 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
+#include <fstream>
+#include <map>
 #include <opencv2/imgcodecs.hpp>
+#include <tuple>
 
 #include "holo/core/equirect.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/image.hpp"
 #include "holo/sim/halls.hpp"
 #include "holo/sim/museum.hpp"
+#include "holo/sim/visitors.hpp"
 #include "shared_data.hpp"
 
 namespace holo::sim {
@@ -136,6 +140,112 @@ TEST(Museum, VisitorsWalkAroundThePyramidOutsideTheBase) {
   // They move: 2 s later every head is somewhere else.
   const auto a = m.visitorHeads(0), b = m.visitorHeads(60);
   for (std::size_t i = 0; i < a.size(); ++i) EXPECT_GT(glm::length(a[i] - b[i]), 0.3f);
+}
+
+// The bodies model: once per pace cycle a walker stops: the feet stay put, the body turns to face
+// the pyramid's axis and leans towards it, the legs stand together; then it walks on along its lane.
+TEST(Museum, BodiesStopTurnToThePyramidAndWalkOn) {
+  const auto plans = planVisitors(3, 7, "atrium", VisitorModel::bodies);
+  for (const VisitorPlan& plan : plans) {
+    int standing = 0, walking = 0;
+    for (int frame = 0; frame < 900; ++frame) {  // 30 s, at least one pace cycle
+      const float t = static_cast<float>(frame) / 30.0f;
+      const VisitorPose pose = poseAt(plan, t), next = poseAt(plan, t + 1.0f / 30.0f);
+      const vec3 inward = -glm::normalize(vec3(pose.feet.x, 0.0f, pose.feet.z));
+      if (pose.facing_pyramid == 1.0f) {
+        ++standing;
+        if (next.facing_pyramid == 1.0f) {
+          EXPECT_LT(glm::length(next.feet - pose.feet), 1e-4f) << t;
+        }
+        EXPECT_NEAR(glm::dot(pose.forward, inward), 1.0f, 1e-5f) << t;
+        EXPECT_EQ(pose.swing, 0.0f) << t;
+        EXPECT_GT(pose.lean, 0.05f) << t;
+      } else if (pose.facing_pyramid == 0.0f) {
+        ++walking;
+        EXPECT_LT(std::abs(glm::dot(pose.forward, inward)), 1e-4f) << t;
+        EXPECT_GT(glm::length(next.feet - pose.feet), 1e-3f) << t;
+      }
+    }
+    EXPECT_GT(standing, 30) << "stands at least a second";
+    EXPECT_GT(walking, 300) << "walks most of the time";
+  }
+}
+
+// The bodies: ~5k triangles per visitor in smooth closed parts, the lower foot on the floor, the
+// same mesh for the same time.
+TEST(Museum, VisitorBodiesAreClosedAndStandOnTheFloor) {
+  const auto plans = planVisitors(4, 11, "gallery", VisitorModel::bodies);
+  for (float t : {0.0f, 1.3f, 7.9f}) {
+    const Model people = buildVisitors(plans, t);
+    EXPECT_GE(people.triangleCount(), 4u * 4500u);
+    EXPECT_LE(people.triangleCount(), 4u * 6000u);
+    std::vector<float> lowest(plans.size(), 1e9f);
+    for (const TriangleMesh& mesh : people.meshes) {
+      const std::size_t who = std::stoul(mesh.name.substr(7));  // "visitor<i>_<part>"
+      for (const vec3& v : mesh.positions) lowest[who] = std::min(lowest[who], v.y);
+      // Closed: with the seams' duplicated vertices welded, every edge has exactly two triangles.
+      std::map<std::tuple<float, float, float>, unsigned> weld;
+      std::vector<unsigned> id(mesh.positions.size());
+      for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+        const vec3 q = glm::round(mesh.positions[i] * 1e5f);
+        id[i] =
+            weld.emplace(std::make_tuple(q.x, q.y, q.z), static_cast<unsigned>(weld.size())).first->second;
+      }
+      std::map<std::pair<unsigned, unsigned>, int> edges;
+      for (const uvec3& tri : mesh.triangles) {
+        const unsigned v[3] = {id[tri[0]], id[tri[1]], id[tri[2]]};
+        if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0]) continue;  // a closing point's fan
+        for (int e = 0; e < 3; ++e) ++edges[{std::min(v[e], v[(e + 1) % 3]), std::max(v[e], v[(e + 1) % 3])}];
+      }
+      int open = 0;
+      for (const auto& [edge, count] : edges) open += count != 2;
+      EXPECT_EQ(open, 0) << mesh.name << " at " << t;
+    }
+    for (float y : lowest) EXPECT_NEAR(y, -kBaseHeight, 0.005f) << t;
+    const Model again = buildVisitors(plans, t);
+    ASSERT_EQ(again.meshes.size(), people.meshes.size());
+    for (std::size_t i = 0; i < people.meshes.size(); ++i)
+      EXPECT_EQ(again.meshes[i].positions, people.meshes[i].positions);
+  }
+}
+
+// The figures are the default; a scene file or the description picks the bodies, which keep the
+// figures' lanes and clothes but not their pace; a bad name is an error naming the field.
+TEST(Museum, VisitorModelComesFromTheScene) {
+  const SceneDescription figures = loadScene("museum");
+  EXPECT_EQ(figures.visitor_model, VisitorModel::figures);
+  const auto a = planVisitors(3, 1, "gallery"), b = planVisitors(3, 1, "gallery", VisitorModel::bodies);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].lane_radius, b[i].lane_radius);
+    EXPECT_EQ(a[i].shirt, b[i].shirt);
+    EXPECT_EQ(a[i].carried, b[i].carried);
+    EXPECT_NE(a[i].angular_speed, b[i].angular_speed);
+  }
+  const Model few = buildVisitors(a, 1.0f), many = buildVisitors(b, 1.0f);
+  EXPECT_LT(few.triangleCount(), 3u * 1500u);
+  EXPECT_GT(many.triangleCount(), 3u * 4500u);
+
+  const auto dir = test::scratchDir("sim_visitor_model");
+  std::ofstream(dir / "bodies.yaml") << "base: museum\nvisitor_model: bodies\nclose_visitors: 1\n";
+  const SceneDescription bodies = loadScene((dir / "bodies.yaml").string());
+  EXPECT_EQ(bodies.visitor_model, VisitorModel::bodies);
+  EXPECT_EQ(Museum(bodies).visitors(0).triangleCount(),
+            buildVisitors(
+                [&] {
+                  auto plans = planVisitors(3, 1, "gallery", VisitorModel::bodies);
+                  plans.push_back(planCloseVisitors(1, 1, "gallery", VisitorModel::bodies)[0]);
+                  return plans;
+                }(),
+                0.0f)
+                .triangleCount());
+  std::ofstream(dir / "bad.yaml") << "base: museum\nvisitor_model: robots\n";
+  try {
+    loadScene((dir / "bad.yaml").string());
+    ADD_FAILURE() << "robots accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("visitor_model"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("robots"), std::string::npos) << e.what();
+  }
 }
 
 // The gallery's east wall (+X) is blue and its west wall (-X) red; a ceiling lamp hangs at

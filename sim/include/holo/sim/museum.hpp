@@ -23,6 +23,7 @@
 #include "holo/core/camera_model.hpp"
 #include "holo/core/mesh.hpp"
 #include "holo/core/rgbd_frame.hpp"
+#include "holo/sim/visitors.hpp"
 
 namespace holo::sim {
 
@@ -119,6 +120,8 @@ struct SceneDescription {
   float relic_roughness = -1.0f;
   float relic_metallic = -1.0f;
   int visitors = 3;
+  // How the visitors (walking and close) look and move (visitors.hpp); scene key visitor_model.
+  VisitorModel visitor_model = VisitorModel::figures;
   // Visitors standing close to the pyramid, looking at it and reaching out to it (visitors.hpp's
   // planCloseVisitors), after the walking ones; 0..4. None in the built-in scenes, so their
   // walkers stay as they are; the reflection evaluation (eval tracer) adds one.

@@ -21,6 +21,20 @@ TriangleMesh makeLathe(const std::vector<vec2>& profile, int segments = 48);
 // A tube of circular cross-section along a polyline (at least 2 points), one radius per point.
 TriangleMesh makeTube(const std::vector<vec3>& path, const std::vector<float>& radii, int segments = 16);
 
+// One cross-section of an elliptic sweep: an ellipse in the plane y, centred at (0, y, centre_z),
+// with half extents half_x along X and half_z along Z (metres). A ring with both half extents 0
+// is a point, which closes the surface there.
+struct EllipseRing {
+  float y = 0.0f;
+  float half_x = 0.0f;
+  float half_z = 0.0f;
+  float centre_z = 0.0f;
+};
+// Surface through elliptic rings, bottom to top (y need not increase), `segments` vertices per
+// ring; closed when the first and last rings are points. Smooth area-weighted normals; uvs are
+// (angle / 2 pi, ring index / (rings - 1)).
+TriangleMesh makeEllipticSweep(const std::vector<EllipseRing>& rings, int segments = 16);
+
 // Appends `part`, transformed by T, to `dst` (keeps dst's material).
 void appendMesh(TriangleMesh& dst, const TriangleMesh& part, const mat4& T = mat4(1.0f));
 
