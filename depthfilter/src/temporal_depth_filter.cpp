@@ -426,7 +426,7 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
       parent.width = (pyramid[top].width + 1) / 2;
       parent.height = (pyramid[top].height + 1) / 2;
       parent.pairs.resize(std::size_t(parent.width) * std::size_t(parent.height));
-      const cv::Rect& child_rect = rects.back();
+      const cv::Rect child_rect = rects.back();  // a copy: the emplace below may move the vector
       const int x0 = child_rect.x / 2, y0 = child_rect.y / 2;
       const int x1 = (child_rect.x + child_rect.width + 1) / 2,
                 y1 = (child_rect.y + child_rect.height + 1) / 2;
