@@ -321,7 +321,7 @@ GrabResult AravisSource::grab(Nanoseconds timeout) {
   };
   if (colour_ && depth_) {
     // Two devices: colour and depth paired by arrival time (frame_pairing.hpp).
-    PairedGrab paired = grabPair(pairer_, health(), [&](bool colour) {
+    result = grabPair(pairer_, health(), [&](bool colour) {
       Popped popped =
           colour ? popOne(*colour_, timeout, true, toColour) : popOne(*depth_, timeout, true, toDepth);
       countResends();
@@ -329,10 +329,7 @@ GrabResult AravisSource::grab(Nanoseconds timeout) {
                        {std::move(popped.image), popped.host_time, popped.device_time},
                        std::move(popped.message)};
     });
-    if (paired.status != GrabStatus::Ok) return {paired.status, {}, paired.message};
-    result.frame.colour = std::move(paired.pair.colour.image);
-    result.frame.depth = std::move(paired.pair.depth.image);  // its own size: the loop registers it
-    result.frame.device_time = paired.pair.colour.device_time;
+    if (result.status != GrabStatus::Ok) return result;
   } else {
     Popped main =
         colour_ ? popOne(*colour_, timeout, true, toColour) : popOne(*depth_, timeout, true, toDepth);

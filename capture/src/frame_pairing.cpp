@@ -61,16 +61,24 @@ std::optional<FramePair> FramePairer::pop(bool streams_ended) {
   return std::nullopt;
 }
 
-PairedGrab grabPair(FramePairer& pairer, HealthCounters& health,
+std::optional<RgbdFrame> popPairedFrame(FramePairer& pairer, HealthCounters& health, bool streams_ended) {
+  std::optional<FramePair> pair = pairer.pop(streams_ended);
+  health.frames_unpaired.store(pairer.droppedColour() + pairer.droppedDepth(), std::memory_order_relaxed);
+  if (!pair) return std::nullopt;
+  health.pair_skew_us.store(static_cast<std::int64_t>(std::llround(pair->skew_ms * 1e3)),
+                            std::memory_order_relaxed);
+  RgbdFrame frame;
+  frame.colour = std::move(pair->colour.image);
+  frame.depth = std::move(pair->depth.image);
+  frame.device_time = pair->colour.device_time;
+  return frame;
+}
+
+GrabResult grabPair(FramePairer& pairer, HealthCounters& health,
                     const std::function<StreamPop(bool colour)>& pop) {
   for (;;) {
-    if (std::optional<FramePair> pair = pairer.pop()) {
-      health.pair_skew_us.store(static_cast<std::int64_t>(std::llround(pair->skew_ms * 1e3)),
-                                std::memory_order_relaxed);
-      health.frames_unpaired.store(pairer.droppedColour() + pairer.droppedDepth(), std::memory_order_relaxed);
-      return {GrabStatus::Ok, std::move(*pair), {}};
-    }
-    health.frames_unpaired.store(pairer.droppedColour() + pairer.droppedDepth(), std::memory_order_relaxed);
+    if (std::optional<RgbdFrame> frame = popPairedFrame(pairer, health))
+      return {GrabStatus::Ok, std::move(*frame), {}};
     const bool colour = !pairer.hasColour();
     StreamPop popped = pop(colour);
     if (popped.status != GrabStatus::Ok) return {popped.status, {}, std::move(popped.message)};

@@ -89,20 +89,11 @@ bool RecordingSource::waitUntilDue(std::size_t index, Nanoseconds timeout) {
 GrabResult RecordingSource::grabPaired(Nanoseconds timeout) {
   for (;;) {
     const bool ended = next_ >= camera_.frames.size();
-    std::optional<FramePair> pair = pairer_->pop(ended);
-    health().frames_unpaired.store(pairer_->droppedColour() + pairer_->droppedDepth(),
-                                   std::memory_order_relaxed);
-    if (pair) {
-      GrabResult result;
-      result.frame.colour = std::move(pair->colour.image);
-      result.frame.depth = std::move(pair->depth.image);
+    if (std::optional<RgbdFrame> frame = popPairedFrame(*pairer_, health(), ended)) {
+      GrabResult result{GrabStatus::Ok, std::move(*frame), {}};
       result.frame.camera_id = camera_.id;
-      result.frame.device_time = pair->colour.device_time;
       result.frame.sequence = sequence_++;
       result.frame.host_time = Clock::now();
-      health().pair_skew_us.store(static_cast<std::int64_t>(std::llround(pair->skew_ms * 1e3)),
-                                  std::memory_order_relaxed);
-      result.status = GrabStatus::Ok;
       return result;
     }
     if (ended) {

@@ -413,16 +413,13 @@ GrabResult V4l2Source::grab(Nanoseconds timeout) {
   if (!colour_ && !depth_) return {GrabStatus::Disconnected, {}, "not open"};
   GrabResult result;
   if (colour_ && depth_) {
-    PairedGrab paired = grabPair(pairer_, health(), [&](bool colour) {
+    result = grabPair(pairer_, health(), [&](bool colour) {
       V4l2Stream::Popped popped = (colour ? *colour_ : *depth_).pop(timeout);
       return StreamPop{popped.status,
                        {std::move(popped.image), popped.pairing_time, popped.device_time},
                        std::move(popped.message)};
     });
-    if (paired.status != GrabStatus::Ok) return {paired.status, {}, paired.message};
-    result.frame.colour = std::move(paired.pair.colour.image);
-    result.frame.depth = std::move(paired.pair.depth.image);  // its own size: the loop registers it
-    result.frame.device_time = paired.pair.colour.device_time;
+    if (result.status != GrabStatus::Ok) return result;
   } else {
     V4l2Stream::Popped main = (colour_ ? *colour_ : *depth_).pop(timeout);
     if (main.status != GrabStatus::Ok) return {main.status, {}, main.message};

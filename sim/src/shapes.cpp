@@ -3,6 +3,22 @@
 #include <algorithm>
 
 namespace holo::sim {
+namespace {
+
+// Two triangles per cell of a grid of `rows` rings of `segments` + 1 vertices (the seam's column
+// duplicated for the uvs), facing outward for rings that go up +y around it.
+void appendRingTriangles(TriangleMesh& m, int rows, int segments) {
+  const int cols = segments + 1;
+  for (int i = 0; i + 1 < rows; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const auto a = static_cast<unsigned>(i * cols + j), b = a + 1, c = a + static_cast<unsigned>(cols),
+                 d = c + 1;
+      m.triangles.push_back({a, b, d});
+      m.triangles.push_back({a, d, c});
+    }
+}
+
+}  // namespace
 
 TriangleMesh makeBox(const vec3& h) {
   TriangleMesh m;
@@ -41,15 +57,7 @@ TriangleMesh makeLathe(const std::vector<vec2>& profile, int segments) {
                        rows > 1 ? static_cast<float>(i) / static_cast<float>(rows - 1) : 0.0f});
     }
   }
-  for (int i = 0; i + 1 < rows; ++i) {
-    for (int j = 0; j < segments; ++j) {
-      const auto a = static_cast<unsigned>(i * cols + j), b = a + 1, c = a + static_cast<unsigned>(cols),
-                 d = c + 1;
-      // Outward facing for a profile that goes up with positive radius.
-      m.triangles.push_back({a, b, d});
-      m.triangles.push_back({a, d, c});
-    }
-  }
+  appendRingTriangles(m, rows, segments);
   m.computeNormals();
   return m;
 }
@@ -70,13 +78,7 @@ TriangleMesh makeEllipticSweep(const std::vector<EllipseRing>& rings, int segmen
                        rows > 1 ? static_cast<float>(i) / static_cast<float>(rows - 1) : 0.0f});
     }
   }
-  for (int i = 0; i + 1 < rows; ++i)
-    for (int j = 0; j < segments; ++j) {
-      const auto a = static_cast<unsigned>(i * cols + j), b = a + 1, c = a + static_cast<unsigned>(cols),
-                 d = c + 1;
-      m.triangles.push_back({a, b, d});
-      m.triangles.push_back({a, d, c});
-    }
+  appendRingTriangles(m, rows, segments);
   m.computeNormals();
   // A closing point's copies each see only their own (degenerate-free) fan: give them one normal.
   for (int i : {0, rows - 1}) {

@@ -107,11 +107,13 @@ TEST(FramePairing, GrabPairPopsEachStreamAsThePairerNeedsAndReportsDropsAndSkew)
 
   std::vector<float> paired;
   for (int grab = 0; grab < 3; ++grab) {
-    PairedGrab g = grabPair(pairer, health, pop);
+    GrabResult g = grabPair(pairer, health, pop);
     ASSERT_EQ(g.status, GrabStatus::Ok) << "grab " << grab << ": " << g.message;
-    EXPECT_EQ(g.pair.colour.image.at<float>(0, 0), g.pair.depth.image.at<float>(0, 0));
+    EXPECT_EQ(g.frame.colour.at<float>(0, 0), g.frame.depth.at<float>(0, 0));
+    // The colour side's device time travels with the frame.
+    EXPECT_EQ(g.frame.device_time, ms(g.frame.colour.at<float>(0, 0) * 1000.0 / 30.0));
     EXPECT_NEAR(static_cast<double>(health.pair_skew_us.load()), 15000.0, 1.0);
-    paired.push_back(g.pair.colour.image.at<float>(0, 0));
+    paired.push_back(g.frame.colour.at<float>(0, 0));
   }
   EXPECT_EQ(paired, (std::vector<float>{0.0f, 1.0f, 3.0f}));
   // Colour frame 2 had no depth frame within 16 ms (depth 3 came 48 ms after it): dropped, counted.
@@ -121,7 +123,7 @@ TEST(FramePairing, GrabPairPopsEachStreamAsThePairerNeedsAndReportsDropsAndSkew)
   EXPECT_EQ(streams.depth_pops, 3);
 
   // Both streams dry: the timeout comes back as such, with the stream's message.
-  PairedGrab none = grabPair(pairer, health, pop);
+  GrabResult none = grabPair(pairer, health, pop);
   EXPECT_EQ(none.status, GrabStatus::Timeout);
   EXPECT_EQ(none.message, "nothing arrived");
 }
@@ -136,10 +138,10 @@ TEST(FramePairing, GrabPairKeepsWhatWasPoppedWhenAStreamFailsMidway) {
   EXPECT_EQ(grabPair(pairer, health, pop).status, GrabStatus::Timeout);
   EXPECT_TRUE(pairer.hasColour());
   streams.depth.push_back(stamped(5.0, 7.0f));
-  PairedGrab g = grabPair(pairer, health, pop);
+  GrabResult g = grabPair(pairer, health, pop);
   ASSERT_EQ(g.status, GrabStatus::Ok);
-  EXPECT_EQ(g.pair.colour.image.at<float>(0, 0), 7.0f);
-  EXPECT_NEAR(g.pair.skew_ms, 5.0, 1e-6);
+  EXPECT_EQ(g.frame.colour.at<float>(0, 0), 7.0f);
+  EXPECT_NEAR(static_cast<double>(health.pair_skew_us.load()), 5000.0, 1.0);
   EXPECT_EQ(health.frames_unpaired.load(), 0);
 }
 

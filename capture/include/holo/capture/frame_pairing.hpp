@@ -71,18 +71,18 @@ struct StreamPop {
   std::string message;
 };
 
-struct PairedGrab {
-  GrabStatus status = GrabStatus::Timeout;
-  FramePair pair;  // status Ok only
-  std::string message;
-};
+// The oldest decided pair as a frame: the colour image, the depth image at its own size (the loop
+// registers it) and the colour side's device time; the drops (frames_unpaired) and the pair's
+// skew go to `health`. nullopt while no decided pair waits. Sequence and host time are the
+// source's to set.
+std::optional<RgbdFrame> popPairedFrame(FramePairer& pairer, HealthCounters& health,
+                                        bool streams_ended = false);
 
-// Feeds `pairer` from a camera's two live streams until it decides a pair: `pop(true)` pops a
-// colour frame while none waits in the pairer, `pop(false)` a depth frame otherwise (each pop waits
-// as long as the device's timeout). The drops (frames_unpaired) and the pair's skew go to `health`.
-// A pop that fails ends the call with its status and message; frames popped before stay in the
-// pairer for the next call.
-PairedGrab grabPair(FramePairer& pairer, HealthCounters& health,
+// Feeds `pairer` from a camera's two live streams until it decides a pair, returned as by
+// popPairedFrame: `pop(true)` pops a colour frame while none waits in the pairer, `pop(false)` a
+// depth frame otherwise (each pop waits as long as the device's timeout). A pop that fails ends
+// the call with its status and message; frames popped before stay in the pairer for the next call.
+GrabResult grabPair(FramePairer& pairer, HealthCounters& health,
                     const std::function<StreamPop(bool colour)>& pop);
 
 }  // namespace holo::capture
