@@ -1098,18 +1098,15 @@ tinygltf::Model parseFile(const fs::path& path) {
   return gltf;
 }
 
-// What both renderers read of a Material today (reflect/surface_shading.hpp): the core glTF
-// texture slots through either uv set, KHR_texture_transform and the sampler, and the specular
-// factor's texture. The rest is loaded for them but not yet used.
+// What both renderers read of a Material (reflect/surface_shading.hpp), through either uv set,
+// KHR_texture_transform and the sampler: every slot but the specular colour's, whose factor only
+// the path tracer reads.
 GltfSupport slotSupport(const std::string& slot) {
-  return slot == "baseColorTexture" || slot == "metallicRoughnessTexture" || slot == "normalTexture" ||
-                 slot == "occlusionTexture" || slot == "emissiveTexture" || slot == "specularTexture"
-             ? GltfSupport::Rendered
-             : GltfSupport::LoadedNotRendered;
+  return slot == "specularColorTexture" ? GltfSupport::LoadedNotRendered : GltfSupport::Rendered;
 }
 
-// Every extension convert() reads has its factors rendered by both renderers; the textures of
-// transmission, thickness, clearcoat and specular colour are listed per slot.
+// Every extension convert() reads has its factors rendered by both renderers; their textures are
+// listed per slot.
 GltfSupport extensionSupport(const std::string& extension) {
   return readsExtension(extension) ? GltfSupport::Rendered : GltfSupport::Ignored;
 }

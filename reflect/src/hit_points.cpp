@@ -34,6 +34,7 @@ bool traceSample(const RenderScene& scene, const RayScene& relic, const CameraMo
   h.normal = s.normal;
   h.to_viewer = -ray.direction;
   h.reflected = glm::reflect(ray.direction, h.normal);
+  h.clearcoat_normal = s.clearcoat_normal;
   h.material = s.material;
   h.emission = s.emission;
   h.occlusion = s.occlusion;

@@ -76,7 +76,8 @@ vec3 PathTracer::traceFromRelic(const Ray& primary, const RayHit& relic_hit, Sam
     throughput *= surface.occlusion;
     const vec3 wo = -ray.direction;
     const SurfaceMaterial& material = surface.material;
-    const MaterialBsdf bsdf(material, n, meetsFrontFace(*hit_scene, hit, ray.direction));
+    const MaterialBsdf bsdf(material, n, meetsFrontFace(*hit_scene, hit, ray.direction),
+                            surface.clearcoat_normal);
     // A normal map can lean a reflection below the face, into the relic (where culled back
     // faces would let it out): such reflected directions reflect nothing, for both strategies
     // alike. Transmitted directions go below the face by design.

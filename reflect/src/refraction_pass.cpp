@@ -50,7 +50,8 @@ float safeIor(float ior) {
 // An interface's transmitted share of the light past its Fresnel reflection, and the tint it
 // transmits with: the entry's as its hit point sampled the textures, later hits' factors.
 float transmittedShare(const Material& m, const SurfaceMaterial* textured) {
-  return (1.0f - clamp01(textured ? textured->metallic : m.metallic)) * clamp01(m.transmission);
+  return (1.0f - clamp01(textured ? textured->metallic : m.metallic)) *
+         clamp01(textured ? textured->transmission : m.transmission);
 }
 
 vec3 transmissionTint(const Material& m, const SurfaceMaterial* textured) {
@@ -87,7 +88,7 @@ TransmittedPath traceUnit(const RenderScene& scene, const PrefilteredIbl& ibl, c
     // The entry's factors as the hit point sampled its textures; later hits read the factors.
     const SurfaceMaterial* textured = first ? entry_textured : nullptr;
     const float ior = safeIor(m.ior);
-    const bool thin = !(m.thickness > 0.0f);
+    const bool thin = textured ? textured->thin_walled : !(m.thickness > 0.0f);
     const float eta = thin || !inside ? ior : 1.0f / medium_ior;
     const float fresnel = fresnelDielectric(cos_i, eta);
     const float transmitted = transmittedShare(m, textured);
@@ -400,7 +401,7 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
               for (int c = 0; c < 3; ++c)
                 sh.specular_scale[c] =
                     before[c] > 0.0f ? sh.specular_scale[c] * after[c] / before[c] : after[c];
-              sh.diffuse *= 1.0f - clamp01(m.transmission);
+              sh.diffuse *= 1.0f - clamp01(sm.transmission);
               const vec2 at = centre + (i == p ? vec2(0.0f) : pattern[i - first]);
               TransmittedPath path;
               const bool blended =
@@ -435,11 +436,15 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
               layer.walks = path.exited && luminance(path.scale) > 0.0f;
             }
             if (coat) {
-              const float weight = clamp01(m.clearcoat), roughness = clamp01(m.clearcoat_roughness);
-              const vec2 ab = dfg(nv, roughness);
+              // The coat's weight and roughness as the hit point sampled them, around its own normal.
+              const float weight = clamp01(hp.material.clearcoat);
+              const float roughness = clamp01(hp.material.clearcoat_roughness);
+              const float coat_nv = std::clamp(glm::dot(hp.clearcoat_normal, hp.to_viewer), 1e-4f, 1.0f);
+              const vec2 ab = dfg(coat_nv, roughness);
               layer.coat_scale = vec3(weight * (kDielectricF0 * ab.x + ab.y));
-              layer.coat_environment = ibl_.specular(hp.reflected, roughness);
-              const float schlick = kDielectricF0 + (1.0f - kDielectricF0) * std::pow(1.0f - nv, 5.0f);
+              layer.coat_environment =
+                  ibl_.specular(glm::reflect(-hp.to_viewer, hp.clearcoat_normal), roughness);
+              const float schlick = kDielectricF0 + (1.0f - kDielectricF0) * std::pow(1.0f - coat_nv, 5.0f);
               const float below = 1.0f - weight * schlick;
               sh.specular_scale *= below;
               sh.diffuse *= below;

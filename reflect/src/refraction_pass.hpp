@@ -43,9 +43,11 @@
 // TracerSettings::refraction_residual.
 //
 // Clearcoat: a smooth-to-rough dielectric layer of IOR 1.5: coat = clearcoat x (split-sum
-// 0.04 A + B of its roughness), reading the IBL at the clearcoat roughness and the base's walked
-// foreground; the base below (reflection, diffuse, transmission) is scaled by 1 - clearcoat x
-// Schlick(0.04, n.v). The coat's own normal map is not read (the base's normal is used).
+// 0.04 A + B of its roughness), reading the IBL at the clearcoat roughness along the mirror of the
+// coat's own normal (its normal map's, else the base's) and the base's walked foreground; the base
+// below (reflection, diffuse, transmission) is scaled by 1 - clearcoat x Schlick(0.04, n.v) of the
+// coat's normal. Weight, roughness, and the entry's transmission and thickness, are the factors
+// times their textures as the hit point sampled them.
 #pragma once
 
 #include <cstdint>
@@ -83,9 +85,10 @@ struct TransmittedPath {
 
 // Traces the light entering at `position` (shading normal `normal` on the viewer's side) along
 // `direction` (into the surface) through the relic, the entry's Fresnel and transmission weight
-// included; entry_textured (optional): the entry's base colour, metallic and roughness as the hit
-// point sampled them from textures (later hits read the factors). `alive` (optional, kMaxInternalDepth + 1
-// entries) gets the luminance of the energy still being followed after each event count added.
+// included; entry_textured (optional): the entry's base colour, metallic, roughness, transmission and
+// thickness as the hit point sampled them from textures (later hits read the factors). `alive` (optional,
+// kMaxInternalDepth + 1 entries) gets the luminance of the energy still being followed after each event count
+// added.
 TransmittedPath traceTransmission(const RenderScene& scene, const PrefilteredIbl& ibl,
                                   const TracerSettings& settings, int depth, const vec3& position,
                                   const vec3& normal, const vec3& direction, const Material& material,

@@ -21,9 +21,12 @@ RenderScene::RenderScene(const Model& relic, const std::vector<Model>& emitters)
     auto& mesh = relic_model_.meshes[i];
     if (mesh.triangles.empty()) continue;
     const Material& material = materialOf({true, i, &relic_model_});
-    if (material.normal_texture.used() && mesh.tangents.size() != mesh.positions.size()) {
+    // Either normal map (the base's or the clearcoat's) needs a tangent frame, as in the loader.
+    const TextureRef& normal_map =
+        material.normal_texture.used() ? material.normal_texture : material.clearcoat_normal_texture;
+    if (normal_map.used() && mesh.tangents.size() != mesh.positions.size()) {
       if (mesh.normals.size() != mesh.positions.size()) mesh.computeNormals();
-      mesh.computeTangents(material.normal_texture.tex_coord);
+      mesh.computeTangents(normal_map.tex_coord);
     }
     const auto opacity = [this, i](const Ray& ray, const RayHit& hit) {
       // A transmissive override (a glass study on any mesh) culls no back face: a ray inside

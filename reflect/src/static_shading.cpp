@@ -51,6 +51,7 @@ SurfacePoint surfaceOf(const HitPoint& hp) {
   SurfacePoint s;
   s.position = hp.position;
   s.normal = hp.normal;
+  s.clearcoat_normal = hp.clearcoat_normal;
   s.material = hp.material;
   s.emission = hp.emission;
   s.occlusion = hp.occlusion;

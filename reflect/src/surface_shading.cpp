@@ -136,15 +136,19 @@ SurfacePoint resolveSurface(const RenderScene& scene, const RayScene& traced, co
   s.material.metallic = std::clamp(m.metallic * orm.b, 0.0f, 1.0f);
   s.material.specular =
       std::clamp(m.specular * sampleSlot(model, mesh, c, m.specular_texture, footprint).a, 0.0f, 1.0f);
-  // Glass, volume and clearcoat factors: the path tracer's MaterialBsdf (dielectric.hpp) reads them.
+  // Glass, volume and clearcoat factors times their textures' channels (R transmission, G
+  // thickness, R clearcoat, G clearcoat roughness): the path tracer's MaterialBsdf
+  // (dielectric.hpp) reads them, the live refraction pass and coat the entry's.
   s.material.specular_colour = m.specular_colour;
-  s.material.transmission = m.transmission;
+  s.material.transmission = m.transmission * sampleSlot(model, mesh, c, m.transmission_texture, footprint).r;
   s.material.ior = m.ior;
-  s.material.thin_walled = !(m.thickness > 0.0f);
+  s.material.thin_walled =
+      !(m.thickness * sampleSlot(model, mesh, c, m.thickness_texture, footprint).g > 0.0f);
   s.material.attenuation_colour = m.attenuation_colour;
   s.material.attenuation_distance = m.attenuation_distance;
-  s.material.clearcoat = m.clearcoat;
-  s.material.clearcoat_roughness = m.clearcoat_roughness;
+  s.material.clearcoat = m.clearcoat * sampleSlot(model, mesh, c, m.clearcoat_texture, footprint).r;
+  s.material.clearcoat_roughness =
+      m.clearcoat_roughness * sampleSlot(model, mesh, c, m.clearcoat_roughness_texture, footprint).g;
   if (m.occlusion_texture.used()) {
     const float ao = sampleSlot(model, mesh, c, m.occlusion_texture, footprint).r;
     s.occlusion = std::clamp(1.0f + m.occlusion_strength * (ao - 1.0f), 0.0f, 1.0f);
@@ -158,29 +162,35 @@ SurfacePoint resolveSurface(const RenderScene& scene, const RayScene& traced, co
 
   // The interpolated normal (the face's when the mesh has none or it degenerates), mapped, then
   // turned to the side the ray came from (double-sided: the back face's normal is reversed).
-  vec3 n = hit.geometric_normal;
+  vec3 interpolated = hit.geometric_normal;
   if (!mesh.normals.empty()) {
-    const vec3 interpolated = interpolate(mesh.normals, c);
-    const float len = glm::length(interpolated);
-    if (len > 1e-12f && std::isfinite(len)) n = interpolated / len;
+    const vec3 normal = interpolate(mesh.normals, c);
+    const float len = glm::length(normal);
+    if (len > 1e-12f && std::isfinite(len)) interpolated = normal / len;
   }
-  s.normal_mapped = m.normal_texture.used();
-  if (s.normal_mapped)
-    n = mapNormal(mesh, c, n, sampleSlot(model, mesh, c, m.normal_texture, footprint), m.normal_scale);
-  const float facing = glm::dot(n, ray.direction);
-  if (facing > 0.0f) n = -n;
-  // A mapped normal may face away from the viewer at grazing angles: bent just far enough
-  // towards it that the shading sees the surface (the usual glTF viewer fix). Interpolated
-  // normals without a map are left as they are (the images of unmapped relics do not change).
+  // The normal of a map (or the interpolated one), turned to the side the ray came from.
   const vec3 wo = -ray.direction;
-  const float nv = glm::dot(n, wo);
-  constexpr float kMinFacing = 0.01f;
-  if (m.normal_texture.used() && nv < kMinFacing) {
-    const vec3 bent = n + (kMinFacing - nv) * wo;
-    const float len = glm::length(bent);
-    n = len > 1e-6f ? bent / len : wo;
-  }
-  s.normal = isFinite(n) ? n : hit.geometric_normal;
+  const auto viewerSide = [&](const TextureRef& map, float map_scale) {
+    vec3 n = interpolated;
+    if (map.used()) n = mapNormal(mesh, c, n, sampleSlot(model, mesh, c, map, footprint), map_scale);
+    if (glm::dot(n, ray.direction) > 0.0f) n = -n;
+    // A mapped normal may face away from the viewer at grazing angles: bent just far enough
+    // towards it that the shading sees the surface (the usual glTF viewer fix). Interpolated
+    // normals without a map are left as they are (the images of unmapped relics do not change).
+    const float nv = glm::dot(n, wo);
+    constexpr float kMinFacing = 0.01f;
+    if (map.used() && nv < kMinFacing) {
+      const vec3 bent = n + (kMinFacing - nv) * wo;
+      const float len = glm::length(bent);
+      n = len > 1e-6f ? bent / len : wo;
+    }
+    return isFinite(n) ? n : hit.geometric_normal;
+  };
+  s.normal_mapped = m.normal_texture.used();
+  s.normal = viewerSide(m.normal_texture, m.normal_scale);
+  s.clearcoat_normal = m.clearcoat > 0.0f && m.clearcoat_normal_texture.used()
+                           ? viewerSide(m.clearcoat_normal_texture, m.clearcoat_normal_scale)
+                           : s.normal;
   return s;
 }
 

@@ -421,7 +421,11 @@ TEST(Refraction, ClearcoatAddsASecondSpecularLobe) {
   model.materials[0].clearcoat = 1.0f;
   model.materials[0].clearcoat_roughness = 0.0f;
   RenderScene coated(model, {});
-  coated.overrideRelicMaterial(black);
+  // The override is the material at every hit, its coat included (as the path tracer reads it).
+  SurfaceMaterial coated_black = black;
+  coated_black.clearcoat = 1.0f;
+  coated_black.clearcoat_roughness = 0.0f;
+  coated.overrideRelicMaterial(coated_black);
   TracerSettings settings = staticOnly();
   EffectPlan plan;
   const ViewImages without = renderOnce(bare, ibl, settings, view, &plan);

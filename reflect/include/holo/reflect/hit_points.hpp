@@ -29,9 +29,10 @@ namespace holo::reflect {
 
 struct HitPoint {
   vec3 position{0.0f};
-  vec3 normal{0.0f, 1.0f, 0.0f};     // unit shading normal, on the viewer's side
-  vec3 to_viewer{0.0f, 0.0f, 1.0f};  // wo, unit
-  vec3 reflected{0.0f, 1.0f, 0.0f};  // mirror direction of wo about the normal, unit
+  vec3 normal{0.0f, 1.0f, 0.0f};            // unit shading normal, on the viewer's side
+  vec3 to_viewer{0.0f, 0.0f, 1.0f};         // wo, unit
+  vec3 reflected{0.0f, 1.0f, 0.0f};         // mirror direction of wo about the normal, unit
+  vec3 clearcoat_normal{0.0f, 1.0f, 0.0f};  // unit, viewer's side (surface_shading.hpp)
   SurfaceMaterial material;
   vec3 emission{0.0f};  // surface_shading.hpp's SurfacePoint fields
   float occlusion = 1.0f;

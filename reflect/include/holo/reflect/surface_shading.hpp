@@ -40,6 +40,7 @@ struct SurfacePoint {
   vec3 position{0.0f};
   vec3 normal{0.0f, 1.0f, 0.0f};            // unit shading normal (normal-mapped), viewer's side
   vec3 geometric_normal{0.0f, 1.0f, 0.0f};  // unit, viewer's side
+  vec3 clearcoat_normal{0.0f, 1.0f, 0.0f};  // unit, viewer's side: the coat's own normal map, else normal
   SurfaceMaterial material;
   vec3 emission{0.0f};         // radiance emitted towards the viewer, >= 0, finite
   float occlusion = 1.0f;      // [0,1], scales reflected light only
