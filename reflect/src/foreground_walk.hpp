@@ -30,8 +30,17 @@ namespace holo::reflect {
 // brick, for t in (0, t_max]; none when it never does. Marches the brick level by steps of half a
 // brick, jumping where the brick distance proves the space around empty: a brick at Chebyshev
 // distance k (in bricks) from the nearest occupied one is at least (k - 1) bricks from any
-// occupied voxel. So the t returned is within half a brick of the first such point.
-std::optional<float> nearMissT(const VoxelGrid& grid, const Ray& ray, float t_max, float radius_per_m);
+// occupied voxel. So the t returned is within half a brick of the first such point. The march
+// starts at t_from (>= 0), so a caller can look for the next such point beyond one it rejected.
+std::optional<float> nearMissT(const VoxelGrid& grid, const Ray& ray, float t_max, float radius_per_m,
+                               float t_from = 0.0f);
+
+// From a near miss at t_near on, where the ray passes nearest the visitors: the first t (steps of
+// half a brick, up to t_max) of the smallest brick distance, marching while that distance does
+// not grow and no longer than it takes to cross it. A ray that slips through a gap in a visitor's
+// voxels passes through an occupied brick: that point lies at the visitor's depth, where the
+// first near point (one or more bricks in front of it) does not.
+float nearestPassT(const VoxelGrid& grid, const Ray& ray, float t_near, float t_max);
 
 // The camera whose optical axis is closest to `direction` among those with a pyramid that see
 // `point` in front of them and inside the image, and the pixel it sees it at; none when no
