@@ -11,8 +11,7 @@
 
 namespace holo::reflect {
 
-std::optional<float> nearMissT(const VoxelGrid& grid, const Ray& ray, float t_max, float radius_per_m,
-                               float t_from) {
+std::optional<float> nearMissT(const VoxelGrid& grid, const Ray& ray, float t_max, float radius_per_m) {
   const float brick_m = grid.voxelSize() * float(grid.brickSize());
   const Bounds3 box{grid.origin(), grid.origin() + vec3(grid.dims()) * grid.voxelSize()};
   float t0 = 0.0f, t1 = t_max;
@@ -31,7 +30,7 @@ std::optional<float> nearMissT(const VoxelGrid& grid, const Ray& ray, float t_ma
   // The ray in brick units, so that a step's brick is one floor.
   const vec3 origin_b = (ray.origin - box.lo) / brick_m, direction_b = ray.direction / brick_m;
   // Every iteration advances t by at least half a brick: the loop is bounded by the box.
-  for (float t = std::max({t0, 0.5f * brick_m, t_from}); t <= t1;) {
+  for (float t = std::max(t0, 0.5f * brick_m); t <= t1;) {
     const vec3 at = glm::floor(origin_b + direction_b * t);
     if (glm::any(glm::lessThan(at, vec3(0.0f))) || glm::any(glm::greaterThanEqual(at, vec3(bricks)))) break;
     const glm::ivec3 b(at);
@@ -127,27 +126,20 @@ bool ForegroundWalk::walk(const vec3& position, const vec3& normal, const vec3& 
   if (!vh.hit()) {
     if (roughness < settings_.lobe_fallback_roughness) return false;
     const float tan_sigma = std::tan(reflectedLobeSigma(roughness));
-    // The first point near a brick may lie where no camera looks (above a camera's image, just in
-    // front of a visitor close to the pyramid): the march goes on to the next point near a brick
-    // that a camera sees instead of dropping the visitor the lobe passes. Each step advances at
-    // least half a brick, so the loop ends at max_reflection_distance.
-    const float half_brick = 0.5f * grid_.voxelSize() * float(grid_.brickSize());
-    for (float t_from = 0.0f;;) {
-      const std::optional<float> t_near =
-          nearMissT(grid_, ray, settings_.max_reflection_distance, 2.0f * tan_sigma, t_from);
-      if (!t_near) return false;
-      const float t = nearestPassT(grid_, ray, *t_near, settings_.max_reflection_distance);
-      const vec3 p = ray.origin + ray.direction * t;
-      const std::optional<CameraPixel> seen = cameraAlong(cameras_, pyramids_, p, ray.direction);
-      if (!seen) {
-        t_from = t + half_brick;
-        continue;
-      }
-      const CameraModel& cam = cameras_[seen->camera].camera;
-      sample = readLobe(pyramids_[seen->camera], seen->pixel, roughness, t, glm::length(p - cam.position()),
-                        cam.intrinsics().fx);
-      return sample.weight > 0.0f;
-    }
+    const std::optional<float> t_near =
+        nearMissT(grid_, ray, settings_.max_reflection_distance, 2.0f * tan_sigma);
+    if (!t_near) return false;
+    // Read where the ray passes nearest the visitor, not at the first point near a brick: that one
+    // can lie bricks in front of the visitor, where no camera looks (above the image of a camera
+    // under a visitor close to the pyramid) or where a camera sees something else.
+    const float t = nearestPassT(grid_, ray, *t_near, settings_.max_reflection_distance);
+    const vec3 p = ray.origin + ray.direction * t;
+    const std::optional<CameraPixel> seen = cameraAlong(cameras_, pyramids_, p, ray.direction);
+    if (!seen) return false;
+    const CameraModel& cam = cameras_[seen->camera].camera;
+    sample = readLobe(pyramids_[seen->camera], seen->pixel, roughness, t, glm::length(p - cam.position()),
+                      cam.intrinsics().fx);
+    return sample.weight > 0.0f;
   }
   const VoxelSample& vs = grid_.sample(vh.sample);
   if (vs.camera >= pyramids_.size() || pyramids_[vs.camera].empty()) return false;

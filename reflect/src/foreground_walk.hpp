@@ -30,10 +30,8 @@ namespace holo::reflect {
 // brick, for t in (0, t_max]; none when it never does. Marches the brick level by steps of half a
 // brick, jumping where the brick distance proves the space around empty: a brick at Chebyshev
 // distance k (in bricks) from the nearest occupied one is at least (k - 1) bricks from any
-// occupied voxel. So the t returned is within half a brick of the first such point. The march
-// starts at t_from (>= 0), so a caller can look for the next such point beyond one it rejected.
-std::optional<float> nearMissT(const VoxelGrid& grid, const Ray& ray, float t_max, float radius_per_m,
-                               float t_from = 0.0f);
+// occupied voxel. So the t returned is within half a brick of the first such point.
+std::optional<float> nearMissT(const VoxelGrid& grid, const Ray& ray, float t_max, float radius_per_m);
 
 // From a near miss at t_near on, where the ray passes nearest the visitors: the first t (steps of
 // half a brick, up to t_max) of the smallest brick distance, marching while that distance does
