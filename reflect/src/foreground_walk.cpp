@@ -42,6 +42,27 @@ std::optional<float> nearMissT(const VoxelGrid& grid, const Ray& ray, float t_ma
   return std::nullopt;
 }
 
+float nearestPassT(const VoxelGrid& grid, const Ray& ray, float t_near, float t_max) {
+  const float brick_m = grid.voxelSize() * float(grid.brickSize());
+  const glm::ivec3 bricks = grid.brickDims();
+  float best_t = t_near;
+  int best = 256, max_steps = 0;
+  // A ray heading for the nearest occupied brick, k bricks away, reaches it within 2 (k + 1) half
+  // bricks; a ray moving away (k grows) has passed its nearest point.
+  for (int step = 0; step <= max_steps; ++step) {
+    const float t = t_near + float(step) * 0.5f * brick_m;
+    if (t > t_max) break;
+    const vec3 at = glm::floor((ray.origin + ray.direction * t - grid.origin()) / brick_m);
+    if (glm::any(glm::lessThan(at, vec3(0.0f))) || glm::any(glm::greaterThanEqual(at, vec3(bricks)))) break;
+    const int k = grid.brickDistance(glm::ivec3(at));
+    if (step == 0) max_steps = 2 * (k + 1);
+    if (k > best) break;
+    if (k < best) best = k, best_t = t;
+    if (best == 0) break;
+  }
+  return best_t;
+}
+
 std::optional<CameraPixel> cameraAlong(const std::vector<ForegroundCameraImage>& cameras,
                                        const std::vector<ForegroundPyramid>& pyramids, const vec3& point,
                                        const vec3& direction) {
@@ -108,12 +129,16 @@ bool ForegroundWalk::walk(const vec3& position, const vec3& normal, const vec3& 
     const std::optional<float> t_near =
         nearMissT(grid_, ray, settings_.max_reflection_distance, 2.0f * tan_sigma);
     if (!t_near) return false;
-    const vec3 p = ray.origin + ray.direction * *t_near;
+    // Read where the ray passes nearest the visitor, not at the first point near a brick: that one
+    // can lie bricks in front of the visitor, where no camera looks (above the image of a camera
+    // under a visitor close to the pyramid) or where a camera sees something else.
+    const float t = nearestPassT(grid_, ray, *t_near, settings_.max_reflection_distance);
+    const vec3 p = ray.origin + ray.direction * t;
     const std::optional<CameraPixel> seen = cameraAlong(cameras_, pyramids_, p, ray.direction);
     if (!seen) return false;
     const CameraModel& cam = cameras_[seen->camera].camera;
-    sample = readLobe(pyramids_[seen->camera], seen->pixel, roughness, *t_near,
-                      glm::length(p - cam.position()), cam.intrinsics().fx);
+    sample = readLobe(pyramids_[seen->camera], seen->pixel, roughness, t, glm::length(p - cam.position()),
+                      cam.intrinsics().fx);
     return sample.weight > 0.0f;
   }
   const VoxelSample& vs = grid_.sample(vh.sample);

@@ -33,6 +33,13 @@ namespace holo::reflect {
 // occupied voxel. So the t returned is within half a brick of the first such point.
 std::optional<float> nearMissT(const VoxelGrid& grid, const Ray& ray, float t_max, float radius_per_m);
 
+// From a near miss at t_near on, where the ray passes nearest the visitors: the first t (steps of
+// half a brick, up to t_max) of the smallest brick distance, marching while that distance does
+// not grow and no longer than it takes to cross it. A ray that slips through a gap in a visitor's
+// voxels passes through an occupied brick: that point lies at the visitor's depth, where the
+// first near point (one or more bricks in front of it) does not.
+float nearestPassT(const VoxelGrid& grid, const Ray& ray, float t_near, float t_max);
+
 // The camera whose optical axis is closest to `direction` among those with a pyramid that see
 // `point` in front of them and inside the image, and the pixel it sees it at; none when no
 // camera does.

@@ -3,11 +3,14 @@
 // pixels, each on a small analytic scene.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "compose_pass.hpp"
 #include "foreground_walk.hpp"
 #include "holo/core/image.hpp"
 #include "holo/reflect/tone_map.hpp"
 #include "holo/reflect/view.hpp"
+#include "holo/reflect/voxel_walk.hpp"
 #include "reflect_test_scenes.hpp"
 #include "static_shading.hpp"
 
@@ -121,6 +124,62 @@ TEST(NearMissMarch, FindsTheFirstPointWithinTheRadiusOfAnOccupiedBrick) {
   EXPECT_LE(distance, 0.5f * *t + 2.0f * 0.08f * std::sqrt(3.0f));
   // Away from the point: never.
   EXPECT_FALSE(nearMissT(grid, Ray{ray.origin, -ray.direction}, 2.0f, 0.5f));
+}
+
+// A wall of red points at z = 0.6 with a 4 cm hole around (0.005, 0.31): a rough ray along +z
+// through the hole meets no voxel, though its bricks hold the wall. The one camera stands 0.1 m
+// in front of the wall looking at it, so it sees the wall but nothing nearer the relic.
+struct HoledWall {
+  HoledWall() {
+    const test::RedWall full = test::redWall();
+    for (const ForegroundPoint& p : full.cloud.points)
+      if (std::abs(p.position.x - 0.005f) > 0.025f || std::abs(p.position.y - 0.31f) > 0.025f)
+        cloud.points.push_back(p);
+    camera = full.camera;
+    camera.camera = lookAtCamera(vec3(0.0f, 0.3f, 0.5f), vec3(0.0f, 0.3f, 0.6f), 100.0f, 64, 64);
+    grid.build(cloud);
+  }
+  TracerSettings settings = test::smallGrid();
+  VoxelGrid grid{settings.grid};
+  ForegroundCloud cloud;
+  ForegroundCameraImage camera;
+  Ray ray{vec3(0.005f, 0.305f, 0.15f), vec3(0.0f, 0.0f, 1.0f)};
+};
+
+TEST(NearMissMarch, ReadsWhereARaySlippingThroughAGapPassesTheVisitor) {
+  const HoledWall w;
+  ASSERT_FALSE(firstOccupiedVoxel(w.grid, w.ray, 2.0f).hit());  // through the hole
+  // A lobe of roughness 0.45 (2 tan(sigma) = 0.59 per metre): the first near point lies bricks
+  // in front of the wall (z < 0.52), the nearest pass in the wall's brick (z in [0.6, 0.68)).
+  const float radius = 2.0f * std::tan(reflectedLobeSigma(0.45f));
+  const std::optional<float> t_near = nearMissT(w.grid, w.ray, 2.0f, radius);
+  ASSERT_TRUE(t_near);
+  EXPECT_LT(w.ray.origin.z + *t_near, 0.52f);
+  const float z = w.ray.origin.z + nearestPassT(w.grid, w.ray, *t_near, 2.0f);
+  EXPECT_GE(z, 0.6f);
+  EXPECT_LT(z, 0.68f);
+  // Past the wall's edge (0.5 m beside it, parallel to it) the brick distance stays that of the
+  // x offset from the first near point on: the first near point is the nearest pass.
+  const Ray beside{vec3(0.9f, 0.3f, -0.4f), vec3(0.0f, 0.0f, 1.0f)};
+  const std::optional<float> t_beside = nearMissT(w.grid, beside, 2.0f, radius);
+  ASSERT_TRUE(t_beside);
+  EXPECT_FLOAT_EQ(nearestPassT(w.grid, beside, *t_beside, 2.0f), *t_beside);
+}
+
+TEST(ForegroundWalkPass, ARoughRaySlippingThroughAGapReadsTheVisitorACameraSees) {
+  const HoledWall w;
+  const std::vector<ForegroundCameraImage> cameras = {w.camera};
+  std::vector<ForegroundPyramid> pyramids(1);
+  pyramids[0].build(w.camera.colour_bgr, w.camera.mask, w.settings.pyramid_levels);
+  // The first near point (z < 0.52) is behind the camera: no camera sees it. The walk reads the
+  // wall where the ray passes it, in its red, instead of dropping the visitor.
+  ASSERT_FALSE(cameraAlong(cameras, pyramids, w.ray.origin + 0.35f * w.ray.direction, w.ray.direction));
+  const ForegroundWalk walk(w.settings, w.grid, pyramids, cameras, nullptr);
+  ForegroundSample sample;
+  ASSERT_TRUE(walk.walk(w.ray.origin, w.ray.direction, w.ray.direction, 0.45f, sample));
+  EXPECT_NEAR(sample.radiance.r, 2.0f, 0.05f);
+  EXPECT_NEAR(sample.radiance.g, 0.0f, 0.01f);
+  EXPECT_GT(sample.weight, 0.5f);
 }
 
 TEST(CameraChoice, TakesTheCameraLookingMostAlongTheRayThatSeesThePoint) {
