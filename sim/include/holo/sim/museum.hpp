@@ -121,7 +121,7 @@ struct SceneDescription {
   float relic_metallic = -1.0f;
   int visitors = 3;
   // How the visitors (walking and close) look and move (visitors.hpp); scene key visitor_model.
-  VisitorModel visitor_model = VisitorModel::figures;
+  VisitorModel visitor_model = VisitorModel::bodies;
   // Visitors standing close to the pyramid, looking at it and reaching out to it (visitors.hpp's
   // planCloseVisitors), after the walking ones; 0..4. None in the built-in scenes, so their
   // walkers stay as they are; the reflection evaluation (eval tracer) adds one.

@@ -40,7 +40,7 @@ VisitorModel visitorModelFromName(const std::string& name, const std::string& or
                                   const std::string& field = "visitor_model");
 
 struct VisitorPlan {
-  VisitorModel model = VisitorModel::figures;
+  VisitorModel model = VisitorModel::bodies;
   float lane_radius = 1.5f;    // metres from the pyramid axis
   float sway = 0.05f;          // radial sway amplitude, metres
   float sway_hz = 0.1f;        // Hz; bodies: per second walked at the mean pace (pausing with them)
@@ -69,7 +69,7 @@ struct VisitorPlan {
 
 // `count` visitors for a hall (room, gallery, atrium, none), from the seed.
 std::vector<VisitorPlan> planVisitors(int count, std::uint64_t seed, const std::string& hall,
-                                      VisitorModel model = VisitorModel::figures);
+                                      VisitorModel model = VisitorModel::bodies);
 
 // `count` visitors who stand close to the pyramid looking at it (feet 0.45-0.6 m from the base's
 // side, i.e. 0.75-0.9 m from the axis, leaning in and out by 5 cm), one arm reaching out towards
@@ -77,7 +77,7 @@ std::vector<VisitorPlan> planVisitors(int count, std::uint64_t seed, const std::
 // stands in front of its own face, away from the hall's furniture near the pyramid; at most 4.
 // Their random stream is apart from planVisitors', so adding them changes no walking visitor.
 std::vector<VisitorPlan> planCloseVisitors(int count, std::uint64_t seed, const std::string& hall,
-                                           VisitorModel model = VisitorModel::figures);
+                                           VisitorModel model = VisitorModel::bodies);
 
 struct VisitorPose {
   vec3 feet;                    // world position of the point between the feet (on the floor)
