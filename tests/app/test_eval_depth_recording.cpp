@@ -50,7 +50,7 @@ TEST(EvalDepthRecording, MeasuresASimulatedRecordingATumSequenceAndRefusesOneFra
   std::ofstream(dir / "small.yaml") << "base: museum\ncamera: {width: 320, height: 180}\n";
   ASSERT_EQ(
       holo::test::runHolopyramid("simulate --scene " + (dir / "small.yaml").string() +
-                                     " --frames 20 --panorama-width 64 -q --out " + (dir / "rec").string(),
+                                     " --frames 24 --panorama-width 64 -q --out " + (dir / "rec").string(),
                                  dir / "simulate.txt"),
       0)
       << logText(dir / "simulate.txt");
@@ -65,7 +65,7 @@ TEST(EvalDepthRecording, MeasuresASimulatedRecordingATumSequenceAndRefusesOneFra
   EXPECT_EQ(r.at("layout"), "holopyramid");
   EXPECT_EQ(r.at("background"), "recorded");
   EXPECT_EQ(r.at("cameras"), 4);
-  EXPECT_GT(r.at("frame_pairs").get<int>(), 40);  // 4 cameras x 16 (measured 64)
+  EXPECT_GT(r.at("frame_pairs").get<int>(), 40);  // 4 cameras x 20 (measured 80)
   for (const char* stream : {"raw", "filtered"}) {
     const auto& f = r.at("foreground").at(stream);
     expectShare(f.at("hole_flicker"), stream);
@@ -73,7 +73,7 @@ TEST(EvalDepthRecording, MeasuresASimulatedRecordingATumSequenceAndRefusesOneFra
     EXPECT_GT(f.at("edge_jitter_px").get<double>(), 0.0) << stream;
   }
   // The filter fills holes on the visitors: its output flickers less than the sensor's depth
-  // (measured 0.093 against 0.103) and its edges jitter less (1.07 against 1.27 px).
+  // (measured 0.044 against 0.061) and its edges jitter less (0.73 against 0.99 px).
   EXPECT_LT(r.at("foreground").at("filtered").at("hole_flicker").get<double>(),
             r.at("foreground").at("raw").at("hole_flicker").get<double>());
   EXPECT_LT(r.at("foreground").at("filtered").at("edge_jitter_px").get<double>(),
@@ -98,6 +98,8 @@ TEST(EvalDepthRecording, MeasuresASimulatedRecordingATumSequenceAndRefusesOneFra
   EXPECT_EQ(t.at("layout"), "tum-sequence");
   EXPECT_EQ(t.at("background"), "first 4 frames");
   EXPECT_EQ(t.at("cameras"), 1);
+  // The filter learns until its PDFs hold enough foreground samples, which a visitor standing in
+  // the first frames (taken as the empty room) delays: measured 11 of 15 possible pairs.
   EXPECT_GT(t.at("frame_pairs").get<int>(), 8);
   expectShare(t.at("foreground").at("raw").at("hole_flicker"), "tum raw");
   // Depth read at TUM's scale: the background's spread stays millimetres, not 5x off.

@@ -98,7 +98,7 @@ TEST(SceneFile, TheExampleFileLoads) {
   EXPECT_EQ(d.hall, "atrium");
   EXPECT_EQ(d.relic, "kettle");
   EXPECT_EQ(d.visitors, 4);
-  EXPECT_EQ(d.visitor_model, VisitorModel::figures);
+  EXPECT_EQ(d.visitor_model, VisitorModel::bodies);
   EXPECT_EQ(d.seed, 7u);
   EXPECT_EQ(d.noise.profile, SensorProfile::structured_light);
   EXPECT_FLOAT_EQ(d.noise.metal_dropout, 0.9f);

@@ -2,18 +2,18 @@
 // colour. Two models of them (VisitorModel) share the lanes, the close visitors' places and the
 // palettes of shirts, trousers and carried things:
 //
-// figures (the default): articulated figures built from primitives (legs, torso, arms, neck,
-// head) with a slowly varying speed (0.4 to 0.9 m/s on average, slowing down and speeding up,
-// never stopping), a radial sway inside the lane and a leg/arm swing tied to the distance walked.
-//
-// bodies: articulated human bodies, 18 smooth closed parts (head, hair, neck, torso, pelvis, upper
-// and lower arms, hands, thighs, shins, feet; ~5k triangles) posed rigidly by a joint hierarchy:
-// hips and knees from the gait, the spine leaning and twisting, shoulders and elbows swinging
-// against the legs, holding what is carried or reaching out. Height, build, skin, hair and clothes
-// come from the seed. A walker cruises (0.6-1.2 m/s; 0.35-0.7 m/s on average), slows down to a
-// standstill of 1.5-3.7 s once per pace cycle, during which it turns to face the pyramid and leans
-// towards it, and speeds up again; legs and arms swing with the distance walked, their swing
+// bodies (the default): articulated human bodies, 18 smooth closed parts (head, hair, neck, torso,
+// pelvis, upper and lower arms, hands, thighs, shins, feet; ~5k triangles) posed rigidly by a joint
+// hierarchy: hips and knees from the gait, the spine leaning and twisting, shoulders and elbows
+// swinging against the legs, holding what is carried or reaching out. Height, build, skin, hair and
+// clothes come from the seed. A walker cruises (0.6-1.2 m/s; 0.35-0.7 m/s on average), slows down
+// to a standstill of 1.5-3.7 s once per pace cycle, during which it turns to face the pyramid and
+// leans towards it, and speeds up again; legs and arms swing with the distance walked, their swing
 // fading as the visitor slows.
+//
+// figures: articulated figures built from primitives (legs, torso, arms, neck, head) with a slowly
+// varying speed (0.4 to 0.9 m/s on average, slowing down and speeding up, never stopping), a radial
+// sway inside the lane and a leg/arm swing tied to the distance walked.
 //
 // Each visitor walks its own lane (a ring between the hall's inner and outer radius, so visitors
 // never walk through each other). A pose is a closed-form function of time, so any frame can be
