@@ -85,6 +85,8 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--close-visitors", o->close_visitors, "Visitors standing close to the pyramid")
           ->capture_default_str()
           ->check(CLI::Range(0, 4));
+      sub.add_option("--visitor-model", o->visitor_model,
+                     "Visitors instead of the hall's own: bodies (the default) or figures");
       sub.add_option("--out", command->out, "Output folder")->capture_default_str();
       sub.add_option("--cache", o->cache, "Ground-truth cache folder")->capture_default_str();
       return [command] { return benchAccuracy(*command); };

@@ -342,7 +342,7 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--width", o->width, "Camera width (default: the scene's)");
       sub.add_option("--height", o->height, "Camera height (default: the scene's)");
       sub.add_option("--visitor-model", o->visitor_model,
-                     "Visitors instead of the scene's: figures (the default) or bodies");
+                     "Visitors instead of the scene's: bodies (the default) or figures");
       sub.add_option("--json", o->json, "Write the report to this JSON file");
       sub.add_option(
           "--images", o->images,

@@ -355,7 +355,7 @@ HOLO_REGISTER_COMMAND(Command{
           ->capture_default_str()
           ->check(CLI::Range(0, 4));
       sub.add_option("--visitor-model", o->visitor_model,
-                     "Visitors instead of the halls' own: figures (the default) or bodies");
+                     "Visitors instead of the halls' own: bodies (the default) or figures");
       sub.add_option("--camera-tilt-deg", o->camera_tilt_deg, "Depth cameras' upwards tilt, degrees")
           ->capture_default_str()
           ->check(CLI::Range(-60.0f, 60.0f));

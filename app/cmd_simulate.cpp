@@ -297,7 +297,7 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--sensor", o->sensor,
                      "Depth-camera profile instead of the scene's: uniform, structured-light or stereo");
       sub.add_option("--visitor-model", o->visitor_model,
-                     "Visitors instead of the scene's: figures (the default) or bodies");
+                     "Visitors instead of the scene's: bodies (the default) or figures");
       sub.add_option("--out", o->out, "Output folder (must not exist)")->required();
       sub.add_option("--panorama-width", o->panorama_width, "Panorama width in pixels")
           ->capture_default_str();

@@ -52,6 +52,8 @@ inline void addSceneOptions(CLI::App& app, eval::SceneOptions& options) {
   app.add_option("--close-visitors", options.close_visitors,
                  "Visitors standing close to the pyramid, reaching out to it (default: the scene's)")
       ->check(CLI::Range(0, 4));
+  app.add_option("--visitor-model", options.visitor_model,
+                 "Visitors instead of the scene's: bodies (the default) or figures");
   app.add_option("--camera-vfov-deg", options.camera_vfov_deg,
                  "Depth cameras' vertical field of view, degrees (default: the scene's)")
       ->check(CLI::Range(10.0f, 170.0f));

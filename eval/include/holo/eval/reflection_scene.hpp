@@ -24,7 +24,7 @@ struct SceneOptions {
   bool fit = false;              // scale and centre a relic file on the pedestal
   int frame = 0;                 // museum frame (visitor poses)
   int close_visitors = -1;       // visitors standing close to the pyramid (sim); -1 = the scene's
-  std::string visitor_model;     // "figures" or "bodies" (sim/visitors.hpp); empty = the scene's
+  std::string visitor_model;     // "bodies" or "figures" (sim/visitors.hpp); empty = the scene's
   float camera_vfov_deg = 0.0f;  // the depth cameras' vertical field of view; 0 = the scene's
   float camera_tilt_deg = 0.0f;  // the depth cameras' upwards tilt; 0 = the scene's
 };
