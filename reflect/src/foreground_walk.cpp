@@ -141,17 +141,55 @@ bool ForegroundWalk::walk(const vec3& position, const vec3& normal, const vec3& 
                       cam.intrinsics().fx);
     return sample.weight > 0.0f;
   }
-  const VoxelSample& vs = grid_.sample(vh.sample);
+  if (!readHit(ray, vh, roughness, sample)) return false;
+  if (sample.weight < 1.0f) addLayerBehind(ray, vh, roughness, sample);
+  return true;
+}
+
+bool ForegroundWalk::readHit(const Ray& ray, const VoxelHit& hit, float roughness,
+                             ForegroundSample& sample) const {
+  const VoxelSample& vs = grid_.sample(hit.sample);
   if (vs.camera >= pyramids_.size() || pyramids_[vs.camera].empty()) return false;
+  const ForegroundPyramid& pyramid = pyramids_[vs.camera];
   const CameraModel& cam = cameras_[vs.camera].camera;
   // The point the ray reaches: half a voxel into the one it entered.
-  const vec3 p = ray.origin + ray.direction * (vh.t + 0.5f * grid_.voxelSize());
-  float depth = 0.0f;
-  const std::optional<vec2> px = cam.project(p, &depth);
-  const vec2 pixel = px ? *px : vec2(vs.x, vs.y);
-  sample = readLobe(pyramids_[vs.camera], pixel, roughness, vh.t, glm::length(p - cam.position()),
-                    cam.intrinsics().fx);
+  const vec3 p = ray.origin + ray.direction * (hit.t + 0.5f * grid_.voxelSize());
+  const float camera_m = glm::length(p - cam.position()), focal_px = cam.intrinsics().fx;
+  const vec2 source(vs.x, vs.y);
+  const std::optional<vec2> px = cam.project(p);
+  sample = readLobe(pyramid, px ? *px : source, roughness, hit.t, camera_m, focal_px);
+  // A voxel is wider than a limb seen from a metre (3 cm against a 5-10 cm arm): the point a rough
+  // ray entered can project beside the camera's silhouette, where the blurred mask is mostly the
+  // hall. The pixel the camera saw the voxel at lies inside it; where the lobe's blur is at least
+  // half a voxel wide in that camera the two reads differ by the voxel's quantisation alone, and
+  // the better covered one stands for the voxel. A sharper read is the silhouette test itself
+  // (a mirror's ray entering the voxel hull beside the visitor must miss it): the projection only.
+  const float blur_px =
+      pyramidSigmaPx(foregroundLevel(roughness, hit.t, camera_m, focal_px, settings_.pyramid_levels));
+  if (px && sample.weight < 1.0f && blur_px >= 0.5f * grid_.voxelSize() * focal_px / camera_m) {
+    const ForegroundSample at_source = readLobe(pyramid, source, roughness, hit.t, camera_m, focal_px);
+    if (at_source.weight > sample.weight) sample = at_source;
+  }
   return true;
+}
+
+void ForegroundWalk::addLayerBehind(const Ray& ray, const VoxelHit& front, float roughness,
+                                    ForegroundSample& sample) const {
+  const float step = 0.5f * grid_.voxelSize(), t_max = settings_.max_reflection_distance;
+  float t = front.t + step;
+  while (t < t_max && grid_.occupied(grid_.voxelOf(ray.origin + ray.direction * t))) t += step;
+  if (!(t < t_max)) return;
+  VoxelHit behind = firstOccupiedVoxel(grid_, Ray{ray.origin + ray.direction * t, ray.direction}, t_max - t);
+  if (!behind.hit()) return;
+  behind.t += t;
+  ForegroundSample back;
+  if (!readHit(ray, behind, roughness, back) || !(back.weight > sample.weight)) return;
+  // The limb covers part of the same lobe its body behind covers (the two overlap, they are not
+  // independent layers): the lobe's coverage is the larger of the two, and the body fills the
+  // part the limb leaves.
+  const vec3 premultiplied = sample.radiance * sample.weight + back.radiance * (back.weight - sample.weight);
+  sample.weight = back.weight;
+  sample.radiance = premultiplied / back.weight;
 }
 
 WalkCounts ForegroundWalk::walkView(const HitPointBuffer& hits, const std::vector<WalkRay>& walk_rays,

@@ -3,7 +3,8 @@
 //
 // One ray: the first occupied voxel of the grid (voxel_walk.hpp), read from the pyramid of the
 // camera that saw that voxel at the levels of the ray's GGX lobe (one read per Gaussian of
-// ggxLobeMixture) and travel distance; a rough ray that meets no voxel marches to where it first
+// ggxLobeMixture) and travel distance, and where that leaves the lobe partly uncovered the next
+// voxel behind; a rough ray that meets no voxel marches to where it first
 // passes within two lobe sigmas of an occupied brick (nearMissT) and reads there from the camera
 // looking most along it (cameraAlong); materials read from the rough map take its lookup instead.
 //
@@ -22,6 +23,7 @@
 #include "holo/reflect/hit_points.hpp"
 #include "holo/reflect/rough_foreground_map.hpp"
 #include "holo/reflect/voxel_grid.hpp"
+#include "holo/reflect/voxel_walk.hpp"
 #include "static_shading.hpp"
 
 namespace holo::reflect {
@@ -83,6 +85,14 @@ class ForegroundWalk {
  private:
   ForegroundSample readLobe(const ForegroundPyramid& pyramid, const vec2& pixel, float roughness,
                             float travel_m, float camera_m, float focal_px) const;
+  // The foreground where `ray` entered the voxel of `hit` (hit.t from ray.origin): read in the
+  // camera that saw that voxel; false when that camera has no image this frame.
+  bool readHit(const Ray& ray, const VoxelHit& hit, float roughness, ForegroundSample& sample) const;
+  // Where the front read covers part of the lobe only (none: a mirror ray that entered the voxel
+  // hull beside the visitor's silhouette): the ray steps out of the voxels it met (a limb) and
+  // walks on; a visitor behind (the limb's body, seen by the relic around the limb where the
+  // camera under the limb sees the hall) raises the coverage to its own.
+  void addLayerBehind(const Ray& ray, const VoxelHit& front, float roughness, ForegroundSample& sample) const;
 
   const TracerSettings& settings_;
   const VoxelGrid& grid_;

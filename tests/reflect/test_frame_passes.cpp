@@ -3,7 +3,9 @@
 // pixels, each on a small analytic scene.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "compose_pass.hpp"
 #include "foreground_walk.hpp"
@@ -180,6 +182,76 @@ TEST(ForegroundWalkPass, ARoughRaySlippingThroughAGapReadsTheVisitorACameraSees)
   EXPECT_NEAR(sample.radiance.r, 2.0f, 0.05f);
   EXPECT_NEAR(sample.radiance.g, 0.0f, 0.01f);
   EXPECT_GT(sample.weight, 0.5f);
+}
+
+// A thin arm before a body: a red rod 3 cm thick at z = 0.3 (y 0.1-0.5), seen only by camera 0,
+// from the side (+x), against nothing; a blue wall at z = 0.6 behind it, seen only by camera 1.
+// A rough ray along +z from the origin meets the rod; its lobe is far wider than the rod.
+struct ArmBeforeBody {
+  ArmBeforeBody() {
+    cameras[0].camera = lookAtCamera(vec3(0.5f, 0.3f, 0.3f), vec3(0.0f, 0.3f, 0.3f), 60.0f, 64, 64);
+    cameras[0].colour_bgr = cv::Mat(64, 64, CV_32FC3, cv::Scalar::all(0));
+    cameras[0].mask = cv::Mat(64, 64, CV_32FC1, cv::Scalar(0));
+    for (float y = 0.1f; y <= 0.5f; y += 0.005f)
+      for (float z = 0.285f; z <= 0.315f; z += 0.005f) add(0, vec3(0.0f, y, z), vec3(2.0f, 0.0f, 0.0f));
+    cameras[1].camera = lookAtCamera(vec3(0.0f, 0.3f, 0.0f), vec3(0.0f, 0.3f, 0.6f), 100.0f, 64, 64);
+    cameras[1].colour_bgr = cv::Mat(64, 64, CV_32FC3, cv::Scalar(2, 0, 0));  // blue, linear BGR
+    cameras[1].mask = cv::Mat(64, 64, CV_32FC1, cv::Scalar(1));
+    for (float x = -0.3f; x <= 0.3f; x += 0.01f)
+      for (float y = 0.0f; y <= 0.6f; y += 0.01f) add(1, vec3(x, y, 0.6f), vec3(0.0f, 0.0f, 2.0f));
+    grid.build(cloud);
+    for (std::size_t c = 0; c < 2; ++c)
+      pyramids[c].build(cameras[c].colour_bgr, cameras[c].mask, settings.pyramid_levels);
+  }
+  // A point of camera c, splatted into camera 0's image (camera 1's is full already).
+  void add(std::uint16_t c, const vec3& position, const vec3& radiance) {
+    ForegroundPoint p;
+    p.position = position;
+    p.radiance = radiance;
+    p.camera = c;
+    const std::optional<vec2> px = cameras[c].camera.project(position);
+    if (!px) return;
+    p.x = std::uint16_t(std::clamp(px->x, 0.0f, 63.0f));
+    p.y = std::uint16_t(std::clamp(px->y, 0.0f, 63.0f));
+    cloud.points.push_back(p);
+    if (c != 0) return;
+    cameras[0].mask.at<float>(p.y, p.x) = 1.0f;
+    cameras[0].colour_bgr.at<cv::Vec3f>(p.y, p.x) = cv::Vec3f(radiance.b, radiance.g, radiance.r);
+  }
+  TracerSettings settings = test::smallGrid();
+  VoxelGrid grid{settings.grid};
+  ForegroundCloud cloud;
+  std::vector<ForegroundCameraImage> cameras = std::vector<ForegroundCameraImage>(2);
+  std::vector<ForegroundPyramid> pyramids = std::vector<ForegroundPyramid>(2);
+};
+
+TEST(ForegroundWalkPass, ARoughRayMeetingAThinArmReadsTheBodyBehindIt) {
+  const ArmBeforeBody a;
+  const float roughness = 0.35f;
+  const Ray ray{vec3(0.0f, 0.3f, 0.0f), vec3(0.0f, 0.0f, 1.0f)};
+  const VoxelHit front = firstOccupiedVoxel(a.grid, ray, 2.0f);
+  ASSERT_TRUE(front.hit());
+  ASSERT_LT(front.t, 0.32f);  // the arm, not the wall
+  // Camera 0 sees the arm against nothing: at the lobe's level its blurred mask covers a fraction.
+  const CameraModel& side = a.cameras[0].camera;
+  const vec3 at = ray.origin + ray.direction * front.t;
+  const float level = foregroundLevel(roughness, front.t, glm::length(at - side.position()),
+                                      side.intrinsics().fx, a.settings.pyramid_levels);
+  EXPECT_LT(a.pyramids[0].sample(*side.project(at), level).weight, 0.6f);
+  // The relic's lobe sees the wall all around the arm: the walk reads it behind the arm, the
+  // lobe fully covered, the arm's red inside the wall's blue.
+  const ForegroundWalk walk(a.settings, a.grid, a.pyramids, a.cameras, nullptr);
+  ForegroundSample sample;
+  ASSERT_TRUE(walk.walk(ray.origin, ray.direction, ray.direction, roughness, sample));
+  EXPECT_GT(sample.weight, 0.95f);
+  EXPECT_GT(sample.radiance.r, 0.1f);
+  EXPECT_GT(sample.radiance.b, 1.0f);
+  EXPECT_NEAR(sample.radiance.r + sample.radiance.b, 2.0f, 0.05f);
+  // Beside the arm the ray meets the wall alone, in its blue.
+  ASSERT_TRUE(walk.walk(vec3(0.15f, 0.3f, 0.0f), ray.direction, ray.direction, roughness, sample));
+  EXPECT_NEAR(sample.weight, 1.0f, 0.01f);
+  EXPECT_NEAR(sample.radiance.b, 2.0f, 0.05f);
+  EXPECT_NEAR(sample.radiance.r, 0.0f, 0.01f);
 }
 
 TEST(CameraChoice, TakesTheCameraLookingMostAlongTheRayThatSeesThePoint) {
