@@ -20,7 +20,10 @@
 // edges and, unless its precursor was measured within the last `fill_trust_frames` frames and
 // agrees, away from the mask's edge. Other holes take the surface of their measured neighbours
 // that share the hole's colour, if those lie on one surface (and on the trusted precursor's),
-// and stay holes otherwise (see guidedHoleFill in the source).
+// and stay holes otherwise (see guidedHoleFill in the source). A hole without a trusted
+// precursor is never filled when the first measurements left, right, above and below it inside
+// the mask span a depth edge: it is a gap between two surfaces (between limbs) and may show a
+// third one.
 // The choices where the paper is silent are listed, with reasons, in docs/depthfilter.md.
 //
 // Units: metres; depth 0 = invalid. Invariant: the output is CV_32FC1, finite, 0 outside phi_i,
