@@ -1098,13 +1098,6 @@ tinygltf::Model parseFile(const fs::path& path) {
   return gltf;
 }
 
-// What both renderers read of a Material (reflect/surface_shading.hpp), through either uv set,
-// KHR_texture_transform and the sampler: every slot but the specular colour's, whose factor only
-// the path tracer reads.
-GltfSupport slotSupport(const std::string& slot) {
-  return slot == "specularColorTexture" ? GltfSupport::LoadedNotRendered : GltfSupport::Rendered;
-}
-
 // Every extension convert() reads has its factors rendered by both renderers; their textures are
 // listed per slot.
 GltfSupport extensionSupport(const std::string& extension) {
@@ -1117,8 +1110,6 @@ const char* describe(GltfSupport support) {
   switch (support) {
     case GltfSupport::Rendered:
       return "rendered";
-    case GltfSupport::LoadedNotRendered:
-      return "loaded, not rendered yet";
     case GltfSupport::Ignored:
       return "ignored (not read by this build)";
   }
@@ -1169,7 +1160,9 @@ GltfInventory inspectGltf(const fs::path& path) {
   for (const auto& slot : slots) {
     // Not a structured binding: clang 14 (the fuzz build) cannot capture one in a lambda.
     const auto member = slot.second;
-    count(out.texture_slots, slot.first, slotSupport(slot.first),
+    // Both renderers read every slot (reflect/surface_shading.hpp), through either uv set,
+    // KHR_texture_transform and the sampler.
+    count(out.texture_slots, slot.first, GltfSupport::Rendered,
           [&](const Material& m) { return (m.*member).used(); });
   }
   const auto anySlot = [&](const Material& m, const std::function<bool(const TextureRef&)>& test) {

@@ -90,6 +90,23 @@ float fresnelDielectric(float cos_i, float eta) {
   return std::isfinite(f) ? std::clamp(f, 0.0f, 1.0f) : 1.0f;
 }
 
+vec3 dielectricF0(float ior, const vec3& specular_colour) {
+  double r2 = 1.0;  // +infinity
+  if (std::isnan(ior)) {
+    r2 = 0.04;  // ((1.5 - 1) / (1.5 + 1))^2, the glTF default
+  } else if (std::isfinite(ior)) {
+    const double n = std::max(double(ior), 1.0);
+    const double r = (n - 1.0) / (n + 1.0);
+    r2 = r * r;
+  }
+  vec3 f0;
+  for (int k = 0; k < 3; ++k) {
+    const double c = r2 * double(specular_colour[k]);
+    f0[k] = c > 0.0 ? float(std::min(c, 1.0)) : 0.0f;  // NaN and negative to 0
+  }
+  return f0;
+}
+
 namespace {
 
 float schlickWeight(float cos_theta) {
@@ -98,12 +115,8 @@ float schlickWeight(float cos_theta) {
   return m2 * m2 * m;
 }
 
-// Fresnel of the dielectric layer (scalar) and of the whole specular lobe (RGB) at cos(v, h).
-float dielectricFresnel(const SurfaceMaterial& m, float c) {
-  return m.specular * (kDielectricF0 + (1.0f - kDielectricF0) * schlickWeight(c));
-}
-vec3 specularFresnel(const SurfaceMaterial& m, float c) {
-  return (1.0f - m.metallic) * dielectricFresnel(m, c) + m.metallic * schlickFresnel(m.base_colour, c);
+float maxComponent(const vec3& v) {
+  return std::max({v.x, v.y, v.z});
 }
 
 vec3 cosineSampleHemisphere(const vec2& u) {
@@ -116,6 +129,7 @@ vec3 cosineSampleHemisphere(const vec2& u) {
 
 Bsdf::Bsdf(const SurfaceMaterial& material, const vec3& normal)
     : m_(material),
+      f0_(dielectricF0(material.ior, material.specular_colour)),
       frame_(normal),
       alpha_(roughnessToAlpha(material.roughness)),
       delta_(material.roughness < kDeltaRoughness) {
@@ -128,10 +142,19 @@ bool Bsdf::hasDiffuse() const {
   return m_.metallic < 1.0f && luminance(m_.base_colour) > 0.0f;
 }
 
+// Fresnel of the dielectric layer and of the whole specular lobe at cos(v, h).
+vec3 Bsdf::dielectricFresnel(float c) const {
+  return m_.specular * (f0_ + (1.0f - f0_) * schlickWeight(c));
+}
+vec3 Bsdf::specularFresnel(float c) const {
+  return (1.0f - m_.metallic) * dielectricFresnel(c) + m_.metallic * schlickFresnel(m_.base_colour, c);
+}
+
 // Probability of sampling the specular lobe: its Fresnel-weighted share at the view angle.
 float Bsdf::specularProbability(float cos_o) const {
-  const float spec = luminance(specularFresnel(m_, cos_o));
-  const float diff = (1.0f - m_.metallic) * (1.0f - dielectricFresnel(m_, cos_o)) * luminance(m_.base_colour);
+  const float spec = luminance(specularFresnel(cos_o));
+  const float diff =
+      (1.0f - m_.metallic) * (1.0f - maxComponent(dielectricFresnel(cos_o))) * luminance(m_.base_colour);
   if (spec + diff <= 0.0f) return 1.0f;
   return std::clamp(spec / (spec + diff), 0.0f, 1.0f);
 }
@@ -143,12 +166,13 @@ vec3 Bsdf::evalLocal(const vec3& wo, const vec3& wi) const {
   if (!(hl > 1e-8f)) return vec3(0.0f);
   h /= hl;
   const float c = std::max(0.0f, glm::dot(wo, h));
+  // The extension's fresnel_mix: the diffuse keeps what the strongest channel leaves.
   const vec3 diffuse =
-      (1.0f - m_.metallic) * (1.0f - dielectricFresnel(m_, c)) * m_.base_colour * (wi.z / kPi);
+      (1.0f - m_.metallic) * (1.0f - maxComponent(dielectricFresnel(c))) * m_.base_colour * (wi.z / kPi);
   if (delta_) return diffuse;
   // f_spec * cos_i = F D G2 / (4 cos_o cos_i) * cos_i
   const float spec = ggx::D(h.z, alpha_) * ggx::G2(wo.z, wi.z, alpha_) / (4.0f * wo.z);
-  return diffuse + specularFresnel(m_, c) * spec;
+  return diffuse + specularFresnel(c) * spec;
 }
 
 float Bsdf::pdfLocal(const vec3& wo, const vec3& wi, float p_spec) const {
@@ -186,7 +210,7 @@ std::optional<BsdfSample> Bsdf::sample(const vec3& wo_world, const vec3& u) cons
     if (delta_) {
       wi = vec3(-wo.x, -wo.y, wo.z);
       s.wi = frame_.toWorld(wi);
-      s.weight = specularFresnel(m_, wo.z) / p_spec;
+      s.weight = specularFresnel(wo.z) / p_spec;
       s.delta = true;
       return s;
     }

@@ -123,12 +123,17 @@ SplitSumShading PrefilteredIbl::shadeParts(const SurfaceMaterial& m, const vec3&
   const float s = std::clamp(m.specular, 0.0f, 1.0f);
   const vec3 base = glm::clamp(m.base_colour, vec3(0.0f), vec3(1.0f));
   const vec2 ab = dfg(nv, m.roughness);
-  const vec3 f0 = (1.0f - metallic) * kDielectricF0 * s + metallic * base;
+  const vec3 dielectric_f0 = dielectricF0(m.ior, m.specular_colour);
+  const vec3 f0 = (1.0f - metallic) * dielectric_f0 * s + metallic * base;
   const float f90 = (1.0f - metallic) * s + metallic;
   parts.specular_scale = f0 * ab.x + f90 * ab.y;
   parts.environment = specular(proxy_.lookupDirection(position, reflected), m.roughness);
-  const float dielectric_reflectance = kDielectricF0 * s * ab.x + s * ab.y;
-  parts.diffuse = (1.0f - metallic) * (1.0f - dielectric_reflectance) * base * irradiance(n) / kPi;
+  // The diffuse keeps what the strongest channel of the dielectric's reflection leaves
+  // (KHR_materials_specular's fresnel_mix).
+  const vec3 dielectric_reflectance = dielectric_f0 * s * ab.x + s * ab.y;
+  const float kept =
+      1.0f - std::max({dielectric_reflectance.x, dielectric_reflectance.y, dielectric_reflectance.z});
+  parts.diffuse = (1.0f - metallic) * kept * base * irradiance(n) / kPi;
   return parts;
 }
 

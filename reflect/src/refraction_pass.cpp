@@ -388,14 +388,15 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
             const float nv = std::clamp(glm::dot(hp.normal, hp.to_viewer), 1e-4f, 1.0f);
             if (transmissive) {
               // The reflection by the exact Fresnel of the IOR (split-sum's A + B for the rough
-              // lobe's own loss), in place of the default F0 0.04 the static shading used; a ratio,
-              // so an interreflection's second scale stays multiplied in.
+              // lobe's own loss), in place of the F0 (dielectricF0) the static shading used; a
+              // ratio, so an interreflection's second scale stays multiplied in.
               const SurfaceMaterial& sm = hp.material;
               const float metallic = clamp01(sm.metallic), s = clamp01(sm.specular);
               const vec3 base = glm::clamp(sm.base_colour, vec3(0.0f), vec3(1.0f));
               const vec2 ab = dfg(nv, sm.roughness);
               const vec3 metal = metallic * (base * ab.x + ab.y);
-              const vec3 before = metal + (1.0f - metallic) * s * (kDielectricF0 * ab.x + ab.y);
+              const vec3 before =
+                  metal + (1.0f - metallic) * s * (dielectricF0(sm.ior, sm.specular_colour) * ab.x + ab.y);
               const float fresnel = fresnelDielectric(nv, safeIor(m.ior));
               const vec3 after = metal + (1.0f - metallic) * s * fresnel * (ab.x + ab.y);
               for (int c = 0; c < 3; ++c)

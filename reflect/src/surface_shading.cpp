@@ -136,10 +136,12 @@ SurfacePoint resolveSurface(const RenderScene& scene, const RayScene& traced, co
   s.material.metallic = std::clamp(m.metallic * orm.b, 0.0f, 1.0f);
   s.material.specular =
       std::clamp(m.specular * sampleSlot(model, mesh, c, m.specular_texture, footprint).a, 0.0f, 1.0f);
+  // The specular colour may exceed 1 (dielectricF0 clamps the F0 it scales).
+  s.material.specular_colour =
+      m.specular_colour * vec3(sampleSlot(model, mesh, c, m.specular_colour_texture, footprint));
   // Glass, volume and clearcoat factors times their textures' channels (R transmission, G
   // thickness, R clearcoat, G clearcoat roughness): the path tracer's MaterialBsdf
   // (dielectric.hpp) reads them, the live refraction pass and coat the entry's.
-  s.material.specular_colour = m.specular_colour;
   s.material.transmission = m.transmission * sampleSlot(model, mesh, c, m.transmission_texture, footprint).r;
   s.material.ior = m.ior;
   s.material.thin_walled =

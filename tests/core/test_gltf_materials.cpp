@@ -102,7 +102,8 @@ TEST(GltfMaterials, ReadsEveryPropertyAndExtension) {
   f.material = kEveryProperty;
   f.samplers = R"([{"wrapS": 33071, "wrapT": 33648, "magFilter": 9728, "minFilter": 9985}])";
   f.extensions = kEveryExtension;
-  const Model model = loadGltf(f.write(dir, "all.gltf"));
+  const fs::path path = f.write(dir, "all.gltf");
+  const Model model = loadGltf(path);
   ASSERT_EQ(model.materials.size(), 1u);
   const Material& m = model.materials[0];
   EXPECT_FLOAT_EQ(m.alpha, 0.5f);
@@ -161,6 +162,11 @@ TEST(GltfMaterials, ReadsEveryPropertyAndExtension) {
   EXPECT_EQ(mesh.uvs1[1], vec2(0, 1));
   ASSERT_EQ(mesh.tangents.size(), 4u);
   for (const vec4& tangent : mesh.tangents) EXPECT_LT(glm::length(tangent - vec4(1, 0, 0, 1)), 1e-6f);
+  // Both renderers read all twelve slots: `holopyramid info` lists each as rendered.
+  const GltfInventory inventory = inspectGltf(path);
+  EXPECT_EQ(inventory.texture_slots.size(), 12u);
+  for (const GltfFeature& slot : inventory.texture_slots)
+    EXPECT_EQ(slot.support, GltfSupport::Rendered) << slot.name;
 }
 
 // Written and read back, every property survives (saveGltf writes the same extensions).

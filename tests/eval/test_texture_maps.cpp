@@ -7,7 +7,8 @@
 // map, the layer textures scale their factors, MASK and BLEND show
 // what is behind, texCoord 1 with a transform lands the texel computed, a minified checker
 // averages to its mean instead of aliasing, degenerate uvs stay finite, and the Khronos sample
-// relics render finite.
+// relics render finite. Beside them, KHR_materials_ior and KHR_materials_specular's colour (and
+// its texture) set an opaque dielectric's reflection as the extensions' F0 predicts.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -514,6 +515,127 @@ TEST(TextureMaps, DegenerateUvsGiveFiniteOutput) {
     EXPECT_TRUE(cv::checkRange(image)) << method;
     EXPECT_GT(cv::mean(image)[1], 0.0) << method;
   }
+}
+
+// KHR_materials_ior and KHR_materials_specular on an opaque dielectric: a smooth quad with a
+// black base (nothing but the dielectric's reflection) under a uniform white sky, seen nearly
+// head-on, reflects Schlick's F = F0 + (specular - F0)(1 - cos)^5 of the view ray, F0 = min(((n -
+// 1) / (n + 1))^2 specular colour, 1) specular (the extension's fresnel_mix, written out here).
+float specularF0(double ior, double colour) {
+  const double r = (ior - 1.0) / (ior + 1.0);
+  return float(std::min(r * r * colour, 1.0));
+}
+
+Model smoothDielectric(float ior, const vec3& specular_colour, const vec3& base = vec3(0.0f)) {
+  Model relic;
+  relic.meshes = {quad(0.0f)};
+  Material m;
+  m.base_colour = base;
+  m.roughness = 0.0f;
+  m.ior = ior;
+  m.specular_colour = specular_colour;
+  relic.materials = {m};
+  return relic;
+}
+
+const cv::Mat& whiteSky() {
+  static const cv::Mat white(8, 16, CV_32FC3, cv::Scalar::all(1.0));
+  return white;
+}
+
+// Schlick's F of the view ray through pixel (x, y) on the quad (normal +Z) for F0 `f0`.
+float schlickAt(const CameraModel& camera, int x, int y, float f0) {
+  const float c = -reflect::primaryRay(camera, vec2(float(x), float(y))).direction.z;
+  return f0 + (1.0f - f0) * std::pow(1.0f - c, 5.0f);
+}
+
+TEST(SpecularAndIor, TheIorSetsTheOpaqueDielectricsReflectionInBothRenderers) {
+  const float f0_2 = specularF0(2.0, 1.0), f0_15 = specularF0(1.5, 1.0);
+  ASSERT_NEAR(f0_2, 1.0f / 9.0f, 1e-6f);
+  ASSERT_NEAR(f0_15, 0.04f, 1e-6f);
+  const CameraModel camera = frontCamera();
+  for (const std::string& method : kRenderers) {
+    const cv::Mat ior2 = render(method, sceneOf(smoothDielectric(2.0f, vec3(1.0f)), whiteSky()), camera);
+    const cv::Mat ior15 = render(method, sceneOf(smoothDielectric(1.5f, vec3(1.0f)), whiteSky()), camera);
+    for (int y = 1; y < kView; y += 3)
+      for (int x = 1; x < kView; x += 3) {
+        const float expected2 = schlickAt(camera, x, y, f0_2), expected15 = schlickAt(camera, x, y, f0_15);
+        for (int c = 0; c < 3; ++c) {
+          EXPECT_NEAR(rgbAt(ior2, x, y)[c], expected2, 0.02f * expected2)
+              << method << " pixel " << x << "," << y;
+          EXPECT_NEAR(rgbAt(ior15, x, y)[c], expected15, 0.02f * expected15)
+              << method << " pixel " << x << "," << y;
+        }
+      }
+  }
+}
+
+TEST(SpecularAndIor, TheSpecularColourAndItsTextureTintTheReflectionInBothRenderers) {
+  // IOR 2 under a red specular colour: red only. Colour 1 times a texture whose left texel is
+  // sRGB red (255, 0, 0) and right texel sRGB green (0, 128, 0): red F0 on the left, green F0 x
+  // the decoded 128 (0.216, not the byte's 0.502) on the right.
+  const float f0 = specularF0(2.0, 1.0);
+  const CameraModel camera = frontCamera();
+  Model textured = smoothDielectric(2.0f, vec3(1.0f));
+  textured.materials[0].specular_colour_texture.index = 0;
+  textured.textures = {texture(2, 1, {cv::Vec4b(255, 0, 0, 255), cv::Vec4b(0, 128, 0, 255)}, true)};
+  const float green = srgbDecoded(128);
+  for (const std::string& method : kRenderers) {
+    const cv::Mat red =
+        render(method, sceneOf(smoothDielectric(2.0f, vec3(1.0f, 0.0f, 0.0f)), whiteSky()), camera);
+    const cv::Mat split = render(method, sceneOf(textured, whiteSky()), camera);
+    for (int y = 1; y < kView; y += 3)
+      for (int x = 1; x < kView; x += 3) {
+        const float f = schlickAt(camera, x, y, f0);
+        const vec3 tinted = rgbAt(red, x, y);
+        EXPECT_NEAR(tinted.r, f, 0.02f * f) << method << " pixel " << x << "," << y;
+        EXPECT_LT(tinted.g, 1e-3f) << method << " pixel " << x << "," << y;
+        EXPECT_LT(tinted.b, 1e-3f) << method << " pixel " << x << "," << y;
+        const vec2 p = planePoint(camera, x, y);
+        if (std::abs(p.x) < 0.05f) continue;  // the texel border
+        const vec3 got = rgbAt(split, x, y);
+        const float expected_r = p.x < 0.0f ? f : schlickAt(camera, x, y, 0.0f);
+        const float expected_g =
+            p.x < 0.0f ? schlickAt(camera, x, y, 0.0f) : schlickAt(camera, x, y, f0 * green);
+        EXPECT_NEAR(got.r, expected_r, 0.02f * expected_r + 1e-3f) << method << " pixel " << x << "," << y;
+        EXPECT_NEAR(got.g, expected_g, 0.02f * expected_g + 1e-3f) << method << " pixel " << x << "," << y;
+        EXPECT_LT(got.b, 1e-3f) << method << " pixel " << x << "," << y;
+      }
+  }
+}
+
+TEST(SpecularAndIor, IorOneReflectsNothingHeadOnInBothRenderers) {
+  // F0 0: only Schlick's grazing rise is left, below 1e-7 at the view's steepest 14 degrees.
+  const CameraModel camera = frontCamera();
+  for (const std::string& method : kRenderers) {
+    const cv::Mat image = render(method, sceneOf(smoothDielectric(1.0f, vec3(1.0f)), whiteSky()), camera);
+    for (int y = 1; y < kView; y += 3)
+      for (int x = 1; x < kView; x += 3) {
+        ASSERT_LT(schlickAt(camera, x, y, 0.0f), 1e-7f);
+        EXPECT_LT(rgbAt(image, x, y).g, 1e-3f) << method << " pixel " << x << "," << y;
+      }
+  }
+}
+
+TEST(SpecularAndIor, AHugeIorOrSpecularColourClampsF0ToOneAndStaysFinite) {
+  // IOR 1e30 on a black base, or colour (10, 10, 10) at IOR 2 (10 / 9): F0 1, a white mirror. Over a
+  // white Lambert base, a red colour of 50 at IOR 2 (F0 red 1) leaves nothing to the diffuse:
+  // red mirror, no green (fresnel_mix's 1 - max over RGB of F).
+  const CameraModel camera = frontCamera(8);
+  const std::vector<std::pair<Model, vec3>> cases = {
+      {smoothDielectric(1e30f, vec3(1.0f)), vec3(1.0f)},
+      {smoothDielectric(2.0f, vec3(10.0f)), vec3(1.0f)},
+      {smoothDielectric(2.0f, vec3(50.0f, 0.0f, 0.0f), vec3(1.0f)), vec3(1.0f, 0.0f, 0.0f)}};
+  for (const std::string& method : kRenderers)
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+      const cv::Mat image = render(method, sceneOf(cases[i].first, whiteSky()), camera);
+      EXPECT_TRUE(cv::checkRange(image)) << method << " case " << i;
+      for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x)
+          for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(rgbAt(image, x, y)[c], cases[i].second[c], 0.02f)
+                << method << " case " << i << " pixel " << x << "," << y << " channel " << c;
+    }
 }
 
 class KhronosRelics : public ::testing::TestWithParam<std::string> {};

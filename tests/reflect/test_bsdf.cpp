@@ -2,6 +2,8 @@
 // cases (grazing angles, roughness 0 and 1, directions below the surface).
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "holo/reflect/bsdf.hpp"
 #include "holo/reflect/dfg_table.hpp"
 #include "holo/reflect/sampler.hpp"
@@ -123,6 +125,65 @@ TEST(Bsdf, HardCasesStayFinite) {
       // Facing away (view below the shading hemisphere): scatters nothing, finitely.
       EXPECT_FALSE(bsdf.sample(fromCos(-0.5f), vec3(0.5f)).has_value());
     }
+}
+
+TEST(Bsdf, TheDielectricF0FollowsTheIorAndTheSpecularColour) {
+  // KHR_materials_ior + KHR_materials_specular: F0 = min(((n - 1) / (n + 1))^2 colour, 1).
+  const auto closed = [](double n) { return float(((n - 1) / (n + 1)) * ((n - 1) / (n + 1))); };
+  EXPECT_EQ(dielectricF0(1.5f, vec3(1.0f)), vec3(kDielectricF0));  // the defaults: exactly 0.04
+  EXPECT_EQ(dielectricF0(2.0f, vec3(1.0f)), vec3(closed(2.0)));
+  EXPECT_EQ(dielectricF0(1.0f, vec3(1.0f)), vec3(0.0f));
+  const vec3 tinted = dielectricF0(2.0f, vec3(1.0f, 0.5f, 0.0f));
+  EXPECT_FLOAT_EQ(tinted.r, closed(2.0));
+  EXPECT_FLOAT_EQ(tinted.g, 0.5f * closed(2.0));
+  EXPECT_EQ(tinted.b, 0.0f);
+  // Out of range: clamped to [0,1], never NaN.
+  EXPECT_EQ(dielectricF0(1e30f, vec3(1.0f)), vec3(1.0f));
+  EXPECT_EQ(dielectricF0(INFINITY, vec3(1.0f)), vec3(1.0f));
+  EXPECT_EQ(dielectricF0(2.0f, vec3(100.0f)), vec3(1.0f));
+  EXPECT_EQ(dielectricF0(0.5f, vec3(1.0f)), vec3(0.0f));
+  EXPECT_EQ(dielectricF0(NAN, vec3(1.0f)), vec3(kDielectricF0));
+  EXPECT_EQ(dielectricF0(INFINITY, vec3(NAN, -1.0f, INFINITY)), vec3(0.0f, 0.0f, 1.0f));
+}
+
+TEST(Bsdf, TheIorAndSpecularColourSetTheMirrorsReflectanceAndTheDiffuseKeepsTheRest) {
+  // A smooth black dielectric seen head-on reflects F0 of its IOR, per colour channel.
+  const auto mirror = [](float ior, const vec3& colour, const vec3& base) {
+    SurfaceMaterial m{base, 0.0f, 0.0f, 1.0f};
+    m.ior = ior;
+    m.specular_colour = colour;
+    const Bsdf bsdf(m, vec3(0, 0, 1));
+    // u.x = 0 picks the specular lobe, the only one on a black base.
+    const auto s = bsdf.sample(vec3(0, 0, 1), vec3(0.0f, 0.5f, 0.5f));
+    return s && s->delta ? s->weight : vec3(-1.0f);
+  };
+  EXPECT_NEAR(mirror(2.0f, vec3(1.0f), vec3(0.0f)).g, 1.0f / 9.0f, 1e-6f);
+  EXPECT_NEAR(mirror(1.5f, vec3(1.0f), vec3(0.0f)).g, 0.04f, 1e-7f);
+  const vec3 red = mirror(2.0f, vec3(1.0f, 0.0f, 0.0f), vec3(0.0f));
+  EXPECT_NEAR(red.r, 1.0f / 9.0f, 1e-6f);
+  EXPECT_EQ(red.g, 0.0f);
+  // Energy: a white diffuse base under a red F0 of 1 keeps nothing (1 - max over RGB of F), and
+  // a rough coloured lobe over white never reflects more than comes in.
+  for (const float roughness : {0.3f, 0.8f}) {
+    SurfaceMaterial m{vec3(1.0f), 0.0f, roughness, 1.0f};
+    m.ior = 3.0f;
+    m.specular_colour = vec3(4.0f, 1.0f, 0.0f);
+    const Bsdf bsdf(m, vec3(0, 0, 1));
+    for (const float c : {0.2f, 0.9f}) {
+      const vec3 wo = fromCos(c);
+      for (int k = 0; k < 3; ++k) {
+        const double albedo = hemisphereIntegral([&](const vec3& wi) { return bsdf.eval(wo, wi)[k]; });
+        EXPECT_LE(albedo, 1.0 + 2e-3) << "channel " << k << " roughness " << roughness << " cos " << c;
+      }
+    }
+  }
+  // A white Lambert base under a smooth coat whose red F0 is clamped to 1: nothing is left for
+  // the diffuse in any channel (eval sees only the diffuse of a mirror).
+  SurfaceMaterial saturated{vec3(1.0f), 0.0f, 0.0f, 1.0f};
+  saturated.ior = 2.0f;
+  saturated.specular_colour = vec3(10.0f, 0.0f, 0.0f);
+  const Bsdf bsdf(saturated, vec3(0, 0, 1));
+  EXPECT_EQ(bsdf.eval(fromCos(0.7f), fromCos(0.3f)), vec3(0.0f));
 }
 
 TEST(Dfg, TableMatchesDirectIntegration) {

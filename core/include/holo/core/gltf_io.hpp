@@ -54,15 +54,14 @@ Model loadGlbFromMemory(const std::vector<std::uint8_t>& glb, const std::string&
 
 // What a file asks of a viewer and how far this build honours it, for `holopyramid info`.
 enum class GltfSupport {
-  Rendered,           // loaded, and the renderers use it
-  LoadedNotRendered,  // loaded into holo::Model; the renderers do not use it yet
-  Ignored,            // an optional extension this build does not read
+  Rendered,  // loaded, and the renderers use it
+  Ignored,   // an optional extension this build does not read
 };
 const char* describe(GltfSupport support);
 
 struct GltfFeature {
   std::string name;  // an extension, a texture slot ("normalTexture") or a property
-  GltfSupport support = GltfSupport::LoadedNotRendered;
+  GltfSupport support = GltfSupport::Ignored;
   bool required = false;  // in extensionsRequired
   int materials = 0;      // materials that use it (texture slots and properties)
 };

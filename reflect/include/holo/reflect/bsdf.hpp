@@ -1,7 +1,9 @@
 // Surface scattering of the relic: glTF 2.0 metallic-roughness as the glTF specification's
 // reference BRDF defines it (appendix B): GGX microfacets with Smith height-correlated masking,
-// Schlick Fresnel, Lambert diffuse, mixed by metallic; KHR_materials_specular's specular factor
-// scales the dielectric Fresnel (1 = glTF default F0 0.04, 0 = a pure Lambert surface).
+// Schlick Fresnel, Lambert diffuse, mixed by metallic. The dielectric Fresnel is
+// KHR_materials_specular's with KHR_materials_ior's F0 (the extension's fresnel_mix):
+// F = specular (f0 + (1 - f0) (1 - v.h)^5), f0 = dielectricF0(ior, specular_colour) (0.04 for the
+// glTF defaults; specular 0 = a pure Lambert surface); the diffuse gets 1 - max over RGB of F.
 //
 // Conventions: every direction is a unit world vector pointing AWAY from the surface (wo to the
 // viewer, wi to the light); `normal` is the unit shading normal on the viewer's side.
@@ -18,14 +20,15 @@
 namespace holo::reflect {
 
 inline constexpr float kDeltaRoughness = 0.01f;  // perceptual roughness; alpha = roughness^2
-inline constexpr float kDielectricF0 = 0.04f;    // glTF default (IOR 1.5)
+inline constexpr float kDielectricF0 = 0.04f;    // glTF default (IOR 1.5); the clearcoat's F0
 
 struct SurfaceMaterial {
   vec3 base_colour{0.8f};  // linear RGB albedo (dielectric) or F0 (metal), [0,1]
   float metallic = 0.0f;   // [0,1]
   float roughness = 1.0f;  // [0,1] perceptual; GGX alpha = roughness^2
   float specular = 1.0f;   // [0,1] dielectric Fresnel scale (KHR_materials_specular)
-  // Read by the ground truth's MaterialBsdf (dielectric.hpp) only; Bsdf below ignores them.
+  // specular_colour and ior set every dielectric's F0 (dielectricF0); the rest is read by the
+  // ground truth's MaterialBsdf (dielectric.hpp) only, Bsdf below ignores it.
   vec3 specular_colour{1.0f};          // >= 0, scales the dielectric's F0 (KHR_materials_specular)
   float transmission = 0.0f;           // [0,1] (KHR_materials_transmission)
   float ior = 1.5f;                    // >= 1 (KHR_materials_ior)
@@ -41,6 +44,14 @@ struct SurfaceMaterial {
 // internal reflection); a NaN cosine counts as grazing, a NaN or non-positive eta as 1. Shared by
 // the ground truth's glass BSDF (dielectric.hpp) and the live refraction pass.
 float fresnelDielectric(float cos_i, float eta);
+
+// The opaque dielectric's reflectance at normal incidence before the specular factor, per RGB
+// channel in [0,1]: min(((ior - 1) / (ior + 1))^2 specular_colour, 1) (KHR_materials_specular
+// with KHR_materials_ior). Computed in double, so the defaults (IOR 1.5, colour 1) give exactly
+// kDielectricF0. An IOR below 1 counts as 1 (F0 0), +infinity as a perfect mirror (1), NaN as
+// 1.5; a negative or NaN colour channel as 0. Shared by the path tracer's Bsdf, the split-sum
+// shading (PrefilteredIbl::shadeParts) and the live refraction pass.
+vec3 dielectricF0(float ior, const vec3& specular_colour);
 
 // GGX building blocks in a local frame where the normal is +Z (exposed for the prefilter, the
 // DFG table and tests). alpha > 0.
@@ -93,7 +104,10 @@ class Bsdf {
   float specularProbability(float cos_o) const;
   vec3 evalLocal(const vec3& wo, const vec3& wi) const;
   float pdfLocal(const vec3& wo, const vec3& wi, float p_spec) const;
+  vec3 dielectricFresnel(float cos_vh) const;  // specular x Schlick(f0_), RGB
+  vec3 specularFresnel(float cos_vh) const;    // the whole specular lobe's, metal mixed in
   SurfaceMaterial m_;
+  vec3 f0_;  // dielectricF0 of m_
   Frame frame_;
   float alpha_;
   bool delta_;

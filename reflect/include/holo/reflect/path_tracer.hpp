@@ -45,7 +45,8 @@ namespace holo::reflect {
 // (its estimators, BSDF, sampler, defaults of PathTracerOptions), so cached truths are rendered again.
 // 2: glass, clearcoat and KHR_materials_specular's colour (dielectric.hpp), media; every texture
 //    map (surface_shading.hpp).
-inline constexpr int kPathTracerVersion = 2;
+// 3: the opaque dielectric's F0 from the IOR and the specular colour (texture included).
+inline constexpr int kPathTracerVersion = 3;
 
 // Which estimators a path vertex combines. Only kMis is the ground truth; the single-strategy
 // modes exist to check it (all three converge to the same image, with different noise).

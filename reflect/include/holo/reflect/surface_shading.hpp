@@ -8,6 +8,9 @@
 // Conventions (glTF 2.0):
 //  * base colour = baseColorFactor x sRGB-decoded texture; alpha = factor A x texture A;
 //  * roughness x texture G, metallic x texture B (metallicRoughnessTexture);
+//  * specular = factor x specularTexture A; specular colour = factor x sRGB-decoded
+//    specularColorTexture RGB (KHR_materials_specular), the dielectric's F0 with the IOR
+//    (bsdf.hpp's dielectricF0);
 //  * occlusion = 1 + strength (R - 1): it scales every reflected term, never the emission. Our
 //    scenes have no punctual lights (the hall, the visitors and the sky reach the relic as
 //    image-based or emitted light, which glTF counts as indirect), so in both renderers all
