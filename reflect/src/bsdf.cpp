@@ -115,10 +115,6 @@ float schlickWeight(float cos_theta) {
   return m2 * m2 * m;
 }
 
-float maxComponent(const vec3& v) {
-  return std::max({v.x, v.y, v.z});
-}
-
 vec3 cosineSampleHemisphere(const vec2& u) {
   const float r = std::sqrt(u.x);
   const float phi = 2.0f * kPi * u.y;

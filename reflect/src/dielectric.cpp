@@ -13,10 +13,6 @@ namespace {
 constexpr float kIndexMatched = 1e-3f;
 constexpr float kClearcoatF0 = 0.04f;  // KHR_materials_clearcoat: IOR 1.5
 
-float maxComponent(const vec3& v) {
-  return std::max({v.x, v.y, v.z});
-}
-
 float schlickCoat(float cos_theta) {
   const float m = std::clamp(1.0f - cos_theta, 0.0f, 1.0f);
   const float m2 = m * m;

@@ -164,9 +164,9 @@ bool ForegroundWalk::readHit(const Ray& ray, const VoxelHit& hit, float roughnes
   // half a voxel wide in that camera the two reads differ by the voxel's quantisation alone, and
   // the better covered one stands for the voxel. A sharper read is the silhouette test itself
   // (a mirror's ray entering the voxel hull beside the visitor must miss it): the projection only.
-  const float blur_px =
-      pyramidSigmaPx(foregroundLevel(roughness, hit.t, camera_m, focal_px, settings_.pyramid_levels));
-  if (px && sample.weight < 1.0f && blur_px >= 0.5f * grid_.voxelSize() * focal_px / camera_m) {
+  if (px && sample.weight < 1.0f &&
+      pyramidSigmaPx(foregroundLevel(roughness, hit.t, camera_m, focal_px, settings_.pyramid_levels)) >=
+          0.5f * grid_.voxelSize() * focal_px / camera_m) {
     const ForegroundSample at_source = readLobe(pyramid, source, roughness, hit.t, camera_m, focal_px);
     if (at_source.weight > sample.weight) sample = at_source;
   }

@@ -131,9 +131,8 @@ SplitSumShading PrefilteredIbl::shadeParts(const SurfaceMaterial& m, const vec3&
   // The diffuse keeps what the strongest channel of the dielectric's reflection leaves
   // (KHR_materials_specular's fresnel_mix).
   const vec3 dielectric_reflectance = dielectric_f0 * s * ab.x + s * ab.y;
-  const float kept =
-      1.0f - std::max({dielectric_reflectance.x, dielectric_reflectance.y, dielectric_reflectance.z});
-  parts.diffuse = (1.0f - metallic) * kept * base * irradiance(n) / kPi;
+  parts.diffuse =
+      (1.0f - metallic) * (1.0f - maxComponent(dielectric_reflectance)) * base * irradiance(n) / kPi;
   return parts;
 }
 

@@ -45,6 +45,15 @@ TriangleMesh quad(float depth, float half = 0.5f, int material = 0) {
   return m;
 }
 
+// The quad at depth 0 with one material and its textures.
+Model quadRelic(const Material& material, std::vector<Texture> textures = {}) {
+  Model relic;
+  relic.meshes = {quad(0.0f)};
+  relic.materials = {material};
+  relic.textures = std::move(textures);
+  return relic;
+}
+
 // A BGRA image from RGBA texels listed row by row: sRGB colour (the colour slots) or linear data.
 Texture texture(int w, int h, const std::vector<cv::Vec4b>& rgba, bool nearest,
                 TextureEncoding encoding = TextureEncoding::Srgb) {
@@ -118,13 +127,10 @@ TEST(TextureMaps, EmissiveTextureTimesStrengthInBothRenderers) {
   std::vector<cv::Vec4b> texels;
   for (int i = 0; i < 16; ++i)
     texels.emplace_back(uchar(16 * i + 8), uchar(255 - 12 * i), uchar(40 + 9 * i), 255);
-  Model relic;
-  relic.meshes = {quad(0.0f)};
   Material m = black();
   m.emission = vec3(3.0f);
   m.emissive_texture.index = 0;
-  relic.materials = {m};
-  relic.textures = {texture(4, 4, texels, true)};
+  Model relic = quadRelic(m, {texture(4, 4, texels, true)});
   const ReflectionScene scene = sceneOf(relic, cv::Mat(8, 16, CV_32FC3, cv::Scalar::all(0)));
   const CameraModel camera = frontCamera();
   for (const std::string& method : kRenderers) {
@@ -146,15 +152,12 @@ TEST(TextureMaps, EmissiveTextureTimesStrengthInBothRenderers) {
 TEST(TextureMaps, OcclusionZeroKillsTheLightButNotTheEmission) {
   // A white Lambert quad under a white sky: occlusion texture R = 0 at full strength leaves its
   // emission (0.25) alone; at strength 0 the reflected sky adds to it.
-  Model relic;
-  relic.meshes = {quad(0.0f)};
   Material m;
   m.base_colour = vec3(1.0f);
   m.roughness = 1.0f;
   m.emission = vec3(0.25f);
   m.occlusion_texture.index = 0;
-  relic.materials = {m};
-  relic.textures = {texture(1, 1, {cv::Vec4b(0, 0, 0, 255)}, false, TextureEncoding::Linear)};
+  Model relic = quadRelic(m, {texture(1, 1, {cv::Vec4b(0, 0, 0, 255)}, false, TextureEncoding::Linear)});
   const cv::Mat white(8, 16, CV_32FC3, cv::Scalar::all(1.0));
   const CameraModel camera = frontCamera();
   for (const std::string& method : kRenderers) {
@@ -176,17 +179,14 @@ TEST(TextureMaps, ANormalMapMovesTheMirrorReflectionAsItsTiltPredicts) {
   // n = (sin 20, 0, cos 20) reads 1 + 0.9 r.x.
   const float tilt = 20.0f * kPi / 180.0f;
   const auto encode = [](float v) { return uchar(std::lround((v + 1.0f) * 0.5f * 255.0f)); };
-  Model relic;
-  relic.meshes = {quad(0.0f)};
   Material m;
   m.base_colour = vec3(1.0f);
   m.metallic = 1.0f;
   m.roughness = 0.0f;
   m.normal_texture.index = 0;
-  relic.materials = {m};
-  relic.textures = {texture(1, 1,
-                            {cv::Vec4b(encode(std::sin(tilt)), encode(0.0f), encode(std::cos(tilt)), 255)},
-                            false, TextureEncoding::Linear)};
+  Model relic = quadRelic(
+      m, {texture(1, 1, {cv::Vec4b(encode(std::sin(tilt)), encode(0.0f), encode(std::cos(tilt)), 255)}, false,
+                  TextureEncoding::Linear)});
   const cv::Mat sky = panorama([](const vec3& d) { return vec3(1.0f + 0.9f * d.x); });
   const CameraModel camera = frontCamera();
   const vec3 n(std::sin(tilt), 0.0f, std::cos(tilt));
@@ -214,8 +214,6 @@ TEST(TextureMaps, TheTransmissionTextureChoosesWhereLightPassesInBothRenderers) 
   // A thin-walled white quad of IOR 1 without specular reflection, transmission 1 times the
   // texture's R: 0 on the left (an opaque white Lambert lit by the sky in front of it, 0.1), 1 on
   // the right (the hall behind it, 1.0, seen straight through).
-  Model relic;
-  relic.meshes = {quad(0.0f)};
   Material m;
   m.base_colour = vec3(1.0f);
   m.roughness = 0.0f;
@@ -223,8 +221,7 @@ TEST(TextureMaps, TheTransmissionTextureChoosesWhereLightPassesInBothRenderers) 
   m.ior = 1.0f;
   m.transmission = 1.0f;
   m.transmission_texture.index = 0;
-  relic.materials = {m};
-  relic.textures = {halves(cv::Vec4b(0, 0, 0, 255), cv::Vec4b(255, 0, 0, 255))};
+  Model relic = quadRelic(m, {halves(cv::Vec4b(0, 0, 0, 255), cv::Vec4b(255, 0, 0, 255))});
   const cv::Mat sky = panorama([](const vec3& d) { return vec3(d.z < 0.0f ? 1.0f : 0.1f); });
   const CameraModel camera = frontCamera();
   for (const std::string& method : kRenderers) {
@@ -247,18 +244,15 @@ TEST(TextureMaps, TheClearcoatFollowsItsTexturesAndItsOwnNormalMapInBothRenderer
   // which the split sum and the exact Fresnel meet within 1% here).
   const float tilt = 20.0f * kPi / 180.0f;
   const auto encode = [](float v) { return uchar(std::lround((v + 1.0f) * 0.5f * 255.0f)); };
-  Model relic;
-  relic.meshes = {quad(0.0f)};
   Material m = black();
   m.clearcoat = 1.0f;
   m.clearcoat_roughness = 0.0f;
   m.clearcoat_texture.index = 0;
   m.clearcoat_normal_texture.index = 1;
-  relic.materials = {m};
-  relic.textures = {
-      halves(cv::Vec4b(0, 0, 0, 255), cv::Vec4b(255, 0, 0, 255)),
-      texture(1, 1, {cv::Vec4b(encode(std::sin(tilt)), encode(0.0f), encode(std::cos(tilt)), 255)}, false,
-              TextureEncoding::Linear)};
+  Model relic = quadRelic(
+      m, {halves(cv::Vec4b(0, 0, 0, 255), cv::Vec4b(255, 0, 0, 255)),
+          texture(1, 1, {cv::Vec4b(encode(std::sin(tilt)), encode(0.0f), encode(std::cos(tilt)), 255)}, false,
+                  TextureEncoding::Linear)});
   const cv::Mat sky = panorama([](const vec3& d) { return vec3(1.0f + 0.9f * d.x); });
   const CameraModel camera = frontCamera();
   const vec3 n(std::sin(tilt), 0.0f, std::cos(tilt));
@@ -287,8 +281,6 @@ TEST(TextureMaps, TheClearcoatFollowsItsTexturesAndItsOwnNormalMapInBothRenderer
 TEST(TextureMaps, TextureChannelsScaleTheLayerFactorsAtTheHitPoint) {
   // Factors times channels, per texel (left, right): transmission R (0.2, 1), thickness G
   // (0: thin-walled; 1: a volume), clearcoat R and clearcoat roughness G.
-  Model relic;
-  relic.meshes = {quad(0.0f)};
   Material m;
   m.transmission = 0.8f;
   m.thickness = 0.05f;
@@ -296,8 +288,7 @@ TEST(TextureMaps, TextureChannelsScaleTheLayerFactorsAtTheHitPoint) {
   m.clearcoat_roughness = 0.6f;
   m.transmission_texture.index = m.thickness_texture.index = m.clearcoat_texture.index =
       m.clearcoat_roughness_texture.index = 0;
-  relic.materials = {m};
-  relic.textures = {halves(cv::Vec4b(51, 0, 0, 255), cv::Vec4b(255, 255, 0, 255))};
+  Model relic = quadRelic(m, {halves(cv::Vec4b(51, 0, 0, 255), cv::Vec4b(255, 255, 0, 255))});
   reflect::RenderScene render_scene(relic, {});
   const RayScene& traced = render_scene.relicOnly();
   const CameraModel camera = frontCamera();
@@ -431,13 +422,10 @@ TEST(TextureMaps, AMinifiedCheckerAveragesToItsMeanInsteadOfAliasing) {
       const uchar v = (x + y) % 2 ? 255 : 0;
       texels.emplace_back(v, v, v, 255);
     }
-  Model relic;
-  relic.meshes = {quad(0.0f)};
   Material m = black();
   m.emission = vec3(1.0f);
   m.emissive_texture.index = 0;
-  relic.materials = {m};
-  relic.textures = {texture(kSide, kSide, texels, false)};
+  Model relic = quadRelic(m, {texture(kSide, kSide, texels, false)});
   const ReflectionScene scene = sceneOf(relic, cv::Mat(8, 16, CV_32FC3, cv::Scalar::all(0)));
   constexpr int kSmall = 13;
   const CameraModel camera = frontCamera(kSmall);
@@ -527,14 +515,12 @@ float specularF0(double ior, double colour) {
 }
 
 Model smoothDielectric(float ior, const vec3& specular_colour, const vec3& base = vec3(0.0f)) {
-  Model relic;
-  relic.meshes = {quad(0.0f)};
   Material m;
   m.base_colour = base;
   m.roughness = 0.0f;
   m.ior = ior;
   m.specular_colour = specular_colour;
-  relic.materials = {m};
+  Model relic = quadRelic(m);
   return relic;
 }
 

@@ -5,6 +5,7 @@
 // point from camera coordinates to world coordinates).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <glm/glm.hpp>
 
@@ -55,6 +56,10 @@ struct Bounds3 {
 
 inline bool isFinite(const vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+inline float maxComponent(const vec3& v) {
+  return std::max({v.x, v.y, v.z});
 }
 
 inline float luminance(const vec3& rgb) {
