@@ -474,7 +474,7 @@ Model bipyramid(float r, float h, const vec3& centre, const Material& material) 
 // reflected inside) under a sky with one bright region: the live renderer follows the light
 // reflected inside at each exit out through the other facets, as the path tracer does (1024
 // samples per pixel): its mean absolute error over the pixels wholly on the gem is under 14% of
-// the truth's mean (12.2% measured; the rest is mostly facet edges inside pixels); summed as
+// the truth's mean (11.6% measured; the rest is mostly facet edges inside pixels); summed as
 // between parallel walls (refraction_branch_rays 0) it is more than 1.4 times as large (19.4%).
 TEST(Refraction, LightReflectedInsideAGemLeavesThroughItsOtherFacets) {
   Material diamond;
