@@ -86,6 +86,15 @@ HOLO_REGISTER_COMMAND(Command{
                      "sample traces)")
           ->capture_default_str()
           ->check(CLI::Range(1, 4));
+      sub.add_option("--refraction-branch-rays", options->loop.tracer.refraction_branch_rays,
+                     "Rays a transmitted path may spend following the light reflected inside at an exit (0: "
+                     "summed as between parallel walls)")
+          ->capture_default_str()
+          ->check(CLI::Range(0, 64));
+      sub.add_option("--refraction-branch-weight", options->loop.tracer.refraction_branch_weight,
+                     "Share of the entering light below which that light is summed, not followed")
+          ->capture_default_str()
+          ->check(CLI::Range(0.0f, 1.0f));
       sub.add_option("--view-size", options->loop.view_size, "Pixels per face view")->capture_default_str();
       sub.add_option("--frames", options->frames, "Measured frames")->capture_default_str();
       sub.add_option("--warmup", options->warmup, "Frames run before measuring")->capture_default_str();

@@ -383,6 +383,17 @@ HOLO_REGISTER_COMMAND(Command{
                      "blend them (1: every sample traces)")
           ->capture_default_str()
           ->check(CLI::Range(1, 4));
+      sub.add_option(
+             "--refraction-branch-rays", o->tracer.refraction_branch_rays,
+             "Ours, glass relics: rays a path may spend following the light reflected inside at an exit "
+             "(0: summed as between parallel walls)")
+          ->capture_default_str()
+          ->check(CLI::Range(0, 64));
+      sub.add_option(
+             "--refraction-branch-weight", o->tracer.refraction_branch_weight,
+             "Ours, glass relics: share of the entering light below which that light is summed, not followed")
+          ->capture_default_str()
+          ->check(CLI::Range(0.0f, 1.0f));
       sub.add_option("--transmitted-lobe-scale", o->tracer.transmitted_roughness_scale,
                      "Ours, glass relics: scales the transmitted lobe's derived roughness (checks)")
           ->capture_default_str()

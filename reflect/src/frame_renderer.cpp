@@ -64,6 +64,12 @@ void TracerSettings::validate() const {
     throw InputError(src, "transmitted_roughness_scale", "0..4", std::to_string(transmitted_roughness_scale));
   if (refraction_stride < 1 || refraction_stride > 4)
     throw InputError(src, "refraction_stride", "1..4 pixels", std::to_string(refraction_stride));
+  if (refraction_branch_rays < 0 || refraction_branch_rays > 64)
+    throw InputError(src, "refraction_branch_rays", "0..64 rays", std::to_string(refraction_branch_rays));
+  if (!std::isfinite(refraction_branch_weight) || refraction_branch_weight < 0.0f ||
+      refraction_branch_weight > 1.0f)
+    throw InputError(src, "refraction_branch_weight", "a share in [0, 1]",
+                     std::to_string(refraction_branch_weight));
   grid.validate(src + " grid");
 }
 

@@ -58,6 +58,98 @@ vec3 transmissionTint(const Material& m, const SurfaceMaterial* textured) {
   return glm::clamp(textured ? textured->base_colour : m.base_colour, vec3(0.0f), vec3(1.0f));
 }
 
+// The parallel-walls sum at a partial exit with reflectance `fresnel` and the last segment's
+// absorption: `back` leaves along the refracted ray, `front` back towards the side the light came
+// from, per unit arriving.
+void parallelWalls(float fresnel, const vec3& last_absorption, vec3& back, vec3& front) {
+  for (int c = 0; c < 3; ++c) {
+    const float fa = fresnel * last_absorption[c];
+    const float denom = (1.0f - fa) * (1.0f + fa);
+    back[c] = (1.0f - fresnel) / denom;
+    front[c] = fa * (1.0f - fresnel) / denom;
+  }
+}
+
+// The transmitted lobe's perceptual roughness from its GGX alpha^2 summed in quadrature.
+float lobeWidth(const TracerSettings& settings, float alpha2) {
+  return std::clamp(std::sqrt(std::sqrt(alpha2)) * settings.transmitted_roughness_scale, 0.0f, 1.0f);
+}
+
+// The light reflected inside at a partial exit, followed explicitly: `weight` per unit entering
+// leaves `position` along `direction` inside a volume of IOR medium_ior and absorption sigma;
+// `behind` is the IBL the light refracted out at that exit reads. At each partial exit the
+// refracted share reads the prefiltered IBL at the lobe's width into path.resolved and the
+// reflected share goes on while it is at least TracerSettings::refraction_branch_weight and
+// `budget` has a ray left. Where it stops, the parallel-walls sum takes the rest: what it sends
+// back leaves through the face the light last reflected from, along that face's refracted ray
+// (after a total internal reflection there: it joins path.reflected, as in the main path). A ray
+// that meets nothing or a thin wall gives what it carries to the IBL along its direction; one out
+// of budget after a total internal reflection, to path.reflected. Each ray cast takes one from
+// `budget`.
+void followReflected(const RenderScene& scene, const PrefilteredIbl& ibl, const TracerSettings& settings,
+                     vec3 position, vec3 direction, vec3 weight, float alpha2, const vec3& sigma,
+                     float medium_ior, vec3 behind, int& budget, TransmittedPath& path) {
+  const RayScene& relic = scene.relicOnly();
+  const float offset = std::max(settings.ray_offset, 1e-5f);
+  bool has_behind = true;
+  const float eta = 1.0f / medium_ior;
+  for (;;) {
+    const Ray ray{position, direction};
+    const RayHit hit = relic.intersect(ray, offset);
+    ++path.rays;
+    --budget;
+    if (!hit.hit()) break;
+    vec3 last_absorption;
+    for (int c = 0; c < 3; ++c) last_absorption[c] = std::exp(-sigma[c] * hit.t);
+    weight *= last_absorption;
+    position = relic.position(ray, hit);
+    vec3 normal = relic.shadingNormal(hit, direction);
+    const Material& m = scene.relicGltfMaterial(hit, relic);
+    if (!isFinite(position) || !isFinite(normal) || !(m.thickness > 0.0f)) break;
+    float cos_i = -glm::dot(direction, normal);
+    if (!(cos_i > 1e-6f)) {
+      normal = hit.geometric_normal;
+      cos_i = std::max(-glm::dot(direction, normal), 1e-6f);
+    }
+    const float fresnel = fresnelDielectric(cos_i, eta);
+    const float alpha = clamp01(m.roughness) * clamp01(m.roughness);
+    const vec3 reflected_direction = glm::reflect(direction, normal);
+    if (fresnel >= 1.0f) {
+      direction = reflected_direction;
+      alpha2 += alpha * alpha;
+      has_behind = false;
+      if (budget > 0) continue;
+      path.reflected += weight;
+      return;
+    }
+    const float transmitted = transmittedShare(m, nullptr);
+    const vec3 tint = transmissionTint(m, nullptr);
+    const float spread = alpha * std::min(safeIor(m.ior) - 1.0f, 2.0f) * 0.5f;
+    const vec3 outside =
+        ibl.specular(refractThrough(direction, normal, eta), lobeWidth(settings, alpha2 + spread * spread));
+    const vec3 lit =
+        transmitted < 1.0f ? (1.0f - transmitted) * tint * ibl.irradiance(-normal) / kPi : vec3(0.0f);
+    if (budget > 0 && luminance(weight) * fresnel >= settings.refraction_branch_weight) {
+      path.resolved += weight * (1.0f - fresnel) * (transmitted * tint * outside + lit);
+      weight *= fresnel;
+      direction = reflected_direction;
+      alpha2 += alpha * alpha;
+      behind = outside;
+      has_behind = true;
+      continue;
+    }
+    vec3 back, front;
+    parallelWalls(fresnel, last_absorption, back, front);
+    path.resolved += weight * (back * transmitted * tint * outside + (back + front) * lit);
+    if (has_behind)
+      path.resolved += weight * front * transmitted * tint * behind;
+    else
+      path.reflected += weight * front * transmitted * tint;
+    return;
+  }
+  path.resolved += weight * ibl.specular(direction, lobeWidth(settings, alpha2));
+}
+
 // The path per unit of light entering: scale, resolved and reflected leave out path.entry, which
 // the caller multiplies in (traceTransmission), or a neighbour's own (a blended sample).
 TransmittedPath traceUnit(const RenderScene& scene, const PrefilteredIbl& ibl, const TracerSettings& settings,
@@ -73,9 +165,8 @@ TransmittedPath traceUnit(const RenderScene& scene, const PrefilteredIbl& ibl, c
   const Material* material = &entry;
   bool inside = false;
   float medium_ior = 1.0f, alpha2 = 0.0f;
-  const auto lobe = [&] {
-    return std::clamp(std::sqrt(std::sqrt(alpha2)) * settings.transmitted_roughness_scale, 0.0f, 1.0f);
-  };
+  int branch_budget = settings.refraction_branch_rays;
+  const auto lobe = [&] { return lobeWidth(settings, alpha2); };
   for (;;) {
     // One interface event at (position, normal facing the incoming ray, material).
     float cos_i = -glm::dot(direction, normal);
@@ -100,14 +191,19 @@ TransmittedPath traceUnit(const RenderScene& scene, const PrefilteredIbl& ibl, c
       direction = glm::reflect(direction, normal);
       alpha2 += alpha * alpha;
     } else if (inside && !thin) {
-      // Leaving: the light that partly reflects inside, summed as between parallel walls.
+      // Leaving: the light that partly reflects inside is followed where it carries a visible
+      // share and the budget lasts (a crystal's facets send it out elsewhere), else summed as
+      // between parallel walls.
       const vec3 refracted = refractThrough(direction, normal, eta);
       vec3 back, front;
-      for (int c = 0; c < 3; ++c) {
-        const float fa = fresnel * last_absorption[c];
-        const float denom = (1.0f - fa) * (1.0f + fa);
-        back[c] = (1.0f - fresnel) / denom;
-        front[c] = fa * (1.0f - fresnel) / denom;
+      if (branch_budget > 0 && luminance(throughput) * fresnel >= settings.refraction_branch_weight) {
+        const vec3 behind = ibl.specular(refracted, lobeWidth(settings, alpha2 + spread * spread));
+        followReflected(scene, ibl, settings, position, glm::reflect(direction, normal), throughput * fresnel,
+                        alpha2 + alpha * alpha, sigma, medium_ior, behind, branch_budget, path);
+        back = vec3(1.0f - fresnel);
+        front = vec3(0.0f);
+      } else {
+        parallelWalls(fresnel, last_absorption, back, front);
       }
       alpha2 += spread * spread;
       path.reflected += throughput * front * transmitted * tint;

@@ -10,12 +10,17 @@
 //  * entering from outside: Snell refraction, F of it reflected back out, the rest tinted by
 //    base_colour (glTF's specular BTDF);
 //  * leaving: where F = 1 (total internal reflection) the path reflects and goes on. Otherwise the
-//    light that partly reflects inside is summed in closed form as between two parallel walls
-//    with the same F and the last segment's absorption a: (1 - F) / (1 - F^2 a^2) leaves along the
-//    refracted ray, F a (1 - F) / (1 - F^2 a^2) leaves back towards the side it came from. Exact
-//    for a slab; everywhere energy is kept, never invented. What is sent back (this, and F at a
-//    later entry) joins the entry's reflection weight, its hall and its visitors: between
-//    parallel walls it leaves along the entry's mirror direction, and it costs no lookup;
+//    refracted (1 - F) leaves, and the light that partly reflects inside is followed where it is
+//    at least TracerSettings::refraction_branch_weight of the light entering and the path's
+//    refraction_branch_rays last: it bounces on inside, each of its exits reading the
+//    prefiltered IBL along its refracted ray into `resolved` (a crystal's facets send it out in
+//    many directions). Where they stop it, it is summed in closed form as between two parallel
+//    walls with the same F and the last segment's absorption a: (1 - F) / (1 - F^2 a^2) leaves
+//    along the refracted ray, F a (1 - F) / (1 - F^2 a^2) leaves back towards the side it came
+//    from. Exact for a slab; everywhere energy is kept, never invented. What the main path sends
+//    back (this, and F at a later entry) joins the entry's reflection weight, its hall and its
+//    visitors: between parallel walls it leaves along the entry's mirror direction, and it costs
+//    no lookup; a followed branch's leaves through the face it last reflected from;
 //  * inside a volume (thickness > 0), Beer-Lambert absorption over each segment's length with
 //    sigma = -ln(attenuation_colour) / attenuation_distance; thin-walled materials (thickness 0)
 //    pass light straight through, unbent;

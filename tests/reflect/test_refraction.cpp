@@ -9,6 +9,7 @@
 #include "holo/core/equirect.hpp"
 #include "holo/core/image.hpp"
 #include "holo/reflect/frame_renderer.hpp"
+#include "holo/reflect/path_tracer.hpp"
 #include "holo/reflect/view.hpp"
 #include "reflect_test_scenes.hpp"
 #include "refraction_pass.hpp"
@@ -239,7 +240,8 @@ TEST(Refraction, StabilityCasesStayFiniteAndInRange) {
     const RenderScene scene(c.model, {});
     TracerSettings settings = staticOnly();
     settings.refraction_depth = c.depth;
-    settings.aa_samples = 4;  // grazing samples at the silhouette too
+    settings.aa_samples = 4;  // the truth averages over the pixel: facet edges cross many  // grazing samples
+                              // at the silhouette too
     settings.exposure = 0.0f;
     const ViewImages v = renderOnce(scene, ibl, settings, view);
     for (int y = 0; y < 24; ++y)
@@ -437,6 +439,85 @@ TEST(Refraction, ClearcoatAddsASecondSpecularLobe) {
   EXPECT_GT(with.coated_samples, 0u);
   EXPECT_LT(rgbAt(without.hdr, 12, 12).g, 1e-3f);
   EXPECT_NEAR(rgbAt(with.hdr, 12, 12).g, 0.04f, 0.01f);
+}
+
+// A triangular bipyramid: an equilateral girdle of circumradius r at `centre`, apexes h above and
+// below it, flat faces (no vertex normals) wound counter-clockwise seen from outside. No two of its
+// faces are parallel, so light reflected inside at an exit leaves through other faces, as in a
+// cut gem.
+Model bipyramid(float r, float h, const vec3& centre, const Material& material) {
+  TriangleMesh mesh;
+  const auto girdle = [&](int k) {
+    const float a = 2.0f * kPi * float(k % 3) / 3.0f + 0.3f;
+    return centre + vec3(r * std::cos(a), 0.0f, r * std::sin(a));
+  };
+  for (int k = 0; k < 3; ++k)
+    for (float side : {1.0f, -1.0f}) {
+      const auto base = static_cast<unsigned>(mesh.positions.size());
+      mesh.positions.push_back(girdle(k));
+      mesh.positions.push_back(girdle(k + 1));
+      mesh.positions.push_back(centre + vec3(0.0f, side * h, 0.0f));
+      const vec3 n = glm::cross(mesh.positions[base + 1] - mesh.positions[base],
+                                mesh.positions[base + 2] - mesh.positions[base]);
+      if (glm::dot(n, mesh.positions[base] - centre) > 0.0f)
+        mesh.triangles.push_back({base, base + 1, base + 2});
+      else
+        mesh.triangles.push_back({base, base + 2, base + 1});
+    }
+  Model model;
+  model.meshes.push_back(mesh);
+  model.materials.push_back(material);
+  return model;
+}
+
+// A diamond (IOR 2.42, near its critical angle of 24.4 degrees much of the light leaving is
+// reflected inside) under a sky with one bright region: the live renderer follows the light
+// reflected inside at each exit out through the other facets, as the path tracer does (1024
+// samples per pixel): its mean absolute error over the pixels wholly on the gem is under 14% of
+// the truth's mean (11.6% measured; the rest is mostly facet edges inside pixels); summed as
+// between parallel walls (refraction_branch_rays 0) it is more than 1.4 times as large (19.4%).
+TEST(Refraction, LightReflectedInsideAGemLeavesThroughItsOtherFacets) {
+  Material diamond;
+  diamond.base_colour = vec3(1.0f);
+  diamond.transmission = 1.0f;
+  diamond.roughness = 0.0f;
+  diamond.ior = 2.42f;
+  diamond.thickness = 0.1f;
+  const RenderScene scene(bipyramid(0.15f, 0.1f, vec3(0.0f, 0.3f, 0.0f), diamond), {});
+  const Environment sky = panorama([](const vec3& d) {
+    const float sun = std::max(0.0f, glm::dot(d, glm::normalize(vec3(-0.6f, 0.5f, -0.3f))));
+    return vec3(0.05f + 0.1f * std::max(d.y, 0.0f)) + vec3(2.0f, 1.6f, 1.2f) * std::pow(sun, 6.0f);
+  });
+  const PrefilteredIbl ibl(sky, PrefilterOptions{4, 256, 8});
+  constexpr int kSize = 32;
+  const CameraModel view = lookAtCamera(vec3(0.3f, 0.6f, 0.7f), vec3(0.0f, 0.3f, 0.0f), 30.0f, kSize, kSize);
+  const PathTracer tracer(scene, sky);
+  const cv::Mat truth = renderPathTraced(tracer, view, 1024);
+  const auto error = [&](int branch_rays) {
+    TracerSettings settings = staticOnly();
+    settings.refraction_branch_rays = branch_rays;
+    settings.refraction_stride = 1;
+    settings.aa_samples = 4;  // the truth averages over the pixel: facet edges cross many
+    const ViewImages v = renderOnce(scene, ibl, settings, view);
+    double error_sum = 0.0, truth_sum = 0.0;
+    int pixels = 0;
+    for (int y = 0; y < kSize; ++y)
+      for (int x = 0; x < kSize; ++x) {
+        bool inside = true;
+        for (const vec2 corner : {vec2(-0.5f, -0.5f), vec2(0.5f, -0.5f), vec2(-0.5f, 0.5f), vec2(0.5f, 0.5f)})
+          inside = inside && scene.relicOnly().intersect(primaryRay(view, vec2(x, y) + corner)).hit();
+        if (!inside) continue;
+        const vec3 t = rgbAt(truth, x, y), c = rgbAt(v.hdr, x, y);
+        error_sum += std::abs(double(c.r + c.g + c.b) - double(t.r + t.g + t.b));
+        truth_sum += double(t.r + t.g + t.b);
+        ++pixels;
+      }
+    EXPECT_GT(pixels, 90);
+    return error_sum / truth_sum;
+  };
+  const double followed = error(TracerSettings{}.refraction_branch_rays), summed = error(0);
+  EXPECT_LT(followed, 0.14);
+  EXPECT_GT(summed, 1.4 * followed);
 }
 
 }  // namespace

@@ -6,7 +6,8 @@
 //          lobe instead of 2; on a transmissive relic also the refraction pass's internal depth
 //          (1, 2, 4, 8, 16 interface events against the measured one) and the transmitted lobe's
 //          width (its derived roughness x 0, 0.5, 2: the IBL level and pyramid levels it reads)
-//          and the pixels between traced transmitted paths (refraction_stride 1..4);
+//          and the pixels between traced transmitted paths (refraction_stride 1..4) and the rays
+//          a path may spend following light reflected inside at an exit (0, 2, 16);
 //   ibl    the paper's IBL (visitors reprojected into the panorama, prefiltered every frame) at
 //          6, 8, 10 roughness levels;
 //   ssrt   1, 2, 4, 8, 16 rays per hit point;

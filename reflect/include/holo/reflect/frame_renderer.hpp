@@ -127,6 +127,13 @@ struct TracerSettings {
   // every sample traces its own path; s > 1: paths at every s-th pixel centre in x and y, the
   // samples between blending them where the anchors around agree, tracing their own elsewhere.
   int refraction_stride = 2;
+  // Rays a transmitted path may spend following the light reflected inside at a partial exit
+  // (refraction_pass.hpp), 0..64; 0: all of it summed as between parallel walls.
+  int refraction_branch_rays = 8;
+  // Share of the light entering below which the light reflected inside at a partial exit is summed
+  // as between parallel walls instead of followed, [0, 1]; 0.1: a diamond's exits near its critical
+  // angle are followed, ordinary glass (F ~ 0.04) keeps the sum and its visitors.
+  float refraction_branch_weight = 0.1f;
   // The voxel grid the walk traverses (voxel_grid.hpp).
   VoxelGridSettings grid;
   // Throws InputError naming the field.
