@@ -283,13 +283,15 @@ bool sameSurface(const RefractionAnchor& a, const HitPoint& hp) {
 }
 
 // The anchors' bilinear blend at image position `at` (pixels, pixel centres at integers), per
-// unit of entry; false where a sample must trace its own path.
+// unit of entry, and which anchors it took with which weights (source); false where a sample
+// must trace its own path.
 bool blendAnchors(const std::vector<RefractionAnchor>& anchors, int grid_width, int grid_height, int stride,
-                  const HitPoint& hp, const vec2& at, TransmittedPath& out) {
+                  const HitPoint& hp, const vec2& at, TransmittedPath& out, WalkSource& source) {
   const vec2 u = at / float(stride);
   const vec2 cell = glm::floor(u), f = u - cell;
   const RefractionAnchor* used[4];
   float weights[4];
+  std::uint32_t indices[4];
   int n = 0;
   for (int j = 0; j < 2; ++j)
     for (int i = 0; i < 2; ++i) {
@@ -297,12 +299,14 @@ bool blendAnchors(const std::vector<RefractionAnchor>& anchors, int grid_width, 
       if (!(w > 1e-6f)) continue;
       const int ax = int(cell.x) + i, ay = int(cell.y) + j;
       if (ax < 0 || ay < 0 || ax >= grid_width || ay >= grid_height) return false;
-      const RefractionAnchor& a = anchors[std::size_t(ay) * std::size_t(grid_width) + std::size_t(ax)];
+      const std::size_t index = std::size_t(ay) * std::size_t(grid_width) + std::size_t(ax);
+      const RefractionAnchor& a = anchors[index];
       if (!sameSurface(a, hp)) return false;
       if (n > 0 && (a.unit.events != used[0]->unit.events || a.unit.exited != used[0]->unit.exited ||
                     glm::dot(a.unit.exit_direction, used[0]->unit.exit_direction) < kAnchorExitCos))
         return false;
       used[n] = &a;
+      indices[n] = std::uint32_t(index);
       weights[n++] = w;
     }
   if (n == 0) return false;
@@ -325,6 +329,38 @@ bool blendAnchors(const std::vector<RefractionAnchor>& anchors, int grid_width, 
   out.exit_direction = direction / length;
   out.exited = used[0]->unit.exited;
   out.events = used[0]->unit.events;
+  source = WalkSource{};
+  source.anchors = std::uint8_t(n);
+  for (int k = 0; k < n; ++k) {
+    source.anchor[k] = indices[k];
+    source.weight[k] = weights[k] / total;
+  }
+  return true;
+}
+
+// The blend of the anchors' walks a blended sample's path took (premultiplied by the mask, so it
+// composes as the blend of theirs), where they see the same: no visitor, or the same visitor's
+// colour within kWalkAgreement of the brightest; false where the sample walks its own exit ray.
+constexpr float kWalkAgreement = 0.1f;
+
+bool blendWalks(const std::vector<ForegroundSample>& anchor_fg, const WalkSource& source,
+                ForegroundSample& out) {
+  float w_lo = 1.0f, w_hi = 0.0f, l_lo = 0.0f, l_hi = 0.0f;
+  vec3 radiance(0.0f);
+  float weight = 0.0f;
+  for (int a = 0; a < source.anchors; ++a) {
+    const ForegroundSample& s = anchor_fg[source.anchor[a]];
+    const float l = s.weight * luminance(s.radiance);
+    w_lo = std::min(w_lo, s.weight);
+    w_hi = std::max(w_hi, s.weight);
+    l_lo = a == 0 ? l : std::min(l_lo, l);
+    l_hi = a == 0 ? l : std::max(l_hi, l);
+    radiance += source.weight[a] * s.weight * s.radiance;
+    weight += source.weight[a] * s.weight;
+  }
+  if (w_hi - w_lo > kWalkAgreement || l_hi - l_lo > kWalkAgreement * l_hi) return false;
+  out.weight = weight;
+  out.radiance = weight > 0.0f ? radiance / weight : vec3(0.0f);
   return true;
 }
 
@@ -373,8 +409,9 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
           const vec2 centre(float(p % std::size_t(hits.width)), float(p / std::size_t(hits.width)));
           const std::size_t first = hits.firstSample(p);
           // The path of the first sub-sample that traced its own, shared by the pixel's others on
-          // the same surface (refraction_stride > 1).
+          // the same surface (refraction_stride > 1); shared_source: where its walk comes from.
           RefractionAnchor shared;
+          WalkSource shared_source;
           for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i) {
             if (!hits.valid[i] || hits.hits[i].gltf == nullptr) continue;
             const HitPoint& hp = hits.hits[i];
@@ -405,10 +442,10 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
               sh.diffuse *= 1.0f - clamp01(sm.transmission);
               const vec2 at = centre + (i == p ? vec2(0.0f) : pattern[i - first]);
               TransmittedPath path;
-              const bool blended =
-                  stride > 1 &&
-                  (blendAnchors(buffers.anchors, grid_width, grid_height, stride, hp, at, path) ||
-                   (shared.material && sameSurface(shared, hp) && (path = shared.unit, true)));
+              const bool blended = stride > 1 && (blendAnchors(buffers.anchors, grid_width, grid_height,
+                                                               stride, hp, at, path, layer.source) ||
+                                                  (shared.material && sameSurface(shared, hp) &&
+                                                   (path = shared.unit, layer.source = shared_source, true)));
               if (blended) {
                 path.entry = entryWeight(hp.normal, -hp.to_viewer, m, &sm);
                 applyEntry(path);
@@ -421,6 +458,7 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
                   shared.normal = hp.normal;
                   shared.material = hp.gltf;
                   shared.unit = path;
+                  shared_source.shared = std::int32_t(i);
                 }
                 applyEntry(path);
                 local_rays += path.rays;
@@ -467,20 +505,41 @@ std::uint64_t MaterialLayers::walkTransmitted(const HitPointBuffer& hits, const 
                                               LayerBuffers& buffers) const {
   buffers.transmitted_fg.resize(hits.hits.size());
   std::atomic<std::uint64_t> walked{0};
+  // The anchors' exit rays first: a blended sample reads their walks.
+  buffers.anchor_fg.assign(buffers.anchors.size(), ForegroundSample{});
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, buffers.anchors.size(), 256),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      std::uint64_t local = 0;
+                      for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                        const RefractionAnchor& a = buffers.anchors[k];
+                        if (!a.material || !a.unit.exited) continue;
+                        walk.walk(a.unit.exit_position, a.unit.exit_direction, a.unit.exit_direction,
+                                  a.unit.roughness, buffers.anchor_fg[k]);
+                        ++local;
+                      }
+                      walked += local;
+                    });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       std::uint64_t local = 0;
                       for (std::size_t k = r.begin(); k < r.end(); ++k) {
                         const std::size_t p = hits.covered[k];
                         const std::size_t first = hits.firstSample(p);
+                        // In sample order: a shared path's owner comes before the sub-samples that share it.
                         for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i) {
                           ForegroundSample& fg = buffers.transmitted_fg[i];
                           fg = ForegroundSample{};
                           if (!hits.valid[i] || !buffers.layered[i] || !buffers.layers[i].walks) continue;
                           const SampleLayers& layer = buffers.layers[i];
-                          walk.walk(layer.exit_position, layer.exit_direction, layer.exit_direction,
-                                    layer.exit_roughness, fg);
-                          ++local;
+                          const WalkSource& source = layer.source;
+                          if (source.anchors > 0 && blendWalks(buffers.anchor_fg, source, fg)) {
+                          } else if (source.shared >= 0) {
+                            fg = buffers.transmitted_fg[std::size_t(source.shared)];
+                          } else {
+                            walk.walk(layer.exit_position, layer.exit_direction, layer.exit_direction,
+                                      layer.exit_roughness, fg);
+                            ++local;
+                          }
                         }
                       }
                       walked += local;

@@ -106,12 +106,23 @@ struct InternalDepth {
 InternalDepth measureInternalDepth(const RenderScene& scene, const PrefilteredIbl& ibl,
                                    const TracerSettings& settings, float residual_limit);
 
+// Where a sample's visitors seen through the relic come from: the walk of its own exit ray
+// (anchors == 0 and shared < 0), of the pixel's sub-sample whose path it shares (shared, a
+// sample index), or the blend of the walks of the anchors its path blended, with the same weights.
+struct WalkSource {
+  std::uint32_t anchor[4] = {};  // indices into LayerBuffers::anchors
+  float weight[4] = {};          // sum to 1
+  std::uint8_t anchors = 0;
+  std::int32_t shared = -1;
+};
+
 // Per sample of a view's hit points: the transmitted path and the coat.
 struct SampleLayers {
   vec3 transmit_scale{0.0f}, transmit_environment{0.0f};
   vec3 exit_position{0.0f}, exit_direction{0.0f, 0.0f, 1.0f};
   float exit_roughness = 0.0f;
-  bool walks = false;  // the exit ray is walked for the visitors
+  bool walks = false;  // the exit ray's visitors are read (walked, or blended per `source`)
+  WalkSource source;
   vec3 coat_scale{0.0f}, coat_environment{0.0f};
 };
 
@@ -125,8 +136,9 @@ struct RefractionAnchor {
 struct LayerBuffers {
   std::vector<SampleLayers> layers;  // per entry of hits.hits; meaningful where layered[i]
   std::vector<std::uint8_t> layered;
-  std::vector<ForegroundSample> transmitted_fg;  // per entry, this frame's walk of the exit rays
-  std::vector<RefractionAnchor> anchors;         // scratch: the anchor grid, row-major
+  std::vector<ForegroundSample> transmitted_fg;  // per entry, this frame's visitors along the exit rays
+  std::vector<RefractionAnchor> anchors;         // the anchor grid, row-major (kept with the static shading)
+  std::vector<ForegroundSample> anchor_fg;       // per anchor, this frame's walk of its exit ray
 };
 
 struct LayerCounts {
@@ -147,8 +159,10 @@ class MaterialLayers {
   // the coat), its layers written. shading as StaticShading wrote it.
   LayerCounts shade(const HitPointBuffer& hits, std::vector<SplitSumShading>& shading,
                     LayerBuffers& buffers) const;
-  // This frame's visitors along every walked exit ray into buffers.transmitted_fg; returns the
-  // rays walked.
+  // This frame's visitors along the exit rays into buffers.transmitted_fg: the anchors' exit rays
+  // and those of the samples that traced their own path are walked, a blended sample takes the
+  // blend of its anchors' walks (the transmitted lobe is blurred like its path). Returns the rays
+  // walked.
   std::uint64_t walkTransmitted(const HitPointBuffer& hits, const ForegroundWalk& walk,
                                 LayerBuffers& buffers) const;
 
