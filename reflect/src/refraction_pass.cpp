@@ -264,6 +264,7 @@ namespace {
 constexpr float kAnchorNormalCos = 0.9f;
 constexpr float kAnchorPlaneSine = 0.2f;
 constexpr float kAnchorExitCos = 0.99f;
+constexpr float kCoarseExitCos = 0.9976f;
 
 // Which sample of pixel p is its anchor: the centre where it was traced, else the first valid
 // sub-sample (Full anti-aliasing traces no centres); hits.hits.size() when none is transmissive.
@@ -282,12 +283,13 @@ bool sameSurface(const RefractionAnchor& a, const HitPoint& hp) {
   return std::abs(glm::dot(d, hp.normal)) <= kAnchorPlaneSine * glm::length(d);
 }
 
-// The anchors' bilinear blend at image position `at` (pixels, pixel centres at integers), per
-// unit of entry, and which anchors it took with which weights (source); false where a sample
-// must trace its own path.
+// The bilinear blend at image position `at` (pixels, pixel centres at integers) of the anchors
+// `step` grid points apart (1: all of them; 2: the coarse lattice of every second one each way),
+// per unit of entry, and which anchors it took with which weights (source); false where the
+// sample must trace its own path.
 bool blendAnchors(const std::vector<RefractionAnchor>& anchors, int grid_width, int grid_height, int stride,
-                  const HitPoint& hp, const vec2& at, TransmittedPath& out, WalkSource& source) {
-  const vec2 u = at / float(stride);
+                  int step, const HitPoint& hp, const vec2& at, TransmittedPath& out, WalkSource& source) {
+  const vec2 u = at / float(stride * step);
   const vec2 cell = glm::floor(u), f = u - cell;
   const RefractionAnchor* used[4];
   float weights[4];
@@ -297,13 +299,14 @@ bool blendAnchors(const std::vector<RefractionAnchor>& anchors, int grid_width, 
     for (int i = 0; i < 2; ++i) {
       const float w = (i ? f.x : 1.0f - f.x) * (j ? f.y : 1.0f - f.y);
       if (!(w > 1e-6f)) continue;
-      const int ax = int(cell.x) + i, ay = int(cell.y) + j;
+      const int ax = (int(cell.x) + i) * step, ay = (int(cell.y) + j) * step;
       if (ax < 0 || ay < 0 || ax >= grid_width || ay >= grid_height) return false;
       const std::size_t index = std::size_t(ay) * std::size_t(grid_width) + std::size_t(ax);
       const RefractionAnchor& a = anchors[index];
       if (!sameSurface(a, hp)) return false;
       if (n > 0 && (a.unit.events != used[0]->unit.events || a.unit.exited != used[0]->unit.exited ||
-                    glm::dot(a.unit.exit_direction, used[0]->unit.exit_direction) < kAnchorExitCos))
+                    glm::dot(a.unit.exit_direction, used[0]->unit.exit_direction) <
+                        (step > 1 ? kCoarseExitCos : kAnchorExitCos)))
         return false;
       used[n] = &a;
       indices[n] = std::uint32_t(index);
@@ -376,7 +379,10 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
   const int grid_width = stride > 1 ? (hits.width - 1) / stride + 1 : 0;
   const int grid_height = stride > 1 ? (hits.height - 1) / stride + 1 : 0;
   buffers.anchors.assign(std::size_t(grid_width) * std::size_t(grid_height), RefractionAnchor{});
-  if (stride > 1)
+  const std::vector<vec2> pattern = subsamplePattern(4);
+  // In two rounds: the coarse lattice's anchors (even grid coordinates) trace their paths; every
+  // other anchor takes their blend where they agree as a sample does, else traces its own.
+  for (int round = 0; stride > 1 && round < 2; ++round)
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
         [&](const tbb::blocked_range<std::size_t>& r) {
@@ -385,21 +391,27 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
             const std::size_t p = hits.covered[k];
             const int x = int(p % std::size_t(hits.width)), y = int(p / std::size_t(hits.width));
             if (x % stride != 0 || y % stride != 0) continue;
+            const int gx = x / stride, gy = y / stride;
+            if ((gx % 2 == 0 && gy % 2 == 0) != (round == 0)) continue;
             const std::size_t i = anchorSample(hits, p);
             if (i == hits.hits.size()) continue;
             const HitPoint& hp = hits.hits[i];
             RefractionAnchor& a =
-                buffers.anchors[std::size_t(y / stride) * std::size_t(grid_width) + std::size_t(x / stride)];
+                buffers.anchors[std::size_t(gy) * std::size_t(grid_width) + std::size_t(gx)];
             a.position = hp.position;
             a.normal = hp.normal;
             a.material = hp.gltf;
+            const vec2 at = vec2(float(x), float(y)) + (i == p ? vec2(0.0f) : pattern[i - hits.first_sub[p]]);
+            WalkSource unused;
+            if (round == 1 &&
+                blendAnchors(buffers.anchors, grid_width, grid_height, stride, 2, hp, at, a.unit, unused))
+              continue;
             a.unit = traceUnit(scene_, ibl_, settings_, depth_, hp.position, hp.normal, -hp.to_viewer,
                                *hp.gltf, &hp.material, nullptr);
             local_rays += a.unit.rays;
           }
           rays += local_rays;
         });
-  const std::vector<vec2> pattern = subsamplePattern(4);
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, hits.covered.size(), 64),
       [&](const tbb::blocked_range<std::size_t>& r) {
@@ -443,7 +455,7 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
               const vec2 at = centre + (i == p ? vec2(0.0f) : pattern[i - first]);
               TransmittedPath path;
               const bool blended = stride > 1 && (blendAnchors(buffers.anchors, grid_width, grid_height,
-                                                               stride, hp, at, path, layer.source) ||
+                                                               stride, 1, hp, at, path, layer.source) ||
                                                   (shared.material && sameSurface(shared, hp) &&
                                                    (path = shared.unit, layer.source = shared_source, true)));
               if (blended) {
