@@ -402,9 +402,9 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
             a.normal = hp.normal;
             a.material = hp.gltf;
             const vec2 at = vec2(float(x), float(y)) + (i == p ? vec2(0.0f) : pattern[i - hits.first_sub[p]]);
-            WalkSource unused;
+            a.source = WalkSource{};
             if (round == 1 &&
-                blendAnchors(buffers.anchors, grid_width, grid_height, stride, 2, hp, at, a.unit, unused))
+                blendAnchors(buffers.anchors, grid_width, grid_height, stride, 2, hp, at, a.unit, a.source))
               continue;
             a.unit = traceUnit(scene_, ibl_, settings_, depth_, hp.position, hp.normal, -hp.to_viewer,
                                *hp.gltf, &hp.material, nullptr);
@@ -517,20 +517,25 @@ std::uint64_t MaterialLayers::walkTransmitted(const HitPointBuffer& hits, const 
                                               LayerBuffers& buffers) const {
   buffers.transmitted_fg.resize(hits.hits.size());
   std::atomic<std::uint64_t> walked{0};
-  // The anchors' exit rays first: a blended sample reads their walks.
+  // The anchors' exit rays first, in two rounds as they were traced: a blended anchor blends the
+  // coarse anchors' walks where these agree; a blended sample reads the anchors'.
   buffers.anchor_fg.assign(buffers.anchors.size(), ForegroundSample{});
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, buffers.anchors.size(), 256),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      std::uint64_t local = 0;
-                      for (std::size_t k = r.begin(); k < r.end(); ++k) {
-                        const RefractionAnchor& a = buffers.anchors[k];
-                        if (!a.material || !a.unit.exited) continue;
-                        walk.walk(a.unit.exit_position, a.unit.exit_direction, a.unit.exit_direction,
-                                  a.unit.roughness, buffers.anchor_fg[k]);
-                        ++local;
-                      }
-                      walked += local;
-                    });
+  for (int round = 0; round < 2; ++round)
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, buffers.anchors.size(), 256),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        std::uint64_t local = 0;
+                        for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                          const RefractionAnchor& a = buffers.anchors[k];
+                          if (!a.material || !a.unit.exited || (a.source.anchors > 0) != (round == 1))
+                            continue;
+                          if (round == 1 && blendWalks(buffers.anchor_fg, a.source, buffers.anchor_fg[k]))
+                            continue;
+                          walk.walk(a.unit.exit_position, a.unit.exit_direction, a.unit.exit_direction,
+                                    a.unit.roughness, buffers.anchor_fg[k]);
+                          ++local;
+                        }
+                        walked += local;
+                      });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       std::uint64_t local = 0;

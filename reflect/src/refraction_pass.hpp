@@ -131,6 +131,7 @@ struct RefractionAnchor {
   vec3 position{0.0f}, normal{0.0f, 1.0f, 0.0f};
   const Material* material = nullptr;  // null: no anchor there
   TransmittedPath unit;                // scale, resolved and reflected per unit entry weight
+  WalkSource source;                   // the coarse anchors it blended (their indices), if it did
 };
 
 struct LayerBuffers {
