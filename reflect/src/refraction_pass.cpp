@@ -260,11 +260,12 @@ namespace {
 
 // Where a sample may take its anchors' blend (refraction_pass.hpp): the same smooth piece of the
 // relic (normals within ~25 degrees, the anchor within ~11 degrees of the sample's tangent
-// plane) and the same light inside (exit directions within ~8 degrees).
+// plane) and the same light inside (exit directions within ~8 degrees; ~2 degrees for an anchor
+// blending the coarse lattice's, 4 pixels apart: wider bounds there cost measurable error).
 constexpr float kAnchorNormalCos = 0.9f;
 constexpr float kAnchorPlaneSine = 0.2f;
 constexpr float kAnchorExitCos = 0.99f;
-constexpr float kCoarseExitCos = 0.9976f;
+constexpr float kCoarseExitCos = 0.9994f;
 
 // Which sample of pixel p is its anchor: the centre where it was traced, else the first valid
 // sub-sample (Full anti-aliasing traces no centres); hits.hits.size() when none is transmissive.

@@ -35,7 +35,11 @@
 // directions within ~8 degrees); elsewhere (silhouettes, creases, the rim, where the exit
 // direction turns fast) the sample traces its own path. What is blended is the path per unit of
 // light entering, times the sample's own entry weight (its exact Fresnel and tint), so a blend
-// keeps the white furnace; the exit ray's IBL is read along the blended direction.
+// keeps the white furnace; the exit ray's IBL is read along the blended direction. The anchors off
+// the coarse lattice (every second anchor each way) blend the coarse anchors likewise (exit
+// directions within ~2 degrees) and trace where these disagree. The visitors seen through the
+// glass are walked along the traced paths' exit rays; a blended sample or anchor takes the blend
+// of its anchors' walks where these see the same, and walks its own exit ray elsewhere.
 //
 // Internal depth: measureInternalDepth traces probe rays from a sphere of directions around the
 // relic with a cap of kMaxInternalDepth and keeps the share of the transmitted light still being
