@@ -123,10 +123,9 @@ struct TracerSettings {
   // Scales the transmitted lobe's derived roughness (the IBL level and the walk's pyramid
   // levels), 0..4; 1 in use, for checking the derivation against path-traced truth.
   float transmitted_roughness_scale = 1.0f;
-  // Pixels between the anchors of the transmitted paths (refraction_pass.hpp), 1..4; 1: every
-  // sample traces its own path; s > 1: anchors at every s-th pixel centre in x and y (those at
-  // every 2s-th trace, the others blend them where they agree), the samples between blending the
-  // anchors around where these agree, tracing their own elsewhere.
+  // Pixels between the transmitted paths' anchors (refraction_pass.hpp), 1..4; 1: every sample
+  // traces; s > 1: anchors every s pixels (every 2s-th traces, the others blend those where they
+  // agree), the samples between blending the anchors where these agree, tracing elsewhere.
   int refraction_stride = 2;
   // The voxel grid the walk traverses (voxel_grid.hpp).
   VoxelGridSettings grid;
