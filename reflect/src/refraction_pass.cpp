@@ -356,10 +356,12 @@ namespace {
 
 // Where a sample may take its anchors' blend (refraction_pass.hpp): the same smooth piece of the
 // relic (normals within ~25 degrees, the anchor within ~11 degrees of the sample's tangent
-// plane) and the same light inside (exit directions within ~8 degrees).
+// plane) and the same light inside (exit directions within ~8 degrees; ~2 degrees for an anchor
+// blending the coarse lattice's, 4 pixels apart: wider bounds there cost measurable error).
 constexpr float kAnchorNormalCos = 0.9f;
 constexpr float kAnchorPlaneSine = 0.2f;
 constexpr float kAnchorExitCos = 0.99f;
+constexpr float kCoarseExitCos = 0.9994f;
 
 // Which sample of pixel p is its anchor: the centre where it was traced, else the first valid
 // sub-sample (Full anti-aliasing traces no centres); hits.hits.size() when none is transmissive.
@@ -378,27 +380,33 @@ bool sameSurface(const RefractionAnchor& a, const HitPoint& hp) {
   return std::abs(glm::dot(d, hp.normal)) <= kAnchorPlaneSine * glm::length(d);
 }
 
-// The anchors' bilinear blend at image position `at` (pixels, pixel centres at integers), per
-// unit of entry; false where a sample must trace its own path.
+// The bilinear blend at image position `at` (pixels, pixel centres at integers) of the anchors
+// `step` grid points apart (1: all of them; 2: the coarse lattice of every second one each way),
+// per unit of entry, and which anchors it took with which weights (source); false where the
+// sample must trace its own path.
 bool blendAnchors(const std::vector<RefractionAnchor>& anchors, int grid_width, int grid_height, int stride,
-                  const HitPoint& hp, const vec2& at, TransmittedPath& out) {
-  const vec2 u = at / float(stride);
+                  int step, const HitPoint& hp, const vec2& at, TransmittedPath& out, WalkSource& source) {
+  const vec2 u = at / float(stride * step);
   const vec2 cell = glm::floor(u), f = u - cell;
   const RefractionAnchor* used[4];
   float weights[4];
+  std::uint32_t indices[4];
   int n = 0;
   for (int j = 0; j < 2; ++j)
     for (int i = 0; i < 2; ++i) {
       const float w = (i ? f.x : 1.0f - f.x) * (j ? f.y : 1.0f - f.y);
       if (!(w > 1e-6f)) continue;
-      const int ax = int(cell.x) + i, ay = int(cell.y) + j;
+      const int ax = (int(cell.x) + i) * step, ay = (int(cell.y) + j) * step;
       if (ax < 0 || ay < 0 || ax >= grid_width || ay >= grid_height) return false;
-      const RefractionAnchor& a = anchors[std::size_t(ay) * std::size_t(grid_width) + std::size_t(ax)];
+      const std::size_t index = std::size_t(ay) * std::size_t(grid_width) + std::size_t(ax);
+      const RefractionAnchor& a = anchors[index];
       if (!sameSurface(a, hp)) return false;
       if (n > 0 && (a.unit.events != used[0]->unit.events || a.unit.exited != used[0]->unit.exited ||
-                    glm::dot(a.unit.exit_direction, used[0]->unit.exit_direction) < kAnchorExitCos))
+                    glm::dot(a.unit.exit_direction, used[0]->unit.exit_direction) <
+                        (step > 1 ? kCoarseExitCos : kAnchorExitCos)))
         return false;
       used[n] = &a;
+      indices[n] = std::uint32_t(index);
       weights[n++] = w;
     }
   if (n == 0) return false;
@@ -421,6 +429,38 @@ bool blendAnchors(const std::vector<RefractionAnchor>& anchors, int grid_width, 
   out.exit_direction = direction / length;
   out.exited = used[0]->unit.exited;
   out.events = used[0]->unit.events;
+  source = WalkSource{};
+  source.anchors = std::uint8_t(n);
+  for (int k = 0; k < n; ++k) {
+    source.anchor[k] = indices[k];
+    source.weight[k] = weights[k] / total;
+  }
+  return true;
+}
+
+// The blend of the anchors' walks a blended sample's path took (premultiplied by the mask, so it
+// composes as the blend of theirs), where they see the same: no visitor, or the same visitor's
+// colour within kWalkAgreement of the brightest; false where the sample walks its own exit ray.
+constexpr float kWalkAgreement = 0.1f;
+
+bool blendWalks(const std::vector<ForegroundSample>& anchor_fg, const WalkSource& source,
+                ForegroundSample& out) {
+  float w_lo = 1.0f, w_hi = 0.0f, l_lo = 0.0f, l_hi = 0.0f;
+  vec3 radiance(0.0f);
+  float weight = 0.0f;
+  for (int a = 0; a < source.anchors; ++a) {
+    const ForegroundSample& s = anchor_fg[source.anchor[a]];
+    const float l = s.weight * luminance(s.radiance);
+    w_lo = std::min(w_lo, s.weight);
+    w_hi = std::max(w_hi, s.weight);
+    l_lo = a == 0 ? l : std::min(l_lo, l);
+    l_hi = a == 0 ? l : std::max(l_hi, l);
+    radiance += source.weight[a] * s.weight * s.radiance;
+    weight += source.weight[a] * s.weight;
+  }
+  if (w_hi - w_lo > kWalkAgreement || l_hi - l_lo > kWalkAgreement * l_hi) return false;
+  out.weight = weight;
+  out.radiance = weight > 0.0f ? radiance / weight : vec3(0.0f);
   return true;
 }
 
@@ -436,7 +476,10 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
   const int grid_width = stride > 1 ? (hits.width - 1) / stride + 1 : 0;
   const int grid_height = stride > 1 ? (hits.height - 1) / stride + 1 : 0;
   buffers.anchors.assign(std::size_t(grid_width) * std::size_t(grid_height), RefractionAnchor{});
-  if (stride > 1)
+  const std::vector<vec2> pattern = subsamplePattern(4);
+  // In two rounds: the coarse lattice's anchors (even grid coordinates) trace their paths; every
+  // other anchor takes their blend where they agree as a sample does, else traces its own.
+  for (int round = 0; stride > 1 && round < 2; ++round)
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
         [&](const tbb::blocked_range<std::size_t>& r) {
@@ -445,21 +488,27 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
             const std::size_t p = hits.covered[k];
             const int x = int(p % std::size_t(hits.width)), y = int(p / std::size_t(hits.width));
             if (x % stride != 0 || y % stride != 0) continue;
+            const int gx = x / stride, gy = y / stride;
+            if ((gx % 2 == 0 && gy % 2 == 0) != (round == 0)) continue;
             const std::size_t i = anchorSample(hits, p);
             if (i == hits.hits.size()) continue;
             const HitPoint& hp = hits.hits[i];
             RefractionAnchor& a =
-                buffers.anchors[std::size_t(y / stride) * std::size_t(grid_width) + std::size_t(x / stride)];
+                buffers.anchors[std::size_t(gy) * std::size_t(grid_width) + std::size_t(gx)];
             a.position = hp.position;
             a.normal = hp.normal;
             a.material = hp.gltf;
+            const vec2 at = vec2(float(x), float(y)) + (i == p ? vec2(0.0f) : pattern[i - hits.first_sub[p]]);
+            a.source = WalkSource{};
+            if (round == 1 &&
+                blendAnchors(buffers.anchors, grid_width, grid_height, stride, 2, hp, at, a.unit, a.source))
+              continue;
             a.unit = traceUnit(scene_, ibl_, settings_, depth_, hp.position, hp.normal, -hp.to_viewer,
                                *hp.gltf, &hp.material, nullptr);
             local_rays += a.unit.rays;
           }
           rays += local_rays;
         });
-  const std::vector<vec2> pattern = subsamplePattern(4);
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, hits.covered.size(), 64),
       [&](const tbb::blocked_range<std::size_t>& r) {
@@ -469,8 +518,9 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
           const vec2 centre(float(p % std::size_t(hits.width)), float(p / std::size_t(hits.width)));
           const std::size_t first = hits.firstSample(p);
           // The path of the first sub-sample that traced its own, shared by the pixel's others on
-          // the same surface (refraction_stride > 1).
+          // the same surface (refraction_stride > 1); shared_source: where its walk comes from.
           RefractionAnchor shared;
+          WalkSource shared_source;
           for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i) {
             if (!hits.valid[i] || hits.hits[i].gltf == nullptr) continue;
             const HitPoint& hp = hits.hits[i];
@@ -501,10 +551,10 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
               sh.diffuse *= 1.0f - clamp01(sm.transmission);
               const vec2 at = centre + (i == p ? vec2(0.0f) : pattern[i - first]);
               TransmittedPath path;
-              const bool blended =
-                  stride > 1 &&
-                  (blendAnchors(buffers.anchors, grid_width, grid_height, stride, hp, at, path) ||
-                   (shared.material && sameSurface(shared, hp) && (path = shared.unit, true)));
+              const bool blended = stride > 1 && (blendAnchors(buffers.anchors, grid_width, grid_height,
+                                                               stride, 1, hp, at, path, layer.source) ||
+                                                  (shared.material && sameSurface(shared, hp) &&
+                                                   (path = shared.unit, layer.source = shared_source, true)));
               if (blended) {
                 path.entry = entryWeight(hp.normal, -hp.to_viewer, m, &sm);
                 applyEntry(path);
@@ -517,6 +567,7 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
                   shared.normal = hp.normal;
                   shared.material = hp.gltf;
                   shared.unit = path;
+                  shared_source.shared = std::int32_t(i);
                 }
                 applyEntry(path);
                 local_rays += path.rays;
@@ -563,20 +614,46 @@ std::uint64_t MaterialLayers::walkTransmitted(const HitPointBuffer& hits, const 
                                               LayerBuffers& buffers) const {
   buffers.transmitted_fg.resize(hits.hits.size());
   std::atomic<std::uint64_t> walked{0};
+  // The anchors' exit rays first, in two rounds as they were traced: a blended anchor blends the
+  // coarse anchors' walks where these agree; a blended sample reads the anchors'.
+  buffers.anchor_fg.assign(buffers.anchors.size(), ForegroundSample{});
+  for (int round = 0; round < 2; ++round)
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, buffers.anchors.size(), 256),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        std::uint64_t local = 0;
+                        for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                          const RefractionAnchor& a = buffers.anchors[k];
+                          if (!a.material || !a.unit.exited || (a.source.anchors > 0) != (round == 1))
+                            continue;
+                          if (round == 1 && blendWalks(buffers.anchor_fg, a.source, buffers.anchor_fg[k]))
+                            continue;
+                          walk.walk(a.unit.exit_position, a.unit.exit_direction, a.unit.exit_direction,
+                                    a.unit.roughness, buffers.anchor_fg[k]);
+                          ++local;
+                        }
+                        walked += local;
+                      });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       std::uint64_t local = 0;
                       for (std::size_t k = r.begin(); k < r.end(); ++k) {
                         const std::size_t p = hits.covered[k];
                         const std::size_t first = hits.firstSample(p);
+                        // In sample order: a shared path's owner comes before the sub-samples that share it.
                         for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i) {
                           ForegroundSample& fg = buffers.transmitted_fg[i];
                           fg = ForegroundSample{};
                           if (!hits.valid[i] || !buffers.layered[i] || !buffers.layers[i].walks) continue;
                           const SampleLayers& layer = buffers.layers[i];
-                          walk.walk(layer.exit_position, layer.exit_direction, layer.exit_direction,
-                                    layer.exit_roughness, fg);
-                          ++local;
+                          const WalkSource& source = layer.source;
+                          if (source.anchors > 0 && blendWalks(buffers.anchor_fg, source, fg)) {
+                          } else if (source.shared >= 0) {
+                            fg = buffers.transmitted_fg[std::size_t(source.shared)];
+                          } else {
+                            walk.walk(layer.exit_position, layer.exit_direction, layer.exit_direction,
+                                      layer.exit_roughness, fg);
+                            ++local;
+                          }
                         }
                       }
                       walked += local;

@@ -40,7 +40,11 @@
 // directions within ~8 degrees); elsewhere (silhouettes, creases, the rim, where the exit
 // direction turns fast) the sample traces its own path. What is blended is the path per unit of
 // light entering, times the sample's own entry weight (its exact Fresnel and tint), so a blend
-// keeps the white furnace; the exit ray's IBL is read along the blended direction.
+// keeps the white furnace; the exit ray's IBL is read along the blended direction. The anchors off
+// the coarse lattice (every second anchor each way) blend the coarse anchors likewise (exit
+// directions within ~2 degrees) and trace where these disagree. The visitors seen through the
+// glass are walked along the traced paths' exit rays; a blended sample or anchor takes the blend
+// of its anchors' walks where these see the same, and walks its own exit ray elsewhere.
 //
 // Internal depth: measureInternalDepth traces probe rays from a sphere of directions around the
 // relic with a cap of kMaxInternalDepth and keeps the share of the transmitted light still being
@@ -111,12 +115,23 @@ struct InternalDepth {
 InternalDepth measureInternalDepth(const RenderScene& scene, const PrefilteredIbl& ibl,
                                    const TracerSettings& settings, float residual_limit);
 
+// Where a sample's visitors seen through the relic come from: the walk of its own exit ray
+// (anchors == 0 and shared < 0), of the pixel's sub-sample whose path it shares (shared, a
+// sample index), or the blend of the walks of the anchors its path blended, with the same weights.
+struct WalkSource {
+  std::uint32_t anchor[4] = {};  // indices into LayerBuffers::anchors
+  float weight[4] = {};          // sum to 1
+  std::uint8_t anchors = 0;
+  std::int32_t shared = -1;
+};
+
 // Per sample of a view's hit points: the transmitted path and the coat.
 struct SampleLayers {
   vec3 transmit_scale{0.0f}, transmit_environment{0.0f};
   vec3 exit_position{0.0f}, exit_direction{0.0f, 0.0f, 1.0f};
   float exit_roughness = 0.0f;
-  bool walks = false;  // the exit ray is walked for the visitors
+  bool walks = false;  // the exit ray's visitors are read (walked, or blended per `source`)
+  WalkSource source;
   vec3 coat_scale{0.0f}, coat_environment{0.0f};
 };
 
@@ -125,13 +140,15 @@ struct RefractionAnchor {
   vec3 position{0.0f}, normal{0.0f, 1.0f, 0.0f};
   const Material* material = nullptr;  // null: no anchor there
   TransmittedPath unit;                // scale, resolved and reflected per unit entry weight
+  WalkSource source;                   // the coarse anchors it blended (their indices), if it did
 };
 
 struct LayerBuffers {
   std::vector<SampleLayers> layers;  // per entry of hits.hits; meaningful where layered[i]
   std::vector<std::uint8_t> layered;
-  std::vector<ForegroundSample> transmitted_fg;  // per entry, this frame's walk of the exit rays
-  std::vector<RefractionAnchor> anchors;         // scratch: the anchor grid, row-major
+  std::vector<ForegroundSample> transmitted_fg;  // per entry, this frame's visitors along the exit rays
+  std::vector<RefractionAnchor> anchors;         // the anchor grid, row-major (kept with the static shading)
+  std::vector<ForegroundSample> anchor_fg;       // per anchor, this frame's walk of its exit ray
 };
 
 struct LayerCounts {
@@ -152,8 +169,10 @@ class MaterialLayers {
   // the coat), its layers written. shading as StaticShading wrote it.
   LayerCounts shade(const HitPointBuffer& hits, std::vector<SplitSumShading>& shading,
                     LayerBuffers& buffers) const;
-  // This frame's visitors along every walked exit ray into buffers.transmitted_fg; returns the
-  // rays walked.
+  // This frame's visitors along the exit rays into buffers.transmitted_fg: the anchors' exit rays
+  // and those of the samples that traced their own path are walked, a blended sample takes the
+  // blend of its anchors' walks (the transmitted lobe is blurred like its path). Returns the rays
+  // walked.
   std::uint64_t walkTransmitted(const HitPointBuffer& hits, const ForegroundWalk& walk,
                                 LayerBuffers& buffers) const;
 

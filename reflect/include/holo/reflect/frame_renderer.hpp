@@ -123,9 +123,9 @@ struct TracerSettings {
   // Scales the transmitted lobe's derived roughness (the IBL level and the walk's pyramid
   // levels), 0..4; 1 in use, for checking the derivation against path-traced truth.
   float transmitted_roughness_scale = 1.0f;
-  // Pixels between the anchors whose transmitted paths are traced (refraction_pass.hpp), 1..4; 1:
-  // every sample traces its own path; s > 1: paths at every s-th pixel centre in x and y, the
-  // samples between blending them where the anchors around agree, tracing their own elsewhere.
+  // Pixels between the transmitted paths' anchors (refraction_pass.hpp), 1..4; 1: every sample
+  // traces; s > 1: anchors every s pixels (every 2s-th traces, the others blend those where they
+  // agree), the samples between blending the anchors where these agree, tracing elsewhere.
   int refraction_stride = 2;
   // Rays a transmitted path may spend following the light reflected inside at a partial exit
   // (refraction_pass.hpp), 0..64; 0: all of it summed as between parallel walls.
