@@ -646,14 +646,14 @@ std::uint64_t MaterialLayers::walkTransmitted(const HitPointBuffer& hits, const 
                           if (!hits.valid[i] || !buffers.layered[i] || !buffers.layers[i].walks) continue;
                           const SampleLayers& layer = buffers.layers[i];
                           const WalkSource& source = layer.source;
-                          if (source.anchors > 0 && blendWalks(buffers.anchor_fg, source, fg)) {
-                          } else if (source.shared >= 0) {
+                          if (source.anchors > 0 && blendWalks(buffers.anchor_fg, source, fg)) continue;
+                          if (source.shared >= 0) {
                             fg = buffers.transmitted_fg[std::size_t(source.shared)];
-                          } else {
-                            walk.walk(layer.exit_position, layer.exit_direction, layer.exit_direction,
-                                      layer.exit_roughness, fg);
-                            ++local;
+                            continue;
                           }
+                          walk.walk(layer.exit_position, layer.exit_direction, layer.exit_direction,
+                                    layer.exit_roughness, fg);
+                          ++local;
                         }
                       }
                       walked += local;
