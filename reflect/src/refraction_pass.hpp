@@ -171,8 +171,8 @@ class MaterialLayers {
                     LayerBuffers& buffers) const;
   // This frame's visitors along the exit rays into buffers.transmitted_fg: the anchors' exit rays
   // and those of the samples that traced their own path are walked, a blended sample takes the
-  // blend of its anchors' walks (the transmitted lobe is blurred like its path). Returns the rays
-  // walked.
+  // blend of its anchors' walks where these see the same (the transmitted lobe is blurred like its
+  // path) and walks its own elsewhere. Returns the rays walked.
   std::uint64_t walkTransmitted(const HitPointBuffer& hits, const ForegroundWalk& walk,
                                 LayerBuffers& buffers) const;
 
