@@ -240,8 +240,7 @@ TEST(Refraction, StabilityCasesStayFiniteAndInRange) {
     const RenderScene scene(c.model, {});
     TracerSettings settings = staticOnly();
     settings.refraction_depth = c.depth;
-    settings.aa_samples = 4;  // the truth averages over the pixel: facet edges cross many  // grazing samples
-                              // at the silhouette too
+    settings.aa_samples = 4;  // grazing samples at the silhouette too
     settings.exposure = 0.0f;
     const ViewImages v = renderOnce(scene, ibl, settings, view);
     for (int y = 0; y < 24; ++y)
