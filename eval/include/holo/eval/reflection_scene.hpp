@@ -45,10 +45,10 @@ struct ReflectionScene {
   Model visitors;                      // visitors and what they carry at the frame (may be empty)
   cv::Mat panorama;                    // linear HDR CV_32FC3 BGR, the static environment
   // Where the live renderers place the panorama's pixels (ours, SSRT and the static IBL read it
-  // through this): with a hall, a sphere around the panorama's capture point whose radius is the
-  // hall's mean distance from it over all directions, as an installation's `exhibit.hall_radius`
-  // gives the hall's parallax; without one (a panorama alone), at infinity. The path-traced truth
-  // sees the hall's own geometry.
+  // through this): with a hall, the pyramid's base and a sphere around the panorama's capture
+  // point whose radius is the hall's mean distance from it over the directions the base leaves
+  // (an installation's `exhibit.hall_radius`); without one (a panorama alone), at infinity. The
+  // path-traced truth sees the hall's own geometry.
   reflect::PanoramaProxy panorama_proxy;
   depthfilter::ForegroundCloud foreground;  // the visitors as the depth cameras see them
   std::vector<reflect::ForegroundCameraImage> foreground_cameras;  // their colour and mask, per camera
