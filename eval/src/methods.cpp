@@ -16,7 +16,7 @@ namespace holo::eval {
 
 std::shared_ptr<const reflect::PrefilteredIbl> staticIbl(const ReflectionScene& scene,
                                                          const MethodSettings& settings) {
-  const reflect::Environment env(scene.panorama);
+  const reflect::Environment env(scene.panorama, 0.0f, scene.panorama_proxy);
   reflect::PrefilterOptions po;
   po.levels = settings.ibl_levels;
   po.texel_density = settings.ibl_texel_density;

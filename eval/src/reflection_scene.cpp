@@ -1,6 +1,8 @@
 #include "holo/eval/reflection_scene.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <optional>
 #include <sstream>
 
@@ -19,6 +21,31 @@ namespace holo::eval {
 namespace {
 
 constexpr int kPanoramaWidth = 1024, kPanoramaHeight = 512;
+
+// The hall's mean distance from `centre` over a Fibonacci sphere of directions (metres), those
+// that meet the pyramid's base (half width `base`, top at y = 0) first left out: the radius of
+// the sphere the panorama captured there is placed on. Infinite when no direction meets the hall.
+float meanHallDistance(const Model& hall, const vec3& centre, float base) {
+  const reflect::RenderScene scene(Model{}, {hall});
+  constexpr int kDirections = 4096;
+  const float golden = kPi * (3.0f - std::sqrt(5.0f));
+  double sum = 0.0;
+  int hits = 0;
+  for (int i = 0; i < kDirections; ++i) {
+    const float y = 1.0f - 2.0f * (float(i) + 0.5f) / float(kDirections);
+    const float r = std::sqrt(std::max(0.0f, 1.0f - y * y));
+    const vec3 direction(r * std::cos(golden * float(i)), y, r * std::sin(golden * float(i)));
+    if (direction.y < 0.0f && centre.y > 0.0f) {
+      const vec3 q = centre - (centre.y / direction.y) * direction;
+      if (std::abs(q.x) <= base && std::abs(q.z) <= base) continue;
+    }
+    const RayHit hit = scene.all().intersect(Ray{centre, direction});
+    if (!hit.hit()) continue;
+    sum += double(hit.t);
+    ++hits;
+  }
+  return hits > 0 ? float(sum / double(hits)) : std::numeric_limits<float>::infinity();
+}
 
 bool isBuiltinRelic(const std::string& name) {
   const auto names = sim::builtinRelicNames();
@@ -114,6 +141,12 @@ ReflectionScene loadReflectionScene(const SceneOptions& o) {
   }
   s.panorama = o.panorama.empty() ? museum->renderPanorama(kPanoramaWidth, kPanoramaHeight)
                                   : loadHdr(o.panorama).pixels;
+  if (o.panorama.empty() && !s.static_emitters.empty()) {
+    s.panorama_proxy.centre = museum->description().panorama_position;
+    s.panorama_proxy.base_half_width = sim::kBaseHalfWidth;
+    s.panorama_proxy.radius = meanHallDistance(s.static_emitters.front(), s.panorama_proxy.centre,
+                                               s.panorama_proxy.base_half_width);
+  }
   return s;
 }
 

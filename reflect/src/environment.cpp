@@ -28,22 +28,58 @@ float exitDistance(const PanoramaProxy& proxy, const vec3& origin, const vec3& d
   return -b + std::sqrt(b * b - c);
 }
 
+// Distance along `direction` from `origin` (above it) to the base's top square; infinite when
+// the ray misses it.
+float baseDistance(const PanoramaProxy& proxy, const vec3& origin, const vec3& direction) {
+  constexpr float kMiss = std::numeric_limits<float>::infinity();
+  if (!(proxy.base_half_width > 0.0f) || !(origin.y > 0.0f) || !(direction.y < 0.0f)) return kMiss;
+  const float t = -origin.y / direction.y;
+  const vec3 q = origin + t * direction;
+  return std::abs(q.x) <= proxy.base_half_width && std::abs(q.z) <= proxy.base_half_width ? t : kMiss;
+}
+
+// Where the ray first meets the proxy (distance t > 0, and the proxy's unit normal there);
+// false when it does not (an origin outside the sphere).
+bool meetProxy(const PanoramaProxy& proxy, const vec3& origin, const vec3& direction, float& t,
+               vec3& normal) {
+  t = exitDistance(proxy, origin, direction);
+  if (!(t > 0.0f)) return false;
+  const float base = baseDistance(proxy, origin, direction);
+  if (base < t) {
+    t = base;
+    normal = vec3(0.0f, 1.0f, 0.0f);
+  } else {
+    normal = (origin + t * direction - proxy.centre) / proxy.radius;
+  }
+  return true;
+}
+
 }  // namespace
 
 vec3 PanoramaProxy::lookupDirection(const vec3& origin, const vec3& direction) const {
   if (infinite()) return direction;
-  const float t = exitDistance(*this, origin, direction);
-  if (!(t > 0.0f)) return direction;
-  return glm::normalize(origin + t * direction - centre);
+  float t;
+  vec3 normal;
+  if (!meetProxy(*this, origin, direction, t, normal)) return direction;
+  const vec3 to = origin + t * direction - centre;
+  const float length = glm::length(to);
+  return length > 1e-6f ? to / length : direction;
+}
+
+vec3 PanoramaProxy::point(const vec3& d) const {
+  return centre + std::min(radius, baseDistance(*this, centre, d)) * d;
 }
 
 float PanoramaProxy::solidAngleRatio(const vec3& origin, const vec3& direction) const {
   if (infinite()) return 1.0f;
-  const float t = exitDistance(*this, origin, direction);
-  if (!(t > 0.0f)) return 1.0f;
-  const vec3 normal = (origin + t * direction - centre) / radius;
-  const float cosine = std::max(glm::dot(normal, direction), 1e-6f);
-  return t * t / (radius * radius * cosine);
+  float t;
+  vec3 normal;
+  if (!meetProxy(*this, origin, direction, t, normal)) return 1.0f;
+  const vec3 to = origin + t * direction - centre;
+  const float distance2 = std::max(glm::dot(to, to), 1e-12f);
+  const float cos_centre = std::abs(glm::dot(normal, to)) / std::sqrt(distance2);
+  const float cos_origin = std::max(std::abs(glm::dot(normal, direction)), 1e-6f);
+  return t * t * cos_centre / (distance2 * cos_origin);
 }
 
 Environment::Environment(const cv::Mat& panorama, float yaw, PanoramaProxy proxy) : yaw_(yaw), proxy_(proxy) {
@@ -51,6 +87,8 @@ Environment::Environment(const cv::Mat& panorama, float yaw, PanoramaProxy proxy
     throw InputError("", "panorama", "a non-empty CV_32FC3 linear BGR image");
   if (!isFinite(proxy_.centre) || !(proxy_.radius > 0.0f))
     throw InputError("", "panorama proxy", "a finite centre and a radius > 0 metres (infinite: no parallax)");
+  if (!std::isfinite(proxy_.base_half_width) || proxy_.base_half_width < 0.0f)
+    throw InputError("", "panorama proxy", "a base half width >= 0 metres (0: no base)");
   panorama_ = panorama.clone();
   repaired_ = sanitizeRadiance(panorama_);
   if (repaired_.total() > 0) {
@@ -75,7 +113,8 @@ Environment::Environment(const cv::Mat& panorama, float yaw, PanoramaProxy proxy
       }
     }
   }
-  for (const float f : {proxy_.centre.x, proxy_.centre.y, proxy_.centre.z, proxy_.radius}) {
+  for (const float f :
+       {proxy_.centre.x, proxy_.centre.y, proxy_.centre.z, proxy_.radius, proxy_.base_half_width}) {
     hash ^= std::bit_cast<std::uint32_t>(f);
     hash *= 1099511628211ull;
   }
@@ -141,8 +180,12 @@ EnvironmentSample Environment::sample(const vec2& u, const vec3& origin) const {
   if (proxy_.infinite() || !(s.pdf > 0.0f)) return s;
   const vec3 m = origin - proxy_.centre;
   if (!(glm::dot(m, m) < proxy_.radius * proxy_.radius)) return s;  // outside the hall: no parallax
-  const vec3 to_point = proxy_.centre + proxy_.radius * s.direction - origin;
-  s.direction = glm::normalize(to_point);
+  const vec3 sampled = s.direction;
+  s.direction = glm::normalize(proxy_.point(sampled) - origin);
+  // A pixel the base hides from `origin` (it lies behind the base's edge seen from there, not
+  // from the centre) is no light origin sees: no sample, so pdf() stays the density of those drawn.
+  if (glm::dot(proxy_.lookupDirection(origin, s.direction), sampled) < 1.0f - 1e-5f)
+    return EnvironmentSample{};
   s.pdf *= proxy_.solidAngleRatio(origin, s.direction);
   return s;
 }

@@ -29,6 +29,12 @@ vec3 refractThrough(const vec3& d, const vec3& n, float eta) {
   return len > 1e-12f ? t / len : d;
 }
 
+// The prefiltered IBL a ray from `origin` along `direction` reads: through the panorama's proxy,
+// so the hall's parallax is the same as the static shading's.
+vec3 seenFrom(const PrefilteredIbl& ibl, const vec3& origin, const vec3& direction, float roughness) {
+  return ibl.specular(ibl.proxy().lookupDirection(origin, direction), roughness);
+}
+
 float clamp01(float v) {
   return std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
 }
@@ -125,8 +131,8 @@ void followReflected(const RenderScene& scene, const PrefilteredIbl& ibl, const 
     const float transmitted = transmittedShare(m, nullptr);
     const vec3 tint = transmissionTint(m, nullptr);
     const float spread = alpha * std::min(safeIor(m.ior) - 1.0f, 2.0f) * 0.5f;
-    const vec3 outside =
-        ibl.specular(refractThrough(direction, normal, eta), lobeWidth(settings, alpha2 + spread * spread));
+    const vec3 outside = seenFrom(ibl, position, refractThrough(direction, normal, eta),
+                                  lobeWidth(settings, alpha2 + spread * spread));
     const vec3 lit =
         transmitted < 1.0f ? (1.0f - transmitted) * tint * ibl.irradiance(-normal) / kPi : vec3(0.0f);
     if (budget > 0 && luminance(weight) * fresnel >= settings.refraction_branch_weight) {
@@ -147,7 +153,7 @@ void followReflected(const RenderScene& scene, const PrefilteredIbl& ibl, const 
       path.reflected += weight * front * transmitted * tint;
     return;
   }
-  path.resolved += weight * ibl.specular(direction, lobeWidth(settings, alpha2));
+  path.resolved += weight * seenFrom(ibl, position, direction, lobeWidth(settings, alpha2));
 }
 
 // The path per unit of light entering: scale, resolved and reflected leave out path.entry, which
@@ -197,7 +203,7 @@ TransmittedPath traceUnit(const RenderScene& scene, const PrefilteredIbl& ibl, c
       const vec3 refracted = refractThrough(direction, normal, eta);
       vec3 back, front;
       if (branch_budget > 0 && luminance(throughput) * fresnel >= settings.refraction_branch_weight) {
-        const vec3 behind = ibl.specular(refracted, lobeWidth(settings, alpha2 + spread * spread));
+        const vec3 behind = seenFrom(ibl, position, refracted, lobeWidth(settings, alpha2 + spread * spread));
         followReflected(scene, ibl, settings, position, glm::reflect(direction, normal), throughput * fresnel,
                         alpha2 + alpha * alpha, sigma, medium_ior, behind, branch_budget, path);
         back = vec3(1.0f - fresnel);
@@ -247,7 +253,7 @@ TransmittedPath traceUnit(const RenderScene& scene, const PrefilteredIbl& ibl, c
       throughput *= last_absorption;
     }
     if (path.events >= depth) {  // the cap: what is left goes to the IBL along the last direction
-      path.resolved += throughput * ibl.specular(direction, lobe());
+      path.resolved += throughput * seenFrom(ibl, position, direction, lobe());
       path.exit_position = position + direction * offset;
       path.exit_direction = direction;
       path.roughness = lobe();
@@ -266,7 +272,7 @@ TransmittedPath traceUnit(const RenderScene& scene, const PrefilteredIbl& ibl, c
   path.exit_direction = direction;
   path.roughness = lobe();
   path.scale = throughput;
-  path.environment = ibl.specular(direction, path.roughness);
+  path.environment = seenFrom(ibl, path.exit_position, direction, path.roughness);
   return path;
 }
 
@@ -558,7 +564,8 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
               if (blended) {
                 path.entry = entryWeight(hp.normal, -hp.to_viewer, m, &sm);
                 applyEntry(path);
-                if (path.exited) path.environment = ibl_.specular(path.exit_direction, path.roughness);
+                if (path.exited)
+                  path.environment = seenFrom(ibl_, path.exit_position, path.exit_direction, path.roughness);
               } else {
                 path = traceUnit(scene_, ibl_, settings_, depth_, hp.position, hp.normal, -hp.to_viewer, m,
                                  &sm, nullptr);

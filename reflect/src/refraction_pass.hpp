@@ -28,9 +28,10 @@
 //    transmissive material) is lit by the IBL's irradiance as a Lambert surface.
 // The path that leaves the relic walks the voxel grid and pyramids for the visitors seen through
 // it (the foreground walk's ray, per frame) and reads the prefiltered IBL at the transmitted lobe's
-// width: each rough refraction widens it by GGX alpha |ior - 1| / 2 (in quadrature, times
-// transmitted_roughness_scale), each rough internal reflection by alpha. At the depth cap the
-// energy still inside goes to the IBL along the last direction.
+// width (every IBL read of transmitted light through the panorama's proxy from where the light
+// leaves, the hall's parallax as the static shading has it): each rough refraction widens it by GGX alpha
+// |ior - 1| / 2 (in quadrature, times transmitted_roughness_scale), each rough internal reflection by alpha.
+// At the depth cap the energy still inside goes to the IBL along the last direction.
 //
 // Sparse paths (TracerSettings::refraction_stride s > 1): paths are traced only at anchors, the
 // pixel centres (x, y) with x and y multiples of s, and every other sample takes the bilinear blend

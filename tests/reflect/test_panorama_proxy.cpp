@@ -93,9 +93,54 @@ TEST(PanoramaProxy, SamplingPdfsStayConsistentForThePathTracer) {
   EXPECT_NEAR(integral / n, 1.0, 0.03);
 }
 
+// The pyramid's base (top at y = 0, half width 0.3 m) lies nearer than the hall below a relic: a
+// ray from a point on the relic down onto it reads the direction from the capture point to where
+// it meets the base, not the hall's sphere beyond; a ray past the base's edge reads the sphere;
+// the pdfs stay consistent with the base too (a pixel the base hides from the point is not drawn),
+// and the pdf integrates to the share of samples drawn within 3%.
+TEST(PanoramaProxy, TheBaseBelowTheRelicHidesTheHallBehindIt) {
+  PanoramaProxy proxy{{0.0f, 0.35f, 0.0f}, 4.0f, 0.3f};
+  const vec3 origin{0.1f, 0.05f, 0.0f};
+  const vec3 down = glm::normalize(vec3(0.5f, -1.0f, 0.2f));
+  const vec3 on_base = origin + (0.05f / 1.0f) * glm::length(vec3(0.5f, -1.0f, 0.2f)) * down;
+  ASSERT_NEAR(on_base.y, 0.0f, 1e-5f);
+  const vec3 expected = glm::normalize(on_base - proxy.centre);
+  EXPECT_LT(glm::length(proxy.lookupDirection(origin, down) - expected), 1e-5f);
+  EXPECT_LT(glm::length(proxy.point(expected) - on_base), 1e-4f);
+  const vec3 past = glm::normalize(vec3(1.0f, -0.1f, 0.0f));  // meets y = 0 at x = 0.6: past the edge
+  PanoramaProxy no_base = proxy;
+  no_base.base_half_width = 0.0f;
+  EXPECT_LT(glm::length(proxy.lookupDirection(origin, past) - no_base.lookupDirection(origin, past)), 1e-6f);
+  EXPECT_GT(glm::length(proxy.lookupDirection(origin, down) - no_base.lookupDirection(origin, down)), 0.1f);
+
+  const Environment environment(codedPanorama(64, 32), 0.0f, proxy);
+  int drawn = 0;
+  const int samples = 4000;
+  for (int i = 0; i < samples; ++i) {
+    SampleStream stream(5, 0, std::uint32_t(i));
+    const EnvironmentSample s = environment.sample(stream.next2D(), origin);
+    if (!(s.pdf > 0.0f)) continue;  // a pixel the base hides from the origin
+    ++drawn;
+    EXPECT_NEAR(environment.pdf(origin, s.direction), s.pdf, 2e-3f * s.pdf);
+  }
+  EXPECT_GT(drawn, samples / 2);
+  // The pdf integrates to the share of samples drawn.
+  double integral = 0.0;
+  const int n = 20000;
+  for (int i = 0; i < n; ++i) {
+    SampleStream stream(9, 0, std::uint32_t(i));
+    const vec2 u = stream.next2D();
+    const float z = 1.0f - 2.0f * u.x, r = std::sqrt(std::max(0.0f, 1.0f - z * z)), phi = 2.0f * kPi * u.y;
+    integral += double(environment.pdf(origin, vec3(r * std::cos(phi), r * std::sin(phi), z))) * 4.0 * kPi;
+  }
+  EXPECT_NEAR(integral / n, double(drawn) / samples, 0.03);
+}
+
 TEST(PanoramaProxy, BadProxyIsAnInputError) {
   EXPECT_THROW(Environment(codedPanorama(16, 8), 0.0f, PanoramaProxy{{0.0f, 0.0f, 0.0f}, 0.0f}), InputError);
   EXPECT_THROW(Environment(codedPanorama(16, 8), 0.0f, PanoramaProxy{{NAN, 0.0f, 0.0f}, 5.0f}), InputError);
+  EXPECT_THROW(Environment(codedPanorama(16, 8), 0.0f, PanoramaProxy{{0.0f, 0.0f, 0.0f}, 5.0f, -0.1f}),
+               InputError);
 }
 
 }  // namespace

@@ -519,5 +519,46 @@ TEST(Refraction, LightReflectedInsideAGemLeavesThroughItsOtherFacets) {
   EXPECT_GT(summed, 1.4 * followed);
 }
 
+// A hall at a finite distance (the panorama's pixels on a sphere of radius 1.2 m around a capture
+// point 0.5 m above a glass sphere, PanoramaProxy): the light leaving the glass reads the hall
+// where its exit ray meets it, as the path tracer sees it (256 samples per pixel), not where a ray
+// from the capture point along the exit direction would. Mean absolute error over the pixels
+// wholly on the sphere under 6% of the truth's mean (3.8% measured; read along the exit direction
+// from the capture point instead, 44%).
+TEST(Refraction, LightLeavingTheGlassSeesTheHallWithItsParallax) {
+  const RenderScene scene(glassSphere(1.5f), {});
+  PanoramaProxy proxy;
+  proxy.centre = vec3(0.0f, 0.8f, 0.0f);
+  proxy.radius = 1.2f;
+  const Environment sky = panorama([](const vec3& d) {
+    const float lamp = std::max(0.0f, glm::dot(d, glm::normalize(vec3(0.3f, -0.4f, 1.0f))));
+    return vec3(0.05f + 0.2f * std::max(d.y, 0.0f)) + vec3(2.0f, 1.6f, 1.2f) * std::pow(lamp, 8.0f);
+  });
+  const Environment hall(sky.panorama(), 0.0f, proxy);
+  const PrefilteredIbl ibl(hall, PrefilterOptions{4, 256, 8});
+  constexpr int kSize = 32;
+  const CameraModel view = lookAtCamera(vec3(0.0f, 0.4f, -0.8f), vec3(0.0f, 0.3f, 0.0f), 24.0f, kSize, kSize);
+  const PathTracer tracer(scene, hall);
+  const cv::Mat truth = renderPathTraced(tracer, view, 256);
+  TracerSettings settings = staticOnly();
+  settings.aa_samples = 4;
+  const ViewImages v = renderOnce(scene, ibl, settings, view);
+  double error_sum = 0.0, truth_sum = 0.0;
+  int pixels = 0;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) {
+      bool inside = true;
+      for (const vec2 corner : {vec2(-0.5f, -0.5f), vec2(0.5f, -0.5f), vec2(-0.5f, 0.5f), vec2(0.5f, 0.5f)})
+        inside = inside && scene.relicOnly().intersect(primaryRay(view, vec2(x, y) + corner)).hit();
+      if (!inside) continue;
+      const vec3 t = rgbAt(truth, x, y), c = rgbAt(v.hdr, x, y);
+      error_sum += std::abs(double(c.r + c.g + c.b) - double(t.r + t.g + t.b));
+      truth_sum += double(t.r + t.g + t.b);
+      ++pixels;
+    }
+  EXPECT_GT(pixels, 200);
+  EXPECT_LT(error_sum / truth_sum, 0.06);
+}
+
 }  // namespace
 }  // namespace holo::reflect

@@ -12,6 +12,7 @@
 #include "holo/core/camera_model.hpp"
 #include "holo/core/mesh.hpp"
 #include "holo/depthfilter/foreground_cloud.hpp"
+#include "holo/reflect/environment.hpp"
 #include "holo/reflect/frame_renderer.hpp"
 
 namespace holo::eval {
@@ -40,9 +41,15 @@ struct ViewOptions {
 struct ReflectionScene {
   std::string scene_name, relic_name;
   Model relic;
-  std::vector<Model> static_emitters;       // the hall
-  Model visitors;                           // visitors and what they carry at the frame (may be empty)
-  cv::Mat panorama;                         // linear HDR CV_32FC3 BGR, the static environment
+  std::vector<Model> static_emitters;  // the hall
+  Model visitors;                      // visitors and what they carry at the frame (may be empty)
+  cv::Mat panorama;                    // linear HDR CV_32FC3 BGR, the static environment
+  // Where the live renderers place the panorama's pixels (ours, SSRT and the static IBL read it
+  // through this): with a hall, the pyramid's base and a sphere around the panorama's capture
+  // point whose radius is the hall's mean distance from it over the directions the base leaves
+  // (an installation's `exhibit.hall_radius`); without one (a panorama alone), at infinity. The
+  // path-traced truth sees the hall's own geometry.
+  reflect::PanoramaProxy panorama_proxy;
   depthfilter::ForegroundCloud foreground;  // the visitors as the depth cameras see them
   std::vector<reflect::ForegroundCameraImage> foreground_cameras;  // their colour and mask, per camera
   float floor_y = -1.0f;

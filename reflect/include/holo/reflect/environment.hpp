@@ -28,17 +28,24 @@ namespace holo::reflect {
 // Where the panorama's pixels are. radius: metres from `centre` (the capture point, world frame)
 // to the hall's walls; infinite = at infinity (the default, no parallax). Points the lookup is
 // asked about should lie inside the sphere; from outside it (or with an infinite radius) the
-// lookup falls back to the ray's own direction.
+// lookup falls back to the ray's own direction. base_half_width (metres, >= 0; 0 = none): the
+// pyramid's square base, its top the plane y = 0 of the world (pyramid) frame, |x|, |z| <= the
+// half width; where it is nearer than the sphere (below a relic, and below a capture point
+// above it) the panorama's pixels lie on it: it hides the hall behind it.
 struct PanoramaProxy {
   vec3 centre{0.0f};
   float radius = std::numeric_limits<float>::infinity();
+  float base_half_width = 0.0f;
 
   bool infinite() const { return !std::isfinite(radius); }
   // The panorama direction a ray from `origin` along unit `direction` reads.
   vec3 lookupDirection(const vec3& origin, const vec3& direction) const;
-  // Solid-angle density at `origin` over density at the centre, for the point on the sphere the
-  // ray from `origin` along `direction` meets (|q - origin|^2 / (R^2 cos)): pdf conversion. 1 when
-  // infinite.
+  // Where the panorama's pixel of (unit) direction d lies: the proxy seen from the centre.
+  vec3 point(const vec3& d) const;
+  // Solid-angle density at `origin` over density at the centre, for the point q of the proxy the
+  // ray from `origin` along `direction` meets: |q - origin|^2 cos_centre / (|q - centre|^2
+  // cos_origin), the cosines between the proxy's normal at q and the two rays (on the sphere
+  // |q - origin|^2 / (R^2 cos)): pdf conversion. 1 when infinite.
   float solidAngleRatio(const vec3& origin, const vec3& direction) const;
 };
 
