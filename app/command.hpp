@@ -54,6 +54,9 @@ inline void addSceneOptions(CLI::App& app, eval::SceneOptions& options) {
       ->check(CLI::Range(0, 4));
   app.add_option("--visitor-model", options.visitor_model,
                  "Visitors instead of the scene's: bodies (the default) or figures");
+  app.add_flag("--panorama-at-infinity", options.panorama_at_infinity,
+               "The live renderers read the hall's panorama at infinity from its capture point, not through "
+               "the hall's proxy (how figures measured before the proxy reproduce)");
   app.add_option("--camera-vfov-deg", options.camera_vfov_deg,
                  "Depth cameras' vertical field of view, degrees (default: the scene's)")
       ->check(CLI::Range(10.0f, 170.0f));

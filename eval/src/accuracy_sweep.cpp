@@ -46,7 +46,7 @@ void markPareto(std::vector<AccuracyPoint>& points) {
 AccuracySweep sweepAccuracy(const AccuracyOptions& o) {
   AccuracySweep sweep;
   const VisitorScene setup = visitorScene(o.hall, o.relic, o.close_visitors, o.camera_tilt_deg,
-                                          o.camera_vfov_deg, o.size, o.visitor_model);
+                                          o.camera_vfov_deg, o.size, o.visitor_model, o.panorama_at_infinity);
   const ReflectionScene& scene = setup.scene;
   const CameraModel& camera = setup.camera;
   const VisitorView& pick = setup.pick;

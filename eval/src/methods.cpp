@@ -45,7 +45,7 @@ reflect::PathTracerOptions seeded(std::uint64_t seed) {
 ReconstructedScene::ReconstructedScene(const ReflectionScene& scene, const reflect::VoxelGridSettings& grid,
                                        bool with_visitors, std::uint64_t seed)
     : render_scene(scene.relic, voxelEmittersOf(scene, grid, with_visitors)),
-      environment(scene.panorama),
+      environment(scene.panorama, 0.0f, scene.panorama_proxy),
       tracer(render_scene, environment, seeded(seed)) {}
 
 MethodResult renderMethod(const std::string& method, const ReflectionScene& scene, const CameraModel& camera,

@@ -141,7 +141,7 @@ ReflectionScene loadReflectionScene(const SceneOptions& o) {
   }
   s.panorama = o.panorama.empty() ? museum->renderPanorama(kPanoramaWidth, kPanoramaHeight)
                                   : loadHdr(o.panorama).pixels;
-  if (o.panorama.empty() && !s.static_emitters.empty()) {
+  if (o.panorama.empty() && !s.static_emitters.empty() && !o.panorama_at_infinity) {
     s.panorama_proxy.centre = museum->description().panorama_position;
     s.panorama_proxy.base_half_width = sim::kBaseHalfWidth;
     s.panorama_proxy.radius = meanHallDistance(s.static_emitters.front(), s.panorama_proxy.centre,
@@ -199,13 +199,14 @@ VisitorView visitorView(const SceneOptions& o) {
 
 VisitorScene visitorScene(const std::string& hall, const std::string& relic, int close_visitors,
                           float camera_tilt_deg, float camera_vfov_deg, int size,
-                          const std::string& visitor_model) {
+                          const std::string& visitor_model, bool panorama_at_infinity) {
   SceneOptions so;
   so.scene = hall;  // the built-in scene of that hall: its visitors
   so.hall = hall;
   so.relic = relic;
   so.close_visitors = close_visitors;
   so.visitor_model = visitor_model;
+  so.panorama_at_infinity = panorama_at_infinity;
   so.camera_tilt_deg = camera_tilt_deg;
   so.camera_vfov_deg = camera_vfov_deg;
   VisitorScene s;

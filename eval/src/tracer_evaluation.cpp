@@ -62,7 +62,7 @@ SceneResult evaluateTracerScene(const std::string& hall, const std::string& reli
   res.hall = hall;
   res.relic = relic;
   const VisitorScene setup = visitorScene(hall, relic, o.close_visitors, o.camera_tilt_deg, o.camera_vfov_deg,
-                                          o.size, o.visitor_model);
+                                          o.size, o.visitor_model, o.panorama_at_infinity);
   const ReflectionScene& scene = setup.scene;
   const CameraModel& camera = setup.camera;
   const VisitorView& pick = setup.pick;

@@ -4,6 +4,7 @@
 #include "holo/core/error.hpp"
 #include "holo/eval/methods.hpp"
 #include "holo/eval/reflection_scene.hpp"
+#include "holo/sim/halls.hpp"
 
 namespace holo::eval {
 namespace {
@@ -55,6 +56,26 @@ INSTANTIATE_TEST_SUITE_P(Methods, IblMethods, ::testing::Values("ibl", "ibl-base
 
 TEST(RenderMethod, AnUnknownMethodIsAnInputError) {
   EXPECT_THROW(renderMethod("raytrace", smallScene().scene, smallScene().camera, {}), InputError);
+}
+
+// The live renderers read a hall's panorama where the hall is (its mean distance, about 4 m in the
+// gallery, and the pyramid's base below the relic); a panorama with no hall stays at infinity, and
+// --panorama-at-infinity puts a hall's there too.
+TEST(ReflectionScene, AHallPlacesItsPanoramaAtTheHallsDistance) {
+  SceneOptions options;
+  options.scene = "gallery";
+  options.relic = "vase";
+  const reflect::PanoramaProxy proxy = loadReflectionScene(options).panorama_proxy;
+  ASSERT_FALSE(proxy.infinite());
+  EXPECT_GT(proxy.radius, 3.0f);
+  EXPECT_LT(proxy.radius, 6.0f);
+  EXPECT_EQ(proxy.base_half_width, sim::kBaseHalfWidth);
+
+  options.panorama_at_infinity = true;
+  const reflect::PanoramaProxy at_infinity = loadReflectionScene(options).panorama_proxy;
+  EXPECT_TRUE(at_infinity.infinite());
+  EXPECT_EQ(at_infinity.base_half_width, 0.0f);
+  EXPECT_TRUE(smallScene().scene.panorama_proxy.infinite());
 }
 
 }  // namespace

@@ -32,7 +32,8 @@ struct AccuracyOptions {
   int max_spp = 256;
   int repeats = 3;
   int close_visitors = 1;
-  std::string visitor_model;  // "bodies" or "figures" (sim/visitors.hpp); empty = the hall's own
+  std::string visitor_model;          // "bodies" or "figures" (sim/visitors.hpp); empty = the hall's own
+  bool panorama_at_infinity = false;  // as SceneOptions::panorama_at_infinity
   float camera_tilt_deg = 20.0f, camera_vfov_deg = 90.0f;  // eval tracer's rig for close visitors
   std::string cache =
       (std::filesystem::temp_directory_path() / "holopyramid-gt-cache").string();  // ground truths

@@ -31,7 +31,8 @@ inline const std::vector<std::string>& reflectionMethods() {
 }
 
 // What `mcpt` path-traces: the relic, the voxel grid ours walks (built from the scene's
-// foreground with `grid`, left empty without visitors) as emitting cubes, and the panorama beyond.
+// foreground with `grid`, left empty without visitors) as emitting cubes, and the panorama beyond,
+// placed where ours reads it (ReflectionScene::panorama_proxy).
 // Constructed in place: the tracer refers to the scene and environment it holds.
 struct ReconstructedScene {
   ReconstructedScene(const ReflectionScene& scene, const reflect::VoxelGridSettings& grid, bool with_visitors,

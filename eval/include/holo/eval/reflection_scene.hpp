@@ -28,6 +28,10 @@ struct SceneOptions {
   std::string visitor_model;     // "bodies" or "figures" (sim/visitors.hpp); empty = the scene's
   float camera_vfov_deg = 0.0f;  // the depth cameras' vertical field of view; 0 = the scene's
   float camera_tilt_deg = 0.0f;  // the depth cameras' upwards tilt; 0 = the scene's
+  // The live renderers read the hall's panorama at infinity from its capture point instead of
+  // through the hall's proxy (ReflectionScene::panorama_proxy): how the figures measured before
+  // the proxy existed reproduce.
+  bool panorama_at_infinity = false;
 };
 
 struct ViewOptions {
@@ -80,10 +84,10 @@ struct VisitorScene {
   CameraModel camera;
   VisitorView pick;
 };
-// visitor_model: as SceneOptions::visitor_model.
+// visitor_model, panorama_at_infinity: as in SceneOptions.
 VisitorScene visitorScene(const std::string& hall, const std::string& relic, int close_visitors,
                           float camera_tilt_deg, float camera_vfov_deg, int size,
-                          const std::string& visitor_model = "");
+                          const std::string& visitor_model = "", bool panorama_at_infinity = false);
 
 // The camera of `view` on `scene`; throws InputError("command line", "--eye"/"--look-at", ...)
 // for an unparsable point or an eye on the target.

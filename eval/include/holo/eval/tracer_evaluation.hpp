@@ -53,7 +53,8 @@ struct TracerEvalOptions {
   // Visitors standing close to the pyramid (sim planCloseVisitors), besides the hall's walkers:
   // visitors close to the pyramid, where parallax matters; the walkers keep >= 1.2 m from the axis.
   int close_visitors = 1;
-  std::string visitor_model;  // "bodies" or "figures" (sim/visitors.hpp); empty = the halls' own
+  std::string visitor_model;          // "bodies" or "figures" (sim/visitors.hpp); empty = the halls' own
+  bool panorama_at_infinity = false;  // as SceneOptions::panorama_at_infinity
   // The depth cameras: the default rig (tilt 8, vfov 70) sees a visitor within ~0.6 m of the
   // pyramid only from the waist to the chest, and the relic mirrors the rest; tilt 20 with vfov 90
   // keeps the far visitors' feet (bottom edge -25 degrees, was -27) and sees the close ones' heads.
