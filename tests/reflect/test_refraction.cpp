@@ -519,5 +519,66 @@ TEST(Refraction, LightReflectedInsideAGemLeavesThroughItsOtherFacets) {
   EXPECT_GT(summed, 1.4 * followed);
 }
 
+// The paths traced together (traceTransmissions: every round of their rays one coherent stream
+// of Embree packets) are traceTransmission's bit for bit: a tinted, absorbing glass sphere (two
+// to seven events) and a gem whose light reflected inside is followed through other facets (the
+// branches), every pixel of a view that meets them, grazing edges included.
+TEST(Refraction, PathsTracedTogetherAreThePathsTracedOneByOne) {
+  Material diamond;
+  diamond.base_colour = vec3(0.9f, 0.95f, 1.0f);
+  diamond.transmission = 1.0f;
+  diamond.ior = 2.42f;
+  diamond.thickness = 0.1f;
+  const Environment sky =
+      panorama([](const vec3& d) { return vec3(0.2f + std::max(d.y, 0.0f), 0.5f, 0.3f); });
+  const PrefilteredIbl ibl(sky, PrefilterOptions{4, 64, 8});
+  const RenderScene sphere(glassSphere(1.5f, 0.1f, 0.1f, vec3(0.6f, 0.9f, 0.8f), 0.2f), {});
+  const RenderScene gem(bipyramid(0.15f, 0.1f, vec3(0.0f, 0.3f, 0.0f), diamond), {});
+  for (const RenderScene* scene : {&sphere, &gem}) {
+    const TracerSettings settings;
+    const CameraModel view = lookAtCamera(vec3(0.3f, 0.6f, 0.7f), vec3(0.0f, 0.3f, 0.0f), 30.0f, 48, 48);
+    std::vector<TransmissionEntry> entries;
+    for (int y = 0; y < view.height(); ++y)
+      for (int x = 0; x < view.width(); ++x) {
+        const Ray ray = primaryRay(view, vec2(x, y));
+        const RayHit hit = scene->relicOnly().intersect(ray);
+        if (!hit.hit()) continue;
+        entries.push_back({scene->relicOnly().position(ray, hit),
+                           scene->relicOnly().shadingNormal(hit, ray.direction), ray.direction,
+                           &scene->relicGltfMaterial(hit, scene->relicOnly())});
+      }
+    ASSERT_GT(entries.size(), 200u);
+    const std::vector<TransmittedPath> together = traceTransmissions(*scene, ibl, settings, 7, entries);
+    ASSERT_EQ(together.size(), entries.size());
+    int events = 0, branched = 0;
+    for (std::size_t k = 0; k < entries.size(); ++k) {
+      const TransmissionEntry& e = entries[k];
+      const TransmittedPath one =
+          traceTransmission(*scene, ibl, settings, 7, e.position, e.normal, e.direction, *e.material);
+      const TransmittedPath& t = together[k];
+      SCOPED_TRACE(k);
+      EXPECT_EQ(t.events, one.events);
+      EXPECT_EQ(t.rays, one.rays);
+      EXPECT_EQ(t.exited, one.exited);
+      EXPECT_EQ(t.roughness, one.roughness);
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(t.scale[c], one.scale[c]);
+        EXPECT_EQ(t.environment[c], one.environment[c]);
+        EXPECT_EQ(t.resolved[c], one.resolved[c]);
+        EXPECT_EQ(t.reflected[c], one.reflected[c]);
+        EXPECT_EQ(t.entry[c], one.entry[c]);
+        EXPECT_EQ(t.exit_position[c], one.exit_position[c]);
+        EXPECT_EQ(t.exit_direction[c], one.exit_direction[c]);
+      }
+      events = std::max(events, one.events);
+      branched += int(one.rays) > one.events ? 1 : 0;
+    }
+    EXPECT_GE(events, 3);
+    if (scene == &gem) {
+      EXPECT_GT(branched, 20);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace holo::reflect
