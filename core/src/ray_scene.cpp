@@ -1,6 +1,5 @@
 #include "holo/core/ray_scene.hpp"
 
-#include <algorithm>
 #include <cstring>
 #include <mutex>
 
@@ -88,20 +87,6 @@ RTCRayHit makeRayHit(const Ray& ray, float tmin, float tmax) {
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   return rh;
 }
-
-RayHit toRayHit(const RTCRayHit& rh, const Ray& ray) {
-  RayHit hit;
-  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hit;
-  hit.t = rh.ray.tfar;
-  hit.geometry = rh.hit.geomID;
-  hit.primitive = rh.hit.primID;
-  hit.barycentric = {rh.hit.u, rh.hit.v};
-  vec3 n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
-  const float len = glm::length(n);
-  n = len > 0 ? n / len : -ray.direction;
-  hit.geometric_normal = glm::dot(n, ray.direction) > 0 ? -n : n;
-  return hit;
-}
 }  // namespace
 
 RTCDevice embreeDevice() {
@@ -171,22 +156,17 @@ RayHit RayScene::intersect(const Ray& ray, float tmin, float tmax, PartialHits p
   context.partial = partial;
   RTCRayHit rh = makeRayHit(ray, tmin, tmax);
   rtcIntersect1(scene_, &context.embree, &rh);
-  return toRayHit(rh, ray);
-}
-
-void RayScene::intersectCoherent(const Ray* rays, std::size_t count, float tmin, RayHit* hits) const {
-  QueryContext context;
-  rtcInitIntersectContext(&context.embree);
-  context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  // In chunks on the stack: no allocation per call.
-  constexpr std::size_t kChunk = 64;
-  RTCRayHit rh[kChunk];
-  for (std::size_t begin = 0; begin < count; begin += kChunk) {
-    const std::size_t n = std::min(kChunk, count - begin);
-    for (std::size_t k = 0; k < n; ++k) rh[k] = makeRayHit(rays[begin + k], tmin, 1e30f);
-    rtcIntersect1M(scene_, &context.embree, rh, unsigned(n), sizeof(RTCRayHit));
-    for (std::size_t k = 0; k < n; ++k) hits[begin + k] = toRayHit(rh[k], rays[begin + k]);
-  }
+  RayHit hit;
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hit;
+  hit.t = rh.ray.tfar;
+  hit.geometry = rh.hit.geomID;
+  hit.primitive = rh.hit.primID;
+  hit.barycentric = {rh.hit.u, rh.hit.v};
+  vec3 n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+  const float len = glm::length(n);
+  n = len > 0 ? n / len : -ray.direction;
+  hit.geometric_normal = glm::dot(n, ray.direction) > 0 ? -n : n;
+  return hit;
 }
 
 bool RayScene::occluded(const Ray& ray, float tmin, float tmax) const {

@@ -270,191 +270,6 @@ TransmittedPath traceUnit(const RenderScene& scene, const PrefilteredIbl& ibl, c
   return path;
 }
 
-// traceUnit's path held between two of its rays, so that many paths advance together and their
-// rays go to Embree as one coherent stream (traceUnits). The physics is traceUnit's, step for step
-// (test_refraction compares the two bit for bit); no `alive`.
-struct UnitTracer {
-  TransmittedPath path;
-  vec3 throughput{1.0f}, last_absorption{1.0f}, sigma{0.0f};
-  vec3 position{0.0f}, normal{0.0f}, geometric{0.0f}, direction{0.0f};
-  const Material* material = nullptr;
-  const SurfaceMaterial* entry_textured = nullptr;
-  bool inside = false;
-  float medium_ior = 1.0f, alpha2 = 0.0f;
-  int branch_budget = 0;
-
-  UnitTracer(const TracerSettings& settings, const TransmissionEntry& entry)
-      : position(entry.position),
-        normal(entry.normal),
-        geometric(entry.normal),
-        direction(entry.direction),
-        material(entry.material),
-        entry_textured(entry.textured),
-        branch_budget(settings.refraction_branch_rays) {}
-
-  // The interface event at (position, normal facing the incoming ray, material); returns the ray
-  // from it.
-  Ray event(const RenderScene& scene, const PrefilteredIbl& ibl, const TracerSettings& settings) {
-    float cos_i = -glm::dot(direction, normal);
-    if (!(cos_i > 1e-6f)) {
-      normal = geometric;
-      cos_i = std::max(-glm::dot(direction, normal), 1e-6f);
-    }
-    const Material& m = *material;
-    const bool first = path.events == 0;
-    const SurfaceMaterial* textured = first ? entry_textured : nullptr;
-    const float ior = safeIor(m.ior);
-    const bool thin = textured ? textured->thin_walled : !(m.thickness > 0.0f);
-    const float eta = thin || !inside ? ior : 1.0f / medium_ior;
-    const float fresnel = fresnelDielectric(cos_i, eta);
-    const float transmitted = transmittedShare(m, textured);
-    const vec3 tint = transmissionTint(m, textured);
-    const float roughness = clamp01(textured ? textured->roughness : m.roughness);
-    const float alpha = roughness * roughness;
-    const float spread = alpha * std::min(ior - 1.0f, 2.0f) * 0.5f;
-    if (inside && !thin && fresnel >= 1.0f) {
-      direction = glm::reflect(direction, normal);
-      alpha2 += alpha * alpha;
-    } else if (inside && !thin) {
-      const vec3 refracted = refractThrough(direction, normal, eta);
-      vec3 back, front;
-      if (branch_budget > 0 && luminance(throughput) * fresnel >= settings.refraction_branch_weight) {
-        const vec3 behind = ibl.specular(refracted, lobeWidth(settings, alpha2 + spread * spread));
-        followReflected(scene, ibl, settings, position, glm::reflect(direction, normal), throughput * fresnel,
-                        alpha2 + alpha * alpha, sigma, medium_ior, behind, branch_budget, path);
-        back = vec3(1.0f - fresnel);
-        front = vec3(0.0f);
-      } else {
-        parallelWalls(fresnel, last_absorption, back, front);
-      }
-      alpha2 += spread * spread;
-      path.reflected += throughput * front * transmitted * tint;
-      if (transmitted < 1.0f)
-        path.resolved +=
-            throughput * (back + front) * (1.0f - transmitted) * tint * ibl.irradiance(-normal) / kPi;
-      throughput *= back * transmitted * tint;
-      direction = refracted;
-      inside = false;
-    } else {
-      if (!first) {
-        path.reflected += throughput * fresnel;
-        if (transmitted < 1.0f)
-          path.resolved +=
-              throughput * (1.0f - fresnel) * (1.0f - transmitted) * tint * ibl.irradiance(normal) / kPi;
-      }
-      const vec3 weight = (1.0f - fresnel) * transmitted * tint;
-      if (first)
-        path.entry = weight;
-      else
-        throughput *= weight;
-      alpha2 += spread * spread;
-      if (!thin) {
-        direction = refractThrough(direction, normal, eta);
-        inside = true;
-        medium_ior = ior;
-        sigma = absorptionCoefficient(m);
-      }
-    }
-    ++path.events;
-    return Ray{position, direction};
-  }
-
-  // The event's ray met `hit`: the next interface, or the path's end (false; `path` complete).
-  bool advance(const RenderScene& scene, const PrefilteredIbl& ibl, const TracerSettings& settings, int depth,
-               const Ray& ray, const RayHit& hit) {
-    const RayScene& relic = scene.relicOnly();
-    const float offset = std::max(settings.ray_offset, 1e-5f);
-    ++path.rays;
-    if (!hit.hit()) return exit(ibl, settings, offset);
-    if (inside) {
-      for (int c = 0; c < 3; ++c) last_absorption[c] = std::exp(-sigma[c] * hit.t);
-      throughput *= last_absorption;
-    }
-    if (path.events >= depth) {
-      path.roughness = lobeWidth(settings, alpha2);
-      path.resolved += throughput * ibl.specular(direction, path.roughness);
-      path.exit_position = position + direction * offset;
-      path.exit_direction = direction;
-      return false;
-    }
-    position = relic.position(ray, hit);
-    geometric = hit.geometric_normal;
-    normal = relic.shadingNormal(hit, direction);
-    material = &scene.relicGltfMaterial(hit, relic);
-    if (!isFinite(position) || !isFinite(normal)) return exit(ibl, settings, offset);
-    return true;
-  }
-
-  bool exit(const PrefilteredIbl& ibl, const TracerSettings& settings, float offset) {
-    path.exited = true;
-    path.exit_position = position + direction * offset;
-    path.exit_direction = direction;
-    path.roughness = lobeWidth(settings, alpha2);
-    path.scale = throughput;
-    path.environment = ibl.specular(direction, path.roughness);
-    return false;
-  }
-};
-
-// traceUnit of every entry into out[k], the paths advancing together: each round casts the rays
-// of the paths still going as one coherent stream.
-void traceUnits(const RenderScene& scene, const PrefilteredIbl& ibl, const TracerSettings& settings,
-                int depth, const TransmissionEntry* entries, std::size_t count, TransmittedPath* out,
-                std::vector<UnitTracer>& tracers, std::vector<Ray>& rays, std::vector<RayHit>& hits,
-                std::vector<std::uint32_t>& active) {
-  const float offset = std::max(settings.ray_offset, 1e-5f);
-  tracers.clear();
-  active.clear();
-  for (std::size_t k = 0; k < count; ++k) {
-    tracers.emplace_back(settings, entries[k]);
-    active.push_back(std::uint32_t(k));
-  }
-  while (!active.empty()) {
-    rays.resize(active.size());
-    hits.resize(active.size());
-    for (std::size_t a = 0; a < active.size(); ++a) rays[a] = tracers[active[a]].event(scene, ibl, settings);
-    scene.relicOnly().intersectCoherent(rays.data(), rays.size(), offset, hits.data());
-    std::size_t going = 0;
-    for (std::size_t a = 0; a < active.size(); ++a)
-      if (tracers[active[a]].advance(scene, ibl, settings, depth, rays[a], hits[a]))
-        active[going++] = active[a];
-    active.resize(going);
-  }
-  for (std::size_t k = 0; k < count; ++k) out[k] = tracers[k].path;
-}
-
-// A sample waiting for a traced path (MaterialLayers::shade): the path's slot in UnitScratch, and
-// whether the sample traced it (owner) or shares it.
-struct Waiting {
-  std::size_t sample;
-  std::uint32_t path;
-  bool owner;
-};
-
-// traceUnits' scratch and shade's lists of what waits for it, one per thread, sized by the
-// largest batch it has held.
-struct UnitScratch {
-  std::vector<TransmissionEntry> entries;
-  std::vector<std::size_t> anchors;  // the anchor each entry is for
-  std::vector<Waiting> waiting;
-  std::vector<TransmittedPath> paths;
-  std::vector<UnitTracer> tracers;
-  std::vector<Ray> rays;
-  std::vector<RayHit> hits;
-  std::vector<std::uint32_t> active;
-
-  void trace(const RenderScene& scene, const PrefilteredIbl& ibl, const TracerSettings& settings, int depth) {
-    paths.resize(entries.size());
-    traceUnits(scene, ibl, settings, depth, entries.data(), entries.size(), paths.data(), tracers, rays, hits,
-               active);
-  }
-};
-
-UnitScratch& unitScratch() {
-  thread_local UnitScratch scratch;
-  return scratch;
-}
-
 // The weight path.entry of a sample's own entry (traceUnit's first event).
 vec3 entryWeight(const vec3& normal, const vec3& direction, const Material& m,
                  const SurfaceMaterial* textured) {
@@ -480,16 +295,6 @@ TransmittedPath traceTransmission(const RenderScene& scene, const PrefilteredIbl
                                    entry, entry_textured, alive);
   applyEntry(path);
   return path;
-}
-
-std::vector<TransmittedPath> traceTransmissions(const RenderScene& scene, const PrefilteredIbl& ibl,
-                                                const TracerSettings& settings, int depth,
-                                                const std::vector<TransmissionEntry>& entries) {
-  UnitScratch scratch;
-  scratch.entries = entries;
-  scratch.trace(scene, ibl, settings, depth);
-  for (TransmittedPath& path : scratch.paths) applyEntry(path);
-  return scratch.paths;
 }
 
 InternalDepth measureInternalDepth(const RenderScene& scene, const PrefilteredIbl& ibl,
@@ -678,11 +483,7 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
         [&](const tbb::blocked_range<std::size_t>& r) {
-          // The range's anchors that trace, traced together (traceUnits).
-          UnitScratch& scratch = unitScratch();
-          scratch.entries.clear();
-          std::vector<std::size_t>& traced = scratch.anchors;
-          traced.clear();
+          std::uint64_t local_rays = 0;
           for (std::size_t k = r.begin(); k < r.end(); ++k) {
             const std::size_t p = hits.covered[k];
             const int x = int(p % std::size_t(hits.width)), y = int(p / std::size_t(hits.width));
@@ -692,8 +493,8 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
             const std::size_t i = anchorSample(hits, p);
             if (i == hits.hits.size()) continue;
             const HitPoint& hp = hits.hits[i];
-            const std::size_t index = std::size_t(gy) * std::size_t(grid_width) + std::size_t(gx);
-            RefractionAnchor& a = buffers.anchors[index];
+            RefractionAnchor& a =
+                buffers.anchors[std::size_t(gy) * std::size_t(grid_width) + std::size_t(gx)];
             a.position = hp.position;
             a.normal = hp.normal;
             a.material = hp.gltf;
@@ -702,79 +503,23 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
             if (round == 1 &&
                 blendAnchors(buffers.anchors, grid_width, grid_height, stride, 2, hp, at, a.unit, a.source))
               continue;
-            scratch.entries.push_back({hp.position, hp.normal, -hp.to_viewer, hp.gltf, &hp.material});
-            traced.push_back(index);
-          }
-          scratch.trace(scene_, ibl_, settings_, depth_);
-          std::uint64_t local_rays = 0;
-          for (std::size_t t = 0; t < traced.size(); ++t) {
-            buffers.anchors[traced[t]].unit = scratch.paths[t];
-            local_rays += scratch.paths[t].rays;
+            a.unit = traceUnit(scene_, ibl_, settings_, depth_, hp.position, hp.normal, -hp.to_viewer,
+                               *hp.gltf, &hp.material, nullptr);
+            local_rays += a.unit.rays;
           }
           rays += local_rays;
         });
-  // Every sample: the blend of its anchors, or the path of the pixel's sub-sample it shares, or its
-  // own path; the range's own paths are traced together (traceUnits) before its samples that
-  // take them are finished.
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, hits.covered.size(), 64),
       [&](const tbb::blocked_range<std::size_t>& r) {
         std::uint64_t local_rays = 0, local_refracted = 0, local_capped = 0, local_coated = 0;
-        UnitScratch& scratch = unitScratch();
-        scratch.entries.clear();
-        std::vector<Waiting>& waiting = scratch.waiting;
-        waiting.clear();
-        // The rest of a sample's shading once its path (per unit entry, or complete: `own`) is known.
-        const auto finish = [&](std::size_t i, TransmittedPath* path, bool own) {
-          const HitPoint& hp = hits.hits[i];
-          SampleLayers& layer = buffers.layers[i];
-          SplitSumShading& sh = shading[i];
-          if (path) {
-            if (own) {
-              applyEntry(*path);
-              local_rays += path->rays;
-            } else {
-              path->entry = entryWeight(hp.normal, -hp.to_viewer, *hp.gltf, &hp.material);
-              applyEntry(*path);
-              if (path->exited) path->environment = ibl_.specular(path->exit_direction, path->roughness);
-            }
-            ++local_refracted;
-            local_capped += path->exited ? 0 : 1;
-            sh.diffuse += path->resolved;
-            sh.specular_scale += path->reflected;
-            layer.transmit_scale = path->scale;
-            layer.transmit_environment = path->environment;
-            layer.exit_position = path->exit_position;
-            layer.exit_direction = path->exit_direction;
-            layer.exit_roughness = path->roughness;
-            layer.walks = path->exited && luminance(path->scale) > 0.0f;
-          }
-          if (clearcoat_ && hp.gltf->clearcoat > 0.0f) {
-            // The coat's weight and roughness as the hit point sampled them, around its own normal.
-            const float weight = clamp01(hp.material.clearcoat);
-            const float roughness = clamp01(hp.material.clearcoat_roughness);
-            const float coat_nv = std::clamp(glm::dot(hp.clearcoat_normal, hp.to_viewer), 1e-4f, 1.0f);
-            const vec2 ab = dfg(coat_nv, roughness);
-            layer.coat_scale = vec3(weight * (kDielectricF0 * ab.x + ab.y));
-            layer.coat_environment =
-                ibl_.specular(glm::reflect(-hp.to_viewer, hp.clearcoat_normal), roughness);
-            const float schlick = kDielectricF0 + (1.0f - kDielectricF0) * std::pow(1.0f - coat_nv, 5.0f);
-            const float below = 1.0f - weight * schlick;
-            sh.specular_scale *= below;
-            sh.diffuse *= below;
-            layer.transmit_scale *= below;
-            ++local_coated;
-          }
-          buffers.layered[i] = 1;
-        };
         for (std::size_t k = r.begin(); k < r.end(); ++k) {
           const std::size_t p = hits.covered[k];
           const vec2 centre(float(p % std::size_t(hits.width)), float(p / std::size_t(hits.width)));
           const std::size_t first = hits.firstSample(p);
-          // The first sub-sample that traces its own path, shared by the pixel's others on the same
-          // surface (refraction_stride > 1): where it is (shared.unit unused) and its path's slot.
+          // The path of the first sub-sample that traced its own, shared by the pixel's others on
+          // the same surface (refraction_stride > 1); shared_source: where its walk comes from.
           RefractionAnchor shared;
-          std::uint32_t shared_path = 0;
           WalkSource shared_source;
           for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i) {
             if (!hits.valid[i] || hits.hits[i].gltf == nullptr) continue;
@@ -785,54 +530,77 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
             if (!transmissive && !coat) continue;
             SampleLayers& layer = buffers.layers[i];
             layer = SampleLayers{};
-            if (!transmissive) {
-              finish(i, nullptr, false);
-              continue;
-            }
             SplitSumShading& sh = shading[i];
             const float nv = std::clamp(glm::dot(hp.normal, hp.to_viewer), 1e-4f, 1.0f);
-            // The reflection by the exact Fresnel of the IOR (split-sum's A + B for the rough
-            // lobe's own loss), in place of the F0 (dielectricF0) the static shading used; a
-            // ratio, so an interreflection's second scale stays multiplied in.
-            const SurfaceMaterial& sm = hp.material;
-            const float metallic = clamp01(sm.metallic), s = clamp01(sm.specular);
-            const vec3 base = glm::clamp(sm.base_colour, vec3(0.0f), vec3(1.0f));
-            const vec2 ab = dfg(nv, sm.roughness);
-            const vec3 metal = metallic * (base * ab.x + ab.y);
-            const vec3 before =
-                metal + (1.0f - metallic) * s * (dielectricF0(sm.ior, sm.specular_colour) * ab.x + ab.y);
-            const float fresnel = fresnelDielectric(nv, safeIor(m.ior));
-            const vec3 after = metal + (1.0f - metallic) * s * fresnel * (ab.x + ab.y);
-            for (int c = 0; c < 3; ++c)
-              sh.specular_scale[c] =
-                  before[c] > 0.0f ? sh.specular_scale[c] * after[c] / before[c] : after[c];
-            sh.diffuse *= 1.0f - clamp01(sm.transmission);
-            const vec2 at = centre + (i == p ? vec2(0.0f) : pattern[i - first]);
-            TransmittedPath path;
-            if (stride > 1 && blendAnchors(buffers.anchors, grid_width, grid_height, stride, 1, hp, at, path,
-                                           layer.source)) {
-              finish(i, &path, false);
-            } else if (stride > 1 && shared.material && sameSurface(shared, hp)) {
-              layer.source = shared_source;
-              waiting.push_back({i, shared_path, false});
-            } else {
-              const std::uint32_t slot = std::uint32_t(scratch.entries.size());
-              scratch.entries.push_back({hp.position, hp.normal, -hp.to_viewer, &m, &sm});
-              waiting.push_back({i, slot, true});
-              if (stride > 1 && i != p && !shared.material) {
-                shared.position = hp.position;
-                shared.normal = hp.normal;
-                shared.material = hp.gltf;
-                shared_path = slot;
-                shared_source.shared = std::int32_t(i);
+            if (transmissive) {
+              // The reflection by the exact Fresnel of the IOR (split-sum's A + B for the rough
+              // lobe's own loss), in place of the F0 (dielectricF0) the static shading used; a
+              // ratio, so an interreflection's second scale stays multiplied in.
+              const SurfaceMaterial& sm = hp.material;
+              const float metallic = clamp01(sm.metallic), s = clamp01(sm.specular);
+              const vec3 base = glm::clamp(sm.base_colour, vec3(0.0f), vec3(1.0f));
+              const vec2 ab = dfg(nv, sm.roughness);
+              const vec3 metal = metallic * (base * ab.x + ab.y);
+              const vec3 before =
+                  metal + (1.0f - metallic) * s * (dielectricF0(sm.ior, sm.specular_colour) * ab.x + ab.y);
+              const float fresnel = fresnelDielectric(nv, safeIor(m.ior));
+              const vec3 after = metal + (1.0f - metallic) * s * fresnel * (ab.x + ab.y);
+              for (int c = 0; c < 3; ++c)
+                sh.specular_scale[c] =
+                    before[c] > 0.0f ? sh.specular_scale[c] * after[c] / before[c] : after[c];
+              sh.diffuse *= 1.0f - clamp01(sm.transmission);
+              const vec2 at = centre + (i == p ? vec2(0.0f) : pattern[i - first]);
+              TransmittedPath path;
+              const bool blended = stride > 1 && (blendAnchors(buffers.anchors, grid_width, grid_height,
+                                                               stride, 1, hp, at, path, layer.source) ||
+                                                  (shared.material && sameSurface(shared, hp) &&
+                                                   (path = shared.unit, layer.source = shared_source, true)));
+              if (blended) {
+                path.entry = entryWeight(hp.normal, -hp.to_viewer, m, &sm);
+                applyEntry(path);
+                if (path.exited) path.environment = ibl_.specular(path.exit_direction, path.roughness);
+              } else {
+                path = traceUnit(scene_, ibl_, settings_, depth_, hp.position, hp.normal, -hp.to_viewer, m,
+                                 &sm, nullptr);
+                if (stride > 1 && i != p && !shared.material) {
+                  shared.position = hp.position;
+                  shared.normal = hp.normal;
+                  shared.material = hp.gltf;
+                  shared.unit = path;
+                  shared_source.shared = std::int32_t(i);
+                }
+                applyEntry(path);
+                local_rays += path.rays;
               }
+              ++local_refracted;
+              local_capped += path.exited ? 0 : 1;
+              sh.diffuse += path.resolved;
+              sh.specular_scale += path.reflected;
+              layer.transmit_scale = path.scale;
+              layer.transmit_environment = path.environment;
+              layer.exit_position = path.exit_position;
+              layer.exit_direction = path.exit_direction;
+              layer.exit_roughness = path.roughness;
+              layer.walks = path.exited && luminance(path.scale) > 0.0f;
             }
+            if (coat) {
+              // The coat's weight and roughness as the hit point sampled them, around its own normal.
+              const float weight = clamp01(hp.material.clearcoat);
+              const float roughness = clamp01(hp.material.clearcoat_roughness);
+              const float coat_nv = std::clamp(glm::dot(hp.clearcoat_normal, hp.to_viewer), 1e-4f, 1.0f);
+              const vec2 ab = dfg(coat_nv, roughness);
+              layer.coat_scale = vec3(weight * (kDielectricF0 * ab.x + ab.y));
+              layer.coat_environment =
+                  ibl_.specular(glm::reflect(-hp.to_viewer, hp.clearcoat_normal), roughness);
+              const float schlick = kDielectricF0 + (1.0f - kDielectricF0) * std::pow(1.0f - coat_nv, 5.0f);
+              const float below = 1.0f - weight * schlick;
+              sh.specular_scale *= below;
+              sh.diffuse *= below;
+              layer.transmit_scale *= below;
+              ++local_coated;
+            }
+            buffers.layered[i] = 1;
           }
-        }
-        scratch.trace(scene_, ibl_, settings_, depth_);
-        for (const Waiting& w : waiting) {
-          TransmittedPath path = scratch.paths[w.path];
-          finish(w.sample, &path, w.owner);
         }
         rays += local_rays;
         refracted += local_refracted;

@@ -104,18 +104,6 @@ TransmittedPath traceTransmission(const RenderScene& scene, const PrefilteredIbl
                                   const SurfaceMaterial* entry_textured = nullptr,
                                   std::vector<double>* alive = nullptr);
 
-// Where a transmitted path enters, as traceTransmission takes it.
-struct TransmissionEntry {
-  vec3 position{0.0f}, normal{0.0f, 1.0f, 0.0f}, direction{0.0f, 0.0f, -1.0f};
-  const Material* material = nullptr;
-  const SurfaceMaterial* textured = nullptr;
-};
-// traceTransmission of every entry (no `alive`), the paths advancing together, each round of their
-// rays cast as one coherent stream (Embree's packets): the same paths, bit for bit.
-std::vector<TransmittedPath> traceTransmissions(const RenderScene& scene, const PrefilteredIbl& ibl,
-                                                const TracerSettings& settings, int depth,
-                                                const std::vector<TransmissionEntry>& entries);
-
 struct InternalDepth {
   int depth = 1;
   float residual = 0.0f;         // share of the transmitted light still inside at that depth

@@ -51,10 +51,6 @@ class RayScene {
   RayHit intersect(const Ray& ray, float tmin = 0.0f, float tmax = 1e30f,
                    PartialHits partial = PartialHits::Stochastic) const;
   bool occluded(const Ray& ray, float tmin = 0.0f, float tmax = 1e30f) const;  // Stochastic
-  // intersect(rays[k], tmin) into hits[k] for k < count, the rays handed to Embree as one coherent
-  // stream (its ray packets): for rays that start near each other and point alike (neighbouring
-  // pixels' paths). Partial hits as PartialHits::Stochastic.
-  void intersectCoherent(const Ray* rays, std::size_t count, float tmin, RayHit* hits) const;
 
   const TriangleMesh& mesh(std::uint32_t geometry) const { return meshes_.at(geometry); }
   std::size_t meshCount() const { return meshes_.size(); }
