@@ -247,10 +247,9 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     }
     if (layered) {
       PassTimer tl(out.timings, plan.has(Pass::Refraction) ? Pass::Refraction : Pass::Clearcoat);
-      const LayerCounts counts =
-          MaterialLayers(scene_, ibl_, settings_, plan.internal_depth, plan.has(Pass::Refraction),
-                         plan.has(Pass::Clearcoat))
-              .shade(cache.hits, cache.shading, cache.layers, cache.ready ? &cache.camera : nullptr);
+      const LayerCounts counts = MaterialLayers(scene_, ibl_, settings_, plan.internal_depth,
+                                                plan.has(Pass::Refraction), plan.has(Pass::Clearcoat))
+                                     .shade(cache.hits, cache.shading, cache.layers);
       composeLayeredStatic(cache.hits, cache.shading, cache.layers, cache.hdr);
       out.refraction_rays = counts.refraction_rays;
       out.refracted_samples = counts.refracted_samples;

@@ -3,9 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
-#include <optional>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -470,29 +467,7 @@ bool blendWalks(const std::vector<ForegroundSample>& anchor_fg, const WalkSource
 }  // namespace
 
 LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitSumShading>& shading,
-                                  LayerBuffers& buffers, const CameraModel* previous) const {
-  static const float reuse_cos =
-      std::getenv("HOLO_REUSE") ? std::cos(std::atof(std::getenv("HOLO_REUSE")) * kPi / 180.0f) : 2.0f;
-  static const float reuse_px = std::getenv("HOLO_REUSE_PX") ? std::atof(std::getenv("HOLO_REUSE_PX")) : 1.0f;
-  std::swap(buffers.anchors, buffers.previous_anchors);
-  const int previous_width = buffers.previous_grid_width, previous_height = buffers.previous_grid_height;
-  const bool reuse = previous && reuse_cos <= 1.0f && !buffers.previous_anchors.empty();
-  ++buffers.generation;
-  static const bool sample_reuse = std::getenv("HOLO_REUSE_SAMPLES") != nullptr;
-  std::swap(buffers.own_index, buffers.previous_own_index);
-  std::swap(buffers.own, buffers.previous_own);
-  std::swap(buffers.own_at, buffers.previous_own_at);
-  const int prev_w = buffers.previous_width, prev_h = buffers.previous_height;
-  buffers.previous_width = hits.width;
-  buffers.previous_height = hits.height;
-  buffers.own_index.assign(hits.pixelCount(), -1);
-  if (buffers.own.size() < hits.covered.size()) {
-    buffers.own.resize(hits.covered.size());
-    buffers.own_at.resize(hits.covered.size());
-  }
-  std::atomic<std::uint32_t> own_next{0};
-  std::atomic<std::uint64_t> reused_samples{0};
-  std::atomic<std::uint64_t> reused_count{0};
+                                  LayerBuffers& buffers) const {
   buffers.layers.resize(hits.hits.size());
   buffers.layered.assign(hits.hits.size(), 0);
   std::atomic<std::uint64_t> rays{0}, refracted{0}, capped{0}, coated{0};
@@ -501,28 +476,6 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
   const int grid_width = stride > 1 ? (hits.width - 1) / stride + 1 : 0;
   const int grid_height = stride > 1 ? (hits.height - 1) / stride + 1 : 0;
   buffers.anchors.assign(std::size_t(grid_width) * std::size_t(grid_height), RefractionAnchor{});
-  buffers.previous_grid_width = grid_width;
-  buffers.previous_grid_height = grid_height;
-  // The previous trace's path at the same surface point, where the eye's direction there turned
-  // the first refracted segment by less than the bound.
-  const auto reprojected = [&](const HitPoint& hp, RefractionAnchor& a) {
-    const std::optional<vec2> uv = previous->project(hp.position);
-    if (!uv) return false;
-    const vec2 g = *uv / float(stride);
-    const int px = int(std::lround(g.x)), py = int(std::lround(g.y));
-    if (px < 0 || py < 0 || px >= previous_width || py >= previous_height) return false;
-    if (glm::length(*uv - vec2(px, py) * float(stride)) > reuse_px) return false;
-    const RefractionAnchor& old =
-        buffers.previous_anchors[std::size_t(py) * std::size_t(previous_width) + std::size_t(px)];
-    if (!old.material || old.source.anchors > 0 || old.reused || !sameSurface(old, hp)) return false;
-    const float ior = safeIor(hp.gltf->ior);
-    const vec3 t_new = refractThrough(-hp.to_viewer, hp.normal, ior),
-               t_old = refractThrough(old.direction, old.normal, ior);
-    if (glm::dot(t_new, t_old) < reuse_cos) return false;
-    a.unit = old.unit;
-    a.reused = true;
-    return true;
-  };
   const std::vector<vec2> pattern = subsamplePattern(4);
   // In two rounds: the coarse lattice's anchors (even grid coordinates) trace their paths; every
   // other anchor takes their blend where they agree as a sample does, else traces its own.
@@ -544,17 +497,12 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
                 buffers.anchors[std::size_t(gy) * std::size_t(grid_width) + std::size_t(gx)];
             a.position = hp.position;
             a.normal = hp.normal;
-            a.direction = -hp.to_viewer;
             a.material = hp.gltf;
             const vec2 at = vec2(float(x), float(y)) + (i == p ? vec2(0.0f) : pattern[i - hits.first_sub[p]]);
             a.source = WalkSource{};
             if (round == 1 &&
                 blendAnchors(buffers.anchors, grid_width, grid_height, stride, 2, hp, at, a.unit, a.source))
               continue;
-            if (reuse && ((gx / 2 + gy / 2 + gx + gy + int(buffers.generation)) & 1) && reprojected(hp, a)) {
-              ++reused_count;
-              continue;
-            }
             a.unit = traceUnit(scene_, ibl_, settings_, depth_, hp.position, hp.normal, -hp.to_viewer,
                                *hp.gltf, &hp.material, nullptr);
             local_rays += a.unit.rays;
@@ -612,49 +560,8 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
                 applyEntry(path);
                 if (path.exited) path.environment = ibl_.specular(path.exit_direction, path.roughness);
               } else {
-                bool again = false;
-                const int px = int(p % std::size_t(hits.width)), py = int(p / std::size_t(hits.width));
-                if (reuse && sample_reuse && ((px + py + int(buffers.generation)) & 1)) {
-                  const std::optional<vec2> uv = previous->project(hp.position);
-                  if (uv) {
-                    const int qx = int(std::lround(uv->x)), qy = int(std::lround(uv->y));
-                    if (qx >= 0 && qy >= 0 && qx < prev_w && qy < prev_h) {
-                      const std::int32_t idx =
-                          buffers.previous_own_index[std::size_t(qy) * std::size_t(prev_w) + std::size_t(qx)];
-                      if (idx >= 0) {
-                        const RefractionAnchor& old = buffers.previous_own[std::size_t(idx)];
-                        const float ior = safeIor(m.ior);
-                        if (!old.reused && sameSurface(old, hp) &&
-                            glm::length(*uv - buffers.previous_own_at[std::size_t(idx)]) <= reuse_px &&
-                            glm::dot(refractThrough(-hp.to_viewer, hp.normal, ior),
-                                     refractThrough(old.direction, old.normal, ior)) >= reuse_cos) {
-                          path = old.unit;
-                          path.entry = entryWeight(hp.normal, -hp.to_viewer, m, &sm);
-                          again = true;
-                          ++reused_samples;
-                        }
-                      }
-                    }
-                  }
-                }
-                if (!again)
-                  path = traceUnit(scene_, ibl_, settings_, depth_, hp.position, hp.normal, -hp.to_viewer, m,
-                                   &sm, nullptr);
-                if (buffers.own_index[p] < 0) {
-                  const std::uint32_t slot = own_next++;
-                  if (slot < buffers.own.size()) {
-                    RefractionAnchor& o = buffers.own[slot];
-                    o.position = hp.position;
-                    o.normal = hp.normal;
-                    o.direction = -hp.to_viewer;
-                    o.material = hp.gltf;
-                    o.unit = path;
-                    o.reused = again;
-                    buffers.own_at[slot] = at;
-                    buffers.own_index[p] = std::int32_t(slot);
-                  }
-                }
-                if (again) local_rays -= path.rays;
+                path = traceUnit(scene_, ibl_, settings_, depth_, hp.position, hp.normal, -hp.to_viewer, m,
+                                 &sm, nullptr);
                 if (stride > 1 && i != p && !shared.material) {
                   shared.position = hp.position;
                   shared.normal = hp.normal;
@@ -700,9 +607,6 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
         capped += local_capped;
         coated += local_coated;
       });
-  if (std::getenv("HOLO_REUSE_LOG"))
-    fprintf(stderr, "REUSED %lu samples %lu rays %lu\n", (unsigned long)reused_count.load(),
-            (unsigned long)reused_samples.load(), (unsigned long)rays.load());
   return {rays.load(), refracted.load(), capped.load(), coated.load()};
 }
 

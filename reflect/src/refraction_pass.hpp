@@ -138,11 +138,9 @@ struct SampleLayers {
 // A traced path at an anchor pixel (refraction_stride > 1), per unit of light entering.
 struct RefractionAnchor {
   vec3 position{0.0f}, normal{0.0f, 1.0f, 0.0f};
-  vec3 direction{0.0f, 0.0f, -1.0f};   // the entry ray's direction (into the surface)
   const Material* material = nullptr;  // null: no anchor there
-  bool reused = false;
-  TransmittedPath unit;  // scale, resolved and reflected per unit entry weight
-  WalkSource source;     // the coarse anchors it blended (their indices), if it did
+  TransmittedPath unit;                // scale, resolved and reflected per unit entry weight
+  WalkSource source;                   // the coarse anchors it blended (their indices), if it did
 };
 
 struct LayerBuffers {
@@ -151,13 +149,6 @@ struct LayerBuffers {
   std::vector<ForegroundSample> transmitted_fg;  // per entry, this frame's visitors along the exit rays
   std::vector<RefractionAnchor> anchors;         // the anchor grid, row-major (kept with the static shading)
   std::vector<ForegroundSample> anchor_fg;       // per anchor, this frame's walk of its exit ray
-  std::vector<RefractionAnchor> previous_anchors;
-  int previous_grid_width = 0, previous_grid_height = 0;
-  std::vector<std::int32_t> own_index, previous_own_index;  // per pixel
-  std::vector<RefractionAnchor> own, previous_own;
-  std::vector<vec2> own_at, previous_own_at;
-  int previous_width = 0, previous_height = 0;
-  std::uint32_t generation = 0;
 };
 
 struct LayerCounts {
@@ -176,8 +167,8 @@ class MaterialLayers {
   // Every valid sample of a covered pixel with a transmissive or coated material: its shading
   // rescaled (the reflection by the exact Fresnel, the diffuse by 1 - transmission, the base by
   // the coat), its layers written. shading as StaticShading wrote it.
-  LayerCounts shade(const HitPointBuffer& hits, std::vector<SplitSumShading>& shading, LayerBuffers& buffers,
-                    const CameraModel* previous = nullptr) const;
+  LayerCounts shade(const HitPointBuffer& hits, std::vector<SplitSumShading>& shading,
+                    LayerBuffers& buffers) const;
   // This frame's visitors along the exit rays into buffers.transmitted_fg: the anchors' exit rays
   // and those of the samples that traced their own path are walked, a blended sample takes the
   // blend of its anchors' walks where these see the same (the transmitted lobe is blurred like its
