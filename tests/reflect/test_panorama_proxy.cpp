@@ -27,6 +27,20 @@ cv::Mat codedPanorama(int width = 256, int height = 128) {
   return pano;
 }
 
+// The integral of environment.pdf(origin, .) over the sphere of directions (Monte Carlo, 20000
+// uniform directions).
+double pdfOverTheSphere(const Environment& environment, const vec3& origin) {
+  double integral = 0.0;
+  const int n = 20000;
+  for (int i = 0; i < n; ++i) {
+    SampleStream stream(9, 0, std::uint32_t(i));
+    const vec2 u = stream.next2D();
+    const float z = 1.0f - 2.0f * u.x, r = std::sqrt(std::max(0.0f, 1.0f - z * z)), phi = 2.0f * kPi * u.y;
+    integral += double(environment.pdf(origin, vec3(r * std::cos(phi), r * std::sin(phi), z))) * 4.0 * kPi;
+  }
+  return integral / n;
+}
+
 TEST(PanoramaProxy, OffCentreReflectionRayReadsTheDirectionToWhereItMeetsTheHall) {
   // A hall of 10 m radius captured 1 m above the pyramid's origin; a point on the relic 0.3 m
   // beside the capture point looks straight along +Z.
@@ -82,15 +96,7 @@ TEST(PanoramaProxy, SamplingPdfsStayConsistentForThePathTracer) {
     EXPECT_NEAR(environment.pdf(origin, s.direction), s.pdf, 2e-3f * s.pdf);
     EXPECT_EQ(environment.radiance(origin, s.direction), s.radiance);
   }
-  double integral = 0.0;
-  const int n = 20000;
-  for (int i = 0; i < n; ++i) {
-    SampleStream stream(9, 0, std::uint32_t(i));
-    const vec2 u = stream.next2D();
-    const float z = 1.0f - 2.0f * u.x, r = std::sqrt(std::max(0.0f, 1.0f - z * z)), phi = 2.0f * kPi * u.y;
-    integral += double(environment.pdf(origin, vec3(r * std::cos(phi), r * std::sin(phi), z))) * 4.0 * kPi;
-  }
-  EXPECT_NEAR(integral / n, 1.0, 0.03);
+  EXPECT_NEAR(pdfOverTheSphere(environment, origin), 1.0, 0.03);
 }
 
 // The pyramid's base (top at y = 0, half width 0.3 m) lies nearer than the hall below a relic: a
@@ -125,15 +131,7 @@ TEST(PanoramaProxy, TheBaseBelowTheRelicHidesTheHallBehindIt) {
   }
   EXPECT_GT(drawn, samples / 2);
   // The pdf integrates to the share of samples drawn.
-  double integral = 0.0;
-  const int n = 20000;
-  for (int i = 0; i < n; ++i) {
-    SampleStream stream(9, 0, std::uint32_t(i));
-    const vec2 u = stream.next2D();
-    const float z = 1.0f - 2.0f * u.x, r = std::sqrt(std::max(0.0f, 1.0f - z * z)), phi = 2.0f * kPi * u.y;
-    integral += double(environment.pdf(origin, vec3(r * std::cos(phi), r * std::sin(phi), z))) * 4.0 * kPi;
-  }
-  EXPECT_NEAR(integral / n, double(drawn) / samples, 0.03);
+  EXPECT_NEAR(pdfOverTheSphere(environment, origin), double(drawn) / samples, 0.03);
 }
 
 TEST(PanoramaProxy, BadProxyIsAnInputError) {
