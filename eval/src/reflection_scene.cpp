@@ -27,6 +27,8 @@ constexpr int kPanoramaWidth = 1024, kPanoramaHeight = 512;
 // the sphere the panorama captured there is placed on. Infinite when no direction meets the hall.
 float meanHallDistance(const Model& hall, const vec3& centre, float base) {
   const reflect::RenderScene scene(Model{}, {hall});
+  // With no sphere, the proxy's point for a direction is finite only where the base hides the hall.
+  const reflect::PanoramaProxy base_only{centre, std::numeric_limits<float>::infinity(), base};
   constexpr int kDirections = 4096;
   const float golden = kPi * (3.0f - std::sqrt(5.0f));
   double sum = 0.0;
@@ -35,10 +37,7 @@ float meanHallDistance(const Model& hall, const vec3& centre, float base) {
     const float y = 1.0f - 2.0f * (float(i) + 0.5f) / float(kDirections);
     const float r = std::sqrt(std::max(0.0f, 1.0f - y * y));
     const vec3 direction(r * std::cos(golden * float(i)), y, r * std::sin(golden * float(i)));
-    if (direction.y < 0.0f && centre.y > 0.0f) {
-      const vec3 q = centre - (centre.y / direction.y) * direction;
-      if (std::abs(q.x) <= base && std::abs(q.z) <= base) continue;
-    }
+    if (isFinite(base_only.point(direction))) continue;
     const RayHit hit = scene.all().intersect(Ray{centre, direction});
     if (!hit.hit()) continue;
     sum += double(hit.t);
