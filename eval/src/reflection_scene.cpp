@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <optional>
 #include <sstream>
 
@@ -10,6 +9,7 @@
 #include "holo/core/gltf_io.hpp"
 #include "holo/core/hdr_io.hpp"
 #include "holo/core/image.hpp"
+#include "holo/pipeline/installation.hpp"
 #include "holo/reflect/hit_points.hpp"
 #include "holo/reflect/render_scene.hpp"
 #include "holo/reflect/view.hpp"
@@ -21,30 +21,6 @@ namespace holo::eval {
 namespace {
 
 constexpr int kPanoramaWidth = 1024, kPanoramaHeight = 512;
-
-// The hall's mean distance from `centre` over a Fibonacci sphere of directions (metres), those
-// that meet the pyramid's base (half width `base`, top at y = 0) first left out: the radius of
-// the sphere the panorama captured there is placed on. Infinite when no direction meets the hall.
-float meanHallDistance(const Model& hall, const vec3& centre, float base) {
-  const reflect::RenderScene scene(Model{}, {hall});
-  // With no sphere, the proxy's point for a direction is finite only where the base hides the hall.
-  const reflect::PanoramaProxy base_only{centre, std::numeric_limits<float>::infinity(), base};
-  constexpr int kDirections = 4096;
-  const float golden = kPi * (3.0f - std::sqrt(5.0f));
-  double sum = 0.0;
-  int hits = 0;
-  for (int i = 0; i < kDirections; ++i) {
-    const float y = 1.0f - 2.0f * (float(i) + 0.5f) / float(kDirections);
-    const float r = std::sqrt(std::max(0.0f, 1.0f - y * y));
-    const vec3 direction(r * std::cos(golden * float(i)), y, r * std::sin(golden * float(i)));
-    if (isFinite(base_only.point(direction))) continue;
-    const RayHit hit = scene.all().intersect(Ray{centre, direction});
-    if (!hit.hit()) continue;
-    sum += double(hit.t);
-    ++hits;
-  }
-  return hits > 0 ? float(sum / double(hits)) : std::numeric_limits<float>::infinity();
-}
 
 bool isBuiltinRelic(const std::string& name) {
   const auto names = sim::builtinRelicNames();
@@ -140,12 +116,10 @@ ReflectionScene loadReflectionScene(const SceneOptions& o) {
   }
   s.panorama = o.panorama.empty() ? museum->renderPanorama(kPanoramaWidth, kPanoramaHeight)
                                   : loadHdr(o.panorama).pixels;
-  if (o.panorama.empty() && !s.static_emitters.empty() && !o.panorama_at_infinity) {
-    s.panorama_proxy.centre = museum->description().panorama_position;
-    s.panorama_proxy.base_half_width = sim::kBaseHalfWidth;
-    s.panorama_proxy.radius = meanHallDistance(s.static_emitters.front(), s.panorama_proxy.centre,
-                                               s.panorama_proxy.base_half_width);
-  }
+  // As the live simulated installation places it; the relic alone ("empty") has no hall in its
+  // truth, so its panorama stays at infinity.
+  if (o.panorama.empty() && !s.static_emitters.empty() && !o.panorama_at_infinity)
+    s.panorama_proxy = pipeline::simulatedPanoramaProxy(*museum);
   return s;
 }
 

@@ -9,8 +9,8 @@
 namespace holo::pipeline {
 
 ExhibitConfig parseExhibitConfig(const ConfigNode& exhibit) {
-  exhibit.rejectUnknownKeys(
-      {"relic", "fit_relic", "panorama", "hall_radius", "camera_exposure", "background_frames", "fps"});
+  exhibit.rejectUnknownKeys({"relic", "fit_relic", "panorama", "hall_radius", "base_half_width",
+                             "camera_exposure", "background_frames", "fps"});
   ExhibitConfig config;
   const ConfigNode relic = exhibit["relic"];
   const std::string relic_value = relic.as<std::string>();
@@ -35,6 +35,11 @@ ExhibitConfig parseExhibitConfig(const ConfigNode& exhibit) {
 
   if (exhibit.has("hall_radius"))
     config.hall_radius_m = exhibit.getInRange("hall_radius", 10.0f, 0.5f, 1000.0f);
+  config.base_half_width_m = exhibit.getInRange("base_half_width", 0.0f, 0.0f, 2.0f);
+  // At infinity every point reads its own direction's pixel: a base there would hide nothing.
+  if (config.base_half_width_m > 0.0f && !config.hall_radius_m)
+    exhibit["base_half_width"].fail(
+        "0 or absent without hall_radius (the base hides the hall only at its distance)");
   config.camera_exposure = exhibit.get<float>("camera_exposure", 1.0f);
   if (!(config.camera_exposure > 0.0f) || !std::isfinite(config.camera_exposure))
     exhibit["camera_exposure"].fail("a positive number");

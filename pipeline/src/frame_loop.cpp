@@ -110,8 +110,9 @@ FrameLoop::FrameLoop(FrameLoopOptions options, Installation installation,
   if (installation.sources.size() != n || installation.capture_options.size() != n)
     throw Error("installation " + installation.name + ": one source and capture setting per camera expected");
 
-  environment_ =
-      reflect::Environment(installation.panorama, installation.panorama_yaw_rad, installation.panorama_proxy);
+  environment_ = reflect::Environment(
+      installation.panorama, installation.panorama_yaw_rad,
+      options_.panorama_at_infinity ? reflect::PanoramaProxy{} : installation.panorama_proxy);
   ibl_ = reflect::PrefilteredIbl(environment_);
   render_scene_ = std::make_unique<reflect::RenderScene>(installation.relic, std::vector<Model>{});
   renderer_ = std::make_unique<reflect::FrameRenderer>(*render_scene_, ibl_, options_.tracer);

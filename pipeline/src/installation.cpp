@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/imgcodecs.hpp>
 #include <utility>
 
@@ -16,6 +17,8 @@
 #include "holo/core/hdr_io.hpp"
 #include "holo/core/log.hpp"
 #include "holo/pipeline/exhibit_config.hpp"
+#include "holo/reflect/render_scene.hpp"
+#include "holo/sim/halls.hpp"
 #include "holo/sim/museum.hpp"
 #include "holo/sim/relics.hpp"
 
@@ -117,7 +120,41 @@ CalibratedCamera calibratedCameraOf(const capture::CaptureConfig& config, const 
                    "no such file, and the source does not know its model");
 }
 
+// The hall's mean distance from `centre` over a Fibonacci sphere of directions (metres), those
+// that meet the pyramid's base (half width `base_half_width`, top at y = 0) first left out: the
+// radius of the sphere the panorama captured there is placed on. Infinite when no direction
+// meets the hall.
+float meanHallDistance(const Model& hall, const vec3& centre, float base_half_width) {
+  constexpr float kInfinity = std::numeric_limits<float>::infinity();
+  if (hall.meshes.empty()) return kInfinity;
+  const reflect::RenderScene scene(Model{}, {hall});
+  // With no sphere, the proxy's point for a direction is finite only where the base hides the hall.
+  const reflect::PanoramaProxy base_only{centre, kInfinity, base_half_width};
+  constexpr int kDirections = 4096;
+  const float golden = kPi * (3.0f - std::sqrt(5.0f));
+  double sum = 0.0;
+  int hits = 0;
+  for (int i = 0; i < kDirections; ++i) {
+    const float y = 1.0f - 2.0f * (float(i) + 0.5f) / float(kDirections);
+    const float r = std::sqrt(std::max(0.0f, 1.0f - y * y));
+    const vec3 direction(r * std::cos(golden * float(i)), y, r * std::sin(golden * float(i)));
+    if (isFinite(base_only.point(direction))) continue;
+    const RayHit hit = scene.all().intersect(Ray{centre, direction});
+    if (!hit.hit()) continue;
+    sum += double(hit.t);
+    ++hits;
+  }
+  return hits > 0 ? float(sum / double(hits)) : kInfinity;
+}
+
 }  // namespace
+
+reflect::PanoramaProxy simulatedPanoramaProxy(const sim::Museum& museum) {
+  const vec3 centre = museum.description().panorama_position;
+  const float radius = meanHallDistance(museum.hall(), centre, sim::kBaseHalfWidth);
+  if (!std::isfinite(radius)) return {};
+  return {centre, radius, sim::kBaseHalfWidth};
+}
 
 bool describesCameras(const ConfigNode& root) {
   return root.isMap() && root.has("capture");
@@ -149,6 +186,12 @@ Installation simulatedInstallation(const std::string& scene, bool paced, int pan
   installation.relic = museum->relic();
   const int pw = std::max(64, panorama_width);
   installation.panorama = museum->renderPanorama(pw, pw / 2);
+  installation.panorama_proxy = simulatedPanoramaProxy(*museum);
+  if (!installation.panorama_proxy.infinite())
+    HOLO_LOG_INFO(
+        "panorama on the hall's mean distance {:.2f} m around its capture point, above a base of half "
+        "width {:.2f} m",
+        installation.panorama_proxy.radius, installation.panorama_proxy.base_half_width);
   return installation;
 }
 
@@ -193,6 +236,7 @@ Installation loadInstallation(const ConfigNode& root, const InstallationOptions&
   const fs::path pyramid = calib::pyramidCalibrationPath(capture.calibration_dir);
   std::error_code ec;
   if (exhibit_config.hall_radius_m) installation.panorama_proxy.radius = *exhibit_config.hall_radius_m;
+  installation.panorama_proxy.base_half_width = exhibit_config.base_half_width_m;
   if (fs::is_regular_file(pyramid, ec)) {
     const calib::PyramidCalibration calibration = calib::loadPyramidCalibration(pyramid);
     installation.panorama_yaw_rad = calibration.panorama_yaw_rad;
@@ -203,12 +247,17 @@ Installation loadInstallation(const ConfigNode& root, const InstallationOptions&
   } else {
     HOLO_LOG_WARN("{}: no pyramid calibration, the panorama is used unrotated (yaw 0)", pyramid.string());
   }
-  // The pyramid (the world origin) must stand inside the hall the panorama is projected onto.
+  // The pyramid (the world origin) and its base must stand inside the hall the panorama is
+  // projected onto.
+  const float base_reach = std::sqrt(2.0f) * installation.panorama_proxy.base_half_width;  // to a corner
   if (!installation.panorama_proxy.infinite() &&
-      installation.panorama_proxy.radius <= glm::length(installation.panorama_proxy.centre) + 0.5f)
-    exhibit["hall_radius"].fail("a radius at least 0.5 m beyond the pyramid (the panorama was captured " +
-                                fmt::format("{:.2f}", glm::length(installation.panorama_proxy.centre)) +
-                                " m from it, pyramid.yml's panorama_position)");
+      installation.panorama_proxy.radius <=
+          glm::length(installation.panorama_proxy.centre) + base_reach + 0.5f)
+    exhibit["hall_radius"].fail(
+        "a radius at least 0.5 m beyond the pyramid and its base (the panorama was captured " +
+        fmt::format("{:.2f}", glm::length(installation.panorama_proxy.centre)) +
+        " m from it, pyramid.yml's panorama_position; the base's corners reach " +
+        fmt::format("{:.2f}", base_reach) + " m, exhibit.base_half_width)");
 
   installation.sources = capture::makeSources(capture);
   for (std::size_t i = 0; i < capture.cameras.size(); ++i) {

@@ -4,6 +4,7 @@
 #include "holo/core/error.hpp"
 #include "holo/eval/methods.hpp"
 #include "holo/eval/reflection_scene.hpp"
+#include "holo/pipeline/installation.hpp"
 #include "holo/sim/halls.hpp"
 
 namespace holo::eval {
@@ -76,6 +77,22 @@ TEST(ReflectionScene, AHallPlacesItsPanoramaAtTheHallsDistance) {
   EXPECT_TRUE(at_infinity.infinite());
   EXPECT_EQ(at_infinity.base_half_width, 0.0f);
   EXPECT_TRUE(smallScene().scene.panorama_proxy.infinite());
+}
+
+// The live simulated museum reads the hall where the evaluations measure it: the same proxy for
+// the same scene.
+TEST(ReflectionScene, TheLiveSimulatedInstallationReadsThePanoramaThroughTheSameProxy) {
+  SceneOptions options;
+  options.scene = "gallery";
+  options.relic = "vase";
+  const reflect::PanoramaProxy evaluated = loadReflectionScene(options).panorama_proxy;
+  const reflect::PanoramaProxy live =
+      pipeline::simulatedInstallation(options.scene, /*paced=*/false, 64, options.relic).panorama_proxy;
+  ASSERT_FALSE(live.infinite());
+  EXPECT_EQ(live.radius, evaluated.radius);
+  EXPECT_EQ(live.centre, evaluated.centre);
+  EXPECT_EQ(live.base_half_width, 0.3f);
+  EXPECT_EQ(live.base_half_width, evaluated.base_half_width);
 }
 
 }  // namespace

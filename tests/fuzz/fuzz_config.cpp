@@ -47,6 +47,8 @@ void checkExhibit(const holo::ConfigNode& root) {
   if (!exhibit.panorama_file.is_absolute()) __builtin_trap();
   if (exhibit.hall_radius_m && !(*exhibit.hall_radius_m >= 0.5f && *exhibit.hall_radius_m <= 1000.0f))
     __builtin_trap();
+  if (!(exhibit.base_half_width_m >= 0.0f && exhibit.base_half_width_m <= 2.0f)) __builtin_trap();
+  if (exhibit.base_half_width_m > 0.0f && !exhibit.hall_radius_m) __builtin_trap();
   if (!(exhibit.camera_exposure > 0.0f) || !std::isfinite(exhibit.camera_exposure)) __builtin_trap();
   if (exhibit.background_frames < 0 || exhibit.background_frames > 10000) __builtin_trap();
   if (!(exhibit.fps > 0.0 && exhibit.fps <= 1000.0)) __builtin_trap();

@@ -1,8 +1,8 @@
 // Everything calibrated reaches the live loop: from a calibration folder beside a small recorded
 // installation, loadInstallation picks up each camera's colour gains, the captured background
 // (unless asked to relearn it), the panorama's capture point with the configured hall radius;
-// the display settings take pyramid.yml's face alignment except where display.faces says
-// otherwise, and a face placed by those settings lands where the calibration measured it.
+// the base's half width; the display settings take pyramid.yml's face alignment except where display.faces
+// says otherwise, and a face placed by those settings lands where the calibration measured it.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -157,7 +157,8 @@ class CalibratedInstallation : public ::testing::Test {
 fs::path* CalibratedInstallation::dir_ = nullptr;
 
 TEST_F(CalibratedInstallation, ColourGainsBackgroundAndPanoramaPositionReachTheLoop) {
-  const Installation installation = loadInstallation(config("gains.yaml", "  hall_radius: 9.5\n"));
+  const Installation installation =
+      loadInstallation(config("gains.yaml", "  hall_radius: 9.5\n  base_half_width: 0.25\n"));
   ASSERT_EQ(installation.colour_gains.size(), 4u);
   for (int i = 0; i < 4; ++i) {
     EXPECT_FLOAT_EQ(installation.colour_gains[static_cast<std::size_t>(i)].r,
@@ -184,6 +185,7 @@ TEST_F(CalibratedInstallation, ColourGainsBackgroundAndPanoramaPositionReachTheL
   EXPECT_LT(max_depth, 30.0);
   // The hall's parallax: centred where the panorama was captured.
   EXPECT_FLOAT_EQ(installation.panorama_proxy.radius, 9.5f);
+  EXPECT_FLOAT_EQ(installation.panorama_proxy.base_half_width, 0.25f);
   EXPECT_EQ(installation.panorama_proxy.centre, vec3(0.5f, 1.2f, -2.0f));
   EXPECT_FLOAT_EQ(installation.panorama_yaw_rad, 0.25f);
 
@@ -191,7 +193,8 @@ TEST_F(CalibratedInstallation, ColourGainsBackgroundAndPanoramaPositionReachTheL
   const Installation relearn = loadInstallation(config("relearn.yaml", ""), {.relearn_background = true});
   EXPECT_TRUE(relearn.background.empty());
   EXPECT_EQ(relearn.background_frames, 7);
-  EXPECT_TRUE(relearn.panorama_proxy.infinite());  // no hall_radius: the hall at infinity
+  EXPECT_TRUE(relearn.panorama_proxy.infinite());           // no hall_radius: the hall at infinity
+  EXPECT_EQ(relearn.panorama_proxy.base_half_width, 0.0f);  // no base_half_width: no base
 }
 
 TEST_F(CalibratedInstallation, DisplaySectionOverridesOnlyTheFieldsItSets) {
@@ -222,6 +225,16 @@ TEST_F(CalibratedInstallation, WrongBackgroundOrHallRadiusIsNamed) {
     FAIL() << "a hall smaller than the distance to the pyramid accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("hall_radius"), std::string::npos) << e.what();
+  }
+  // 3 m clears the pyramid (2.39 m from the capture point) by 0.5 m, but not the corners of a
+  // 0.3 m base (0.42 m further).
+  EXPECT_NO_THROW((void)loadInstallation(config("hall_3m.yaml", "  hall_radius: 3.0\n")));
+  try {
+    (void)loadInstallation(config("base_outside.yaml", "  hall_radius: 3.0\n  base_half_width: 0.3\n"));
+    FAIL() << "a base reaching beyond the hall accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("hall_radius"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("base_half_width"), std::string::npos) << e.what();
   }
   const fs::path broken = *dir_ / "broken_calibration";
   fs::create_directories(broken);

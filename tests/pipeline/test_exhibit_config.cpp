@@ -50,13 +50,15 @@ class ExhibitConfigTest : public ::testing::Test {
 TEST_F(ExhibitConfigTest, FilesAreNamedBesideTheConfigurationWithoutBeingOpened) {
   const ExhibitConfig config = parseExhibitConfig(
       exhibit("  relic: relics/amphora.glb\n  fit_relic: true\n  panorama: /srv/hall.exr\n"
-              "  hall_radius: 8.5\n  camera_exposure: 0.8\n  background_frames: 0\n  fps: 29.97\n"));
+              "  hall_radius: 8.5\n  base_half_width: 0.35\n  camera_exposure: 0.8\n  background_frames: 0\n"
+              "  fps: 29.97\n"));
   EXPECT_TRUE(config.builtin_relic.empty());
   EXPECT_EQ(config.relic_file, dir_ / "relics/amphora.glb");  // does not exist
   EXPECT_TRUE(config.fit_relic);
   EXPECT_EQ(config.panorama_file, fs::path("/srv/hall.exr"));
   ASSERT_TRUE(config.hall_radius_m);
   EXPECT_FLOAT_EQ(*config.hall_radius_m, 8.5f);
+  EXPECT_FLOAT_EQ(config.base_half_width_m, 0.35f);
   EXPECT_FLOAT_EQ(config.camera_exposure, 0.8f);
   EXPECT_EQ(config.background_frames, 0);
   EXPECT_DOUBLE_EQ(config.fps, 29.97);
@@ -68,6 +70,7 @@ TEST_F(ExhibitConfigTest, ABuiltInRelicNamesNoFileAndDefaultsFillTheRest) {
   EXPECT_TRUE(config.relic_file.empty());
   EXPECT_EQ(config.panorama_file, dir_ / "hall.hdr");
   EXPECT_FALSE(config.hall_radius_m);
+  EXPECT_EQ(config.base_half_width_m, 0.0f);
   EXPECT_FLOAT_EQ(config.camera_exposure, 1.0f);
   EXPECT_EQ(config.background_frames, 30);
   EXPECT_DOUBLE_EQ(config.fps, 30.0);
@@ -83,6 +86,13 @@ TEST_F(ExhibitConfigTest, EveryBadFieldIsNamed) {
   EXPECT_EQ(failingField(ok + "  fit_relic: maybe\n"), "exhibit.fit_relic");
   EXPECT_EQ(failingField(ok + "  hall_radius: 0.4\n"), "exhibit.hall_radius");
   EXPECT_EQ(failingField(ok + "  hall_radius: .nan\n"), "exhibit.hall_radius");
+  const std::string hall = ok + "  hall_radius: 8\n";
+  EXPECT_EQ(failingField(hall + "  base_half_width: -0.1\n"), "exhibit.base_half_width");
+  EXPECT_EQ(failingField(hall + "  base_half_width: .nan\n"), "exhibit.base_half_width");
+  EXPECT_EQ(failingField(hall + "  base_half_width: 2.5\n"), "exhibit.base_half_width");
+  EXPECT_EQ(failingField(hall + "  base_half_width: wide\n"), "exhibit.base_half_width");
+  EXPECT_EQ(failingField(ok + "  base_half_width: 0.3\n"), "exhibit.base_half_width");  // no hall_radius
+  EXPECT_EQ(parseExhibitConfig(exhibit(ok + "  base_half_width: 0\n")).base_half_width_m, 0.0f);
   EXPECT_EQ(failingField(ok + "  camera_exposure: 0\n"), "exhibit.camera_exposure");
   EXPECT_EQ(failingField(ok + "  camera_exposure: 1e39\n"), "exhibit.camera_exposure");  // inf as float
   EXPECT_EQ(failingField(ok + "  background_frames: 10001\n"), "exhibit.background_frames");

@@ -7,6 +7,9 @@
 //     hall_radius: 8.0            # metres from the panorama's capture point to the hall's walls:
 //                                 # reflections get the hall's parallax (reflect::PanoramaProxy);
 //                                 # absent: the hall is infinitely far (no parallax)
+//     base_half_width: 0.3        # metres, half the width of the pyramid's square base (its top is
+//                                 # y = 0): the panorama's pixels below the relic lie on it, and
+//                                 # it hides the hall behind it; needs hall_radius; absent: 0, no base
 //     camera_exposure: 1.0        # the cameras' exposure: radiance = linear(sRGB) / exposure
 //     background_frames: 30       # first frames of every camera that only teach the background
 //     fps: 30                     # the cameras' frame rate (timing of the MP4, eye smoothing)
@@ -33,6 +36,7 @@ struct ExhibitConfig {
   bool fit_relic = false;               // for a relic file; a built-in relic is always fitted
   std::filesystem::path panorama_file;  // resolved like relic_file; never empty
   std::optional<float> hall_radius_m;   // in [0.5, 1000] metres; absent: the hall at infinity
+  float base_half_width_m = 0.0f;       // in [0, 2] metres, > 0 only with hall_radius_m; 0: no base
   float camera_exposure = 1.0f;         // positive and finite
   int background_frames = 30;           // in 0..10000
   double fps = 30.0;                    // Hz, in (0, 1000]

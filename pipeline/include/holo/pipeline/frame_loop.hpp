@@ -58,9 +58,12 @@ struct FrameLoopOptions {
   // A configuration file with `capture:` and `exhibit:` sections (installation.hpp): its cameras,
   // calibration, relic and panorama instead of the simulated scene. Empty: `scene`.
   std::string config;
-  bool live = false;            // capture threads at the cameras' rate; else deterministic
-  int view_size = 320;          // pixels, square face views
-  int panorama_width = 512;     // of the simulated hall panorama the IBL is built from (scene)
+  bool live = false;         // capture threads at the cameras' rate; else deterministic
+  int view_size = 320;       // pixels, square face views
+  int panorama_width = 512;  // of the simulated hall panorama the IBL is built from (scene)
+  // The reflections read the panorama at infinity from its capture point instead of through the
+  // installation's proxy (Installation::panorama_proxy): as before the proxy existed.
+  bool panorama_at_infinity = false;
   double stale_camera_s = 0.5;  // live: a camera silent this long leaves the foreground
   bool track_eyes = true;       // eyes follow visitors' heads; else default standing eyes
   // Deterministic mode: grab (simulate) the first N frames of every camera before the first step

@@ -43,6 +43,10 @@
 #include "holo/core/rgbd_frame.hpp"
 #include "holo/reflect/environment.hpp"
 
+namespace holo::sim {
+class Museum;
+}
+
 namespace holo::pipeline {
 
 struct Installation {
@@ -75,14 +79,23 @@ struct Installation {
   Model relic;        // world frame, standing on the base
   cv::Mat panorama;   // CV_32FC3 linear BGR, equirectangular
   float panorama_yaw_rad = 0.0f;
-  // Where the panorama's pixels are: centre = its capture point (pyramid.yml's
-  // panorama_position), radius = exhibit.hall_radius; infinite by default.
+  // Where the panorama's pixels are. Simulated: simulatedPanoramaProxy below. Configured:
+  // centre = its capture point (pyramid.yml's panorama_position), radius = exhibit.hall_radius,
+  // base_half_width = exhibit.base_half_width; infinite (no parallax) without hall_radius.
   reflect::PanoramaProxy panorama_proxy;
 };
 
+// Where the simulated museum's panorama lies, for the live loop and the evaluations alike: the
+// pyramid's base (sim::kBaseHalfWidth) and a sphere around the scene's panorama_position whose
+// radius is the hall's mean distance from there (metres, over a Fibonacci sphere of directions,
+// those the base hides left out). Infinite (the panorama at infinity, no base) for a hall with
+// no geometry (hall: none).
+reflect::PanoramaProxy simulatedPanoramaProxy(const sim::Museum& museum);
+
 // The simulated museum's scene `scene` (built-in name or YAML file). `paced`: the cameras deliver
 // frames at the scene's rate (live mode); else as fast as they are asked for (deterministic).
-// `relic` (built-in name or glTF file) replaces the scene's relic; empty: the scene's.
+// `relic` (built-in name or glTF file) replaces the scene's relic; empty: the scene's. The
+// panorama lies where the hall is (simulatedPanoramaProxy).
 Installation simulatedInstallation(const std::string& scene, bool paced, int panorama_width,
                                    const std::string& relic = "");
 
