@@ -10,6 +10,16 @@
 #include "holo/reflect/voxel_walk.hpp"
 
 namespace holo::reflect {
+namespace {
+
+// How deep a sharp read follows its ray through the occupied voxels for the visitor's silhouette
+// (voxels): a limb's thickness, so that the body behind a limb is left to addLayerBehind. It does
+// where the read at the entry shows less than kBesideSilhouette of the visitor: the point lies
+// beside the silhouette, within the bilinear read's pixel of it.
+constexpr float kSilhouetteRunVoxels = 3.0f;
+constexpr float kBesideSilhouette = 0.2f;
+
+}  // namespace
 
 std::optional<float> nearMissT(const VoxelGrid& grid, const Ray& ray, float t_max, float radius_per_m) {
   const float brick_m = grid.voxelSize() * float(grid.brickSize());
@@ -152,23 +162,45 @@ bool ForegroundWalk::readHit(const Ray& ray, const VoxelHit& hit, float roughnes
   if (vs.camera >= pyramids_.size() || pyramids_[vs.camera].empty()) return false;
   const ForegroundPyramid& pyramid = pyramids_[vs.camera];
   const CameraModel& cam = cameras_[vs.camera].camera;
+  const float voxel = grid_.voxelSize();
   // The point the ray reaches: half a voxel into the one it entered.
-  const vec3 p = ray.origin + ray.direction * (hit.t + 0.5f * grid_.voxelSize());
+  const vec3 p = ray.origin + ray.direction * (hit.t + 0.5f * voxel);
   const float camera_m = glm::length(p - cam.position()), focal_px = cam.intrinsics().fx;
   const vec2 source(vs.x, vs.y);
   const std::optional<vec2> px = cam.project(p);
   sample = readLobe(pyramid, px ? *px : source, roughness, hit.t, camera_m, focal_px);
+  if (!px || !(sample.weight < 1.0f)) return true;
   // A voxel is wider than a limb seen from a metre (3 cm against a 5-10 cm arm): the point a rough
   // ray entered can project beside the camera's silhouette, where the blurred mask is mostly the
   // hall. The pixel the camera saw the voxel at lies inside it; where the lobe's blur is at least
   // half a voxel wide in that camera the two reads differ by the voxel's quantisation alone, and
-  // the better covered one stands for the voxel. A sharper read is the silhouette test itself
-  // (a mirror's ray entering the voxel hull beside the visitor must miss it): the projection only.
-  if (px && sample.weight < 1.0f &&
-      pyramidSigmaPx(foregroundLevel(roughness, hit.t, camera_m, focal_px, settings_.pyramid_levels)) >=
-          0.5f * grid_.voxelSize() * focal_px / camera_m) {
+  // the better covered one stands for the voxel.
+  if (pyramidSigmaPx(foregroundLevel(roughness, hit.t, camera_m, focal_px, settings_.pyramid_levels)) >=
+      0.5f * voxel * focal_px / camera_m) {
     const ForegroundSample at_source = readLobe(pyramid, source, roughness, hit.t, camera_m, focal_px);
     if (at_source.weight > sample.weight) sample = at_source;
+    return true;
+  }
+  // A sharper read is the silhouette test itself: a mirror's ray that enters the voxels beside the
+  // visitor's silhouette misses the visitor. But the voxels stand up to a voxel or two in front of
+  // the visitor's surface, so a ray that meets the visitor further in can enter them beside it too
+  // (a close visitor seen at a slant by the camera, in a crystal's table): where the entry point
+  // shows (almost) none of the visitor, the ray is followed on through the run of occupied voxels,
+  // each point read in the camera that saw the voxel it is in, and the best covered point is kept.
+  if (!(sample.weight < kBesideSilhouette)) return true;
+  for (float t = hit.t + 0.75f * voxel; t <= hit.t + kSilhouetteRunVoxels * voxel; t += 0.25f * voxel) {
+    const vec3 q = ray.origin + ray.direction * t;
+    const glm::ivec3 v = grid_.voxelOf(q);
+    if (!grid_.occupied(v)) break;
+    const VoxelSample& there = grid_.sample(grid_.sampleIndex(v));
+    if (there.camera >= pyramids_.size() || pyramids_[there.camera].empty()) continue;
+    const CameraModel& seen_by = cameras_[there.camera].camera;
+    const std::optional<vec2> qx = seen_by.project(q);
+    if (!qx) continue;
+    const ForegroundSample deeper = readLobe(pyramids_[there.camera], *qx, roughness, t,
+                                             glm::length(q - seen_by.position()), seen_by.intrinsics().fx);
+    if (deeper.weight > sample.weight) sample = deeper;
+    if (!(sample.weight < 1.0f)) break;
   }
   return true;
 }
@@ -177,10 +209,14 @@ void ForegroundWalk::addLayerBehind(const Ray& ray, const VoxelHit& front, float
                                     ForegroundSample& sample) const {
   const float step = 0.5f * grid_.voxelSize(), t_max = settings_.max_reflection_distance;
   float t = front.t + step;
-  while (t < t_max && grid_.occupied(grid_.voxelOf(ray.origin + ray.direction * t))) t += step;
+  glm::ivec3 last = front.voxel;
+  for (glm::ivec3 v; t < t_max && grid_.occupied(v = grid_.voxelOf(ray.origin + ray.direction * t));
+       t += step)
+    last = v;
   if (!(t < t_max)) return;
   VoxelHit behind = firstOccupiedVoxel(grid_, Ray{ray.origin + ray.direction * t, ray.direction}, t_max - t);
-  if (!behind.hit()) return;
+  // Stepped out exactly on a voxel's face, the walk can start in the voxel just left.
+  if (!behind.hit() || behind.voxel == last) return;
   behind.t += t;
   ForegroundSample back;
   if (!readHit(ray, behind, roughness, back) || !(back.weight > sample.weight)) return;

@@ -386,12 +386,17 @@ bool sameSurface(const RefractionAnchor& a, const HitPoint& hp) {
   return std::abs(glm::dot(d, hp.normal)) <= kAnchorPlaneSine * glm::length(d);
 }
 
+// Whether a sample took its anchors' blend, and if not, whether the anchors around it meet other
+// events inside (another number of interface events, or one exited and one capped): the path
+// changes within a pixel there (a facet's edge, a total internal reflection that starts).
+enum class Blend { Blended, NotBlended, EventsDiffer };
+
 // The bilinear blend at image position `at` (pixels, pixel centres at integers) of the anchors
 // `step` grid points apart (1: all of them; 2: the coarse lattice of every second one each way),
-// per unit of entry, and which anchors it took with which weights (source); false where the
-// sample must trace its own path.
-bool blendAnchors(const std::vector<RefractionAnchor>& anchors, int grid_width, int grid_height, int stride,
-                  int step, const HitPoint& hp, const vec2& at, TransmittedPath& out, WalkSource& source) {
+// per unit of entry, and which anchors it took with which weights (source); where it is not
+// Blended the sample must trace its own path.
+Blend blendAnchors(const std::vector<RefractionAnchor>& anchors, int grid_width, int grid_height, int stride,
+                   int step, const HitPoint& hp, const vec2& at, TransmittedPath& out, WalkSource& source) {
   const vec2 u = at / float(stride * step);
   const vec2 cell = glm::floor(u), f = u - cell;
   const RefractionAnchor* used[4];
@@ -403,19 +408,20 @@ bool blendAnchors(const std::vector<RefractionAnchor>& anchors, int grid_width, 
       const float w = (i ? f.x : 1.0f - f.x) * (j ? f.y : 1.0f - f.y);
       if (!(w > 1e-6f)) continue;
       const int ax = (int(cell.x) + i) * step, ay = (int(cell.y) + j) * step;
-      if (ax < 0 || ay < 0 || ax >= grid_width || ay >= grid_height) return false;
+      if (ax < 0 || ay < 0 || ax >= grid_width || ay >= grid_height) return Blend::NotBlended;
       const std::size_t index = std::size_t(ay) * std::size_t(grid_width) + std::size_t(ax);
       const RefractionAnchor& a = anchors[index];
-      if (!sameSurface(a, hp)) return false;
-      if (n > 0 && (a.unit.events != used[0]->unit.events || a.unit.exited != used[0]->unit.exited ||
-                    glm::dot(a.unit.exit_direction, used[0]->unit.exit_direction) <
-                        (step > 1 ? kCoarseExitCos : kAnchorExitCos)))
-        return false;
+      if (!sameSurface(a, hp)) return Blend::NotBlended;
+      if (n > 0 && (a.unit.events != used[0]->unit.events || a.unit.exited != used[0]->unit.exited))
+        return Blend::EventsDiffer;
+      if (n > 0 && glm::dot(a.unit.exit_direction, used[0]->unit.exit_direction) <
+                       (step > 1 ? kCoarseExitCos : kAnchorExitCos))
+        return Blend::NotBlended;
       used[n] = &a;
       indices[n] = std::uint32_t(index);
       weights[n++] = w;
     }
-  if (n == 0) return false;
+  if (n == 0) return Blend::NotBlended;
   float total = 0.0f;
   for (int k = 0; k < n; ++k) total += weights[k];
   out = TransmittedPath{};
@@ -431,7 +437,7 @@ bool blendAnchors(const std::vector<RefractionAnchor>& anchors, int grid_width, 
     out.roughness += w * a.roughness;
   }
   const float length = glm::length(direction);
-  if (!(length > 1e-6f)) return false;
+  if (!(length > 1e-6f)) return Blend::NotBlended;
   out.exit_direction = direction / length;
   out.exited = used[0]->unit.exited;
   out.events = used[0]->unit.events;
@@ -441,7 +447,7 @@ bool blendAnchors(const std::vector<RefractionAnchor>& anchors, int grid_width, 
     source.anchor[k] = indices[k];
     source.weight[k] = weights[k] / total;
   }
-  return true;
+  return Blend::Blended;
 }
 
 // The blend of the anchors' walks a blended sample's path took (premultiplied by the mask, so it
@@ -506,8 +512,8 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
             a.material = hp.gltf;
             const vec2 at = vec2(float(x), float(y)) + (i == p ? vec2(0.0f) : pattern[i - hits.first_sub[p]]);
             a.source = WalkSource{};
-            if (round == 1 &&
-                blendAnchors(buffers.anchors, grid_width, grid_height, stride, 2, hp, at, a.unit, a.source))
+            if (round == 1 && blendAnchors(buffers.anchors, grid_width, grid_height, stride, 2, hp, at,
+                                           a.unit, a.source) == Blend::Blended)
               continue;
             a.unit = traceUnit(scene_, ibl_, settings_, depth_, hp.position, hp.normal, -hp.to_viewer,
                                *hp.gltf, &hp.material, nullptr);
@@ -557,10 +563,15 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
               sh.diffuse *= 1.0f - clamp01(sm.transmission);
               const vec2 at = centre + (i == p ? vec2(0.0f) : pattern[i - first]);
               TransmittedPath path;
-              const bool blended = stride > 1 && (blendAnchors(buffers.anchors, grid_width, grid_height,
-                                                               stride, 1, hp, at, path, layer.source) ||
-                                                  (shared.material && sameSurface(shared, hp) &&
-                                                   (path = shared.unit, layer.source = shared_source, true)));
+              const Blend blend = stride > 1 ? blendAnchors(buffers.anchors, grid_width, grid_height, stride,
+                                                            1, hp, at, path, layer.source)
+                                             : Blend::EventsDiffer;
+              // Where the anchors meet other events inside, the path changes within the pixel: each
+              // sub-sample traces its own there rather than share one.
+              const bool blended =
+                  blend == Blend::Blended ||
+                  (blend == Blend::NotBlended && shared.material && sameSurface(shared, hp) &&
+                   (path = shared.unit, layer.source = shared_source, true));
               if (blended) {
                 path.entry = entryWeight(hp.normal, -hp.to_viewer, m, &sm);
                 applyEntry(path);

@@ -254,6 +254,66 @@ TEST(ForegroundWalkPass, ARoughRayMeetingAThinArmReadsTheBodyBehindIt) {
   EXPECT_NEAR(sample.radiance.r, 0.0f, 0.01f);
 }
 
+// A visitor's surface seen at a slant: a red plate of points at z = 0.339 (x in [-0.05, 0.05], y
+// in [0.25, 0.35]), inside the voxels z in [0.32, 0.34) of the 2 cm grid, seen only by a camera
+// on its -x side. A mirror ray along +z enters those voxels 1.9 cm in front of the plate, where
+// the camera's line of sight passes beside the plate's +x edge.
+struct SlantedPlate {
+  SlantedPlate() {
+    camera.camera = lookAtCamera(vec3(-0.6f, 0.305f, -0.1f), vec3(0.0f, 0.305f, 0.339f), 30.0f, 256, 256);
+    camera.colour_bgr = cv::Mat(256, 256, CV_32FC3, cv::Scalar::all(0));
+    camera.mask = cv::Mat(256, 256, CV_32FC1, cv::Scalar(0));
+    for (float x = -0.05f; x <= 0.05f; x += 0.001f)
+      for (float y = 0.25f; y <= 0.35f; y += 0.001f) {
+        ForegroundPoint p;
+        p.position = vec3(x, y, 0.339f);
+        p.radiance = vec3(2.0f, 0.0f, 0.0f);
+        const std::optional<vec2> px = camera.camera.project(p.position);
+        if (!px) continue;
+        p.x = std::uint16_t(std::clamp(px->x, 0.0f, 255.0f));
+        p.y = std::uint16_t(std::clamp(px->y, 0.0f, 255.0f));
+        cloud.points.push_back(p);
+        camera.mask.at<float>(p.y, p.x) = 1.0f;
+        camera.colour_bgr.at<cv::Vec3f>(p.y, p.x) = cv::Vec3f(0.0f, 0.0f, 2.0f);
+      }
+    grid.build(cloud);
+    pyramids[0].build(camera.colour_bgr, camera.mask, settings.pyramid_levels);
+  }
+  TracerSettings settings = test::smallGrid();
+  VoxelGrid grid{settings.grid};
+  ForegroundCloud cloud;
+  ForegroundCameraImage camera;
+  std::vector<ForegroundPyramid> pyramids = std::vector<ForegroundPyramid>(1);
+};
+
+TEST(ForegroundWalkPass, AMirrorRayEnteringTheVoxelsBesideTheSilhouetteMeetsTheVisitorBehind) {
+  const SlantedPlate s;
+  const std::vector<ForegroundCameraImage> cameras = {s.camera};
+  const ForegroundWalk walk(s.settings, s.grid, s.pyramids, cameras, nullptr);
+  const vec3 along(0.0f, 0.0f, 1.0f);
+  // 9 mm inside the plate's edge: the voxels are entered at z = 0.32, and half a voxel in the
+  // camera sees the point beside the plate (its line of sight meets z = 0.339 at x = 0.055).
+  const Ray inside{vec3(0.041f, 0.305f, 0.0f), along};
+  const VoxelHit entered = firstOccupiedVoxel(s.grid, inside, 2.0f);
+  ASSERT_TRUE(entered.hit());
+  EXPECT_NEAR(inside.origin.z + entered.t, 0.32f, 1e-3f);
+  const vec3 half_in = inside.origin + inside.direction * (entered.t + 0.01f);
+  ASSERT_LT(s.pyramids[0].sample(*s.camera.camera.project(half_in), 0.0f).weight, 0.01f);
+  // The ray is followed on through the voxels to where it meets the plate: the visitor, in red.
+  ForegroundSample sample;
+  ASSERT_TRUE(walk.walk(inside.origin, along, along, 0.0f, sample));
+  EXPECT_GT(sample.weight, 0.9f);
+  EXPECT_NEAR(sample.radiance.r, 2.0f, 0.05f);
+  EXPECT_NEAR(sample.radiance.g, 0.0f, 0.01f);
+  // 5 mm beside the edge, through the same voxels: its path stays outside the silhouette, and the
+  // ray that misses the plate still reads none of it.
+  const Ray beside{vec3(0.055f, 0.305f, 0.0f), along};
+  ASSERT_TRUE(firstOccupiedVoxel(s.grid, beside, 2.0f).hit());
+  ForegroundSample none;
+  walk.walk(beside.origin, along, along, 0.0f, none);
+  EXPECT_LT(none.weight, 0.01f);
+}
+
 TEST(CameraChoice, TakesTheCameraLookingMostAlongTheRayThatSeesThePoint) {
   std::vector<ForegroundCameraImage> cameras(2);
   cameras[0].camera = lookAtCamera(vec3(0.0f, 0.0f, 2.0f), vec3(0.0f), 60.0f, 16, 16);  // looks along -z
