@@ -86,9 +86,9 @@ class ForegroundWalk {
   ForegroundSample readLobe(const ForegroundPyramid& pyramid, const vec2& pixel, float roughness,
                             float travel_m, float camera_m, float focal_px) const;
   // The foreground where `ray` entered the voxel of `hit` (hit.t from ray.origin), read in the
-  // camera that saw that voxel (a sharp read that shows none of the visitor there: the best
-  // covered point of the ray followed on through the occupied voxels, each read in the camera that
-  // saw its voxel); false when that camera has no image this frame.
+  // camera that saw that voxel (a sharp read that shows almost none of the visitor there: the
+  // best covered point of the ray followed on through the occupied voxels, each read in the camera
+  // that saw its voxel); false when that camera has no image this frame.
   bool readHit(const Ray& ray, const VoxelHit& hit, float roughness, ForegroundSample& sample) const;
   // Where the front read covers part of the lobe only (none: a mirror ray that entered the voxel
   // hull beside the visitor's silhouette): the ray steps out of the voxels it met (a limb) and
