@@ -87,9 +87,7 @@ HOLO_REGISTER_COMMAND(Command{
           ->check(CLI::Range(0, 4));
       sub.add_option("--visitor-model", o->visitor_model,
                      "Visitors instead of the hall's own: bodies (the default) or figures");
-      sub.add_flag("--panorama-at-infinity", o->panorama_at_infinity,
-                   "The live renderers read the hall's panorama at infinity from its capture point, not "
-                   "through the hall's proxy (how figures measured before the proxy reproduce)");
+      addPanoramaAtInfinityFlag(sub, o->panorama_at_infinity);
       sub.add_option("--out", command->out, "Output folder")->capture_default_str();
       sub.add_option("--cache", o->cache, "Ground-truth cache folder")->capture_default_str();
       return [command] { return benchAccuracy(*command); };

@@ -106,10 +106,7 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_flag("--interreflection", options->loop.tracer.relic_interreflection,
                    "One bounce where the relic reflects itself (off in the live loop)");
       sub.add_flag("!--no-foreground", options->loop.tracer.foreground_enabled, "IBL only");
-      sub.add_flag("--panorama-at-infinity", options->loop.panorama_at_infinity,
-                   "The reflections read the hall's panorama at infinity from its capture point, not through "
-                   "the hall's proxy (the simulated hall's distance and base, or exhibit.hall_radius and "
-                   "base_half_width; how figures measured before the proxy reproduce)");
+      addPanoramaAtInfinityFlag(sub, options->loop.panorama_at_infinity);
       sub.add_flag(
           "--reference", options->reference,
           "Also render every measured frame with 4 samples per pixel, the interreflection bounce and no "

@@ -356,9 +356,7 @@ HOLO_REGISTER_COMMAND(Command{
           ->check(CLI::Range(0, 4));
       sub.add_option("--visitor-model", o->visitor_model,
                      "Visitors instead of the halls' own: bodies (the default) or figures");
-      sub.add_flag("--panorama-at-infinity", o->panorama_at_infinity,
-                   "The live renderers read the hall's panorama at infinity from its capture point, not "
-                   "through the hall's proxy (how figures measured before the proxy reproduce)");
+      addPanoramaAtInfinityFlag(sub, o->panorama_at_infinity);
       sub.add_option("--camera-tilt-deg", o->camera_tilt_deg, "Depth cameras' upwards tilt, degrees")
           ->capture_default_str()
           ->check(CLI::Range(-60.0f, 60.0f));

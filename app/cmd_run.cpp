@@ -130,10 +130,7 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_flag("!--no-foreground", options->loop.tracer.foreground_enabled,
                    "Static IBL reflections only (the foreground effect off)");
       sub.add_flag("!--no-eye-tracking", options->loop.track_eyes, "Default standing eyes for every face");
-      sub.add_flag("--panorama-at-infinity", options->loop.panorama_at_infinity,
-                   "The reflections read the hall's panorama at infinity from its capture point, not through "
-                   "the hall's proxy (the simulated hall's distance and base, or exhibit.hall_radius and "
-                   "base_half_width; how figures measured before the proxy reproduce)");
+      addPanoramaAtInfinityFlag(sub, options->loop.panorama_at_infinity);
       sub.add_flag("!--no-overlap", options->loop.overlap,
                    "Compute each frame's foreground after the previous frame instead of during it");
       sub.add_option("--json", options->json, "Also write the timing report (medians, per frame) here");

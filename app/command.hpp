@@ -38,6 +38,15 @@ WizardSubcommand addWizardSubcommand(CLI::App& calibrate);
 calib::AutoCalibrationConfig calibrationConfig(const std::string& intrinsics_board,
                                                const std::string& placement_board, int background_frames);
 
+// --panorama-at-infinity, for every command that renders a hall's reflections.
+inline void addPanoramaAtInfinityFlag(CLI::App& app, bool& at_infinity) {
+  app.add_flag(
+      "--panorama-at-infinity", at_infinity,
+      "The reflections read the hall's panorama at infinity from its capture point, not through the "
+      "hall's proxy (its distance and the pyramid's base: the simulated hall's, or exhibit.hall_radius "
+      "and base_half_width; how figures measured before the proxy reproduce)");
+}
+
 // The options of the evaluation scene and view, shared by `render`, `eval reflections` and the
 // evaluations built on them.
 inline void addSceneOptions(CLI::App& app, eval::SceneOptions& options) {
@@ -54,9 +63,7 @@ inline void addSceneOptions(CLI::App& app, eval::SceneOptions& options) {
       ->check(CLI::Range(0, 4));
   app.add_option("--visitor-model", options.visitor_model,
                  "Visitors instead of the scene's: bodies (the default) or figures");
-  app.add_flag("--panorama-at-infinity", options.panorama_at_infinity,
-               "The live renderers read the hall's panorama at infinity from its capture point, not through "
-               "the hall's proxy (how figures measured before the proxy reproduce)");
+  addPanoramaAtInfinityFlag(app, options.panorama_at_infinity);
   app.add_option("--camera-vfov-deg", options.camera_vfov_deg,
                  "Depth cameras' vertical field of view, degrees (default: the scene's)")
       ->check(CLI::Range(10.0f, 170.0f));

@@ -13,6 +13,7 @@
 #include "holo/capture/capture_config.hpp"
 #include "holo/capture/simulated_source.hpp"
 #include "holo/core/error.hpp"
+#include "holo/core/fibonacci_sphere.hpp"
 #include "holo/core/gltf_io.hpp"
 #include "holo/core/hdr_io.hpp"
 #include "holo/core/log.hpp"
@@ -131,13 +132,10 @@ float meanHallDistance(const Model& hall, const vec3& centre, float base_half_wi
   // With no sphere, the proxy's point for a direction is finite only where the base hides the hall.
   const reflect::PanoramaProxy base_only{centre, kInfinity, base_half_width};
   constexpr int kDirections = 4096;
-  const float golden = kPi * (3.0f - std::sqrt(5.0f));
   double sum = 0.0;
   int hits = 0;
   for (int i = 0; i < kDirections; ++i) {
-    const float y = 1.0f - 2.0f * (float(i) + 0.5f) / float(kDirections);
-    const float r = std::sqrt(std::max(0.0f, 1.0f - y * y));
-    const vec3 direction(r * std::cos(golden * float(i)), y, r * std::sin(golden * float(i)));
+    const vec3 direction = fibonacciDirection(i, kDirections);
     if (isFinite(base_only.point(direction))) continue;
     const RayHit hit = scene.all().intersect(Ray{centre, direction});
     if (!hit.hit()) continue;

@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include "foreground_walk.hpp"
+#include "holo/core/fibonacci_sphere.hpp"
 #include "holo/core/image.hpp"
 #include "holo/reflect/dfg_table.hpp"
 
@@ -315,13 +316,10 @@ InternalDepth measureInternalDepth(const RenderScene& scene, const PrefilteredIb
   // Fibonacci sphere of viewing directions, each aimed at a point of a disc across the relic
   // (R2 low-discrepancy offsets): deterministic, even over directions and over the relic.
   constexpr int kProbes = 1024;
-  const float golden = kPi * (3.0f - std::sqrt(5.0f));
   // Traced one event past the largest depth, so the share still inside at that depth is known.
   std::vector<double> alive(kMaxInternalDepth + 1, 0.0);
   for (int i = 0; i < kProbes; ++i) {
-    const float y = 1.0f - 2.0f * (float(i) + 0.5f) / float(kProbes);
-    const float r = std::sqrt(std::max(0.0f, 1.0f - y * y));
-    const vec3 dir(r * std::cos(golden * float(i)), y, r * std::sin(golden * float(i)));
+    const vec3 dir = fibonacciDirection(i, kProbes);
     const Frame frame(dir);
     const float u = std::fmod(0.5f + 0.7548777f * float(i), 1.0f),
                 v = std::fmod(0.5f + 0.5698403f * float(i), 1.0f);

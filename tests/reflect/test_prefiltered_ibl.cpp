@@ -11,6 +11,7 @@
 
 #include "holo/core/equirect.hpp"
 #include "holo/core/error.hpp"
+#include "holo/core/fibonacci_sphere.hpp"
 #include "holo/core/hdr_io.hpp"
 #include "holo/core/image.hpp"
 #include "holo/reflect/foreground_environment.hpp"
@@ -27,12 +28,7 @@ namespace {
 
 std::vector<vec3> fibonacciDirections(int n) {
   std::vector<vec3> out;
-  const float golden = kPi * (3.0f - std::sqrt(5.0f));
-  for (int i = 0; i < n; ++i) {
-    const float y = 1.0f - 2.0f * (float(i) + 0.5f) / float(n);
-    const float r = std::sqrt(std::max(0.0f, 1.0f - y * y));
-    out.emplace_back(r * std::cos(golden * float(i)), y, r * std::sin(golden * float(i)));
-  }
+  for (int i = 0; i < n; ++i) out.push_back(fibonacciDirection(i, n));
   return out;
 }
 
