@@ -95,6 +95,11 @@ HOLO_REGISTER_COMMAND(Command{
                      "Share of the entering light below which that light is summed, not followed")
           ->capture_default_str()
           ->check(CLI::Range(0.0f, 1.0f));
+      sub.add_option(
+             "--refraction-supersample", options->loop.tracer.refraction_supersample_contrast,
+             "Luminance ratio of the transmitted light within a pixel above which its samples take the "
+             "mean of more paths (0: off)")
+          ->capture_default_str();
       sub.add_option("--view-size", options->loop.view_size, "Pixels per face view")->capture_default_str();
       sub.add_option("--frames", options->frames, "Measured frames")->capture_default_str();
       sub.add_option("--warmup", options->warmup, "Frames run before measuring")->capture_default_str();

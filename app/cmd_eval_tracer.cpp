@@ -395,6 +395,11 @@ HOLO_REGISTER_COMMAND(Command{
              "Ours, glass relics: share of the entering light below which that light is summed, not followed")
           ->capture_default_str()
           ->check(CLI::Range(0.0f, 1.0f));
+      sub.add_option(
+             "--refraction-supersample", o->tracer.refraction_supersample_contrast,
+             "Ours, glass relics: luminance ratio of the transmitted light within a pixel above which its "
+             "samples take the mean of more paths (0: off)")
+          ->capture_default_str();
       sub.add_option("--transmitted-lobe-scale", o->tracer.transmitted_roughness_scale,
                      "Ours, glass relics: scales the transmitted lobe's derived roughness (checks)")
           ->capture_default_str()

@@ -90,6 +90,7 @@ AccuracySweep sweepAccuracy(const AccuracyOptions& o) {
     float transmitted_roughness_scale = 1.0f;
     int refraction_stride = reflect::TracerSettings{}.refraction_stride;
     int refraction_branch_rays = reflect::TracerSettings{}.refraction_branch_rays;
+    float refraction_supersample_contrast = reflect::TracerSettings{}.refraction_supersample_contrast;
   };
   const int lobe = reflect::TracerSettings{}.lobe_components;
   std::vector<OursConfig> ours;
@@ -113,6 +114,9 @@ AccuracySweep sweepAccuracy(const AccuracyOptions& o) {
     for (int branch_rays : {0, 2, 16})
       ours.push_back({d.aa_samples, d.pyramid_levels, d.grid.voxel_size, 0.0f, lobe, 0, 1.0f,
                       d.refraction_stride, branch_rays});
+    for (float contrast : {0.0f, 4.0f, 8.0f, 16.0f})
+      ours.push_back({d.aa_samples, d.pyramid_levels, d.grid.voxel_size, 0.0f, lobe, 0, 1.0f,
+                      d.refraction_stride, d.refraction_branch_rays, contrast});
   }
   const std::vector<int> ibl_levels = {6, 8, 10}, ssrt_rays = {1, 2, 4, 8, 16};
   int mcpt_steps = 0;
@@ -130,6 +134,7 @@ AccuracySweep sweepAccuracy(const AccuracyOptions& o) {
     s.tracer.transmitted_roughness_scale = c.transmitted_roughness_scale;
     s.tracer.refraction_stride = c.refraction_stride;
     s.tracer.refraction_branch_rays = c.refraction_branch_rays;
+    s.tracer.refraction_supersample_contrast = c.refraction_supersample_contrast;
     std::string knob = "aa=" + std::to_string(c.aa) + " levels=" + std::to_string(c.levels) +
                        " voxel_cm=" + fmt(100 * c.voxel, 4) + " level_bias=" + fmt(c.bias, 2) +
                        " lobe=" + std::to_string(c.lobe_components);
@@ -138,7 +143,8 @@ AccuracySweep sweepAccuracy(const AccuracyOptions& o) {
           " internal_depth=" + (c.refraction_depth > 0 ? std::to_string(c.refraction_depth) : "measured") +
           " transmitted_lobe_scale=" + fmt(c.transmitted_roughness_scale, 2) +
           " refraction_stride=" + std::to_string(c.refraction_stride) +
-          " branch_rays=" + std::to_string(c.refraction_branch_rays);
+          " branch_rays=" + std::to_string(c.refraction_branch_rays) +
+          " supersample=" + fmt(c.refraction_supersample_contrast, 0);
     run("ours", knob, s);
     progress.update();
   }

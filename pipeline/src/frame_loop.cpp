@@ -419,6 +419,7 @@ FrameReport FrameLoop::step() {
     report.refined_pixels += view.refined_pixels;
     report.refraction_rays += view.refraction_rays;
     report.refracted_walks += view.refracted_walks;
+    report.supersampled_samples += view.supersampled_samples;
     if (!view.coverage.empty())
       report.relic_pixels += static_cast<std::size_t>(cv::countNonZero(view.coverage));
   }
@@ -618,6 +619,7 @@ std::string timingJson(const StageTimes& m, const std::vector<FrameReport>& repo
     f["relic_pixels"] = r.relic_pixels;
     f["refraction_rays"] = r.refraction_rays;
     f["refracted_walks"] = r.refracted_walks;
+    f["supersampled_samples"] = r.supersampled_samples;
     nlohmann::json passes;
     for (std::size_t p = 0; p < kPassCount; ++p)
       passes[reflect::passName(static_cast<reflect::Pass>(p))] = r.pass_ms[p];

@@ -70,6 +70,10 @@ void TracerSettings::validate() const {
       refraction_branch_weight > 1.0f)
     throw InputError(src, "refraction_branch_weight", "a share in [0, 1]",
                      std::to_string(refraction_branch_weight));
+  if (!std::isfinite(refraction_supersample_contrast) ||
+      (refraction_supersample_contrast != 0.0f && !(refraction_supersample_contrast >= 1.0f)))
+    throw InputError(src, "refraction_supersample_contrast", "0 (off) or a ratio >= 1",
+                     std::to_string(refraction_supersample_contrast));
   grid.validate(src + " grid");
 }
 
@@ -249,11 +253,12 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       PassTimer tl(out.timings, plan.has(Pass::Refraction) ? Pass::Refraction : Pass::Clearcoat);
       const LayerCounts counts = MaterialLayers(scene_, ibl_, settings_, plan.internal_depth,
                                                 plan.has(Pass::Refraction), plan.has(Pass::Clearcoat))
-                                     .shade(cache.hits, cache.shading, cache.layers);
+                                     .shade(cache.hits, view, cache.shading, cache.layers);
       composeLayeredStatic(cache.hits, cache.shading, cache.layers, cache.hdr);
       out.refraction_rays = counts.refraction_rays;
       out.refracted_samples = counts.refracted_samples;
       out.capped_paths = counts.capped_paths;
+      out.supersampled_samples = counts.supersampled_samples;
       out.coated_samples = counts.coated_samples;
     }
     cache.camera = view;

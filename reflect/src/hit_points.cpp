@@ -280,4 +280,8 @@ void traceHitPoints(const RenderScene& scene, const CameraModel& view, AntiAlias
         buf.covered.push_back(static_cast<std::uint32_t>(std::size_t(y) * std::size_t(w) + std::size_t(x)));
 }
 
+bool traceHitPoint(const RenderScene& scene, const CameraModel& view, const vec2& pixel, HitPoint& out) {
+  return traceSample(scene, scene.relicOnly(), view, pixel, out);
+}
+
 }  // namespace holo::reflect

@@ -40,6 +40,12 @@ float clamp01(float v) {
   return std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
 }
 
+// The radiance a path brings to its sample before the visitors: the IBL along its exit and what
+// it read on the way.
+float transmittedLight(const TransmittedPath& path) {
+  return luminance(path.scale * path.environment + path.resolved);
+}
+
 // Beer-Lambert coefficient per metre of a volume material; 0 for a clear one.
 vec3 absorptionCoefficient(const Material& m) {
   const float distance = m.attenuation_distance;
@@ -354,7 +360,52 @@ MaterialLayers::MaterialLayers(const RenderScene& scene, const PrefilteredIbl& i
       settings_(settings),
       depth_(std::max(internal_depth, 1)),
       refraction_(refraction),
-      clearcoat_(clearcoat) {}
+      clearcoat_(clearcoat) {
+  // 5% of the hall's mean radiance (its irradiance over the six axes, / pi): darker light shows
+  // no contrast after the tone map, whatever the ratio.
+  constexpr vec3 kAxes[3] = {vec3(1.0f, 0.0f, 0.0f), vec3(0.0f, 1.0f, 0.0f), vec3(0.0f, 0.0f, 1.0f)};
+  float mean = 0.0f;
+  for (const vec3& axis : kAxes) mean += luminance(ibl.irradiance(axis) + ibl.irradiance(-axis));
+  dark_ = 0.05f * mean / (6.0f * kPi);
+}
+
+bool MaterialLayers::sparkles(const TransmittedPath (&paths)[4], const bool (&transmits)[4]) const {
+  const float contrast = settings_.refraction_supersample_contrast;
+  if (!(contrast > 0.0f)) return false;
+  float lo = 0.0f, hi = 0.0f;
+  int n = 0;
+  for (int s = 0; s < 4; ++s) {
+    if (!transmits[s]) continue;
+    const float light = transmittedLight(paths[s]);
+    lo = n == 0 ? light : std::min(lo, light);
+    hi = n == 0 ? light : std::max(hi, light);
+    ++n;
+  }
+  return n >= 2 && hi + dark_ > contrast * (lo + dark_);
+}
+
+std::uint64_t MaterialLayers::supersample(const CameraModel& view, const vec2& centre, const vec2& offset,
+                                          const TransmittedPath& own, SupersampledPaths& more) const {
+  more.count = 0;
+  std::uint64_t rays = 0;
+  constexpr int n = SupersampledPaths::kGrid;
+  const vec2 quarter(offset.x < 0.0f ? -0.25f : 0.25f, offset.y < 0.0f ? -0.25f : 0.25f);
+  for (int gy = 0; gy < n; ++gy)
+    for (int gx = 0; gx < n; ++gx) {
+      const vec2 at = quarter + 0.5f * (vec2(float(gx), float(gy)) + 0.5f) / float(n) - 0.25f;
+      HitPoint hp;
+      ++rays;
+      if (!traceHitPoint(scene_, view, centre + at, hp) || !hp.gltf || !(hp.gltf->transmission > 0.0f))
+        continue;
+      TransmittedPath path = traceUnit(scene_, ibl_, settings_, depth_, hp.position, hp.normal, -hp.to_viewer,
+                                       *hp.gltf, &hp.material, nullptr);
+      applyEntry(path);
+      rays += path.rays;
+      more.paths[more.count++] = path;
+    }
+  if (more.count == 0) more.paths[more.count++] = own;
+  return rays;
+}
 
 namespace {
 
@@ -474,10 +525,79 @@ bool blendWalks(const std::vector<ForegroundSample>& anchor_fg, const WalkSource
   return true;
 }
 
+// The reflection by the exact Fresnel of the IOR (split-sum's A + B for the rough lobe's own
+// loss), in place of the F0 (dielectricF0) the static shading used; a ratio, so an
+// interreflection's second scale stays multiplied in. The diffuse keeps 1 - transmission.
+void rescaleReflection(const HitPoint& hp, SplitSumShading& sh) {
+  const float nv = std::clamp(glm::dot(hp.normal, hp.to_viewer), 1e-4f, 1.0f);
+  const SurfaceMaterial& sm = hp.material;
+  const float metallic = clamp01(sm.metallic), s = clamp01(sm.specular);
+  const vec3 base = glm::clamp(sm.base_colour, vec3(0.0f), vec3(1.0f));
+  const vec2 ab = dfg(nv, sm.roughness);
+  const vec3 metal = metallic * (base * ab.x + ab.y);
+  const vec3 before =
+      metal + (1.0f - metallic) * s * (dielectricF0(sm.ior, sm.specular_colour) * ab.x + ab.y);
+  const float fresnel = fresnelDielectric(nv, safeIor(hp.gltf->ior));
+  const vec3 after = metal + (1.0f - metallic) * s * fresnel * (ab.x + ab.y);
+  for (int c = 0; c < 3; ++c)
+    sh.specular_scale[c] = before[c] > 0.0f ? sh.specular_scale[c] * after[c] / before[c] : after[c];
+  sh.diffuse *= 1.0f - clamp01(sm.transmission);
+}
+
+// One path standing for all of a supersampled sample's in the static shading: the mean of their
+// weights and of the IBL their exits read, weighted by their scales (the exit rays are each
+// walked, walkPaths).
+TransmittedPath meanPath(const SupersampledPaths& more) {
+  TransmittedPath mean = more.paths[0];
+  mean.scale = mean.resolved = mean.reflected = vec3(0.0f);
+  vec3 seen(0.0f);
+  for (int k = 0; k < more.count; ++k) {
+    const TransmittedPath& path = more.paths[k];
+    mean.scale += path.scale;
+    seen += path.scale * path.environment;
+    mean.resolved += path.resolved;
+    mean.reflected += path.reflected;
+    mean.exited = mean.exited || path.exited;
+  }
+  const float inv = 1.0f / float(more.count);
+  mean.scale *= inv;
+  mean.resolved *= inv;
+  mean.reflected *= inv;
+  for (int c = 0; c < 3; ++c)
+    mean.environment[c] = mean.scale[c] > 0.0f ? seen[c] * inv / mean.scale[c] : 0.0f;
+  return mean;
+}
+
+// The visitors along each of a supersampled sample's exit rays, as one sample the composition
+// reads with the mean path's scale: weight 1 where any path sees one, the radiance such that
+// scale x radiance is the paths' mean of scale x (the IBL and visitors along its exit ray).
+// Returns the rays walked.
+std::uint64_t walkPaths(const SupersampledPaths& more, const ForegroundWalk& walk, ForegroundSample& out) {
+  vec3 scale(0.0f), seen(0.0f);
+  bool visitors = false;
+  std::uint64_t walked = 0;
+  for (int k = 0; k < more.count; ++k) {
+    const TransmittedPath& path = more.paths[k];
+    scale += path.scale;
+    if (!path.exited || !(luminance(path.scale) > 0.0f)) continue;
+    ForegroundSample fg;
+    walk.walk(path.exit_position, path.exit_direction, path.exit_direction, path.roughness, fg);
+    ++walked;
+    const float w = clamp01(fg.weight);
+    seen += path.scale * ((1.0f - w) * path.environment + w * fg.radiance);
+    visitors = visitors || w > 0.0f;
+  }
+  out = ForegroundSample{};
+  if (!visitors) return walked;
+  out.weight = 1.0f;
+  for (int c = 0; c < 3; ++c) out.radiance[c] = scale[c] > 0.0f ? seen[c] / scale[c] : 0.0f;
+  return walked;
+}
+
 }  // namespace
 
-LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitSumShading>& shading,
-                                  LayerBuffers& buffers) const {
+LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, const CameraModel& view,
+                                  std::vector<SplitSumShading>& shading, LayerBuffers& buffers) const {
   buffers.layers.resize(hits.hits.size());
   buffers.layered.assign(hits.hits.size(), 0);
   std::atomic<std::uint64_t> rays{0}, refracted{0}, capped{0}, coated{0};
@@ -519,75 +639,86 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
           }
           rays += local_rays;
         });
+  buffers.supersampled.clear();
+  std::atomic<std::uint64_t> supersampled{0};
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, hits.covered.size(), 64),
       [&](const tbb::blocked_range<std::size_t>& r) {
-        std::uint64_t local_rays = 0, local_refracted = 0, local_capped = 0, local_coated = 0;
+        std::uint64_t local_rays = 0, local_refracted = 0, local_capped = 0, local_coated = 0,
+                      local_supersampled = 0;
         for (std::size_t k = r.begin(); k < r.end(); ++k) {
           const std::size_t p = hits.covered[k];
           const vec2 centre(float(p % std::size_t(hits.width)), float(p / std::size_t(hits.width)));
           const std::size_t first = hits.firstSample(p);
+          const int count = hits.sampleCount(p);
           // The path of the first sub-sample that traced its own, shared by the pixel's others on
           // the same surface (refraction_stride > 1); shared_source: where its walk comes from.
           RefractionAnchor shared;
           WalkSource shared_source;
-          for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i) {
+          TransmittedPath paths[4];
+          bool transmits[4] = {false, false, false, false};
+          for (int s = 0; s < count; ++s) {
+            const std::size_t i = first + std::size_t(s);
             if (!hits.valid[i] || hits.hits[i].gltf == nullptr) continue;
             const HitPoint& hp = hits.hits[i];
-            const Material& m = *hp.gltf;
-            const bool transmissive = refraction_ && m.transmission > 0.0f;
-            const bool coat = clearcoat_ && m.clearcoat > 0.0f;
-            if (!transmissive && !coat) continue;
+            if (!(refraction_ && hp.gltf->transmission > 0.0f)) continue;
+            transmits[s] = true;
+            buffers.layers[i] = SampleLayers{};
             SampleLayers& layer = buffers.layers[i];
-            layer = SampleLayers{};
-            SplitSumShading& sh = shading[i];
-            const float nv = std::clamp(glm::dot(hp.normal, hp.to_viewer), 1e-4f, 1.0f);
-            if (transmissive) {
-              // The reflection by the exact Fresnel of the IOR (split-sum's A + B for the rough
-              // lobe's own loss), in place of the F0 (dielectricF0) the static shading used; a
-              // ratio, so an interreflection's second scale stays multiplied in.
-              const SurfaceMaterial& sm = hp.material;
-              const float metallic = clamp01(sm.metallic), s = clamp01(sm.specular);
-              const vec3 base = glm::clamp(sm.base_colour, vec3(0.0f), vec3(1.0f));
-              const vec2 ab = dfg(nv, sm.roughness);
-              const vec3 metal = metallic * (base * ab.x + ab.y);
-              const vec3 before =
-                  metal + (1.0f - metallic) * s * (dielectricF0(sm.ior, sm.specular_colour) * ab.x + ab.y);
-              const float fresnel = fresnelDielectric(nv, safeIor(m.ior));
-              const vec3 after = metal + (1.0f - metallic) * s * fresnel * (ab.x + ab.y);
-              for (int c = 0; c < 3; ++c)
-                sh.specular_scale[c] =
-                    before[c] > 0.0f ? sh.specular_scale[c] * after[c] / before[c] : after[c];
-              sh.diffuse *= 1.0f - clamp01(sm.transmission);
-              const vec2 at = centre + (i == p ? vec2(0.0f) : pattern[i - first]);
-              TransmittedPath path;
-              const Blend blend = stride > 1 ? blendAnchors(buffers.anchors, grid_width, grid_height, stride,
-                                                            1, hp, at, path, layer.source)
-                                             : Blend::EventsDiffer;
-              // Where the anchors meet other events inside, the path changes within the pixel: each
-              // sub-sample traces its own there rather than share one.
-              const bool blended =
-                  blend == Blend::Blended ||
-                  (blend == Blend::NotBlended && shared.material && sameSurface(shared, hp) &&
-                   (path = shared.unit, layer.source = shared_source, true));
-              if (blended) {
-                path.entry = entryWeight(hp.normal, -hp.to_viewer, m, &sm);
-                applyEntry(path);
-                if (path.exited)
-                  path.environment = seenFrom(ibl_, path.exit_position, path.exit_direction, path.roughness);
-              } else {
-                path = traceUnit(scene_, ibl_, settings_, depth_, hp.position, hp.normal, -hp.to_viewer, m,
-                                 &sm, nullptr);
-                if (stride > 1 && i != p && !shared.material) {
-                  shared.position = hp.position;
-                  shared.normal = hp.normal;
-                  shared.material = hp.gltf;
-                  shared.unit = path;
-                  shared_source.shared = std::int32_t(i);
-                }
-                applyEntry(path);
-                local_rays += path.rays;
+            rescaleReflection(hp, shading[i]);
+            const vec2 at = centre + (i == p ? vec2(0.0f) : pattern[std::size_t(s)]);
+            TransmittedPath& path = paths[s];
+            const Blend blend = stride > 1 ? blendAnchors(buffers.anchors, grid_width, grid_height, stride, 1,
+                                                          hp, at, path, layer.source)
+                                           : Blend::EventsDiffer;
+            // Where the anchors meet other events inside, the path changes within the pixel: each
+            // sub-sample traces its own there rather than share one.
+            const bool blended = blend == Blend::Blended ||
+                                 (blend == Blend::NotBlended && shared.material && sameSurface(shared, hp) &&
+                                  (path = shared.unit, layer.source = shared_source, true));
+            if (blended) {
+              path.entry = entryWeight(hp.normal, -hp.to_viewer, *hp.gltf, &hp.material);
+              applyEntry(path);
+              if (path.exited)
+                path.environment = seenFrom(ibl_, path.exit_position, path.exit_direction, path.roughness);
+            } else {
+              path = traceUnit(scene_, ibl_, settings_, depth_, hp.position, hp.normal, -hp.to_viewer,
+                               *hp.gltf, &hp.material, nullptr);
+              if (stride > 1 && i != p && !shared.material) {
+                shared.position = hp.position;
+                shared.normal = hp.normal;
+                shared.material = hp.gltf;
+                shared.unit = path;
+                shared_source.shared = std::int32_t(i);
               }
+              applyEntry(path);
+              local_rays += path.rays;
+            }
+          }
+          if (count == 4 && sparkles(paths, transmits)) {
+            for (int s = 0; s < count; ++s) {
+              if (!transmits[s]) continue;
+              const std::size_t i = first + std::size_t(s);
+              SupersampledPaths more;
+              local_rays += supersample(view, centre, pattern[std::size_t(s)], paths[s], more);
+              paths[s] = meanPath(more);
+              buffers.layers[i].source = WalkSource{};
+              buffers.layers[i].source.supersampled =
+                  std::int32_t(buffers.supersampled.push_back(more) - buffers.supersampled.begin());
+              ++local_supersampled;
+            }
+          }
+          for (int s = 0; s < count; ++s) {
+            const std::size_t i = first + std::size_t(s);
+            if (!hits.valid[i] || hits.hits[i].gltf == nullptr) continue;
+            const HitPoint& hp = hits.hits[i];
+            const bool coat = clearcoat_ && hp.gltf->clearcoat > 0.0f;
+            if (!transmits[s] && !coat) continue;
+            SampleLayers& layer = buffers.layers[i];
+            if (!transmits[s]) layer = SampleLayers{};
+            SplitSumShading& sh = shading[i];
+            if (transmits[s]) {
+              const TransmittedPath& path = paths[s];
               ++local_refracted;
               local_capped += path.exited ? 0 : 1;
               sh.diffuse += path.resolved;
@@ -607,7 +738,7 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
               const vec2 ab = dfg(coat_nv, roughness);
               layer.coat_scale = vec3(weight * (kDielectricF0 * ab.x + ab.y));
               layer.coat_environment =
-                  ibl_.specular(glm::reflect(-hp.to_viewer, hp.clearcoat_normal), roughness);
+                  seenFrom(ibl_, hp.position, glm::reflect(-hp.to_viewer, hp.clearcoat_normal), roughness);
               const float schlick = kDielectricF0 + (1.0f - kDielectricF0) * std::pow(1.0f - coat_nv, 5.0f);
               const float below = 1.0f - weight * schlick;
               sh.specular_scale *= below;
@@ -622,8 +753,9 @@ LayerCounts MaterialLayers::shade(const HitPointBuffer& hits, std::vector<SplitS
         refracted += local_refracted;
         capped += local_capped;
         coated += local_coated;
+        supersampled += local_supersampled;
       });
-  return {rays.load(), refracted.load(), capped.load(), coated.load()};
+  return {rays.load(), refracted.load(), capped.load(), coated.load(), supersampled.load()};
 }
 
 std::uint64_t MaterialLayers::walkTransmitted(const HitPointBuffer& hits, const ForegroundWalk& walk,
@@ -662,6 +794,11 @@ std::uint64_t MaterialLayers::walkTransmitted(const HitPointBuffer& hits, const 
                           if (!hits.valid[i] || !buffers.layered[i] || !buffers.layers[i].walks) continue;
                           const SampleLayers& layer = buffers.layers[i];
                           const WalkSource& source = layer.source;
+                          if (source.supersampled >= 0) {
+                            local +=
+                                walkPaths(buffers.supersampled[std::size_t(source.supersampled)], walk, fg);
+                            continue;
+                          }
                           if (source.anchors > 0 && blendWalks(buffers.anchor_fg, source, fg)) continue;
                           if (source.shared >= 0) {
                             fg = buffers.transmitted_fg[std::size_t(source.shared)];

@@ -47,6 +47,16 @@
 // glass are walked along the traced paths' exit rays; a blended sample or anchor takes the blend
 // of its anchors' walks where these see the same, and walks its own exit ray elsewhere.
 //
+// Supersampling (TracerSettings::refraction_supersample_contrast C > 0): where the transmitted
+// light of a four-sample pixel's samples (before the visitors) spans more than C in luminance (a
+// sparkle: some of the pixel's rays see a lamp through a crystal's facets, the others do not),
+// each of its transmissive samples takes the mean of 16 paths on a 4x4 grid across its quarter of
+// the pixel (the rotated grid puts one sample in each quarter). Each is a further primary ray
+// (those that miss the relic or meet an opaque material are left out of the mean) traced through
+// the relic like the sample's own, and its exit ray is walked for the visitors every frame. The
+// entry's own reflection and diffuse stay the sample's. Pixels with one sample (the live loop's
+// edge anti-aliasing leaves a facet's inside so) are not measured.
+//
 // Internal depth: measureInternalDepth traces probe rays from a sphere of directions around the
 // relic with a cap of kMaxInternalDepth and keeps the share of the transmitted light still being
 // followed after k events; the plan takes the smallest k whose share is below
@@ -62,6 +72,8 @@
 
 #include <cstdint>
 #include <vector>
+
+#include <tbb/concurrent_vector.h>
 
 #include "holo/reflect/foreground_pyramid.hpp"
 #include "holo/reflect/frame_renderer.hpp"
@@ -117,13 +129,26 @@ InternalDepth measureInternalDepth(const RenderScene& scene, const PrefilteredIb
                                    const TracerSettings& settings, float residual_limit);
 
 // Where a sample's visitors seen through the relic come from: the walk of its own exit ray
-// (anchors == 0 and shared < 0), of the pixel's sub-sample whose path it shares (shared, a
-// sample index), or the blend of the walks of the anchors its path blended, with the same weights.
+// (anchors == 0, shared < 0 and supersampled < 0), of the pixel's sub-sample whose path it shares
+// (shared, a sample index), the blend of the walks of the anchors its path blended, with the same
+// weights, or the walks of its supersampled paths (supersampled, an index into
+// LayerBuffers::supersampled).
 struct WalkSource {
   std::uint32_t anchor[4] = {};  // indices into LayerBuffers::anchors
   float weight[4] = {};          // sum to 1
   std::uint8_t anchors = 0;
   std::int32_t shared = -1;
+  std::int32_t supersampled = -1;
+};
+
+// A sample whose transmitted light is the mean of the paths across its quarter of the pixel:
+// those of a grid of primary rays there that meet a transmissive material (its own path alone
+// where none does).
+struct SupersampledPaths {
+  static constexpr int kGrid = 4;  // rays per side of the quarter
+  static constexpr int kMaxPaths = kGrid * kGrid;
+  int count = 0;  // paths[0, count), entry weights applied
+  TransmittedPath paths[kMaxPaths];
 };
 
 // Per sample of a view's hit points: the transmitted path and the coat.
@@ -150,6 +175,7 @@ struct LayerBuffers {
   std::vector<ForegroundSample> transmitted_fg;  // per entry, this frame's visitors along the exit rays
   std::vector<RefractionAnchor> anchors;         // the anchor grid, row-major (kept with the static shading)
   std::vector<ForegroundSample> anchor_fg;       // per anchor, this frame's walk of its exit ray
+  tbb::concurrent_vector<SupersampledPaths> supersampled;  // in no fixed order
 };
 
 struct LayerCounts {
@@ -157,6 +183,7 @@ struct LayerCounts {
   std::uint64_t refracted_samples = 0;  // samples with a transmitted path (traced or blended)
   std::uint64_t capped_paths = 0;       // paths that reached the depth cap
   std::uint64_t coated_samples = 0;
+  std::uint64_t supersampled_samples = 0;  // samples whose transmitted light is a mean of paths
 };
 
 class MaterialLayers {
@@ -167,9 +194,10 @@ class MaterialLayers {
 
   // Every valid sample of a covered pixel with a transmissive or coated material: its shading
   // rescaled (the reflection by the exact Fresnel, the diffuse by 1 - transmission, the base by
-  // the coat), its layers written. shading as StaticShading wrote it.
-  LayerCounts shade(const HitPointBuffer& hits, std::vector<SplitSumShading>& shading,
-                    LayerBuffers& buffers) const;
+  // the coat), its layers written. shading as StaticShading wrote it; `view`: the camera the hit
+  // points were traced from (the supersampled paths' primary rays).
+  LayerCounts shade(const HitPointBuffer& hits, const CameraModel& view,
+                    std::vector<SplitSumShading>& shading, LayerBuffers& buffers) const;
   // This frame's visitors along the exit rays into buffers.transmitted_fg: the anchors' exit rays
   // and those of the samples that traced their own path are walked, a blended sample takes the
   // blend of its anchors' walks where these see the same (the transmitted lobe is blurred like its
@@ -178,11 +206,19 @@ class MaterialLayers {
                                 LayerBuffers& buffers) const;
 
  private:
+  // Whether a four-sample pixel's transmitted light spans more than the supersampling contrast.
+  bool sparkles(const TransmittedPath (&paths)[4], const bool (&transmits)[4]) const;
+  // The paths across a sub-sample's quarter of the pixel (`offset` from the pixel's `centre`),
+  // `own` where none meets the glass; returns the Embree rays cast.
+  std::uint64_t supersample(const CameraModel& view, const vec2& centre, const vec2& offset,
+                            const TransmittedPath& own, SupersampledPaths& more) const;
+
   const RenderScene& scene_;
   const PrefilteredIbl& ibl_;
   const TracerSettings& settings_;
   int depth_;
   bool refraction_, clearcoat_;
+  float dark_ = 0.0f;  // radiance below which the supersampling contrast is not measured
 };
 
 }  // namespace holo::reflect

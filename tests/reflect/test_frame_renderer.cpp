@@ -318,6 +318,16 @@ TEST(FrameRenderer, RejectsBadSettings) {
     s.rough_interreflection_grid = odd_or_out_of_range;
     EXPECT_THROW(FrameRenderer(m.scene, m.ibl, s), InputError) << odd_or_out_of_range;
   }
+  for (float contrast : {-1.0f, 0.5f, kNan, kInf}) {
+    s = TracerSettings{};
+    s.refraction_supersample_contrast = contrast;
+    EXPECT_THROW(FrameRenderer(m.scene, m.ibl, s), InputError) << contrast;
+  }
+  for (float contrast : {0.0f, 1.0f, 32.0f}) {
+    s = TracerSettings{};
+    s.refraction_supersample_contrast = contrast;
+    EXPECT_NO_THROW(FrameRenderer(m.scene, m.ibl, s)) << contrast;
+  }
 }
 
 }  // namespace

@@ -120,9 +120,10 @@ struct FrameReport {
   int static_reused_views = 0;     // views whose hit points and static shading came from the cache
   std::size_t refined_pixels = 0;  // pixels with 4 sub-samples (edge anti-aliasing), all views
   std::size_t relic_pixels = 0;    // pixels with some relic coverage, all views
-  // Embree rays through transmissive relic materials and transmitted exit rays walked, all views
-  // (0 for an opaque relic: the plan runs no refraction pass).
-  std::uint64_t refraction_rays = 0, refracted_walks = 0;
+  // Embree rays through transmissive relic materials, transmitted exit rays walked, and samples
+  // whose transmitted light is a mean of paths (supersampled), all views (0 for an opaque relic:
+  // the plan runs no refraction pass).
+  std::uint64_t refraction_rays = 0, refracted_walks = 0, supersampled_samples = 0;
   // Milliseconds per reflect::Pass (index = the enum's value), summed over the views; plus the
   // camera images' conversion to linear colour for the pyramids (part of `dynamic`).
   std::array<double, kPassCount> pass_ms{};

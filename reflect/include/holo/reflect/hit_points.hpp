@@ -79,4 +79,8 @@ struct HitPointBuffer {
 void traceHitPoints(const RenderScene& scene, const CameraModel& view, AntiAliasing aa, HitPointBuffer& out,
                     const Bounds3& relic_bounds = {});
 
+// One sample at image position `pixel` (pixel centres at integers), as traceHitPoints traces each:
+// whether it hit the relic (`out` is written only then).
+bool traceHitPoint(const RenderScene& scene, const CameraModel& view, const vec2& pixel, HitPoint& out);
+
 }  // namespace holo::reflect
