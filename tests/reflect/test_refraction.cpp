@@ -490,10 +490,6 @@ TEST(Refraction, TheClearcoatReadsTheHallThroughItsProxy) {
   EXPECT_LT(worst, 0.002);  // 0 measured; along the direction from the capture point, 0.34
 }
 
-// A triangular bipyramid: an equilateral girdle of circumradius r at `centre`, apexes h above and
-// below it, flat faces (no vertex normals) wound counter-clockwise seen from outside. No two of its
-// faces are parallel, so light reflected inside at an exit leaves through other faces, as in a
-// cut gem.
 // Mean absolute error of `image` against `truth` (sums of RGB) over the pixels lying wholly on
 // the relic (all four corners hit it: no silhouette), relative to the truth's mean there;
 // `pixels` counts them.
@@ -515,6 +511,10 @@ double errorOnTheRelic(const RenderScene& scene, const CameraModel& view, const 
   return truth_sum > 0.0 ? error_sum / truth_sum : 0.0;
 }
 
+// A triangular bipyramid: an equilateral girdle of circumradius r at `centre`, apexes h above and
+// below it, flat faces (no vertex normals) wound counter-clockwise seen from outside. No two of its
+// faces are parallel, so light reflected inside at an exit leaves through other faces, as in a
+// cut gem.
 Model bipyramid(float r, float h, const vec3& centre, const Material& material) {
   TriangleMesh mesh;
   const auto girdle = [&](int k) {
@@ -540,6 +540,17 @@ Model bipyramid(float r, float h, const vec3& centre, const Material& material) 
   return model;
 }
 
+// A clear, smooth, white diamond (IOR 2.42) cut as that bipyramid, 0.3 m wide at (0, 0.3, 0).
+Model gem() {
+  Material diamond;
+  diamond.base_colour = vec3(1.0f);
+  diamond.transmission = 1.0f;
+  diamond.roughness = 0.0f;
+  diamond.ior = 2.42f;
+  diamond.thickness = 0.1f;
+  return bipyramid(0.15f, 0.1f, vec3(0.0f, 0.3f, 0.0f), diamond);
+}
+
 // A diamond (IOR 2.42, near its critical angle of 24.4 degrees much of the light leaving is
 // reflected inside) under a sky with one bright region: the live renderer follows the light
 // reflected inside at each exit out through the other facets, as the path tracer does (1024
@@ -548,13 +559,7 @@ Model bipyramid(float r, float h, const vec3& centre, const Material& material) 
 // between parallel walls (refraction_branch_rays 0) it is more than 1.4 times as large (19.4%).
 // Every sample traces its own path (refraction_stride 1) but in the last check.
 TEST(Refraction, LightReflectedInsideAGemLeavesThroughItsOtherFacets) {
-  Material diamond;
-  diamond.base_colour = vec3(1.0f);
-  diamond.transmission = 1.0f;
-  diamond.roughness = 0.0f;
-  diamond.ior = 2.42f;
-  diamond.thickness = 0.1f;
-  const RenderScene scene(bipyramid(0.15f, 0.1f, vec3(0.0f, 0.3f, 0.0f), diamond), {});
+  const RenderScene scene(gem(), {});
   const Environment sky = panorama([](const vec3& d) {
     const float sun = std::max(0.0f, glm::dot(d, glm::normalize(vec3(-0.6f, 0.5f, -0.3f))));
     return vec3(0.05f + 0.1f * std::max(d.y, 0.0f)) + vec3(2.0f, 1.6f, 1.2f) * std::pow(sun, 6.0f);
@@ -594,13 +599,7 @@ TEST(Refraction, LightReflectedInsideAGemLeavesThroughItsOtherFacets) {
 // against 4.51), and so does the error against the path tracer's truth (1024 samples per pixel;
 // 1.24 against 5.67).
 TEST(Refraction, APixelWhoseSamplesDisagreeOnALampTakesPathsAcrossIt) {
-  Material diamond;
-  diamond.base_colour = vec3(1.0f);
-  diamond.transmission = 1.0f;
-  diamond.roughness = 0.0f;
-  diamond.ior = 2.42f;
-  diamond.thickness = 0.1f;
-  const RenderScene scene(bipyramid(0.15f, 0.1f, vec3(0.0f, 0.3f, 0.0f), diamond), {});
+  const RenderScene scene(gem(), {});
   const Environment sky = panorama([](const vec3& d) {
     float lamp = 0.0f;
     for (int i = 0; i < 48; ++i)
