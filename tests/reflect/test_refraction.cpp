@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <opencv2/imgproc.hpp>
 
 #include "holo/core/equirect.hpp"
@@ -425,29 +426,32 @@ TEST(Refraction, InternalDepthIsTheSmallestThatLeavesLessThanTheLimit) {
   for (std::size_t k = 1; k + 1 < deep.left.size(); ++k) EXPECT_LE(deep.left[k + 1], deep.left[k] + 1e-9);
 }
 
+// A sphere of radius 0.15 at (0, 0.3, 0) whose base is black and reflects nothing
+// (SurfaceMaterial::specular 0), under a mirror clearcoat where `coated`: the override is the
+// material at every hit, its coat included (as the path tracer reads it).
+std::unique_ptr<RenderScene> blackSphere(bool coated) {
+  SurfaceMaterial black{vec3(0.0f), 0.0f, 1.0f, 0.0f};
+  black.clearcoat = coated ? 1.0f : 0.0f;
+  black.clearcoat_roughness = 0.0f;
+  Model model = test::sphereModel(black, 0.15f, vec3(0.0f, 0.3f, 0.0f));
+  model.materials[0].clearcoat = black.clearcoat;
+  model.materials[0].clearcoat_roughness = black.clearcoat_roughness;
+  auto scene = std::make_unique<RenderScene>(model, std::vector<Model>{});
+  scene->overrideRelicMaterial(black);
+  return scene;
+}
+
 // Clearcoat: a second specular lobe. Over a black diffuse base in a uniform environment L the
 // pixel is the coat's reflectance times L, about 0.04 head-on; without the coat, black.
 TEST(Refraction, ClearcoatAddsASecondSpecularLobe) {
   const PrefilteredIbl ibl(Environment::uniform(vec3(1.0f)), PrefilterOptions{3, 16, 8});
   const CameraModel view = lookAtCamera(vec3(0.0f, 0.3f, 1.2f), vec3(0.0f, 0.3f, 0.0f), 20.0f, 24, 24);
-  // A black base that reflects nothing (SurfaceMaterial::specular 0): the coat alone reflects.
-  const SurfaceMaterial black{vec3(0.0f), 0.0f, 1.0f, 0.0f};
-  Model model = test::sphereModel(black, 0.15f, vec3(0.0f, 0.3f, 0.0f));
-  RenderScene bare(model, {});
-  bare.overrideRelicMaterial(black);
-  model.materials[0].clearcoat = 1.0f;
-  model.materials[0].clearcoat_roughness = 0.0f;
-  RenderScene coated(model, {});
-  // The override is the material at every hit, its coat included (as the path tracer reads it).
-  SurfaceMaterial coated_black = black;
-  coated_black.clearcoat = 1.0f;
-  coated_black.clearcoat_roughness = 0.0f;
-  coated.overrideRelicMaterial(coated_black);
+  const std::unique_ptr<RenderScene> bare = blackSphere(false), coated = blackSphere(true);
   TracerSettings settings = staticOnly();
   EffectPlan plan;
-  const ViewImages without = renderOnce(bare, ibl, settings, view, &plan);
+  const ViewImages without = renderOnce(*bare, ibl, settings, view, &plan);
   EXPECT_FALSE(plan.has(Pass::Clearcoat));
-  const ViewImages with = renderOnce(coated, ibl, settings, view, &plan);
+  const ViewImages with = renderOnce(*coated, ibl, settings, view, &plan);
   EXPECT_TRUE(plan.has(Pass::Clearcoat));
   EXPECT_FALSE(plan.has(Pass::Refraction));
   EXPECT_EQ(with.refraction_rays, 0u);
@@ -470,18 +474,10 @@ TEST(Refraction, TheClearcoatReadsTheHallThroughItsProxy) {
   });
   const PrefilteredIbl ibl(Environment(sky.panorama(), 0.0f, proxy), PrefilterOptions{4, 256, 8});
   const CameraModel view = lookAtCamera(vec3(0.0f, 0.3f, 1.0f), vec3(0.0f, 0.3f, 0.0f), 20.0f, 32, 32);
-  const SurfaceMaterial black{vec3(0.0f), 0.0f, 1.0f, 0.0f};
-  Model model = test::sphereModel(black, 0.15f, vec3(0.0f, 0.3f, 0.0f));
-  model.materials[0].clearcoat = 1.0f;
-  model.materials[0].clearcoat_roughness = 0.0f;
-  RenderScene coated(model, {});
-  SurfaceMaterial coated_black = black;
-  coated_black.clearcoat = 1.0f;
-  coated_black.clearcoat_roughness = 0.0f;
-  coated.overrideRelicMaterial(coated_black);
+  const std::unique_ptr<RenderScene> coated = blackSphere(true);
   RenderScene mirror(test::sphereModel({vec3(1.0f), 1.0f, 0.0f, 1.0f}, 0.15f, vec3(0.0f, 0.3f, 0.0f)), {});
   TracerSettings settings = staticOnly();
-  const ViewImages coat = renderOnce(coated, ibl, settings, view);
+  const ViewImages coat = renderOnce(*coated, ibl, settings, view);
   const ViewImages metal = renderOnce(mirror, ibl, settings, view);
   double worst = 0.0;
   for (int y = 12; y < 20; ++y)
