@@ -144,7 +144,7 @@ AccuracySweep sweepAccuracy(const AccuracyOptions& o) {
           " transmitted_lobe_scale=" + fmt(c.transmitted_roughness_scale, 2) +
           " refraction_stride=" + std::to_string(c.refraction_stride) +
           " branch_rays=" + std::to_string(c.refraction_branch_rays) +
-          " supersample=" + fmt(c.refraction_supersample_contrast, 0);
+          " supersample=" + fmt(c.refraction_supersample_contrast, 3);
     run("ours", knob, s);
     progress.update();
   }
