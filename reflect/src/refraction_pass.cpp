@@ -397,11 +397,9 @@ std::uint64_t MaterialLayers::supersample(const CameraModel& view, const vec2& c
       ++rays;
       if (!traceHitPoint(scene_, view, centre + at, hp) || !hp.gltf || !(hp.gltf->transmission > 0.0f))
         continue;
-      TransmittedPath path = traceUnit(scene_, ibl_, settings_, depth_, hp.position, hp.normal, -hp.to_viewer,
-                                       *hp.gltf, &hp.material, nullptr);
-      applyEntry(path);
-      rays += path.rays;
-      more.paths[more.count++] = path;
+      more.paths[more.count] = traceTransmission(scene_, ibl_, settings_, depth_, hp.position, hp.normal,
+                                                 -hp.to_viewer, *hp.gltf, &hp.material);
+      rays += more.paths[more.count++].rays;
     }
   if (more.count == 0) more.paths[more.count++] = own;
   return rays;
