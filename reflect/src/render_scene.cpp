@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "holo/reflect/surface_shading.hpp"
+#include "surface_opacity.hpp"
 
 namespace holo::reflect {
 

@@ -3,74 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "mesh_attributes.hpp"
+
 namespace holo::reflect {
 namespace {
-
-// The triangle of a hit and its barycentric weights.
-struct Corner {
-  uvec3 t;
-  float w0, w1, w2;
-};
-
-Corner cornerOf(const TriangleMesh& mesh, const RayHit& hit) {
-  const uvec3 t = mesh.triangles.at(hit.primitive);
-  const float u = hit.barycentric.x, v = hit.barycentric.y;
-  return {t, 1.0f - u - v, u, v};
-}
-
-template <class T>
-T interpolate(const std::vector<T>& values, const Corner& c) {
-  return c.w0 * values[c.t.x] + c.w1 * values[c.t.y] + c.w2 * values[c.t.z];
-}
-
-const std::vector<vec2>& uvSet(const TriangleMesh& mesh, int tex_coord) {
-  return tex_coord == 1 ? mesh.uvs1 : mesh.uvs;
-}
-
-// uv units per metre on the triangle for a uv set: sqrt(uv area / world area); 0 when either is
-// degenerate (the sharpest level is then used).
-float uvPerMetre(const TriangleMesh& mesh, const Corner& c, const std::vector<vec2>& uvs) {
-  if (uvs.empty()) return 0.0f;
-  const vec3 e1 = mesh.positions[c.t.y] - mesh.positions[c.t.x];
-  const vec3 e2 = mesh.positions[c.t.z] - mesh.positions[c.t.x];
-  const float world = glm::length(glm::cross(e1, e2));
-  const vec2 d1 = uvs[c.t.y] - uvs[c.t.x], d2 = uvs[c.t.z] - uvs[c.t.x];
-  const float uv = std::abs(d1.x * d2.y - d1.y * d2.x);
-  const float ratio = uv / world;
-  return world > 0.0f && std::isfinite(ratio) ? std::sqrt(ratio) : 0.0f;
-}
-
-// A texture slot's filtered value at the hit; (1,1,1,1) when the slot is unused.
-vec4 sampleSlot(const Model& model, const TriangleMesh& mesh, const Corner& c, const TextureRef& ref,
-                float footprint_metres) {
-  if (!ref.used() || std::size_t(ref.index) >= model.textures.size()) return vec4(1.0f);
-  const std::vector<vec2>& uvs = uvSet(mesh, ref.tex_coord);
-  const vec2 uv = ref.transform(uvs.empty() ? vec2(0.0f) : interpolate(uvs, c));
-  const float scale = std::max(std::abs(ref.scale.x), std::abs(ref.scale.y));
-  const float footprint = footprint_metres * uvPerMetre(mesh, c, uvs) * scale;
-  return sampleTexture(model.textures[std::size_t(ref.index)], uv,
-                       std::isfinite(footprint) ? footprint : 0.0f);
-}
-
-const Material& meshMaterial(const Model& model, std::size_t mesh) {
-  static const Material kDefault{};
-  const int m = model.meshes[mesh].material;
-  return m >= 0 && std::size_t(m) < model.materials.size() ? model.materials[std::size_t(m)] : kDefault;
-}
-
-// The triangle's winding normal turned to agree with its vertex normals (a mirroring transform
-// reverses the winding but not the normals); unnormalised, zero when degenerate.
-vec3 outwardGeometricNormal(const TriangleMesh& mesh, const Corner& c) {
-  const vec3 n = glm::cross(mesh.positions[c.t.y] - mesh.positions[c.t.x],
-                            mesh.positions[c.t.z] - mesh.positions[c.t.x]);
-  if (mesh.normals.empty()) return n;
-  const vec3 vertex = mesh.normals[c.t.x] + mesh.normals[c.t.y] + mesh.normals[c.t.z];
-  return glm::dot(n, vertex) < 0.0f ? -n : n;
-}
-
-float materialAlpha(const Model& model, const TriangleMesh& mesh, const Material& m, const Corner& c) {
-  return m.alpha * sampleSlot(model, mesh, c, m.base_colour_texture, 0.0f).a;
-}
 
 // The normal-mapped normal around the (unflipped) interpolated normal n; n itself when the
 // frame is degenerate.
@@ -94,27 +30,6 @@ vec3 mapNormal(const TriangleMesh& mesh, const Corner& c, const vec3& n, const v
 }
 
 }  // namespace
-
-bool needsOpacity(const Material& m) {
-  return m.alpha_mode != AlphaMode::Opaque || (!m.double_sided && !m.transmissive());
-}
-
-float surfaceOpacity(const Model& model, std::size_t mesh_index, const Ray& ray, const RayHit& hit) {
-  const TriangleMesh& mesh = model.meshes[mesh_index];
-  const Material& m = meshMaterial(model, mesh_index);
-  const Corner c = cornerOf(mesh, hit);
-  if (!m.double_sided && !m.transmissive() && glm::dot(outwardGeometricNormal(mesh, c), ray.direction) > 0.0f)
-    return 0.0f;
-  switch (m.alpha_mode) {
-    case AlphaMode::Opaque:
-      return 1.0f;
-    case AlphaMode::Mask:
-      return materialAlpha(model, mesh, m, c) >= m.alpha_cutoff ? 1.0f : 0.0f;
-    case AlphaMode::Blend:
-      return std::clamp(materialAlpha(model, mesh, m, c), 0.0f, 1.0f);
-  }
-  return 1.0f;
-}
 
 SurfacePoint resolveSurface(const RenderScene& scene, const RayScene& traced, const Ray& ray,
                             const RayHit& hit, float cone_width) {

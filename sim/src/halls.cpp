@@ -4,7 +4,6 @@
 #include <map>
 
 #include "holo/core/error.hpp"
-#include "holo/sim/museum.hpp"
 #include "holo/sim/shapes.hpp"
 
 namespace holo::sim {

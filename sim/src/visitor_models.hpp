@@ -1,4 +1,4 @@
-// What the two visitor models (visitors.hpp) do differently: their pace, pose, looks and
+// What the two visitor models (visitor_plan.hpp) do differently: their pace, pose, looks and
 // geometry. visitors.cpp plans the lanes, the close visitors' places and what is carried for both
 // and calls these.
 #pragma once
@@ -6,8 +6,9 @@
 #include <functional>
 #include <string>
 
+#include "holo/core/mesh.hpp"
 #include "holo/sim/sensor_noise.hpp"
-#include "holo/sim/visitors.hpp"
+#include "holo/sim/visitor_plan.hpp"
 
 namespace holo::sim::detail {
 

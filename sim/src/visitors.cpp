@@ -5,7 +5,6 @@
 
 #include "holo/core/error.hpp"
 #include "holo/sim/halls.hpp"
-#include "holo/sim/museum.hpp"
 #include "holo/sim/sensor_noise.hpp"
 #include "visitor_models.hpp"
 
@@ -41,17 +40,6 @@ void drawLooks(VisitorPlan& p, PixelRng& rng, PixelRng extra) {
 }
 
 }  // namespace
-
-std::vector<std::string> visitorModelNames() {
-  return {"figures", "bodies"};
-}
-
-VisitorModel visitorModelFromName(const std::string& name, const std::string& origin,
-                                  const std::string& field) {
-  if (name == "figures") return VisitorModel::figures;
-  if (name == "bodies") return VisitorModel::bodies;
-  throw InputError(origin, field, "a visitor model: figures or bodies", name);
-}
 
 namespace detail {
 mat4 visitorFrame(const VisitorPose& pose) {

@@ -38,8 +38,9 @@
 #include <utility>
 #include <vector>
 
-#include "holo/calib/auto_calibration.hpp"
 #include "holo/calib/board_tracking.hpp"
+#include "holo/calib/calibration_plan.hpp"
+#include "holo/calib/calibration_rig.hpp"
 
 namespace holo::calib {
 

@@ -20,8 +20,8 @@
 //    B = w cross(N, T), T and w from the mesh's tangents (generated MikkTSpace-style by the
 //    RenderScene when a normal-mapped mesh has none);
 //  * a back face of a double-sided material is shaded with the reversed normal; a back face of a
-//    single-sided opaque material is culled (surfaceOpacity 0), transmissive ones are not (a ray
-//    inside glass must leave it);
+//    single-sided opaque material is culled (reflect/src/surface_opacity.hpp), transmissive ones are not (a
+//    ray inside glass must leave it);
 //  * alphaMode MASK: opacity 1 where alpha >= alphaCutoff, else 0 (the ray passes); BLEND:
 //    opacity = alpha; OPAQUE: 1 whatever the alpha.
 // Footprint: `cone_width` is the width in metres of the ray's pixel footprint at the hit measured
@@ -55,12 +55,6 @@ struct SurfacePoint {
 // Finite whatever the mesh: degenerate uvs or tangents fall back to a frame around the normal.
 SurfacePoint resolveSurface(const RenderScene& scene, const RayScene& traced, const Ray& ray,
                             const RayHit& hit, float cone_width);
-
-// The opacity the ray queries see on relic mesh `mesh` of `model` (RenderScene installs it as
-// the RayScene's hit opacity): 0 culled or cut out, alpha for BLEND, else 1.
-float surfaceOpacity(const Model& model, std::size_t mesh, const Ray& ray, const RayHit& hit);
-// Whether a material needs surfaceOpacity at all (culled back faces, MASK or BLEND).
-bool needsOpacity(const Material& material);
 
 // The split-sum IBL shading of a surface point seen from wo: occlusion scales the specular and
 // diffuse parts, the emission is added to the diffuse part (so it is never occluded and the

@@ -19,6 +19,8 @@
 
 namespace holo::sim {
 
+inline constexpr float kBaseHeight = 1.0f;  // floor to base top, metres
+inline constexpr int kFaceCount = 4;
 inline constexpr float kBaseHalfWidth = 0.3f;  // metres, the square base is 0.6 m wide
 
 std::vector<std::string> hallNames();  // room, gallery, atrium, none
