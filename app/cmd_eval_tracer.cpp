@@ -373,7 +373,7 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_flag("!--no-refracted-foreground", o->tracer.refracted_foreground,
                    "Ours: glass refracts the IBL only, not the visitors seen through it");
       sub.add_flag("!--no-refraction", o->tracer.refraction_enabled,
-                   "Ours: glass shaded as opaque (the renderer before the refraction pass)");
+                   "Ours: glass shaded as opaque (no refraction pass: the opaque reference)");
       sub.add_option(
              "--refraction-depth", o->tracer.refraction_depth,
              "Ours, glass relics: interface events a transmitted path follows (0: measured on the relic)")
@@ -438,9 +438,8 @@ HOLO_REGISTER_COMMAND(Command{
              "lobe (> 1: never)")
           ->capture_default_str()
           ->check(CLI::Range(0.0f, 2.0f));
-      sub.add_flag(
-          "--no-interreflection", o->no_interreflection,
-          "Ours: no bounce where a mirror ray meets the relic itself (the before of docs/tracer.md)");
+      sub.add_flag("--no-interreflection", o->no_interreflection,
+                   "Ours: no bounce where a mirror ray meets the relic itself (default: one bounce)");
       sub.add_option("--voxel-size", o->tracer.grid.voxel_size, "Ours: voxel size, metres")
           ->capture_default_str()
           ->check(CLI::Range(0.005f, 0.5f));

@@ -302,8 +302,8 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--panorama-width", o->panorama_width, "Panorama width in pixels")
           ->capture_default_str();
       sub.add_flag("--calibration", o->calibration,
-                   "Record a calibration session first (hand-held board before each camera, the easel at "
-                   "each marked spot, the empty hall) and write installation.yaml");
+                   "Record the calibration frames first (the hand-held board in front of each camera, the "
+                   "easel at each marked spot, the empty hall) and write installation.yaml");
       sub.add_option("--background-frames", o->background_frames,
                      "With --calibration: frames of the empty hall")
           ->capture_default_str();

@@ -44,7 +44,7 @@ inline void addPanoramaAtInfinityFlag(CLI::App& app, bool& at_infinity) {
       "--panorama-at-infinity", at_infinity,
       "The reflections read the hall's panorama at infinity from its capture point, not through the "
       "hall's proxy (its distance and the pyramid's base: the simulated hall's, or exhibit.hall_radius "
-      "and base_half_width; how figures measured before the proxy reproduce)");
+      "and base_half_width; for comparisons with figures taken that way)");
 }
 
 // The options of the evaluation scene and view, shared by `render`, `eval reflections` and the

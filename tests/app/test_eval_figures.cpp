@@ -110,7 +110,7 @@ TEST(EvalTracer, WalkersOnlyGalleryVaseMeetsTheQuarterOfTheIblAndBeatsSsrt) {
 // reconstruction's floor): where the paper's IBL already reaches the floor (path tracing of the
 // voxels to infinitely many samples), no renderer of that reconstruction can be 4x below it.
 // The vase (0.15) is held to IBL / 4, the brushed kettle (0.35) to the floor. CI size: 64^2 views,
-// truth 1024 spp, floor from 64 and 256 spp. Full size: docs/tracer.md.
+// truth 1024 spp, floor from 64 and 256 spp. Full size: docs/tracer/evaluation.md.
 class CloseVisitor : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(CloseVisitor, OursWithinAQuarterOfTheIblOrTheReconstructionFloor) {
@@ -134,7 +134,7 @@ TEST_P(CloseVisitor, OursWithinAQuarterOfTheIblOrTheReconstructionFloor) {
 // of the glass table with the default refraction settings: ours' error at most a quarter of the
 // glass shaded as opaque, and its fg_mse within max(refraction of the IBL only / 4, 1.1 x the
 // reconstruction's floor). CI size: 96^2 views, truth 256 spp; at 48^2 the sparse paths' anchors
-// are too few for the first bar (3.8). Full size: docs/tracer.md, "Glass against the truth".
+// are too few for the first bar (3.8). Full size: docs/tracer/glass.md, "Glass against the truth".
 // With the default bodies the second bar holds and the first does not (opaque/ours 3.61: visitors
 // seen through the thick base along paths the one refracted path per sample does not take; the
 // path tracing of the reconstruction itself reaches 4.02), so the first is held on the figures

@@ -1,4 +1,4 @@
-// Accuracy against time (`holopyramid bench accuracy`, docs/tracer.md). On one scene of the tracer
+// Accuracy against time (`holopyramid bench accuracy`, docs/tracer/evaluation.md). On one scene of the tracer
 // evaluation (a hall x relic with its walkers and visitors close to the pyramid, the view where the
 // visitors matter most: visitorView) it sweeps each method's quality knobs,
 //   ours   anti-aliasing (1, 4) x pyramid levels (5, 7, 9) x voxel size (2, 3.125, 5 cm), the
@@ -27,7 +27,7 @@ struct AccuracyOptions {
   std::string hall = "gallery", relic = "vase";  // built-in hall and relic
   int size = 64;                                 // view width and height, pixels
   // Rough reflections converge slowly: at 512 spp the truth's noise was a large part of the
-  // kettle's fg_mse (eval tracer's gt noise column, docs/tracer.md).
+  // kettle's fg_mse (eval tracer's gt noise column, docs/tracer/evaluation.md).
   int gt_spp = 4096;
   int max_spp = 256;
   int repeats = 3;

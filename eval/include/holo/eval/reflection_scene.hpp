@@ -66,7 +66,7 @@ ReflectionScene loadReflectionScene(const SceneOptions& options);
 // a second) and the four faces, the one where the most relic pixels of a 48^2 face view see a
 // visitor: by their mirror-reflected ray or, on glass, through the relic. Neutral to every method (true
 // geometry, no renderer); "the face on the nearest visitor's side" left most views with no
-// foreground reflection at all (docs/tracer.md).
+// foreground reflection at all (docs/tracer/evaluation.md).
 struct VisitorView {
   int frame = 0, face = 0;
   float reflected_fraction = 0.0f;  // of the relic's pixels whose mirror ray meets a visitor

@@ -1,4 +1,4 @@
-// The nine-scene evaluation of `holopyramid eval tracer` (docs/tracer.md), one hall x relic at a
+// The nine-scene evaluation of `holopyramid eval tracer` (docs/tracer/evaluation.md), one hall x relic at a
 // time. For the view where the relic's mirror rays meet the visitors most (visitorView), with
 // visitors close to the pyramid, it renders the path-traced ground truth with and without the
 // visitors (ground_truth_cache.hpp), then
@@ -47,7 +47,7 @@ struct TracerEvalOptions {
   std::string cache = (std::filesystem::temp_directory_path() / "holopyramid-gt-cache").string();
   // The paper's 0.2 leaves the region empty on the kettle and tripod: the visitors walk at >= 1.2 m
   // from the axis and those relics are rough (0.35, 0.6), so their reflections are soft; 0.05
-  // gives them a region, mostly silhouette and grazing pixels (docs/tracer.md).
+  // gives them a region, mostly silhouette and grazing pixels (docs/tracer/evaluation.md).
   float fg_threshold = reflect::kForegroundDistance;
   int ssrt_rays = 0;  // 0: the equal-time search; > 0: fixed (deterministic, for CI)
   // Visitors standing close to the pyramid (sim planCloseVisitors), besides the hall's walkers:
@@ -61,7 +61,7 @@ struct TracerEvalOptions {
   float camera_tilt_deg = 20.0f;
   float camera_vfov_deg = 90.0f;
   // Ours' knobs (--aa, --levels, --level-bias, --voxel-size). 9 levels: with 7 the rough relics'
-  // reads (kettle, 0.35) sat at the top level, blurred less than their lobe (docs/tracer.md).
+  // reads (kettle, 0.35) sit at the top level, blurred less than their lobe (docs/tracer/evaluation.md).
   bool no_interreflection = false;  // ours without TracerSettings::relic_interreflection
   reflect::TracerSettings tracer = [] {
     reflect::TracerSettings t;

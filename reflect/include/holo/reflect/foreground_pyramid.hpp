@@ -8,7 +8,7 @@
 // foreground's blur; sample() divides it back out: radiance = blur(colour * mask) / blur(mask),
 // weight = blur(mask). The composition then reads psi_d * w = blur(colour * mask).
 //
-// Blur scale (derivation in docs/tracer.md): one Kawase step has per-axis variance 3/4 of its input
+// Blur scale (derived in docs/tracer/voxel_walk.md): one Kawase step has per-axis variance 3/4 of its input
 // pixel, so level L has variance sigma^2(L) = sum_{l<L} (3/4) 4^l = (4^L - 1) / 4 in level-0
 // pixels; reading level L bilinearly adds a tent of width 2^L (variance 4^L / 6), so a read
 // delivers sigma^2(L) = (5/12) 4^L - 1/4 and the level for a wanted sigma is

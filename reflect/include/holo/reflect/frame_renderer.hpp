@@ -39,12 +39,12 @@ namespace holo::reflect {
 
 // The reflection tracer's settings. Per field: what it means, its unit and valid range
 // (validate() throws InputError naming the field outside it), the default and why. The
-// measurements behind the defaults are in docs/tracer.md.
+// measurements behind the defaults are in docs/tracer/ (one page per component).
 struct TracerSettings {
   // The foreground passes (voxel grid, pyramids, walk, composition); false: the static IBL only.
   bool foreground_enabled = true;
   // Kawase pyramid levels per camera (l_max), 1..kMaxPyramidLevels, each doubling the blur; 7:
-  // the figures of docs/tracer.md.
+  // the figures of docs/tracer/evaluation.md.
   int pyramid_levels = 7;
   // Primary-ray sub-samples per pixel, 1 (the centre) or 4 (rotated grid, hit_points.hpp); 4:
   // stable silhouettes on a still relic.

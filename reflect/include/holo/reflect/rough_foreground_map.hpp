@@ -2,7 +2,7 @@
 // term for lobes too wide for the voxel walk. At roughness ~0.6 one walked ray reads a blur
 // around one point of one camera's image, while the lobe spans tens of degrees over several
 // visitors and the hall between them: edges come out hard and the colour of whichever camera saw
-// the hit (docs/tracer.md, "Rough relics"). The paper's IBL integrates the lobe exactly over the
+// the hit (docs/tracer/voxel_walk.md, "Rough relics"). The paper's IBL integrates the lobe exactly over the
 // visitors reprojected around the relic; this does the same per frame for the visitors alone, at
 // a resolution a frame can afford.
 //
