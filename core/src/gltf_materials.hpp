@@ -1,8 +1,8 @@
 // glTF materials into holo::Material (internal to core): every glTF 2.0 core property and the
 // extensions named in gltf_io.hpp, each factor and texture reference checked. Factors must be
 // finite and >= 0 (those glTF bounds by 1 are clamped there, counted in "glTF/Material factors
-// clamped to 1"); texture coordinates are set 0 or 1; an attenuationDistance must be > 0 and an
-// IOR >= 1. Otherwise InputError naming the material and the field.
+// clamped to 1"), a texCoord 0 or 1, an attenuationDistance > 0 and an IOR >= 1; InputError
+// naming the material and the field otherwise.
 #pragma once
 
 #include <string>

@@ -16,8 +16,9 @@
 namespace holo::gltf_detail {
 
 // tinygltf's LoadImageDataFunction: PNG or JPEG only, at most kMaxGltfTextureSide pixels a side,
-// stored as 8- or 16-bit RGB(A). OpenCV refuses images above OPENCV_IO_MAX_IMAGE_PIXELS before
-// allocating (the kiosk unit sets it). False, with the reason appended to `err`, otherwise.
+// stored with its channels in glTF's order (RGB or RGBA; gray stays gray), 8 or 16 bits. OpenCV
+// refuses images above OPENCV_IO_MAX_IMAGE_PIXELS before allocating (the kiosk unit sets it).
+// False, with the reason appended to `err`, otherwise.
 bool decodeTexture(tinygltf::Image* image, int image_index, std::string* err, std::string* warn,
                    int req_width, int req_height, const unsigned char* bytes, int size, void* user);
 
