@@ -38,13 +38,7 @@ int benchAccuracy(const AccuracyCommand& command) {
 
   const std::filesystem::path dir = command.out;
   std::filesystem::create_directories(dir);
-  std::ostringstream csv;
-  csv << "hall,relic,size,gt_spp,fg_pixels,method,knob,ms,fg_mse,mse,pareto\n";
-  for (const AccuracyPoint& p : points)
-    csv << o.hall << "," << o.relic << "," << o.size << "," << o.gt_spp << "," << sweep.region_pixels << ","
-        << p.method << ",\"" << p.knob << "\"," << p.ms << "," << p.fg_mse << "," << p.mse << "," << p.pareto
-        << "\n";
-  writeFileAtomically(dir / "accuracy.csv", csv.str());
+  writeFileAtomically(dir / "accuracy.csv", accuracyCsv(o, sweep));
   writeFileAtomically(dir / "accuracy.svg",
                       accuracySvg(points, "fg_mse vs time per view: " + o.hall + " x " + o.relic + ", " +
                                               std::to_string(o.size) + "^2, " +

@@ -8,6 +8,7 @@
 #include <iostream>
 
 #include "command.hpp"
+#include "holo/eval/acceptance_bars.hpp"
 #include "holo/eval/calibration_evaluation.hpp"
 
 namespace holo::app {
@@ -19,10 +20,6 @@ struct Options {
   std::string out = "out/eval_calibration";
   bool quiet = false;
 };
-
-// The bars a calibration of a real installation is held to (docs/calib.md).
-constexpr double kMaxIntrinsicsPct = 0.5, kMaxPositionMm = 3.0, kMaxRotationDeg = 0.3,
-                 kMaxDepthScalePct = 0.3, kMaxGainPct = 2.0, kMaxDisplayedCodes = 1.0;
 
 int run(Options o) {
   o.eval.recording = o.recording;
@@ -43,14 +40,14 @@ int run(Options o) {
   std::cout << fmt::format(
       "calibration of {} cameras against the truth (worst camera), {} loop frames at {} px:\n",
       e.cameras.size(), e.frames, e.view_size);
-  row("intrinsics (fx, fy, cx, cy)", e.worst.intrinsics_error_pct, kMaxIntrinsicsPct, "%");
-  row("camera position", e.worst.position_error_mm, kMaxPositionMm, "mm");
-  row("camera rotation", e.worst.rotation_error_deg, kMaxRotationDeg, "deg");
-  row("depth scale", e.worst.depth_scale_error_pct, kMaxDepthScalePct, "%");
-  row("colour gains", e.worst.gain_error_pct, kMaxGainPct, "%");
+  row("intrinsics (fx, fy, cx, cy)", e.worst.intrinsics_error_pct, eval::kMaxIntrinsicsErrorPct, "%");
+  row("camera position", e.worst.position_error_mm, eval::kMaxPositionErrorMm, "mm");
+  row("camera rotation", e.worst.rotation_error_deg, eval::kMaxRotationErrorDeg, "deg");
+  row("depth scale", e.worst.depth_scale_error_pct, eval::kMaxDepthScaleErrorPct, "%");
+  row("colour gains", e.worst.gain_error_pct, eval::kMaxGainErrorPct, "%");
   const eval::DisplayedError& fitted = e.displayed.at(0);
   const eval::DisplayedError& without = e.displayed.at(1);
-  row("displayed error, fitted calibration", fitted.mean_codes, kMaxDisplayedCodes, "codes");
+  row("displayed error, fitted calibration", fitted.mean_codes, eval::kMaxDisplayedErrorCodes, "codes");
   row("displayed error, without registration and colour matching", without.mean_codes, fitted.mean_codes,
       "codes", false);
   std::cout << fmt::format("  on the relic's pixels: fitted {:.3f}, without {:.3f} codes\n",

@@ -205,4 +205,14 @@ std::string accuracySvg(const std::vector<AccuracyPoint>& points, const std::str
   return svgOf(plot);
 }
 
+std::string accuracyCsv(const AccuracyOptions& o, const AccuracySweep& sweep) {
+  std::ostringstream csv;
+  csv << "hall,relic,size,gt_spp,fg_pixels,method,knob,ms,fg_mse,mse,pareto\n";
+  for (const AccuracyPoint& p : sweep.points)
+    csv << o.hall << "," << o.relic << "," << o.size << "," << o.gt_spp << "," << sweep.region_pixels << ","
+        << p.method << ",\"" << p.knob << "\"," << p.ms << "," << p.fg_mse << "," << p.mse << "," << p.pareto
+        << "\n";
+  return csv.str();
+}
+
 }  // namespace holo::eval

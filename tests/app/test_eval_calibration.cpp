@@ -16,6 +16,7 @@
 #include <string>
 
 #include "command_output.hpp"
+#include "holo/eval/acceptance_bars.hpp"
 #include "run_holopyramid.hpp"
 #include "shared_data.hpp"
 
@@ -62,16 +63,16 @@ TEST(EvalCalibration, FittedCalibrationWithinTheBarsAndRegistrationMatters) {
   const nlohmann::json j = readJson(out / "calibration_eval.json");
   ASSERT_TRUE(j["calibration_passed"].get<bool>());
   const nlohmann::json& worst = j["worst"];
-  EXPECT_LT(worst["intrinsics_error_pct"].get<double>(), 0.5);
-  EXPECT_LT(worst["position_error_mm"].get<double>(), 3.0);
-  EXPECT_LT(worst["rotation_error_deg"].get<double>(), 0.3);
-  EXPECT_LT(worst["depth_scale_error_pct"].get<double>(), 0.3);
-  EXPECT_LT(worst["gain_error_pct"].get<double>(), 2.0);
+  EXPECT_LT(worst["intrinsics_error_pct"].get<double>(), holo::eval::kMaxIntrinsicsErrorPct);
+  EXPECT_LT(worst["position_error_mm"].get<double>(), holo::eval::kMaxPositionErrorMm);
+  EXPECT_LT(worst["rotation_error_deg"].get<double>(), holo::eval::kMaxRotationErrorDeg);
+  EXPECT_LT(worst["depth_scale_error_pct"].get<double>(), holo::eval::kMaxDepthScaleErrorPct);
+  EXPECT_LT(worst["gain_error_pct"].get<double>(), holo::eval::kMaxGainErrorPct);
   ASSERT_EQ(j["cameras"].size(), 4u);
   ASSERT_EQ(j["frames"].get<int>(), 3);
   const double fitted = j["displayed"][0]["mean_codes"].get<double>();
   const double without = j["displayed"][1]["mean_codes"].get<double>();
-  EXPECT_LT(fitted, 1.0);
+  EXPECT_LT(fitted, holo::eval::kMaxDisplayedErrorCodes);
   EXPECT_GT(without, fitted) << "switching off depth registration and colour matching must show";
   EXPECT_TRUE(fs::exists(out / "calibration_eval.png"));
   EXPECT_TRUE(fs::exists(out / "run_fitted.yaml"));  // reruns the fitted calibration's loop

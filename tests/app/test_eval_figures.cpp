@@ -13,12 +13,15 @@
 #include <string>
 
 #include "command_output.hpp"
+#include "holo/eval/acceptance_bars.hpp"
 #include "run_holopyramid.hpp"
 #include "shared_data.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
+using holo::eval::foregroundBarWithFloor;
+using holo::eval::meetsRatioBar;
 using holo::test::logText;
 using holo::test::readJson;
 
@@ -101,8 +104,10 @@ TEST(EvalTracer, WalkersOnlyGalleryVaseMeetsTheQuarterOfTheIblAndBeatsSsrt) {
   ASSERT_GT(s.at("fg_pixels").get<int>(), 0) << "no foreground region: the bars cannot be measured";
   expectFiniteErrors(s.at("methods"));
   const double ours = fgMse(s, "ours");
-  EXPECT_LE(ours, fgMse(s, "ibl") / 4.0) << "ibl " << fgMse(s, "ibl");
-  EXPECT_LT(ours, fgMse(s, "ssrt"));
+  EXPECT_TRUE(meetsRatioBar(fgMse(s, "ibl") / ours, holo::eval::kForegroundBelowReference))
+      << "ours " << ours << ", ibl " << fgMse(s, "ibl");
+  EXPECT_TRUE(meetsRatioBar(fgMse(s, "ssrt") / ours, holo::eval::kSsrtOverOurs))
+      << "ours " << ours << ", ssrt " << fgMse(s, "ssrt");
 }
 
 // With a visitor close to the pyramid (0.45-0.6 m from the base; the rig tilted 20 degrees with a
@@ -127,7 +132,8 @@ TEST_P(CloseVisitor, OursWithinAQuarterOfTheIblOrTheReconstructionFloor) {
   ASSERT_GE(floor, 0.0) << "the reconstruction floor was not measured";
   expectFiniteErrors(s.at("methods"));
   const double ours = fgMse(s, "ours"), ibl = fgMse(s, "ibl");
-  EXPECT_LE(ours, std::max(ibl / 4.0, 1.1 * floor)) << "ibl " << ibl << ", reconstruction floor " << floor;
+  EXPECT_TRUE(meetsRatioBar(foregroundBarWithFloor(ibl, floor) / ours, holo::eval::kForegroundBarOverOurs))
+      << "ours " << ours << ", ibl " << ibl << ", reconstruction floor " << floor;
 }
 
 // A glass relic: the view is picked where visitors are seen through the glass, and the two bars
@@ -157,13 +163,17 @@ TEST(EvalTracer, GlassVaseBeatsItsOpaqueAndIblOnlyRefraction) {
   const double floor = s.at("reconstruction_floor").get<double>();
   ASSERT_GE(floor, 0.0) << "the reconstruction floor was not measured";
   const double ibl_only = fgMse(s, "ours_ibl_refraction");
-  EXPECT_LE(fgMse(s, "ours"), std::max(ibl_only / 4.0, 1.1 * floor))
-      << "ibl-only refraction " << ibl_only << ", reconstruction floor " << floor;
+  EXPECT_TRUE(meetsRatioBar(foregroundBarWithFloor(ibl_only, floor) / fgMse(s, "ours"),
+                            holo::eval::kForegroundBarOverOurs))
+      << "ours " << fgMse(s, "ours") << ", ibl-only refraction " << ibl_only << ", reconstruction floor "
+      << floor;
 
   const nlohmann::json f = glassVaseScene("figures");
   const nlohmann::json& fm = f.at("methods");
   ASSERT_TRUE(fm.contains("ours_glass_opaque"));
-  EXPECT_LE(fm.at("ours").at("mse").get<double>(), fm.at("ours_glass_opaque").at("mse").get<double>() / 4.0);
+  EXPECT_TRUE(meetsRatioBar(
+      fm.at("ours_glass_opaque").at("mse").get<double>() / fm.at("ours").at("mse").get<double>(),
+      holo::eval::kGlassOpaqueOverOurs));
 }
 
 // An opaque relic has no glass references: nothing is rendered that the scene does not call for.

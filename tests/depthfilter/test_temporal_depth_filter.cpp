@@ -4,119 +4,25 @@
 #include <limits>
 
 #include "holo/core/error.hpp"
-#include "holo/depthfilter/depth_baselines.hpp"
 #include "holo/depthfilter/precursor_flow.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
+#include "synthetic_filter_run.hpp"
 #include "synthetic_rgbd.hpp"
 
 namespace holo::depthfilter {
 namespace {
 
-using FilterFn = std::function<cv::Mat(const DepthFilterInput&)>;
-
-cv::Mat eroded(const cv::Mat& mask, int radius) {
-  cv::Mat out;
-  cv::erode(mask, out, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * radius + 1, 2 * radius + 1)));
-  return out;
-}
-
-struct Metrics {
-  double temporal_mse_static_cm2 = 0.0;  // frame-to-frame change on the static box (cm^2)
-  double rmse_disc_cm = 0.0;             // error against the truth on the moving disc
-  double rmse_box_cm = 0.0;              // error against the truth on the static box
-  double hole_fill = 0.0;                // share of foreground pixels with an output depth
-};
-
-// Runs `filter` over `frames` frames (after `skip` warm-up frames that are not scored), with the
-// true foreground mask so that only the depth filter is measured.
-Metrics run(const test::SyntheticScene& scene, const FilterFn& filter, int skip, int frames) {
-  PrecursorFlow flow;
-  cv::Mat previous_colour, previous_out;
-  Metrics m;
-  double temporal_sum = 0.0, disc_sum = 0.0, box_sum = 0.0;
-  long temporal_n = 0, disc_n = 0, box_n = 0, filled = 0, foreground = 0;
-  for (int t = 0; t < skip + frames; ++t) {
-    const test::SyntheticFrame f = scene.render(t, 11);
-    const cv::Mat lambda = flow.compute(f.frame.colour, previous_colour);
-    previous_colour = f.frame.colour;
-    const cv::Mat out = filter({f.frame.colour, f.frame.depth, f.true_mask, lambda});
-    if (t >= skip) {
-      const cv::Mat box = eroded(f.box_mask, 2), disc = eroded(f.disc_mask, 2), fg = eroded(f.true_mask, 2);
-      for (int y = 0; y < out.rows; ++y)
-        for (int x = 0; x < out.cols; ++x) {
-          const float d = out.at<float>(y, x), truth = f.true_depth.at<float>(y, x);
-          if (fg.at<std::uint8_t>(y, x)) {
-            ++foreground;
-            filled += d > 0.0f;
-          }
-          if (!(d > 0.0f)) continue;
-          const double e = 100.0 * (double(d) - truth);
-          if (disc.at<std::uint8_t>(y, x)) disc_sum += e * e, ++disc_n;
-          if (box.at<std::uint8_t>(y, x)) {
-            box_sum += e * e, ++box_n;
-            const float p = previous_out.empty() ? 0.0f : previous_out.at<float>(y, x);
-            if (p > 0.0f && t > skip) {
-              const double c = 100.0 * (double(d) - p);
-              temporal_sum += c * c;
-              ++temporal_n;
-            }
-          }
-        }
-    }
-    previous_out = out;
-  }
-  m.temporal_mse_static_cm2 = temporal_sum / double(std::max(1L, temporal_n));
-  m.rmse_disc_cm = std::sqrt(disc_sum / double(std::max(1L, disc_n)));
-  m.rmse_box_cm = std::sqrt(box_sum / double(std::max(1L, box_n)));
-  m.hole_fill = double(filled) / double(std::max(1L, foreground));
-  return m;
-}
-
-cv::Mat raw(const DepthFilterInput& in) {
-  cv::Mat out = cv::Mat::zeros(in.depth.size(), CV_32FC1);
-  in.depth.copyTo(out, in.mask);
-  cv::patchNaNs(out, 0.0);
-  return out;
-}
-
-TemporalDepthFilterConfig quickConfig() {
-  TemporalDepthFilterConfig config;
-  config.learning_frames = 10;
-  config.levels = 6;  // the 12x10 hole in the box needs l_max >= 5; edges here are simple
-  return config;
-}
-
-TEST(TemporalDepthFilter, StableFilledAndUndeformedAgainstBaselines) {
-  const test::SyntheticScene scene;
-  const int skip = 12, frames = 30;
-  TemporalDepthFilter ours(quickConfig());
-  TemporalMedianDepthFilter median(5);
-  TaaDepthFilter taa(0.1f);
-  const Metrics m_raw = run(scene, raw, skip, frames);
-  const Metrics m_ours = run(
-      scene, [&](const DepthFilterInput& in) { return ours.apply(in); }, skip, frames);
-  const Metrics m_median = run(
-      scene, [&](const DepthFilterInput& in) { return median.apply(in); }, skip, frames);
-  const Metrics m_taa = run(
-      scene, [&](const DepthFilterInput& in) { return taa.apply(in); }, skip, frames);
-  for (const auto& [name, m] :
-       {std::pair{"raw", m_raw}, {"ours", m_ours}, {"median", m_median}, {"taa", m_taa}})
-    std::printf("%-6s temporal_mse %.4f cm2  rmse disc %.3f cm  rmse box %.3f cm  fill %.4f\n", name,
-                m.temporal_mse_static_cm2, m.rmse_disc_cm, m.rmse_box_cm, m.hole_fill);
-  EXPECT_FALSE(ours.learning());
-  EXPECT_LT(m_ours.temporal_mse_static_cm2, m_raw.temporal_mse_static_cm2 / 10.0);
-  EXPECT_LT(m_ours.temporal_mse_static_cm2, m_median.temporal_mse_static_cm2);
-  EXPECT_LE(m_ours.rmse_disc_cm, m_raw.rmse_disc_cm);  // the moving disc is not deformed
-  EXPECT_LE(m_ours.rmse_box_cm, m_raw.rmse_box_cm);
-  EXPECT_GT(m_ours.hole_fill, 0.995);
-  EXPECT_LT(m_raw.hole_fill, 0.98);
-}
+using test::erodedMask;
+using test::quickFilterConfig;
+using test::rawDepthOnMask;
+using test::runOnSyntheticScene;
+using test::SyntheticRunMetrics;
 
 // Mean output depth minus truth over the eroded box, after feeding frames whose box depth
 // follows `box_z(t)`.
 std::vector<double> boxErrorsCm(const std::function<float(int)>& box_z, int frames) {
   test::SyntheticScene scene;
-  TemporalDepthFilter filter(quickConfig());
+  TemporalDepthFilter filter(quickFilterConfig());
   PrecursorFlow flow;
   cv::Mat previous;
   std::vector<double> errors;
@@ -126,7 +32,7 @@ std::vector<double> boxErrorsCm(const std::function<float(int)>& box_z, int fram
     const cv::Mat out =
         filter.apply({f.frame.colour, f.frame.depth, f.true_mask, flow.compute(f.frame.colour, previous)});
     previous = f.frame.colour;
-    const cv::Mat box = eroded(f.box_mask, 3);
+    const cv::Mat box = erodedMask(f.box_mask, 3);
     cv::Mat valid = box & (out > 0.0f);
     errors.push_back(100.0 * (cv::mean(out, valid)[0] - double(scene.box_z)));
   }
@@ -148,22 +54,22 @@ TEST(TemporalDepthFilter, LagOfASteadyApproachStaysBounded) {
 
 TEST(TemporalDepthFilter, FrozenOrOversmoothedFiltersFailTheDeformationBar) {
   const test::SyntheticScene scene;
-  const Metrics m_raw = run(scene, raw, 12, 20);
+  const SyntheticRunMetrics m_raw = runOnSyntheticScene(scene, rawDepthOnMask, 12, 20);
   cv::Mat first;
-  const Metrics frozen = run(
+  const SyntheticRunMetrics frozen = runOnSyntheticScene(
       scene,
       [&](const DepthFilterInput& in) {
-        if (first.empty()) first = raw(in);
+        if (first.empty()) first = rawDepthOnMask(in);
         cv::Mat out = cv::Mat::zeros(in.depth.size(), CV_32FC1);
         first.copyTo(out, in.mask);
         return out;
       },
       12, 20);
-  const Metrics blurred = run(
+  const SyntheticRunMetrics blurred = runOnSyntheticScene(
       scene,
       [&](const DepthFilterInput& in) {
         cv::Mat out;
-        cv::blur(raw(in), out, cv::Size(15, 15));
+        cv::blur(rawDepthOnMask(in), out, cv::Size(15, 15));
         out.setTo(0.0f, in.mask == 0);
         return out;
       },
@@ -220,7 +126,7 @@ TEST(TemporalDepthFilter, EdgeHoleBetweenSurfacesOfOneColourStaysAHole) {
 
 TEST(TemporalDepthFilter, LearningFramesPassTheMeasurementThrough) {
   const test::SyntheticScene scene;
-  TemporalDepthFilter filter(quickConfig());
+  TemporalDepthFilter filter(quickFilterConfig());
   PrecursorFlow flow;
   cv::Mat previous;
   for (int t = 0; t < 10; ++t) {
@@ -229,7 +135,7 @@ TEST(TemporalDepthFilter, LearningFramesPassTheMeasurementThrough) {
     const DepthFilterInput in{f.frame.colour, f.frame.depth, f.true_mask,
                               flow.compute(f.frame.colour, previous)};
     previous = f.frame.colour;
-    EXPECT_EQ(cv::norm(filter.apply(in), raw(in), cv::NORM_INF), 0.0);
+    EXPECT_EQ(cv::norm(filter.apply(in), rawDepthOnMask(in), cv::NORM_INF), 0.0);
   }
   EXPECT_FALSE(filter.learning());
   EXPECT_GT(filter.confidencePdf().samples(), 1000);
@@ -245,7 +151,7 @@ TEST(TemporalDepthFilter, LearningFramesPassTheMeasurementThrough) {
 TEST(TemporalDepthFilter, MaskBoxGivesTheWholeFrameOutput) {
   test::SyntheticScene scene;
   scene.disc_speed_px = 7.0f;  // leaves the image on the right during the run
-  TemporalDepthFilterConfig boxed_config = quickConfig(), full_config = quickConfig();
+  TemporalDepthFilterConfig boxed_config = quickFilterConfig(), full_config = quickFilterConfig();
   full_config.mask_box_only = false;
   TemporalDepthFilter boxed(boxed_config), full(full_config);
   PrecursorFlow flow;
@@ -280,7 +186,7 @@ TEST(TemporalDepthFilter, MaskBoxGivesTheWholeFrameOutput) {
 
 TEST(TemporalDepthFilter, HardInputsStayFinite) {
   const test::SyntheticScene scene;
-  TemporalDepthFilter filter(quickConfig());
+  TemporalDepthFilter filter(quickFilterConfig());
   PrecursorFlow flow;
   cv::Mat previous;
   const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();

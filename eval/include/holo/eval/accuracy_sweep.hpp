@@ -57,4 +57,8 @@ AccuracySweep sweepAccuracy(const AccuracyOptions& options);
 // fg_mse against milliseconds per view, log-log, the Pareto front joined, as SVG.
 std::string accuracySvg(const std::vector<AccuracyPoint>& points, const std::string& title);
 
+// Every point as CSV, one row each: hall, relic, size, gt_spp, fg_pixels, method, knob, ms,
+// fg_mse, mse, pareto.
+std::string accuracyCsv(const AccuracyOptions& options, const AccuracySweep& sweep);
+
 }  // namespace holo::eval

@@ -1,4 +1,4 @@
-#include "holo/depthfilter/depth_evaluation.hpp"
+#include "holo/eval/depth_evaluation.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -7,7 +7,7 @@
 
 #include "holo/core/error.hpp"
 
-namespace holo::depthfilter {
+namespace holo::eval {
 
 const char* depthMethodName(DepthMethod method) {
   switch (method) {
@@ -158,19 +158,6 @@ void DepthScorer::merge(const DepthScorer& o) {
   frames_ += o.frames_;
 }
 
-DepthBarVerdicts checkDepthBars(const DepthMethodMetrics& m, const DepthMethodMetrics& raw,
-                                const DepthMethodMetrics& median, const DepthMethodMetrics& taa,
-                                const DepthBars& bars) {
-  // Written so that a NaN on either side makes the comparison false.
-  DepthBarVerdicts v;
-  v.below_median = m.temporal_mse_cm2 * bars.below_median <= median.temporal_mse_cm2;
-  v.below_taa = m.temporal_mse_cm2 * bars.below_taa <= taa.temporal_mse_cm2;
-  v.rmse_below_raw = m.depth_rmse_cm < raw.depth_rmse_cm;
-  v.coverage = m.coverage >= bars.coverage;
-  v.ghosts = m.ghost_ratio < raw.ghost_ratio && m.ghost_ratio < bars.ghosts;
-  return v;
-}
-
 std::string depthMetricsTable(std::span<const std::pair<std::string, DepthMethodMetrics>> rows) {
   const auto number = [](double v, const char* format) {
     if (!std::isfinite(v)) return std::string("n/a");
@@ -218,7 +205,7 @@ void DepthFilterEvaluation::addFrame(const GroundTruthFrame& truth) {
   last_mask_ = masker_.apply(frame);
   const cv::Mat flow = flow_.compute(frame.colour, previous_colour_);
   previous_colour_ = frame.colour.clone();
-  const DepthFilterInput input{frame.colour, frame.depth, last_mask_, flow};
+  const depthfilter::DepthFilterInput input{frame.colour, frame.depth, last_mask_, flow};
   const bool score = !ours_.learning();  // decided before this frame, like the filter itself
 
   for (DepthMethod method : kDepthMethods) {
@@ -277,4 +264,4 @@ DepthMethodMetrics DepthFilterEvaluation::combinedTruth(std::span<const DepthFil
   return total.metrics();
 }
 
-}  // namespace holo::depthfilter
+}  // namespace holo::eval

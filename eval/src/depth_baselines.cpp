@@ -1,4 +1,4 @@
-#include "holo/depthfilter/depth_baselines.hpp"
+#include "holo/eval/depth_baselines.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,9 +6,11 @@
 
 #include "holo/core/error.hpp"
 
-namespace holo::depthfilter {
+namespace holo::eval {
 
 namespace {
+
+using depthfilter::DepthFilterInput;
 
 cv::Mat sanitisedDepth(const cv::Mat& depth) {
   cv::Mat out = depth.clone();
@@ -101,4 +103,4 @@ cv::Mat TaaDepthFilter::apply(const DepthFilterInput& in) {
   return out;
 }
 
-}  // namespace holo::depthfilter
+}  // namespace holo::eval

@@ -39,12 +39,12 @@
 #include <vector>
 
 #include "holo/core/rgbd_frame.hpp"
-#include "holo/depthfilter/depth_baselines.hpp"
 #include "holo/depthfilter/foreground_mask.hpp"
 #include "holo/depthfilter/precursor_flow.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
+#include "holo/eval/depth_baselines.hpp"
 
-namespace holo::depthfilter {
+namespace holo::eval {
 
 // Adversary: ours' output with every pixel dropped whose depth changed by more than
 // DepthEvaluationConfig::adversary_max_change_m since ours' previous frame (HoleLeavingAdversary).
@@ -72,24 +72,6 @@ struct DepthMethodMetrics {
   double ms_per_frame = 0.0;
   long scored_frames = 0;
 };
-
-// The bars the project holds our filter to on the simulated halls (docs/depthfilter.md): temporal
-// MSE' `below_median` times below the median's and `below_taa` times below TAA's, depth RMSE
-// below raw's, coverage at least `coverage`, fewer ghosts than raw and below `ghosts`. NaN in any
-// figure fails.
-struct DepthBars {
-  double below_median = 100.0;
-  double below_taa = 50.0;
-  double coverage = 0.95;
-  double ghosts = 0.005;
-};
-struct DepthBarVerdicts {
-  bool below_median = false, below_taa = false, rmse_below_raw = false, coverage = false, ghosts = false;
-  bool all() const { return below_median && below_taa && rmse_below_raw && coverage && ghosts; }
-};
-DepthBarVerdicts checkDepthBars(const DepthMethodMetrics& method, const DepthMethodMetrics& raw,
-                                const DepthMethodMetrics& median, const DepthMethodMetrics& taa,
-                                const DepthBars& bars = {});
 
 // A Markdown table of the metrics, one row per (name, metrics); NaN prints as "n/a".
 std::string depthMetricsTable(std::span<const std::pair<std::string, DepthMethodMetrics>> rows);
@@ -144,9 +126,9 @@ class DepthScorer {
 };
 
 struct DepthEvaluationConfig {
-  ForegroundMaskConfig mask;
-  PrecursorFlowConfig flow;
-  TemporalDepthFilterConfig filter;
+  depthfilter::ForegroundMaskConfig mask;
+  depthfilter::PrecursorFlowConfig flow;
+  depthfilter::TemporalDepthFilterConfig filter;
   int median_window = 5;
   float taa_blend = 0.1f;
   float adversary_max_change_m = 0.03f;
@@ -180,9 +162,9 @@ class DepthFilterEvaluation {
     cv::Mat last_output;
   };
 
-  ForegroundMasker masker_;
-  PrecursorFlow flow_;
-  TemporalDepthFilter ours_;
+  depthfilter::ForegroundMasker masker_;
+  depthfilter::PrecursorFlow flow_;
+  depthfilter::TemporalDepthFilter ours_;
   TemporalMedianDepthFilter median_;
   TaaDepthFilter taa_;
   HoleLeavingAdversary adversary_;
@@ -192,4 +174,4 @@ class DepthFilterEvaluation {
   MethodState truth_;
 };
 
-}  // namespace holo::depthfilter
+}  // namespace holo::eval

@@ -3,10 +3,11 @@
 #include <cmath>
 #include <vector>
 
-#include "holo/depthfilter/depth_evaluation.hpp"
+#include "holo/eval/acceptance_bars.hpp"
+#include "holo/eval/depth_evaluation.hpp"
 #include "synthetic_rgbd.hpp"
 
-namespace holo::depthfilter {
+namespace holo::eval {
 namespace {
 
 // A 4x4 visitor at 2 m filling the frame; the sensor reads it `sensor_error_m` too far.
@@ -167,4 +168,4 @@ TEST(DepthFilterEvaluation, ScoresEveryMethodOnTheSyntheticSequence) {
 }
 
 }  // namespace
-}  // namespace holo::depthfilter
+}  // namespace holo::eval

@@ -1,7 +1,8 @@
-// A synthetic RGBD sequence with known truth for the depthfilter tests: a textured background
-// plane at 3 m, a static textured box at 2 m (the "visitor who stands still") and a textured
-// dome-shaped disc at about 1.5 m that moves sideways. Depth gets Gaussian noise growing with z^2,
-// random dropouts and a persistent hole inside the box; colour gets Gaussian noise. Seeded.
+// A synthetic RGBD sequence with known truth for the depth filter's and its evaluation's tests: a
+// textured background plane at 3 m, a static textured box at 2 m (the "visitor who stands still")
+// and a textured dome-shaped disc at about 1.5 m that moves sideways. Depth gets Gaussian noise
+// growing with z^2, random dropouts and a persistent hole inside the box; colour gets Gaussian
+// noise. Seeded.
 #pragma once
 
 #include <cmath>

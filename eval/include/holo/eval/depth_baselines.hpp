@@ -11,14 +11,14 @@
 
 #include "holo/depthfilter/temporal_depth_filter.hpp"
 
-namespace holo::depthfilter {
+namespace holo::eval {
 
 // Median of the pixel's valid depths over the last `window` frames (same pixel, no motion
 // compensation, as a per-pixel temporal median filter is usually run on depth streams).
 class TemporalMedianDepthFilter {
  public:
   explicit TemporalMedianDepthFilter(int window = 5);
-  cv::Mat apply(const DepthFilterInput& input);
+  cv::Mat apply(const depthfilter::DepthFilterInput& input);
 
  private:
   int window_;
@@ -30,11 +30,11 @@ class TemporalMedianDepthFilter {
 class TaaDepthFilter {
  public:
   explicit TaaDepthFilter(float blend = 0.1f);
-  cv::Mat apply(const DepthFilterInput& input);
+  cv::Mat apply(const depthfilter::DepthFilterInput& input);
 
  private:
   float blend_;
   cv::Mat history_;  // previous output
 };
 
-}  // namespace holo::depthfilter
+}  // namespace holo::eval
