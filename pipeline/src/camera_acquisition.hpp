@@ -63,7 +63,8 @@ class CameraAcquisition {
   // camera (bounded by its silence timeout); deterministic, grabs one now.
   std::vector<RgbdFrame> backgroundFrame();
   // Deterministic mode: grabs the next `frames` frames of every camera now; next() replays them
-  // first. About 6.5 MB per frame of four simulated cameras.
+  // first. About 6.5 MB per frame of four simulated cameras. Live mode: nothing (the cameras
+  // deliver at their own rate).
   void preload(int frames);
   // The depth correction every frame gets (see above), on frames from elsewhere (the
   // calibration's background, measured by the same cameras). Into new buffers: a frame's depth
