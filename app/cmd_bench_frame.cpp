@@ -10,6 +10,7 @@
 #include "command.hpp"
 #include "holo/core/files.hpp"
 #include "holo/eval/frame_benchmark.hpp"
+#include "holo/eval/frame_timing_report.hpp"
 
 namespace holo::app {
 

@@ -15,6 +15,7 @@
 #include "holo/core/log.hpp"
 #include "holo/core/progress.hpp"
 #include "holo/display/display_config.hpp"
+#include "holo/eval/frame_timing_report.hpp"
 #include "holo/pipeline/calibrated_display.hpp"
 #include "holo/pipeline/frame_loop.hpp"
 
@@ -86,16 +87,16 @@ int runPipeline(RunOptions options) {
   progress.done();
   loop.finish();
 
-  const StageTimes median = medianTimes(reports);
+  const StageTimes median = eval::medianTimes(reports);
   const CameraFrameCounts cameras = loop.cameraFrameCounts();
-  const std::string table = formatTimingTable(median, reports, cameras);
+  const std::string table = eval::formatTimingTable(median, reports, cameras);
   std::cout << table;
   if (options.headless) {
     writeFileAtomically(out / "timing.txt", table);
-    writeFileAtomically(out / "timing.json", timingJson(median, reports, cameras));
+    writeFileAtomically(out / "timing.json", eval::timingJson(median, reports, cameras));
     std::cout << fmt::format("wrote {} (quadview.mp4, frame_*.png, timing.txt, timing.json)\n", out.string());
   }
-  if (!options.json.empty()) writeFileAtomically(options.json, timingJson(median, reports, cameras));
+  if (!options.json.empty()) writeFileAtomically(options.json, eval::timingJson(median, reports, cameras));
   return 0;
 }
 

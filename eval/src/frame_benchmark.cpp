@@ -10,6 +10,7 @@
 #include "holo/core/median.hpp"
 #include "holo/core/progress.hpp"
 #include "holo/core/stopwatch.hpp"
+#include "holo/eval/frame_timing_report.hpp"
 #include "holo/reflect/view.hpp"
 
 namespace holo::eval {

@@ -6,7 +6,7 @@
 // Start-up: the foreground pipeline learns the background from the installation's background
 // frames and then from the first `background_frames` frames of every camera (not rendered).
 //
-// Acquisition overlaps processing in both modes:
+// Acquisition overlaps processing in both modes (camera_acquisition.hpp in pipeline/src):
 //  * live: one capture thread per camera publishes into a latest-frame mailbox; the loop takes
 //    the newest frame of each camera and never waits for one. A camera silent for longer than
 //    stale_camera_s is dropped from the foreground (the others go on; with none, IBL only).
@@ -15,14 +15,15 @@
 //    gives the same images. A camera that gives no frame within its silence timeout is missing
 //    for that frame; a recording that ended stays missing.
 //
+// Each step() reports the frame's stage times and counters (frame_report.hpp); the medians,
+// the timing table and its JSON are eval's (eval/frame_timing_report.hpp).
+//
 // Units: seconds for times, milliseconds in StageTimes, metres in the world (pyramid) frame.
 // Threads: construct and step() on one thread (a window presenter needs the main thread).
 #pragma once
 
 #include <array>
-#include <atomic>
 #include <cstdint>
-#include <deque>
 #include <future>
 #include <memory>
 #include <optional>
@@ -30,11 +31,10 @@
 #include <vector>
 
 #include "holo/capture/camera_source.hpp"
-#include "holo/capture/capture_thread.hpp"
-#include "holo/capture/latest_frame_mailbox.hpp"
 #include "holo/depthfilter/foreground_pipeline.hpp"
 #include "holo/display/eye_tracker.hpp"
 #include "holo/display/quad_view_presenter.hpp"
+#include "holo/pipeline/frame_report.hpp"
 #include "holo/pipeline/installation.hpp"
 #include "holo/reflect/frame_renderer.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
@@ -42,7 +42,7 @@
 
 namespace holo::pipeline {
 
-inline constexpr std::size_t kPassCount = static_cast<std::size_t>(reflect::Pass::ToneMap) + 1;
+class CameraAcquisition;
 
 // The tracer as the live loop runs it: one sample per pixel plus four at silhouette and crease
 // pixels (instead of four everywhere), each view's static passes reused while its eye moves
@@ -77,72 +77,6 @@ struct FrameLoopOptions {
   bool overlap = true;
   reflect::TracerSettings tracer = liveTracerSettings();
   display::EyeTrackerSettings eyes;
-};
-
-// The paper's Table 3 stages of one frame, milliseconds.
-struct StageTimes {
-  double acquisition = 0;  // waiting for camera frames (their grabbing overlaps processing)
-  double foreground = 0;   // masks, flow, temporal filter, back-projection, voxel grid
-  double dynamic = 0;      // Kawase pyramids and voxel walk (reflected and transmitted rays)
-  double statics = 0;      // hit points, prefiltered IBL, refraction through the relic, clearcoat
-  double composition = 0;  // composition, tone mapping
-  double display = 0;      // eye tracking, quad layout, presentation
-  double total = 0;        // the frame's wall time on the loop's thread (the frame period)
-  // Overlap: how long the frame waited for its foreground, computed on the worker while the
-  // previous frame was rendered (about 0 when it was ready); without: acquisition + foreground.
-  double pipeline_wait = 0;
-  // The appliance's own work, one stage after another: foreground, reflections, composition,
-  // display (not acquisition, which waits for the cameras).
-  double applianceStages() const { return foreground + dynamic + statics + composition + display; }
-};
-
-struct FrameReport {
-  std::int64_t index = 0;
-  StageTimes times;
-  std::size_t foreground_points = 0;
-  int cameras_live = 0;  // cameras whose frame reached the foreground stage
-  // Newest - oldest arrival time (host clock, ms) of the camera frames this frame was made of;
-  // -1 with fewer than 2 of them.
-  double camera_skew_ms = -1;
-  std::string plan;  // the effect plan of face 0 ("HitPoints,... (reason)")
-  std::array<bool, 4> eyes_tracked{};
-  bool presented = false;
-  // HDR pixels of the four views with a NaN or infinite channel (the composition guarantees 0;
-  // counted, not assumed, so a run proves it).
-  std::int64_t non_finite_pixels = 0;
-  // Camera frames overwritten in the mailboxes since the previous step, all cameras: produced by
-  // a capture thread, never consumed by the loop. Live mode only; deterministic mode renders
-  // exactly the frames it consumes, so 0 by construction.
-  std::int64_t dropped_frames = 0;
-  // Every camera's stream has ended (recordings played to their end): nothing more will come,
-  // and this report is not a frame (nothing was rendered or presented).
-  bool cameras_ended = false;
-  int static_reused_views = 0;     // views whose hit points and static shading came from the cache
-  std::size_t refined_pixels = 0;  // pixels with 4 sub-samples (edge anti-aliasing), all views
-  std::size_t relic_pixels = 0;    // pixels with some relic coverage, all views
-  // Embree rays through transmissive relic materials, transmitted exit rays walked, and samples
-  // whose transmitted light is a mean of paths (supersampled), all views (0 for an opaque relic:
-  // the plan runs no refraction pass).
-  std::uint64_t refraction_rays = 0, refracted_walks = 0, supersampled_samples = 0;
-  // Milliseconds per reflect::Pass (index = the enum's value), summed over the views; plus the
-  // camera images' conversion to linear colour for the pyramids (part of `dynamic`).
-  std::array<double, kPassCount> pass_ms{};
-  double camera_images_ms = 0;
-};
-
-// Camera frames over the whole run, all cameras. Live: from the mailboxes' counters, and
-// `unconsumed` = produced - consumed (the drops plus frames still waiting in a mailbox).
-// Deterministic: produced = consumed = frames x cameras.
-struct CameraFrameCounts {
-  bool live = false;
-  // Installation::simulated_cameras, and simulated during the run (not preloaded): their rendering
-  // is in the acquisition wait.
-  bool simulated = false;
-  std::int64_t produced = 0;
-  std::int64_t consumed = 0;
-  std::int64_t dropped = 0;
-  std::int64_t unconsumed = 0;
-  std::int64_t rejected = 0;  // taken but unusable (no depth, wrong size): treated as missing
 };
 
 class FrameLoop {
@@ -183,19 +117,11 @@ class FrameLoop {
   const reflect::PrefilteredIbl& ibl() const { return ibl_; }
 
  private:
-  // One frame of every camera (empty where a camera gave none) and whether all streams ended.
-  struct CameraFrames {
-    std::vector<RgbdFrame> frames;
-    bool ended = false;
-  };
-  CameraFrames acquire(double& wait_ms);
-  CameraFrames grabDeterministic();  // the next frame of every source, in parallel
-  RgbdFrame grabFrom(std::size_t camera);
-  std::vector<RgbdFrame> waitLive();  // live: a fresh frame of every camera (bounded wait)
   void learnBackground(const Installation& installation);
   // Acquisition and the foreground stage of one frame (on the loop's worker when overlapped).
   struct ForegroundFrame {
-    CameraFrames acquired;
+    std::vector<RgbdFrame> frames;  // per camera; empty where a camera gave none
+    bool cameras_ended = false;     // every camera's stream has ended
     depthfilter::ForegroundCloud cloud;
     std::vector<cv::Mat> masks;  // per camera, copied from the pipeline; empty: no image
     int cameras_live = 0;
@@ -203,41 +129,27 @@ class FrameLoop {
     double acquisition_ms = 0, foreground_ms = 0;
   };
   ForegroundFrame runForeground();
-  // Frames the foreground cannot use (no depth, a size other than the calibrated camera's) become
-  // missing ones, with a warning per camera and problem: a camera never stops the loop.
-  void rejectUnusable(std::vector<RgbdFrame>& frames);
-  // The calibration's fitted depth scale (Installation::depth_correction), then two-device
-  // cameras' depth reprojected into their colour image (Installation::depth_to_colour).
-  void correctDepth(std::vector<RgbdFrame>& frames) const;
   std::vector<reflect::ForegroundCameraImage> cameraImages(const std::vector<RgbdFrame>& frames,
                                                            const std::vector<cv::Mat>& masks);
+  // The stages of step() after the foreground, in order; each adds its times to `report`.
+  std::vector<CameraModel> trackEyes(FrameReport& report);
+  void render(const ForegroundFrame& fg, const std::vector<CameraModel>& views, FrameReport& report);
+  void fixExposure();
+  void present(FrameReport& report);
 
   FrameLoopOptions options_;
   std::string installation_name_;
   bool simulated_cameras_ = false;
   double fps_ = 30.0;
   std::vector<CameraModel> cameras_;
-  // Deterministic mode: the sources, grabbed by one task at a time (the prefetch), and which of
-  // them reported the end of their stream.
-  std::vector<std::unique_ptr<capture::CameraSource>> sources_;
-  std::vector<capture::CaptureOptions> capture_options_;
-  std::vector<std::uint8_t> source_ended_;
-  std::deque<CameraFrames> preloaded_;                                   // deterministic
-  std::future<CameraFrames> next_frames_;                                // deterministic prefetch
-  std::vector<std::unique_ptr<capture::LatestFrameMailbox>> mailboxes_;  // live mode
-  std::vector<std::unique_ptr<capture::CaptureThread>> threads_;         // live mode
-  std::vector<RgbdFrame> latest_;                                        // live: per camera
+  std::unique_ptr<CameraAcquisition> acquisition_;
   std::future<ForegroundFrame> next_foreground_;  // overlap: the next frame's, in flight
-  std::vector<std::string> rejected_;             // per camera: the last unusable frame's problem
-  std::atomic<std::int64_t> rejected_frames_{0};  // camera frames rejectUnusable dropped (worker)
   std::vector<cv::Mat> linear_colour_;            // per camera, reused: the pyramids copy what they keep
   std::vector<reflect::ForegroundCameraImage> last_images_;  // the last frame's, for renderReference
   depthfilter::ForegroundPipeline foreground_;
   depthfilter::ForegroundCloud cloud_;
-  float camera_exposure_ = 1.0f;         // the cameras': radiance = srgbToLinear(colour) / exposure
-  std::vector<vec3> colour_gains_;       // per camera, linear RGB (Installation::colour_gains)
-  std::vector<float> depth_correction_;  // per camera (Installation::depth_correction)
-  std::vector<std::optional<capture::DepthToColour>> depth_to_colour_;  // per camera
+  float camera_exposure_ = 1.0f;    // the cameras': radiance = srgbToLinear(colour) / exposure
+  std::vector<vec3> colour_gains_;  // per camera, linear RGB (Installation::colour_gains)
   reflect::Environment environment_;
   reflect::PrefilteredIbl ibl_;
   std::unique_ptr<reflect::RenderScene> render_scene_;
@@ -250,19 +162,5 @@ class FrameLoop {
   std::int64_t index_ = 0;
   std::int64_t dropped_before_ = 0;  // mailbox drops counted up to the previous step
 };
-
-// Median of each stage over the reports, and frames per second from the median total.
-StageTimes medianTimes(const std::vector<FrameReport>& reports);
-// Median milliseconds per reflect::Pass over the reports, by pass name, plus "CameraImages".
-std::vector<std::pair<std::string, double>> medianPasses(const std::vector<FrameReport>& reports);
-// The Table 3 style text table (with the run's non-finite pixels and dropped camera frames) and
-// its JSON form. With simulated cameras, their rendering (the acquisition wait) is shown apart
-// from the appliance's own stages, whose sum gives the pipeline's own frame rate without overlap
-// (a lower bound: the stages still share the cores with the simulation); `holopyramid bench
-// frame` measures it with the cameras simulated before timing.
-std::string formatTimingTable(const StageTimes& median, const std::vector<FrameReport>& reports,
-                              const CameraFrameCounts& cameras);
-std::string timingJson(const StageTimes& median, const std::vector<FrameReport>& reports,
-                       const CameraFrameCounts& cameras);
 
 }  // namespace holo::pipeline

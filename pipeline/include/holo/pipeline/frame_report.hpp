@@ -1,0 +1,86 @@
+// What the live frame loop (frame_loop.hpp) reports: per frame, the time of each of the paper's
+// Table 3 stages and of each tracer pass and the frame's counters; over the run, the camera
+// frames produced, consumed and dropped. The loop only collects these numbers; the medians, the
+// timing table and its JSON are eval's (eval/frame_timing_report.hpp).
+//
+// Units: milliseconds for times, pixels and rays for counters.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+#include "holo/reflect/effect_plan.hpp"
+
+namespace holo::pipeline {
+
+inline constexpr std::size_t kPassCount = static_cast<std::size_t>(reflect::Pass::ToneMap) + 1;
+
+// The paper's Table 3 stages of one frame, milliseconds.
+struct StageTimes {
+  double acquisition = 0;  // waiting for camera frames (their grabbing overlaps processing)
+  double foreground = 0;   // masks, flow, temporal filter, back-projection, voxel grid
+  double dynamic = 0;      // Kawase pyramids and voxel walk (reflected and transmitted rays)
+  double statics = 0;      // hit points, prefiltered IBL, refraction through the relic, clearcoat
+  double composition = 0;  // composition, tone mapping
+  double display = 0;      // eye tracking, quad layout, presentation
+  double total = 0;        // the frame's wall time on the loop's thread (the frame period)
+  // Overlap: how long the frame waited for its foreground, computed on the worker while the
+  // previous frame was rendered (about 0 when it was ready); without: acquisition + foreground.
+  double pipeline_wait = 0;
+  // The appliance's own work, one stage after another: foreground, reflections, composition,
+  // display (not acquisition, which waits for the cameras).
+  double applianceStages() const { return foreground + dynamic + statics + composition + display; }
+};
+
+struct FrameReport {
+  std::int64_t index = 0;
+  StageTimes times;
+  std::size_t foreground_points = 0;
+  int cameras_live = 0;  // cameras whose frame reached the foreground stage
+  // Newest - oldest arrival time (host clock, ms) of the camera frames this frame was made of;
+  // -1 with fewer than 2 of them.
+  double camera_skew_ms = -1;
+  std::string plan;  // the effect plan of face 0 ("HitPoints,... (reason)")
+  std::array<bool, 4> eyes_tracked{};
+  bool presented = false;
+  // HDR pixels of the four views with a NaN or infinite channel (the composition guarantees 0;
+  // counted, not assumed, so a run proves it).
+  std::int64_t non_finite_pixels = 0;
+  // Camera frames overwritten in the mailboxes since the previous step, all cameras: produced by
+  // a capture thread, never consumed by the loop. Live mode only; deterministic mode renders
+  // exactly the frames it consumes, so 0 by construction.
+  std::int64_t dropped_frames = 0;
+  // Every camera's stream has ended (recordings played to their end): nothing more will come,
+  // and this report is not a frame (nothing was rendered or presented).
+  bool cameras_ended = false;
+  int static_reused_views = 0;     // views whose hit points and static shading came from the cache
+  std::size_t refined_pixels = 0;  // pixels with 4 sub-samples (edge anti-aliasing), all views
+  std::size_t relic_pixels = 0;    // pixels with some relic coverage, all views
+  // Embree rays through transmissive relic materials, transmitted exit rays walked, and samples
+  // whose transmitted light is a mean of paths (supersampled), all views (0 for an opaque relic:
+  // the plan runs no refraction pass).
+  std::uint64_t refraction_rays = 0, refracted_walks = 0, supersampled_samples = 0;
+  // Milliseconds per reflect::Pass (index = the enum's value), summed over the views; plus the
+  // camera images' conversion to linear colour for the pyramids (part of `dynamic`).
+  std::array<double, kPassCount> pass_ms{};
+  double camera_images_ms = 0;
+};
+
+// Camera frames over the whole run, all cameras. Live: from the mailboxes' counters, and
+// `unconsumed` = produced - consumed (the drops plus frames still waiting in a mailbox).
+// Deterministic: produced = consumed = frames x cameras.
+struct CameraFrameCounts {
+  bool live = false;
+  // Installation::simulated_cameras, and simulated during the run (not preloaded): their rendering
+  // is in the acquisition wait.
+  bool simulated = false;
+  std::int64_t produced = 0;
+  std::int64_t consumed = 0;
+  std::int64_t dropped = 0;
+  std::int64_t unconsumed = 0;
+  std::int64_t rejected = 0;  // taken but unusable (no depth, wrong size): treated as missing
+};
+
+}  // namespace holo::pipeline
