@@ -97,19 +97,19 @@ fs::path writeInstallation(const std::string& name, bool visitor) {
   return dir / "installation.yaml";
 }
 
-struct Run {
+struct LoopRun {
   std::vector<holo::pipeline::FrameReport> reports;
   cv::Mat face0_hdr;  // the last frame's face view 0, linear
 };
 
-Run runInstallation(const fs::path& config) {
+LoopRun runInstallation(const fs::path& config) {
   holo::pipeline::FrameLoopOptions options;
   options.view_size = 48;
   options.track_eyes = false;
   holo::pipeline::Installation installation =
       holo::pipeline::loadInstallation(holo::ConfigNode::loadFile(config));
   holo::pipeline::FrameLoop loop(options, std::move(installation), nullptr);
-  Run run;
+  LoopRun run;
   for (int k = 0; k < kBackgroundFrames + kVisitorFrames + 2; ++k) {
     holo::pipeline::FrameReport report = loop.step();
     if (report.cameras_ended) break;
@@ -121,8 +121,8 @@ Run runInstallation(const fs::path& config) {
 }
 
 TEST(ProductFrame, TheLiveLoopRendersRecordedCamerasWithoutTheSimulation) {
-  const Run with = runInstallation(writeInstallation("product_frame_visitor", true));
-  const Run without = runInstallation(writeInstallation("product_frame_empty", false));
+  const LoopRun with = runInstallation(writeInstallation("product_frame_visitor", true));
+  const LoopRun without = runInstallation(writeInstallation("product_frame_empty", false));
   ASSERT_EQ(with.reports.size(), static_cast<std::size_t>(kVisitorFrames));
   ASSERT_EQ(without.reports.size(), with.reports.size());
 
