@@ -11,23 +11,13 @@
 #include "holo/core/fibonacci_sphere.hpp"
 #include "holo/core/image.hpp"
 #include "holo/reflect/dfg_table.hpp"
+#include "holo/reflect/optics.hpp"
 
 namespace holo::reflect {
 namespace {
 
 float luminance(const vec3& c) {
   return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
-}
-
-// Snell refraction of d (unit, against n) through an interface with eta = n_t / n_i; the caller
-// has checked that it is not totally reflected.
-vec3 refractThrough(const vec3& d, const vec3& n, float eta) {
-  const float cos_i = std::clamp(-glm::dot(d, n), 0.0f, 1.0f);
-  const float sin2_t = (1.0f - cos_i * cos_i) / (eta * eta);
-  const float cos_t = std::sqrt(std::max(0.0f, 1.0f - sin2_t));
-  const vec3 t = d / eta + (cos_i / eta - cos_t) * n;
-  const float len = glm::length(t);
-  return len > 1e-12f ? t / len : d;
 }
 
 // The prefiltered IBL a ray from `origin` along `direction` reads: through the panorama's proxy,
@@ -44,16 +34,6 @@ float clamp01(float v) {
 // it read on the way.
 float transmittedLight(const TransmittedPath& path) {
   return luminance(path.scale * path.environment + path.resolved);
-}
-
-// Beer-Lambert coefficient per metre of a volume material; 0 for a clear one.
-vec3 absorptionCoefficient(const Material& m) {
-  const float distance = m.attenuation_distance;
-  if (!std::isfinite(distance) || !(distance > 0.0f)) return vec3(0.0f);
-  vec3 sigma;
-  for (int c = 0; c < 3; ++c)
-    sigma[c] = -std::log(std::clamp(m.attenuation_colour[c], 1e-6f, 1.0f)) / distance;
-  return sigma;
 }
 
 float safeIor(float ior) {
@@ -112,8 +92,7 @@ void followReflected(const RenderScene& scene, const PrefilteredIbl& ibl, const 
     ++path.rays;
     --budget;
     if (!hit.hit()) break;
-    vec3 last_absorption;
-    for (int c = 0; c < 3; ++c) last_absorption[c] = std::exp(-sigma[c] * hit.t);
+    const vec3 last_absorption = transmittance(sigma, hit.t);
     weight *= last_absorption;
     position = relic.position(ray, hit);
     vec3 normal = relic.shadingNormal(hit, direction);
@@ -138,7 +117,7 @@ void followReflected(const RenderScene& scene, const PrefilteredIbl& ibl, const 
     const float transmitted = transmittedShare(m, nullptr);
     const vec3 tint = transmissionTint(m, nullptr);
     const float spread = alpha * std::min(safeIor(m.ior) - 1.0f, 2.0f) * 0.5f;
-    const vec3 outside = seenFrom(ibl, position, refractThrough(direction, normal, eta),
+    const vec3 outside = seenFrom(ibl, position, refractIncident(direction, normal, eta),
                                   lobeWidth(settings, alpha2 + spread * spread));
     const vec3 lit =
         transmitted < 1.0f ? (1.0f - transmitted) * tint * ibl.irradiance(-normal) / kPi : vec3(0.0f);
@@ -207,7 +186,7 @@ TransmittedPath traceUnit(const RenderScene& scene, const PrefilteredIbl& ibl, c
       // Leaving: the light that partly reflects inside is followed where it carries a visible
       // share and the budget lasts (a crystal's facets send it out elsewhere), else summed as
       // between parallel walls.
-      const vec3 refracted = refractThrough(direction, normal, eta);
+      const vec3 refracted = refractIncident(direction, normal, eta);
       vec3 back, front;
       if (branch_budget > 0 && luminance(throughput) * fresnel >= settings.refraction_branch_weight) {
         const vec3 behind = seenFrom(ibl, position, refracted, lobeWidth(settings, alpha2 + spread * spread));
@@ -241,10 +220,10 @@ TransmittedPath traceUnit(const RenderScene& scene, const PrefilteredIbl& ibl, c
         throughput *= weight;
       alpha2 += spread * spread;
       if (!thin) {
-        direction = refractThrough(direction, normal, eta);
+        direction = refractIncident(direction, normal, eta);
         inside = true;
         medium_ior = ior;
-        sigma = absorptionCoefficient(m);
+        sigma = attenuationCoefficient(m.attenuation_colour, m.attenuation_distance);
       }
     }
     ++path.events;
@@ -256,7 +235,7 @@ TransmittedPath traceUnit(const RenderScene& scene, const PrefilteredIbl& ibl, c
     ++path.rays;
     if (!hit.hit()) break;
     if (inside) {
-      for (int c = 0; c < 3; ++c) last_absorption[c] = std::exp(-sigma[c] * hit.t);
+      last_absorption = transmittance(sigma, hit.t);
       throughput *= last_absorption;
     }
     if (path.events >= depth) {  // the cap: what is left goes to the IBL along the last direction
