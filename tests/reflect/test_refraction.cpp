@@ -8,6 +8,7 @@
 #include <memory>
 #include <opencv2/imgproc.hpp>
 
+#include "glass_transport.hpp"
 #include "holo/core/equirect.hpp"
 #include "holo/core/fibonacci_sphere.hpp"
 #include "holo/core/image.hpp"
@@ -15,8 +16,8 @@
 #include "holo/reflect/optics.hpp"
 #include "holo/reflect/path_tracer.hpp"
 #include "holo/reflect/view.hpp"
+#include "internal_depth.hpp"
 #include "reflect_test_scenes.hpp"
-#include "refraction_pass.hpp"
 
 namespace holo::reflect {
 namespace {

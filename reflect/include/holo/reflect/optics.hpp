@@ -1,5 +1,5 @@
 // The optics of a smooth dielectric interface and of an absorbing volume, shared by the live
-// refraction pass (reflect/src/refraction_pass.cpp) and the ground truth's glass BSDF
+// refraction pass (reflect/src/glass_transport.cpp) and the ground truth's glass BSDF
 // (dielectric.hpp): Snell's law, the exact unpolarised Fresnel reflectance and Beer-Lambert
 // absorption (KHR_materials_transmission, _ior, _volume).
 //
