@@ -78,18 +78,6 @@ Frame::Frame(const vec3& normal) : n(normal) {
   b = vec3(b2, sign + n.y * n.y * a, -n.y);
 }
 
-float fresnelDielectric(float cos_i, float eta) {
-  cos_i = std::isfinite(cos_i) ? std::clamp(cos_i, 0.0f, 1.0f) : 0.0f;
-  if (!std::isfinite(eta) || !(eta > 0.0f)) eta = 1.0f;
-  const float sin2_t = (1.0f - cos_i * cos_i) / (eta * eta);
-  if (sin2_t >= 1.0f) return 1.0f;
-  const float cos_t = std::sqrt(1.0f - sin2_t);
-  const float rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-  const float rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-  const float f = 0.5f * (rs * rs + rp * rp);
-  return std::isfinite(f) ? std::clamp(f, 0.0f, 1.0f) : 1.0f;
-}
-
 vec3 dielectricF0(float ior, const vec3& specular_colour) {
   double r2 = 1.0;  // +infinity
   if (std::isnan(ior)) {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "holo/reflect/optics.hpp"
+
 namespace holo::reflect {
 
 namespace {
@@ -42,26 +44,6 @@ bool finiteMaterial(const SurfaceMaterial& m) {
 }
 
 }  // namespace
-
-std::optional<vec3> refractDirection(const vec3& wo, const vec3& h, float eta) {
-  const float cos_o = glm::dot(wo, h);
-  const float sin2_t = std::max(0.0f, 1.0f - cos_o * cos_o) / (eta * eta);
-  if (sin2_t >= 1.0f) return std::nullopt;
-  const float cos_t = std::sqrt(1.0f - sin2_t);
-  return glm::normalize(-wo / eta + (cos_o / eta - cos_t) * h);
-}
-
-vec3 attenuationCoefficient(const vec3& colour, float distance) {
-  if (!(distance > 0.0f) || !std::isfinite(distance)) return vec3(0.0f);
-  // Colour 0 absorbs everything: a large finite coefficient keeps 0 * sigma finite.
-  constexpr float kOpaque = 1e30f;
-  vec3 sigma;
-  for (int k = 0; k < 3; ++k) {
-    const float c = std::clamp(colour[k], 0.0f, 1.0f);
-    sigma[k] = c > 0.0f ? std::min(-std::log(c) / distance, kOpaque) : kOpaque;
-  }
-  return sigma;
-}
 
 DielectricBsdf::DielectricBsdf(const SurfaceMaterial& material, const vec3& normal, float eta,
                                const vec3& tint, bool thin_walled)

@@ -9,6 +9,7 @@
 #include "foreground_walk.hpp"
 #include "holo/core/error.hpp"
 #include "holo/reflect/tone_map.hpp"
+#include "internal_depth.hpp"
 #include "pass_timer.hpp"
 #include "refraction_pass.hpp"
 #include "static_shading.hpp"
@@ -251,7 +252,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     }
     if (layered) {
       PassTimer tl(out.timings, plan.has(Pass::Refraction) ? Pass::Refraction : Pass::Clearcoat);
-      const LayerCounts counts = MaterialLayers(scene_, ibl_, settings_, plan.internal_depth,
+      const LayerCounts counts = RefractionPass(scene_, ibl_, settings_, plan.internal_depth,
                                                 plan.has(Pass::Refraction), plan.has(Pass::Clearcoat))
                                      .shade(cache.hits, view, cache.shading, cache.layers);
       composeLayeredStatic(cache.hits, cache.shading, cache.layers, cache.hdr);
@@ -290,7 +291,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     }
     if (plan.has(Pass::RefractedForeground)) {
       PassTimer t(out.timings, Pass::RefractedForeground);
-      out.refracted_walks = MaterialLayers(scene_, ibl_, settings_, plan.internal_depth, true, false)
+      out.refracted_walks = RefractionPass(scene_, ibl_, settings_, plan.internal_depth, true, false)
                                 .walkTransmitted(hits, walk, cache.layers);
     }
     // Over a copy of the static image, only where some foreground was reached (the rest is the

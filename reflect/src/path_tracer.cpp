@@ -8,6 +8,7 @@
 #include "holo/core/progress.hpp"
 #include "holo/core/stats.hpp"
 #include "holo/reflect/dielectric.hpp"
+#include "holo/reflect/optics.hpp"
 #include "holo/reflect/surface_shading.hpp"
 #include "holo/reflect/view.hpp"
 
@@ -134,7 +135,7 @@ vec3 PathTracer::traceFromRelic(const Ray& primary, const RayHit& relic_hit, Sam
     }
     if (in_volume) {
       // Beer-Lambert over the segment inside the volume; 0 * a huge coefficient stays 0.
-      throughput *= glm::exp(-absorption * hit.t);
+      throughput *= transmittance(absorption, hit.t);
       if (!(throughput.x > 0.0f || throughput.y > 0.0f || throughput.z > 0.0f)) break;
     }
     if (!scene_.isRelic(hit.geometry)) {

@@ -8,14 +8,16 @@
 #include <memory>
 #include <opencv2/imgproc.hpp>
 
+#include "glass_transport.hpp"
 #include "holo/core/equirect.hpp"
 #include "holo/core/fibonacci_sphere.hpp"
 #include "holo/core/image.hpp"
 #include "holo/reflect/frame_renderer.hpp"
+#include "holo/reflect/optics.hpp"
 #include "holo/reflect/path_tracer.hpp"
 #include "holo/reflect/view.hpp"
+#include "internal_depth.hpp"
 #include "reflect_test_scenes.hpp"
-#include "refraction_pass.hpp"
 
 namespace holo::reflect {
 namespace {
@@ -102,6 +104,44 @@ TEST(Refraction, FresnelClosedFormsAndRange) {
     const float f = fresnelDielectric(0.5f, bad);
     EXPECT_TRUE(f >= 0.0f && f <= 1.0f);
   }
+}
+
+// A zero attenuation component (optics.hpp) absorbs its channel after any distance > 0, in the
+// live glass as in the path tracer's; its coefficient stays finite, so a distance of 0 leaves the
+// light as it is rather than NaN.
+TEST(Refraction, AZeroAttenuationComponentAbsorbsItsChannel) {
+  const vec3 sigma = attenuationCoefficient(vec3(0.5f, 1.0f, 0.0f), 0.1f);
+  EXPECT_FLOAT_EQ(sigma.r, -std::log(0.5f) / 0.1f);
+  EXPECT_EQ(sigma.g, 0.0f);
+  EXPECT_EQ(sigma.b, kOpaqueAbsorption);
+  EXPECT_EQ(transmittance(sigma, 0.0f), vec3(1.0f));
+  const vec3 short_way = transmittance(sigma, 1e-6f);
+  EXPECT_EQ(short_way.b, 0.0f);
+  EXPECT_EQ(short_way.g, 1.0f);
+  EXPECT_GT(short_way.r, 0.99f);
+  EXPECT_EQ(attenuationCoefficient(vec3(0.0f), std::numeric_limits<float>::infinity()), vec3(0.0f));
+  // Through a slab 0.1 thick: no blue leaves it, nor is any sent back from inside.
+  Material glass;
+  glass.base_colour = vec3(1.0f);
+  glass.transmission = 1.0f;
+  glass.roughness = 0.0f;
+  glass.ior = 1.5f;
+  glass.thickness = 0.1f;
+  glass.attenuation_colour = vec3(0.5f, 1.0f, 0.0f);
+  glass.attenuation_distance = 0.1f;
+  const RenderScene scene(slab(0.05f, glass), {});
+  const PrefilteredIbl ibl(Environment::uniform(vec3(1.0f)), PrefilterOptions{3, 16, 8});
+  const TransmittedPath path = traceTransmission(scene, ibl, TracerSettings{}, 8, vec3(0.0f, 0.0f, 0.05f),
+                                                 vec3(0, 0, 1), vec3(0, 0, -1), glass);
+  ASSERT_TRUE(path.exited);
+  EXPECT_EQ(path.scale.b, 0.0f);
+  EXPECT_EQ(path.resolved.b, 0.0f);
+  EXPECT_EQ(path.reflected.b, 0.0f);
+  // Red and green leave as through any slab: (1 - R)^2 a, R = 0.04 at normal incidence (and at most
+  // the share R^2 a^2 more where the light reflected inside is summed as between parallel walls).
+  EXPECT_NEAR(path.scale.r, 0.96f * 0.96f * 0.5f, 1e-3f);
+  EXPECT_NEAR(path.scale.g, 0.96f * 0.96f, 2e-3f);
+  EXPECT_TRUE(isFinite(path.scale) && isFinite(path.resolved) && isFinite(path.reflected));
 }
 
 // Through a slab's two parallel faces a ray leaves in the direction it came in (Snell both ways),

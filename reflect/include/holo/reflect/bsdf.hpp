@@ -39,12 +39,6 @@ struct SurfaceMaterial {
   float clearcoat_roughness = 0.0f;    // [0,1] perceptual
 };
 
-// Exact unpolarised Fresnel reflectance of a smooth dielectric interface for light arriving at
-// cos_i (> 0) from the side of IOR n_1, eta = n_2 / n_1 > 0. 1 beyond the critical angle (total
-// internal reflection); a NaN cosine counts as grazing, a NaN or non-positive eta as 1. Shared by
-// the ground truth's glass BSDF (dielectric.hpp) and the live refraction pass.
-float fresnelDielectric(float cos_i, float eta);
-
 // The opaque dielectric's reflectance at normal incidence before the specular factor, per RGB
 // channel in [0,1]: min(((ior - 1) / (ior + 1))^2 specular_colour, 1) (KHR_materials_specular
 // with KHR_materials_ior). Computed in double, so the defaults (IOR 1.5, colour 1) give exactly

@@ -2,9 +2,10 @@
 // the ground truth's BSDF; the live renderer keeps bsdf.hpp's opaque lobes).
 //
 // DielectricBsdf: the transmissive dielectric of KHR_materials_transmission - exact unpolarised
-// Fresnel, Snell refraction with total internal reflection, GGX rough reflection and transmission
-// (Walter et al. 2007, sampled with bsdf.hpp's visible normals), and the thin-walled variant
-// (transmission without KHR_materials_volume: straight through, no bending; a rough wall blurs
+// Fresnel, Snell refraction with total internal reflection and Beer-Lambert absorption (optics.hpp,
+// shared with the live refraction pass), GGX rough reflection and transmission (Walter et al.
+// 2007, sampled with bsdf.hpp's visible normals), and the thin-walled variant (transmission
+// without KHR_materials_volume: straight through, no bending; a rough wall blurs
 // around the straight-through direction). KHR_materials_specular's factors act on its Fresnel:
 // F = specular (f0' + (1 - f0') g) with f0' = min(f0 specular_colour, 1) and g = (F_exact - f0) /
 // (1 - f0) the exact Fresnel's own rise to grazing, so the factors 1 give the exact Fresnel;
@@ -34,16 +35,9 @@
 #include <optional>
 
 #include "holo/reflect/bsdf.hpp"
+#include "holo/reflect/optics.hpp"
 
 namespace holo::reflect {
-
-// Direction refracted from `wo` (unit, on the side `h` points to) through a surface with
-// (unit) normal h, eta = IOR behind / IOR in front; nullopt on total internal reflection.
-std::optional<vec3> refractDirection(const vec3& wo, const vec3& h, float eta);
-
-// Beer-Lambert absorption coefficient (1/m, per RGB channel) of KHR_materials_volume: white light
-// has `colour` after `distance` metres. 0 for an infinite distance; finite (capped) for colour 0.
-vec3 attenuationCoefficient(const vec3& colour, float distance);
 
 class DielectricBsdf {
  public:

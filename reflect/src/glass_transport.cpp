@@ -1,0 +1,264 @@
+#include "glass_transport.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "holo/reflect/optics.hpp"
+#include "layer_inputs.hpp"
+
+namespace holo::reflect {
+namespace {
+
+// An interface's transmitted share of the light past its Fresnel reflection, and the tint it
+// transmits with: the entry's as its hit point sampled the textures, later hits' factors.
+float transmittedShare(const Material& m, const SurfaceMaterial* textured) {
+  return (1.0f - clamp01(textured ? textured->metallic : m.metallic)) *
+         clamp01(textured ? textured->transmission : m.transmission);
+}
+
+vec3 transmissionTint(const Material& m, const SurfaceMaterial* textured) {
+  return glm::clamp(textured ? textured->base_colour : m.base_colour, vec3(0.0f), vec3(1.0f));
+}
+
+// The parallel-walls sum at a partial exit with reflectance `fresnel` and the last segment's
+// absorption: `back` leaves along the refracted ray, `front` back towards the side the light came
+// from, per unit arriving.
+void parallelWalls(float fresnel, const vec3& last_absorption, vec3& back, vec3& front) {
+  for (int c = 0; c < 3; ++c) {
+    const float fa = fresnel * last_absorption[c];
+    const float denom = (1.0f - fa) * (1.0f + fa);
+    back[c] = (1.0f - fresnel) / denom;
+    front[c] = fa * (1.0f - fresnel) / denom;
+  }
+}
+
+// The transmitted lobe's perceptual roughness from its GGX alpha^2 summed in quadrature.
+float lobeWidth(const TracerSettings& settings, float alpha2) {
+  return std::clamp(std::sqrt(std::sqrt(alpha2)) * settings.transmitted_roughness_scale, 0.0f, 1.0f);
+}
+
+// The light reflected inside at a partial exit, followed explicitly: `weight` per unit entering
+// leaves `position` along `direction` inside a volume of IOR medium_ior and absorption sigma;
+// `behind` is the IBL the light refracted out at that exit reads. At each partial exit the
+// refracted share reads the prefiltered IBL at the lobe's width into path.resolved and the
+// reflected share goes on while it is at least TracerSettings::refraction_branch_weight and
+// `budget` has a ray left. Where it stops, the parallel-walls sum takes the rest: what it sends
+// back leaves through the face the light last reflected from, along that face's refracted ray
+// (after a total internal reflection there: it joins path.reflected, as in the main path). A ray
+// that meets nothing or a thin wall gives what it carries to the IBL along its direction; one out
+// of budget after a total internal reflection, to path.reflected. Each ray cast takes one from
+// `budget`.
+void followReflected(const RenderScene& scene, const PrefilteredIbl& ibl, const TracerSettings& settings,
+                     vec3 position, vec3 direction, vec3 weight, float alpha2, const vec3& sigma,
+                     float medium_ior, vec3 behind, int& budget, TransmittedPath& path) {
+  const RayScene& relic = scene.relicOnly();
+  const float offset = std::max(settings.ray_offset, 1e-5f);
+  bool has_behind = true;
+  const float eta = 1.0f / medium_ior;
+  for (;;) {
+    const Ray ray{position, direction};
+    const RayHit hit = relic.intersect(ray, offset);
+    ++path.rays;
+    --budget;
+    if (!hit.hit()) break;
+    const vec3 last_absorption = transmittance(sigma, hit.t);
+    weight *= last_absorption;
+    position = relic.position(ray, hit);
+    vec3 normal = relic.shadingNormal(hit, direction);
+    const Material& m = scene.relicGltfMaterial(hit, relic);
+    if (!isFinite(position) || !isFinite(normal) || !(m.thickness > 0.0f)) break;
+    float cos_i = -glm::dot(direction, normal);
+    if (!(cos_i > 1e-6f)) {
+      normal = hit.geometric_normal;
+      cos_i = std::max(-glm::dot(direction, normal), 1e-6f);
+    }
+    const float fresnel = fresnelDielectric(cos_i, eta);
+    const float alpha = clamp01(m.roughness) * clamp01(m.roughness);
+    const vec3 reflected_direction = glm::reflect(direction, normal);
+    if (fresnel >= 1.0f) {
+      direction = reflected_direction;
+      alpha2 += alpha * alpha;
+      has_behind = false;
+      if (budget > 0) continue;
+      path.reflected += weight;
+      return;
+    }
+    const float transmitted = transmittedShare(m, nullptr);
+    const vec3 tint = transmissionTint(m, nullptr);
+    const float spread = alpha * std::min(safeIor(m.ior) - 1.0f, 2.0f) * 0.5f;
+    const vec3 outside = iblSeenFrom(ibl, position, refractIncident(direction, normal, eta),
+                                     lobeWidth(settings, alpha2 + spread * spread));
+    const vec3 lit =
+        transmitted < 1.0f ? (1.0f - transmitted) * tint * ibl.irradiance(-normal) / kPi : vec3(0.0f);
+    if (budget > 0 && luminance(weight) * fresnel >= settings.refraction_branch_weight) {
+      path.resolved += weight * (1.0f - fresnel) * (transmitted * tint * outside + lit);
+      weight *= fresnel;
+      direction = reflected_direction;
+      alpha2 += alpha * alpha;
+      behind = outside;
+      has_behind = true;
+      continue;
+    }
+    vec3 back, front;
+    parallelWalls(fresnel, last_absorption, back, front);
+    path.resolved += weight * (back * transmitted * tint * outside + (back + front) * lit);
+    if (has_behind)
+      path.resolved += weight * front * transmitted * tint * behind;
+    else
+      path.reflected += weight * front * transmitted * tint;
+    return;
+  }
+  path.resolved += weight * iblSeenFrom(ibl, position, direction, lobeWidth(settings, alpha2));
+}
+
+}  // namespace
+
+// One loop over the interface events: each event's branch shares the path's running state
+// (throughput, the medium, the lobe's width), which a split would pass around by reference.
+TransmittedPath traceTransmissionPerUnitEntry(const RenderScene& scene, const PrefilteredIbl& ibl,
+                                              const TracerSettings& settings, int depth,
+                                              const vec3& entry_position, const vec3& entry_normal,
+                                              const vec3& entry_direction, const Material& entry,
+                                              const SurfaceMaterial* entry_textured,
+                                              std::vector<double>* alive) {
+  TransmittedPath path;
+  const RayScene& relic = scene.relicOnly();
+  const float offset = std::max(settings.ray_offset, 1e-5f);
+  vec3 throughput(1.0f), last_absorption(1.0f), sigma(0.0f);
+  vec3 position = entry_position, normal = entry_normal, geometric = entry_normal;
+  vec3 direction = entry_direction;
+  const Material* material = &entry;
+  bool inside = false;
+  float medium_ior = 1.0f, alpha2 = 0.0f;
+  int branch_budget = settings.refraction_branch_rays;
+  const auto lobe = [&] { return lobeWidth(settings, alpha2); };
+  for (;;) {
+    // One interface event at (position, normal facing the incoming ray, material).
+    float cos_i = -glm::dot(direction, normal);
+    if (!(cos_i > 1e-6f)) {  // a shading normal turned past the ray: the face's own normal
+      normal = geometric;
+      cos_i = std::max(-glm::dot(direction, normal), 1e-6f);
+    }
+    const Material& m = *material;
+    const bool first = path.events == 0;
+    // The entry's factors as the hit point sampled its textures; later hits read the factors.
+    const SurfaceMaterial* textured = first ? entry_textured : nullptr;
+    const float ior = safeIor(m.ior);
+    const bool thin = textured ? textured->thin_walled : !(m.thickness > 0.0f);
+    const float eta = thin || !inside ? ior : 1.0f / medium_ior;
+    const float fresnel = fresnelDielectric(cos_i, eta);
+    const float transmitted = transmittedShare(m, textured);
+    const vec3 tint = transmissionTint(m, textured);
+    const float roughness = clamp01(textured ? textured->roughness : m.roughness);
+    const float alpha = roughness * roughness;
+    const float spread = alpha * std::min(ior - 1.0f, 2.0f) * 0.5f;
+    if (inside && !thin && fresnel >= 1.0f) {  // total internal reflection
+      direction = glm::reflect(direction, normal);
+      alpha2 += alpha * alpha;
+    } else if (inside && !thin) {
+      // Leaving: the light that partly reflects inside is followed where it carries a visible
+      // share and the budget lasts (a crystal's facets send it out elsewhere), else summed as
+      // between parallel walls.
+      const vec3 refracted = refractIncident(direction, normal, eta);
+      vec3 back, front;
+      if (branch_budget > 0 && luminance(throughput) * fresnel >= settings.refraction_branch_weight) {
+        const vec3 behind =
+            iblSeenFrom(ibl, position, refracted, lobeWidth(settings, alpha2 + spread * spread));
+        followReflected(scene, ibl, settings, position, glm::reflect(direction, normal), throughput * fresnel,
+                        alpha2 + alpha * alpha, sigma, medium_ior, behind, branch_budget, path);
+        back = vec3(1.0f - fresnel);
+        front = vec3(0.0f);
+      } else {
+        parallelWalls(fresnel, last_absorption, back, front);
+      }
+      alpha2 += spread * spread;
+      path.reflected += throughput * front * transmitted * tint;
+      if (transmitted < 1.0f)
+        path.resolved +=
+            throughput * (back + front) * (1.0f - transmitted) * tint * ibl.irradiance(-normal) / kPi;
+      throughput *= back * transmitted * tint;
+      direction = refracted;
+      inside = false;
+    } else {
+      // Entering (or crossing a thin wall): the entry's reflection and diffuse are the caller's.
+      if (!first) {
+        path.reflected += throughput * fresnel;
+        if (transmitted < 1.0f)
+          path.resolved +=
+              throughput * (1.0f - fresnel) * (1.0f - transmitted) * tint * ibl.irradiance(normal) / kPi;
+      }
+      const vec3 weight = (1.0f - fresnel) * transmitted * tint;
+      if (first)
+        path.entry = weight;
+      else
+        throughput *= weight;
+      alpha2 += spread * spread;
+      if (!thin) {
+        direction = refractIncident(direction, normal, eta);
+        inside = true;
+        medium_ior = ior;
+        sigma = attenuationCoefficient(m.attenuation_colour, m.attenuation_distance);
+      }
+    }
+    ++path.events;
+    if (alive && first) (*alive)[0] += luminance(path.entry * throughput);
+    // From the interface itself, past `offset` (against meeting it again), so a segment's length
+    // is the distance between the interfaces.
+    const Ray ray{position, direction};
+    const RayHit hit = relic.intersect(ray, offset);
+    ++path.rays;
+    if (!hit.hit()) break;
+    if (inside) {
+      last_absorption = transmittance(sigma, hit.t);
+      throughput *= last_absorption;
+    }
+    if (path.events >= depth) {  // the cap: what is left goes to the IBL along the last direction
+      path.resolved += throughput * iblSeenFrom(ibl, position, direction, lobe());
+      path.exit_position = position + direction * offset;
+      path.exit_direction = direction;
+      path.roughness = lobe();
+      return path;
+    }
+    position = relic.position(ray, hit);
+    geometric = hit.geometric_normal;
+    normal = relic.shadingNormal(hit, direction);
+    material = &scene.relicGltfMaterial(hit, relic);
+    if (!isFinite(position) || !isFinite(normal)) break;
+    if (alive && path.events < int(alive->size()))
+      (*alive)[std::size_t(path.events)] += luminance(path.entry * throughput);
+  }
+  path.exited = true;
+  path.exit_position = position + direction * offset;
+  path.exit_direction = direction;
+  path.roughness = lobe();
+  path.scale = throughput;
+  path.environment = iblSeenFrom(ibl, path.exit_position, direction, path.roughness);
+  return path;
+}
+
+vec3 entryWeight(const vec3& normal, const vec3& direction, const Material& m,
+                 const SurfaceMaterial* textured) {
+  const float cos_i = std::max(-glm::dot(direction, normal), 1e-6f);
+  const float fresnel = fresnelDielectric(cos_i, safeIor(m.ior));
+  return (1.0f - fresnel) * transmittedShare(m, textured) * transmissionTint(m, textured);
+}
+
+void applyEntry(TransmittedPath& path) {
+  path.scale *= path.entry;
+  path.resolved *= path.entry;
+  path.reflected *= path.entry;
+}
+
+TransmittedPath traceTransmission(const RenderScene& scene, const PrefilteredIbl& ibl,
+                                  const TracerSettings& settings, int depth, const vec3& entry_position,
+                                  const vec3& entry_normal, const vec3& entry_direction,
+                                  const Material& entry, const SurfaceMaterial* entry_textured,
+                                  std::vector<double>* alive) {
+  TransmittedPath path =
+      traceTransmissionPerUnitEntry(scene, ibl, settings, depth, entry_position, entry_normal,
+                                    entry_direction, entry, entry_textured, alive);
+  applyEntry(path);
+  return path;
+}
+
+}  // namespace holo::reflect
