@@ -4,8 +4,8 @@
 #include <map>
 
 #include "holo/core/error.hpp"
+#include "holo/core/shapes.hpp"
 #include "holo/sim/museum.hpp"
-#include "holo/sim/shapes.hpp"
 
 namespace holo::sim {
 
