@@ -9,7 +9,7 @@
 #include "command.hpp"
 #include "holo/core/files.hpp"
 #include "holo/eval/accuracy_sweep.hpp"
-#include "holo/sim/relics.hpp"
+#include "holo/relics/relics.hpp"
 
 namespace holo::app {
 
@@ -61,9 +61,9 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--hall", o->hall, "Hall (room, gallery, atrium): its walkers come along")
           ->capture_default_str()
           ->check(CLI::IsMember({"room", "gallery", "atrium"}));
-      sub.add_option("--relic", o->relic, "Relic (" + sim::relicNameList() + ")")
+      sub.add_option("--relic", o->relic, "Relic (" + relics::relicNameList() + ")")
           ->capture_default_str()
-          ->check(CLI::IsMember(sim::relicNames()));
+          ->check(CLI::IsMember(relics::relicNames()));
       sub.add_option("--size", o->size, "View width and height, pixels")
           ->capture_default_str()
           ->check(CLI::Range(8, 1024));

@@ -22,12 +22,13 @@
 #include "holo/calib/intrinsics.hpp"
 #include "holo/calib/pose.hpp"
 #include "holo/calib/quality.hpp"
-#include "holo/calib/simulated_rig.hpp"
 #include "holo/calib/stereo_calibration.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/files.hpp"
 #include "holo/core/log.hpp"
 #include "holo/core/progress.hpp"
+#include "holo/simulated/simulated_rig.hpp"
+#include "holo/simulated/simulated_source.hpp"
 
 namespace holo::app {
 namespace {
@@ -207,7 +208,8 @@ int runAuto(const AutoOptions& options) {
   const calib::AutoCalibrationConfig base =
       calibrationConfig(options.intrinsics_board, options.placement_board, options.background_frames);
   if (!options.config.empty()) {
-    calib::ConfiguredRig configured = calib::loadConfiguredRig(options.config);
+    calib::ConfiguredRig configured =
+        calib::loadConfiguredRig(options.config, simulated::configuredSources());
     calib::AutoCalibrationConfig config = base;
     config.placements = calib::defaultBoardPlacements(config.placement_board, configured.rig->cameraCount());
     const fs::path out = options.out.empty() ? configured.calibration_dir : fs::path(options.out);
@@ -223,7 +225,7 @@ int runAuto(const AutoOptions& options) {
     }
     return report.saved ? 0 : 3;
   }
-  calib::SimulatedRig rig(options.scene, base);
+  simulated::SimulatedRig rig(options.scene, base);
   const fs::path out = options.out.empty() ? fs::path("calibration") : fs::path(options.out);
   std::cout << "calibrating the simulated museum (scene " << options.scene << ") into " << out.string()
             << "\n";

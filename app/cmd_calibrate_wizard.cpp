@@ -13,8 +13,9 @@
 
 #include "holo/calib/calibration_wizard.hpp"
 #include "holo/calib/capture_rig.hpp"
-#include "holo/calib/simulated_rig.hpp"
 #include "holo/core/error.hpp"
+#include "holo/simulated/simulated_rig.hpp"
+#include "holo/simulated/simulated_source.hpp"
 
 namespace holo::app {
 namespace {
@@ -103,12 +104,13 @@ int runWizard(const WizardOptions& options) {
   fs::path out = options.out.empty() ? fs::path("calibration") : fs::path(options.out);
   calib::AutoCalibrationConfig config = base;
   if (!options.config.empty()) {
-    calib::ConfiguredRig configured = calib::loadConfiguredRig(options.config);
+    calib::ConfiguredRig configured =
+        calib::loadConfiguredRig(options.config, simulated::configuredSources());
     if (options.out.empty()) out = configured.calibration_dir;
     config.placements = calib::defaultBoardPlacements(config.placement_board, configured.rig->cameraCount());
     rig = std::move(configured.rig);
   } else {
-    rig = std::make_unique<calib::SimulatedRig>(options.scene, config);
+    rig = std::make_unique<simulated::SimulatedRig>(options.scene, config);
   }
   calib::CalibrationSession session(*rig, config);
   calib::CalibrationWizard wizard(session, {out, rig->describe()});

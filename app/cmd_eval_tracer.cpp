@@ -13,9 +13,9 @@
 #include "holo/core/error.hpp"
 #include "holo/display/frame_output.hpp"
 #include "holo/eval/tracer_evaluation.hpp"
+#include "holo/relics/relics.hpp"
 #include "holo/eval/tracer_report.hpp"
 #include "holo/sim/museum.hpp"
-#include "holo/sim/relics.hpp"
 
 namespace holo::app {
 
@@ -61,7 +61,8 @@ int evalTracer(const TracerEvalCommand& command) {
   const std::vector<std::string> relics = sim::builtinRelicNames();
   for (const std::string& relic : o.relics)
     if (std::find(relics.begin(), relics.end(), relic) == relics.end())
-      throw InputError("command line", "--relics", "built-in relics (" + sim::relicNameList() + ")", relic);
+      throw InputError("command line", "--relics", "built-in relics (" + relics::relicNameList() + ")",
+                       relic);
   std::vector<SceneResult> results;
   for (const std::string& hall : o.halls)
     for (const std::string& relic : o.relics) {
@@ -91,7 +92,7 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--halls", o->halls, "Halls (room, gallery, atrium)")
           ->capture_default_str()
           ->delimiter(',');
-      sub.add_option("--relics", o->relics, "Relics (" + sim::relicNameList() + ")")
+      sub.add_option("--relics", o->relics, "Relics (" + relics::relicNameList() + ")")
           ->capture_default_str()
           ->delimiter(',');
       sub.add_option("--size", o->size, "View width and height, pixels")

@@ -15,7 +15,6 @@
 #include <opencv2/imgproc.hpp>
 
 #include "command.hpp"
-#include "holo/capture/simulated_source.hpp"
 #include "holo/core/config.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/log.hpp"
@@ -28,6 +27,8 @@
 #include "holo/pipeline/frame_loop.hpp"
 #include "holo/pipeline/installation.hpp"
 #include "holo/pipeline/kiosk_frame_source.hpp"
+#include "holo/simulated/museum_installation.hpp"
+#include "holo/simulated/simulated_source.hpp"
 
 namespace holo::app {
 
@@ -59,7 +60,8 @@ kiosk::RenderFrame makeFrameSource(const kiosk::LoadedConfig& config, const Kios
   if (options.source == "test-pattern")
     return pipeline::testPatternFrameSource(display_config, options.headless);
   if (!installation)
-    installation = simulatedInstallation(options.scene, /*paced=*/true, FrameLoopOptions{}.panorama_width);
+    installation =
+        simulated::museumInstallation(options.scene, /*paced=*/true, FrameLoopOptions{}.panorama_width);
   return pipeline::pipelineFrameSource(display_config, options.headless, std::move(*installation),
                                        options.view_size);
 }
@@ -80,7 +82,8 @@ int runKiosk(const KioskOptions& options) {
     installation.reset();
     calibratedDisplayConfig(root);
     if (describesCameras(root))
-      installation = loadInstallation(root, {.relearn_background = options.relearn_background});
+      installation = loadInstallation(root, {.relearn_background = options.relearn_background,
+                                             .simulated_sources = simulated::configuredSources()});
   };
   const auto load = [&] {
     kiosk::LoadedConfig loaded = kiosk::loadConfigWithFallback(options.config, last_good, validate);

@@ -18,6 +18,8 @@
 #include "holo/eval/frame_timing_report.hpp"
 #include "holo/pipeline/calibrated_display.hpp"
 #include "holo/pipeline/frame_loop.hpp"
+#include "holo/simulated/museum_installation.hpp"
+#include "holo/simulated/simulated_source.hpp"
 
 namespace holo::app {
 
@@ -57,8 +59,9 @@ int runPipeline(RunOptions options) {
   // The installation first: the recording's frame rate is the cameras'.
   Installation installation =
       options.loop.config.empty()
-          ? simulatedInstallation(options.loop.scene, options.loop.live, options.loop.panorama_width)
-          : loadInstallation(*config, {.relearn_background = options.relearn_background});
+          ? simulated::museumInstallation(options.loop.scene, options.loop.live, options.loop.panorama_width)
+          : loadInstallation(*config, {.relearn_background = options.relearn_background,
+                                       .simulated_sources = simulated::configuredSources()});
   std::unique_ptr<display::QuadViewPresenter> presenter;
   const std::filesystem::path out(options.out);
   if (options.headless) {

@@ -10,7 +10,7 @@
 //   panorama.exr                          equirectangular linear HDR of the empty hall
 //   contact_sheet.png                     frame 0 of every camera: colour, depth, truth, mask
 //   scene.txt                             the scene's name, source and seed
-// With --calibration, the recording starts with a calibration session (calib::SimulatedRig: the
+// With --calibration, the recording starts with a calibration session (simulated::SimulatedRig: the
 // intrinsics board held before every camera, the easel at each marked spot, the empty hall; its
 // length is scene.txt's calibration_frames), the visitors' frames follow (truth/ names them by
 // their recorded frame number), and installation.yaml describes the recording as an installation
@@ -37,7 +37,6 @@
 #include <optional>
 
 #include "command.hpp"
-#include "holo/calib/simulated_rig.hpp"
 #include "holo/capture/recorder.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/files.hpp"
@@ -45,6 +44,7 @@
 #include "holo/core/progress.hpp"
 #include "holo/sim/device_errors.hpp"
 #include "holo/sim/museum.hpp"
+#include "holo/simulated/simulated_rig.hpp"
 
 namespace holo::app {
 namespace {
@@ -151,7 +151,7 @@ int simulate(const SimulateOptions& o) {
     scene.visitor_model = sim::visitorModelFromName(o.visitor_model, "", "--visitor-model");
   const sim::Museum museum(scene);
   const int cameras = museum.cameraCount();
-  std::optional<calib::SimulatedRig> rig;
+  std::optional<simulated::SimulatedRig> rig;
   int calibration_frames = 0;  // recorded before the visitors' frames
   if (!(o.depth_skew_ms >= 0.0 && o.depth_skew_ms < 1000.0 / scene.camera.fps))
     throw InputError("", "--depth-skew-ms", "0 up to a frame period", std::to_string(o.depth_skew_ms));

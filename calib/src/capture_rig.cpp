@@ -161,7 +161,8 @@ std::vector<cv::Point2f> CaptureRig::observedTestPattern(int face, cv::Size view
   return placed;
 }
 
-ConfiguredRig loadConfiguredRig(const std::filesystem::path& config_file) {
+ConfiguredRig loadConfiguredRig(const std::filesystem::path& config_file,
+                                const capture::SourceFactory& simulated) {
   namespace fs = std::filesystem;
   const ConfigNode root = ConfigNode::loadFile(config_file);
   const capture::CaptureConfig config = capture::parseCaptureConfig(root["capture"]);
@@ -181,7 +182,7 @@ ConfiguredRig loadConfiguredRig(const std::filesystem::path& config_file) {
   if (fs::exists(pyramid_file, ec)) layout = loadPyramidCalibration(pyramid_file);
   ConfiguredRig out;
   out.calibration_dir = config.calibration_dir;
-  out.rig = std::make_unique<CaptureRig>(capture::makeSources(config), panorama, layout,
+  out.rig = std::make_unique<CaptureRig>(capture::makeSources(config, simulated), panorama, layout,
                                          "the cameras of " + config_file.string());
   return out;
 }

@@ -4,13 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <set>
 
 #include "holo/capture/recording_source.hpp"
-#include "holo/capture/simulated_source.hpp"
 #include "holo/core/error.hpp"
-#include "holo/sim/museum.hpp"
 
 namespace holo::capture {
 
@@ -232,7 +229,7 @@ CaptureConfig loadCaptureConfig(const fs::path& file) {
   return parseCaptureConfig(ConfigNode::loadFile(file)["capture"]);
 }
 
-std::unique_ptr<CameraSource> makeSource(const CameraEntry& entry) {
+std::unique_ptr<CameraSource> makeSource(const CameraEntry& entry, const SourceFactory& simulated) {
   switch (entry.backend) {
     case Backend::Aravis:
       return std::make_unique<AravisSource>(entry.aravis);
@@ -247,28 +244,19 @@ std::unique_ptr<CameraSource> makeSource(const CameraEntry& entry) {
                        "a camera of the recording (it has " + std::to_string(recording.cameras.size()) + ")",
                        std::to_string(entry.recording_camera));
     }
-    case Backend::Simulated: {
-      auto museum = std::make_shared<const sim::Museum>(sim::loadScene(entry.scene));
-      return std::make_unique<SimulatedSource>(std::move(museum), entry.sim_camera,
-                                               SimulationOptions{.paced = entry.paced});
-    }
+    case Backend::Simulated:
+      if (!simulated)
+        throw InputError(entry.name, "backend", "a camera this program can open (aravis, v4l2 or recording)",
+                         "sim (the simulated museum, which this program does not link)");
+      return simulated(entry);
   }
   throw Error("unknown capture backend");
 }
 
-std::vector<std::unique_ptr<CameraSource>> makeSources(const CaptureConfig& config) {
-  std::map<std::string, std::shared_ptr<const sim::Museum>> museums;
+std::vector<std::unique_ptr<CameraSource>> makeSources(const CaptureConfig& config,
+                                                       const SourceFactory& simulated) {
   std::vector<std::unique_ptr<CameraSource>> sources;
-  for (const auto& entry : config.cameras) {
-    if (entry.backend != Backend::Simulated) {
-      sources.push_back(makeSource(entry));
-      continue;
-    }
-    auto& museum = museums[entry.scene];
-    if (!museum) museum = std::make_shared<const sim::Museum>(sim::loadScene(entry.scene));
-    sources.push_back(
-        std::make_unique<SimulatedSource>(museum, entry.sim_camera, SimulationOptions{.paced = entry.paced}));
-  }
+  for (const auto& entry : config.cameras) sources.push_back(makeSource(entry, simulated));
   return sources;
 }
 

@@ -12,6 +12,7 @@
 #include "holo/core/stopwatch.hpp"
 #include "holo/eval/frame_timing_report.hpp"
 #include "holo/reflect/view.hpp"
+#include "holo/simulated/museum_installation.hpp"
 
 namespace holo::eval {
 
@@ -83,7 +84,7 @@ FrameBenchmark benchFrame(FrameBenchOptions options) {
   if (options.preload)
     options.loop.preload_frames = options.warmup + options.frames + 1;  // + the last prefetch
   const Stopwatch setup;
-  FrameLoop loop(options.loop, nullptr);
+  FrameLoop loop(options.loop, simulated::installationFor(options.loop), nullptr);
   result.setup_s = setup.seconds();
   ProgressReporter progress(options.warmup + options.frames, "bench frame");
   for (int i = 0; i < options.warmup; ++i) {

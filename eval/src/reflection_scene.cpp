@@ -9,13 +9,13 @@
 #include "holo/core/gltf_io.hpp"
 #include "holo/core/hdr_io.hpp"
 #include "holo/core/image.hpp"
-#include "holo/pipeline/installation.hpp"
 #include "holo/reflect/hit_points.hpp"
 #include "holo/reflect/render_scene.hpp"
 #include "holo/reflect/view.hpp"
+#include "holo/relics/relics.hpp"
 #include "holo/sim/halls.hpp"
 #include "holo/sim/museum.hpp"
-#include "holo/sim/relics.hpp"
+#include "holo/simulated/museum_installation.hpp"
 
 namespace holo::eval {
 namespace {
@@ -96,11 +96,11 @@ ReflectionScene loadReflectionScene(const SceneOptions& o) {
   if (o.scene == "empty") {
     s.relic_name = o.relic.empty() ? "vase" : o.relic;
     if (isBuiltinRelic(s.relic_name)) {
-      s.relic = sim::makeRelic(s.relic_name);
-      sim::fitOnPedestal(s.relic);
+      s.relic = relics::makeRelic(s.relic_name);
+      relics::fitOnPedestal(s.relic);
     } else {
       s.relic = loadGltf(s.relic_name);
-      if (o.fit) sim::fitOnPedestal(s.relic);
+      if (o.fit) relics::fitOnPedestal(s.relic);
     }
     if (o.panorama.empty()) {
       museum.emplace(sim::loadScene("empty"));  // the empty hall, for its panorama only
@@ -119,7 +119,7 @@ ReflectionScene loadReflectionScene(const SceneOptions& o) {
   // As the live simulated installation places it; the relic alone ("empty") has no hall in its
   // truth, so its panorama stays at infinity.
   if (o.panorama.empty() && !s.static_emitters.empty() && !o.panorama_at_infinity)
-    s.panorama_proxy = pipeline::simulatedPanoramaProxy(*museum);
+    s.panorama_proxy = simulated::museumPanoramaProxy(*museum);
   return s;
 }
 

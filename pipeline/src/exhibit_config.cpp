@@ -4,7 +4,7 @@
 #include <cmath>
 #include <vector>
 
-#include "holo/sim/relics.hpp"
+#include "holo/relics/relics.hpp"
 
 namespace holo::pipeline {
 
@@ -14,13 +14,13 @@ ExhibitConfig parseExhibitConfig(const ConfigNode& exhibit) {
   ExhibitConfig config;
   const ConfigNode relic = exhibit["relic"];
   const std::string relic_value = relic.as<std::string>();
-  const std::vector<std::string> builtin = sim::relicNames();
+  const std::vector<std::string> builtin = relics::relicNames();
   if (std::find(builtin.begin(), builtin.end(), relic_value) != builtin.end()) {
     config.builtin_relic = relic_value;
   } else {
     if (relic_value.empty())
       relic.fail("a glTF file (.gltf/.glb, relative to the configuration) or a built-in relic (" +
-                     sim::relicNameList() + ")",
+                     relics::relicNameList() + ")",
                  "an empty text");
     config.relic_file = exhibit.pathBesideFile(relic_value);
   }

@@ -34,24 +34,6 @@ void setAntiAliasing(reflect::TracerSettings& tracer, reflect::AntiAliasing mode
   tracer.edge_aa = mode == reflect::AntiAliasing::Edges;
 }
 
-namespace {
-
-Installation installationFor(const FrameLoopOptions& options) {
-  if (options.config.empty())
-    return simulatedInstallation(options.scene, options.live, options.panorama_width, options.relic);
-  const ConfigNode root = ConfigNode::loadFile(options.config);
-  if (!describesCameras(root))
-    throw InputError(options.config, "capture",
-                     "a capture: section naming the cameras (and an exhibit: section naming the relic and "
-                     "panorama) to run on them");
-  return loadInstallation(root);
-}
-
-}  // namespace
-
-FrameLoop::FrameLoop(FrameLoopOptions options, std::unique_ptr<display::QuadViewPresenter> presenter)
-    : FrameLoop(options, installationFor(options), std::move(presenter)) {}
-
 FrameLoop::FrameLoop(FrameLoopOptions options, Installation installation,
                      std::unique_ptr<display::QuadViewPresenter> presenter)
     : options_(std::move(options)),

@@ -1,27 +1,20 @@
 #include "holo/pipeline/installation.hpp"
 
 #include <fmt/format.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <opencv2/imgcodecs.hpp>
 #include <utility>
 
 #include "holo/calib/calibration_io.hpp"
 #include "holo/capture/capture_config.hpp"
-#include "holo/capture/simulated_source.hpp"
 #include "holo/core/error.hpp"
-#include "holo/core/fibonacci_sphere.hpp"
 #include "holo/core/gltf_io.hpp"
 #include "holo/core/hdr_io.hpp"
 #include "holo/core/log.hpp"
 #include "holo/pipeline/exhibit_config.hpp"
-#include "holo/reflect/render_scene.hpp"
-#include "holo/sim/halls.hpp"
-#include "holo/sim/museum.hpp"
-#include "holo/sim/relics.hpp"
+#include "holo/relics/relics.hpp"
 
 namespace holo::pipeline {
 namespace {
@@ -32,20 +25,20 @@ namespace fs = std::filesystem;
 // field.
 Model loadRelic(const ConfigNode& exhibit, const ExhibitConfig& config) {
   if (!config.builtin_relic.empty()) {
-    Model relic = sim::makeRelic(config.builtin_relic, exhibit.file());
-    sim::fitOnPedestal(relic);
+    Model relic = relics::makeRelic(config.builtin_relic, exhibit.file());
+    relics::fitOnPedestal(relic);
     return relic;
   }
   const ConfigNode field = exhibit["relic"];
   std::error_code ec;
   if (!fs::is_regular_file(config.relic_file, ec))
     field.fail("a glTF file (.gltf/.glb, relative to the configuration) or a built-in relic (" +
-                   sim::relicNameList() + ")",
+                   relics::relicNameList() + ")",
                "'" + field.as<std::string>() + "' (no such file: " + config.relic_file.string() + ")");
   Model relic = loadGltf(config.relic_file);
   if (relic.meshes.empty())
     field.fail("a glTF file with at least one triangle mesh", config.relic_file.string());
-  if (config.fit_relic) sim::fitOnPedestal(relic);
+  if (config.fit_relic) relics::fitOnPedestal(relic);
   return relic;
 }
 
@@ -121,76 +114,10 @@ CalibratedCamera calibratedCameraOf(const capture::CaptureConfig& config, const 
                    "no such file, and the source does not know its model");
 }
 
-// The hall's mean distance from `centre` over a Fibonacci sphere of directions (metres), those
-// that meet the pyramid's base (half width `base_half_width`, top at y = 0) first left out: the
-// radius of the sphere the panorama captured there is placed on. Infinite when no direction
-// meets the hall.
-float meanHallDistance(const Model& hall, const vec3& centre, float base_half_width) {
-  constexpr float kInfinity = std::numeric_limits<float>::infinity();
-  if (hall.meshes.empty()) return kInfinity;
-  const reflect::RenderScene scene(Model{}, {hall});
-  // With no sphere, the proxy's point for a direction is finite only where the base hides the hall.
-  const reflect::PanoramaProxy base_only{centre, kInfinity, base_half_width};
-  constexpr int kDirections = 4096;
-  double sum = 0.0;
-  int hits = 0;
-  for (int i = 0; i < kDirections; ++i) {
-    const vec3 direction = fibonacciDirection(i, kDirections);
-    if (isFinite(base_only.point(direction))) continue;
-    const RayHit hit = scene.all().intersect(Ray{centre, direction});
-    if (!hit.hit()) continue;
-    sum += double(hit.t);
-    ++hits;
-  }
-  return hits > 0 ? float(sum / double(hits)) : kInfinity;
-}
-
 }  // namespace
-
-reflect::PanoramaProxy simulatedPanoramaProxy(const sim::Museum& museum) {
-  const vec3 centre = museum.description().panorama_position;
-  const float radius = meanHallDistance(museum.hall(), centre, sim::kBaseHalfWidth);
-  if (!std::isfinite(radius)) return {};
-  return {centre, radius, sim::kBaseHalfWidth};
-}
 
 bool describesCameras(const ConfigNode& root) {
   return root.isMap() && root.has("capture");
-}
-
-Installation simulatedInstallation(const std::string& scene, bool paced, int panorama_width,
-                                   const std::string& relic) {
-  sim::SceneDescription description = sim::loadScene(scene);
-  if (!relic.empty()) description.relic = relic;
-  auto museum = std::make_shared<const sim::Museum>(std::move(description));
-  Installation installation;
-  installation.name = "scene " + museum->description().name;
-  const int n = museum->cameraCount();
-  installation.background.resize(static_cast<std::size_t>(n));
-  tbb::parallel_for(0, n, [&](int i) {
-    installation.background[static_cast<std::size_t>(i)] = museum->backgroundFrame(i);
-  });
-  for (int i = 0; i < n; ++i) {
-    installation.sources.push_back(
-        std::make_unique<capture::SimulatedSource>(museum, i, capture::SimulationOptions{.paced = paced}));
-    installation.cameras.push_back(museum->camera(i));
-    capture::CaptureOptions options;
-    options.camera_id = i;
-    installation.capture_options.push_back(options);
-  }
-  installation.simulated_cameras = true;
-  installation.camera_exposure = museum->description().camera.exposure;
-  installation.fps = museum->description().camera.fps;
-  installation.relic = museum->relic();
-  const int pw = std::max(64, panorama_width);
-  installation.panorama = museum->renderPanorama(pw, pw / 2);
-  installation.panorama_proxy = simulatedPanoramaProxy(*museum);
-  if (!installation.panorama_proxy.infinite())
-    HOLO_LOG_INFO(
-        "panorama on the hall's mean distance {:.2f} m around its capture point, above a base of half "
-        "width {:.2f} m",
-        installation.panorama_proxy.radius, installation.panorama_proxy.base_half_width);
-  return installation;
 }
 
 std::optional<RgbdFrame> loadCalibratedBackground(const fs::path& dir, std::size_t index, cv::Size size) {
@@ -257,7 +184,7 @@ Installation loadInstallation(const ConfigNode& root, const InstallationOptions&
         " m from it, pyramid.yml's panorama_position; the base's corners reach " +
         fmt::format("{:.2f}", base_reach) + " m, exhibit.base_half_width)");
 
-  installation.sources = capture::makeSources(capture);
+  installation.sources = capture::makeSources(capture, installation_options.simulated_sources);
   for (std::size_t i = 0; i < capture.cameras.size(); ++i) {
     const CalibratedCamera camera = calibratedCameraOf(capture, capture.cameras[i], *installation.sources[i]);
     installation.cameras.push_back(camera.model);
@@ -291,10 +218,9 @@ Installation loadInstallation(const ConfigNode& root, const InstallationOptions&
       installation.background_frames = 0;
     }
   }
-  installation.simulated_cameras =
-      std::all_of(installation.sources.begin(), installation.sources.end(), [](const auto& source) {
-        return dynamic_cast<const capture::SimulatedSource*>(source.get()) != nullptr;
-      });
+  installation.simulated_cameras = std::all_of(
+      capture.cameras.begin(), capture.cameras.end(),
+      [](const capture::CameraEntry& entry) { return entry.backend == capture::Backend::Simulated; });
   return installation;
 }
 

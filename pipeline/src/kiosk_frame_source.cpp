@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "holo/capture/simulated_source.hpp"
+#include "holo/capture/camera_power.hpp"
 #include "holo/core/log.hpp"
 #include "holo/core/stopwatch.hpp"
 #include "holo/display/quad_view_presenter.hpp"
@@ -105,7 +105,7 @@ class PipelineSource {
     // A source made on reload inherits cameras a fault switched off, so the fault file can still
     // switch them on.
     for (int i = 0; i < static_cast<int>(loop_->cameras().size()); ++i)
-      if (!capture::SimulatedSource::powered(i)) cameras_off_.push_back(i);
+      if (!capture::cameraPowered(i)) cameras_off_.push_back(i);
   }
 
   kiosk::FrameReport operator()(const kiosk::FrameRequest& request) {
@@ -171,7 +171,7 @@ class PipelineSource {
       const bool now_off = std::find(off.begin(), off.end(), i) != off.end();
       const bool was_off = std::find(cameras_off_.begin(), cameras_off_.end(), i) != cameras_off_.end();
       if (now_off == was_off) continue;
-      capture::SimulatedSource::setPowered(i, !now_off);
+      capture::setCameraPowered(i, !now_off);
       report.errors.push_back("injected fault: camera " + std::to_string(i) +
                               (now_off ? " switched off" : " switched on"));
     }

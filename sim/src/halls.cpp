@@ -4,7 +4,7 @@
 #include <map>
 
 #include "holo/core/error.hpp"
-#include "holo/sim/shapes.hpp"
+#include "holo/core/shapes.hpp"
 
 namespace holo::sim {
 

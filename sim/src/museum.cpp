@@ -11,8 +11,8 @@
 #include "holo/core/gltf_io.hpp"
 #include "holo/core/image.hpp"
 #include "holo/core/ray_scene.hpp"
+#include "holo/relics/relics.hpp"
 #include "holo/sim/halls.hpp"
-#include "holo/sim/relics.hpp"
 #include "holo/sim/sensor_noise.hpp"
 #include "holo/sim/visitors.hpp"
 
@@ -43,7 +43,7 @@ constexpr Builtin kBuiltins[] = {
 };
 
 bool isRelicName(const std::string& relic) {
-  const auto names = relicNames();
+  const auto names = relics::relicNames();
   return std::find(names.begin(), names.end(), relic) != names.end();
 }
 
@@ -191,8 +191,9 @@ SceneDescription loadSceneFile(const fs::path& path) {
       if (model.is_relative()) model = path.parent_path() / model;
       const std::string ext = model.extension().string();
       if ((ext != ".gltf" && ext != ".glb") || !fs::exists(model))
-        root["relic"].fail(relicNameList() + " or an existing .gltf/.glb file (relative to the scene file)",
-                           d.relic);
+        root["relic"].fail(
+            relics::relicNameList() + " or an existing .gltf/.glb file (relative to the scene file)",
+            d.relic);
       d.relic = model.string();
     }
   }
@@ -270,7 +271,7 @@ std::vector<std::string> builtinSceneNames() {
 }
 
 std::vector<std::string> builtinRelicNames() {
-  return relicNames();
+  return relics::relicNames();
 }
 
 std::string describeBuiltinScene(const std::string& name) {
@@ -311,7 +312,7 @@ Museum::Museum(SceneDescription description) : impl_(std::make_unique<Impl>()) {
   m.hall = makeHall(d.hall, origin);
   if (isRelicName(d.relic)) {
     // Procedural relics travel through glTF like any model, so the loader sees them too.
-    m.relic = loadGlbFromMemory(encodeGlb(makeRelic(d.relic, origin)), d.relic + ".glb");
+    m.relic = loadGlbFromMemory(encodeGlb(relics::makeRelic(d.relic, origin)), d.relic + ".glb");
   } else {
     m.relic = loadGltf(d.relic);
   }
@@ -319,7 +320,7 @@ Museum::Museum(SceneDescription description) : impl_(std::make_unique<Impl>()) {
     if (d.relic_roughness >= 0.0f) mat.roughness = std::min(d.relic_roughness, 1.0f);
     if (d.relic_metallic >= 0.0f) mat.metallic = std::min(d.relic_metallic, 1.0f);
   }
-  if (d.fit_relic) fitOnPedestal(m.relic);
+  if (d.fit_relic) relics::fitOnPedestal(m.relic);
   m.plans = planVisitors(d.visitors, d.seed, d.hall, d.visitor_model);
   if (d.close_visitors < 0 || d.close_visitors > 4)
     throw InputError(origin, "close_visitors", "a count in [0, 4]", std::to_string(d.close_visitors));

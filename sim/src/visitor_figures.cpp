@@ -1,8 +1,8 @@
 #include <algorithm>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "holo/core/shapes.hpp"
 #include "holo/sim/museum.hpp"
-#include "holo/sim/shapes.hpp"
 #include "visitor_models.hpp"
 
 namespace holo::sim::detail {

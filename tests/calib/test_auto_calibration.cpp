@@ -6,7 +6,7 @@
 
 #include "holo/calib/auto_calibration.hpp"
 #include "holo/calib/pose.hpp"
-#include "holo/calib/simulated_rig.hpp"
+#include "holo/simulated/simulated_rig.hpp"
 #include "shared_data.hpp"
 
 namespace holo::calib {
@@ -20,7 +20,7 @@ TEST(AutoCalibration, SimulatedMuseumRecoversTheTruth) {
   config.placement_board = BoardSpec::parse("charuco:7x5:0.08:0.06:DICT_5X5_100");
   config.placements = defaultBoardPlacements(config.placement_board, sim::kFaceCount);
   config.background_frames = 3;
-  SimulatedRig rig("museum", config);
+  simulated::SimulatedRig rig("museum", config);
   const fs::path dir = holo::test::scratchDir("calib_auto");
   std::ostringstream log;
   const AutoCalibrationReport report = runAutoCalibration(rig, config, dir, log, true);

@@ -15,8 +15,8 @@
 #include <sstream>
 
 #include "holo/calib/pose.hpp"
-#include "holo/calib/simulated_rig.hpp"
 #include "holo/capture/recording.hpp"
+#include "holo/simulated/simulated_rig.hpp"
 #include "shared_data.hpp"
 
 namespace holo::calib {
@@ -97,7 +97,7 @@ TEST(CalibrationWizard, ScriptedRunPassesEveryStepAndSavesTheTruth) {
   config.intrinsics_board = BoardSpec::parse(kDefaultIntrinsicsBoard);
   config.placement_board = BoardSpec::parse(kDefaultPlacementBoard);
   config.placements = defaultBoardPlacements(config.placement_board, sim::kFaceCount);
-  const SimulatedRig rig("museum", config);
+  const simulated::SimulatedRig rig("museum", config);
   for (int c = 0; c < rig.cameraCount(); ++c) {
     const CameraCalibration saved = loadCameraCalibration(cameraCalibrationPath(out, rig.serial(c)));
     const Intrinsics& truth = rig.trueCamera(c).intrinsics();

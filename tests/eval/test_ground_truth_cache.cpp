@@ -10,7 +10,7 @@
 #include "holo/eval/reflection_scene.hpp"
 #include "holo/reflect/path_tracer.hpp"
 #include "holo/reflect/view.hpp"
-#include "holo/sim/relics.hpp"
+#include "holo/relics/relics.hpp"
 #include "shared_data.hpp"
 
 namespace holo::eval {
@@ -19,8 +19,8 @@ namespace {
 // A scene built in memory: the sphere relic, a one-triangle "hall", a small uniform panorama.
 ReflectionScene smallScene() {
   ReflectionScene s;
-  s.relic = sim::makeRelic("sphere");
-  sim::fitOnPedestal(s.relic);
+  s.relic = relics::makeRelic("sphere");
+  relics::fitOnPedestal(s.relic);
   Model hall;
   Material wall_material;
   wall_material.emission = vec3(0.5f);

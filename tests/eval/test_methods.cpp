@@ -4,8 +4,8 @@
 #include "holo/core/error.hpp"
 #include "holo/eval/methods.hpp"
 #include "holo/eval/reflection_scene.hpp"
-#include "holo/pipeline/installation.hpp"
 #include "holo/sim/halls.hpp"
+#include "holo/simulated/museum_installation.hpp"
 
 namespace holo::eval {
 namespace {
@@ -87,7 +87,7 @@ TEST(ReflectionScene, TheLiveSimulatedInstallationReadsThePanoramaThroughTheSame
   options.relic = "vase";
   const reflect::PanoramaProxy evaluated = loadReflectionScene(options).panorama_proxy;
   const reflect::PanoramaProxy live =
-      pipeline::simulatedInstallation(options.scene, /*paced=*/false, 64, options.relic).panorama_proxy;
+      simulated::museumInstallation(options.scene, /*paced=*/false, 64, options.relic).panorama_proxy;
   ASSERT_FALSE(live.infinite());
   EXPECT_EQ(live.radius, evaluated.radius);
   EXPECT_EQ(live.centre, evaluated.centre);

@@ -21,7 +21,7 @@
 #include "holo/display/display_config.hpp"
 #include "holo/kiosk/kiosk_config.hpp"
 #include "holo/pipeline/exhibit_config.hpp"
-#include "holo/sim/relics.hpp"
+#include "holo/relics/relics.hpp"
 
 namespace {
 
@@ -38,7 +38,7 @@ const std::string& applianceFile() {
 
 void checkExhibit(const holo::ConfigNode& root) {
   const holo::pipeline::ExhibitConfig exhibit = holo::pipeline::parseExhibitConfig(root["exhibit"]);
-  const std::vector<std::string> builtin = holo::sim::relicNames();
+  const std::vector<std::string> builtin = holo::relics::relicNames();
   if (exhibit.builtin_relic.empty() == exhibit.relic_file.empty()) __builtin_trap();
   if (!exhibit.builtin_relic.empty() &&
       std::find(builtin.begin(), builtin.end(), exhibit.builtin_relic) == builtin.end())

@@ -9,10 +9,11 @@
 #include <memory>
 #include <vector>
 
-#include "holo/capture/simulated_source.hpp"
 #include "holo/pipeline/frame_loop.hpp"
 #include "holo/pipeline/installation.hpp"
 #include "holo/sim/museum.hpp"
+#include "holo/simulated/museum_installation.hpp"
+#include "holo/simulated/simulated_source.hpp"
 
 namespace holo::pipeline {
 namespace {
@@ -34,7 +35,7 @@ std::vector<cv::Mat> displayedViews(const FrameLoop& loop) {
 }
 
 TEST(FrameLoop, RendersFramesOfTheSimulatedMuseumWithTheRelicOnThem) {
-  FrameLoop loop(smallOptions(), nullptr);
+  FrameLoop loop(smallOptions(), simulated::installationFor(smallOptions()), nullptr);
   EXPECT_EQ(loop.cameras().size(), 4u);
   for (int i = 0; i < 3; ++i) {
     const FrameReport report = loop.step();
@@ -65,7 +66,7 @@ TEST(FrameLoop, RendersFramesOfTheSimulatedMuseumWithTheRelicOnThem) {
 TEST(FrameLoop, TheSameInputsGiveTheSameImages) {
   std::vector<std::vector<cv::Mat>> runs;
   for (int run = 0; run < 2; ++run) {
-    FrameLoop loop(smallOptions(), nullptr);
+    FrameLoop loop(smallOptions(), simulated::installationFor(smallOptions()), nullptr);
     loop.step();
     loop.step();
     runs.push_back(displayedViews(loop));
@@ -77,11 +78,12 @@ TEST(FrameLoop, TheSameInputsGiveTheSameImages) {
 
 TEST(FrameLoop, ACameraWhoseStreamEndsIsDroppedAndTheOthersGoOn) {
   const FrameLoopOptions options = smallOptions();
-  Installation installation = simulatedInstallation(options.scene, /*paced=*/false, options.panorama_width);
+  Installation installation =
+      simulated::museumInstallation(options.scene, /*paced=*/false, options.panorama_width);
   // Camera 3 delivers two frames, then reports the end of its stream, as a recording that ended.
   auto museum = std::make_shared<const sim::Museum>(sim::loadScene(options.scene));
-  installation.sources[3] = std::make_unique<capture::SimulatedSource>(
-      museum, 3, capture::SimulationOptions{.paced = false, .frame_count = 2});
+  installation.sources[3] = std::make_unique<simulated::SimulatedSource>(
+      museum, 3, simulated::SimulationOptions{.paced = false, .frame_count = 2});
   FrameLoop loop(options, std::move(installation), nullptr);
   std::vector<int> live;
   for (int i = 0; i < 4; ++i) {
@@ -100,7 +102,7 @@ TEST(FrameLoop, OverlappedForegroundGivesTheSameImagesAsSequential) {
   for (const bool overlap : {true, false}) {
     FrameLoopOptions options = smallOptions();
     options.overlap = overlap;
-    FrameLoop loop(options, nullptr);
+    FrameLoop loop(options, simulated::installationFor(options), nullptr);
     for (int i = 0; i < 3; ++i) EXPECT_EQ(loop.step().cameras_live, 4);
     runs.push_back(displayedViews(loop));
   }
@@ -119,7 +121,7 @@ TEST(FrameLoop, LiveCamerasFeedTheOverlappedForegroundWhileFramesRender) {
   options.live = true;
   options.overlap = true;
   options.stale_camera_s = 1e6;
-  FrameLoop loop(options, nullptr);
+  FrameLoop loop(options, simulated::installationFor(options), nullptr);
   int frames_with_all = 0;
   std::int64_t dropped = 0;
   for (int i = 0; i < 2000 && frames_with_all < 4; ++i) {

@@ -18,7 +18,7 @@
 #include "holo/reflect/dielectric.hpp"
 #include "holo/reflect/path_tracer.hpp"
 #include "holo/reflect/view.hpp"
-#include "holo/sim/relics.hpp"
+#include "holo/relics/relics.hpp"
 #include "reflect_test_scenes.hpp"
 #include "shared_data.hpp"
 
@@ -528,7 +528,7 @@ namespace {
 TEST(Dielectric, GlassRelicsInAWhiteFurnaceAreInvisible) {
   for (const std::string name : {"glass-vase", "crystal"}) {
     SCOPED_TRACE(name);
-    Model relic = sim::makeRelic(name);
+    Model relic = relics::makeRelic(name);
     relic.materials[0].attenuation_distance = std::numeric_limits<float>::infinity();
     relic.materials[0].base_colour = vec3(1.0f);
     RenderScene scene(relic, {});

@@ -3,8 +3,8 @@
 
 #include "holo/core/error.hpp"
 #include "holo/core/gltf_io.hpp"
+#include "holo/relics/relics.hpp"
 #include "holo/sim/museum.hpp"
-#include "holo/sim/relics.hpp"
 #include "shared_data.hpp"
 
 namespace holo::sim {
@@ -19,7 +19,7 @@ std::filesystem::path write(const std::filesystem::path& dir, const std::string&
 
 TEST(SceneFile, ReadsEveryField) {
   const auto dir = test::scratchDir("sim_scene_ok");
-  saveGltf(dir / "pot.glb", makeRelic("kettle"));
+  saveGltf(dir / "pot.glb", relics::makeRelic("kettle"));
   const auto path = write(dir, "hall.yaml", R"(base: museum
 hall: atrium
 relic: pot.glb
@@ -116,8 +116,8 @@ TEST(SceneFile, RealModelAsRelic) {
   const Bounds3 b = m.relic().bounds();
   EXPECT_EQ(m.relic().triangleCount(), 2976u);
   EXPECT_NEAR(b.lo.y, 0.0f, 1e-4f);
-  EXPECT_LE(b.hi.y, kRelicHeight + 1e-4f);
-  EXPECT_LE(std::max(b.extent().x, b.extent().z), kRelicMaxWidth + 1e-4f);
+  EXPECT_LE(b.hi.y, relics::kRelicHeight + 1e-4f);
+  EXPECT_LE(std::max(b.extent().x, b.extent().z), relics::kRelicMaxWidth + 1e-4f);
 }
 
 }  // namespace

@@ -2,7 +2,7 @@
 // the technician works (a board moved in front of a camera, the easel at the marked spots, the
 // empty hall), the hall's panorama, and where the test pattern's dots were seen on each face.
 // Live cameras (capture_rig.hpp: Aravis, V4L2, recordings, photo folders) and the simulated
-// museum (simulated_rig.hpp) both provide it; the steps (calibration_session.hpp) decide, frame by
+// museum (simulated/simulated_rig.hpp) both provide it; the steps (calibration_session.hpp) decide, frame by
 // frame, which frames to keep.
 //
 // Invariants: nextFrame() is called from one thread at a time (the step being measured); frames of

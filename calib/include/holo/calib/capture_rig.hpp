@@ -15,6 +15,7 @@
 #include "holo/calib/calibration_io.hpp"
 #include "holo/calib/calibration_rig.hpp"
 #include "holo/capture/camera_source.hpp"
+#include "holo/capture/capture_config.hpp"
 
 namespace holo::calib {
 
@@ -90,6 +91,8 @@ struct ConfiguredRig {
   std::unique_ptr<CaptureRig> rig;
   std::filesystem::path calibration_dir;  // capture.calibration_dir: where the calibration goes
 };
-ConfiguredRig loadConfiguredRig(const std::filesystem::path& config_file);
+// `simulated` builds the sources of its sim cameras (capture::makeSources).
+ConfiguredRig loadConfiguredRig(const std::filesystem::path& config_file,
+                                const capture::SourceFactory& simulated = {});
 
 }  // namespace holo::calib

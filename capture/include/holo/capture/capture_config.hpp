@@ -23,7 +23,7 @@
 //         path: recordings/hall-monday    # a recording folder (recording.hpp)
 //         camera: 2                       # which of its cameras; default = face
 //       - face: 3
-//         backend: sim                    # the simulated museum (sim/museum.hpp)
+//         backend: sim                    # the simulated museum (holo::simulated builds it)
 //         scene: museum                   # built-in name or scene YAML (relative to this file)
 //         camera: 3                       # which simulated camera; default = face
 //         paced: true                     # frames at the scene's fps (default)
@@ -32,10 +32,12 @@
 // every depth scale in the project (calibration files too). A value of 1 or more is the old
 // inverse convention (units per metre) and is refused with the value to write instead. Every error is a
 // holo::InputError naming the file and the dotted field ("capture.cameras[1].colour.pixel_format"). Parsing
-// opens nothing; makeSources() builds the sources (and loads simulated scenes).
+// opens nothing; makeSources() builds the sources. Capture does not link the simulation: a sim
+// camera's source comes from the SourceFactory its caller passes (simulated/simulated_source.hpp).
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -81,11 +83,17 @@ CaptureConfig parseCaptureConfig(const ConfigNode& capture);
 // Loads FILE and parses its `capture` section (required).
 CaptureConfig loadCaptureConfig(const std::filesystem::path& file);
 
+// Builds the source (not opened) of an entry whose backend capture does not build itself
+// (Backend::Simulated).
+using SourceFactory = std::function<std::unique_ptr<CameraSource>(const CameraEntry&)>;
+
 // The source for one entry (not opened). A recording is read here: InputError when it is not one.
-std::unique_ptr<CameraSource> makeSource(const CameraEntry& entry);
-// The sources of every entry, in the order of config.cameras; cameras of the same simulated
-// scene share one museum (it is built once).
-std::vector<std::unique_ptr<CameraSource>> makeSources(const CaptureConfig& config);
+// A sim camera's source comes from `simulated`; without one it is an InputError (the program does
+// not run the simulation).
+std::unique_ptr<CameraSource> makeSource(const CameraEntry& entry, const SourceFactory& simulated = {});
+// The sources of every entry, in the order of config.cameras (makeSource for each).
+std::vector<std::unique_ptr<CameraSource>> makeSources(const CaptureConfig& config,
+                                                       const SourceFactory& simulated = {});
 CaptureOptions makeCaptureOptions(const CaptureConfig& config, const CameraEntry& entry);
 
 }  // namespace holo::capture

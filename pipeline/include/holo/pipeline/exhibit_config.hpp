@@ -17,7 +17,7 @@
 // Parsing checks every key, type and range and resolves the two paths beside the configuration
 // file; it opens neither (loadInstallation in installation.hpp loads them, and fails naming the
 // field when one is missing or unreadable). Kept apart from the loaders so that it links only core
-// and sim, not the renderers: tests/fuzz/fuzz_config feeds it every appliance document.
+// and the built-in relics, not the renderers: tests/fuzz/fuzz_config feeds it every appliance document.
 #pragma once
 
 #include <filesystem>
@@ -29,7 +29,7 @@
 namespace holo::pipeline {
 
 struct ExhibitConfig {
-  // Exactly one of the two is set: a built-in relic's name (sim::relicNames()), or the glTF file
+  // Exactly one of the two is set: a built-in relic's name (relics::relicNames()), or the glTF file
   // it names, relative paths resolved beside the configuration file (ConfigNode::pathBesideFile).
   std::string builtin_relic;
   std::filesystem::path relic_file;

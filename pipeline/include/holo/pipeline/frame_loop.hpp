@@ -53,8 +53,10 @@ reflect::TracerSettings liveTracerSettings();
 void setAntiAliasing(reflect::TracerSettings& tracer, reflect::AntiAliasing mode);
 
 struct FrameLoopOptions {
-  std::string scene = "museum";  // built-in name or YAML file (sim::loadScene)
-  std::string relic;             // replaces the scene's relic (built-in name or glTF file); empty: keep
+  // Which installation to run on (simulated::installationFor builds it; the loop runs on the one
+  // it is given). `scene`: built-in name or YAML file of the simulated museum (sim::loadScene).
+  std::string scene = "museum";
+  std::string relic;  // replaces the scene's relic (built-in name or glTF file); empty: keep
   // A configuration file with `capture:` and `exhibit:` sections (installation.hpp): its cameras,
   // calibration, relic and panorama instead of the simulated scene. Empty: `scene`.
   std::string config;
@@ -81,11 +83,10 @@ struct FrameLoopOptions {
 
 class FrameLoop {
  public:
-  // Builds the installation (options.config, else options.scene), opens its cameras, learns the
-  // background, builds the IBL and the renderers. Throws InputError for a bad scene, configuration
-  // or settings. `presenter` may be null (benchmarks: render without showing).
-  FrameLoop(FrameLoopOptions options, std::unique_ptr<display::QuadViewPresenter> presenter);
-  // The same on an installation built by the caller (options.scene and .config are not used).
+  // Opens the installation's cameras, learns the background, builds the IBL and the renderers
+  // (options.scene, .relic and .config are not used: they name the installation its builder,
+  // simulated::installationFor, makes). Throws InputError for a bad installation or settings.
+  // `presenter` may be null (benchmarks: render without showing).
   FrameLoop(FrameLoopOptions options, Installation installation,
             std::unique_ptr<display::QuadViewPresenter> presenter);
   ~FrameLoop();

@@ -2,11 +2,12 @@
 // the hall's panorama. Two origins:
 //  * the simulated museum (`--scene`, the default): its four simulated cameras with their true
 //    models, its relic and its rendered hall panorama, and its empty hall as the background;
-//  * a configuration file (`--config FILE` with a `capture:` section): the configured cameras
-//    (capture_config.hpp: Aravis, V4L2, recordings, simulated scenes), each camera's model from
-//    the calibration folder (calibration_io.hpp: camera_SERIAL.yml, pyramid.yml for the
-//    panorama's yaw), and the `exhibit:` section (exhibit_config.hpp: the relic, the panorama
-//    and their settings).
+//    holo::simulated assembles it (simulated/museum_installation.hpp), above this module;
+//  * a configuration file (`--config FILE` with a `capture:` section, loadInstallation below):
+//    the configured cameras (capture_config.hpp: Aravis, V4L2, recordings, and simulated scenes
+//    through the caller's source factory), each camera's model from the calibration folder
+//    (calibration_io.hpp: camera_SERIAL.yml, pyramid.yml for the panorama's yaw), and the
+//    `exhibit:` section (exhibit_config.hpp: the relic, the panorama and their settings).
 //
 // The background: when the calibration folder holds the background the calibration captured
 // for every camera (background_cameraN.png, 8-bit BGR, and background_depth_cameraN.png, 16-bit
@@ -35,6 +36,7 @@
 #include <vector>
 
 #include "holo/capture/camera_source.hpp"
+#include "holo/capture/capture_config.hpp"
 #include "holo/capture/capture_thread.hpp"
 #include "holo/capture/depth_to_colour.hpp"
 #include "holo/core/camera_model.hpp"
@@ -42,10 +44,6 @@
 #include "holo/core/mesh.hpp"
 #include "holo/core/rgbd_frame.hpp"
 #include "holo/reflect/environment.hpp"
-
-namespace holo::sim {
-class Museum;
-}
 
 namespace holo::pipeline {
 
@@ -79,28 +77,17 @@ struct Installation {
   Model relic;        // world frame, standing on the base
   cv::Mat panorama;   // CV_32FC3 linear BGR, equirectangular
   float panorama_yaw_rad = 0.0f;
-  // Where the panorama's pixels are. Simulated: simulatedPanoramaProxy below. Configured:
+  // Where the panorama's pixels are. Simulated: simulated::museumPanoramaProxy. Configured:
   // centre = its capture point (pyramid.yml's panorama_position), radius = exhibit.hall_radius,
   // base_half_width = exhibit.base_half_width; infinite (no parallax) without hall_radius.
   reflect::PanoramaProxy panorama_proxy;
 };
 
-// Where the simulated museum's panorama lies, for the live loop and the evaluations alike: the
-// pyramid's base (sim::kBaseHalfWidth) and a sphere around the scene's panorama_position whose
-// radius is the hall's mean distance from there (metres, over a Fibonacci sphere of directions,
-// those the base hides left out). Infinite (the panorama at infinity, no base) for a hall with
-// no geometry (hall: none).
-reflect::PanoramaProxy simulatedPanoramaProxy(const sim::Museum& museum);
-
-// The simulated museum's scene `scene` (built-in name or YAML file). `paced`: the cameras deliver
-// frames at the scene's rate (live mode); else as fast as they are asked for (deterministic).
-// `relic` (built-in name or glTF file) replaces the scene's relic; empty: the scene's. The
-// panorama lies where the hall is (simulatedPanoramaProxy).
-Installation simulatedInstallation(const std::string& scene, bool paced, int panorama_width,
-                                   const std::string& relic = "");
-
 struct InstallationOptions {
   bool relearn_background = false;  // ignore the calibration's background (see above)
+  // Builds the sources of the `capture:` section's sim cameras (simulated::configuredSources());
+  // none: such a camera is an InputError (capture::makeSource).
+  capture::SourceFactory simulated_sources = {};
 };
 
 // The installation a configuration document describes (`root` is the whole document; its

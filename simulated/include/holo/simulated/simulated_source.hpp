@@ -7,22 +7,24 @@
 // The museum is shared (read-only) between the four sources of one scene; renderCamera is const
 // and safe to call from several capture threads at once.
 //
-// Fault injection (the kiosk's tests and soak runs, never a configuration): setPowered(i, false)
-// switches camera i of every simulated museum in the process off, as if its power were cut. It
-// goes quiet (grab times out, so the capture thread declares it disconnected after its silence
-// timeout) and open() fails until it is switched on again; then it restarts at first_frame, as a
-// rebooted camera would.
+// Fault injection: a source honours the process's power switches (capture/camera_power.hpp) for
+// its camera index. Switched off, it goes quiet and open() fails; switched on again, it restarts
+// at first_frame, as a rebooted camera would.
+//
+// A configuration's `capture:` cameras of backend sim (capture_config.hpp) are built by
+// configuredSources() below: capture parses them but does not link the simulation.
 #pragma once
 
 #include <memory>
 
 #include "holo/capture/camera_source.hpp"
+#include "holo/capture/capture_config.hpp"
 
 namespace holo::sim {
 class Museum;
 }
 
-namespace holo::capture {
+namespace holo::simulated {
 
 struct SimulationOptions {
   bool paced = true;
@@ -31,21 +33,17 @@ struct SimulationOptions {
   bool with_visitors = true;
 };
 
-class SimulatedSource : public CameraSource {
+class SimulatedSource : public capture::CameraSource {
  public:
   // Throws InputError when `camera` is not 0..museum->cameraCount()-1.
   SimulatedSource(std::shared_ptr<const sim::Museum> museum, int camera, SimulationOptions options = {});
 
   std::string name() const override;    // "sim:<scene>/cam<i>"
   std::string serial() const override;  // "SIM-<scene>-<i>"
-  // Throws InputError when `camera` is not 0..sim::kFaceCount-1. Thread-safe.
-  static void setPowered(int camera, bool powered);
-  static bool powered(int camera);
-
   void open() override;
   void start() override;
   void stop() override {}
-  GrabResult grab(Nanoseconds timeout) override;
+  capture::GrabResult grab(Nanoseconds timeout) override;
   std::optional<CameraModel> cameraModel() const override;
 
  private:
@@ -56,4 +54,9 @@ class SimulatedSource : public CameraSource {
   Clock::time_point start_;
 };
 
-}  // namespace holo::capture
+// Builds the sources of a configuration's simulated cameras (capture::Backend::Simulated) for
+// capture::makeSources and the loaders that call it: cameras of the same scene share one museum,
+// built once (by the first camera that names it) for the factory's lifetime.
+capture::SourceFactory configuredSources();
+
+}  // namespace holo::simulated

@@ -1,4 +1,4 @@
-// Mesh primitives the simulator builds its halls, relics and visitors from. Every builder
+// Mesh primitives the built-in relics and the simulated halls and visitors are built from. Every builder
 // returns a closed (or, for lathes, optionally open) triangle mesh with per-vertex unit normals
 // in its own local frame, in metres; place it with TriangleMesh::transform or appendMesh.
 #pragma once
@@ -7,7 +7,7 @@
 
 #include "holo/core/mesh.hpp"
 
-namespace holo::sim {
+namespace holo {
 
 // Axis-aligned box centred at the origin with the given half extents (flat-shaded faces).
 TriangleMesh makeBox(const vec3& half_extent);
@@ -41,4 +41,4 @@ void appendMesh(TriangleMesh& dst, const TriangleMesh& part, const mat4& T = mat
 // Catmull-Rom resampling of a smooth profile through control points (samples per segment).
 std::vector<vec2> smoothProfile(const std::vector<vec2>& control, int samples_per_segment = 8);
 
-}  // namespace holo::sim
+}  // namespace holo

@@ -1,4 +1,4 @@
-#include "holo/calib/simulated_rig.hpp"
+#include "holo/simulated/simulated_rig.hpp"
 
 #include <cmath>
 #include <opencv2/calib3d.hpp>
@@ -9,7 +9,14 @@
 #include "holo/core/equirect.hpp"
 #include "holo/core/image.hpp"
 
-namespace holo::calib {
+namespace holo::simulated {
+
+using calib::AutoCalibrationConfig;
+using calib::BoardSpec;
+using calib::BoardTexture;
+using calib::FaceAlignment;
+using calib::RigActivity;
+using calib::SyntheticViewOptions;
 
 namespace {
 constexpr int kPanoramaWidth = 512;
@@ -23,12 +30,12 @@ SimulatedRig::SimulatedRig(sim::SceneDescription scene, const AutoCalibrationCon
     : museum_(scene),
       scene_(scene.name),
       config_(config),
-      intrinsics_texture_(renderBoardTexture(config.intrinsics_board, 60)),
-      placement_texture_(renderBoardTexture(config.placement_board, 60)) {
+      intrinsics_texture_(calib::renderBoardTexture(config.intrinsics_board, 60)),
+      placement_texture_(calib::renderBoardTexture(config.placement_board, 60)) {
   // The panorama was captured turned by 40 of its 512 columns (28.1 degrees); find the yaw
   // that undoes it the way holo::equirect applies a yaw, so the truth has the right sign.
   if (static_cast<int>(config_.placements.size()) != museum_.cameraCount())
-    config_.placements = defaultBoardPlacements(config_.placement_board, museum_.cameraCount());
+    config_.placements = calib::defaultBoardPlacements(config_.placement_board, museum_.cameraCount());
   panorama_shift_px_ = 40;
   const float a = 2.0f * kPi * static_cast<float>(panorama_shift_px_) / kPanoramaWidth;
   const vec3 ahead{0.0f, 0.0f, -1.0f};
@@ -95,7 +102,7 @@ bool inFrontOfCamera(const BoardSpec& board, const cv::Matx44d& T_camera_board) 
   for (const cv::Point3d corner :
        {cv::Point3d(e.x, e.y, 0), cv::Point3d(e.x + e.width, e.y, 0), cv::Point3d(e.x, e.y + e.height, 0),
         cv::Point3d(e.x + e.width, e.y + e.height, 0)})
-    if (transform(T_camera_board, corner).z < 0.1) return false;
+    if (calib::transform(T_camera_board, corner).z < 0.1) return false;
   return true;
 }
 
@@ -146,14 +153,14 @@ RgbdFrame SimulatedRig::boardFrame(const BoardTexture& texture, const Intrinsics
     return table;
   }();
   cv::Mat grey;
-  cv::LUT(renderBoardView(texture, K, T_camera_board, options, hall.colour), paper, grey);
+  cv::LUT(calib::renderBoardView(texture, K, T_camera_board, options, hall.colour), paper, grey);
   RgbdFrame out;
   cv::cvtColor(grey, out.colour, cv::COLOR_GRAY2BGR);
   // The depth device sees the board where it stood depth_delay_s_ later (the same pose while it
   // is held still), with a structured-light camera's noise at that distance.
   const double z = T_depth_board(2, 3);
   const cv::Mat board =
-      renderBoardDepth(texture, K, T_depth_board, 0.001 + 0.0025 * z * z, seed ^ 0xde97full);
+      calib::renderBoardDepth(texture, K, T_depth_board, 0.001 + 0.0025 * z * z, seed ^ 0xde97full);
   out.depth = hall.depth.clone();
   board.copyTo(out.depth, board > 0);
   return out;
@@ -190,7 +197,7 @@ RgbdFrame SimulatedRig::frame(RigActivity activity, int camera, int index) const
     }
     case RigActivity::PlacementBoard: {
       const int spot = index / (kFramesAtSpot + kFramesBetweenSpots);
-      const cv::Matx44d T = rigidInverse(toMatx(trueCamera(camera).T_world_camera())) *
+      const cv::Matx44d T = calib::rigidInverse(calib::toMatx(trueCamera(camera).T_world_camera())) *
                             config_.placements[static_cast<std::size_t>(spot)];
       if (index % (kFramesAtSpot + kFramesBetweenSpots) >= kFramesAtSpot ||
           !inFrontOfCamera(config_.placement_board, T)) {
@@ -232,10 +239,10 @@ FaceAlignment SimulatedRig::trueFaceAlignment(int face) const {
 }
 
 std::vector<cv::Point2f> SimulatedRig::observedTestPattern(int face, cv::Size view) const {
-  const cv::Matx23d A = faceTransform(trueFaceAlignment(face), view);
+  const cv::Matx23d A = calib::faceTransform(trueFaceAlignment(face), view);
   cv::RNG rng(static_cast<std::uint64_t>(3000 + face));
   std::vector<cv::Point2f> observed;
-  for (const auto& p : testPatternDots(view)) {
+  for (const auto& p : calib::testPatternDots(view)) {
     const cv::Vec2d q = A * cv::Vec3d(p.x, p.y, 1.0);
     observed.emplace_back(static_cast<float>(q[0] + rng.gaussian(0.3)),
                           static_cast<float>(q[1] + rng.gaussian(0.3)));
@@ -243,4 +250,4 @@ std::vector<cv::Point2f> SimulatedRig::observedTestPattern(int face, cv::Size vi
   return observed;
 }
 
-}  // namespace holo::calib
+}  // namespace holo::simulated

@@ -1,32 +1,19 @@
-#include "holo/capture/simulated_source.hpp"
+#include "holo/simulated/simulated_source.hpp"
 
-#include <array>
-#include <atomic>
 #include <cmath>
+#include <map>
+#include <string>
 #include <thread>
 
+#include "holo/capture/camera_power.hpp"
 #include "holo/core/error.hpp"
 #include "holo/sim/museum.hpp"
 
-namespace holo::capture {
-namespace {
+namespace holo::simulated {
 
-std::atomic<bool>& powerSwitch(int camera) {
-  static std::array<std::atomic<bool>, sim::kFaceCount> switches{true, true, true, true};
-  if (camera < 0 || camera >= sim::kFaceCount)
-    throw InputError("", "camera", "0.." + std::to_string(sim::kFaceCount - 1), std::to_string(camera));
-  return switches[static_cast<std::size_t>(camera)];
-}
-
-}  // namespace
-
-void SimulatedSource::setPowered(int camera, bool powered) {
-  powerSwitch(camera) = powered;
-}
-
-bool SimulatedSource::powered(int camera) {
-  return powerSwitch(camera);
-}
+using capture::cameraPowered;
+using capture::GrabResult;
+using capture::GrabStatus;
 
 SimulatedSource::SimulatedSource(std::shared_ptr<const sim::Museum> museum, int camera,
                                  SimulationOptions options)
@@ -47,7 +34,7 @@ std::string SimulatedSource::serial() const {
 }
 
 void SimulatedSource::open() {
-  if (!powered(camera_)) throw Error(name() + ": switched off (injected fault)");
+  if (!cameraPowered(camera_)) throw Error(name() + ": switched off (injected fault)");
 }
 
 void SimulatedSource::start() {
@@ -56,7 +43,7 @@ void SimulatedSource::start() {
 }
 
 GrabResult SimulatedSource::grab(Nanoseconds timeout) {
-  if (!powered(camera_)) {
+  if (!cameraPowered(camera_)) {
     std::this_thread::sleep_for(timeout);
     return {GrabStatus::Timeout, {}, "switched off (injected fault)"};
   }
@@ -92,4 +79,14 @@ std::optional<CameraModel> SimulatedSource::cameraModel() const {
   return museum_->camera(camera_);
 }
 
-}  // namespace holo::capture
+capture::SourceFactory configuredSources() {
+  return [museums = std::map<std::string, std::shared_ptr<const sim::Museum>>()](
+             const capture::CameraEntry& entry) mutable -> std::unique_ptr<capture::CameraSource> {
+    auto& museum = museums[entry.scene];
+    if (!museum) museum = std::make_shared<const sim::Museum>(sim::loadScene(entry.scene));
+    return std::make_unique<SimulatedSource>(museum, entry.sim_camera,
+                                             SimulationOptions{.paced = entry.paced});
+  };
+}
+
+}  // namespace holo::simulated

@@ -5,7 +5,7 @@
 // the boards in colour and in depth), the simulated monitors show the test pattern with a known misalignment.
 // Everything is seeded, and the truth (intrinsics, poses, panorama yaw, face alignment) is exposed for
 // checking. `holopyramid simulate --calibration` records the same frames, so a calibration from that
-// recording (capture_rig.hpp) runs the very steps a calibration on this rig runs.
+// recording (calib/capture_rig.hpp) runs the very steps a calibration on this rig runs.
 #pragma once
 
 #include <algorithm>
@@ -17,19 +17,19 @@
 #include "holo/calib/display_alignment.hpp"
 #include "holo/sim/museum.hpp"
 
-namespace holo::calib {
+namespace holo::simulated {
 
-class SimulatedRig : public CalibrationRig {
+class SimulatedRig : public calib::CalibrationRig {
  public:
   // `scene`: a built-in scene name or scene file (holo::sim::loadScene).
-  SimulatedRig(const std::string& scene, const AutoCalibrationConfig& config);
-  SimulatedRig(sim::SceneDescription scene, const AutoCalibrationConfig& config);
+  SimulatedRig(const std::string& scene, const calib::AutoCalibrationConfig& config);
+  SimulatedRig(sim::SceneDescription scene, const calib::AutoCalibrationConfig& config);
 
   int cameraCount() const override;
   std::string serial(int camera) const override;
   cv::Size imageSize(int camera) const override;
   std::string describe() const override;
-  void begin(RigActivity activity) override;
+  void begin(calib::RigActivity activity) override;
   std::optional<RgbdFrame> nextFrame(int camera) override;
   cv::Mat panorama() const override;
   std::vector<cv::Point2f> observedTestPattern(int face, cv::Size view) const override;
@@ -37,8 +37,8 @@ class SimulatedRig : public CalibrationRig {
   // The technician's session as frames: how many frames `activity` lasts (the same for every
   // camera) and frame `index` of `camera` during it (device_time counts from the activity's start
   // at the scene's frame rate).
-  int frameCount(RigActivity activity) const;
-  RgbdFrame frame(RigActivity activity, int camera, int index) const;
+  int frameCount(calib::RigActivity activity) const;
+  RgbdFrame frame(calib::RigActivity activity, int camera, int index) const;
 
   // The depth device's frames lag the colour device's by `seconds` (>= 0): its picture of a
   // moving board shows the board further along (sim/device_errors.hpp). Default 0.
@@ -48,25 +48,26 @@ class SimulatedRig : public CalibrationRig {
   const sim::Museum& museum() const { return museum_; }
   const CameraModel& trueCamera(int camera) const;
   float truePanoramaYaw() const { return panorama_yaw_; }
-  FaceAlignment trueFaceAlignment(int face) const;
+  calib::FaceAlignment trueFaceAlignment(int face) const;
 
  private:
   const RgbdFrame& hallFrame(int camera) const;  // the camera's frame of the empty hall (cached)
-  RgbdFrame boardFrame(const BoardTexture& texture, const Intrinsics& K, const cv::Matx44d& T_camera_board,
-                       const cv::Matx44d& T_depth_board, int camera, std::uint64_t seed, float blur) const;
+  RgbdFrame boardFrame(const calib::BoardTexture& texture, const Intrinsics& K,
+                       const cv::Matx44d& T_camera_board, const cv::Matx44d& T_depth_board, int camera,
+                       std::uint64_t seed, float blur) const;
 
   sim::Museum museum_;
   std::string scene_;
-  AutoCalibrationConfig config_;
-  BoardTexture intrinsics_texture_;
-  BoardTexture placement_texture_;
+  calib::AutoCalibrationConfig config_;
+  calib::BoardTexture intrinsics_texture_;
+  calib::BoardTexture placement_texture_;
   float panorama_yaw_ = 0.0f;
   int panorama_shift_px_ = 0;
   double depth_delay_s_ = 0.0;
-  RigActivity activity_ = RigActivity::HandHeldBoard;
+  calib::RigActivity activity_ = calib::RigActivity::HandHeldBoard;
   std::vector<int> next_;  // per camera: the next frame of the current activity
   mutable std::mutex cache_mutex_;
   mutable std::map<int, RgbdFrame> hall_frames_;
 };
 
-}  // namespace holo::calib
+}  // namespace holo::simulated

@@ -13,15 +13,16 @@
 #include "holo/pipeline/installation.hpp"
 #include "holo/sim/halls.hpp"
 #include "holo/sim/museum.hpp"
+#include "holo/simulated/museum_installation.hpp"
 #include "shared_data.hpp"
 
-namespace holo::pipeline {
+namespace holo::simulated {
 namespace {
 
 constexpr int kPanoramaWidth = 64;
 
 TEST(SimulatedInstallation, PlacesTheHallsPanoramaAtItsMeanDistanceAboveTheBase) {
-  const Installation installation = simulatedInstallation("museum", /*paced=*/false, kPanoramaWidth);
+  const pipeline::Installation installation = museumInstallation("museum", /*paced=*/false, kPanoramaWidth);
   const reflect::PanoramaProxy& proxy = installation.panorama_proxy;
   ASSERT_FALSE(proxy.infinite());
   // The gallery's walls, floor and ceiling average about 4 m from the capture point.
@@ -30,32 +31,32 @@ TEST(SimulatedInstallation, PlacesTheHallsPanoramaAtItsMeanDistanceAboveTheBase)
   EXPECT_EQ(proxy.base_half_width, sim::kBaseHalfWidth);
   EXPECT_EQ(proxy.centre, sim::loadScene("museum").panorama_position);
   // A smaller hall is nearer.
-  EXPECT_LT(simulatedInstallation("room", false, kPanoramaWidth).panorama_proxy.radius, proxy.radius);
+  EXPECT_LT(museumInstallation("room", false, kPanoramaWidth).panorama_proxy.radius, proxy.radius);
 }
 
 TEST(SimulatedInstallation, AHallWithoutGeometryKeepsThePanoramaAtInfinity) {
   const std::filesystem::path dir = test::scratchDir("simulated_installation_" + std::to_string(getpid()));
   const std::filesystem::path scene = dir / "no_hall.yaml";
   std::ofstream(scene) << "base: museum\nhall: none\nvisitors: 0\n";
-  const Installation installation = simulatedInstallation(scene.string(), false, kPanoramaWidth);
+  const pipeline::Installation installation = museumInstallation(scene.string(), false, kPanoramaWidth);
   EXPECT_TRUE(installation.panorama_proxy.infinite());
   EXPECT_EQ(installation.panorama_proxy.base_half_width, 0.0f);
 }
 
 TEST(SimulatedInstallation, TheLoopReadsThePanoramaThroughItUnlessAskedForInfinity) {
-  FrameLoopOptions options;
+  pipeline::FrameLoopOptions options;
   options.view_size = 32;
   options.panorama_width = kPanoramaWidth;
   const reflect::PanoramaProxy expected =
-      simulatedInstallation(options.scene, false, kPanoramaWidth).panorama_proxy;
-  const FrameLoop loop(options, nullptr);
+      museumInstallation(options.scene, false, kPanoramaWidth).panorama_proxy;
+  const pipeline::FrameLoop loop(options, installationFor(options), nullptr);
   EXPECT_EQ(loop.ibl().proxy().radius, expected.radius);
   EXPECT_EQ(loop.ibl().proxy().base_half_width, expected.base_half_width);
   options.panorama_at_infinity = true;
-  const FrameLoop at_infinity(options, nullptr);
+  const pipeline::FrameLoop at_infinity(options, installationFor(options), nullptr);
   EXPECT_TRUE(at_infinity.ibl().proxy().infinite());
   EXPECT_EQ(at_infinity.ibl().proxy().base_half_width, 0.0f);
 }
 
 }  // namespace
-}  // namespace holo::pipeline
+}  // namespace holo::simulated

@@ -1,11 +1,11 @@
-#include "holo/sim/relics.hpp"
+#include "holo/relics/relics.hpp"
 
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "holo/core/error.hpp"
-#include "holo/sim/shapes.hpp"
+#include "holo/core/shapes.hpp"
 
-namespace holo::sim {
+namespace holo::relics {
 
 namespace {
 
@@ -289,4 +289,4 @@ void fitOnPedestal(Model& model) {
   model.transform(T);
 }
 
-}  // namespace holo::sim
+}  // namespace holo::relics

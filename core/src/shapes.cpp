@@ -1,8 +1,8 @@
-#include "holo/sim/shapes.hpp"
+#include "holo/core/shapes.hpp"
 
 #include <algorithm>
 
-namespace holo::sim {
+namespace holo {
 namespace {
 
 // Two triangles per cell of a grid of `rows` rings of `segments` + 1 vertices (the seam's column
@@ -197,4 +197,4 @@ std::vector<vec2> smoothProfile(const std::vector<vec2>& c, int samples) {
   return out;
 }
 
-}  // namespace holo::sim
+}  // namespace holo

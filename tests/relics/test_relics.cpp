@@ -7,10 +7,10 @@
 #include "holo/core/error.hpp"
 #include "holo/core/gltf_io.hpp"
 #include "holo/core/ray_scene.hpp"
-#include "holo/sim/relics.hpp"
+#include "holo/relics/relics.hpp"
 #include "shared_data.hpp"
 
-namespace holo::sim {
+namespace holo::relics {
 namespace {
 
 // Procedural relics are written as glTF and loaded back through the same loader, unchanged.
@@ -122,4 +122,4 @@ TEST(Relics, FitOnPedestalScalesAnyModel) {
 }
 
 }  // namespace
-}  // namespace holo::sim
+}  // namespace holo::relics

@@ -1,13 +1,15 @@
 // The simulated museum's cameras as CameraSources: deterministic content, pacing, end of stream.
 #include <gtest/gtest.h>
 
+#include "holo/capture/capture_config.hpp"
 #include "holo/capture/capture_thread.hpp"
-#include "holo/capture/simulated_source.hpp"
 #include "holo/core/error.hpp"
 #include "holo/sim/museum.hpp"
+#include "holo/simulated/simulated_source.hpp"
 
 using namespace holo;
 using namespace holo::capture;
+using namespace holo::simulated;
 using namespace std::chrono_literals;
 
 namespace {
@@ -93,4 +95,19 @@ TEST(SimulatedSource, RunsInACaptureThreadAndRejectsBadCameras) {
   while (!thread.finished() && Clock::now() < end) std::this_thread::sleep_for(10ms);
   EXPECT_TRUE(thread.finished());
   EXPECT_EQ(thread.health().frames_completed, 4);
+}
+
+TEST(SimulatedSource, BuildsTheConfiguredSimCameras) {
+  const CaptureConfig c = parseCaptureConfig(ConfigNode::parse(R"(
+capture:
+  cameras:
+    - {face: 0, backend: sim, scene: room, paced: false}
+    - {face: 1, backend: sim, scene: room, camera: 3}
+)",
+                                                               "holo.yaml")["capture"]);
+  const auto sources = makeSources(c, configuredSources());
+  ASSERT_EQ(sources.size(), 2u);
+  EXPECT_EQ(sources[0]->name(), "sim:room/cam0");
+  EXPECT_EQ(sources[1]->name(), "sim:room/cam3");
+  EXPECT_TRUE(sources[1]->cameraModel().has_value());
 }

@@ -12,7 +12,7 @@
 
 #include "holo/core/mesh.hpp"
 
-namespace holo::sim {
+namespace holo::relics {
 
 std::vector<std::string> relicNames();  // vase, kettle, tripod, sphere, glass-vase, crystal
 std::string relicNameList();            // the same, joined with ", " (for help and errors)
@@ -25,4 +25,4 @@ inline constexpr float kRelicMaxWidth = 0.36f;  // fits well inside the pyramid 
 // y = 0 and centred on the Y axis. A model without extent is left as it is.
 void fitOnPedestal(Model& model);
 
-}  // namespace holo::sim
+}  // namespace holo::relics
