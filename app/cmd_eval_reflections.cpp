@@ -23,7 +23,7 @@
 #include "holo/eval/loglog_plot.hpp"
 #include "holo/eval/method_sweep.hpp"
 #include "holo/eval/reflection_scene.hpp"
-#include "holo/reflect/image_metrics.hpp"
+#include "holo/reference/image_metrics.hpp"
 #include "holo/reflect/tone_map.hpp"
 
 namespace holo::app {
@@ -126,7 +126,7 @@ int evalReflections(EvalOptions o) {
       seen[p.method] = true;
       const cv::Mat ldr = reflect::toneMap(p.image, exposure);
       display::writePngAtomically(dir / (p.method + ".png"), ldr);
-      display::writePngAtomically(dir / (p.method + "_error.png"), reflect::errorMap(p.image, gt));
+      display::writePngAtomically(dir / (p.method + "_error.png"), reference::errorMap(p.image, gt));
       strip.push_back(ldr);
     }
     cv::Mat side_by_side;

@@ -1,9 +1,16 @@
-#include "holo/reflect/dielectric.hpp"
+#include "holo/reference/dielectric.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-namespace holo::reflect {
+namespace holo::reference {
+
+using reflect::BsdfSample;
+using reflect::fresnelDielectric;
+using reflect::kDeltaRoughness;
+using reflect::roughnessToAlpha;
+using reflect::SurfaceMaterial;
+namespace ggx = reflect::ggx;
 
 namespace {
 
@@ -292,4 +299,4 @@ std::optional<BsdfSample> MaterialBsdf::sample(const vec3& wo, const vec3& u) co
   return s;
 }
 
-}  // namespace holo::reflect
+}  // namespace holo::reference
