@@ -13,9 +13,9 @@
 #include "holo/eval/methods.hpp"
 #include "holo/eval/reflection_scene.hpp"
 #include "holo/eval/scoring.hpp"
-#include "holo/reflect/image_metrics.hpp"
-#include "holo/reflect/path_tracer.hpp"
-#include "holo/reflect/voxel_emitters.hpp"
+#include "holo/reference/image_metrics.hpp"
+#include "holo/reference/path_tracer.hpp"
+#include "holo/reference/voxel_emitters.hpp"
 #include "holo/reflect/voxel_grid.hpp"
 
 namespace holo::eval {
@@ -56,7 +56,7 @@ AccuracySweep sweepAccuracy(const AccuracyOptions& o) {
 
   const cv::Mat gt_hdr = cachedGroundTruth(scene, camera, o.gt_spp, true, o.cache);
   const ForegroundScoring scoring = foregroundScoring(
-      gt_hdr, cachedGroundTruth(scene, camera, o.gt_spp, false, o.cache), reflect::kForegroundDistance);
+      gt_hdr, cachedGroundTruth(scene, camera, o.gt_spp, false, o.cache), reference::kForegroundDistance);
   sweep.region_pixels = scoring.region_pixels;
   const auto score = [&](AccuracyPoint& p, const cv::Mat& hdr) {
     p.mse = scoring.mse(hdr);
@@ -162,7 +162,7 @@ AccuracySweep sweepAccuracy(const AccuracyOptions& o) {
   }
   {  // path tracing of the voxels plus panorama: one progressive render, the sampling time per spp
     const ReconstructedScene reconstruction(scene, reflect::VoxelGridSettings{}, true, 7);
-    reflect::ProgressiveRender render(reconstruction.tracer, camera);
+    reference::ProgressiveRender render(reconstruction.tracer, camera);
     double sampling_ms = 0;
     for (int spp = 1; spp <= o.max_spp; spp *= 2) {
       const Stopwatch pass;

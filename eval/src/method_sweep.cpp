@@ -1,7 +1,7 @@
 #include "holo/eval/method_sweep.hpp"
 
 #include "holo/eval/ground_truth_cache.hpp"
-#include "holo/reflect/image_metrics.hpp"
+#include "holo/reference/image_metrics.hpp"
 
 namespace holo::eval {
 
@@ -51,15 +51,15 @@ MethodSweep sweepMethods(const ReflectionScene& scene, const CameraModel& camera
   sweep.region = cv::Mat(sweep.truth.size(), CV_8UC1, cv::Scalar(0));
   if (!scene.visitors.meshes.empty())
     sweep.region =
-        reflect::foregroundRegion(sweep.truth, cachedGroundTruth(scene, camera, gt_spp, false, cache));
+        reference::foregroundRegion(sweep.truth, cachedGroundTruth(scene, camera, gt_spp, false, cache));
   sweep.region_pixels = cv::countNonZero(sweep.region);
   sweep.points = plannedMethodPoints(full, gt_spp);
   for (MethodPoint& p : sweep.points) {
     const MethodResult r = renderMethod(p.method, scene, camera, p.settings);
     p.ms = r.ms;
     p.image = r.image;
-    p.mse = reflect::mse(r.image, sweep.truth);
-    p.fg_mse = sweep.region_pixels > 0 ? reflect::mse(r.image, sweep.truth, sweep.region) : 0.0;
+    p.mse = reference::mse(r.image, sweep.truth);
+    p.fg_mse = sweep.region_pixels > 0 ? reference::mse(r.image, sweep.truth, sweep.region) : 0.0;
   }
   return sweep;
 }

@@ -5,11 +5,11 @@
 #include "holo/core/error.hpp"
 #include "holo/core/log.hpp"
 #include "holo/core/stopwatch.hpp"
-#include "holo/reflect/foreground_environment.hpp"
-#include "holo/reflect/ibl_renderer.hpp"
-#include "holo/reflect/path_tracer.hpp"
-#include "holo/reflect/ssrt.hpp"
-#include "holo/reflect/voxel_emitters.hpp"
+#include "holo/reference/foreground_environment.hpp"
+#include "holo/reference/ibl_renderer.hpp"
+#include "holo/reference/path_tracer.hpp"
+#include "holo/reference/ssrt.hpp"
+#include "holo/reference/voxel_emitters.hpp"
 #include "holo/reflect/voxel_grid.hpp"
 
 namespace holo::eval {
@@ -30,12 +30,12 @@ std::vector<Model> voxelEmittersOf(const ReflectionScene& scene, const reflect::
   reflect::VoxelGrid grid(settings);
   if (with_visitors) grid.build(scene.foreground);
   std::vector<Model> emitters;
-  if (!grid.empty()) emitters.push_back(reflect::voxelEmitters(grid));
+  if (!grid.empty()) emitters.push_back(reference::voxelEmitters(grid));
   return emitters;
 }
 
-reflect::PathTracerOptions seeded(std::uint64_t seed) {
-  reflect::PathTracerOptions options;
+reference::PathTracerOptions seeded(std::uint64_t seed) {
+  reference::PathTracerOptions options;
   options.seed = seed;
   return options;
 }
@@ -57,13 +57,13 @@ MethodResult renderMethod(const std::string& method, const ReflectionScene& scen
     if (settings.with_visitors && !scene.visitors.meshes.empty()) emitters.push_back(scene.visitors);
     const reflect::RenderScene rs(scene.relic, emitters);
     const reflect::Environment env(scene.panorama);
-    reflect::PathTracerOptions options;
+    reference::PathTracerOptions options;
     options.seed = settings.seed;
     options.max_bounces = settings.max_bounces;
     options.max_dielectric_bounces = settings.max_dielectric_bounces;
-    const reflect::PathTracer tracer(rs, env, options);
-    reflect::PathTracerStats stats;
-    r.image = reflect::renderPathTraced(tracer, camera, std::max(1, settings.spp), &stats, quiet);
+    const reference::PathTracer tracer(rs, env, options);
+    reference::PathTracerStats stats;
+    r.image = reference::renderPathTraced(tracer, camera, std::max(1, settings.spp), &stats, quiet);
     // Debug: every opaque relic's gt has paths its 5-bounce cap stopped; evaluations render many.
     if (stats.truncated > 0)
       HOLO_LOG_DEBUG(
@@ -76,15 +76,15 @@ MethodResult renderMethod(const std::string& method, const ReflectionScene& scen
     // relic's Embree scene is built once too, as for ours).
     const reflect::RenderScene rs(scene.relic, {});
     const Stopwatch view;
-    r.image = reflect::renderIbl(rs, *settings.static_ibl, camera);
+    r.image = reference::renderIbl(rs, *settings.static_ibl, camera);
     r.ms = view.ms();
     return r;
   } else if (method == "ibl" || method == "ibl-baseline") {
     const reflect::RenderScene rs(scene.relic, {});
     const bool merge = method == "ibl-baseline" && settings.with_visitors;
     const Bounds3 b = scene.relic.bounds();
-    const cv::Mat pano = merge ? reflect::mergeForeground(scene.panorama, scene.foreground,
-                                                          b.empty() ? vec3(0.0f) : b.center())
+    const cv::Mat pano = merge ? reference::mergeForeground(scene.panorama, scene.foreground,
+                                                            b.empty() ? vec3(0.0f) : b.center())
                                : scene.panorama;
     const reflect::Environment env(pano);
     reflect::PrefilterOptions po;
@@ -92,7 +92,7 @@ MethodResult renderMethod(const std::string& method, const ReflectionScene& scen
     po.texel_density = settings.ibl_texel_density;
     const reflect::PrefilteredIbl ibl(env, po);
     r.build_ms = total.ms();
-    r.image = reflect::renderIbl(rs, ibl, camera);
+    r.image = reference::renderIbl(rs, ibl, camera);
   } else if (method == "ours" || method == "ssrt") {
     const reflect::RenderScene rs(scene.relic, {});
     std::shared_ptr<const reflect::PrefilteredIbl> ibl = settings.static_ibl;
@@ -125,11 +125,11 @@ MethodResult renderMethod(const std::string& method, const ReflectionScene& scen
       }
       r.image = std::move(fr.views.at(0).hdr);
     } else {
-      reflect::SsrtSettings ss;
+      reference::SsrtSettings ss;
       ss.rays = std::max(1, settings.spp);
       ss.seed = settings.seed;
       const Stopwatch view;
-      r.image = reflect::renderSsrt(rs, *ibl, cloud, camera, ss);
+      r.image = reference::renderSsrt(rs, *ibl, cloud, camera, ss);
       r.ms = view.ms();
     }
     return r;
@@ -138,7 +138,7 @@ MethodResult renderMethod(const std::string& method, const ReflectionScene& scen
                                             settings.seed);
     r.build_ms = total.ms();
     r.image =
-        reflect::renderPathTraced(reconstruction.tracer, camera, std::max(1, settings.spp), nullptr, quiet);
+        reference::renderPathTraced(reconstruction.tracer, camera, std::max(1, settings.spp), nullptr, quiet);
   } else {
     std::string names;
     for (const auto& m : reflectionMethods()) names += (names.empty() ? "" : ", ") + m;

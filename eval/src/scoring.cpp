@@ -4,7 +4,7 @@
 
 #include "holo/core/hdr_io.hpp"
 #include "holo/display/frame_output.hpp"
-#include "holo/reflect/image_metrics.hpp"
+#include "holo/reference/image_metrics.hpp"
 #include "holo/reflect/tone_map.hpp"
 
 namespace holo::eval {
@@ -16,18 +16,18 @@ cv::Mat displayedImage(const cv::Mat& hdr, float exposure) {
 }
 
 double ForegroundScoring::mse(const cv::Mat& hdr) const {
-  return reflect::mse(displayed(hdr), truth);
+  return reference::mse(displayed(hdr), truth);
 }
 
 double ForegroundScoring::foregroundMse(const cv::Mat& hdr) const {
-  return region_pixels > 0 ? reflect::mse(displayed(hdr), truth, region) : 0.0;
+  return region_pixels > 0 ? reference::mse(displayed(hdr), truth, region) : 0.0;
 }
 
 ForegroundScoring foregroundScoring(const cv::Mat& truth_hdr, const cv::Mat& without_hdr, float threshold) {
   ForegroundScoring s;
   s.exposure = reflect::autoExposure(truth_hdr);
   s.truth = s.displayed(truth_hdr);
-  s.region = reflect::foregroundRegion(s.truth, s.displayed(without_hdr), threshold);
+  s.region = reference::foregroundRegion(s.truth, s.displayed(without_hdr), threshold);
   s.region_pixels = cv::countNonZero(s.region);
   return s;
 }

@@ -12,9 +12,9 @@
 #include "holo/eval/methods.hpp"
 #include "holo/eval/reflection_scene.hpp"
 #include "holo/eval/scoring.hpp"
-#include "holo/reflect/path_tracer.hpp"
+#include "holo/reference/path_tracer.hpp"
+#include "holo/reference/voxel_emitters.hpp"
 #include "holo/reflect/tone_map.hpp"
-#include "holo/reflect/voxel_emitters.hpp"
 #include "holo/reflect/voxel_grid.hpp"
 
 namespace holo::eval {
@@ -179,12 +179,12 @@ SceneResult evaluateTracerScene(const std::string& hall, const std::string& reli
   // The reconstructed scene for MCPT: the voxel grid ours walks, as emitting cubes.
   const Stopwatch build_time;
   const ReconstructedScene reconstruction(scene, o.tracer.grid, true, 7);  // seed independent of the truth's
-  const reflect::PathTracer& tracer = reconstruction.tracer;
+  const reference::PathTracer& tracer = reconstruction.tracer;
   const double build_ms = build_time.ms();
 
   res.mcpt_build_ms = build_ms;
   {  // equal time: whole samples per pixel while the sampling time stays within ours' time
-    reflect::ProgressiveRender render(tracer, camera);
+    reference::ProgressiveRender render(tracer, camera);
     const Stopwatch sampling;
     double spent = 0;
     do {
@@ -200,7 +200,7 @@ SceneResult evaluateTracerScene(const std::string& hall, const std::string& reli
     res.entries.push_back(e);
   }
   {  // equal quality: 1, 2, 4, ... spp until fg_mse <= ours'
-    reflect::ProgressiveRender render(tracer, camera);
+    reference::ProgressiveRender render(tracer, camera);
     double sampling_ms = 0;
     Entry e;
     e.method = "mcpt_equal_quality";

@@ -8,7 +8,7 @@
 
 #include "holo/eval/ground_truth_cache.hpp"
 #include "holo/eval/reflection_scene.hpp"
-#include "holo/reflect/path_tracer.hpp"
+#include "holo/reference/path_tracer.hpp"
 #include "holo/reflect/view.hpp"
 #include "holo/relics/relics.hpp"
 #include "shared_data.hpp"
@@ -109,10 +109,10 @@ TEST(GroundTruthKey, ChangesWithEverythingThatChangesTheTruth) {
   brighter.panorama.at<cv::Vec3f>(3, 5)[1] += 0.01f;
   EXPECT_NE(groundTruthKey(brighter, view, 16, true), key);
 
-  EXPECT_NE(groundTruthKey(base, smallView(base, 9), 16, true), key);                        // the view
-  EXPECT_NE(groundTruthKey(base, view, 32, true), key);                                      // the samples
-  EXPECT_NE(groundTruthKey(base, view, 16, true, 2), key);                                   // the seed
-  EXPECT_NE(groundTruthKey(base, view, 16, true, 1, reflect::kPathTracerVersion + 1), key);  // the tracer
+  EXPECT_NE(groundTruthKey(base, smallView(base, 9), 16, true), key);                          // the view
+  EXPECT_NE(groundTruthKey(base, view, 32, true), key);                                        // the samples
+  EXPECT_NE(groundTruthKey(base, view, 16, true, 2), key);                                     // the seed
+  EXPECT_NE(groundTruthKey(base, view, 16, true, 1, reference::kPathTracerVersion + 1), key);  // the tracer
 }
 
 TEST(CachedGroundTruth, ReadsBackTheSameTruthAndRendersAChangedSceneAgain) {

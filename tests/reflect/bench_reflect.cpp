@@ -8,7 +8,7 @@
 #include <random>
 
 #include "holo/core/hdr_io.hpp"
-#include "holo/reflect/path_tracer.hpp"
+#include "holo/reference/path_tracer.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
 #include "holo/reflect/view.hpp"
 #include "reflect_test_scenes.hpp"
@@ -16,6 +16,10 @@
 
 namespace holo::reflect {
 namespace {
+
+using reference::PathTracer;
+using reference::PathTracerStats;
+using reference::renderPathTraced;
 
 // The real interior panorama when the shared data is there, else a seeded noise panorama with
 // a sun of the same size (the build cost does not depend on the content much).

@@ -4,12 +4,14 @@
 
 #include <cmath>
 
+#include "holo/reference/sampler.hpp"
 #include "holo/reflect/bsdf.hpp"
 #include "holo/reflect/dfg_table.hpp"
-#include "holo/reflect/sampler.hpp"
 
 namespace holo::reflect {
 namespace {
+
+using reference::SampleStream;
 
 // Midpoint quadrature of g(wi) over the upper hemisphere (theta x phi grid).
 template <class F>

@@ -5,12 +5,14 @@
 
 #include "holo/core/equirect.hpp"
 #include "holo/core/hdr_io.hpp"
+#include "holo/reference/sampler.hpp"
 #include "holo/reflect/environment.hpp"
-#include "holo/reflect/sampler.hpp"
 #include "shared_data.hpp"
 
 namespace holo::reflect {
 namespace {
+
+using reference::SampleStream;
 
 float maxChannel(const vec3& c) {
   return std::max({c.r, c.g, c.b});

@@ -6,9 +6,9 @@
 #include <cstdio>
 
 #include "holo/core/image.hpp"
+#include "holo/reference/image_metrics.hpp"
+#include "holo/reference/path_tracer.hpp"
 #include "holo/reflect/frame_renderer.hpp"
-#include "holo/reflect/image_metrics.hpp"
-#include "holo/reflect/path_tracer.hpp"
 #include "holo/reflect/view.hpp"
 #include "reflect_test_scenes.hpp"
 
@@ -17,6 +17,9 @@ namespace {
 
 using depthfilter::ForegroundCloud;
 using depthfilter::ForegroundPoint;
+using reference::mse;
+using reference::PathTracer;
+using reference::renderPathTraced;
 
 // Two metal spheres side by side, seen from +z: the left one bright (F0 0.9), the right one dark
 // (F0 0.2), under a uniform sky. The left sphere's right limb mirrors the dark sphere.

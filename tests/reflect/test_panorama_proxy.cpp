@@ -9,12 +9,14 @@
 
 #include "holo/core/equirect.hpp"
 #include "holo/core/error.hpp"
+#include "holo/reference/sampler.hpp"
 #include "holo/reflect/environment.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
-#include "holo/reflect/sampler.hpp"
 
 namespace holo::reflect {
 namespace {
+
+using reference::SampleStream;
 
 // Every pixel a different colour: red = longitude, green = colatitude, so a lookup tells which
 // pixel it read.

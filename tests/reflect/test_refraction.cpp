@@ -12,15 +12,18 @@
 #include "holo/core/equirect.hpp"
 #include "holo/core/fibonacci_sphere.hpp"
 #include "holo/core/image.hpp"
+#include "holo/reference/path_tracer.hpp"
 #include "holo/reflect/frame_renderer.hpp"
 #include "holo/reflect/optics.hpp"
-#include "holo/reflect/path_tracer.hpp"
 #include "holo/reflect/view.hpp"
 #include "internal_depth.hpp"
 #include "reflect_test_scenes.hpp"
 
 namespace holo::reflect {
 namespace {
+
+using reference::PathTracer;
+using reference::renderPathTraced;
 
 // A glass sphere of radius 0.15 at (0, 0.3, 0).
 Model glassSphere(float ior, float roughness = 0.0f, float thickness = 0.1f,

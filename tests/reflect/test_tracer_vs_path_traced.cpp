@@ -10,11 +10,11 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "holo/core/image.hpp"
-#include "holo/reflect/foreground_environment.hpp"
+#include "holo/reference/foreground_environment.hpp"
+#include "holo/reference/ibl_renderer.hpp"
+#include "holo/reference/image_metrics.hpp"
+#include "holo/reference/path_tracer.hpp"
 #include "holo/reflect/frame_renderer.hpp"
-#include "holo/reflect/ibl_renderer.hpp"
-#include "holo/reflect/image_metrics.hpp"
-#include "holo/reflect/path_tracer.hpp"
 #include "holo/reflect/tone_map.hpp"
 #include "holo/reflect/view.hpp"
 #include "holo/sim/museum.hpp"
@@ -22,6 +22,15 @@
 
 namespace holo::reflect {
 namespace {
+
+using reference::errorMap;
+using reference::foregroundRegion;
+using reference::mergeForeground;
+using reference::mse;
+using reference::PathTracer;
+using reference::PathTracerOptions;
+using reference::renderIbl;
+using reference::renderPathTraced;
 
 // The camera images of one frame, as an ideal depth filter would hand them over: the sensor's
 // colour linearised, the simulator's true foreground mask and depth, back-projected to points.

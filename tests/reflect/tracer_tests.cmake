@@ -4,7 +4,7 @@ holo_test(test_tracer
   SOURCES test_voxel_grid.cpp test_voxel_walk.cpp test_foreground_pyramid.cpp test_frame_passes.cpp
           test_frame_renderer.cpp test_frame_renderer_reuse.cpp test_frame_renderer_accuracy.cpp
           test_rough_foreground_map.cpp
-  DEPS holo::reflect holo::depthfilter holo_test_support)
+  DEPS holo::reflect holo::reference holo::depthfilter holo_test_support)
 target_include_directories(test_tracer PRIVATE ${PROJECT_SOURCE_DIR}/reflect/src)
 holo_benchmark(bench_voxel_walk
   SOURCES bench_voxel_walk.cpp
@@ -13,17 +13,13 @@ holo_benchmark(bench_voxel_walk
 if(TARGET holo::sim)
   holo_test(test_tracer_vs_path_traced
     SOURCES test_tracer_vs_path_traced.cpp
-    DEPS holo::reflect holo::sim holo_test_support)
+    DEPS holo::reflect holo::reference holo::sim holo_test_support)
 endif()
 holo_benchmark(bench_frame_renderer
   SOURCES bench_frame_renderer.cpp
   DEPS holo::reflect holo::depthfilter holo_test_support)
-# The evaluation's baselines: SSRT and the voxel emitters of the MCPT baseline.
-holo_test(test_baselines
-  SOURCES test_ssrt.cpp
-  DEPS holo::reflect holo::depthfilter holo_test_support)
 # The refraction pass, the clearcoat and the effect plan's material passes (reflect/src internals).
 holo_test(test_refraction
   SOURCES test_refraction.cpp
-  DEPS holo::reflect holo::depthfilter holo_test_support)
+  DEPS holo::reflect holo::reference holo::depthfilter holo_test_support)
 target_include_directories(test_refraction PRIVATE ${PROJECT_SOURCE_DIR}/reflect/src)

@@ -17,9 +17,9 @@
 
 #include "holo/core/camera_model.hpp"
 #include "holo/eval/reflection_scene.hpp"
+#include "holo/reference/path_tracer.hpp"
 #include "holo/reflect/environment.hpp"
 #include "holo/reflect/frame_renderer.hpp"
-#include "holo/reflect/path_tracer.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
 #include "holo/reflect/render_scene.hpp"
 
@@ -42,7 +42,7 @@ struct ReconstructedScene {
 
   reflect::RenderScene render_scene;
   reflect::Environment environment;
-  reflect::PathTracer tracer;
+  reference::PathTracer tracer;
 };
 
 struct MethodSettings {

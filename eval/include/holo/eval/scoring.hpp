@@ -1,7 +1,7 @@
 // How the evaluations score a rendered view: as the pyramid displays it (Reinhard tone map at the
 // ground truth's exposure, sRGB, floats in [0, 1]), over the whole view (mse) and over the
 // foreground region (fg_mse): the pixels where the visitors change the displayed truth by an RGB
-// distance of at least a threshold (reflect::foregroundRegion).
+// distance of at least a threshold (reference::foregroundRegion).
 #pragma once
 
 #include <string>

@@ -31,8 +31,8 @@
 #include <opencv2/core.hpp>
 
 #include "holo/core/error.hpp"
+#include "holo/reference/image_metrics.hpp"
 #include "holo/reflect/frame_renderer.hpp"
-#include "holo/reflect/image_metrics.hpp"
 
 namespace holo::eval {
 
@@ -48,7 +48,7 @@ struct TracerEvalOptions {
   // The paper's 0.2 leaves the region empty on the kettle and tripod: the visitors walk at >= 1.2 m
   // from the axis and those relics are rough (0.35, 0.6), so their reflections are soft; 0.05
   // gives them a region, mostly silhouette and grazing pixels (docs/tracer/evaluation.md).
-  float fg_threshold = reflect::kForegroundDistance;
+  float fg_threshold = reference::kForegroundDistance;
   int ssrt_rays = 0;  // 0: the equal-time search; > 0: fixed (deterministic, for CI)
   // Visitors standing close to the pyramid (sim planCloseVisitors), besides the hall's walkers:
   // visitors close to the pyramid, where parallax matters; the walkers keep >= 1.2 m from the axis.

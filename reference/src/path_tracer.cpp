@@ -1,4 +1,4 @@
-#include "holo/reflect/path_tracer.hpp"
+#include "holo/reference/path_tracer.hpp"
 
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
@@ -7,12 +7,20 @@
 
 #include "holo/core/progress.hpp"
 #include "holo/core/stats.hpp"
-#include "holo/reflect/dielectric.hpp"
+#include "holo/reference/dielectric.hpp"
 #include "holo/reflect/optics.hpp"
 #include "holo/reflect/surface_shading.hpp"
 #include "holo/reflect/view.hpp"
 
-namespace holo::reflect {
+namespace holo::reference {
+
+using reflect::Environment;
+using reflect::EnvironmentSample;
+using reflect::primaryRay;
+using reflect::RenderScene;
+using reflect::resolveSurface;
+using reflect::SurfaceMaterial;
+using reflect::SurfacePoint;
 
 namespace {
 
@@ -250,4 +258,4 @@ cv::Mat renderPathTraced(const PathTracer& tracer, const CameraModel& camera, in
   return render.image();
 }
 
-}  // namespace holo::reflect
+}  // namespace holo::reference

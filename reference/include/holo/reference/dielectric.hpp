@@ -37,18 +37,18 @@
 #include "holo/reflect/bsdf.hpp"
 #include "holo/reflect/optics.hpp"
 
-namespace holo::reflect {
+namespace holo::reference {
 
 class DielectricBsdf {
  public:
   // `eta` = IOR on the far side of `normal` / IOR on its side (> 0; 1 is an invisible interface).
   // `tint` multiplies transmitted light (base_colour on entering, 1 leaving).
-  DielectricBsdf(const SurfaceMaterial& material, const vec3& normal, float eta, const vec3& tint,
+  DielectricBsdf(const reflect::SurfaceMaterial& material, const vec3& normal, float eta, const vec3& tint,
                  bool thin_walled);
 
   vec3 eval(const vec3& wo, const vec3& wi) const;
   float pdf(const vec3& wo, const vec3& wi) const;
-  std::optional<BsdfSample> sample(const vec3& wo, const vec3& u) const;
+  std::optional<reflect::BsdfSample> sample(const vec3& wo, const vec3& u) const;
   bool delta() const { return delta_; }
 
  private:
@@ -56,7 +56,7 @@ class DielectricBsdf {
   vec3 fresnel(float cos_oh) const;
   vec3 evalLocal(const vec3& wo, const vec3& wi) const;
   float pdfLocal(const vec3& wo, const vec3& wi) const;
-  Frame frame_;
+  reflect::Frame frame_;
   float alpha_;
   float eta_;
   float f0_;        // exact normal-incidence reflectance ((eta - 1) / (eta + 1))^2
@@ -71,8 +71,9 @@ class MaterialBsdf {
  public:
   // `front`: wo is on the side the surface's glTF winding faces (outside a volume).
   // `clearcoat_normal`: the layer's own shading normal on wo's side (the base normal if none).
-  MaterialBsdf(const SurfaceMaterial& material, const vec3& normal, bool front, const vec3& clearcoat_normal);
-  MaterialBsdf(const SurfaceMaterial& material, const vec3& normal, bool front)
+  MaterialBsdf(const reflect::SurfaceMaterial& material, const vec3& normal, bool front,
+               const vec3& clearcoat_normal);
+  MaterialBsdf(const reflect::SurfaceMaterial& material, const vec3& normal, bool front)
       : MaterialBsdf(material, normal, front, normal) {}
 
   vec3 eval(const vec3& wo, const vec3& wi) const;
@@ -80,7 +81,7 @@ class MaterialBsdf {
   // BsdfSample::transmitted says the path crossed the surface (into or out of a volume when the
   // material is not thin-walled); dielectric() says the glass lobe (reflection or refraction)
   // scattered it.
-  std::optional<BsdfSample> sample(const vec3& wo, const vec3& u) const;
+  std::optional<reflect::BsdfSample> sample(const vec3& wo, const vec3& u) const;
   bool hasNonDelta() const;
   bool thinWalled() const { return thin_; }
 
@@ -91,9 +92,9 @@ class MaterialBsdf {
   float transmissive_;                    // w = (1 - metallic) transmission; 1 inside a volume
   float clearcoat_;                       // 0 inside a volume
   bool thin_;
-  Bsdf opaque_;
-  Bsdf coat_;
+  reflect::Bsdf opaque_;
+  reflect::Bsdf coat_;
   DielectricBsdf glass_;
 };
 
-}  // namespace holo::reflect
+}  // namespace holo::reference

@@ -1,19 +1,22 @@
 // The baselines of the tracer evaluation: screen-space ray tracing against the RGBD images
 // reprojected to the pyramid origin (ssrt.hpp), and the voxel grid as emitters for path tracing
 // the reconstructed scene (voxel_emitters.hpp).
-#include "holo/reflect/ssrt.hpp"
+#include "holo/reference/ssrt.hpp"
 
 #include <gtest/gtest.h>
 
 #include "holo/core/error.hpp"
 #include "holo/core/image.hpp"
-#include "holo/reflect/path_tracer.hpp"
+#include "holo/reference/path_tracer.hpp"
+#include "holo/reference/voxel_emitters.hpp"
 #include "holo/reflect/view.hpp"
-#include "holo/reflect/voxel_emitters.hpp"
 #include "reflect_test_scenes.hpp"
 
-namespace holo::reflect {
+namespace holo::reference {
 namespace {
+
+// The scenes, materials and environments the reference renderers read.
+using namespace holo::reflect;
 
 using depthfilter::ForegroundCloud;
 using depthfilter::ForegroundPoint;
@@ -163,4 +166,4 @@ TEST(VoxelEmitters, PathTracedMirrorSeesTheVoxelWall) {
 }
 
 }  // namespace
-}  // namespace holo::reflect
+}  // namespace holo::reference

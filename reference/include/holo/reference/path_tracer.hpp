@@ -1,5 +1,5 @@
-// Evaluation only: a reference for measuring the appliance's renderer, never run by it (the
-// evaluation sources of reflect/CMakeLists.txt).
+// Evaluation only: a reference for measuring the appliance's renderer, never linked by it
+// (reference/CMakeLists.txt).
 // Monte Carlo path tracer: the ground truth of the evaluation (docs/architecture.md, paper Sec. 4).
 //
 // GT definition: a camera ray sees only the relic (pixels that miss it are 0: the pyramid's
@@ -34,11 +34,11 @@
 #include <vector>
 
 #include "holo/core/camera_model.hpp"
+#include "holo/reference/sampler.hpp"
 #include "holo/reflect/environment.hpp"
 #include "holo/reflect/render_scene.hpp"
-#include "holo/reflect/sampler.hpp"
 
-namespace holo::reflect {
+namespace holo::reference {
 
 // The path tracer's version, part of every cached ground truth's key (eval/ground_truth_cache.hpp).
 // Bump it in the change that alters what the tracer renders for the same scene, view, spp and seed
@@ -100,7 +100,8 @@ struct PathRecord {
 class PathTracer {
  public:
   // The scene and environment must outlive the tracer.
-  PathTracer(const RenderScene& scene, const Environment& environment, PathTracerOptions options = {});
+  PathTracer(const reflect::RenderScene& scene, const reflect::Environment& environment,
+             PathTracerOptions options = {});
 
   // One path sample of the radiance arriving along `ray` after it has hit the relic; the
   // samples come from `stream`. pixel_spread (radians, 1 / fx for a camera ray): the pixel's
@@ -111,12 +112,12 @@ class PathTracer {
                       float pixel_spread = 0.0f, PathRecord* record = nullptr) const;
 
   const PathTracerOptions& options() const { return options_; }
-  const RenderScene& scene() const { return scene_; }
-  const Environment& environment() const { return environment_; }
+  const reflect::RenderScene& scene() const { return scene_; }
+  const reflect::Environment& environment() const { return environment_; }
 
  private:
-  const RenderScene& scene_;
-  const Environment& environment_;
+  const reflect::RenderScene& scene_;
+  const reflect::Environment& environment_;
   PathTracerOptions options_;
 };
 
@@ -145,4 +146,4 @@ class ProgressiveRender {
 cv::Mat renderPathTraced(const PathTracer& tracer, const CameraModel& camera, int spp,
                          PathTracerStats* stats = nullptr, bool quiet = true);
 
-}  // namespace holo::reflect
+}  // namespace holo::reference

@@ -1,5 +1,5 @@
-// Evaluation only: a reference for measuring the appliance's renderer, never run by it (the
-// evaluation sources of reflect/CMakeLists.txt).
+// Evaluation only: a reference for measuring the appliance's renderer, never linked by it
+// (reference/CMakeLists.txt).
 // The IBL renderer: the relic shaded from prefiltered maps alone (no visibility, no
 // interreflection), one primary ray per pixel centre. With the foreground reprojected into the
 // map (foreground_environment.hpp) this is the paper's IBL baseline. Same view and GT conventions
@@ -10,8 +10,9 @@
 #include "holo/reflect/prefiltered_ibl.hpp"
 #include "holo/reflect/render_scene.hpp"
 
-namespace holo::reflect {
+namespace holo::reference {
 
-cv::Mat renderIbl(const RenderScene& scene, const PrefilteredIbl& ibl, const CameraModel& camera);
+cv::Mat renderIbl(const reflect::RenderScene& scene, const reflect::PrefilteredIbl& ibl,
+                  const CameraModel& camera);
 
-}  // namespace holo::reflect
+}  // namespace holo::reference

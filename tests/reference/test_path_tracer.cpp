@@ -7,12 +7,15 @@
 
 #include "holo/core/equirect.hpp"
 #include "holo/core/image.hpp"
-#include "holo/reflect/path_tracer.hpp"
+#include "holo/reference/path_tracer.hpp"
 #include "holo/reflect/view.hpp"
 #include "reflect_test_scenes.hpp"
 
-namespace holo::reflect {
+namespace holo::reference {
 namespace {
+
+// The scenes, materials and environments the reference renderers read.
+using namespace holo::reflect;
 
 using test::sphereModel;
 
@@ -308,4 +311,4 @@ TEST(PathTracer, EmittersLightTheRelicAndShadowTheEnvironment) {
 }
 
 }  // namespace
-}  // namespace holo::reflect
+}  // namespace holo::reference

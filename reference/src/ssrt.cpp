@@ -1,4 +1,4 @@
-#include "holo/reflect/ssrt.hpp"
+#include "holo/reference/ssrt.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -10,12 +10,25 @@
 #include "holo/core/equirect.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/image.hpp"
+#include "holo/reference/sampler.hpp"
 #include "holo/reflect/bsdf.hpp"
 #include "holo/reflect/composition.hpp"
 #include "holo/reflect/hit_points.hpp"
-#include "holo/reflect/sampler.hpp"
 
-namespace holo::reflect {
+namespace holo::reference {
+
+using reflect::AntiAliasing;
+using reflect::composeReflection;
+using reflect::Frame;
+using reflect::HitPoint;
+using reflect::HitPointBuffer;
+using reflect::PrefilteredIbl;
+using reflect::RenderScene;
+using reflect::roughnessToAlpha;
+using reflect::SplitSumShading;
+using reflect::SurfaceMaterial;
+using reflect::traceHitPoints;
+namespace ggx = reflect::ggx;
 
 void SsrtSettings::validate() const {
   const std::string src = "ssrt settings";
@@ -178,4 +191,4 @@ cv::Mat renderSsrt(const RenderScene& scene, const PrefilteredIbl& ibl,
   return out;
 }
 
-}  // namespace holo::reflect
+}  // namespace holo::reference

@@ -1,6 +1,6 @@
-#include "holo/reflect/sampler.hpp"
+#include "holo/reference/sampler.hpp"
 
-namespace holo::reflect {
+namespace holo::reference {
 
 namespace {
 
@@ -60,4 +60,4 @@ vec2 SampleStream::next2D() {
   return {toUnitFloat(x), toUnitFloat(y)};
 }
 
-}  // namespace holo::reflect
+}  // namespace holo::reference

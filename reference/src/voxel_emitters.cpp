@@ -1,6 +1,9 @@
-#include "holo/reflect/voxel_emitters.hpp"
+#include "holo/reference/voxel_emitters.hpp"
 
-namespace holo::reflect {
+namespace holo::reference {
+
+using reflect::VoxelGrid;
+using reflect::VoxelSample;
 
 Model voxelEmitters(const VoxelGrid& grid) {
   Model model;
@@ -34,4 +37,4 @@ Model voxelEmitters(const VoxelGrid& grid) {
   return model;
 }
 
-}  // namespace holo::reflect
+}  // namespace holo::reference

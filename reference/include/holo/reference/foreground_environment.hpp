@@ -1,5 +1,5 @@
-// Evaluation only: a reference for measuring the appliance's renderer, never run by it (the
-// evaluation sources of reflect/CMakeLists.txt).
+// Evaluation only: a reference for measuring the appliance's renderer, never linked by it
+// (reference/CMakeLists.txt).
 // The paper's IBL baseline environment: the dynamic foreground (the depth filter's world-space
 // point cloud, holo::depthfilter::ForegroundCloud, linear radiance) reprojected into an equirectangular map
 // centred on the relic and merged over the static panorama, which is then prefiltered
@@ -16,7 +16,7 @@
 #include "holo/depthfilter/foreground_cloud.hpp"
 #include "holo/reflect/environment.hpp"
 
-namespace holo::reflect {
+namespace holo::reference {
 
 struct ReprojectionStats {
   long points_used = 0;
@@ -30,4 +30,4 @@ cv::Mat mergeForeground(const cv::Mat& static_panorama, const depthfilter::Foreg
                         const vec3& centre, float point_radius = 0.01f, float yaw = 0.0f,
                         ReprojectionStats* stats = nullptr);
 
-}  // namespace holo::reflect
+}  // namespace holo::reference

@@ -1,4 +1,4 @@
-#include "holo/reflect/ibl_renderer.hpp"
+#include "holo/reference/ibl_renderer.hpp"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -7,7 +7,15 @@
 #include "holo/reflect/surface_shading.hpp"
 #include "holo/reflect/view.hpp"
 
-namespace holo::reflect {
+namespace holo::reference {
+
+using reflect::PrefilteredIbl;
+using reflect::primaryRay;
+using reflect::RenderScene;
+using reflect::resolveSurface;
+using reflect::shadeSurface;
+using reflect::SplitSumShading;
+using reflect::SurfacePoint;
 
 cv::Mat renderIbl(const RenderScene& scene, const PrefilteredIbl& ibl, const CameraModel& camera) {
   cv::Mat out(camera.height(), camera.width(), CV_32FC3, cv::Scalar::all(0));
@@ -27,4 +35,4 @@ cv::Mat renderIbl(const RenderScene& scene, const PrefilteredIbl& ibl, const Cam
   return out;
 }
 
-}  // namespace holo::reflect
+}  // namespace holo::reference

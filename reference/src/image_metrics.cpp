@@ -1,4 +1,4 @@
-#include "holo/reflect/image_metrics.hpp"
+#include "holo/reference/image_metrics.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,7 @@
 #include "holo/core/error.hpp"
 #include "holo/core/image.hpp"
 
-namespace holo::reflect {
+namespace holo::reference {
 
 namespace {
 
@@ -62,4 +62,4 @@ cv::Mat errorMap(const cv::Mat& a, const cv::Mat& b, float max_error) {
   return colour;
 }
 
-}  // namespace holo::reflect
+}  // namespace holo::reference

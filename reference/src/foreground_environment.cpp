@@ -1,4 +1,4 @@
-#include "holo/reflect/foreground_environment.hpp"
+#include "holo/reference/foreground_environment.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -7,7 +7,9 @@
 #include "holo/core/error.hpp"
 #include "holo/core/image.hpp"
 
-namespace holo::reflect {
+namespace holo::reference {
+
+using reflect::forEachDiscPixel;
 
 cv::Mat mergeForeground(const cv::Mat& static_panorama, const depthfilter::ForegroundCloud& cloud,
                         const vec3& centre, float point_radius, float yaw, ReprojectionStats* stats) {
@@ -42,4 +44,4 @@ cv::Mat mergeForeground(const cv::Mat& static_panorama, const depthfilter::Foreg
   return out;
 }
 
-}  // namespace holo::reflect
+}  // namespace holo::reference

@@ -1,5 +1,5 @@
-// Evaluation only: a reference for measuring the appliance's renderer, never run by it (the
-// evaluation sources of reflect/CMakeLists.txt).
+// Evaluation only: a reference for measuring the appliance's renderer, never linked by it
+// (reference/CMakeLists.txt).
 // Seeded low-discrepancy sample streams for Monte Carlo rendering: per pixel, an Owen-scrambled
 // Sobol (0,2) sequence for every pair of dimensions, with the sample index shuffled per pixel and
 // per dimension pair (Burley 2020, "Practical Hash-based Owen Scrambling"). Every power-of-two
@@ -12,7 +12,7 @@
 
 #include "holo/core/math.hpp"
 
-namespace holo::reflect {
+namespace holo::reference {
 
 std::uint32_t hashCombine(std::uint32_t seed, std::uint32_t value);
 
@@ -32,4 +32,4 @@ class SampleStream {
   std::uint32_t dimension_ = 0;
 };
 
-}  // namespace holo::reflect
+}  // namespace holo::reference

@@ -15,15 +15,18 @@
 #include "holo/core/error.hpp"
 #include "holo/core/gltf_io.hpp"
 #include "holo/core/image.hpp"
-#include "holo/reflect/dielectric.hpp"
-#include "holo/reflect/path_tracer.hpp"
+#include "holo/reference/dielectric.hpp"
+#include "holo/reference/path_tracer.hpp"
 #include "holo/reflect/view.hpp"
 #include "holo/relics/relics.hpp"
 #include "reflect_test_scenes.hpp"
 #include "shared_data.hpp"
 
-namespace holo::reflect {
+namespace holo::reference {
 namespace {
+
+// The scenes, materials and environments the reference renderers read.
+using namespace holo::reflect;
 
 SurfaceMaterial glass(float ior, float roughness = 0.0f) {
   SurfaceMaterial m;
@@ -515,9 +518,9 @@ TEST(Dielectric, BadVolumeFactorsInAFileAreInputErrors) {
 }
 
 }  // namespace
-}  // namespace holo::reflect
+}  // namespace holo::reference
 
-namespace holo::reflect {
+namespace holo::reference {
 namespace {
 
 // The built-in glass relics are closed volumes as the tracer sees them: with their absorption
@@ -558,4 +561,4 @@ TEST(Dielectric, GlassRelicsInAWhiteFurnaceAreInvisible) {
 }
 
 }  // namespace
-}  // namespace holo::reflect
+}  // namespace holo::reference

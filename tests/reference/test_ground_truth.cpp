@@ -7,12 +7,15 @@
 
 #include <cmath>
 
+#include "holo/reference/path_tracer.hpp"
 #include "holo/reflect/bsdf.hpp"
-#include "holo/reflect/path_tracer.hpp"
 #include "reflect_test_scenes.hpp"
 
-namespace holo::reflect {
+namespace holo::reference {
 namespace {
+
+// The scenes, materials and environments the reference renderers read.
+using namespace holo::reflect;
 
 // Lambda(theta) = (-1 + sqrt(1 + alpha^2 tan^2 theta)) / 2 (Heitz 2014, eq. 72), in double.
 double smithLambda(double theta, double alpha) {
@@ -189,4 +192,4 @@ TEST(GroundTruth, ClosedEmittingLambertBoxSumsItsBounces) {
 }
 
 }  // namespace
-}  // namespace holo::reflect
+}  // namespace holo::reference

@@ -1,5 +1,5 @@
-// Evaluation only: a reference for measuring the appliance's renderer, never run by it (the
-// evaluation sources of reflect/CMakeLists.txt).
+// Evaluation only: a reference for measuring the appliance's renderer, never linked by it
+// (reference/CMakeLists.txt).
 // The reconstructed foreground as path-traceable geometry: every occupied voxel of the grid as a
 // cube that emits its voxel's radiance (a diffuse emitter, as RenderScene treats the hall and the
 // visitors). Path tracing the relic with these cubes and the static panorama is the MCPT baseline
@@ -14,9 +14,9 @@
 #include "holo/core/mesh.hpp"
 #include "holo/reflect/voxel_grid.hpp"
 
-namespace holo::reflect {
+namespace holo::reference {
 
 // An empty Model for an empty grid.
-Model voxelEmitters(const VoxelGrid& grid);
+Model voxelEmitters(const reflect::VoxelGrid& grid);
 
-}  // namespace holo::reflect
+}  // namespace holo::reference

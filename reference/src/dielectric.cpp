@@ -1,11 +1,20 @@
-#include "holo/reflect/dielectric.hpp"
+#include "holo/reference/dielectric.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 #include "holo/reflect/optics.hpp"
 
-namespace holo::reflect {
+namespace holo::reference {
+
+using reflect::attenuationCoefficient;
+using reflect::BsdfSample;
+using reflect::fresnelDielectric;
+using reflect::kDeltaRoughness;
+using reflect::refractDirection;
+using reflect::roughnessToAlpha;
+using reflect::SurfaceMaterial;
+namespace ggx = reflect::ggx;
 
 namespace {
 
@@ -274,4 +283,4 @@ std::optional<BsdfSample> MaterialBsdf::sample(const vec3& wo, const vec3& u) co
   return s;
 }
 
-}  // namespace holo::reflect
+}  // namespace holo::reference

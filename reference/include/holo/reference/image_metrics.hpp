@@ -1,5 +1,5 @@
-// Evaluation only: a reference for measuring the appliance's renderer, never run by it (the
-// evaluation sources of reflect/CMakeLists.txt).
+// Evaluation only: a reference for measuring the appliance's renderer, never linked by it
+// (reference/CMakeLists.txt).
 // Image comparisons of the evaluation (paper Sec. 4.1.2, Table 1). Images are linear HDR
 // CV_32FC3 of the same size; values are compared as displayed before encoding, i.e. clamped to
 // [0, 1] (a monitor cannot show more), so one blown-out sun pixel does not dominate an MSE.
@@ -8,7 +8,7 @@
 
 #include <opencv2/core.hpp>
 
-namespace holo::reflect {
+namespace holo::reference {
 
 inline constexpr float kForegroundDistance = 0.2f;  // paper: RGB distance >= 0.2
 
@@ -21,4 +21,4 @@ double mse(const cv::Mat& a, const cv::Mat& b, const cv::Mat& mask = {});
 // Colour-coded per-pixel squared error (inferno), 0 .. max_error mapped to dark .. bright.
 cv::Mat errorMap(const cv::Mat& a, const cv::Mat& b, float max_error = 0.05f);
 
-}  // namespace holo::reflect
+}  // namespace holo::reference

@@ -1,5 +1,5 @@
-// Evaluation only: a reference for measuring the appliance's renderer, never run by it (the
-// evaluation sources of reflect/CMakeLists.txt).
+// Evaluation only: a reference for measuring the appliance's renderer, never linked by it
+// (reference/CMakeLists.txt).
 // The screen-space ray tracing baseline (SSRT) of the paper's Figure 7 comparison (McGuire and
 // Mara 2014, as the paper uses it): the depth cameras' RGBD images are reprojected into one RGBD
 // image seen from the pyramid origin O, and reflected rays are marched against that image alone.
@@ -31,7 +31,7 @@
 #include "holo/reflect/prefiltered_ibl.hpp"
 #include "holo/reflect/render_scene.hpp"
 
-namespace holo::reflect {
+namespace holo::reference {
 
 struct SsrtSettings {
   vec3 origin{0.0f};          // O, where the reprojected RGBD image is seen from (metres)
@@ -74,8 +74,8 @@ struct SsrtStats {
 
 // Renders one view with SSRT. `scene` holds the relic (emitters are ignored); `ibl` the static
 // environment. Throws InputError on invalid settings.
-cv::Mat renderSsrt(const RenderScene& scene, const PrefilteredIbl& ibl,
+cv::Mat renderSsrt(const reflect::RenderScene& scene, const reflect::PrefilteredIbl& ibl,
                    const depthfilter::ForegroundCloud& cloud, const CameraModel& view,
                    const SsrtSettings& settings, SsrtStats* stats = nullptr);
 
-}  // namespace holo::reflect
+}  // namespace holo::reference
