@@ -76,7 +76,7 @@
 #include <tbb/concurrent_vector.h>
 
 #include "holo/reflect/foreground_pyramid.hpp"
-#include "holo/reflect/frame_renderer.hpp"
+#include "holo/reflect/tracer_settings.hpp"
 #include "holo/reflect/hit_points.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
 #include "holo/reflect/render_scene.hpp"
