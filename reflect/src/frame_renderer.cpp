@@ -21,7 +21,8 @@ FrameRenderer::FrameRenderer(const RenderScene& scene, const PrefilteredIbl& ibl
   if (scene_.relic().materials.empty()) relic_glossy_ = true;  // default material: be safe
   relic_bounds_ = scene_.relicBounds();
   for (const Material& m : scene_.relic().materials) {
-    relic_transmissive_ = relic_transmissive_ || (settings_.refraction_enabled && m.transmission > 0.0f);
+    relic_transmissive_ =
+        relic_transmissive_ || (settings_.evaluation.refraction_enabled && m.transmission > 0.0f);
     relic_clearcoat_ = relic_clearcoat_ || m.clearcoat > 0.0f;
   }
   if (relic_transmissive_) {
@@ -61,7 +62,7 @@ EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
   in.max_reflection_distance = settings_.max_reflection_distance;
   in.relic_transmissive = relic_transmissive_;
   in.relic_clearcoat = relic_clearcoat_;
-  in.refracted_foreground = settings_.refracted_foreground;
+  in.refracted_foreground = settings_.evaluation.refracted_foreground;
   in.internal_depth = internal_depth_;
   in.internal_residual = internal_residual_;
   in.internal_depth_source = settings_.refraction_depth > 0 ? "set" : "measured";

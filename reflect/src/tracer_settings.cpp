@@ -25,9 +25,9 @@ void TracerSettings::validate() const {
   if (!std::isfinite(static_reuse_distance) || static_reuse_distance < 0.0f)
     throw InputError(src, "static_reuse_distance", "a finite distance >= 0 (metres)",
                      std::to_string(static_reuse_distance));
-  if (!std::isfinite(level_bias) || std::abs(level_bias) > float(kMaxPyramidLevels))
+  if (!std::isfinite(evaluation.level_bias) || std::abs(evaluation.level_bias) > float(kMaxPyramidLevels))
     throw InputError(src, "level_bias", "a finite level offset within +-" + std::to_string(kMaxPyramidLevels),
-                     std::to_string(level_bias));
+                     std::to_string(evaluation.level_bias));
   if (!std::isfinite(lobe_fallback_roughness) || lobe_fallback_roughness < 0.0f)
     throw InputError(src, "lobe_fallback_roughness", "a roughness >= 0 (> 1: never)",
                      std::to_string(lobe_fallback_roughness));
@@ -53,9 +53,10 @@ void TracerSettings::validate() const {
                      std::to_string(refraction_depth));
   if (!std::isfinite(refraction_residual) || !(refraction_residual > 0.0f) || !(refraction_residual < 1.0f))
     throw InputError(src, "refraction_residual", "a share in (0, 1)", std::to_string(refraction_residual));
-  if (!std::isfinite(transmitted_roughness_scale) || transmitted_roughness_scale < 0.0f ||
-      transmitted_roughness_scale > 4.0f)
-    throw InputError(src, "transmitted_roughness_scale", "0..4", std::to_string(transmitted_roughness_scale));
+  if (!std::isfinite(evaluation.transmitted_roughness_scale) ||
+      evaluation.transmitted_roughness_scale < 0.0f || evaluation.transmitted_roughness_scale > 4.0f)
+    throw InputError(src, "transmitted_roughness_scale", "0..4",
+                     std::to_string(evaluation.transmitted_roughness_scale));
   if (refraction_stride < 1 || refraction_stride > 4)
     throw InputError(src, "refraction_stride", "1..4 pixels", std::to_string(refraction_stride));
   if (refraction_branch_rays < 0 || refraction_branch_rays > 64)
