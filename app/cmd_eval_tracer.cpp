@@ -143,9 +143,9 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--levels", o->tracer.pyramid_levels, "Ours: pyramid levels")
           ->capture_default_str()
           ->check(CLI::Range(1, reflect::kMaxPyramidLevels));
-      sub.add_flag("!--no-refracted-foreground", o->tracer.refracted_foreground,
+      sub.add_flag("!--no-refracted-foreground", o->tracer.evaluation.refracted_foreground,
                    "Ours: glass refracts the IBL only, not the visitors seen through it");
-      sub.add_flag("!--no-refraction", o->tracer.refraction_enabled,
+      sub.add_flag("!--no-refraction", o->tracer.evaluation.refraction_enabled,
                    "Ours: glass shaded as opaque (no refraction pass: the opaque reference)");
       sub.add_option(
              "--refraction-depth", o->tracer.refraction_depth,
@@ -173,11 +173,11 @@ HOLO_REGISTER_COMMAND(Command{
              "Ours, glass relics: luminance ratio of the transmitted light within a pixel above which its "
              "samples take the mean of more paths (0: off)")
           ->capture_default_str();
-      sub.add_option("--transmitted-lobe-scale", o->tracer.transmitted_roughness_scale,
+      sub.add_option("--transmitted-lobe-scale", o->tracer.evaluation.transmitted_roughness_scale,
                      "Ours, glass relics: scales the transmitted lobe's derived roughness (checks)")
           ->capture_default_str()
           ->check(CLI::Range(0.0f, 4.0f));
-      sub.add_option("--level-bias", o->tracer.level_bias,
+      sub.add_option("--level-bias", o->tracer.evaluation.level_bias,
                      "Ours: added to the derived pyramid level (checks)")
           ->capture_default_str()
           ->check(CLI::Range(-8.0f, 8.0f));
@@ -196,7 +196,7 @@ HOLO_REGISTER_COMMAND(Command{
                      "interreflection (1: the mirror ray; else even)")
           ->capture_default_str()
           ->check(CLI::IsMember({1, 2, 4, 6, 8}));
-      sub.add_flag("!--no-rough-interleave", o->tracer.rough_interreflection_interleaved,
+      sub.add_flag("!--no-rough-interleave", o->tracer.evaluation.rough_interreflection_interleaved,
                    "Ours: every sample traces every lobe stratum of the rough interreflection "
                    "(not interleaved over 2x2 pixels)");
       sub.add_option(

@@ -128,10 +128,10 @@ AccuracySweep sweepAccuracy(const AccuracyOptions& o) {
     s.tracer.aa_samples = c.aa;
     s.tracer.pyramid_levels = c.levels;
     s.tracer.grid.voxel_size = c.voxel;
-    s.tracer.level_bias = c.bias;
+    s.tracer.evaluation.level_bias = c.bias;
     s.tracer.lobe_components = c.lobe_components;
     s.tracer.refraction_depth = c.refraction_depth;
-    s.tracer.transmitted_roughness_scale = c.transmitted_roughness_scale;
+    s.tracer.evaluation.transmitted_roughness_scale = c.transmitted_roughness_scale;
     s.tracer.refraction_stride = c.refraction_stride;
     s.tracer.refraction_branch_rays = c.refraction_branch_rays;
     s.tracer.refraction_supersample_contrast = c.refraction_supersample_contrast;

@@ -137,16 +137,16 @@ SceneResult evaluateTracerScene(const std::string& hall, const std::string& reli
   // its refraction reading the IBL only (no visitors seen through it).
   const bool glass = std::any_of(scene.relic.materials.begin(), scene.relic.materials.end(),
                                  [](const Material& m) { return m.transmissive(); });
-  if (glass && base.tracer.refraction_enabled) {
+  if (glass && base.tracer.evaluation.refraction_enabled) {
     MethodSettings opaque = base;
-    opaque.tracer.refraction_enabled = false;
+    opaque.tracer.evaluation.refraction_enabled = false;
     Entry e = timed("ours", ours_knob + ",no-refraction", scene, camera, opaque, o.repeats);
     e.method = "ours_glass_opaque";
     score(e);
     res.entries.push_back(e);
-    if (base.tracer.refracted_foreground) {
+    if (base.tracer.evaluation.refracted_foreground) {
       MethodSettings ibl_only = base;
-      ibl_only.tracer.refracted_foreground = false;
+      ibl_only.tracer.evaluation.refracted_foreground = false;
       e = timed("ours", ours_knob + ",no-refracted-foreground", scene, camera, ibl_only, o.repeats);
       e.method = "ours_ibl_refraction";
       score(e);

@@ -115,7 +115,7 @@ ForegroundSample ForegroundWalk::readLobe(const ForegroundPyramid& pyramid, cons
   for (const LobeComponent& c : lobe_) {
     const float level = std::clamp(foregroundLevelForLobe(sigma * c.sigma_scale, travel_m, camera_m, focal_px,
                                                           settings_.pyramid_levels) +
-                                       settings_.level_bias,
+                                       settings_.evaluation.level_bias,
                                    0.0f, float(settings_.pyramid_levels - 1));
     const ForegroundSample s = pyramid.sample(pixel, level);
     premultiplied += c.weight * s.weight * s.radiance;
@@ -300,7 +300,7 @@ WalkCounts ForegroundWalk::walkView(const HitPointBuffer& hits, const std::vecto
           for (std::size_t i = first; i < first + count && rough; ++i)
             rough = !hits.valid[i] || walk_rays[i].roughness >= settings_.walk_per_pixel_roughness;
           bool edge = false;
-          if (count > 1 && !rough && settings_.walk_edges_only) {
+          if (count > 1 && !rough && settings_.evaluation.walk_edges_only) {
             const int x = int(p % std::size_t(w_px)), y = int(p / std::size_t(w_px));
             for (int dy = -1; dy <= 1 && !edge; ++dy)
               for (int dx = -1; dx <= 1 && !edge; ++dx) {
@@ -312,7 +312,7 @@ WalkCounts ForegroundWalk::walkView(const HitPointBuffer& hits, const std::vecto
                        std::abs(scratch.pixel_fg[q].weight - scratch.pixel_fg[p].weight) > kEdgeWeightStep;
               }
           }
-          if (mixed || (count > 1 && !rough && (edge || !settings_.walk_edges_only))) {
+          if (mixed || (count > 1 && !rough && (edge || !settings_.evaluation.walk_edges_only))) {
             for (std::size_t i = first; i < first + count; ++i) {
               if (!hits.valid[i]) continue;
               const WalkRay& wr = walk_rays[i];

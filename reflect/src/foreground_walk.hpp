@@ -18,13 +18,14 @@
 #include <optional>
 #include <vector>
 
+#include "holo/reflect/foreground_camera_image.hpp"
 #include "holo/reflect/foreground_pyramid.hpp"
-#include "holo/reflect/frame_renderer.hpp"
 #include "holo/reflect/hit_points.hpp"
 #include "holo/reflect/rough_foreground_map.hpp"
+#include "holo/reflect/tracer_settings.hpp"
 #include "holo/reflect/voxel_grid.hpp"
 #include "holo/reflect/voxel_walk.hpp"
-#include "static_shading.hpp"
+#include "walk_ray.hpp"
 
 namespace holo::reflect {
 

@@ -4,7 +4,7 @@
 #include <chrono>
 #include <vector>
 
-#include "holo/reflect/frame_renderer.hpp"
+#include "holo/reflect/pass_timing.hpp"
 
 namespace holo::reflect {
 

@@ -23,7 +23,7 @@
 
 #include "glass_transport.hpp"
 #include "holo/reflect/foreground_pyramid.hpp"
-#include "holo/reflect/frame_renderer.hpp"
+#include "holo/reflect/tracer_settings.hpp"
 #include "holo/reflect/hit_points.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
 #include "holo/reflect/render_scene.hpp"

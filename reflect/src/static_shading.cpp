@@ -81,7 +81,7 @@ std::optional<LobeBounce> StaticShading::shadeHit(const HitPoint& hp, const Lobe
   if (settings_.rough_interreflection_grid > 1 &&
       readsRoughMap(rough_map_, settings_, hp.material.roughness)) {
     const LobeBounce bounce = traceLobeBounce(hp, share);
-    if (settings_.rough_interreflection_interleaved) return bounce;
+    if (settings_.evaluation.rough_interreflection_interleaved) return bounce;
     addLobeBounce(bounce, shading);
     return std::nullopt;
   }
@@ -136,23 +136,23 @@ LobeBounce StaticShading::traceLobeBounce(const HitPoint& hp, const LobeShare& s
   if (!(wo.z > 0.0f)) return bounce;
   const float alpha = std::max(hp.material.roughness * hp.material.roughness, 1e-3f);
   const RayScene& relic = scene_.relicOnly();
-  forEachLobeStratum(settings_.rough_interreflection_grid, settings_.rough_interreflection_interleaved,
-                     share.pixel_class, share.sample, share.samples, [&](const vec2& u) {
-                       const vec3 l =
-                           glm::reflect(-hp.to_viewer, frame.toWorld(ggx::sampleVisibleNormal(wo, alpha, u)));
-                       if (!(glm::dot(l, hp.normal) > 0.0f)) return;
-                       bounce.above += 1.0f;
-                       const Ray ray{hp.position + hp.normal * settings_.ray_offset, l};
-                       const RayHit hit = relic.intersect(ray);
-                       if (!hit.hit()) return;
-                       const SurfacePoint surface =
-                           resolveSurface(scene_, relic, ray, hit, share.cone_width + hit.t * share.spread);
-                       if (!isFinite(surface.normal)) return;
-                       const SplitSumShading second = shadeSurface(ibl_, surface, -ray.direction);
-                       bounce.diffuse += second.diffuse;
-                       bounce.specular += second.specular_scale * second.environment;
-                       bounce.met += 1.0f;
-                     });
+  forEachLobeStratum(
+      settings_.rough_interreflection_grid, settings_.evaluation.rough_interreflection_interleaved,
+      share.pixel_class, share.sample, share.samples, [&](const vec2& u) {
+        const vec3 l = glm::reflect(-hp.to_viewer, frame.toWorld(ggx::sampleVisibleNormal(wo, alpha, u)));
+        if (!(glm::dot(l, hp.normal) > 0.0f)) return;
+        bounce.above += 1.0f;
+        const Ray ray{hp.position + hp.normal * settings_.ray_offset, l};
+        const RayHit hit = relic.intersect(ray);
+        if (!hit.hit()) return;
+        const SurfacePoint surface =
+            resolveSurface(scene_, relic, ray, hit, share.cone_width + hit.t * share.spread);
+        if (!isFinite(surface.normal)) return;
+        const SplitSumShading second = shadeSurface(ibl_, surface, -ray.direction);
+        bounce.diffuse += second.diffuse;
+        bounce.specular += second.specular_scale * second.environment;
+        bounce.met += 1.0f;
+      });
   return bounce;
 }
 
@@ -189,7 +189,7 @@ void StaticShading::shade(const HitPointBuffer& hits, const CameraModel& view,
   walk_rays.resize(hits.hits.size());
   const bool pool_bounces = rough_map_ && settings_.relic_interreflection &&
                             settings_.rough_interreflection_grid > 1 &&
-                            settings_.rough_interreflection_interleaved;
+                            settings_.evaluation.rough_interreflection_interleaved;
   if (pool_bounces) bounces.assign(hits.pixelCount(), PixelBounce{});
   const float spread = 1.0f / view.intrinsics().fx;  // radians per pixel: the footprint's growth
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),

@@ -20,26 +20,15 @@
 
 #include <opencv2/core.hpp>
 
-#include "holo/reflect/frame_renderer.hpp"
+#include "holo/core/camera_model.hpp"
 #include "holo/reflect/hit_points.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
 #include "holo/reflect/render_scene.hpp"
 #include "holo/reflect/rough_foreground_map.hpp"
+#include "holo/reflect/tracer_settings.hpp"
+#include "walk_ray.hpp"
 
 namespace holo::reflect {
-
-// Whether a material of this roughness takes its foreground from the rough map (null: none).
-inline bool readsRoughMap(const RoughForegroundMap* map, const TracerSettings& settings, float roughness) {
-  return map != nullptr && roughness >= settings.foreground_map_roughness;
-}
-
-// The ray a hit point's foreground walk follows: its mirror ray, or the mirror ray of its
-// interreflection's second point (bounced), with the two lobes' roughness combined.
-struct WalkRay {
-  vec3 position{0.0f}, normal{0.0f, 1.0f, 0.0f}, reflected{0.0f, 1.0f, 0.0f};
-  float roughness = 0.0f;
-  bool bounced = false;
-};
 
 // The rough lobe's interreflection samples of one hit point (or their sum over pixels).
 struct LobeBounce {

@@ -194,7 +194,7 @@ TEST(FrameRenderer, StaysFiniteInHardCases) {
 TEST(FrameRenderer, EdgeWalkMatchesAWalkPerSubSample) {
   MirrorScene m(0.0f);
   TracerSettings every = test::smallGrid();
-  every.walk_edges_only = false;
+  every.evaluation.walk_edges_only = false;
   TracerSettings edges = test::smallGrid();  // aa 4, edges only: the default
   FrameRenderer a(m.scene, m.ibl, every), b(m.scene, m.ibl, edges);
   const ViewImages va = a.render(m.wall, {m.camera}, {m.view}).views.at(0);
@@ -311,7 +311,7 @@ TEST(FrameRenderer, RejectsBadSettings) {
   s.lobe_fallback_roughness = -0.1f;
   EXPECT_THROW(FrameRenderer(m.scene, m.ibl, s), InputError);
   s = TracerSettings{};
-  s.level_bias = kInf;
+  s.evaluation.level_bias = kInf;
   EXPECT_THROW(FrameRenderer(m.scene, m.ibl, s), InputError);
   for (int odd_or_out_of_range : {0, 3, 10}) {
     s = TracerSettings{};

@@ -94,7 +94,7 @@ TEST(FrameRenderer, RoughInterreflectionFollowsThePathTracedLobe) {
     TracerSettings s = test::smallGrid();
     s.aa_samples = aa_samples;
     s.rough_interreflection_grid = grid;
-    s.rough_interreflection_interleaved = interleaved;
+    s.evaluation.rough_interreflection_interleaved = interleaved;
     FrameRenderer renderer(t.scene, t.ibl, s);
     const ViewImages v = renderer.render(ForegroundCloud{}, {}, {t.view}).views.at(0);
     // The bright sphere's inside, a pixel from its silhouette (whose aliasing differs with the

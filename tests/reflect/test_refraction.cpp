@@ -390,14 +390,14 @@ TEST(Refraction, OnlyATransmissiveRelicPaysForRefraction) {
   EXPECT_GT(v.refracted_walks, 0u);
   // Switched off, the glass is shaded as opaque (the comparison's "before"): no refraction work.
   TracerSettings off = test::smallGrid();
-  off.refraction_enabled = false;
+  off.evaluation.refraction_enabled = false;
   FrameRenderer opaque_glass(glass, ibl, off);
   const FrameResult o = opaque_glass.render(wall.cloud, {wall.camera}, {view});
   EXPECT_FALSE(o.plan.has(Pass::Refraction)) << o.plan.describe();
   EXPECT_EQ(o.views.at(0).refraction_rays, 0u);
   // Refraction of the IBL only: traced, but no exit ray walks.
   TracerSettings ibl_only = test::smallGrid();
-  ibl_only.refracted_foreground = false;
+  ibl_only.evaluation.refracted_foreground = false;
   FrameRenderer no_visitors(glass, ibl, ibl_only);
   const FrameResult n = no_visitors.render(wall.cloud, {wall.camera}, {view});
   EXPECT_TRUE(n.plan.has(Pass::Refraction));

@@ -37,6 +37,7 @@
 #include "holo/pipeline/frame_report.hpp"
 #include "holo/pipeline/installation.hpp"
 #include "holo/reflect/frame_renderer.hpp"
+#include "holo/reflect/hit_points.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
 #include "holo/reflect/render_scene.hpp"
 

@@ -1,0 +1,50 @@
+// What the frame renderer returns for a frame: per face view its images and counters, per frame
+// the effect plan and the timings of the passes run once for all views.
+// Units: linear radiance; images CV_32FC3 linear BGR (HDR) and CV_8UC3 sRGB BGR.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "holo/core/camera_model.hpp"
+#include "holo/reflect/effect_plan.hpp"
+#include "holo/reflect/pass_timing.hpp"
+
+namespace holo::reflect {
+
+// What one view's passes did this frame, for the statistics.
+struct ViewCounters {
+  std::uint64_t walked_rays = 0, foreground_hits = 0;  // reflected rays walked; those that met the foreground
+  bool static_reused = false;                          // hit points and static shading came from the cache
+  std::size_t refined_pixels = 0;                      // pixels with 4 sub-samples
+  std::size_t composed_pixels = 0;                     // pixels some foreground reached, composed this frame
+  // Material layers (refraction_pass.hpp): Embree rays of the transmitted paths, the samples that
+  // traced one, the paths that reached the depth cap, the supersampled and the clearcoated samples
+  // (0 when the static shading was reused); the transmitted exit rays walked for the visitors
+  // (every frame with foreground).
+  std::uint64_t refraction_rays = 0, refracted_samples = 0, capped_paths = 0, refracted_walks = 0;
+  std::uint64_t supersampled_samples = 0;  // samples whose transmitted light is a mean of paths
+  std::uint64_t coated_samples = 0;
+};
+
+// One view's images, with its counters.
+struct ViewImages : ViewCounters {
+  cv::Mat hdr;       // psi_f, CV_32FC3 linear BGR; 0 where nothing is seen
+  cv::Mat weight;    // mean foreground weight w per pixel, CV_32FC1 [0, 1]
+  cv::Mat coverage;  // relic coverage per pixel, CV_32FC1 [0, 1]
+  cv::Mat display;   // CV_8UC3 sRGB BGR
+  float exposure = 1.0f;
+  std::vector<PassTiming> timings;  // this view's passes
+  CameraModel camera;               // the camera the images are from (the cached one when reused)
+};
+
+struct FrameResult {
+  EffectPlan plan;
+  std::vector<PassTiming> frame_timings;  // per-frame passes (voxel grid, pyramids)
+  std::vector<ViewImages> views;
+};
+
+}  // namespace holo::reflect

@@ -1,0 +1,137 @@
+// The reflection tracer's settings (frame_renderer.hpp). TracerSettings holds the knobs the live
+// product sets (the kiosk's degradation policy, the installation's frame loop, `run`);
+// TracerEvaluationKnobs holds those that exist only to measure the tracer, against path-traced
+// truth or against itself with a stage or a shortcut turned off, and that the live product leaves
+// at their defaults. Per field: what it means, its unit and valid range (validate() throws
+// InputError naming the field outside it), its default and why. The measurements behind the
+// defaults are in docs/tracer.md.
+// Units: metres, linear radiance, perceptual roughness in [0, 1] (a threshold above 1: never).
+#pragma once
+
+#include "holo/reflect/voxel_grid.hpp"
+
+namespace holo::reflect {
+
+// Departures from the live tracer, for measuring it; every default is the live tracer.
+struct TracerEvaluationKnobs {
+  // Pyramid levels added to every read's derived level (foregroundLevel), finite, within
+  // +-kMaxPyramidLevels; default 0, the derived level. Checks the derivation against
+  // path-traced truth.
+  float level_bias = 0.0f;
+  // Factor on the transmitted lobe's derived roughness (its IBL level and the walk's pyramid
+  // levels), 0..4; default 1, the derived roughness. Checks the derivation against path-traced
+  // truth.
+  float transmitted_roughness_scale = 1.0f;
+  // Refraction through transmissive relic materials; false: they are shaded as opaque. Default
+  // true; false renders the opaque relic the glass is compared with.
+  bool refraction_enabled = true;
+  // The visitors seen through the glass (a walk per transmitted exit ray); false: refraction reads
+  // the IBL only. Default true; false measures what the walk through the glass adds.
+  bool refracted_foreground = true;
+  // Below walk_per_pixel_roughness, a four-sample pixel walks each sub-sample only at the
+  // reflected foreground's edges (a neighbour's pixel walk met it and this one's did not, or their
+  // weights differ by more than 0.2) and elsewhere shares the pixel's walk; false: every sub-sample
+  // walks (4x the rays). Default true, the same edges at a quarter of the rays; false is the
+  // reference it is checked against.
+  bool walk_edges_only = true;
+  // Each hit point traces only its 2x2 pixel class's share of the rough interreflection's strata
+  // and a 3x3 tent over the pixels of the same surface sums them all (static_shading.hpp); false:
+  // every sample traces every stratum (side^2 rays). Default true, one ray per sample at side 4
+  // with four samples; false is the reference it is checked against.
+  bool rough_interreflection_interleaved = true;
+};
+
+struct TracerSettings {
+  // The foreground passes (voxel grid, pyramids, walk, composition); false: the static IBL only.
+  // Default true; the kiosk turns it off to keep the frame rate.
+  bool foreground_enabled = true;
+  // Kawase pyramid levels per camera (l_max), each doubling the blur, 1..kMaxPyramidLevels;
+  // default 7, the pyramid the figures of docs/tracer.md are measured with.
+  int pyramid_levels = 7;
+  // Primary-ray sub-samples per pixel: 1 (the centre) or 4 (rotated grid, hit_points.hpp); default
+  // 4, stable silhouettes on a still relic.
+  int aa_samples = 4;
+  // With aa_samples 1 only: 4 sub-samples at silhouette, crease and material-edge pixels
+  // (AntiAliasing::Edges); default false, the centre alone.
+  bool edge_aa = false;
+  // Metres an eye may move (and its axis turn, that far at 0.5 m) before a view's cached hit
+  // points and static shading are traced again, finite >= 0; default 0, reused only for the
+  // identical camera so the image is exact.
+  float static_reuse_distance = 0.0f;
+  // Roughness from which a four-sample pixel walks once (the mean of its samples' rays) and
+  // composes every sample with that foreground, >= 0; default 0.3: a lobe this rough reads a blur
+  // wider than the sub-pixel offsets, below it the four walks anti-alias reflected edges.
+  float walk_per_pixel_roughness = 0.3f;
+  // One interreflection bounce: where a hit point's reflection meets the relic itself, it shows
+  // that second point's static shading and foreground, scaled by the first point's specular
+  // weight (static_shading.hpp); false: such pixels show the hall through the relic. Default true:
+  // a concave relic (a vase's foot, the inside of its lip) mirrors itself, visitors included.
+  bool relic_interreflection = true;
+  // Roughness from which a reflected ray that meets no voxel marches to where it first passes
+  // within two lobe sigmas of an occupied brick and reads the blurred pyramids there (the soft
+  // halo a rough lobe shows beside a visitor), >= 0; default 0.2, where the halo is wider than a
+  // voxel.
+  float lobe_fallback_roughness = 0.2f;
+  // Gaussians standing for the GGX lobe in each pyramid read (ggxLobeMixture), one read each,
+  // 1..kMaxLobeComponents; default 2: one Gaussian misses GGX's heavy tail.
+  int lobe_components = 2;
+  // Roughness from which a hit point's foreground comes from RoughForegroundMap (the visitors
+  // prefiltered around the relic) instead of the walk, >= 0; default 0.5: one walked ray and a
+  // camera-space blur cannot stand for a lobe tens of degrees wide. The map is built per frame
+  // only when an untextured relic material is this rough.
+  float foreground_map_roughness = 0.5f;
+  // RoughForegroundMap's width in texels (height width / 2), even, 8..1024; default 64, ~5.6
+  // degrees a texel, fine for lobes that rough.
+  int foreground_map_width = 64;
+  // The interreflection of materials read from the rough map, a side of strata: > 1, their GGX
+  // lobe sampled at the centres of side x side strata of its visible normals (even, 2..8), one
+  // relic ray each, the share that meets the relic seeing the second points' static shading; 1:
+  // the mirror ray alone, all or nothing (stripes where the truth is smooth). Default 4, one ray
+  // per sample with four samples and interleaving.
+  int rough_interreflection_grid = 4;
+  // Metres a reflected ray may travel through the grid, finite > 0; default 3, the default grid's
+  // corners are about 3 m from the relic.
+  float max_reflection_distance = 3.0f;
+  // Metres a reflected ray starts along the normal, against self-intersection, 0..0.1; default
+  // 1 mm, far above float error at the relic's scale, far below its features (the tripod's 8 mm
+  // wall).
+  float ray_offset = 1e-3f;
+  // Exposure of the tone map, finite; <= 0: automatic per view (tone_map.hpp's autoExposure).
+  // Default 0; the frame loop fixes it at its first frame's automatic choice, so the relic does
+  // not pump as visitors come and go.
+  float exposure = 0.0f;
+  // Interface events a transmitted path follows through the relic (refraction_pass.hpp), 0 or
+  // 1..kMaxInternalDepth; default 0, measured on the relic when the renderer is built (the
+  // smallest depth that leaves less than refraction_residual of the transmitted light inside).
+  int refraction_depth = 0;
+  // Share of the transmitted light the measured depth may leave to the IBL, in (0, 1); default
+  // 0.01, 1% of a glass pixel's transmitted light, under 1 sRGB code at mid-grey.
+  float refraction_residual = 0.01f;
+  // Pixels between the transmitted paths' anchors (refraction_pass.hpp), 1..4; 1: every sample
+  // traces; s > 1: anchors every s pixels (every 2s-th traces, the others blend those where they
+  // agree), the samples between blending the anchors where these agree, tracing elsewhere.
+  // Default 2; docs/tracer.md has its error and time against the other strides.
+  int refraction_stride = 2;
+  // Rays a transmitted path may spend following the light reflected inside at a partial exit
+  // (refraction_pass.hpp), 0..64; 0: all of it summed as between parallel walls, which sends a
+  // cut crystal's light back in large facet images. Default 8; docs/tracer.md has its error and
+  // time against other budgets.
+  int refraction_branch_rays = 8;
+  // Share of the light entering below which the light reflected inside at a partial exit is summed
+  // as between parallel walls instead of followed, [0, 1]; default 0.1: a diamond's exits near its
+  // critical angle are followed, ordinary glass (F ~ 0.04) keeps the sum and its visitors.
+  float refraction_branch_weight = 0.1f;
+  // Luminance ratio of the transmitted light among a four-sample pixel's samples above which each
+  // takes the mean of 16 paths across its quarter of the pixel (refraction_pass.hpp), 0 or >= 1;
+  // 0: off. Default 32: a lamp seen through a crystal's facets by some of the samples and not the
+  // others, while a glass wall's changing thickness stays below it.
+  float refraction_supersample_contrast = 32.0f;
+  // The voxel grid the walk traverses (voxel_grid.hpp).
+  VoxelGridSettings grid;
+  // The departures for measuring the tracer; the live product leaves them at their defaults.
+  TracerEvaluationKnobs evaluation;
+  // Throws InputError naming the field (an evaluation knob by its own name).
+  void validate() const;
+};
+
+}  // namespace holo::reflect

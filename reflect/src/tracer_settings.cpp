@@ -1,0 +1,75 @@
+#include "holo/reflect/tracer_settings.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "holo/core/error.hpp"
+#include "holo/reflect/foreground_pyramid.hpp"
+#include "glass_transport.hpp"  // kMaxInternalDepth
+
+namespace holo::reflect {
+
+void TracerSettings::validate() const {
+  const std::string src = "tracer settings";
+  if (pyramid_levels < 1 || pyramid_levels > kMaxPyramidLevels)
+    throw InputError(src, "pyramid_levels", "1.." + std::to_string(kMaxPyramidLevels),
+                     std::to_string(pyramid_levels));
+  if (aa_samples != 1 && aa_samples != 4)
+    throw InputError(src, "aa_samples", "1 or 4", std::to_string(aa_samples));
+  if (!std::isfinite(max_reflection_distance) || !(max_reflection_distance > 0.0f))
+    throw InputError(src, "max_reflection_distance", "a finite distance > 0 (metres)",
+                     std::to_string(max_reflection_distance));
+  if (!std::isfinite(ray_offset) || ray_offset < 0.0f || ray_offset > 0.1f)
+    throw InputError(src, "ray_offset", "0..0.1 metres", std::to_string(ray_offset));
+  if (!std::isfinite(exposure)) throw InputError(src, "exposure", "a finite number (<= 0 for automatic)");
+  if (!std::isfinite(static_reuse_distance) || static_reuse_distance < 0.0f)
+    throw InputError(src, "static_reuse_distance", "a finite distance >= 0 (metres)",
+                     std::to_string(static_reuse_distance));
+  if (!std::isfinite(evaluation.level_bias) || std::abs(evaluation.level_bias) > float(kMaxPyramidLevels))
+    throw InputError(src, "level_bias", "a finite level offset within +-" + std::to_string(kMaxPyramidLevels),
+                     std::to_string(evaluation.level_bias));
+  if (!std::isfinite(lobe_fallback_roughness) || lobe_fallback_roughness < 0.0f)
+    throw InputError(src, "lobe_fallback_roughness", "a roughness >= 0 (> 1: never)",
+                     std::to_string(lobe_fallback_roughness));
+  if (!std::isfinite(walk_per_pixel_roughness) || walk_per_pixel_roughness < 0.0f)
+    throw InputError(src, "walk_per_pixel_roughness", "a roughness >= 0 (> 1: never)",
+                     std::to_string(walk_per_pixel_roughness));
+  if (edge_aa && aa_samples != 1) throw InputError(src, "edge_aa", "only with aa_samples 1", "aa_samples 4");
+  if (!std::isfinite(foreground_map_roughness) || foreground_map_roughness < 0.0f)
+    throw InputError(src, "foreground_map_roughness", "a roughness >= 0 (> 1: never)",
+                     std::to_string(foreground_map_roughness));
+  if (foreground_map_width < 8 || foreground_map_width > 1024 || foreground_map_width % 2 != 0)
+    throw InputError(src, "foreground_map_width", "an even number of texels in 8..1024",
+                     std::to_string(foreground_map_width));
+  if (rough_interreflection_grid != 1 && (rough_interreflection_grid < 2 || rough_interreflection_grid > 8 ||
+                                          rough_interreflection_grid % 2 != 0))
+    throw InputError(src, "rough_interreflection_grid", "1 (the mirror ray) or an even side 2..8",
+                     std::to_string(rough_interreflection_grid));
+  if (lobe_components < 1 || lobe_components > kMaxLobeComponents)
+    throw InputError(src, "lobe_components", "1.." + std::to_string(kMaxLobeComponents),
+                     std::to_string(lobe_components));
+  if (refraction_depth < 0 || refraction_depth > kMaxInternalDepth)
+    throw InputError(src, "refraction_depth", "0 (measured) or 1.." + std::to_string(kMaxInternalDepth),
+                     std::to_string(refraction_depth));
+  if (!std::isfinite(refraction_residual) || !(refraction_residual > 0.0f) || !(refraction_residual < 1.0f))
+    throw InputError(src, "refraction_residual", "a share in (0, 1)", std::to_string(refraction_residual));
+  if (!std::isfinite(evaluation.transmitted_roughness_scale) ||
+      evaluation.transmitted_roughness_scale < 0.0f || evaluation.transmitted_roughness_scale > 4.0f)
+    throw InputError(src, "transmitted_roughness_scale", "0..4",
+                     std::to_string(evaluation.transmitted_roughness_scale));
+  if (refraction_stride < 1 || refraction_stride > 4)
+    throw InputError(src, "refraction_stride", "1..4 pixels", std::to_string(refraction_stride));
+  if (refraction_branch_rays < 0 || refraction_branch_rays > 64)
+    throw InputError(src, "refraction_branch_rays", "0..64 rays", std::to_string(refraction_branch_rays));
+  if (!std::isfinite(refraction_branch_weight) || refraction_branch_weight < 0.0f ||
+      refraction_branch_weight > 1.0f)
+    throw InputError(src, "refraction_branch_weight", "a share in [0, 1]",
+                     std::to_string(refraction_branch_weight));
+  if (!std::isfinite(refraction_supersample_contrast) ||
+      (refraction_supersample_contrast != 0.0f && !(refraction_supersample_contrast >= 1.0f)))
+    throw InputError(src, "refraction_supersample_contrast", "0 (off) or a ratio >= 1",
+                     std::to_string(refraction_supersample_contrast));
+  grid.validate(src + " grid");
+}
+
+}  // namespace holo::reflect
