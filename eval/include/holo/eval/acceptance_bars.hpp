@@ -8,7 +8,7 @@ namespace holo::eval {
 
 struct DepthMethodMetrics;
 
-// ---- Reflections, per scene of `eval tracer` (docs/tracer.md), on the displayed images ----
+// ---- Reflections, per scene of `eval tracer` (docs/tracer/evaluation.md), on the displayed images ----
 
 // ours' fg_mse at most a quarter of the reference's: the paper's IBL, or on a glass relic ours
 // refracting the IBL only (ratio reference / ours >= 4).

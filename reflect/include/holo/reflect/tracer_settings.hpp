@@ -46,7 +46,7 @@ struct TracerSettings {
   // Default true; the kiosk turns it off to keep the frame rate.
   bool foreground_enabled = true;
   // Kawase pyramid levels per camera (l_max), each doubling the blur, 1..kMaxPyramidLevels;
-  // default 7, the pyramid the figures of docs/tracer.md are measured with.
+  // default 7, the pyramid the figures of docs/tracer/voxel_walk.md are measured with.
   int pyramid_levels = 7;
   // Primary-ray sub-samples per pixel: 1 (the centre) or 4 (rotated grid, hit_points.hpp); default
   // 4, stable silhouettes on a still relic.
@@ -110,11 +110,11 @@ struct TracerSettings {
   // Pixels between the transmitted paths' anchors (refraction_pass.hpp), 1..4; 1: every sample
   // traces; s > 1: anchors every s pixels (every 2s-th traces, the others blend those where they
   // agree), the samples between blending the anchors where these agree, tracing elsewhere.
-  // Default 2; docs/tracer.md has its error and time against the other strides.
+  // Default 2; docs/tracer/glass.md has its error and time against the other strides.
   int refraction_stride = 2;
   // Rays a transmitted path may spend following the light reflected inside at a partial exit
   // (refraction_pass.hpp), 0..64; 0: all of it summed as between parallel walls, which sends a
-  // cut crystal's light back in large facet images. Default 8; docs/tracer.md has its error and
+  // cut crystal's light back in large facet images. Default 8; docs/tracer/glass.md has its error and
   // time against other budgets.
   int refraction_branch_rays = 8;
   // Share of the light entering below which the light reflected inside at a partial exit is summed
