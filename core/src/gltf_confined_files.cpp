@@ -5,7 +5,7 @@
 
 #include "holo/core/error.hpp"
 #include "holo/core/files.hpp"
-#include "holo/core/gltf_io.hpp"
+#include "holo/core/gltf_limits.hpp"
 
 namespace holo::gltf_detail {
 

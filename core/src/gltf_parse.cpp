@@ -7,7 +7,7 @@
 #include "gltf_textures.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/files.hpp"
-#include "holo/core/gltf_io.hpp"
+#include "holo/core/gltf_limits.hpp"
 #include "holo/core/log.hpp"
 
 namespace holo::gltf_detail {

@@ -11,7 +11,7 @@
 #include "gltf_materials.hpp"
 #include "gltf_textures.hpp"
 #include "holo/core/error.hpp"
-#include "holo/core/gltf_io.hpp"
+#include "holo/core/gltf_limits.hpp"
 #include "holo/core/log.hpp"
 #include "holo/core/stats.hpp"
 

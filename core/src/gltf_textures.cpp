@@ -5,7 +5,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "holo/core/error.hpp"
-#include "holo/core/gltf_io.hpp"
+#include "holo/core/gltf_limits.hpp"
 #include "holo/core/log.hpp"
 #include "holo/core/stats.hpp"
 

@@ -8,7 +8,7 @@
 #include "holo/core/files.hpp"
 #include "holo/display/frame_output.hpp"
 #include "holo/eval/loglog_plot.hpp"
-#include "holo/reflect/image_metrics.hpp"
+#include "holo/reference/image_metrics.hpp"
 #include "holo/reflect/tone_map.hpp"
 
 namespace holo::eval {
@@ -81,7 +81,7 @@ void writeMethodSweepImages(const std::filesystem::path& dir, const MethodSweep&
     seen[p.method] = true;
     const cv::Mat ldr = reflect::toneMap(p.image, exposure);
     display::writePngAtomically(dir / (p.method + ".png"), ldr);
-    display::writePngAtomically(dir / (p.method + "_error.png"), reflect::errorMap(p.image, gt));
+    display::writePngAtomically(dir / (p.method + "_error.png"), reference::errorMap(p.image, gt));
     strip.push_back(ldr);
   }
   cv::Mat side_by_side;

@@ -14,6 +14,7 @@
 
 namespace holo::reference {
 
+using reflect::attenuationCoefficient;
 using reflect::Environment;
 using reflect::EnvironmentSample;
 using reflect::primaryRay;
@@ -21,6 +22,7 @@ using reflect::RenderScene;
 using reflect::resolveSurface;
 using reflect::SurfaceMaterial;
 using reflect::SurfacePoint;
+using reflect::transmittance;
 
 namespace {
 

@@ -36,14 +36,13 @@
 #include <cstdint>
 #include <vector>
 
-#include "holo/reflect/frame_renderer.hpp"
+#include "holo/reflect/foreground_camera_image.hpp"
+#include "holo/reflect/frame_result.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
 #include "holo/reflect/render_scene.hpp"
+#include "holo/reflect/tracer_settings.hpp"
 
 namespace holo::reflect {
-
-// The largest number of interface events a path follows (TracerSettings::refraction_depth).
-inline constexpr int kMaxInternalDepth = 32;
 
 // A transmitted path from a hit point through the relic.
 struct TransmittedPath {

@@ -10,9 +10,11 @@
 #include <vector>
 
 #include "glass_transport.hpp"
-#include "holo/reflect/frame_renderer.hpp"
+#include "holo/reflect/foreground_camera_image.hpp"
+#include "holo/reflect/frame_result.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
 #include "holo/reflect/render_scene.hpp"
+#include "holo/reflect/tracer_settings.hpp"
 
 namespace holo::reflect {
 

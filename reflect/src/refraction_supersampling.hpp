@@ -17,10 +17,12 @@
 #include "foreground_walk.hpp"
 #include "glass_transport.hpp"
 #include "holo/core/camera_model.hpp"
+#include "holo/reflect/foreground_camera_image.hpp"
 #include "holo/reflect/foreground_pyramid.hpp"
-#include "holo/reflect/frame_renderer.hpp"
+#include "holo/reflect/frame_result.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
 #include "holo/reflect/render_scene.hpp"
+#include "holo/reflect/tracer_settings.hpp"
 
 namespace holo::reflect {
 

@@ -5,7 +5,6 @@
 
 #include "holo/core/error.hpp"
 #include "holo/reflect/foreground_pyramid.hpp"
-#include "glass_transport.hpp"  // kMaxInternalDepth
 
 namespace holo::reflect {
 

@@ -37,15 +37,10 @@
 #include <string>
 #include <vector>
 
+#include "holo/core/gltf_limits.hpp"
 #include "holo/core/mesh.hpp"
 
 namespace holo {
-
-inline constexpr std::size_t kMaxGltfFileBytes = std::size_t{512} << 20;
-inline constexpr std::size_t kMaxGltfTriangles = 4'000'000;
-inline constexpr std::size_t kMaxGltfVertices = 12'000'000;
-inline constexpr std::size_t kMaxGltfNodeVisits = 100'000;
-inline constexpr int kMaxGltfTextureSide = 8192;
 
 // Loads `.gltf` or `.glb` (chosen by extension).
 Model loadGltf(const std::filesystem::path& path);

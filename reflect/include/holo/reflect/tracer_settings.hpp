@@ -12,6 +12,9 @@
 
 namespace holo::reflect {
 
+// The largest number of interface events a transmitted path follows (refraction_depth).
+inline constexpr int kMaxInternalDepth = 32;
+
 // Departures from the live tracer, for measuring it; every default is the live tracer.
 struct TracerEvaluationKnobs {
   // Pyramid levels added to every read's derived level (foregroundLevel), finite, within
