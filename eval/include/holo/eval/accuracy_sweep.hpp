@@ -26,7 +26,7 @@ namespace holo::eval {
 struct AccuracyOptions {
   std::string hall = "gallery", relic = "vase";  // built-in hall and relic
   int size = 64;                                 // view width and height, pixels
-  // Rough reflections converge slowly: at 512 spp the truth's noise was a large part of the
+  // Rough reflections converge slowly: at 512 spp the truth's noise is a large part of the
   // kettle's fg_mse (eval tracer's gt noise column, docs/tracer/evaluation.md).
   int gt_spp = 4096;
   int max_spp = 256;

@@ -57,7 +57,7 @@ struct TracerEvalOptions {
   bool panorama_at_infinity = false;  // as SceneOptions::panorama_at_infinity
   // The depth cameras: the default rig (tilt 8, vfov 70) sees a visitor within ~0.6 m of the
   // pyramid only from the waist to the chest, and the relic mirrors the rest; tilt 20 with vfov 90
-  // keeps the far visitors' feet (bottom edge -25 degrees, was -27) and sees the close ones' heads.
+  // keeps the far visitors' feet (bottom edge -25 degrees) and sees the close ones' heads.
   float camera_tilt_deg = 20.0f;
   float camera_vfov_deg = 90.0f;
   // Ours' knobs (--aa, --levels, --level-bias, --voxel-size). 9 levels: with 7 the rough relics'

@@ -65,7 +65,7 @@ struct FrameLoopOptions {
   int view_size = 320;       // pixels, square face views
   int panorama_width = 512;  // of the simulated hall panorama the IBL is built from (scene)
   // The reflections read the panorama at infinity from its capture point instead of through the
-  // installation's proxy (Installation::panorama_proxy): as before the proxy existed.
+  // installation's proxy (Installation::panorama_proxy): no parallax, for comparisons.
   bool panorama_at_infinity = false;
   double stale_camera_s = 0.5;  // live: a camera silent this long leaves the foreground
   bool track_eyes = true;       // eyes follow visitors' heads; else default standing eyes
