@@ -13,8 +13,8 @@
 #include "holo/core/error.hpp"
 #include "holo/display/frame_output.hpp"
 #include "holo/eval/tracer_evaluation.hpp"
-#include "holo/relics/relics.hpp"
 #include "holo/eval/tracer_report.hpp"
+#include "holo/relics/relics.hpp"
 #include "holo/sim/museum.hpp"
 
 namespace holo::app {

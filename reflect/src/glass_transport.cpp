@@ -34,7 +34,8 @@ void parallelWalls(float fresnel, const vec3& last_absorption, vec3& back, vec3&
 
 // The transmitted lobe's perceptual roughness from its GGX alpha^2 summed in quadrature.
 float lobeWidth(const TracerSettings& settings, float alpha2) {
-  return std::clamp(std::sqrt(std::sqrt(alpha2)) * settings.evaluation.transmitted_roughness_scale, 0.0f, 1.0f);
+  return std::clamp(std::sqrt(std::sqrt(alpha2)) * settings.evaluation.transmitted_roughness_scale, 0.0f,
+                    1.0f);
 }
 
 // The light reflected inside at a partial exit, followed explicitly: `weight` per unit entering

@@ -23,10 +23,10 @@
 
 #include "glass_transport.hpp"
 #include "holo/reflect/foreground_pyramid.hpp"
-#include "holo/reflect/tracer_settings.hpp"
 #include "holo/reflect/hit_points.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
 #include "holo/reflect/render_scene.hpp"
+#include "holo/reflect/tracer_settings.hpp"
 #include "refraction_anchors.hpp"
 #include "refraction_supersampling.hpp"
 
