@@ -105,6 +105,8 @@ nlohmann::json HealthStatus::toJson() const {
   j["state"] = validUtf8(state);
   j["mode"] = validUtf8(mode);
   j["quality"] = validUtf8(quality);
+  j["quality_level"] = quality_level;
+  j["frame_budget_ms"] = finite(frame_budget_ms);
   j["fps"] = finite(fps);
   j["frame_ms"] = finite(frame_ms);
   j["stage_ms"] = nlohmann::json::object();
@@ -127,6 +129,10 @@ nlohmann::json HealthStatus::toJson() const {
   j["frames"] = frames;
   j["seconds_since_frame"] = finite(seconds_since_frame);
   j["config"] = {{"source", validUtf8(config_source)}, {"warning", validUtf8(config_warning)}};
+  j["relic"] = validUtf8(relic);
+  j["next_relic"] = validUtf8(next_relic);
+  j["exhibit_problems"] = nlohmann::json::array();
+  for (const auto& problem : exhibit_problems) j["exhibit_problems"].push_back(validUtf8(problem));
   j["last_errors"] = nlohmann::json::array();
   for (const auto& error : last_errors) j["last_errors"].push_back(validUtf8(error));
   return j;
@@ -136,6 +142,10 @@ std::string HealthStatus::toPrometheus() const {
   Exposition e;
   e.family("info", "gauge", "Always 1; the labels carry the state, render mode and quality level.");
   e.sample("info", 1, label("state", state) + "," + label("mode", mode) + "," + label("quality", quality));
+  e.family("quality_level", "gauge", "The degradation level: 0 = full quality, higher = more degraded.");
+  e.sample("quality_level", quality_level);
+  e.family("frame_budget_seconds", "gauge", "The frame time the degradation policy keeps under.");
+  e.sample("frame_budget_seconds", frame_budget_ms / 1000.0);
   e.family("frames_per_second", "gauge", "Frame rate over the last second or so.");
   e.sample("frames_per_second", fps);
   e.family("frame_seconds", "gauge", "Smoothed frame time.");
@@ -184,6 +194,8 @@ std::string HealthStatus::toPrometheus() const {
     e.sample("camera_pair_skew_seconds", c.pair_skew_ms / 1000.0, label("camera", c.name));
   e.family("recent_errors", "gauge", "Errors kept in the health JSON's last_errors (at most 10).");
   e.sample("recent_errors", static_cast<double>(last_errors.size()));
+  e.family("exhibit_problems", "gauge", "Exhibit playlist entries skipped because they did not load.");
+  e.sample("exhibit_problems", static_cast<double>(exhibit_problems.size()));
   e.family("config_fallback", "gauge",
            "1 when the configured file was not used (see the health JSON's config).");
   e.sample("config_fallback", config_warning.empty() ? 0 : 1);

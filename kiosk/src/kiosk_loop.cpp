@@ -38,6 +38,8 @@ void KioskLoop::applyConfig(LoadedConfig config) {
     health_.config_warning = config_.warning;
     if (!config_.warning.empty()) health_.addError(config_.warning);
     health_.quality = policy_->qualityName();
+    health_.quality_level = policy_->quality();
+    health_.frame_budget_ms = config_.kiosk.degradation.frame_budget_ms;
   }
   if (server_changed) {
     server_.reset();
@@ -156,12 +158,16 @@ void KioskLoop::frame(SystemdNotifier& notifier) {
     health_.state = blank ? "blanked" : "running";
     health_.mode = renderModeName(policy_->mode());
     health_.quality = policy_->qualityName();
+    health_.quality_level = policy_->quality();
     health_.frame_ms = policy_->smoothedFrameMs();
     health_.stage_ms = report.stage_ms;
     health_.stage_ms["frame"] = frame_ms;
     health_.cameras = report.cameras;
     health_.foreground_share = report.foreground_share;
     health_.camera_skew_ms = report.camera_skew_ms;
+    health_.relic = report.relic;
+    health_.next_relic = report.next_relic;
+    health_.exhibit_problems = report.exhibit_problems;
     const double window_s = std::chrono::duration<double>(t1 - fps_window_start_).count();
     if (window_s >= 1.0) {
       health_.fps = static_cast<double>(fps_window_frames_) / window_s;

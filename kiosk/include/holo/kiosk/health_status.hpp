@@ -29,6 +29,8 @@ struct HealthStatus {
   std::string state = "starting";          // starting, running, blanked (closed hours), stopping
   std::string mode = "full";               // renderModeName
   std::string quality = "full";            // the degradation level's name
+  int quality_level = 0;                   // its index: 0 = best, higher = more degraded
+  double frame_budget_ms = 0;              // kiosk.degradation.frame_budget_ms
   double fps = 0;                          // over the last second or so
   double frame_ms = 0;                     // smoothed frame time
   std::map<std::string, double> stage_ms;  // last frame's stage times
@@ -39,10 +41,13 @@ struct HealthStatus {
   std::vector<CameraHealth> cameras;
   double uptime_s = 0;
   std::int64_t frames = 0;
-  double seconds_since_frame = 0;       // grows when the frame loop hangs
-  std::string config_source;            // the file used, "last good copy" or "factory defaults"
-  std::string config_warning;           // why the configured file was not used (empty when it was)
-  std::deque<std::string> last_errors;  // newest last, at most kMaxErrors
+  double seconds_since_frame = 0;             // grows when the frame loop hangs
+  std::string config_source;                  // the file used, "last good copy" or "factory defaults"
+  std::string config_warning;                 // why the configured file was not used (empty when it was)
+  std::string relic;                          // the exhibit's relic on screen (FrameReport::relic)
+  std::string next_relic;                     // the one after it
+  std::vector<std::string> exhibit_problems;  // playlist entries skipped, each with why
+  std::deque<std::string> last_errors;        // newest last, at most kMaxErrors
 
   static constexpr std::size_t kMaxErrors = 10;
   void addError(const std::string& message);

@@ -22,6 +22,7 @@
 #include "holo/kiosk/frame_watchdog.hpp"
 #include "holo/kiosk/health_server.hpp"
 #include "holo/kiosk/health_status.hpp"
+#include "holo/kiosk/kiosk_action.hpp"
 #include "holo/kiosk/kiosk_config.hpp"
 #include "holo/kiosk/signal_events.hpp"
 #include "holo/kiosk/systemd_notifier.hpp"
@@ -33,7 +34,8 @@ struct FrameRequest {
   int quality = 0;  // 0 = best, see DegradationSettings::quality_levels
   std::string quality_name;
   RenderMode mode = RenderMode::Full;
-  bool blank = false;  // outside opening hours: present black, skip the work
+  bool blank = false;                // outside opening hours: present black, skip the work
+  std::vector<KioskAction> actions;  // asked for since the previous frame, oldest first
 };
 
 struct FrameReport {
@@ -43,6 +45,12 @@ struct FrameReport {
   std::optional<double> foreground_share;  // [0, 1]
   std::optional<double> camera_skew_ms;    // HealthStatus::camera_skew_ms
   std::vector<std::string> errors;         // faults of this frame, for the health JSON
+  // The exhibit: the relic on screen and the one after it (names as the playlist gives them;
+  // empty when unknown), and the playlist entries that could not be loaded, each "entry N (NAME):
+  // why" (HealthStatus::relic, next_relic, exhibit_problems).
+  std::string relic;
+  std::string next_relic;
+  std::vector<std::string> exhibit_problems;
 };
 
 using RenderFrame = std::function<FrameReport(const FrameRequest&)>;
