@@ -107,6 +107,7 @@ nlohmann::json HealthStatus::toJson() const {
   j["quality"] = validUtf8(quality);
   j["quality_level"] = quality_level;
   j["frame_budget_ms"] = finite(frame_budget_ms);
+  j["target_fps"] = finite(target_fps);
   j["fps"] = finite(fps);
   j["frame_ms"] = finite(frame_ms);
   j["stage_ms"] = nlohmann::json::object();
@@ -146,6 +147,9 @@ std::string HealthStatus::toPrometheus() const {
   e.sample("quality_level", quality_level);
   e.family("frame_budget_seconds", "gauge", "The frame time the degradation policy keeps under.");
   e.sample("frame_budget_seconds", frame_budget_ms / 1000.0);
+  e.family("target_frames_per_second", "gauge",
+           "The frame rate aimed at: kiosk.max_fps, or fewer when the frame budget allows fewer.");
+  e.sample("target_frames_per_second", target_fps);
   e.family("frames_per_second", "gauge", "Frame rate over the last second or so.");
   e.sample("frames_per_second", fps);
   e.family("frame_seconds", "gauge", "Smoothed frame time.");

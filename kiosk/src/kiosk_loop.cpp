@@ -1,5 +1,6 @@
 #include "holo/kiosk/kiosk_loop.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <thread>
 
@@ -40,6 +41,7 @@ void KioskLoop::applyConfig(LoadedConfig config) {
     health_.quality = policy_->qualityName();
     health_.quality_level = policy_->quality();
     health_.frame_budget_ms = config_.kiosk.degradation.frame_budget_ms;
+    health_.target_fps = std::min(config_.kiosk.max_fps, 1000.0 / config_.kiosk.degradation.frame_budget_ms);
   }
   if (server_changed) {
     server_.reset();
@@ -97,7 +99,7 @@ void KioskLoop::frame(SystemdNotifier& notifier) {
   if (blank != was_blank_)
     HOLO_LOG_INFO(blank ? "closing time: blanking the monitors" : "opening: resuming the picture");
   was_blank_ = blank;
-  FrameRequest request{index_++, policy_->quality(), policy_->qualityName(), policy_->mode(), blank};
+  FrameRequest request{index_++, policy_->quality(), policy_->qualityName(), policy_->mode(), blank, {}};
 
   const auto t0 = Clock::now();
   FrameReport report;
