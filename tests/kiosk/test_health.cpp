@@ -129,6 +129,25 @@ TEST(HealthServer, ServesPrometheusMetrics) {
   EXPECT_EQ(server.requestsServed(), 1);
 }
 
+TEST(HealthStatus, MetricsCarryTheQualityLevelTheTargetRateAndTheExhibitProblems) {
+  HealthStatus h = sampleStatus();
+  h.quality_level = 2;
+  h.frame_budget_ms = 40;
+  h.target_fps = 25;
+  h.relic = "amphora";
+  h.exhibit_problems = {"entry 3 (missing.glb): file not found"};
+  const std::string text = h.toPrometheus();
+  EXPECT_NE(text.find("\nholopyramid_quality_level 2\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("\nholopyramid_frame_budget_seconds 0.04\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("\nholopyramid_target_frames_per_second 25\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("\nholopyramid_exhibit_problems 1\n"), std::string::npos) << text;
+  const nlohmann::json j = h.toJson();
+  EXPECT_EQ(j["quality_level"], 2);
+  EXPECT_EQ(j["relic"], "amphora");
+  ASSERT_EQ(j["exhibit_problems"].size(), 1u);
+  EXPECT_EQ(j["exhibit_problems"][0], "entry 3 (missing.glb): file not found");
+}
+
 TEST(HealthStatus, PrometheusLinesStayWellFormedWhateverTheNames) {
   HealthStatus h = sampleStatus();
   h.cameras[0].name = "a\"b\\c\nd} 1\nholopyramid_fake 9";

@@ -26,11 +26,11 @@ struct CameraHealth {
 };
 
 struct HealthStatus {
-  std::string state = "starting";          // starting, running, blanked (closed hours), stopping
-  std::string mode = "full";               // renderModeName
-  std::string quality = "full";            // the degradation level's name
-  int quality_level = 0;                   // its index: 0 = best, higher = more degraded
-  double frame_budget_ms = 0;              // kiosk.degradation.frame_budget_ms
+  std::string state = "starting";  // starting, running, blanked (closed hours), stopping
+  std::string mode = "full";       // renderModeName
+  std::string quality = "full";    // the degradation level's name
+  int quality_level = 0;           // its index: 0 = best, higher = more degraded
+  double frame_budget_ms = 0;      // kiosk.degradation.frame_budget_ms
   // The frame rate the kiosk aims at: kiosk.max_fps, or 1000 / frame_budget_ms when that is less.
   double target_fps = 0;
   double fps = 0;                          // over the last second or so
