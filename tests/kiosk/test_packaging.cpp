@@ -64,6 +64,8 @@ TEST(InstallKiosk, InstallsIntoARootAndKeepsAnExistingConfig) {
   EXPECT_EQ(mode(root / "opt/holo/bin/holopyramid"), 0755u);
   EXPECT_EQ(mode(root / "etc/systemd/system/holopyramid.service"), 0644u);
   EXPECT_TRUE(fs::exists(root / "opt/holo/share/doc/holopyramid/kiosk.md"));
+  for (const char* f : {"holopyramid-alerts.yml", "holopyramid-alerts.test.yml", "holopyramid-fleet.json"})
+    EXPECT_EQ(mode(root / "opt/holo/share/doc/holopyramid/monitoring" / f), 0644u) << f;
   const std::string unit = holo::readFile(root / "etc/systemd/system/holopyramid.service");
   EXPECT_NE(unit.find("ExecStart=/opt/holo/bin/holopyramid kiosk"), std::string::npos);
   EXPECT_EQ(holo::readFile(root / "etc/holopyramid/holopyramid.yaml"),
