@@ -66,7 +66,7 @@ main{display:flex;flex-wrap:wrap;gap:1em;padding:1em}
 .panel{background:#1d2024;border-radius:6px;padding:.8em 1em;flex:1 1 380px}
 .panel.wide{flex-basis:100%}
 dl{display:grid;grid-template-columns:9em 1fr;margin:0}dt{color:#9aa}dd{margin:0}
-table{border-collapse:collapse}td,th{padding:.1em .6em;text-align:right}th{color:#9aa;font-weight:normal}
+table{border-collapse:collapse}td,th{padding:.1em .6em;text-align:right;white-space:nowrap}th{color:#9aa;font-weight:normal}
 td:first-child,th:first-child{text-align:left}
 .badge{padding:.1em .6em;border-radius:1em;background:#555}.badge.running{background:#1f7a3a}
 .badge.blanked{background:#556}.badge.stale{background:#a33}
@@ -143,7 +143,7 @@ function show(status) {
   setText('skew', h.camera_skew_ms === null || h.camera_skew_ms === undefined ? '\u2013' : fixed(h.camera_skew_ms, 1) + ' ms');
   setText('foreground', h.foreground_share === null || h.foreground_share === undefined ? '\u2013' : fixed(100 * h.foreground_share, 0) + ' %');
   setText('uptime', fixed(h.uptime_s / 3600, 2) + ' h, ' + h.frames + ' frames');
-  setText('config', h.config_source + (h.config_warning ? ' \u2013 ' + h.config_warning : ''));
+  setText('config', h.config.source + (h.config.warning ? ' \u2013 ' + h.config.warning : ''));
   rows(byId('stages').tBodies[0], Object.entries(h.stage_ms || {}), ([name, ms]) => [[name], [fixed(ms, 1)]]);
   const now = performance.now();
   const cameras = h.cameras || [];
