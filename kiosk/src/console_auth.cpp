@@ -105,11 +105,14 @@ ConsoleAuth::Login ConsoleAuth::login(const std::string& client, const std::stri
   std::string hash;
   {
     std::lock_guard lock(mutex_);
-    auto& times = failures_[client];
-    std::erase_if(times, [&](Clock::time_point t) { return now - t >= kFailureWindow; });
-    if (static_cast<int>(times.size()) >= kMaxFailures) {
-      const auto wait = std::chrono::ceil<std::chrono::seconds>(times.front() + kFailureWindow - now);
-      return {Outcome::RateLimited, {}, static_cast<int>(std::max<long>(1, wait.count()))};
+    // Looked up, not inserted: only a failed check (at most one per argon2id run) adds a client.
+    if (const auto found = failures_.find(client); found != failures_.end()) {
+      auto& times = found->second;
+      std::erase_if(times, [&](Clock::time_point t) { return now - t >= kFailureWindow; });
+      if (static_cast<int>(times.size()) >= kMaxFailures) {
+        const auto wait = std::chrono::ceil<std::chrono::seconds>(times.front() + kFailureWindow - now);
+        return {Outcome::RateLimited, {}, static_cast<int>(std::max<long>(1, wait.count()))};
+      }
     }
     hash = hash_;
   }
