@@ -1,10 +1,13 @@
 #include "holo/core/log.hpp"
 
 #include <spdlog/pattern_formatter.h>
+#include <spdlog/sinks/ringbuffer_sink.h>
 #include <spdlog/sinks/stdout_sinks.h>
+#include <algorithm>
 #include <cstdlib>
 
 #include "holo/core/error.hpp"
+#include "holo/core/log_tail.hpp"
 
 namespace holo {
 
@@ -22,21 +25,36 @@ class SyslogPriorityFlag : public spdlog::custom_flag_formatter {
   }
 };
 
+std::shared_ptr<spdlog::sinks::ringbuffer_sink_mt> tailSink() {
+  static const auto sink = [] {
+    auto s = std::make_shared<spdlog::sinks::ringbuffer_sink_mt>(kLogTailLines);
+    s->set_formatter(std::make_unique<spdlog::pattern_formatter>("%Y-%m-%d %H:%M:%S.%e %l %v",
+                                                                 spdlog::pattern_time_type::utc, ""));
+    return s;
+  }();
+  return sink;
+}
+
 std::shared_ptr<spdlog::logger> makeLogger() {
-  auto logger = std::make_shared<spdlog::logger>("holo", std::make_shared<spdlog::sinks::stderr_sink_mt>());
+  auto stderr_sink = std::make_shared<spdlog::sinks::stderr_sink_mt>();
   auto formatter = std::make_unique<spdlog::pattern_formatter>();
   if (std::getenv("JOURNAL_STREAM") != nullptr)
     formatter->add_flag<SyslogPriorityFlag>('*').set_pattern("<%*>%v");
   else
     formatter->set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
-  logger->set_formatter(std::move(formatter));
-  return logger;
+  stderr_sink->set_formatter(std::move(formatter));
+  return std::make_shared<spdlog::logger>("holo", spdlog::sinks_init_list{stderr_sink, tailSink()});
 }
 }  // namespace
 
 spdlog::logger& logger() {
   static std::shared_ptr<spdlog::logger> instance = makeLogger();
   return *instance;
+}
+
+std::vector<std::string> logTail(std::size_t max_lines) {
+  if (max_lines == 0) return {};  // spdlog reads 0 as "all"
+  return tailSink()->last_formatted(std::min(max_lines, kLogTailLines));
 }
 
 void initLogging(LogLevel level) {

@@ -129,6 +129,15 @@ void ForegroundPipeline::learnBackground(std::span<const RgbdFrame> frames) {
   }
 }
 
+void ForegroundPipeline::forgetBackground() {
+  for (CameraStage& stage : stages_) {
+    stage.masker = ForegroundMasker(stage.masker.config());
+    stage.filter.resetHistory();
+    stage.previous_colour.release();
+    stage.result = {};
+  }
+}
+
 ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> frames) {
   if (frames.size() != cameras_.size())
     throw Error("ForegroundPipeline::process: expected " + std::to_string(cameras_.size()) + " frames, got " +

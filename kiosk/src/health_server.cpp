@@ -32,6 +32,13 @@ bool isLoopbackAddress(const std::string& address) {
   return false;
 }
 
+bool isIpAddress(const std::string& address) {
+  const std::string name = resolveName(address);
+  in_addr v4{};
+  in6_addr v6{};
+  return inet_pton(AF_INET, name.c_str(), &v4) == 1 || inet_pton(AF_INET6, name.c_str(), &v6) == 1;
+}
+
 void addHealthRoutes(httplib::Server& server, HealthProvider provider,
                      std::shared_ptr<std::atomic<long>> served) {
   server.set_read_timeout(kTimeoutS, 0);

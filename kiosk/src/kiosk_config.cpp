@@ -2,6 +2,7 @@
 
 #include "holo/core/files.hpp"
 #include "holo/core/log.hpp"
+#include "holo/kiosk/health_server.hpp"
 
 namespace holo::kiosk {
 namespace {
@@ -25,6 +26,12 @@ kiosk:
     address: 127.0.0.1
     port: 8787
     file: /run/holopyramid/health.json
+  console:
+    enabled: false
+    address: 127.0.0.1
+    port: 8788
+    secret_file: /etc/holopyramid/console.secret
+    session_minutes: 60
   degradation:
     frame_budget_ms: 40
     quality_levels: [full, reduced, low, minimal]
@@ -44,7 +51,7 @@ KioskConfig parseKioskConfig(const ConfigNode& root) {
   if (!section) return c;
   const ConfigNode& k = *section;
   if (!k.isMap()) k.fail("a map of kiosk settings");
-  k.rejectUnknownKeys({"opening_hours", "max_fps", "status_interval_s", "health", "degradation"});
+  k.rejectUnknownKeys({"opening_hours", "max_fps", "status_interval_s", "health", "degradation", "console"});
   if (k.has("opening_hours")) {
     c.opening_hours_text = k["opening_hours"].as<std::string>();
     c.opening_hours = OpeningHours::parse(c.opening_hours_text, k.file(), k["opening_hours"].path());
@@ -58,6 +65,25 @@ KioskConfig parseKioskConfig(const ConfigNode& root) {
     c.health_port = h->get<int>("port", c.health_port);
     if (c.health_port > 65535) (*h)["port"].fail("a TCP port up to 65535 (0 = any, negative = off)");
     c.health_file = h->get<std::string>("file", c.health_file.string());
+  }
+  if (const auto con = k.find("console")) {
+    if (!con->isMap()) con->fail("a map of console settings");
+    con->rejectUnknownKeys({"enabled", "address", "port", "secret_file", "session_minutes"});
+    ConsoleSettings& s = c.console;
+    s.enabled = con->get<bool>("enabled", s.enabled);
+    s.address = con->get<std::string>("address", s.address);
+    if (con->has("address") && !isIpAddress(s.address))
+      (*con)["address"].fail("an IP address to listen on (127.0.0.1 = this machine only)", s.address);
+    s.port = con->get<int>("port", s.port);
+    if (s.port < 0 || s.port > 65535) (*con)["port"].fail("a TCP port 0..65535 (0 = any free port)");
+    if (con->has("secret_file")) {
+      const std::string file = (*con)["secret_file"].as<std::string>();
+      if (file.empty()) (*con)["secret_file"].fail("the path of the console's password hash file");
+      s.secret_file = con->pathBesideFile(file);
+    }
+    s.session_minutes = positiveInt(*con, "session_minutes", s.session_minutes, 1);
+    if (s.session_minutes > 1440)
+      (*con)["session_minutes"].fail("minutes a login lasts, 1..1440", std::to_string(s.session_minutes));
   }
   if (const auto d = k.find("degradation")) {
     d->rejectUnknownKeys({"frame_budget_ms", "quality_levels", "headroom", "smoothing", "down_after_frames",

@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 #include <thread>
 
 #include "holo/core/files.hpp"
 #include "holo/core/log.hpp"
+#include "holo/core/log_tail.hpp"
 #include "holo/core/stats.hpp"
 
 namespace holo::kiosk {
@@ -25,11 +28,17 @@ KioskLoop::KioskLoop(LoadedConfig config, RenderFrame render, Reload reload)
   applyConfig(std::move(config));
 }
 
-KioskLoop::~KioskLoop() = default;
+KioskLoop::~KioskLoop() {
+  // The servers' threads call back into this object: they end before any member does.
+  console_.reset();
+  server_.reset();
+}
 
 void KioskLoop::applyConfig(LoadedConfig config) {
   const bool server_changed = !server_ || config.kiosk.health_address != config_.kiosk.health_address ||
                               config.kiosk.health_port != config_.kiosk.health_port;
+  const bool console_changed = !console_ || config.kiosk.console.address != config_.kiosk.console.address ||
+                               config.kiosk.console.port != config_.kiosk.console.port;
   config_ = std::move(config);
   policy_ = std::make_unique<DegradationPolicy>(config_.kiosk.degradation);
   warmup_frames_left_ = kWarmupFrames;
@@ -43,6 +52,7 @@ void KioskLoop::applyConfig(LoadedConfig config) {
     health_.frame_budget_ms = config_.kiosk.degradation.frame_budget_ms;
     health_.target_fps = std::min(config_.kiosk.max_fps, 1000.0 / config_.kiosk.degradation.frame_budget_ms);
   }
+  applyConsole(console_changed);
   if (server_changed) {
     server_.reset();
     if (config_.kiosk.health_port < 0) return;
@@ -59,6 +69,105 @@ void KioskLoop::applyConfig(LoadedConfig config) {
       health_.addError(std::string("health endpoint not started: ") + e.what());
     }
   }
+}
+
+void KioskLoop::applyConsole(bool listener_changed) {
+  const ConsoleSettings& settings = config_.kiosk.console;
+  if (!settings.enabled) {
+    if (console_) HOLO_LOG_INFO("console switched off");
+    console_.reset();
+    console_auth_.reset();
+    return;
+  }
+  try {
+    // Read again on every reload: a new password takes effect (and ends every session) with a
+    // reload, and a secret file that became readable by others stops the console.
+    std::string hash = readConsoleSecret(settings.secret_file);
+    const std::chrono::minutes session_length(settings.session_minutes);
+    if (console_auth_)
+      console_auth_->setPasswordHash(std::move(hash), session_length);
+    else
+      console_auth_ = std::make_shared<ConsoleAuth>(std::move(hash), session_length);
+    if (listener_changed || !console_) {
+      console_.reset();
+      ConsoleBackend backend{
+          [this] { return health(); },
+          [] { return logTail(100); },
+          [this](KioskAction action) { return requestAction(action); },
+          [this] { requestReload(); },
+          [this](SnapshotKind kind, int index) { return snapshotJpeg(kind, index); },
+      };
+      console_ = std::make_unique<ConsoleServer>(settings.address, static_cast<std::uint16_t>(settings.port),
+                                                 console_auth_, std::move(backend));
+      if (isLoopbackAddress(settings.address))
+        HOLO_LOG_INFO("console on http://{}:{}/", settings.address, console_->port());
+      else
+        HOLO_LOG_WARN("console on the network at http://{}:{}/ (plain HTTP, see docs/security.md)",
+                      settings.address, console_->port());
+    }
+  } catch (const std::exception& e) {
+    // Fail closed: no console rather than one with a password others could read.
+    console_.reset();
+    console_auth_.reset();
+    HOLO_LOG_ERROR("console not started: {}", e.what());
+    std::lock_guard lock(mutex_);
+    health_.addError(std::string("console not started: ") + e.what());
+  }
+}
+
+std::uint16_t KioskLoop::consolePort() const {
+  return console_ ? console_->port() : 0;
+}
+
+bool KioskLoop::requestAction(KioskAction action) {
+  std::lock_guard lock(actions_mutex_);
+  if (pending_actions_.size() >= kMaxPendingActions) return false;
+  pending_actions_.push_back(action);
+  return true;
+}
+
+void KioskLoop::requestReload() {
+  reload_requested_ = true;
+}
+
+bool KioskLoop::snapshotWanted(Clock::time_point now) {
+  const auto until = Clock::time_point(Clock::duration(snapshot_wanted_until_ns_.load()));
+  if (now >= until) return false;
+  if (now - last_snapshot_ < std::chrono::duration<double>(1.0 / kSnapshotsPerSecond)) return false;
+  last_snapshot_ = now;
+  return true;
+}
+
+std::string KioskLoop::snapshotJpeg(SnapshotKind kind, int index) {
+  const auto now = Clock::now();
+  const auto until =
+      now + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(kSnapshotInterestS));
+  snapshot_wanted_until_ns_ = std::chrono::duration_cast<Clock::duration>(until.time_since_epoch()).count();
+  std::shared_ptr<const FrameSnapshot> snapshot;
+  std::int64_t sequence = 0;
+  {
+    std::lock_guard lock(snapshot_mutex_);
+    snapshot = snapshot_;
+    sequence = snapshot_sequence_;
+    const auto cached = jpegs_.find({kind, index});
+    if (cached != jpegs_.end() && cached->second.sequence == sequence) return cached->second.bytes;
+  }
+  if (!snapshot || index < 0) return {};
+  const auto i = static_cast<std::size_t>(index);
+  cv::Mat picture;
+  if (kind == SnapshotKind::Face && i < snapshot->faces.size()) picture = snapshot->faces[i];
+  if (kind == SnapshotKind::Camera && i < snapshot->cameras.size()) picture = snapshot->cameras[i];
+  if (picture.empty() || picture.depth() != CV_8U) return {};
+  constexpr int kMaxWidth = 640;
+  if (picture.cols > kMaxWidth)
+    cv::resize(picture, picture, {kMaxWidth, std::max(1, picture.rows * kMaxWidth / picture.cols)}, 0, 0,
+               cv::INTER_AREA);
+  std::vector<unsigned char> bytes;
+  if (!cv::imencode(".jpg", picture, bytes, {cv::IMWRITE_JPEG_QUALITY, 80})) return {};
+  std::string jpeg(bytes.begin(), bytes.end());
+  std::lock_guard lock(snapshot_mutex_);
+  jpegs_[{kind, index}] = {sequence, jpeg};
+  return jpeg;
 }
 
 std::uint16_t KioskLoop::healthPort() const {
@@ -99,9 +208,18 @@ void KioskLoop::frame(SystemdNotifier& notifier) {
   if (blank != was_blank_)
     HOLO_LOG_INFO(blank ? "closing time: blanking the monitors" : "opening: resuming the picture");
   was_blank_ = blank;
-  FrameRequest request{index_++, policy_->quality(), policy_->qualityName(), policy_->mode(), blank, {}};
+  FrameRequest request{index_++, policy_->quality(), policy_->qualityName(), policy_->mode(), blank, {},
+                       false};
+  {
+    std::lock_guard lock(actions_mutex_);
+    request.actions.assign(pending_actions_.begin(), pending_actions_.end());
+    pending_actions_.clear();
+  }
+  for (const KioskAction action : request.actions)
+    HOLO_LOG_INFO("frame {}: {} handed to the frame source", request.index, kioskActionName(action));
 
   const auto t0 = Clock::now();
+  request.snapshot = snapshotWanted(t0);
   FrameReport report;
   try {
     report = render_(request);
@@ -116,6 +234,12 @@ void KioskLoop::frame(SystemdNotifier& notifier) {
   }
   const auto t1 = Clock::now();
   const double frame_ms = msBetween(t0, t1);
+  if (report.snapshot) {
+    auto snapshot = std::make_shared<const FrameSnapshot>(std::move(*report.snapshot));
+    std::lock_guard lock(snapshot_mutex_);
+    snapshot_ = std::move(snapshot);
+    ++snapshot_sequence_;
+  }
 
   int alive = 0;
   for (const auto& c : report.cameras) alive += c.alive ? 1 : 0;
@@ -186,6 +310,14 @@ void KioskLoop::frame(SystemdNotifier& notifier) {
   }
 }
 
+void KioskLoop::reload(SystemdNotifier& notifier) {
+  notifier.reloading();
+  applyConfig(reload_());
+  const HealthStatus h = health();
+  notifier.ready(h.summary());
+  publish(notifier, true);
+}
+
 int KioskLoop::run(SignalEvents& signals, SystemdNotifier& notifier, std::int64_t stop_after_frames) {
   watchdog_ =
       std::make_unique<FrameWatchdog>(notifier.watchdogTimeout(), [&notifier] { notifier.watchdog(); });
@@ -211,14 +343,14 @@ int KioskLoop::run(SignalEvents& signals, SystemdNotifier& notifier, std::int64_
         stop = true;
       } else {
         HOLO_LOG_INFO("SIGHUP: reloading the configuration");
-        notifier.reloading();
-        applyConfig(reload_());
-        const HealthStatus h = health();
-        notifier.ready(h.summary());
-        publish(notifier, true);
+        reload(notifier);
       }
     }
     if (stop) break;
+    if (reload_requested_.exchange(false)) {
+      HOLO_LOG_INFO("console: reloading the configuration");
+      reload(notifier);
+    }
   }
   HOLO_LOG_INFO("stopping");
   notifier.stopping();
@@ -227,6 +359,7 @@ int KioskLoop::run(SignalEvents& signals, SystemdNotifier& notifier, std::int64_
     health_.state = "stopping";
   }
   publish(notifier, true);
+  console_.reset();
   server_.reset();
   return 0;
 }

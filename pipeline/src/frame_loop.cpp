@@ -81,7 +81,16 @@ FrameLoop::~FrameLoop() {
   acquisition_.reset();
 }
 
+void FrameLoop::relearnBackground() {
+  // The worker may be processing the next frame with the pipeline right now.
+  waitForWorker();
+  foreground_.forgetBackground();
+  relearn_left_ = relearn_frames_;
+  HOLO_LOG_INFO("relearning the background from the next {} frames of every camera", relearn_left_);
+}
+
 void FrameLoop::learnBackground(const Installation& installation) {
+  if (installation.background_frames > 0) relearn_frames_ = installation.background_frames;
   // The background gamma_s each camera learns its mask against (docs/architecture.md, live frame step 2).
   // The calibration's background is depth as the cameras measured it: corrected like every frame.
   if (!installation.background.empty()) {
@@ -144,6 +153,13 @@ FrameLoop::ForegroundFrame FrameLoop::runForeground() {
   out.camera_skew_ms = arrival.skew_ms;
   if (out.cameras_ended && out.cameras_live == 0) return out;  // nothing more will come
   const auto t0 = Clock::now();
+  if (relearn_left_ > 0) {  // the background again: these frames have no foreground
+    foreground_.learnBackground(out.frames);
+    if (--relearn_left_ == 0) HOLO_LOG_INFO("background learnt again");
+    out.masks.resize(out.frames.size());
+    out.foreground_ms = msSince(t0);
+    return out;
+  }
   out.cloud = foreground_.process(out.frames);
   // The pipeline overwrites its results with the next frame's, which may be processed while this
   // one is rendered: the renderer gets copies of the masks.
@@ -174,6 +190,10 @@ FrameReport FrameLoop::step() {
   // The next frame's acquisition and foreground run on a worker while this one is rendered.
   if (options_.overlap) next_foreground_ = std::async(std::launch::async, [this] { return runForeground(); });
 
+  if (keep_camera_images_) {
+    camera_colour_.assign(fg.frames.size(), cv::Mat());
+    for (std::size_t i = 0; i < fg.frames.size(); ++i) camera_colour_[i] = fg.frames[i].colour.clone();
+  }
   cloud_ = std::move(fg.cloud);
   cloud_.sequence = index_;
   cloud_.time_s = static_cast<double>(index_) / fps_;

@@ -38,6 +38,13 @@ void checkPicture(display::QuadViewPresenter& presenter, bool blank, kiosk::Fram
   if (blank && !black) report.errors.push_back("picture shown outside opening hours");
 }
 
+// The console's actions the frame source cannot act on are said once each in the log.
+void noPlaylist(const kiosk::FrameRequest& request) {
+  for (const kiosk::KioskAction action : request.actions)
+    if (action == kiosk::KioskAction::NextRelic)
+      HOLO_LOG_WARN("next-relic: this frame source has no exhibit playlist; nothing to change to");
+}
+
 // The stand-in frame source: the four faces' test pattern, presented for real. Headless, every
 // 30th frame and every blanked one is read back and checked (checkPicture).
 class TestPatternSource {
@@ -51,6 +58,10 @@ class TestPatternSource {
     kiosk::FrameReport report;
     Stopwatch stage;
     const kiosk::InjectedFaults faults = faults_->beginFrame(request.index, request.quality, request.blank);
+    noPlaylist(request);
+    for (const kiosk::KioskAction action : request.actions)
+      if (action == kiosk::KioskAction::RelearnBackground)
+        HOLO_LOG_WARN("relearn-background: the test pattern has no cameras");
     display::FaceImages faces = blackFaces();
     if (!request.blank && !faults.black) {
       // Lower quality levels halve the view resolution, as the real renderer will.
@@ -67,6 +78,10 @@ class TestPatternSource {
     presenter_->present(faces);
     report.stage_ms["present"] = stage.ms();
     report.presented = presenter_->isOpen();
+    if (request.snapshot) {  // images nobody writes to: the patterns are replaced, never redrawn
+      report.snapshot.emplace();
+      std::copy(faces.begin(), faces.end(), report.snapshot->faces.begin());
+    }
     if (!report.presented) report.errors.push_back("display window closed");
     if (headless_ && (request.blank || request.index % 30 == 0))
       checkPicture(*presenter_, request.blank, report);
@@ -112,7 +127,11 @@ class PipelineSource {
     kiosk::FrameReport report;
     const kiosk::InjectedFaults faults = faults_->beginFrame(request.index, request.quality, request.blank);
     if (faults_->active()) switchCameras(faults.cameras_off, report);
+    noPlaylist(request);
+    for (const kiosk::KioskAction action : request.actions)
+      if (action == kiosk::KioskAction::RelearnBackground) loop_->relearnBackground();
     if (request.blank) {
+      if (request.snapshot) report.snapshot.emplace();  // black faces, no cameras
       loop_->presenter()->present(blackFaces());
       report.presented = loop_->presenter()->isOpen();
       if (headless_) checkPicture(*loop_->presenter(), true, report);
@@ -122,8 +141,16 @@ class PipelineSource {
     const int view_size = std::max(std::min(64, full_view_size_),
                                    static_cast<int>(full_view_size_ / std::pow(1.25, request.quality)));
     loop_->setQuality(view_size, request.mode != kiosk::RenderMode::IblOnly);
+    loop_->keepCameraImages(request.snapshot);
     const FrameReport frame = loop_->step();
     if (faults.black) loop_->presenter()->present(blackFaces());  // a broken source: black over it
+    if (request.snapshot) {
+      report.snapshot.emplace();
+      const auto& views = loop_->lastResult().views;
+      for (std::size_t f = 0; f < views.size() && f < report.snapshot->faces.size(); ++f)
+        report.snapshot->faces[f] = faults.black ? blackFaces()[f] : views[f].display.clone();
+      report.snapshot->cameras = loop_->cameraColour();
+    }
     report.presented = frame.presented;
     report.stage_ms = {
         {"acquisition", frame.times.acquisition},     {"foreground", frame.times.foreground},

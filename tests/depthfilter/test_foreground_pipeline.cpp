@@ -106,6 +106,21 @@ TEST(ForegroundPipeline, BackProjectsFilteredForegroundOfEveryCameraIntoTheWorld
   EXPECT_GT(min_x_of_camera_1, 1.0f);
 }
 
+TEST(ForegroundPipeline, ForgetBackgroundLearnsTheSceneAsItIsNow) {
+  // The technician's "relearn the background": what stood in front of the cameras when it was
+  // relearnt (moved furniture) is background from then on.
+  Rig rig;
+  const std::array<RgbdFrame, kCameras> frames = Rig::framesOf(rig.render(0));
+  std::size_t before = 0;
+  for (int k = 0; k < 8; ++k) before = rig.pipeline.process(frames).points.size();
+  ASSERT_GT(before, 0u);
+  rig.pipeline.forgetBackground();
+  for (int k = 0; k < 10; ++k) rig.pipeline.learnBackground(frames);
+  std::size_t after = 0;
+  for (int k = 0; k < 8; ++k) after = rig.pipeline.process(frames).points.size();
+  EXPECT_LT(after * 10, before) << "before " << before << ", after " << after;
+}
+
 TEST(ForegroundPipeline, MissingCameraFrameContributesNothingAndOthersGoOn) {
   Rig rig;
   for (int t = 0; t < 8; ++t) rig.pipeline.process(Rig::framesOf(rig.render(t)));

@@ -63,6 +63,27 @@ TEST(FrameLoop, RendersFramesOfTheSimulatedMuseumWithTheRelicOnThem) {
   EXPECT_EQ(counts.consumed, 4 * 3);
 }
 
+TEST(FrameLoop, RelearnsTheBackgroundFromTheNextFramesAndKeepsCameraImagesOnlyWhenAsked) {
+  FrameLoop loop(smallOptions(), simulated::installationFor(smallOptions()), nullptr);
+  std::size_t visitors = 0;
+  for (int i = 0; i < 3; ++i) visitors = loop.step().foreground_points;
+  EXPECT_GT(visitors, 0u);  // the simulated museum has visitors in view
+  EXPECT_TRUE(loop.cameraColour().empty());
+  loop.relearnBackground();
+  // The worker's frame in flight was made before the relearn; the frames after it are learnt
+  // from, so they have no foreground.
+  loop.step();
+  loop.keepCameraImages(true);
+  const FrameReport learning = loop.step();
+  EXPECT_EQ(learning.foreground_points, 0u);
+  EXPECT_GT(learning.relic_pixels, 0u);  // the relic is shown meanwhile
+  ASSERT_EQ(loop.cameraColour().size(), 4u);
+  for (const cv::Mat& image : loop.cameraColour()) {
+    EXPECT_EQ(image.type(), CV_8UC3);
+    EXPECT_FALSE(image.empty());
+  }
+}
+
 TEST(FrameLoop, TheSameInputsGiveTheSameImages) {
   std::vector<std::vector<cv::Mat>> runs;
   for (int run = 0; run < 2; ++run) {

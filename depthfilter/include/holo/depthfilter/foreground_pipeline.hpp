@@ -56,6 +56,9 @@ class ForegroundPipeline {
 
   // Background frames gamma_s, one per camera (empty frames are skipped).
   void learnBackground(std::span<const RgbdFrame> frames);
+  // Forgets every camera's background (both models) and its frame history, as if newly made:
+  // learnBackground starts from nothing (the technician's "relearn the background").
+  void forgetBackground();
   // One live frame per camera -> the foreground cloud. Throws holo::Error when the span's size
   // differs from the number of cameras or a frame's size differs from its camera's.
   ForegroundCloud process(std::span<const RgbdFrame> frames);

@@ -58,5 +58,7 @@ void addHealthRoutes(httplib::Server& server, HealthProvider provider,
 
 // True for the addresses HealthServer accepts.
 bool isLoopbackAddress(const std::string& address);
+// True for a numeric IPv4 or IPv6 address, or "localhost".
+bool isIpAddress(const std::string& address);
 
 }  // namespace holo::kiosk

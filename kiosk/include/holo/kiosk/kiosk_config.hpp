@@ -13,6 +13,12 @@
 //       address: 127.0.0.1         # loopback only
 //       port: 8787                 # 0 = any free port (tests); negative = no HTTP endpoint
 //       file: /run/holopyramid/health.json   # empty = no file
+//     console:                     # the technician's web console (docs/kiosk.md), off by default
+//       enabled: false
+//       address: 127.0.0.1         # a non-loopback address only when written here explicitly
+//       port: 8788                 # 0 = any free port (tests)
+//       secret_file: /etc/holopyramid/console.secret   # the password's argon2id hash, mode 0600
+//       session_minutes: 60        # a login lasts this long, 1..1440
 //     degradation:
 //       frame_budget_ms: 40
 //       quality_levels: [full, reduced, low, minimal]
@@ -35,6 +41,15 @@
 
 namespace holo::kiosk {
 
+// kiosk.console: where and how the technician's console listens (console_server.hpp).
+struct ConsoleSettings {
+  bool enabled = false;
+  std::string address = "127.0.0.1";
+  int port = 8788;
+  std::filesystem::path secret_file = "/etc/holopyramid/console.secret";
+  int session_minutes = 60;
+};
+
 struct KioskConfig {
   OpeningHours opening_hours;  // default: always open
   std::string opening_hours_text;
@@ -44,6 +59,7 @@ struct KioskConfig {
   int health_port = 8787;
   std::filesystem::path health_file = "/run/holopyramid/health.json";
   DegradationSettings degradation;
+  ConsoleSettings console;
 };
 
 // The factory defaults as YAML text (the same values as KioskConfig{}), the last resort.

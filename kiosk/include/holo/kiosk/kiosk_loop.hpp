@@ -1,15 +1,22 @@
 // The kiosk around a frame loop: it asks for frames, feeds their times and camera health to the
 // degradation policy, blanks outside opening hours, pets systemd's watchdog only on presented
 // frames, keeps the health JSON (file and loopback HTTP) and STATUS= current, and handles
-// SIGHUP (reload) and SIGTERM (clean stop).
+// SIGHUP (reload) and SIGTERM (clean stop). With kiosk.console enabled it also serves the
+// technician's console (console_server.hpp), whose buttons reach the frame source as
+// FrameRequest::actions (and "reload" takes the SIGHUP path), and whose snapshots the frame
+// source takes only while a console client has asked for one in the last kSnapshotInterestS
+// seconds, at most kSnapshotsPerSecond times a second: unwatched, the console costs the frame
+// path nothing. JPEG encoding happens on the console's threads, never on the frame thread.
 //
 // The frame loop plugs in as one callback, RenderFrame: render and present one quad frame as
 // the request says (quality level, camera mode, or black when blanked) and report what
 // happened. The callback runs on the thread that called run() (GLFW needs the main thread).
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <chrono>
+#include <deque>
 #include <functional>
 #include <map>
 #include <memory>
@@ -18,6 +25,10 @@
 #include <string>
 #include <vector>
 
+#include <opencv2/core.hpp>
+
+#include "holo/kiosk/console_auth.hpp"
+#include "holo/kiosk/console_server.hpp"
 #include "holo/kiosk/degradation_policy.hpp"
 #include "holo/kiosk/frame_watchdog.hpp"
 #include "holo/kiosk/health_server.hpp"
@@ -36,6 +47,14 @@ struct FrameRequest {
   RenderMode mode = RenderMode::Full;
   bool blank = false;                // outside opening hours: present black, skip the work
   std::vector<KioskAction> actions;  // asked for since the previous frame, oldest first
+  bool snapshot = false;             // a console client watches: fill FrameReport::snapshot
+};
+
+// The pictures of one frame for the console, 8-bit BGR; the frame source hands over images
+// nobody writes to afterwards (copies, or images it never reuses). Empty Mats: no picture.
+struct FrameSnapshot {
+  std::array<cv::Mat, 4> faces;  // as presented
+  std::vector<cv::Mat> cameras;  // each camera's colour image
 };
 
 struct FrameReport {
@@ -51,6 +70,7 @@ struct FrameReport {
   std::string relic;
   std::string next_relic;
   std::vector<std::string> exhibit_problems;
+  std::optional<FrameSnapshot> snapshot;  // when the request asked for one
 };
 
 using RenderFrame = std::function<FrameReport(const FrameRequest&)>;
@@ -71,11 +91,29 @@ class KioskLoop {
   HealthStatus health() const;
   // Port of the health endpoint (0 when none).
   std::uint16_t healthPort() const;
+  // Port of the console (0 when it is off or did not start).
+  std::uint16_t consolePort() const;
+
+  // Thread-safe (the console's handlers call them). An action reaches the next frame's request;
+  // false when kMaxPendingActions are already waiting.
+  bool requestAction(KioskAction action);
+  // The configuration is reloaded as on SIGHUP, before the next frame.
+  void requestReload();
+  // The newest snapshot's JPEG (cameras scaled to at most 640 pixels wide), empty when there is
+  // none yet; asking keeps snapshots coming for kSnapshotInterestS seconds.
+  std::string snapshotJpeg(SnapshotKind kind, int index);
+
+  static constexpr std::size_t kMaxPendingActions = 16;
+  static constexpr double kSnapshotInterestS = 5.0;
+  static constexpr double kSnapshotsPerSecond = 4.0;
 
  private:
   void applyConfig(LoadedConfig config);
   void publish(SystemdNotifier& notifier, bool force);
   void frame(SystemdNotifier& notifier);
+  void reload(SystemdNotifier& notifier);
+  void applyConsole(bool settings_changed);
+  bool snapshotWanted(std::chrono::steady_clock::time_point now);
 
   LoadedConfig config_;
   RenderFrame render_;
@@ -83,6 +121,8 @@ class KioskLoop {
   std::unique_ptr<DegradationPolicy> policy_;
   std::unique_ptr<FrameWatchdog> watchdog_;
   std::unique_ptr<HealthServer> server_;
+  std::shared_ptr<ConsoleAuth> console_auth_;
+  std::unique_ptr<ConsoleServer> console_;
   std::chrono::steady_clock::time_point started_;
   std::chrono::steady_clock::time_point last_publish_{};
   std::chrono::steady_clock::time_point fps_window_start_{};
@@ -96,6 +136,23 @@ class KioskLoop {
   mutable std::mutex mutex_;  // guards health_ and last_frame_
   HealthStatus health_;
   std::optional<std::chrono::steady_clock::time_point> last_frame_;
+
+  std::mutex actions_mutex_;  // guards pending_actions_
+  std::deque<KioskAction> pending_actions_;
+  std::atomic<bool> reload_requested_{false};
+
+  // Snapshots: wanted until this steady-clock time (nanoseconds since its epoch); the newest one,
+  // its number, and JPEGs already encoded from it.
+  std::atomic<std::int64_t> snapshot_wanted_until_ns_{0};
+  std::chrono::steady_clock::time_point last_snapshot_{};
+  struct Jpeg {
+    std::int64_t sequence = -1;
+    std::string bytes;
+  };
+  std::mutex snapshot_mutex_;  // guards the three below
+  std::shared_ptr<const FrameSnapshot> snapshot_;
+  std::int64_t snapshot_sequence_ = 0;
+  std::map<std::pair<SnapshotKind, int>, Jpeg> jpegs_;
 };
 
 }  // namespace holo::kiosk

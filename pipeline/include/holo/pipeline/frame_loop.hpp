@@ -104,6 +104,17 @@ class FrameLoop {
   reflect::FrameResult renderReference(reflect::TracerSettings settings);
   // Lower quality for the kiosk's degradation: view size and whether the foreground runs.
   void setQuality(int view_size, bool foreground_enabled);
+  // Forgets every camera's background and learns it again from the cameras' next frames, as many
+  // as the installation's background_frames (kRelearnFrames when it has none); those frames show
+  // the relic without visitors. Waits for the worker's frame in flight first.
+  void relearnBackground();
+  static constexpr int kRelearnFrames = 30;
+  // While on, step() keeps a copy of every camera's colour image (cameraColour): the console's
+  // snapshots. Off, it costs nothing.
+  void keepCameraImages(bool keep) { keep_camera_images_ = keep; }
+  // Per camera, its colour image of the last step() while keepCameraImages was on (8-bit BGR,
+  // copies nobody writes to; empty where the camera gave none).
+  const std::vector<cv::Mat>& cameraColour() const { return camera_colour_; }
   // Closes the presenter's outputs (the MP4 is renamed into place).
   void finish();
 
@@ -162,7 +173,11 @@ class FrameLoop {
   std::optional<float> exposure_;  // fixed after the first frame so the image does not pump
   reflect::FrameResult last_result_;
   std::int64_t index_ = 0;
-  std::int64_t dropped_before_ = 0;  // mailbox drops counted up to the previous step
+  std::int64_t dropped_before_ = 0;      // mailbox drops counted up to the previous step
+  int relearn_frames_ = kRelearnFrames;  // the installation's background_frames, when it has some
+  int relearn_left_ = 0;                 // frames still to learn from; runForeground's
+  bool keep_camera_images_ = false;
+  std::vector<cv::Mat> camera_colour_;
 };
 
 }  // namespace holo::pipeline
