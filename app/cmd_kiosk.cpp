@@ -24,6 +24,7 @@
 #include "holo/kiosk/fault_injector.hpp"
 #include "holo/kiosk/kiosk_loop.hpp"
 #include "holo/pipeline/calibrated_display.hpp"
+#include "holo/pipeline/exhibit_config.hpp"
 #include "holo/pipeline/frame_loop.hpp"
 #include "holo/pipeline/installation.hpp"
 #include "holo/pipeline/kiosk_frame_source.hpp"
@@ -37,6 +38,14 @@ namespace {
 
 std::string sectionText(const ConfigNode& root, const std::string& section) {
   return root.has(section) ? YAML::Dump(root.yaml()[section]) : std::string();
+}
+
+// The exhibit section without its playlist: what a running frame loop was built from.
+std::string exhibitSettingsText(const ConfigNode& root) {
+  if (!root.has("exhibit")) return {};
+  YAML::Node exhibit = YAML::Clone(root.yaml()["exhibit"]);
+  if (exhibit.IsMap()) exhibit.remove("relics");
+  return YAML::Dump(exhibit);
 }
 
 struct KioskOptions {
@@ -55,7 +64,8 @@ struct KioskOptions {
 // `installation`: the one the configuration describes, loaded when it was validated; none when
 // it names no cameras (then the simulated museum).
 kiosk::RenderFrame makeFrameSource(const kiosk::LoadedConfig& config, const KioskOptions& options,
-                                   std::optional<Installation> installation) {
+                                   std::optional<Installation> installation,
+                                   const std::shared_ptr<ExhibitControl>& control) {
   const display::DisplayConfig display_config = calibratedDisplayConfig(config.root);
   if (options.source == "test-pattern")
     return pipeline::testPatternFrameSource(display_config, options.headless);
@@ -63,7 +73,7 @@ kiosk::RenderFrame makeFrameSource(const kiosk::LoadedConfig& config, const Kios
     installation =
         simulated::museumInstallation(options.scene, /*paced=*/true, FrameLoopOptions{}.panorama_width);
   return pipeline::pipelineFrameSource(display_config, options.headless, std::move(*installation),
-                                       options.view_size);
+                                       options.view_size, {.wait_for_next_relic = false, .control = control});
 }
 
 int runKiosk(const KioskOptions& options) {
@@ -81,9 +91,16 @@ int runKiosk(const KioskOptions& options) {
   const auto validate = [&installation, &options](const ConfigNode& root) {
     installation.reset();
     calibratedDisplayConfig(root);
-    if (describesCameras(root))
+    if (describesCameras(root)) {
       installation = loadInstallation(root, {.relearn_background = options.relearn_background,
                                              .simulated_sources = simulated::configuredSources()});
+    } else if (describesPlaylist(root) && options.source == "pipeline") {
+      // The playlist in the simulated museum (its own hall for entries naming no panorama).
+      const ExhibitConfig exhibit = parseExhibitConfig(root["exhibit"]);
+      installation =
+          simulated::museumInstallation(options.scene, /*paced=*/true, FrameLoopOptions{}.panorama_width);
+      loadPlaylist(root["exhibit"], exhibit, *installation);
+    }
   };
   const auto load = [&] {
     kiosk::LoadedConfig loaded = kiosk::loadConfigWithFallback(options.config, last_good, validate);
@@ -93,8 +110,11 @@ int runKiosk(const KioskOptions& options) {
   };
   kiosk::LoadedConfig loaded = load();
   HOLO_LOG_INFO("kiosk starting with configuration from {}", loaded.source);
-  std::shared_ptr<kiosk::RenderFrame> source =
-      std::make_shared<kiosk::RenderFrame>(makeFrameSource(loaded, options, std::move(installation)));
+  // A reload that changes only the playlist hands it to the running source (ExhibitControl): the
+  // frame loop and its picture stay.
+  const auto control = std::make_shared<ExhibitControl>();
+  std::shared_ptr<kiosk::RenderFrame> source = std::make_shared<kiosk::RenderFrame>(
+      makeFrameSource(loaded, options, std::move(installation), control));
   kiosk::KioskLoop loop(
       loaded, [source](const kiosk::FrameRequest& r) { return (*source)(r); },
       [&] {
@@ -105,10 +125,18 @@ int runKiosk(const KioskOptions& options) {
         const auto changed = [&](const std::string& section) {
           return sectionText(reloaded.root, section) != sectionText(loaded.root, section);
         };
-        if (changed("display") || changed("capture") || changed("exhibit")) {
+        const bool playlist_only = !changed("display") && !changed("capture") && changed("exhibit") &&
+                                   exhibitSettingsText(reloaded.root) == exhibitSettingsText(loaded.root) &&
+                                   describesPlaylist(loaded.root) && describesPlaylist(reloaded.root) &&
+                                   installation && !installation->playlist.empty();
+        if (playlist_only) {
+          HOLO_LOG_INFO("exhibit playlist changed: the running frame source takes it");
+          control->replace(std::move(installation->playlist), std::move(installation->exhibit_problems));
+          installation.reset();
+        } else if (changed("display") || changed("capture") || changed("exhibit")) {
           HOLO_LOG_INFO("display, camera or exhibit settings changed: restarting the frame source");
           *source = {};
-          *source = makeFrameSource(reloaded, options, std::move(installation));
+          *source = makeFrameSource(reloaded, options, std::move(installation), control);
         }
         loaded = reloaded;
         return reloaded;

@@ -2,6 +2,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <algorithm>
 #include <opencv2/imgproc.hpp>
 
@@ -34,6 +36,21 @@ void setAntiAliasing(reflect::TracerSettings& tracer, reflect::AntiAliasing mode
   tracer.edge_aa = mode == reflect::AntiAliasing::Edges;
 }
 
+RelicStage buildStage(const std::string& name, const Model& relic, const cv::Mat& panorama, float yaw,
+                      const reflect::PanoramaProxy& proxy, const RelicStage* reuse) {
+  const auto t0 = Clock::now();
+  RelicStage stage;
+  stage.name = name;
+  stage.scene = std::make_shared<const reflect::RenderScene>(relic, std::vector<Model>{});
+  const reflect::Environment environment(panorama, yaw, proxy);
+  if (reuse && reuse->ibl && reuse->ibl->sourceHash() == environment.contentHash())
+    stage.ibl = reuse->ibl;
+  else
+    stage.ibl = std::make_shared<reflect::PrefilteredIbl>(environment);
+  stage.build_ms = msSince(t0);
+  return stage;
+}
+
 FrameLoop::FrameLoop(FrameLoopOptions options, Installation installation,
                      std::unique_ptr<display::QuadViewPresenter> presenter)
     : options_(std::move(options)),
@@ -59,12 +76,11 @@ FrameLoop::FrameLoop(FrameLoopOptions options, Installation installation,
   if (installation.sources.size() != n || installation.capture_options.size() != n)
     throw Error("installation " + installation.name + ": one source and capture setting per camera expected");
 
-  environment_ = reflect::Environment(
-      installation.panorama, installation.panorama_yaw_rad,
-      options_.panorama_at_infinity ? reflect::PanoramaProxy{} : installation.panorama_proxy);
-  ibl_ = reflect::PrefilteredIbl(environment_);
-  render_scene_ = std::make_unique<reflect::RenderScene>(installation.relic, std::vector<Model>{});
-  renderer_ = std::make_unique<reflect::FrameRenderer>(*render_scene_, ibl_, options_.tracer);
+  configured_exposure_ = options_.tracer.exposure;
+  stage_ = buildStage(installation.relic_name, installation.relic, installation.panorama,
+                      installation.panorama_yaw_rad,
+                      options_.panorama_at_infinity ? reflect::PanoramaProxy{} : installation.panorama_proxy);
+  renderer_ = std::make_unique<reflect::FrameRenderer>(*stage_.scene, *stage_.ibl, options_.tracer);
   for (int f = 0; f < 4; ++f) eyes_[static_cast<std::size_t>(f)] = display::defaultEye(f, options_.eyes);
 
   // The cameras start once everything they feed is built.
@@ -237,7 +253,22 @@ void FrameLoop::render(const ForegroundFrame& fg, const std::vector<CameraModel>
   report.camera_images_ms = msSince(t0);
   report.times.dynamic += report.camera_images_ms;
 
-  last_result_ = renderer_->render(cloud_, images, views);
+  if (turn_ && *turn_ != 0.0f) {
+    // The still relic traced from turned eyes, visitors and hall (see frame_loop.hpp).
+    const mat4 T = worldToRelic();
+    depthfilter::ForegroundCloud cloud = cloud_;
+    for (depthfilter::ForegroundPoint& p : cloud.points) p.position = vec3(T * vec4(p.position, 1.0f));
+    std::vector<reflect::ForegroundCameraImage> turned_images = images;
+    for (reflect::ForegroundCameraImage& image : turned_images)
+      image.camera.setPose(T * image.camera.T_world_camera());
+    std::vector<CameraModel> turned_views = views;
+    for (CameraModel& view : turned_views) view.setPose(T * view.T_world_camera());
+    stage_.ibl->setRelicTurn(stage_.scene->relicBounds().center(), *turn_);
+    last_result_ = renderer_->render(cloud, turned_images, turned_views);
+    stage_.ibl->setRelicTurn(vec3(0.0f), 0.0f);  // a stage may share its IBL with the next
+  } else {
+    last_result_ = renderer_->render(cloud_, images, views);
+  }
   last_images_ = images;
   addPassTimes(last_result_, report);
   t0 = Clock::now();
@@ -267,6 +298,19 @@ void FrameLoop::present(FrameReport& report) {
     for (std::size_t f = 0; f < last_result_.views.size() && f < faces.size(); ++f) {
       faces[f] = last_result_.views[f].display;
       last_result_.views[f].coverage.convertTo(coverage[f], CV_8U, 255.0);
+      const cv::Mat& from = crossfade_from_[f];
+      if (crossfade_weight_ < 1.0f && !from.empty() && !faces[f].empty() && from.type() == faces[f].type()) {
+        cv::Mat resized = from;
+        if (from.size() != faces[f].size()) cv::resize(from, resized, faces[f].size(), 0, 0, cv::INTER_AREA);
+        cv::Mat blended;
+        cv::addWeighted(resized, 1.0 - crossfade_weight_, faces[f], crossfade_weight_, 0.0, blended);
+        faces[f] = blended;
+        // The outgoing relic's pixels are lit too: the light guide must not cut them off.
+        cv::Mat grey;
+        cv::cvtColor(resized, grey, cv::COLOR_BGR2GRAY);
+        const cv::Mat lit = grey > 0;
+        coverage[f] = cv::max(coverage[f], lit);
+      }
     }
     presenter_->present(faces, &coverage);
     report.presented = presenter_->isOpen();
@@ -279,7 +323,16 @@ void FrameLoop::waitForWorker() const {
 }
 
 std::vector<CameraModel> FrameLoop::faceViews() const {
-  const Bounds3 bounds = render_scene_->relicBounds();
+  Bounds3 bounds = stage_.scene->relicBounds();
+  if (turn_ && !bounds.empty()) {
+    // The box of the cylinder the turning relic sweeps: the same from every turn.
+    const vec3 c = bounds.center();
+    const vec3 h = 0.5f * bounds.extent();
+    const float r = std::sqrt(h.x * h.x + h.z * h.z);
+    bounds = Bounds3();
+    bounds.extend(c - vec3(r, h.y, r));
+    bounds.extend(c + vec3(r, h.y, r));
+  }
   const vec3 target = bounds.empty() ? vec3(0.0f) : bounds.center();
   std::vector<CameraModel> views;
   for (const vec3& eye : eyes_)
@@ -290,7 +343,7 @@ std::vector<CameraModel> FrameLoop::faceViews() const {
 
 reflect::FrameResult FrameLoop::renderReference(reflect::TracerSettings settings) {
   settings.exposure = options_.tracer.exposure;
-  reflect::FrameRenderer reference(*render_scene_, ibl_, settings);
+  reflect::FrameRenderer reference(*stage_.scene, *stage_.ibl, settings);
   return reference.render(cloud_, last_images_, faceViews());
 }
 
@@ -298,11 +351,38 @@ void FrameLoop::setQuality(int view_size, bool foreground_enabled) {
   if (view_size == options_.view_size && foreground_enabled == options_.tracer.foreground_enabled) return;
   options_.view_size = std::clamp(view_size, 16, 4096);
   options_.tracer.foreground_enabled = foreground_enabled;
-  renderer_ = std::make_unique<reflect::FrameRenderer>(*render_scene_, ibl_, options_.tracer);
+  renderer_ = std::make_unique<reflect::FrameRenderer>(*stage_.scene, *stage_.ibl, options_.tracer);
 }
 
 void FrameLoop::finish() {
   if (presenter_) presenter_->finish();
+}
+
+void FrameLoop::setStage(RelicStage stage) {
+  if (!stage.scene || !stage.ibl) throw Error("frame loop: a relic stage without its scene or IBL");
+  renderer_.reset();  // it refers to the old stage's scene and IBL
+  stage_ = std::move(stage);
+  exposure_.reset();
+  options_.tracer.exposure = configured_exposure_;
+  renderer_ = std::make_unique<reflect::FrameRenderer>(*stage_.scene, *stage_.ibl, options_.tracer);
+}
+
+void FrameLoop::setTurn(std::optional<float> angle_rad) {
+  turn_ = angle_rad;
+}
+
+void FrameLoop::setCrossfade(const display::FaceImages& from, float weight) {
+  crossfade_from_ = from;
+  crossfade_weight_ = std::clamp(weight, 0.0f, 1.0f);
+}
+
+mat4 FrameLoop::worldToRelic() const {
+  // Turning the relic by a about the vertical through its centre c is, for the still relic,
+  // turning everything else by -a about that line.
+  const vec3 c = stage_.scene->relicBounds().center();
+  const float a = turn_.value_or(0.0f);
+  return glm::translate(mat4(1.0f), c) * glm::rotate(mat4(1.0f), -a, vec3(0.0f, 1.0f, 0.0f)) *
+         glm::translate(mat4(1.0f), -c);
 }
 
 std::vector<capture::CameraHealth> FrameLoop::cameraHealth() const {

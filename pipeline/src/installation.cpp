@@ -2,8 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <opencv2/imgcodecs.hpp>
 #include <utility>
 
@@ -22,29 +25,35 @@ namespace {
 namespace fs = std::filesystem;
 
 // The files the parsed section names, loaded now; a missing or unreadable one fails naming its
-// field.
-Model loadRelic(const ConfigNode& exhibit, const ExhibitConfig& config) {
-  if (!config.builtin_relic.empty()) {
-    Model relic = relics::makeRelic(config.builtin_relic, exhibit.file());
+// field (`node`: the section or the playlist entry).
+Model loadRelic(const ConfigNode& node, const std::string& builtin_relic, const fs::path& relic_file,
+                bool fit_relic) {
+  if (!builtin_relic.empty()) {
+    Model relic = relics::makeRelic(builtin_relic, node.file());
     relics::fitOnPedestal(relic);
     return relic;
   }
-  const ConfigNode field = exhibit["relic"];
+  const ConfigNode field = node["relic"];
   std::error_code ec;
-  if (!fs::is_regular_file(config.relic_file, ec))
+  if (!fs::is_regular_file(relic_file, ec))
     field.fail("a glTF file (.gltf/.glb, relative to the configuration) or a built-in relic (" +
                    relics::relicNameList() + ")",
-               "'" + field.as<std::string>() + "' (no such file: " + config.relic_file.string() + ")");
-  Model relic = loadGltf(config.relic_file);
-  if (relic.meshes.empty())
-    field.fail("a glTF file with at least one triangle mesh", config.relic_file.string());
-  if (config.fit_relic) relics::fitOnPedestal(relic);
+               "'" + field.as<std::string>() + "' (no such file: " + relic_file.string() + ")");
+  Model relic;
+  try {
+    relic = loadGltf(relic_file);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    field.fail("a readable glTF 2.0 file", relic_file.string() + ": " + e.what());
+  }
+  if (relic.meshes.empty()) field.fail("a glTF file with at least one triangle mesh", relic_file.string());
+  if (fit_relic) relics::fitOnPedestal(relic);
   return relic;
 }
 
-cv::Mat loadPanorama(const ConfigNode& exhibit, const ExhibitConfig& config) {
-  const ConfigNode field = exhibit["panorama"];
-  const fs::path& path = config.panorama_file;
+cv::Mat loadPanorama(const ConfigNode& node, const fs::path& path) {
+  const ConfigNode field = node["panorama"];
   std::error_code ec;
   if (!fs::is_regular_file(path, ec))
     field.fail("an equirectangular HDR panorama (.hdr or .exr, relative to the configuration)",
@@ -55,6 +64,18 @@ cv::Mat loadPanorama(const ConfigNode& exhibit, const ExhibitConfig& config) {
         "an equirectangular panorama (width = 2 x height)",
         std::to_string(hdr.pixels.cols) + "x" + std::to_string(hdr.pixels.rows) + " (" + path.string() + ")");
   return hdr.pixels;
+}
+
+// The pyramid (the world origin) and its base must stand inside the hall the panorama is
+// projected onto.
+void checkHallRadius(const ConfigNode& node, const reflect::PanoramaProxy& proxy) {
+  const float base_reach = std::sqrt(2.0f) * proxy.base_half_width;  // to a corner
+  if (!proxy.infinite() && proxy.radius <= glm::length(proxy.centre) + base_reach + 0.5f)
+    node[node.has("hall_radius") ? "hall_radius" : "relic"].fail(
+        "a radius at least 0.5 m beyond the pyramid and its base (the panorama was captured " +
+        fmt::format("{:.2f}", glm::length(proxy.centre)) +
+        " m from it, pyramid.yml's panorama_position; the base's corners reach " +
+        fmt::format("{:.2f}", base_reach) + " m, exhibit.base_half_width)");
 }
 
 struct CalibratedCamera {
@@ -120,6 +141,69 @@ bool describesCameras(const ConfigNode& root) {
   return root.isMap() && root.has("capture");
 }
 
+bool describesPlaylist(const ConfigNode& root) {
+  return root.isMap() && root.has("exhibit") && root["exhibit"].isMap() && root["exhibit"].has("relics");
+}
+
+void loadPlaylist(const ConfigNode& exhibit, const ExhibitConfig& config, Installation& installation) {
+  installation.playlist.clear();
+  installation.exhibit_problems = config.relic_problems;
+  std::map<fs::path, cv::Mat> panoramas;  // by file: entries naming one hall share its pixels
+  const ConfigNode relics = exhibit["relics"];
+  for (const RelicEntryConfig& entry : config.relics) {
+    const ConfigNode node = relics[static_cast<std::size_t>(entry.index)];
+    try {
+      ExhibitRelic relic;
+      relic.name = entry.name;
+      relic.index = entry.index;
+      relic.relic = loadRelic(node, entry.builtin_relic, entry.relic_file, entry.fit_relic);
+      // Placement about the relic's foot: scale, then turn, then lift.
+      relic.relic.transform(glm::translate(mat4(1.0f), vec3(0.0f, entry.height_m, 0.0f)) *
+                            glm::rotate(mat4(1.0f), glm::radians(entry.yaw_deg), vec3(0.0f, 1.0f, 0.0f)) *
+                            glm::scale(mat4(1.0f), vec3(entry.scale)));
+      if (!entry.panorama_file.empty()) {
+        auto [it, added] = panoramas.try_emplace(entry.panorama_file);
+        if (added) it->second = loadPanorama(node, entry.panorama_file);
+        relic.panorama = it->second;
+      } else if (!config.panorama_file.empty() || !installation.panorama.empty()) {
+        relic.panorama = installation.panorama;
+      } else {
+        node["relic"].fail("a panorama: exhibit.relics[" + std::to_string(entry.index) +
+                               "].panorama or exhibit.panorama (the installation has no hall of its own)",
+                           "none");
+      }
+      relic.panorama_yaw_rad = installation.panorama_yaw_rad;
+      relic.panorama_proxy = installation.panorama_proxy;
+      if (entry.hall_radius_m) relic.panorama_proxy.radius = *entry.hall_radius_m;
+      if (entry.base_half_width_m) relic.panorama_proxy.base_half_width = *entry.base_half_width_m;
+      checkHallRadius(node, relic.panorama_proxy);
+      relic.duration_s = entry.duration_s;
+      relic.turntable_deg_per_s = entry.turntable_deg_per_s;
+      relic.crossfade_s = entry.crossfade_s;
+      installation.playlist.push_back(std::move(relic));
+    } catch (const std::exception& e) {  // InputError, or a decoder's own
+      installation.exhibit_problems.push_back("entry " + std::to_string(entry.index) + " (" + entry.name +
+                                              "): " + e.what());
+    }
+  }
+  for (const std::string& problem : installation.exhibit_problems)
+    HOLO_LOG_WARN("exhibit playlist: {} (left out)", problem);
+  if (installation.playlist.empty()) {
+    std::string why;
+    for (const std::string& problem : installation.exhibit_problems)
+      why += (why.empty() ? "" : "; ") + problem;
+    relics.fail("at least one relic that loads", why);
+  }
+  const ExhibitRelic& first = installation.playlist.front();
+  installation.relic = first.relic;
+  installation.relic_name = first.name;
+  installation.panorama = first.panorama;
+  installation.panorama_yaw_rad = first.panorama_yaw_rad;
+  installation.panorama_proxy = first.panorama_proxy;
+  HOLO_LOG_INFO("exhibit playlist: {} relics, {} left out", installation.playlist.size(),
+                installation.exhibit_problems.size());
+}
+
 std::optional<RgbdFrame> loadCalibratedBackground(const fs::path& dir, std::size_t index, cv::Size size) {
   const fs::path colour_file = dir / ("background_camera" + std::to_string(index) + ".png");
   const fs::path depth_file = dir / ("background_depth_camera" + std::to_string(index) + ".png");
@@ -151,8 +235,11 @@ Installation loadInstallation(const ConfigNode& root, const InstallationOptions&
 
   Installation installation;
   installation.name = root.file();
-  installation.relic = loadRelic(exhibit, exhibit_config);
-  installation.panorama = loadPanorama(exhibit, exhibit_config);
+  if (!exhibit_config.playlist())
+    installation.relic =
+        loadRelic(exhibit, exhibit_config.builtin_relic, exhibit_config.relic_file, exhibit_config.fit_relic);
+  if (!exhibit_config.panorama_file.empty())
+    installation.panorama = loadPanorama(exhibit, exhibit_config.panorama_file);
   installation.camera_exposure = exhibit_config.camera_exposure;
   installation.background_frames = exhibit_config.background_frames;
   installation.fps = exhibit_config.fps;
@@ -172,17 +259,12 @@ Installation loadInstallation(const ConfigNode& root, const InstallationOptions&
   } else {
     HOLO_LOG_WARN("{}: no pyramid calibration, the panorama is used unrotated (yaw 0)", pyramid.string());
   }
-  // The pyramid (the world origin) and its base must stand inside the hall the panorama is
-  // projected onto.
-  const float base_reach = std::sqrt(2.0f) * installation.panorama_proxy.base_half_width;  // to a corner
-  if (!installation.panorama_proxy.infinite() &&
-      installation.panorama_proxy.radius <=
-          glm::length(installation.panorama_proxy.centre) + base_reach + 0.5f)
-    exhibit["hall_radius"].fail(
-        "a radius at least 0.5 m beyond the pyramid and its base (the panorama was captured " +
-        fmt::format("{:.2f}", glm::length(installation.panorama_proxy.centre)) +
-        " m from it, pyramid.yml's panorama_position; the base's corners reach " +
-        fmt::format("{:.2f}", base_reach) + " m, exhibit.base_half_width)");
+  if (exhibit_config.playlist()) {
+    loadPlaylist(exhibit, exhibit_config, installation);
+  } else {
+    checkHallRadius(exhibit, installation.panorama_proxy);
+    installation.relic_name = exhibit["relic"].as<std::string>();
+  }
 
   installation.sources = capture::makeSources(capture, installation_options.simulated_sources);
   for (std::size_t i = 0; i < capture.cameras.size(); ++i) {

@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <future>
 #include <memory>
 #include <opencv2/imgproc.hpp>
 #include <string>
@@ -104,9 +106,14 @@ class TestPatternSource {
 class PipelineSource {
  public:
   PipelineSource(const display::DisplayConfig& config, bool headless, Installation installation,
-                 int view_size)
+                 int view_size, PipelineSourceOptions source_options)
       : headless_(headless),
-        faults_(std::make_shared<kiosk::FaultInjector>(kiosk::FaultInjector::fromEnvironment())) {
+        faults_(std::make_shared<kiosk::FaultInjector>(kiosk::FaultInjector::fromEnvironment())),
+        playlist_(std::make_shared<Playlist>()),
+        source_options_(std::move(source_options)) {
+    playlist_->relics = std::move(installation.playlist);
+    playlist_->problems = std::move(installation.exhibit_problems);
+    playlist_->first_name = installation.relic_name;
     FrameLoopOptions options;
     options.live = true;
     options.view_size = view_size;
@@ -121,6 +128,9 @@ class PipelineSource {
     // switch them on.
     for (int i = 0; i < static_cast<int>(loop_->cameras().size()); ++i)
       if (!capture::cameraPowered(i)) cameras_off_.push_back(i);
+    playlist_->next = playlist_->relics.size() > 1 ? 1 : 0;
+    playlist_->shown_since = std::chrono::steady_clock::now();
+    startPreload();
   }
 
   kiosk::FrameReport operator()(const kiosk::FrameRequest& request) {
@@ -135,8 +145,10 @@ class PipelineSource {
       loop_->presenter()->present(blackFaces());
       report.presented = loop_->presenter()->isOpen();
       if (headless_) checkPicture(*loop_->presenter(), true, report);
+      reportPlaylist(report);
       return report;
     }
+    showPlaylist(request);
     // Each quality level below the best renders views 1.25x smaller (0.64x the pixels).
     const int view_size = std::max(std::min(64, full_view_size_),
                                    static_cast<int>(full_view_size_ / std::pow(1.25, request.quality)));
@@ -188,10 +200,125 @@ class PipelineSource {
     }
     if (!report.presented) report.errors.push_back("display window closed");
     if (headless_) checkPicture(*loop_->presenter(), false, report);
+    reportPlaylist(report);
     return report;
   }
 
  private:
+  using SteadyClock = std::chrono::steady_clock;
+  // The playlist and where it stands; shared by the copies of the source.
+  struct Playlist {
+    std::vector<ExhibitRelic> relics;  // empty: the single relic of the installation
+    std::vector<std::string> problems;
+    std::string first_name;  // the single relic's name
+    int current = 0;         // the entry on screen; -1: one a reload removed (still shown)
+    int next = 0;            // the entry preload builds, shown after `current`
+    bool switch_asked = false;
+    SteadyClock::time_point shown_since;
+    std::future<RelicStage> preload;  // the next entry's stage, being built
+    display::FaceImages fade_from;    // the outgoing relic's last picture
+    double fade_s = 0;
+  };
+
+  void startPreload() {
+    Playlist& p = *playlist_;
+    if (p.relics.size() < 2 && p.current >= 0) return;  // one relic: nothing to switch to
+    const ExhibitRelic& entry = p.relics[static_cast<std::size_t>(p.next)];
+    // Copies: a reload may replace the playlist while the worker builds.
+    p.preload = std::async(std::launch::async, [entry, current = loop_->stage()] {
+      return buildStage(entry.name, entry.relic, entry.panorama, entry.panorama_yaw_rad, entry.panorama_proxy,
+                        &current);
+    });
+  }
+
+  void switchRelic() {
+    Playlist& p = *playlist_;
+    const auto t0 = SteadyClock::now();
+    RelicStage stage = p.preload.get();  // ready, or the options ask to wait
+    const double wait_ms = std::chrono::duration<double, std::milli>(SteadyClock::now() - t0).count();
+    const ExhibitRelic& incoming = p.relics[static_cast<std::size_t>(p.next)];
+    p.fade_s = incoming.crossfade_s;
+    p.fade_from = {};
+    const reflect::FrameResult& last = loop_->lastResult();
+    if (p.fade_s > 0)
+      for (std::size_t f = 0; f < last.views.size() && f < p.fade_from.size(); ++f)
+        p.fade_from[f] = last.views[f].display.clone();
+    const double build_ms = stage.build_ms;
+    const auto t1 = SteadyClock::now();
+    loop_->setStage(std::move(stage));
+    const double switch_ms = std::chrono::duration<double, std::milli>(SteadyClock::now() - t1).count();
+    HOLO_LOG_INFO(
+        "exhibit: now entry {} ({}); switched in {:.1f} ms on the loop's thread (+{:.1f} ms waiting "
+        "for its stage, built in {:.0f} ms beside the previous relic)",
+        incoming.index, incoming.name, switch_ms, wait_ms, build_ms);
+    p.current = p.next;
+    p.next = (p.current + 1) % static_cast<int>(p.relics.size());
+    p.shown_since = SteadyClock::now();
+    p.switch_asked = false;
+    startPreload();
+  }
+
+  void takeReplacement() {
+    if (!source_options_.control) return;
+    std::optional<ExhibitControl::Replacement> replacement = source_options_.control->take();
+    if (!replacement) return;
+    Playlist& p = *playlist_;
+    if (p.preload.valid()) p.preload.wait();  // it builds from the old playlist
+    p.preload = {};
+    p.relics = std::move(replacement->playlist);
+    p.problems = std::move(replacement->problems);
+    const std::string& shown = loop_->stage().name;
+    const auto it = std::find_if(p.relics.begin(), p.relics.end(),
+                                 [&](const ExhibitRelic& relic) { return relic.name == shown; });
+    if (it != p.relics.end()) {
+      p.current = static_cast<int>(it - p.relics.begin());
+      p.next = (p.current + 1) % static_cast<int>(p.relics.size());
+    } else {
+      p.current = -1;
+      p.next = 0;
+      p.switch_asked = true;
+    }
+    HOLO_LOG_INFO("exhibit: playlist replaced, {} relics ({} left out)", p.relics.size(), p.problems.size());
+    startPreload();
+  }
+
+  // Before a frame: the reload's playlist, the switch when the relic's time is up or one is asked
+  // for, and the relic's turn and cross-fade for this frame.
+  void showPlaylist(const kiosk::FrameRequest& request) {
+    takeReplacement();
+    Playlist& p = *playlist_;
+    if (p.relics.empty()) return;
+    for (const kiosk::KioskAction action : request.actions)
+      if (action == kiosk::KioskAction::NextRelic) p.switch_asked = true;
+    const double shown_s = std::chrono::duration<double>(SteadyClock::now() - p.shown_since).count();
+    if (p.current >= 0 && shown_s >= p.relics[static_cast<std::size_t>(p.current)].duration_s)
+      p.switch_asked = true;
+    if (p.switch_asked && p.preload.valid() &&
+        (source_options_.wait_for_next_relic ||
+         p.preload.wait_for(std::chrono::seconds(0)) == std::future_status::ready))
+      switchRelic();
+    else if (p.switch_asked && p.relics.size() < 2)
+      p.switch_asked = false;  // nothing else to show
+    const double since_s = std::chrono::duration<double>(SteadyClock::now() - p.shown_since).count();
+    const ExhibitRelic* shown = p.current >= 0 ? &p.relics[static_cast<std::size_t>(p.current)] : nullptr;
+    if (shown && shown->turntable_deg_per_s != 0.0) {
+      const double turns = shown->turntable_deg_per_s * since_s / 360.0;
+      loop_->setTurn(static_cast<float>(2.0 * kPi * (turns - std::floor(turns))));
+    } else {
+      loop_->setTurn(std::nullopt);
+    }
+    const float weight = p.fade_s > 0 ? static_cast<float>(since_s / p.fade_s) : 1.0f;
+    if (weight >= 1.0f && !p.fade_from[0].empty()) p.fade_from = {};
+    loop_->setCrossfade(p.fade_from, weight);
+  }
+
+  void reportPlaylist(kiosk::FrameReport& report) const {
+    const Playlist& p = *playlist_;
+    report.relic = p.relics.empty() ? p.first_name : loop_->stage().name;
+    if (!p.relics.empty()) report.next_relic = p.relics[static_cast<std::size_t>(p.next)].name;
+    report.exhibit_problems = p.problems;
+  }
+
   void switchCameras(const std::vector<int>& off, kiosk::FrameReport& report) {
     if (off == cameras_off_) return;
     for (int i = 0; i < static_cast<int>(loop_->cameras().size()); ++i) {
@@ -215,13 +342,16 @@ class PipelineSource {
   double camera_pixels_ = 0;     // all cameras together
   std::vector<bool> was_alive_;  // per camera, as last reported
   std::vector<int> cameras_off_;
+  std::shared_ptr<Playlist> playlist_;
+  PipelineSourceOptions source_options_;
 };
 
 }  // namespace
 
 kiosk::RenderFrame pipelineFrameSource(const display::DisplayConfig& config, bool headless,
-                                       Installation installation, int view_size) {
-  return PipelineSource(config, headless, std::move(installation), view_size);
+                                       Installation installation, int view_size,
+                                       PipelineSourceOptions options) {
+  return PipelineSource(config, headless, std::move(installation), view_size, std::move(options));
 }
 
 kiosk::RenderFrame testPatternFrameSource(const display::DisplayConfig& config, bool headless) {

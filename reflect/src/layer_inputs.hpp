@@ -24,7 +24,7 @@ inline float safeIor(float ior) {
 // through the panorama's proxy, so the hall's parallax is the same as the static shading's.
 inline vec3 iblSeenFrom(const PrefilteredIbl& ibl, const vec3& origin, const vec3& direction,
                         float roughness) {
-  return ibl.specular(ibl.proxy().lookupDirection(origin, direction), roughness);
+  return ibl.seenFrom(origin, direction, roughness);
 }
 
 }  // namespace holo::reflect

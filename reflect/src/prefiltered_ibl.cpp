@@ -114,6 +114,13 @@ vec3 PrefilteredIbl::specular(const vec3& direction, float roughness) const {
   return (1.0f - t) * a + t * b;
 }
 
+void PrefilteredIbl::setRelicTurn(const vec3& pivot, float angle_rad) {
+  turn_angle_ = std::isfinite(angle_rad) ? angle_rad : 0.0f;
+  turn_cos_ = std::cos(turn_angle_);
+  turn_sin_ = std::sin(turn_angle_);
+  turn_pivot_ = pivot;
+}
+
 SplitSumShading PrefilteredIbl::shadeParts(const SurfaceMaterial& m, const vec3& n, const vec3& wo,
                                            const vec3& reflected, const vec3& position) const {
   SplitSumShading parts;
@@ -127,7 +134,7 @@ SplitSumShading PrefilteredIbl::shadeParts(const SurfaceMaterial& m, const vec3&
   const vec3 f0 = (1.0f - metallic) * dielectric_f0 * s + metallic * base;
   const float f90 = (1.0f - metallic) * s + metallic;
   parts.specular_scale = f0 * ab.x + f90 * ab.y;
-  parts.environment = specular(proxy_.lookupDirection(position, reflected), m.roughness);
+  parts.environment = seenFrom(position, reflected, m.roughness);
   // The diffuse keeps what the strongest channel of the dielectric's reflection leaves
   // (KHR_materials_specular's fresnel_mix).
   const vec3 dielectric_reflectance = dielectric_f0 * s * ab.x + s * ab.y;

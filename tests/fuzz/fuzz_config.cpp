@@ -44,7 +44,25 @@ void checkExhibit(const holo::ConfigNode& root) {
       std::find(builtin.begin(), builtin.end(), exhibit.builtin_relic) == builtin.end())
     __builtin_trap();
   if (exhibit.builtin_relic.empty() && !exhibit.relic_file.is_absolute()) __builtin_trap();
-  if (!exhibit.panorama_file.is_absolute()) __builtin_trap();
+  if (!exhibit.panorama_file.is_absolute() && !(exhibit.playlist() && exhibit.panorama_file.empty()))
+    __builtin_trap();
+  for (const holo::pipeline::RelicEntryConfig& entry : exhibit.relics) {
+    if (entry.builtin_relic.empty() == entry.relic_file.empty()) __builtin_trap();
+    if (entry.builtin_relic.empty() && !entry.relic_file.is_absolute()) __builtin_trap();
+    if (!entry.panorama_file.empty() && !entry.panorama_file.is_absolute()) __builtin_trap();
+    if (!(entry.scale >= 0.01f && entry.scale <= 100.0f) ||
+        !(entry.height_m >= -1.0f && entry.height_m <= 2.0f) ||
+        !(entry.yaw_deg >= -360.0f && entry.yaw_deg <= 360.0f))
+      __builtin_trap();
+    if (!(entry.duration_s >= 0.01 && entry.duration_s <= 86400.0) ||
+        !(entry.turntable_deg_per_s >= -360.0 && entry.turntable_deg_per_s <= 360.0) ||
+        !(entry.crossfade_s >= 0.0 && entry.crossfade_s <= 60.0))
+      __builtin_trap();
+    if (entry.hall_radius_m && !(*entry.hall_radius_m >= 0.5f && *entry.hall_radius_m <= 1000.0f))
+      __builtin_trap();
+    if (entry.base_half_width_m.value_or(exhibit.base_half_width_m) > 0.0f && !entry.hall_radius_m)
+      __builtin_trap();
+  }
   if (exhibit.hall_radius_m && !(*exhibit.hall_radius_m >= 0.5f && *exhibit.hall_radius_m <= 1000.0f))
     __builtin_trap();
   if (!(exhibit.base_half_width_m >= 0.0f && exhibit.base_half_width_m <= 2.0f)) __builtin_trap();

@@ -224,6 +224,44 @@ TEST(KioskProcess, RunsTheLivePipelineOnTheSimulatedMuseum) {
   expectNoMorePingsThanTheInterval(pets, 1.0);
 }
 
+// The exhibit playlist in the simulated museum (no capture: section): the relics take turns, the
+// broken entry is in /health, and a reload that adds a relic reaches the running frame loop (no
+// restart of the frame source) and shows it.
+TEST(KioskProcess, APlaylistReloadAddsARelicWithoutARestart) {
+  const std::string playlist = std::string(kConfig) +
+                               "exhibit:\n  relics:\n"
+                               "    - {relic: vase, duration_s: 1, turntable_deg_per_s: 30}\n"
+                               "    - {relic: broken.glb}\n"
+                               "    - {relic: glass-vase, duration_s: 1}\n";
+  KioskProcess kiosk("playlist", playlist, {}, {}, 10'000'000, "pipeline", smallMuseumArgs("playlist", 48));
+  ASSERT_TRUE(kiosk.readUntilContains("READY=1", 120s)) << kiosk.log();
+  const auto waitForRelic = [&](const std::string& relic) {
+    nlohmann::json health;
+    for (int sample = 0; sample < 600; ++sample) {
+      health = healthJson(kiosk.healthPort());
+      if (health["relic"] == relic) return health;
+      std::this_thread::sleep_for(100ms);
+    }
+    ADD_FAILURE() << relic << " not shown: " << health.dump(2) << kiosk.log();
+    return health;
+  };
+  nlohmann::json health = waitForRelic("glass-vase");
+  EXPECT_EQ(health["next_relic"], "vase");
+  ASSERT_EQ(health["exhibit_problems"].size(), 1u) << health.dump(2);
+  EXPECT_NE(health["exhibit_problems"][0].get<std::string>().find("entry 1 (broken.glb)"), std::string::npos);
+
+  holo::writeFileAtomically(kiosk.dir() / "site.yaml", playlist + "    - {relic: tripod, duration_s: 1}\n");
+  kiosk.signal(SIGHUP);
+  health = waitForRelic("tripod");
+  EXPECT_EQ(health["next_relic"], "vase");
+  EXPECT_NE(kiosk.log().find("the running frame source takes it"), std::string::npos) << kiosk.log();
+  EXPECT_EQ(kiosk.log().find("restarting the frame source"), std::string::npos) << kiosk.log();
+  for (const auto& e : health["last_errors"])
+    EXPECT_EQ(e.get<std::string>().find("black frame"), std::string::npos) << e;
+  kill(kiosk.pid(), SIGTERM);
+  EXPECT_EQ(kiosk.wait(60s), 0) << kiosk.log();
+}
+
 }  // namespace
 
 }  // namespace holo::test

@@ -101,5 +101,87 @@ TEST_F(ExhibitConfigTest, EveryBadFieldIsNamed) {
   EXPECT_NE(typo.find("hall_raduis"), std::string::npos) << typo;
 }
 
+TEST_F(ExhibitConfigTest, APlaylistNamesItsRelicsWithTheSectionsDefaults) {
+  const ExhibitConfig config = parseExhibitConfig(exhibit(
+      "  panorama: hall.hdr\n  hall_radius: 8\n  base_half_width: 0.3\n  fit_relic: true\n"
+      "  relics:\n"
+      "    - relic: vase\n"
+      "    - relic: relics/amphora.glb\n      panorama: /srv/other.exr\n      hall_radius: 12\n"
+      "      base_half_width: 0\n      fit_relic: false\n      scale: 1.5\n      height: 0.05\n"
+      "      yaw: -90\n      duration_s: 120\n      turntable_deg_per_s: -12\n      crossfade_s: 0\n"));
+  ASSERT_TRUE(config.playlist());
+  ASSERT_EQ(config.relics.size(), 2u);
+  EXPECT_TRUE(config.relic_problems.empty());
+  EXPECT_EQ(config.builtin_relic, "vase");  // the first entry's
+  const RelicEntryConfig& vase = config.relics[0];
+  EXPECT_EQ(vase.name, "vase");
+  EXPECT_EQ(vase.index, 0);
+  EXPECT_TRUE(vase.fit_relic);
+  EXPECT_TRUE(vase.panorama_file.empty());  // the section's
+  ASSERT_TRUE(vase.hall_radius_m);
+  EXPECT_FLOAT_EQ(*vase.hall_radius_m, 8.0f);
+  EXPECT_FALSE(vase.base_half_width_m);
+  EXPECT_FLOAT_EQ(vase.scale, 1.0f);
+  EXPECT_DOUBLE_EQ(vase.duration_s, 60.0);
+  EXPECT_DOUBLE_EQ(vase.turntable_deg_per_s, 0.0);
+  EXPECT_DOUBLE_EQ(vase.crossfade_s, 1.5);
+  const RelicEntryConfig& amphora = config.relics[1];
+  EXPECT_EQ(amphora.relic_file, dir_ / "relics/amphora.glb");
+  EXPECT_FALSE(amphora.fit_relic);
+  EXPECT_EQ(amphora.panorama_file, fs::path("/srv/other.exr"));
+  EXPECT_FLOAT_EQ(*amphora.hall_radius_m, 12.0f);
+  EXPECT_FLOAT_EQ(*amphora.base_half_width_m, 0.0f);
+  EXPECT_FLOAT_EQ(amphora.scale, 1.5f);
+  EXPECT_FLOAT_EQ(amphora.height_m, 0.05f);
+  EXPECT_FLOAT_EQ(amphora.yaw_deg, -90.0f);
+  EXPECT_DOUBLE_EQ(amphora.duration_s, 120.0);
+  EXPECT_DOUBLE_EQ(amphora.turntable_deg_per_s, -12.0);
+  EXPECT_DOUBLE_EQ(amphora.crossfade_s, 0.0);
+  // The section needs no panorama of its own with a playlist (the installation's hall serves).
+  EXPECT_TRUE(parseExhibitConfig(exhibit("  relics: [{relic: crystal}]\n")).panorama_file.empty());
+}
+
+// The field a playlist entry's problem names.
+std::string entryProblem(const ExhibitConfig& config) {
+  return config.relic_problems.empty() ? std::string("(no problem)") : config.relic_problems.front();
+}
+
+TEST_F(ExhibitConfigTest, ABadPlaylistEntryIsLeftOutNamingItsField) {
+  const auto problem = [&](const std::string& entry) {
+    const ExhibitConfig config =
+        parseExhibitConfig(exhibit("  relics:\n    - relic: vase\n    - " + entry + "\n"));
+    EXPECT_EQ(config.relics.size(), 1u) << entry;
+    return entryProblem(config);
+  };
+  const auto names = [&](const std::string& entry, const std::string& field) {
+    const std::string why = problem(entry);
+    EXPECT_NE(why.find(field), std::string::npos) << entry << ": " << why;
+    EXPECT_NE(why.find((dir_ / "appliance.yaml").string()), std::string::npos) << why;
+  };
+  names("{relic: crystal, duration_s: 0}", "exhibit.relics[1].duration_s");
+  names("{relic: crystal, duration_s: fast}", "exhibit.relics[1].duration_s");
+  names("{relic: crystal, turntable_deg_per_s: 400}", "exhibit.relics[1].turntable_deg_per_s");
+  names("{relic: crystal, crossfade_s: -1}", "exhibit.relics[1].crossfade_s");
+  names("{relic: crystal, crossfade_s: .nan}", "exhibit.relics[1].crossfade_s");
+  names("{relic: crystal, scale: 0}", "exhibit.relics[1].scale");
+  names("{relic: crystal, height: 3}", "exhibit.relics[1].height");
+  names("{relic: crystal, yaw: 720}", "exhibit.relics[1].yaw");
+  names("{relic: crystal, hall_radius: 0.1}", "exhibit.relics[1].hall_radius");
+  names("{relic: crystal, base_half_width: 0.3}", "exhibit.relics[1].base_half_width");  // no hall
+  names("{relic: crystal, panorama: ''}", "exhibit.relics[1].panorama");
+  names("{relic: ''}", "exhibit.relics[1].relic");
+  names("{relik: crystal}", "relik");
+  names("just a name", "exhibit.relics[1]");
+  EXPECT_NE(problem("{relic: crystal, scale: 0}").find("entry 1 (crystal): "), std::string::npos);
+}
+
+TEST_F(ExhibitConfigTest, APlaylistNeedsAnEntryThatParsesAndNoSingleRelicBesideIt) {
+  EXPECT_EQ(failingField("  relics: []\n"), "exhibit.relics");
+  EXPECT_EQ(failingField("  relics: vase\n"), "exhibit.relics");
+  EXPECT_EQ(failingField("  relics: [{relic: vase, scale: -1}, {relic: ''}]\n"), "exhibit.relics");
+  EXPECT_EQ(failingField("  relic: vase\n  relics: [{relic: crystal}]\n"), "exhibit.relic");
+  EXPECT_EQ(failingField("  relics: [{relic: vase}]\n  base_half_width: 0.3\n"), "exhibit.base_half_width");
+}
+
 }  // namespace
 }  // namespace holo::pipeline

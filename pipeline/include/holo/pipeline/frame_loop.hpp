@@ -18,7 +18,24 @@
 // Each step() reports the frame's stage times and counters (frame_report.hpp); the medians,
 // the timing table and its JSON are eval's (eval/frame_timing_report.hpp).
 //
-// Units: seconds for times, milliseconds in StageTimes, metres in the world (pyramid) frame.
+// The exhibit's playlist (kiosk_frame_source.hpp) changes what the loop shows between frames:
+//  * setStage switches in another relic on its hall (a RelicStage: the relic's ray scenes and its
+//    hall's prefiltered IBL, built by buildStage off the loop's thread while the current relic
+//    shows); the renderer is rebuilt for it, so its effect plan is the new relic's (refraction
+//    passes only for a glass relic), and the exposure is chosen again on its first frame.
+//  * setTurn turns the relic about the vertical line through its bounds' centre (a turntable).
+//    The relic's ray scenes (its BVH) and the IBL are kept: the renderer traces the still relic
+//    from eyes, visitors and a hall turned the other way (PrefilteredIbl::setRelicTurn), which
+//    gives the turned relic's picture. What a turn does not keep is the per-view cache of hit
+//    points and static shading (frame_renderer.hpp): it is reused only while a view's eye, seen
+//    from the turning relic, stays within static_reuse_distance, as for a visitor's moving eye;
+//    a relic that does not turn reuses it exactly as without a playlist. A turning relic is
+//    framed by the cylinder it sweeps, so its size on screen does not breathe.
+//  * setCrossfade blends the picture presented with given faces (the outgoing relic's last
+//    ones) for a cross-fade.
+//
+// Units: seconds for times, milliseconds in StageTimes, metres in the world (pyramid) frame,
+// radians for turns.
 // Threads: construct and step() on one thread (a window presenter needs the main thread).
 #pragma once
 
@@ -82,6 +99,21 @@ struct FrameLoopOptions {
   display::EyeTrackerSettings eyes;
 };
 
+// A relic on its hall, ready to be shown: everything its frames need that takes long to build.
+struct RelicStage {
+  std::string name;
+  std::shared_ptr<const reflect::RenderScene> scene;  // the relic's ray scenes (BVH)
+  std::shared_ptr<reflect::PrefilteredIbl> ibl;       // the hall's, maybe shared with other stages
+  double build_ms = 0;                                // what building it took
+};
+
+// Builds the stage of `relic` on `hall` (its panorama, yaw and proxy). Thread-safe (touches no
+// loop): the kiosk builds the next relic's while the current one shows. `reuse`: a stage whose IBL
+// is shared when the hall is the same (panorama pixels, yaw and proxy), instead of prefiltered
+// again. Throws InputError for a bad panorama.
+RelicStage buildStage(const std::string& name, const Model& relic, const cv::Mat& panorama, float yaw,
+                      const reflect::PanoramaProxy& proxy, const RelicStage* reuse = nullptr);
+
 class FrameLoop {
  public:
   // Opens the installation's cameras, learns the background, builds the IBL and the renderers
@@ -117,6 +149,16 @@ class FrameLoop {
   const std::vector<cv::Mat>& cameraColour() const { return camera_colour_; }
   // Closes the presenter's outputs (the MP4 is renamed into place).
   void finish();
+  // The relic shown from the next frame on (see above); the stage the loop started with is
+  // stage(). The exposure is chosen again unless the tracer settings fix it.
+  void setStage(RelicStage stage);
+  const RelicStage& stage() const { return stage_; }
+  // The relic's turn from the next frame on, radians counter-clockwise seen from above; nullopt:
+  // not a turntable relic (framed by its box as without a playlist).
+  void setTurn(std::optional<float> angle_rad);
+  // From the next frame on, each presented face is (1 - weight) * from + weight * the frame's own;
+  // weight >= 1 or empty faces: the frame alone.
+  void setCrossfade(const display::FaceImages& from, float weight);
 
   const std::string& installationName() const { return installation_name_; }
   double cameraFps() const { return fps_; }
@@ -126,8 +168,8 @@ class FrameLoop {
   std::vector<capture::CameraHealth> cameraHealth() const;
   CameraFrameCounts cameraFrameCounts() const;
   display::QuadViewPresenter* presenter() { return presenter_.get(); }
-  const reflect::RenderScene& renderScene() const { return *render_scene_; }
-  const reflect::PrefilteredIbl& ibl() const { return ibl_; }
+  const reflect::RenderScene& renderScene() const { return *stage_.scene; }
+  const reflect::PrefilteredIbl& ibl() const { return *stage_.ibl; }
 
  private:
   void learnBackground(const Installation& installation);
@@ -149,6 +191,8 @@ class FrameLoop {
   void render(const ForegroundFrame& fg, const std::vector<CameraModel>& views, FrameReport& report);
   void fixExposure();
   void present(FrameReport& report);
+  // The frame's inputs seen from the turned relic (setTurn): world -> the unturned relic's frame.
+  mat4 worldToRelic() const;
 
   FrameLoopOptions options_;
   std::string installation_name_;
@@ -163,10 +207,12 @@ class FrameLoop {
   depthfilter::ForegroundCloud cloud_;
   float camera_exposure_ = 1.0f;    // the cameras': radiance = srgbToLinear(colour) / exposure
   std::vector<vec3> colour_gains_;  // per camera, linear RGB (Installation::colour_gains)
-  reflect::Environment environment_;
-  reflect::PrefilteredIbl ibl_;
-  std::unique_ptr<reflect::RenderScene> render_scene_;
+  RelicStage stage_;
   std::unique_ptr<reflect::FrameRenderer> renderer_;
+  float configured_exposure_ = 0.0f;  // options_.tracer.exposure as given (<= 0: automatic)
+  std::optional<float> turn_;         // setTurn's
+  display::FaceImages crossfade_from_;
+  float crossfade_weight_ = 1.0f;
   display::EyeTracker eye_tracker_;
   std::unique_ptr<display::QuadViewPresenter> presenter_;
   std::array<vec3, 4> eyes_{};

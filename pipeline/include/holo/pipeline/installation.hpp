@@ -47,6 +47,23 @@
 
 namespace holo::pipeline {
 
+struct ExhibitConfig;
+
+// One relic of the exhibit's playlist, loaded and checked (exhibit.relics[i], exhibit_config.hpp):
+// the relic placed (fitted, scaled, turned by its yaw, lifted), the hall it is shown in, and how
+// long and how it is shown. Units: metres, radians, seconds, degrees per second.
+struct ExhibitRelic {
+  std::string name;  // the entry's `relic` value
+  int index = 0;     // in exhibit.relics, from 0
+  Model relic;       // world frame, standing on the base
+  cv::Mat panorama;  // CV_32FC3 linear BGR; shared (not copied) between entries naming one file
+  float panorama_yaw_rad = 0.0f;
+  reflect::PanoramaProxy panorama_proxy;
+  double duration_s = 60;
+  double turntable_deg_per_s = 0;
+  double crossfade_s = 1.5;
+};
+
 struct Installation {
   std::string name;  // for logs and reports: the scene's name or the configuration file
   // One entry per camera, in the same order: the source (not opened yet), its model in the world
@@ -81,6 +98,13 @@ struct Installation {
   // centre = its capture point (pyramid.yml's panorama_position), radius = exhibit.hall_radius,
   // base_half_width = exhibit.base_half_width; infinite (no parallax) without hall_radius.
   reflect::PanoramaProxy panorama_proxy;
+  // The exhibit's playlist, the entries that load, in order (loadPlaylist); empty for a single
+  // relic. With one, relic, panorama, panorama_yaw_rad and panorama_proxy above are its first
+  // entry's (what the frame loop starts on).
+  std::vector<ExhibitRelic> playlist;
+  std::string relic_name;  // the relic shown first, for reports (the playlist's first entry's name)
+  // The playlist's entries that were left out, each "entry N (NAME): why", N from 0.
+  std::vector<std::string> exhibit_problems;
 };
 
 struct InstallationOptions {
@@ -102,5 +126,16 @@ std::optional<RgbdFrame> loadCalibratedBackground(const std::filesystem::path& c
 
 // True when the document has a `capture:` section (then it describes real cameras).
 bool describesCameras(const ConfigNode& root);
+// True when the document's `exhibit:` section has a playlist (`relics:`).
+bool describesPlaylist(const ConfigNode& root);
+
+// Loads the playlist of `config` (parsed from `exhibit`, the section's node) into `installation`:
+// every entry's relic and panorama files are read and checked now (so every broken entry is known
+// from the first frame); an entry naming no panorama is shown in the installation's own hall
+// (installation.panorama, its yaw and proxy, with the entry's hall_radius and base_half_width
+// when it sets them). An entry that fails is left out and reported in exhibit_problems with the
+// parser's problems. Throws InputError naming exhibit.relics when no entry loads. Then relic,
+// panorama, panorama_yaw_rad and panorama_proxy become the first entry's.
+void loadPlaylist(const ConfigNode& exhibit, const ExhibitConfig& config, Installation& installation);
 
 }  // namespace holo::pipeline

@@ -47,10 +47,15 @@ class PrefilteredIbl {
   PrefilteredIbl() = default;
   explicit PrefilteredIbl(const Environment& environment, PrefilterOptions options = {});
 
-  // Prefiltered radiance around `direction` for a GGX lobe of this perceptual roughness, seen
-  // from the panorama's capture point.
+  // Prefiltered radiance around `direction` (the hall's frame) for a GGX lobe of this perceptual
+  // roughness, seen from the panorama's capture point.
   vec3 specular(const vec3& direction, float roughness) const;
-  vec3 irradiance(const vec3& normal) const { return sh_.irradiance(normal); }
+  // Radiance of the hall a ray on the relic from `origin` along `direction` meets, through the
+  // proxy (parallax) and at perceptual `roughness`.
+  vec3 seenFrom(const vec3& origin, const vec3& direction, float roughness) const {
+    return specular(proxy_.lookupDirection(turnPoint(origin), turnDirection(direction)), roughness);
+  }
+  vec3 irradiance(const vec3& normal) const { return sh_.irradiance(turnDirection(normal)); }
   // Radiance leaving a surface at `position` (world, metres) towards `wo` (split-sum specular +
   // SH diffuse). The specular lookup goes through the environment's PanoramaProxy: the lobe's
   // centre direction from `position` is turned into the panorama direction it meets (parallax
@@ -62,6 +67,16 @@ class PrefilteredIbl {
                              const vec3& reflected, const vec3& position) const;
   const PanoramaProxy& proxy() const { return proxy_; }
 
+  // A turntable: the relic turned by `angle_rad` (counter-clockwise seen from above) about the
+  // vertical line through `pivot`, while its ray scenes keep the unturned relic. From then on
+  // every lookup of a point or direction on the relic (seenFrom, irradiance, shade, shadeParts)
+  // takes it in the unturned relic's frame and turns it into the hall's, so the renderer traces
+  // the still relic in a hall turned the other way: the same picture as the turned relic in the
+  // hall (the caller turns the eyes and the visitors likewise). 0 (the default) costs nothing.
+  // Set between frames, never while a renderer reads the IBL.
+  void setRelicTurn(const vec3& pivot, float angle_rad);
+  float relicTurn() const { return turn_angle_; }
+
   int levelCount() const { return static_cast<int>(levels_.size()); }
   float levelRoughness(int level) const { return level_roughness_.at(static_cast<std::size_t>(level)); }
   const OctahedralMap& level(int l) const { return levels_.at(static_cast<std::size_t>(l)); }
@@ -72,8 +87,19 @@ class PrefilteredIbl {
   std::vector<OctahedralMap> levels_;
   std::vector<float> level_roughness_;
   IrradianceSH sh_;
+  vec3 turnPoint(const vec3& p) const {
+    return turn_angle_ == 0.0f ? p : turn_pivot_ + turnDirection(p - turn_pivot_);
+  }
+  vec3 turnDirection(const vec3& d) const {
+    return turn_angle_ == 0.0f
+               ? d
+               : vec3(turn_cos_ * d.x + turn_sin_ * d.z, d.y, turn_cos_ * d.z - turn_sin_ * d.x);
+  }
+
   PanoramaProxy proxy_;
   std::uint64_t source_hash_ = 0;
+  float turn_angle_ = 0.0f, turn_cos_ = 1.0f, turn_sin_ = 0.0f;
+  vec3 turn_pivot_{0.0f};
 };
 
 // Keeps a PrefilteredIbl in step with a panorama that may change: get() rebuilds only when the
