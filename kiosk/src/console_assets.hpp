@@ -45,6 +45,7 @@ inline constexpr std::string_view kStatusHtml = R"(<!DOCTYPE html>
 <section class="panel"><h2>Health</h2>
 <dl><dt>Frame rate</dt><dd id="fps">&ndash;</dd><dt>Frame time</dt><dd id="frame-ms">&ndash;</dd>
 <dt>Quality</dt><dd id="quality">&ndash;</dd><dt>Mode</dt><dd id="mode">&ndash;</dd>
+<dt title="The oldest camera frame's age plus the frame time: about how long a visitor waits to see their reflection move, the HolopyramidHighLatency alert's figure">Latency (est.)</dt><dd id="latency">&ndash;</dd>
 <dt>Camera skew</dt><dd id="skew">&ndash;</dd><dt>Foreground</dt><dd id="foreground">&ndash;</dd>
 <dt>Up</dt><dd id="uptime">&ndash;</dd><dt>Configuration</dt><dd id="config">&ndash;</dd></dl>
 <h3>Stages (ms)</h3><table id="stages"><tbody></tbody></table>
@@ -140,6 +141,8 @@ function show(status) {
   setText('frame-ms', fixed(h.frame_ms, 1) + ' ms (budget ' + fixed(h.frame_budget_ms, 0) + ' ms)');
   setText('quality', h.quality + ' (level ' + h.quality_level + ')');
   setText('mode', h.mode);
+  const ages = (h.cameras || []).map((c) => c.last_frame_age_s);
+  setText('latency', ages.length ? fixed(h.frame_ms + 1000 * Math.max(...ages), 0) + ' ms' : '\u2013');
   setText('skew', h.camera_skew_ms === null || h.camera_skew_ms === undefined ? '\u2013' : fixed(h.camera_skew_ms, 1) + ' ms');
   setText('foreground', h.foreground_share === null || h.foreground_share === undefined ? '\u2013' : fixed(100 * h.foreground_share, 0) + ' %');
   setText('uptime', fixed(h.uptime_s / 3600, 2) + ' h, ' + h.frames + ' frames');

@@ -1,7 +1,9 @@
 #!/usr/bin/python3
 """The technician's console in a real browser: headless Chromium (Debian's chromium and
-chromium-driver), driven by Selenium (python3-selenium), against console_demo (a KioskLoop with
-the console on and a small frame source that steps its relic on NextRelic).
+chromium-driver), driven by Selenium (python3-selenium), against console_demo (--demo: a KioskLoop
+with the console on and a small frame source that steps its relic on NextRelic) or against the
+product itself (--kiosk: `holopyramid kiosk --headless` on the simulated museum with an exhibit
+playlist of three built-in relics, the first two turning).
 
 It sets the password with `holopyramid console-password`, logs in (after one wrong password),
 sees the health and the snapshots change, presses "Next relic" and sees the relic change, logs
@@ -16,10 +18,13 @@ import argparse
 import os
 import shutil
 import signal
+import socket
 import subprocess
 import sys
 import tempfile
 import time
+import urllib.error
+import urllib.request
 
 from selenium import webdriver
 from selenium.webdriver.chrome.service import Service
@@ -52,9 +57,70 @@ def image_data(driver, element_id):
     )
 
 
+def start_demo(demo_program, work, secret):
+    """console_demo on a free port it writes to a file; returns (process, base URL)."""
+    port_file = os.path.join(work, "port")
+    demo = subprocess.Popen([demo_program, secret, port_file])
+    deadline = time.monotonic() + WAIT_S
+    while not (os.path.exists(port_file) and open(port_file).read().strip()):
+        if demo.poll() is not None:
+            sys.exit(f"browser test: console_demo exited with {demo.returncode}")
+        if time.monotonic() > deadline:
+            sys.exit("browser test: console_demo did not start its console")
+        time.sleep(0.05)
+    return demo, f"http://127.0.0.1:{open(port_file).read().strip()}"
+
+
+def start_kiosk(holopyramid, work, secret):
+    """The product: `holopyramid kiosk --headless` with the console on, on the simulated museum
+    (small cameras, small views: the browser test checks the console, the kiosk's own tests the
+    picture) and a playlist whose relics stay until "Next relic" is pressed. Returns (process,
+    base URL, the configuration source the page shows)."""
+    with socket.socket() as probe:  # a free port for the console's configuration
+        probe.bind(("127.0.0.1", 0))
+        port = probe.getsockname()[1]
+    scene = os.path.join(work, "small_museum.yaml")
+    with open(scene, "w") as f:
+        f.write("base: museum\ncamera: {width: 160, height: 90, fps: 10}\n")
+    config = os.path.join(work, "holopyramid.yaml")
+    with open(config, "w") as f:
+        f.write(f"""kiosk:
+  max_fps: 10
+  status_interval_s: 0.2
+  degradation: {{frame_budget_ms: 1000}}
+  health: {{port: -1, file: ""}}
+  console: {{enabled: true, port: {port}, secret_file: "{secret}"}}
+display:
+  output_size: [512, 512]
+exhibit:
+  relics:
+    - {{relic: vase, duration_s: 3600, turntable_deg_per_s: 20}}
+    - {{relic: kettle, duration_s: 3600, turntable_deg_per_s: -20, crossfade_s: 0}}
+    - {{relic: glass-vase, duration_s: 3600}}
+""")
+    log = open(os.path.join(work, "kiosk.log"), "w")
+    kiosk = subprocess.Popen([holopyramid, "kiosk", "--headless", "--config", config, "--state-dir", "",
+                              "--scene", scene, "--view-size", "96"], stdout=log, stderr=subprocess.STDOUT)
+    base = f"http://127.0.0.1:{port}"
+    deadline = time.monotonic() + 3 * WAIT_S
+    while True:
+        if kiosk.poll() is not None:
+            raise AssertionError(f"browser test: the kiosk exited with {kiosk.returncode}")
+        try:
+            with urllib.request.urlopen(base + "/", timeout=5):
+                break
+        except (urllib.error.URLError, ConnectionError, OSError):
+            if time.monotonic() > deadline:
+                raise AssertionError("browser test: the kiosk's console did not answer")
+            time.sleep(0.2)
+    return kiosk, base, config
+
+
 def main():
     parser = argparse.ArgumentParser()
-    parser.add_argument("--demo", required=True)
+    mode = parser.add_mutually_exclusive_group(required=True)
+    mode.add_argument("--demo", help="console_demo's path")
+    mode.add_argument("--kiosk", action="store_true", help="the real kiosk (holopyramid kiosk --headless)")
     parser.add_argument("--holopyramid", required=True)
     parser.add_argument("--screenshots", required=True)
     args = parser.parse_args()
@@ -71,16 +137,11 @@ def main():
         subprocess.run([args.holopyramid, "console-password", "--file", secret], input=PASSWORD + "\n",
                        text=True, check=True)
         assert (os.stat(secret).st_mode & 0o777) == 0o600, oct(os.stat(secret).st_mode)
-        port_file = os.path.join(work, "port")
-        demo = subprocess.Popen([args.demo, secret, port_file])
-        deadline = time.monotonic() + WAIT_S
-        while not (os.path.exists(port_file) and open(port_file).read().strip()):
-            if demo.poll() is not None:
-                sys.exit(f"browser test: console_demo exited with {demo.returncode}")
-            if time.monotonic() > deadline:
-                sys.exit("browser test: console_demo did not start its console")
-            time.sleep(0.05)
-        base = f"http://127.0.0.1:{open(port_file).read().strip()}"
+        if args.kiosk:
+            demo, base, expected_config = start_kiosk(args.holopyramid, work, secret)
+        else:
+            demo, base = start_demo(args.demo, work, secret)
+            expected_config = "console demo"
 
         options = webdriver.ChromeOptions()
         options.binary_location = CHROMIUM
@@ -103,9 +164,14 @@ def main():
         driver.find_element(By.ID, "login-button").click()
 
         wait_for(driver, "the status page", lambda d: d.find_elements(By.ID, "relic"))
-        wait_for(driver, "the relic's name", lambda d: d.find_element(By.ID, "relic").text == "Amphora of Knossos")
-        assert driver.find_element(By.ID, "next-relic").text == "Bronze helmet"
-        wait_for(driver, "the configuration's source", lambda d: d.find_element(By.ID, "config").text == "console demo")
+        wait_for(driver, "the relic's name",
+                 lambda d: d.find_element(By.ID, "relic").text not in ("", "\u2013", "(no playlist)"))
+        relic = driver.find_element(By.ID, "relic").text
+        next_relic = driver.find_element(By.ID, "next-relic").text
+        assert next_relic not in ("", "\u2013", relic), (relic, next_relic)
+        if not args.kiosk:
+            assert (relic, next_relic) == ("Amphora of Knossos", "Bronze helmet"), (relic, next_relic)
+        wait_for(driver, "the configuration's source", lambda d: d.find_element(By.ID, "config").text == expected_config)
         wait_for(driver, "the camera table", lambda d: len(d.find_elements(By.CSS_SELECTOR, "#cameras tbody tr")) == 4)
         wait_for(driver, "the log's tail", lambda d: "console: login from" in d.find_element(By.ID, "log").text)
 
@@ -121,10 +187,17 @@ def main():
         driver.save_screenshot(os.path.join(args.screenshots, "console-status.png"))
 
         driver.find_element(By.ID, "next-relic-button").click()
-        wait_for(driver, "the relic to change", lambda d: d.find_element(By.ID, "relic").text == "Bronze helmet")
-        assert driver.find_element(By.ID, "next-relic").text == "Gold mask of Agamemnon"
+        wait_for(driver, "the relic to change", lambda d: d.find_element(By.ID, "relic").text == next_relic)
+        if not args.kiosk:
+            assert driver.find_element(By.ID, "next-relic").text == "Gold mask of Agamemnon"
         assert "asked" in driver.find_element(By.ID, "action-result").text
-        wait_for(driver, "the face snapshot to show the new relic", lambda d: image_data(d, "face-0") not in first.values())
+        # The status says the relic changed before every face's snapshot has been fetched again:
+        # each face is waited for until it shows a picture fetched after the switch.
+        faces = [f"face-{f}" for f in range(4)]
+        at_switch = {e: image_data(driver, e) for e in faces}
+        for element in faces:
+            wait_for(driver, f"snapshot {element} to show the new relic",
+                     lambda d, e=element: image_data(d, e) not in ("", at_switch[e], first.get(e)))
         driver.save_screenshot(os.path.join(args.screenshots, "console-next-relic.png"))
 
         driver.find_element(By.ID, "logout").click()
@@ -134,6 +207,11 @@ def main():
             "fetch('/api/status').then((r) => done(r.status), () => done(-1));")
         assert status == 401, status
         print(f"browser test: passed in {time.monotonic() - started:.1f} s; screenshots in {args.screenshots}")
+    except BaseException:
+        kiosk_log = os.path.join(work, "kiosk.log")
+        if os.path.exists(kiosk_log):
+            print("browser test: the kiosk's log:\n" + open(kiosk_log).read()[-6000:])
+        raise
     finally:
         if driver is not None:
             driver.quit()
