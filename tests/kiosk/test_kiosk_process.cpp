@@ -271,7 +271,7 @@ double envSeconds(const char* name, double fallback) {
 
 // The exhibit in the real kiosk process for HOLO_PLAYLIST_SOAK_S seconds (default 20; the issue's
 // run is 600, at HOLO_PLAYLIST_VIEW=96): an opaque relic turning, a glass one turning the other
-// way, a textured Khronos model and a broken fourth entry; halfway a reload (SIGHUP) adds a fifth.
+// way, a textured Khronos model and a broken fourth entry (the reload: the test above).
 // Every relic is shown in turn, the broken one is reported, and no frame is black: the headless
 // source counts every presented frame's non-black pixels and reports a black frame as a fault,
 // which the kiosk logs (a fault repeated frame after frame is logged once, still caught here).
@@ -296,17 +296,10 @@ TEST(KioskProcess, APlaylistPlaysInTurnWithoutABlackFrame) {
   };
   std::vector<std::string> shown;  // the relics in the order they came on screen
   nlohmann::json health;
-  bool reloaded = false;
   while (elapsed() < soak_s) {
     health = healthJson(kiosk.healthPort());
     const std::string relic = health["relic"].get<std::string>();
     if (!relic.empty() && (shown.empty() || shown.back() != relic)) shown.push_back(relic);
-    if (!reloaded && elapsed() >= soak_s / 2) {
-      holo::writeFileAtomically(kiosk.dir() / "site.yaml",
-                                playlist + "    - {relic: sphere, duration_s: " + duration + "}\n");
-      kiosk.signal(SIGHUP);
-      reloaded = true;
-    }
     std::this_thread::sleep_for(250ms);
   }
   const auto count = [&](const std::string& relic) { return std::count(shown.begin(), shown.end(), relic); };
@@ -317,8 +310,6 @@ TEST(KioskProcess, APlaylistPlaysInTurnWithoutABlackFrame) {
                     [](const std::string& r) { return r.find("clearcoat_wicker") != std::string::npos; }),
       1)
       << ::testing::PrintToString(shown);
-  EXPECT_GE(count("sphere"), 1) << "the relic the reload added never came: "
-                                << ::testing::PrintToString(shown);
   ASSERT_EQ(health["exhibit_problems"].size(), 1u) << health.dump(2);
   EXPECT_NE(health["exhibit_problems"][0].get<std::string>().find("entry 3 (missing_relic.glb)"),
             std::string::npos);
