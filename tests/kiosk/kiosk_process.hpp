@@ -87,7 +87,9 @@ class KioskProcess {
     close(fd_);
   }
 
-  // Collects messages until `until` returns true for the latest one, or `timeout` passes.
+  // Collects messages until `until` returns true for the latest one, or `timeout` passes. A test
+  // waiting for anything else waits here, as systemd keeps reading: the kiosk's sd_notify blocks
+  // once the socket's queue is full, and its frames stop with it.
   bool readUntil(std::chrono::duration<double> timeout,
                  const std::function<bool(const Message&)>& until = {}) {
     const auto end = Clock::now() + std::chrono::duration_cast<Clock::duration>(timeout);
