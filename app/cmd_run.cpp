@@ -11,6 +11,7 @@
 
 #include "command.hpp"
 #include "holo/core/config.hpp"
+#include "holo/core/error.hpp"
 #include "holo/core/files.hpp"
 #include "holo/core/log.hpp"
 #include "holo/core/progress.hpp"
@@ -51,6 +52,11 @@ int runPipeline(RunOptions options) {
   // A configuration that names cameras runs on them; one with only a display: section lays out
   // the simulated scene.
   if (config && describesCameras(*config)) options.loop.config = options.config_file;
+  if (!options.loop.relic.empty() && !options.loop.config.empty())
+    throw InputError("--relic", "relic",
+                     "no --relic with a configuration naming cameras (" + options.config_file +
+                         " shows the relic of its exhibit: section)",
+                     options.loop.relic);
   const int frames = options.frames > 0 ? options.frames : (options.headless ? 30 : 0);
   // Headless runs are deterministic unless --live: the same scene always gives the same frames,
   // whatever the machine's speed.
@@ -59,7 +65,8 @@ int runPipeline(RunOptions options) {
   // The installation first: the recording's frame rate is the cameras'.
   Installation installation =
       options.loop.config.empty()
-          ? simulated::museumInstallation(options.loop.scene, options.loop.live, options.loop.panorama_width)
+          ? simulated::museumInstallation(options.loop.scene, options.loop.live, options.loop.panorama_width,
+                                          options.loop.relic)
           : loadInstallation(*config, {.relearn_background = options.relearn_background,
                                        .simulated_sources = simulated::configuredSources()});
   std::unique_ptr<display::QuadViewPresenter> presenter;
@@ -111,6 +118,9 @@ HOLO_REGISTER_COMMAND(Command{
       auto options = std::make_shared<RunOptions>();
       sub.add_option("--scene", options->loop.scene, "Built-in scene (see `holopyramid scenes`) or YAML file")
           ->capture_default_str();
+      sub.add_option("--relic", options->loop.relic,
+                     "Built-in relic or glTF file in place of the scene's (fitted on the pedestal unless the "
+                     "scene says fit_relic: false)");
       sub.add_option("--config", options->config_file,
                      "YAML configuration: display: section; with capture: and exhibit: sections, runs on "
                      "those cameras, calibration, relic and panorama instead of --scene");

@@ -6,6 +6,8 @@ find_package(OpenCV 4.6 REQUIRED COMPONENTS core imgproc imgcodecs videoio video
              aruco tracking optflow ximgproc)
 find_package(embree 3 REQUIRED)
 find_package(TBB REQUIRED)
+# The relic's convex hull (reflect/src/supporting_planes.cpp).
+find_package(Qhull REQUIRED)
 find_package(spdlog REQUIRED)
 find_package(fmt REQUIRED)
 find_package(yaml-cpp REQUIRED)

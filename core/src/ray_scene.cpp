@@ -1,7 +1,9 @@
 #include "holo/core/ray_scene.hpp"
 
+#include <algorithm>
 #include <cstring>
 #include <mutex>
+#include <string>
 
 #include "holo/core/error.hpp"
 #include "holo/core/log.hpp"
@@ -167,6 +169,56 @@ RayHit RayScene::intersect(const Ray& ray, float tmin, float tmax, PartialHits p
   n = len > 0 ? n / len : -ray.direction;
   hit.geometric_normal = glm::dot(n, ray.direction) > 0 ? -n : n;
   return hit;
+}
+
+void RayScene::intersectCoherent(std::span<const Ray> rays, std::span<RayHit> hits, float tmin, float tmax,
+                                 PartialHits partial) const {
+  if (rays.size() != hits.size())
+    throw Error("RayScene::intersectCoherent: " + std::to_string(rays.size()) + " rays for " +
+                std::to_string(hits.size()) + " hits");
+  QueryContext context;
+  rtcInitIntersectContext(&context.embree);
+  context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  context.partial = partial;
+  for (std::size_t first = 0; first < rays.size(); first += kPacketSize) {
+    const int n = static_cast<int>(std::min<std::size_t>(kPacketSize, rays.size() - first));
+    alignas(32) int valid[kPacketSize];
+    alignas(32) RTCRayHit8 packet;
+    for (int i = 0; i < kPacketSize; ++i) {
+      const bool used = i < n;
+      valid[i] = used ? -1 : 0;
+      const Ray& ray = rays[first + static_cast<std::size_t>(used ? i : 0)];
+      packet.ray.org_x[i] = ray.origin.x;
+      packet.ray.org_y[i] = ray.origin.y;
+      packet.ray.org_z[i] = ray.origin.z;
+      packet.ray.dir_x[i] = ray.direction.x;
+      packet.ray.dir_y[i] = ray.direction.y;
+      packet.ray.dir_z[i] = ray.direction.z;
+      packet.ray.tnear[i] = tmin;
+      packet.ray.tfar[i] = tmax;
+      packet.ray.time[i] = 0.0f;
+      packet.ray.mask[i] = 0xFFFFFFFFu;
+      packet.ray.id[i] = static_cast<unsigned>(i);
+      packet.ray.flags[i] = 0;
+      packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+      packet.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect8(valid, scene_, &context.embree, &packet);
+    for (int i = 0; i < n; ++i) {
+      RayHit& hit = hits[first + static_cast<std::size_t>(i)];
+      hit = RayHit{};
+      if (packet.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
+      const vec3& direction = rays[first + static_cast<std::size_t>(i)].direction;
+      hit.t = packet.ray.tfar[i];
+      hit.geometry = packet.hit.geomID[i];
+      hit.primitive = packet.hit.primID[i];
+      hit.barycentric = {packet.hit.u[i], packet.hit.v[i]};
+      vec3 ng(packet.hit.Ng_x[i], packet.hit.Ng_y[i], packet.hit.Ng_z[i]);
+      const float len = glm::length(ng);
+      ng = len > 0 ? ng / len : -direction;
+      hit.geometric_normal = glm::dot(ng, direction) > 0 ? -ng : ng;
+    }
+  }
 }
 
 bool RayScene::occluded(const Ray& ray, float tmin, float tmax) const {

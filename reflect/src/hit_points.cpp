@@ -4,11 +4,14 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
 #include <opencv2/core.hpp>
 #include <optional>
+#include <span>
+#include <vector>
 
 #include "holo/core/error.hpp"
 #include "holo/reflect/surface_shading.hpp"
@@ -23,11 +26,10 @@ constexpr float kCreaseCos = 0.95f;
 // Roughness or base colour apart by more than this: a material edge.
 constexpr float kMaterialStep = 0.1f;
 
-// Traces one sample; returns whether it hit the relic (h is written only then).
-bool traceSample(const RenderScene& scene, const RayScene& relic, const CameraModel& view, const vec2& pixel,
-                 HitPoint& h) {
-  const Ray ray = primaryRay(view, pixel);
-  const RayHit hit = relic.intersect(ray, 0.0f, 1e30f, PartialHits::Solid);
+// The hit point where the primary `ray` through a view's pixel met the relic; returns whether
+// it is a usable one (h is written only for a hit).
+bool resolveHitPoint(const RenderScene& scene, const RayScene& relic, const CameraModel& view, const Ray& ray,
+                     const RayHit& hit, HitPoint& h) {
   if (!hit.hit()) return false;
   const SurfacePoint s = resolveSurface(scene, relic, ray, hit, hit.t / view.intrinsics().fx);
   h.position = s.position;
@@ -40,7 +42,34 @@ bool traceSample(const RenderScene& scene, const RayScene& relic, const CameraMo
   h.occlusion = s.occlusion;
   h.alpha = s.alpha;
   h.gltf = &scene.relicGltfMaterial(hit, relic);
+  h.mirror_may_meet_relic = scene.mayMeetRelicAgain(hit, h.reflected);
   return isFinite(h.position) && isFinite(h.normal) && isFinite(h.reflected);
+}
+
+// Traces one sample; returns whether it hit the relic (h is written only then).
+bool traceSample(const RenderScene& scene, const RayScene& relic, const CameraModel& view, const vec2& pixel,
+                 HitPoint& h) {
+  const Ray ray = primaryRay(view, pixel);
+  return resolveHitPoint(scene, relic, view, ray, relic.intersect(ray, 0.0f, 1e30f, PartialHits::Solid), h);
+}
+
+// Primary rays cast together (coherent packets), at most this many at a time per task.
+constexpr std::size_t kBatch = 64;
+
+// Traces the samples at `pixels` (view pixel coordinates) into hits[i] and valid[i] (1: a
+// usable hit point), their rays cast kBatch at a time in coherent packets.
+void traceSamples(const RenderScene& scene, const RayScene& relic, const CameraModel& view,
+                  std::span<const vec2> pixels, HitPoint* hits, std::uint8_t* valid) {
+  std::array<Ray, kBatch> rays;
+  std::array<RayHit, kBatch> ray_hits;
+  for (std::size_t first = 0; first < pixels.size(); first += kBatch) {
+    const std::size_t n = std::min(kBatch, pixels.size() - first);
+    for (std::size_t i = 0; i < n; ++i) rays[i] = primaryRay(view, pixels[first + i]);
+    relic.intersectCoherent(std::span(rays).first(n), std::span(ray_hits).first(n), 0.0f, 1e30f,
+                            PartialHits::Solid);
+    for (std::size_t i = 0; i < n; ++i)
+      valid[first + i] = resolveHitPoint(scene, relic, view, rays[i], ray_hits[i], hits[first + i]) ? 1 : 0;
+  }
 }
 
 bool differ(const HitPointBuffer& b, std::size_t p, std::size_t q) {
@@ -199,11 +228,14 @@ void traceHitPoints(const RenderScene& scene, const CameraModel& view, AntiAlias
         buf.refined.push_back(static_cast<std::uint32_t>(std::size_t(y) * std::size_t(w) + std::size_t(x)));
   } else {
     tbb::parallel_for(tbb::blocked_range<int>(0, h), [&](const tbb::blocked_range<int>& rows) {
-      for (int y = rows.begin(); y < rows.end(); ++y)
-        for (int x = begin(y); x < end(y); ++x) {
-          const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(x);
-          buf.valid[p] = traceSample(scene, relic, view, vec2(float(x), float(y)), buf.hits[p]) ? 1 : 0;
-        }
+      std::vector<vec2> row_pixels;
+      for (int y = rows.begin(); y < rows.end(); ++y) {
+        if (begin(y) >= end(y)) continue;
+        row_pixels.clear();
+        for (int x = begin(y); x < end(y); ++x) row_pixels.emplace_back(float(x), float(y));
+        const std::size_t p = std::size_t(y) * std::size_t(w) + std::size_t(begin(y));
+        traceSamples(scene, relic, view, row_pixels, &buf.hits[p], &buf.valid[p]);
+      }
     });
     if (aa == AntiAliasing::Edges) {
       // Each neighbour pair is compared once: pixel p keeps one bit per pair with its right,
@@ -260,18 +292,19 @@ void traceHitPoints(const RenderScene& scene, const CameraModel& view, AntiAlias
   buf.valid.resize(total, 0);
   std::fill(buf.valid.begin() + std::ptrdiff_t(pixels), buf.valid.end(), std::uint8_t(0));
   const std::vector<vec2> pattern = subsamplePattern(4);
+  // A refined pixel's four sub-samples, and those of its neighbours in the list, in packets.
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, buf.refined.size(), 64),
                     [&](const tbb::blocked_range<std::size_t>& r) {
+                      std::vector<vec2> samples;
+                      samples.reserve(4 * r.size());
                       for (std::size_t k = r.begin(); k < r.end(); ++k) {
                         const std::size_t p = buf.refined[k];
-                        const std::size_t first = pixels + 4 * k;
-                        buf.first_sub[p] = static_cast<std::uint32_t>(first);
+                        buf.first_sub[p] = static_cast<std::uint32_t>(pixels + 4 * k);
                         const vec2 centre(float(p % std::size_t(w)), float(p / std::size_t(w)));
-                        for (std::size_t s = 0; s < 4; ++s)
-                          buf.valid[first + s] =
-                              traceSample(scene, relic, view, centre + pattern[s], buf.hits[first + s]) ? 1
-                                                                                                        : 0;
+                        for (std::size_t s = 0; s < 4; ++s) samples.push_back(centre + pattern[s]);
                       }
+                      const std::size_t first = pixels + 4 * r.begin();
+                      traceSamples(scene, relic, view, samples, &buf.hits[first], &buf.valid[first]);
                     });
   buf.covered.clear();
   for (int y = 0; y < h; ++y)

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "supporting_planes.hpp"
 #include "surface_opacity.hpp"
 
 namespace holo::reflect {
@@ -55,6 +56,21 @@ RenderScene::RenderScene(const Model& relic, const std::vector<Model>& emitters)
   }
   all_->commit();
   relic_->commit();
+  supporting_ = findSupportingPlanes(relic_model_).sides;
+}
+
+bool RenderScene::mayMeetRelicAgain(const RayHit& hit, const vec3& direction) const {
+  const std::size_t m = relic_mesh_.at(hit.geometry);
+  const std::uint8_t sides = supporting_[m][hit.primitive];
+  if (sides == 0 || !(glm::dot(direction, hit.geometric_normal) > 0.0f)) return true;
+  // geometric_normal faces the side the hit was seen from; the winding's normal names the side.
+  const TriangleMesh& mesh = relic_model_.meshes[m];
+  const uvec3& tri = mesh.triangles[hit.primitive];
+  const vec3 winding = glm::cross(mesh.positions[tri.y] - mesh.positions[tri.x],
+                                  mesh.positions[tri.z] - mesh.positions[tri.x]);
+  const std::uint8_t seen =
+      glm::dot(winding, hit.geometric_normal) > 0.0f ? kFrontSupporting : kBackSupporting;
+  return (sides & seen) == 0;
 }
 
 bool RenderScene::isRelic(std::uint32_t geometry) const {

@@ -85,6 +85,7 @@ std::optional<LobeBounce> StaticShading::shadeHit(const HitPoint& hp, const Lobe
     addLobeBounce(bounce, shading);
     return std::nullopt;
   }
+  if (!hp.mirror_may_meet_relic) return std::nullopt;  // a ray it need not cast: it would miss
   const RayScene& relic = scene_.relicOnly();
   const Ray ray{hp.position + hp.normal * settings_.ray_offset, hp.reflected};
   const RayHit hit = relic.intersect(ray);

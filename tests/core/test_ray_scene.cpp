@@ -1,6 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <vector>
+
+#include "holo/core/error.hpp"
 #include "holo/core/ray_scene.hpp"
+#include "holo/core/shapes.hpp"
 
 namespace holo {
 namespace {
@@ -56,6 +60,50 @@ TEST(RayScene, HitOpacityPassesCutOutHitsAndStopsPartialOnesByMode) {
   }
   EXPECT_NEAR(double(stopped) / kRays, 0.5, 0.05);
   EXPECT_NEAR(double(occluded) / kRays, 0.5, 0.05);
+}
+
+// Packets give what single rays give: a fan of rays from one eye over a sphere in front of a
+// half-opaque quad, in a count that is no multiple of the packet size, in both partial modes.
+TEST(RayScene, CoherentPacketsHitWhatSingleRaysHit) {
+  RayScene scene;
+  scene.addMesh(makeSphere(0.6f, 16, 32));
+  TriangleMesh backdrop = quad(3);
+  for (vec3& p : backdrop.positions) p *= vec3(3, 3, 1);  // wider than the fan at its distance
+  const auto quad_id = scene.addMesh(backdrop);
+  scene.setHitOpacity(quad_id, [](const Ray&, const RayHit&) { return 0.5f; });
+  scene.commit();
+  std::vector<Ray> rays;
+  for (int y = 0; y < 37; ++y)
+    for (int x = 0; x < 29; ++x)
+      rays.push_back(
+          {{0, 0, -3}, glm::normalize(vec3(-0.4f + 0.8f * x / 28.0f, -0.4f + 0.8f * y / 36.0f, 1.0f))});
+  ASSERT_NE(rays.size() % RayScene::kPacketSize, 0u);
+  for (const PartialHits partial : {PartialHits::Stochastic, PartialHits::Solid}) {
+    std::vector<RayHit> packed(rays.size());
+    scene.intersectCoherent(rays, packed, 0.0f, 1e30f, partial);
+    int sphere_hits = 0, quad_hits = 0, misses = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      const RayHit single = scene.intersect(rays[i], 0.0f, 1e30f, partial);
+      ASSERT_EQ(packed[i].geometry, single.geometry) << "ray " << i;
+      if (!single.hit()) {
+        ++misses;
+        continue;
+      }
+      (single.geometry == quad_id ? quad_hits : sphere_hits) += 1;
+      EXPECT_EQ(packed[i].primitive, single.primitive) << "ray " << i;
+      EXPECT_NEAR(packed[i].t, single.t, 1e-5f * single.t) << "ray " << i;
+      EXPECT_NEAR(packed[i].barycentric.x, single.barycentric.x, 1e-5f) << "ray " << i;
+      EXPECT_NEAR(packed[i].barycentric.y, single.barycentric.y, 1e-5f) << "ray " << i;
+      EXPECT_GT(glm::dot(packed[i].geometric_normal, single.geometric_normal), 0.9999f) << "ray " << i;
+    }
+    EXPECT_GT(sphere_hits, 100);
+    EXPECT_GT(quad_hits, 100);
+    if (partial == PartialHits::Stochastic) {
+      EXPECT_GT(misses, 50);  // rays that passed the quad
+    }
+  }
+  std::vector<RayHit> too_few(3);
+  EXPECT_THROW(scene.intersectCoherent(rays, too_few), Error);
 }
 
 TEST(RayScene, DegenerateTrianglesAreNeverHitAndAxisRaysWork) {

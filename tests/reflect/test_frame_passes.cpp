@@ -69,16 +69,35 @@ TEST(StaticShadingPass, MirrorSphereShowsTheSkyTimesItsReflectance) {
   }
 }
 
-TEST(StaticShadingPass, InterreflectionStartsTheWalkOnTheSecondPoint) {
-  // Two mirror spheres side by side, bright (F0 0.9) and dark (0.2): where one's limb mirrors the
-  // other, its walk ray starts (bounced) on the other with the second point's reflection.
+// Two mirror spheres side by side (bright left, dark right).
+Model twoSpheres() {
   Model model = test::sphereModel({vec3(0.9f), 1.0f, 0.0f, 1.0f}, 0.15f, vec3(-0.16f, 0.3f, 0.0f), 24, 48);
   const Model right =
       test::sphereModel({vec3(0.2f), 1.0f, 0.0f, 1.0f}, 0.15f, vec3(0.16f, 0.3f, 0.0f), 24, 48);
   model.meshes.push_back(right.meshes.front());
   model.meshes.back().material = 1;
   model.materials.push_back(right.materials.front());
-  const RenderScene scene(model, {});
+  return model;
+}
+
+// The open upper half of a sphere of radius 0.15 at (0, 0.3, 0): a bowl, seen inside and out.
+Model bowl() {
+  Model model = test::sphereModel({vec3(0.9f), 1.0f, 0.0f, 1.0f}, 0.15f, vec3(0.0f, 0.3f, 0.0f), 24, 48);
+  TriangleMesh& mesh = model.meshes.front();
+  std::vector<uvec3> lower;
+  for (const uvec3& t : mesh.triangles)
+    if (mesh.positions[t.x].y <= 0.3f + 1e-6f && mesh.positions[t.y].y <= 0.3f + 1e-6f &&
+        mesh.positions[t.z].y <= 0.3f + 1e-6f)
+      lower.push_back(t);
+  mesh.triangles = lower;
+  model.materials.front().double_sided = true;  // its inside is seen
+  return model;
+}
+
+TEST(StaticShadingPass, InterreflectionStartsTheWalkOnTheSecondPoint) {
+  // Two mirror spheres side by side, bright (F0 0.9) and dark (0.2): where one's limb mirrors the
+  // other, its walk ray starts (bounced) on the other with the second point's reflection.
+  const RenderScene scene(twoSpheres(), {});
   const PrefilteredIbl ibl(Environment::uniform(vec3(0.5f)), PrefilterOptions{5, 16, 16});
   const CameraModel view = lookAtCamera(vec3(0.0f, 0.3f, 1.5f), vec3(0.0f, 0.3f, 0.0f), 30.0f, 64, 64);
   HitPointBuffer hits;
@@ -102,6 +121,70 @@ TEST(StaticShadingPass, InterreflectionStartsTheWalkOnTheSecondPoint) {
   }
   EXPECT_GT(bounced, 5);
   EXPECT_GT(darker, 5);
+}
+
+// The supporting planes skip only mirror rays that would miss: on every relic and view below,
+// each hit point whose mirror ray is not cast has a ray that, cast, misses the relic; a convex
+// relic casts almost none (only at its limbs, where the mirror ray about the smooth normal dips
+// below the flat triangle's plane and the triangle cannot decide), and a concave one keeps the
+// rays where it sees itself.
+TEST(StaticShadingPass, InterreflectionSkipsOnlyMirrorRaysThatCannotMeetTheRelic) {
+  struct Case {
+    const char* name;
+    Model model;
+    vec3 eye;
+    float max_cast_share, min_cast_share;
+  };
+  const Case cases[] = {
+      {"sphere", test::sphereModel({vec3(0.9f), 1.0f, 0.0f, 1.0f}, 0.15f, vec3(0.0f, 0.3f, 0.0f), 24, 48),
+       vec3(0.0f, 0.3f, 1.2f), 0.05f, 0.0f},
+      {"two spheres", twoSpheres(), vec3(0.0f, 0.3f, 1.5f), 0.7f, 0.02f},
+      {"bowl from above", bowl(), vec3(0.0f, 1.0f, 0.6f), 1.0f, 0.3f},
+      {"bowl from below", bowl(), vec3(0.0f, -0.6f, 0.6f), 0.0f, 0.0f},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    const RenderScene scene(c.model, {});
+    const CameraModel view = lookAtCamera(c.eye, vec3(0.0f, 0.3f, 0.0f), 35.0f, 64, 64);
+    HitPointBuffer hits;
+    traceHitPoints(scene, view, AntiAliasing::None, hits);
+    int cast = 0, skipped = 0;
+    for (const std::uint32_t p : hits.covered) {
+      const HitPoint& h = hits.hits[p];
+      if (h.mirror_may_meet_relic) {
+        ++cast;
+        continue;
+      }
+      ++skipped;
+      const Ray ray{h.position + h.normal * TracerSettings{}.ray_offset, h.reflected};
+      EXPECT_FALSE(scene.relicOnly().intersect(ray).hit()) << "pixel " << p;
+    }
+    ASSERT_GT(cast + skipped, 200);
+    const float share = float(cast) / float(cast + skipped);
+    EXPECT_LE(share, c.max_cast_share);
+    EXPECT_GE(share, c.min_cast_share);
+  }
+}
+
+// Where no mirror ray is cast, the picture is the one the cast rays give: the two spheres'
+// interreflection with the rays the planes skip cast anyway (their hit points marked) is the same
+// image, to the bit.
+TEST(StaticShadingPass, SkippedMirrorRaysLeaveThePictureUnchanged) {
+  const RenderScene scene(twoSpheres(), {});
+  const PrefilteredIbl ibl(Environment::uniform(vec3(0.5f)), PrefilterOptions{5, 16, 16});
+  const CameraModel view = lookAtCamera(vec3(0.0f, 0.3f, 1.5f), vec3(0.0f, 0.3f, 0.0f), 30.0f, 64, 64);
+  HitPointBuffer hits;
+  traceHitPoints(scene, view, AntiAliasing::None, hits);
+  HitPointBuffer all_cast = hits;
+  int marked = 0;
+  for (HitPoint& h : all_cast.hits) {
+    marked += h.mirror_may_meet_relic ? 0 : 1;
+    h.mirror_may_meet_relic = true;
+  }
+  ASSERT_GT(marked, 100);
+  const StaticResult skipping = shadeStatic(scene, ibl, test::smallGrid(), hits, view);
+  const StaticResult casting = shadeStatic(scene, ibl, test::smallGrid(), all_cast, view);
+  EXPECT_EQ(cv::norm(skipping.hdr, casting.hdr, cv::NORM_INF), 0.0);
 }
 
 TEST(NearMissMarch, FindsTheFirstPointWithinTheRadiusOfAnOccupiedBrick) {

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <deque>
 #include <functional>
+#include <span>
 
 #include "holo/core/mesh.hpp"
 
@@ -51,6 +52,14 @@ class RayScene {
   RayHit intersect(const Ray& ray, float tmin = 0.0f, float tmax = 1e30f,
                    PartialHits partial = PartialHits::Stochastic) const;
   bool occluded(const Ray& ray, float tmin = 0.0f, float tmax = 1e30f) const;  // Stochastic
+  // hits[i] = intersect(rays[i], tmin, tmax, partial) for every i (rays.size() == hits.size()),
+  // cast kPacketSize at a time as coherent packets (Embree's rtcIntersect8 with the coherent
+  // flag): for rays with nearby origins and directions, such as a view's primary rays over a
+  // tile, the fastest way Embree 3 casts them. The same hit as one ray at a time, bit for bit
+  // in t and the barycentrics up to Embree's packet kernels' round-off (a few ulps).
+  void intersectCoherent(std::span<const Ray> rays, std::span<RayHit> hits, float tmin = 0.0f,
+                         float tmax = 1e30f, PartialHits partial = PartialHits::Stochastic) const;
+  static constexpr int kPacketSize = 8;
 
   const TriangleMesh& mesh(std::uint32_t geometry) const { return meshes_.at(geometry); }
   std::size_t meshCount() const { return meshes_.size(); }

@@ -37,6 +37,9 @@ struct HitPoint {
   vec3 emission{0.0f};  // surface_shading.hpp's SurfacePoint fields
   float occlusion = 1.0f;
   float alpha = 1.0f;  // BLEND coverage: what is behind shows through 1 - alpha of it
+  // The mirror ray (position, reflected) may meet the relic again (RenderScene::mayMeetRelicAgain):
+  // false where the relic's shape proves it cannot, and the interreflection casts no ray there.
+  bool mirror_may_meet_relic = true;
   // The relic's glTF material at the hit (transmission, volume, IOR, clearcoat: what the
   // refraction pass and the coat read), owned by the RenderScene; null only before tracing.
   const Material* gltf = nullptr;

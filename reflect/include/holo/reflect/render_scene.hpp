@@ -44,6 +44,12 @@ class RenderScene {
   const std::optional<SurfaceMaterial>& relicMaterialOverride() const { return override_; }
   const Model& relic() const { return relic_model_; }
   Bounds3 relicBounds() const { return relic_model_.bounds(); }
+  // Whether a ray leaving the relic at `hit` (a relic hit of relicOnly()) in `direction` may meet
+  // the relic again. False only where it cannot: the hit's triangle lies in a supporting plane of
+  // the relic (the whole relic behind it, up to 1e-5 of its size) on the side the hit was seen
+  // from, and `direction` leaves to that side. The interreflection casts no mirror ray there, so
+  // a convex relic casts none. Decided at construction from the relic's convex hull (Qhull).
+  bool mayMeetRelicAgain(const RayHit& hit, const vec3& direction) const;
 
  private:
   struct Surface {
@@ -59,6 +65,7 @@ class RenderScene {
   std::unique_ptr<RayScene> all_;
   std::unique_ptr<RayScene> relic_;
   std::optional<SurfaceMaterial> override_;
+  std::vector<std::vector<std::uint8_t>> supporting_;  // by relic mesh, triangle: supporting_planes.hpp
 };
 
 }  // namespace holo::reflect
