@@ -330,20 +330,18 @@ void push(const Level& parent, const cv::Rect& parent_rect, Level& child, const 
 
 // The part of the frame that the per-pixel passes work on. Outside the mask the output is 0,
 // and a foreground pixel's output reads at most `reach` pixels around it: its 8 neighbours (flying
-// pixels), the motion window, the depth-edge radius and the hole fill's radius. The pyramid needs
-// nothing more than the push's spread: a pulled block outside the box holds no foreground pixel
-// and so no pair, and the push's interpolation carries fills at most about 2^l_max pixels beyond
-// the pulled pairs, which the reach covers. The box
-// filter of the motion reflects its border within the box; twice the reach keeps the reflected
-// values zero, as outside the mask. Empty when the mask is.
+// pixels), the motion window, the depth-edge radius and the hole fill's radius. The box filter of
+// the motion reflects its border within the box; twice the reach keeps the reflected values zero,
+// as outside the mask. The pyramid needs nothing more than the push's spread: a pulled block
+// outside the box holds no foreground pixel and so no pair, and the push's interpolation carries
+// fills at most about 2^l_max pixels beyond the pulled pairs. Empty when the mask is.
 cv::Rect workBox(const cv::Mat& mask, const TemporalDepthFilterConfig& config) {
   const cv::Rect frame(0, 0, mask.cols, mask.rows);
   if (!config.mask_box_only) return frame;
   const cv::Rect box = cv::boundingRect(mask);
   if (box.empty()) return box;
-  const int reach =
-      std::max({1, config.motion_window / 2, config.edge_radius, config.fill_radius, 1 << config.levels});
-  const int margin = 2 * reach;
+  const int reach = std::max({1, config.motion_window / 2, config.edge_radius, config.fill_radius});
+  const int margin = std::max(2 * reach, 1 << config.levels);
   return cv::Rect(box.x - margin, box.y - margin, box.width + 2 * margin, box.height + 2 * margin) & frame;
 }
 
