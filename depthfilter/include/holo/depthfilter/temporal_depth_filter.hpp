@@ -18,15 +18,16 @@
 // the top level down, a pixel without a pair takes the bilinear, weight-weighted mean of its
 // four nearest parents only when they all lie on one surface and none straddles a depth edge
 // (the hole's neighbourhood agrees); a pixel with a pair is blended with its parent by their
-// reliabilities (1 - c) unless their depths differ by more than T(z) (a depth edge, kept sharp). Only
-// foreground pixels (phi_i) receive output. A hole (a foreground pixel without a measurement) keeps the
-// push's fill only where that is safe: away from depth edges and, unless its precursor was measured within
-// the last `fill_trust_frames` frames and agrees, away from the mask's edge. Other holes take the surface of
-// their measured neighbours that share the hole's colour, if those lie on one surface (and on the trusted
-// precursor's), and stay holes otherwise (see guidedHoleFill in the source). A hole without a trusted
-// precursor is never filled when the first measurements left, right, above and below it inside
-// the mask span a depth edge: it is a gap between two surfaces (between limbs) and may show a
-// third one.
+// reliabilities (1 - c) unless their depths differ by more than T(z) (a depth edge, kept sharp).
+// Only foreground pixels (phi_i) receive output. A hole (a foreground pixel without a
+// measurement) whose precursor was measured within the last `fill_trust_frames` frames takes the
+// surface of its measured neighbours within `fill_radius` that share its colour, if those lie on
+// the precursor's surface (see guidedHoleFill in the source). A hole without such a precursor is
+// filled only away from the mask's edge and from depth edges: from those neighbours (all on one
+// surface) where it has some, else with the push's fill where the mean colour of the measured
+// pixels behind it (carried through the pyramid) is the hole's; but never when the first
+// measurements left, right, above and below it inside the mask span a depth edge: it is a gap
+// between two surfaces (between limbs) and may show a third one. Every other hole stays a hole.
 // The choices where the paper is silent are listed, with reasons, in docs/depthfilter.md.
 //
 // Units: metres; depth 0 = invalid. Invariant: the output is CV_32FC1, finite, 0 outside phi_i,
