@@ -1,0 +1,235 @@
+// The AR composite on a scene whose answer is known: a grey plane and a sphere standing on it,
+// under a dim sky with one small bright sun, so the sphere casts a sharp shadow.
+#include <gtest/gtest.h>
+
+#include <glm/gtc/constants.hpp>
+
+#include "holo/ar/albedo_estimate.hpp"
+#include "holo/ar/ar_view.hpp"
+#include "holo/ar/depth_surface.hpp"
+#include "holo/ar/local_path_tracing.hpp"
+#include "holo/core/equirect.hpp"
+#include "holo/core/error.hpp"
+#include "holo/core/image.hpp"
+#include "holo/core/shapes.hpp"
+
+namespace holo::ar {
+namespace {
+
+constexpr float kPlaneAlbedo = 0.5f;
+
+// 64x32 panorama: sky 0.3, ground 0.1, a sun of 4 pixels of radiance 400 high in the +X+Z sky.
+cv::Mat sunnyPanorama() {
+  cv::Mat pano(32, 64, CV_32FC3);
+  for (int y = 0; y < pano.rows; ++y)
+    for (int x = 0; x < pano.cols; ++x) setRgb(pano, x, y, vec3(y < pano.rows / 2 ? 0.3f : 0.1f));
+  const vec3 sun = glm::normalize(vec3(1.0f, 0.8f, 0.1f));
+  const vec2 uv = equirect::directionToUv(sun);
+  const int sx = static_cast<int>(uv.x * pano.cols), sy = static_cast<int>(uv.y * pano.rows);
+  for (int dy = 0; dy < 2; ++dy)
+    for (int dx = 0; dx < 2; ++dx)
+      setRgb(pano, (sx + dx) % pano.cols, std::min(sy + dy, pano.rows - 1), vec3(400.0f));
+  return pano;
+}
+
+RealSurface plane() {
+  RealSurface s;
+  s.mesh.positions = {{-1.0f, 0.0f, -1.0f}, {1.0f, 0.0f, -1.0f}, {1.0f, 0.0f, 1.0f}, {-1.0f, 0.0f, 1.0f}};
+  s.mesh.triangles = {{0, 2, 1}, {0, 3, 2}};
+  s.mesh.normals.assign(4, vec3(0.0f, 1.0f, 0.0f));
+  s.albedo.assign(4, vec3(kPlaneAlbedo));
+  return s;
+}
+
+Model sphereRelic() {
+  Model m;
+  TriangleMesh sphere = makeSphere(0.12f, 16, 32);
+  for (vec3& p : sphere.positions) p += vec3(0.0f, 0.12f, 0.0f);
+  m.meshes.push_back(sphere);
+  Material material;
+  material.base_colour = vec3(0.8f, 0.3f, 0.2f);
+  material.roughness = 0.4f;
+  m.materials.push_back(material);
+  return m;
+}
+
+CameraModel camera(int width = 48, int height = 32) {
+  const float vfov = glm::radians(50.0f);
+  const float hfov =
+      2.0f * std::atan(std::tan(0.5f * vfov) * static_cast<float>(width) / static_cast<float>(height));
+  return CameraModel(Intrinsics::fromFov(width, height, hfov, vfov),
+                     lookAtCameraToWorld({0.0f, 0.7f, 0.8f}, {-0.1f, 0.0f, -0.1f}));
+}
+
+CompositeSettings settings(DifferentialMethod method, int spp, std::uint64_t seed) {
+  CompositeSettings s;
+  s.method = method;
+  s.spp = spp;
+  s.seed = seed;
+  return s;
+}
+
+float luminance(const vec3& c) {
+  return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
+}
+
+struct Scene {
+  cv::Mat panorama = sunnyPanorama();
+  reflect::Environment environment{panorama};
+  LocalScene local{plane(), sphereRelic(), environment};
+  CameraModel view = camera();
+};
+
+// Mean of a - b over the real pixels where the relic darkens the truth by more than 10%.
+struct ShadowComparison {
+  double composite_change = 0, true_change = 0;
+  int pixels = 0;
+};
+
+ShadowComparison compareInShadow(const cv::Mat& composite, const CompositeImage& truth, const cv::Mat& real) {
+  ShadowComparison c;
+  for (int y = 0; y < real.rows; ++y)
+    for (int x = 0; x < real.cols; ++x) {
+      if (truth.relic_coverage.at<float>(y, x) > 0.0f) continue;
+      const float r = luminance(rgbAt(real, x, y)), t = luminance(rgbAt(truth.radiance, x, y));
+      if (t > 0.9f * r) continue;
+      c.true_change += t - r;
+      c.composite_change += luminance(rgbAt(composite, x, y)) - r;
+      ++c.pixels;
+    }
+  return c;
+}
+
+TEST(ArComposite, DeltaPathTracingOnExactInputsGivesTheMixedScene) {
+  const Scene s;
+  const cv::Mat real = renderLocalScene(s.local, SceneContent::kReal, s.view, settings({}, 256, 7)).radiance;
+  const CompositeImage truth = renderLocalScene(s.local, SceneContent::kMixed, s.view, settings({}, 256, 7));
+  const CompositeImage delta =
+      renderComposite(s.local, s.view, real, settings(DifferentialMethod::kDeltaPathTracing, 256, 3));
+  const ShadowComparison c = compareInShadow(delta.radiance, truth, real);
+  ASSERT_GT(c.pixels, 20) << "the sphere casts a shadow in view";
+  ASSERT_LT(c.true_change, 0.0);
+  EXPECT_NEAR(c.composite_change / c.true_change, 1.0, 0.05);
+  EXPECT_GT(cv::countNonZero(delta.relic_coverage > 0.0f), 50);
+}
+
+TEST(ArComposite, TwoPassDifferentialRenderingConvergesToTheSameImage) {
+  const Scene s;
+  const cv::Mat real = renderLocalScene(s.local, SceneContent::kReal, s.view, settings({}, 256, 7)).radiance;
+  const CompositeImage truth = renderLocalScene(s.local, SceneContent::kMixed, s.view, settings({}, 256, 7));
+  const CompositeImage two_pass =
+      renderComposite(s.local, s.view, real, settings(DifferentialMethod::kTwoPass, 256, 3));
+  const ShadowComparison c = compareInShadow(two_pass.radiance, truth, real);
+  EXPECT_NEAR(c.composite_change / c.true_change, 1.0, 0.1);
+}
+
+// Xu et al.'s point: where the relic changes nothing, delta path tracing adds exactly nothing,
+// and where it does, its error at the same count of rays is far below two renders' difference.
+TEST(ArComposite, DeltaPathTracingBeatsTwoPassAtEqualRays) {
+  const Scene s;
+  const cv::Mat real = renderLocalScene(s.local, SceneContent::kReal, s.view, settings({}, 256, 7)).radiance;
+  const CompositeImage truth = renderLocalScene(s.local, SceneContent::kMixed, s.view, settings({}, 256, 7));
+  const CompositeImage delta =
+      renderComposite(s.local, s.view, real, settings(DifferentialMethod::kDeltaPathTracing, 4, 11));
+  CompositeSettings pass = settings(DifferentialMethod::kTwoPass, 1, 11);
+  cv::Mat sum(real.size(), CV_32FC3, cv::Scalar::all(0));
+  std::int64_t rays = 0;
+  for (; rays < delta.rays; ++pass.first_sample) {
+    const CompositeImage image = renderComposite(s.local, s.view, real, pass);
+    sum += image.radiance;
+    rays += image.rays;
+  }
+  const cv::Mat two_pass = sum / static_cast<double>(pass.first_sample);
+  double delta_error = 0, two_pass_error = 0;
+  int real_pixels = 0, delta_untouched = 0, two_pass_untouched = 0;
+  for (int y = 0; y < real.rows; ++y)
+    for (int x = 0; x < real.cols; ++x) {
+      if (truth.relic_coverage.at<float>(y, x) > 0.0f) continue;
+      const vec3 t = rgbAt(truth.radiance, x, y);
+      delta_error += glm::length(rgbAt(delta.radiance, x, y) - t);
+      two_pass_error += glm::length(rgbAt(two_pass, x, y) - t);
+      ++real_pixels;
+      delta_untouched += rgbAt(delta.radiance, x, y) == rgbAt(real, x, y) ? 1 : 0;
+      two_pass_untouched += rgbAt(two_pass, x, y) == rgbAt(real, x, y) ? 1 : 0;
+    }
+  EXPECT_GT(two_pass_error, 2.0 * delta_error) << "two-pass " << two_pass_error << ", delta " << delta_error;
+  EXPECT_GT(delta_untouched, real_pixels / 3);
+  EXPECT_LT(two_pass_untouched, real_pixels / 10);
+}
+
+TEST(DepthSurface, IsTheSeenPlaneAndDropsSilhouettesAndFarPoints) {
+  const CameraModel view = camera(40, 30);
+  cv::Mat depth(30, 40, CV_32FC1);
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) {
+      // The plane y = 0 where the ray meets it, a far wall (beyond the radius) elsewhere.
+      const Ray ray = view.ray({static_cast<float>(x), static_cast<float>(y)});
+      const vec3 forward = vec3(view.T_world_camera()[2]);
+      const float t = ray.direction.y < -1e-3f ? -ray.origin.y / ray.direction.y : 100.0f;
+      depth.at<float>(y, x) = std::min(t, 100.0f) * glm::dot(ray.direction, glm::normalize(forward));
+    }
+  DepthSurfaceSettings settings;
+  settings.radius = 1.5f;
+  const DepthSurface surface = depthSurface(depth, view, settings, "camera 0");
+  ASSERT_GT(surface.mesh.triangles.size(), 100u);
+  for (std::size_t i = 0; i < surface.mesh.positions.size(); ++i) {
+    EXPECT_NEAR(surface.mesh.positions[i].y, 0.0f, 1e-4f);
+    EXPECT_LE(glm::length(surface.mesh.positions[i]), 1.5f + 1e-4f);
+    EXPECT_GT(surface.mesh.normals[i].y, 0.999f);
+  }
+  // The albedo of a plane lit by a uniform sky of 1 seen at radiance 0.25: pi * 0.25 / pi.
+  cv::Mat radiance(30, 40, CV_32FC3, cv::Scalar::all(0.25));
+  const reflect::Environment sky = reflect::Environment::uniform(vec3(1.0f));
+  const std::vector<vec3> albedo = estimateAlbedo(surface, radiance, reflect::IrradianceSH(sky));
+  for (const vec3& a : albedo) EXPECT_NEAR(a.g, 0.25f, 0.01f);
+}
+
+RgbdFrame goodFrame(const CameraModel& view) {
+  RgbdFrame frame;
+  frame.colour = cv::Mat(view.height(), view.width(), CV_8UC3, cv::Scalar::all(100));
+  frame.depth = cv::Mat(view.height(), view.width(), CV_32FC1, cv::Scalar(1.0f));
+  return frame;
+}
+
+std::string refusal(const std::function<void()>& call) {
+  try {
+    call();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(ArCamera, AMissingUncalibratedOrDepthlessCameraIsRefusedByName) {
+  const CameraModel view = camera();
+  EXPECT_EQ(refusal([&] { requireArCameraIndex(2, 4); }), "");
+  EXPECT_EQ(refusal([&] { requireArCameraInputs(2, view, goodFrame(view)); }), "");
+
+  const std::string missing = refusal([&] { requireArCameraIndex(4, 4); });
+  EXPECT_NE(missing.find("camera 4"), std::string::npos) << missing;
+  EXPECT_NE(missing.find("0 to 3"), std::string::npos) << missing;
+  EXPECT_NE(refusal([&] { requireArCameraIndex(-1, 4); }).find("camera -1"), std::string::npos);
+
+  const std::string uncalibrated = refusal([&] { requireArCameraInputs(1, CameraModel{}, goodFrame(view)); });
+  EXPECT_NE(uncalibrated.find("camera 1"), std::string::npos) << uncalibrated;
+  EXPECT_NE(uncalibrated.find("calibrat"), std::string::npos) << uncalibrated;
+  CameraModel bent = view;
+  mat4 pose = view.T_world_camera();
+  pose[0] *= 2.0f;  // not a rotation
+  bent.setPose(pose);
+  EXPECT_NE(refusal([&] { requireArCameraInputs(1, bent, goodFrame(view)); }).find("T_world_camera"),
+            std::string::npos);
+
+  RgbdFrame no_depth = goodFrame(view);
+  no_depth.depth = cv::Mat();
+  const std::string depthless = refusal([&] { requireArCameraInputs(3, view, no_depth); });
+  EXPECT_NE(depthless.find("camera 3"), std::string::npos) << depthless;
+  EXPECT_NE(depthless.find("depth"), std::string::npos) << depthless;
+  RgbdFrame invalid_depth = goodFrame(view);
+  invalid_depth.depth.setTo(0.0f);
+  EXPECT_NE(refusal([&] { requireArCameraInputs(3, view, invalid_depth); }).find("valid depth"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace holo::ar
