@@ -34,6 +34,8 @@ int run(const Options& o) {
   std::cout << "  spp " << e.delta.spp << "  ms " << e.delta.ms << "  rays " << e.delta.rays << "\n";
   print("two-pass differential", e.two_pass.rmse);
   std::cout << "  spp " << e.two_pass.spp << "  ms " << e.two_pass.ms << "  rays " << e.two_pass.rays << "\n";
+  print("delta path tracing, change filtered (the product's composite)", e.filtered.rmse);
+  std::cout << "  ms " << e.filtered.ms << "\n";
   print("adversary without the relic's shadow and light", e.no_shadow);
   std::cout << "\ntwo-pass / delta error over the relic and shadow at equal time: " << ratio
             << " (bar >= " << eval::kArDeltaOverTwoPass << ": "
@@ -46,6 +48,7 @@ int run(const Options& o) {
     eval::writeImagePair(o.out + "/truth.exr", e.truth, e.exposure);
     eval::writeImagePair(o.out + "/delta.exr", e.delta_composite, e.exposure);
     eval::writeImagePair(o.out + "/two_pass.exr", e.two_pass_composite, e.exposure);
+    eval::writeImagePair(o.out + "/filtered.exr", e.filtered_composite, e.exposure);
     eval::writeImagePair(o.out + "/no_shadow.exr", e.no_shadow_composite, e.exposure);
     std::cout << "images: " << o.out << "\n";
   }

@@ -87,7 +87,8 @@ ArView renderArView(int index, const CameraModel& camera, const RgbdFrame& frame
   out.real_vertices = real.surface.mesh.positions.size();
   const LocalScene scene(std::move(real.surface), relic, environment);
   const CompositeImage composite = renderComposite(scene, camera, real.background, settings.composite);
-  out.radiance = composite.radiance;
+  out.radiance = filterChange(composite.radiance, real.background, composite.relic_coverage, frame.depth,
+                              settings.filter);
   out.image = linearToSrgb8(composite.radiance, exposure);
   out.relic_pixels = cv::countNonZero(composite.relic_coverage > 0.0f);
   out.rays = composite.rays;

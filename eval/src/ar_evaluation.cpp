@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "holo/ar/ar_view.hpp"
+#include "holo/ar/change_filter.hpp"
 #include "holo/ar/local_path_tracing.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/image.hpp"
@@ -220,8 +221,15 @@ ArEvaluation evaluateArComposite(const ArEvaluationOptions& o) {
   out.two_pass_composite = sum / static_cast<double>(out.two_pass.spp);
   out.two_pass.rmse = errors(out.two_pass_composite);
 
+  const auto filter_start = Clock::now();
+  out.filtered_composite =
+      ar::filterChange(delta.radiance, background, delta.relic_coverage, frame.depth, {});
+  out.filtered = out.delta;
+  out.filtered.ms += msSince(filter_start);
+  out.filtered.rmse = errors(out.filtered_composite);
+
   // The adversary: the relic over the camera's image, the real surfaces left as they are.
-  out.no_shadow_composite = delta.radiance.clone();
+  out.no_shadow_composite = out.filtered_composite.clone();
   background.copyTo(out.no_shadow_composite, delta.relic_coverage == 0.0f);
   out.no_shadow = errors(out.no_shadow_composite);
   return out;

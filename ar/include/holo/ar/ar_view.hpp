@@ -2,15 +2,16 @@
 // it through its calibrated intrinsics and pose, composited over the camera's colour image with
 // its shadow and its light on the real surfaces around it: the local real scene from the
 // camera's depth (depth_surface.hpp) with albedo from its colour under the panorama's irradiance
-// (albedo_estimate.hpp), the relic's effect on it by delta path tracing (local_path_tracing.hpp).
-// Units: metres, world (pyramid) frame; images as RgbdFrame (colour CV_8UC3 sRGB BGR, depth
-// CV_32FC1 metres).
+// (albedo_estimate.hpp), the relic's effect on it by delta path tracing (local_path_tracing.hpp), its change
+// on the real surfaces filtered (change_filter.hpp). Units: metres, world (pyramid) frame; images as
+// RgbdFrame (colour CV_8UC3 sRGB BGR, depth CV_32FC1 metres).
 #pragma once
 
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
+#include "holo/ar/change_filter.hpp"
 #include "holo/ar/depth_surface.hpp"
 #include "holo/ar/local_path_tracing.hpp"
 #include "holo/core/camera_model.hpp"
@@ -41,6 +42,7 @@ CameraRealScene realSceneFromCamera(int index, const CameraModel& camera, const 
 
 struct ArViewSettings {
   CompositeSettings composite;
+  ChangeFilterSettings filter;
   DepthSurfaceSettings surface;  // centred on the pyramid frame's origin, where the relic stands
   float exposure = 1.0f;         // the camera's: radiance = srgbToLinear(colour) / exposure
   float panorama_yaw_rad = 0.0f;

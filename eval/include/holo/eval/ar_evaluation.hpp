@@ -18,7 +18,10 @@
 // over the shadow part alone (the real pixels of the region, where the two methods differ) and
 // over the whole image (where the relic changes nothing, a composite should add nothing).
 // Methods at equal time: delta path tracing at method_spp samples, then the two-pass differential
-// renderer given as many 1-spp passes as fit in the same wall-clock time (at least one).
+// renderer given as many 1-spp passes as fit in the same wall-clock time (at least one), both
+// unfiltered (the comparison of Xu et al.); and the product's composite, delta path tracing with
+// its change filtered (ar/change_filter.hpp), which the adversary (the relic over the camera's
+// image, the real surfaces unchanged) is measured against.
 #pragma once
 
 #include <cstdint>
@@ -69,8 +72,8 @@ struct ArEvaluation {
   cv::Mat camera_colour;  // CV_8UC3: the real scene as the camera delivers it
   cv::Mat region;         // CV_8UC1 255 where the error is measured
   cv::Mat shadow;         // CV_8UC1 255 on the region's pixels that see no relic
-  cv::Mat delta_composite, two_pass_composite, no_shadow_composite;  // CV_32FC3
-  ArMethodScore delta, two_pass;
+  cv::Mat delta_composite, two_pass_composite, filtered_composite, no_shadow_composite;  // CV_32FC3
+  ArMethodScore delta, two_pass, filtered;
   ArErrors no_shadow;  // the adversary: the relic pasted over the image, no change
   int region_pixels = 0, relic_pixels = 0, shadow_pixels = 0;
   float exposure = 1.0f;
