@@ -6,6 +6,7 @@
 
 #include "holo/ar/albedo_estimate.hpp"
 #include "holo/ar/ar_view.hpp"
+#include "holo/ar/change_filter.hpp"
 #include "holo/ar/depth_surface.hpp"
 #include "holo/ar/local_path_tracing.hpp"
 #include "holo/core/equirect.hpp"
@@ -182,6 +183,32 @@ TEST(DepthSurface, IsTheSeenPlaneAndDropsSilhouettesAndFarPoints) {
   const reflect::Environment sky = reflect::Environment::uniform(vec3(1.0f));
   const std::vector<vec3> albedo = estimateAlbedo(surface, radiance, reflect::IrradianceSH(sky));
   for (const vec3& a : albedo) EXPECT_NEAR(a.g, 0.25f, 0.01f);
+}
+
+TEST(ChangeFilter, SmoothsTheChangeButNotAcrossADepthEdgeOrOverTheRelic) {
+  const int w = 24, h = 12;
+  cv::Mat background(h, w, CV_32FC3, cv::Scalar::all(1.0));
+  cv::Mat composite(h, w, CV_32FC3), depth(h, w, CV_32FC1), coverage(h, w, CV_32FC1, cv::Scalar(0));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const bool shadow = x < w / 2;  // a shadow on the near surface, none on the far one
+      const float noise = ((x + y) % 2 == 0 ? 0.2f : -0.2f);
+      setRgb(composite, x, y, vec3(1.0f + (shadow ? -0.5f : 0.0f) + noise));
+      depth.at<float>(y, x) = shadow ? 1.0f : 2.0f;
+    }
+  coverage.at<float>(5, 3) = 1.0f;
+  setRgb(composite, 3, 5, vec3(7.0f));
+  const cv::Mat filtered = filterChange(composite, background, coverage, depth, {});
+  EXPECT_EQ(rgbAt(filtered, 3, 5), vec3(7.0f));
+  for (int y = 2; y < h - 2; ++y) {
+    EXPECT_NEAR(rgbAt(filtered, w / 2 - 1, y).g, 0.5f, 0.06f) << "the near side of the edge, row " << y;
+    EXPECT_NEAR(rgbAt(filtered, w / 2, y).g, 1.0f, 0.06f) << "the far side of the edge, row " << y;
+    EXPECT_NEAR(rgbAt(filtered, 8, y).g, 0.5f, 0.06f);
+  }
+  ChangeFilterSettings off;
+  off.enabled = false;
+  EXPECT_EQ(cv::norm(filterChange(composite, background, coverage, depth, off), composite, cv::NORM_INF),
+            0.0);
 }
 
 RgbdFrame goodFrame(const CameraModel& view) {
