@@ -4,6 +4,8 @@
 #include <iomanip>
 #include <iostream>
 #include <memory>
+#include <opencv2/core.hpp>
+#include <vector>
 
 #include "command.hpp"
 #include "holo/eval/acceptance_bars.hpp"
@@ -50,6 +52,11 @@ int run(const Options& o) {
     eval::writeImagePair(o.out + "/two_pass.exr", e.two_pass_composite, e.exposure);
     eval::writeImagePair(o.out + "/filtered.exr", e.filtered_composite, e.exposure);
     eval::writeImagePair(o.out + "/no_shadow.exr", e.no_shadow_composite, e.exposure);
+    cv::Mat strip;  // truth | the product's composite | two-pass | without the shadow
+    cv::hconcat(
+        std::vector<cv::Mat>{e.truth, e.filtered_composite, e.two_pass_composite, e.no_shadow_composite},
+        strip);
+    eval::writeImagePair(o.out + "/strip.exr", strip, e.exposure);
     std::cout << "images: " << o.out << "\n";
   }
   return 0;
@@ -82,6 +89,11 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_flag(
           "--no-sensor-noise", [e = &e](std::int64_t n) { e->sensor_noise = n == 0; },
           "The camera's colour and depth without the sensor model's noise");
+      sub.add_option(
+             "--delta-bounces", e.delta_bounces,
+             "Delta path tracing: real-surface levels whose change is traced (1: the primary hit only)")
+          ->capture_default_str()
+          ->check(CLI::Range(1, 64));
       sub.add_option("--seed", e.seed, "Sampling seed")->capture_default_str();
       sub.add_option("--out", o->out, "Folder for truth, delta, two_pass, no_shadow (EXR + PNG)");
       return [o] { return run(*o); };

@@ -196,6 +196,7 @@ ArEvaluation evaluateArComposite(const ArEvaluationOptions& o) {
   ar::CompositeSettings delta_settings;
   delta_settings.spp = o.method_spp;
   delta_settings.max_bounces = o.max_bounces;
+  delta_settings.delta_bounces = o.delta_bounces;
   delta_settings.seed = o.seed;
   const auto delta_start = Clock::now();
   const ar::CompositeImage delta = ar::renderComposite(scene, camera, background, delta_settings);

@@ -46,6 +46,7 @@ struct ArEvaluationOptions {
   int truth_spp = 256;
   int method_spp = 16;
   int max_bounces = 3;
+  int delta_bounces = 3;  // delta path tracing's real levels (ar::CompositeSettings)
   float region_threshold = 0.02f;
   bool sensor_noise = true;
   std::uint64_t seed = 1;
