@@ -50,7 +50,8 @@ int renderAr(const RenderOptions& o) {
   writeFileAtomically(o.out, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
   std::cout << "ar camera: " << o.ar_camera << "\n"
             << "installation: " << installation.name << "\n"
-            << "relic: " << installation.relic_name << "\n"
+            << "relic: " << (installation.relic_name.empty() ? "the scene's" : installation.relic_name)
+            << "\n"
             << "size: " << view.image.cols << "x" << view.image.rows << "\n"
             << "relic pixels: " << view.relic_pixels
             << (view.relic_pixels == 0 ? " (the relic is outside this camera's view)" : "") << "\n"
