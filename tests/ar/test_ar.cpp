@@ -2,6 +2,8 @@
 // under a dim sky with one small bright sun, so the sphere casts a sharp shadow.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <glm/gtc/constants.hpp>
 
 #include "holo/ar/albedo_estimate.hpp"
@@ -225,6 +227,27 @@ std::string refusal(const std::function<void()>& call) {
     return e.what();
   }
   return "";
+}
+
+// A depth with one valid pixel, or none near the relic, leaves no real surface: the composite is
+// the relic over the camera's image, finite.
+TEST(ArView, AlmostNoDepthGivesTheRelicOverTheImage) {
+  const CameraModel view = camera();
+  const Model relic = sphereRelic();
+  const cv::Mat panorama = sunnyPanorama();
+  ArViewSettings settings;
+  settings.composite.spp = 2;
+  for (const float far : {0.0f, 50.0f}) {
+    RgbdFrame frame = goodFrame(view);
+    frame.depth.setTo(far);
+    frame.depth.at<float>(3, 3) = std::numeric_limits<float>::quiet_NaN();
+    frame.depth.at<float>(4, 4) = 1.0f;
+    const ArView out = renderArView(0, view, frame, relic, panorama, settings);
+    EXPECT_GT(out.relic_pixels, 50);
+    EXPECT_EQ(cv::checkRange(out.radiance), true);
+    EXPECT_EQ(out.image.at<cv::Vec3b>(0, 0), cv::Vec3b(100, 100, 100))
+        << "far from the relic: the camera's pixel";
+  }
 }
 
 TEST(ArCamera, AMissingUncalibratedOrDepthlessCameraIsRefusedByName) {
