@@ -2,6 +2,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -191,6 +192,7 @@ ArEvaluation evaluateArComposite(const ArEvaluationOptions& o) {
   surface.radius = o.local_radius;
   ar::CameraRealScene real = ar::realSceneFromCamera(0, camera, frame, environment, out.exposure, surface);
   const cv::Mat background = real.background;
+  if (!o.estimate_albedo) std::fill(real.surface.albedo.begin(), real.surface.albedo.end(), vec3(0.5f));
   const ar::LocalScene scene(std::move(real.surface), museum.relic(), environment);
 
   ar::CompositeSettings delta_settings;

@@ -60,5 +60,14 @@ TEST(ArEvaluation, TheFilteredCompositeBeatsOneWithoutTheShadowAndTheUnfilteredO
   EXPECT_LT(e.filtered.rmse.region, e.no_shadow.region);
 }
 
+TEST(ArEvaluation, TheEstimatedAlbedoBeatsAUniformGrey) {
+  ArEvaluationOptions grey = options();
+  grey.estimate_albedo = false;
+  const ArEvaluation without = evaluateArComposite(grey);
+  const ArEvaluation& with = evaluation();
+  EXPECT_LT(with.filtered.rmse.shadow, 0.8 * without.filtered.rmse.shadow)
+      << "estimated " << with.filtered.rmse.shadow << ", grey " << without.filtered.rmse.shadow;
+}
+
 }  // namespace
 }  // namespace holo::eval

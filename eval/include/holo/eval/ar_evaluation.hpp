@@ -49,6 +49,9 @@ struct ArEvaluationOptions {
   int delta_bounces = 3;  // delta path tracing's real levels (ar::CompositeSettings)
   float region_threshold = 0.02f;
   bool sensor_noise = true;
+  // The real surfaces' albedo estimated from the colour (ar/albedo_estimate.hpp); false: a grey of
+  // 0.5 everywhere instead (what the estimate is measured against).
+  bool estimate_albedo = true;
   std::uint64_t seed = 1;
   // The two-pass renderer's budget: equal wall-clock time (the evaluation), or, when false, at
   // least the delta path tracer's count of rays (deterministic, for tests).
