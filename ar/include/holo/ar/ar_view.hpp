@@ -2,9 +2,10 @@
 // it through its calibrated intrinsics and pose, composited over the camera's colour image with
 // its shadow and its light on the real surfaces around it: the local real scene from the
 // camera's depth (depth_surface.hpp) with albedo from its colour under the panorama's irradiance
-// (albedo_estimate.hpp), the relic's effect on it by delta path tracing (local_path_tracing.hpp), its change
-// on the real surfaces filtered (change_filter.hpp). Units: metres, world (pyramid) frame; images as
-// RgbdFrame (colour CV_8UC3 sRGB BGR, depth CV_32FC1 metres).
+// (albedo_estimate.hpp), the relic's effect on it by delta path tracing
+// (local_path_tracing.hpp), its change on the real surfaces filtered (change_filter.hpp).
+// Units: metres, world (pyramid) frame; images as RgbdFrame (colour CV_8UC3 sRGB BGR, depth
+// CV_32FC1 metres).
 #pragma once
 
 #include <opencv2/core.hpp>
