@@ -1,11 +1,12 @@
-// The AR composite on a scene whose answer is known: a grey plane and a sphere standing on it,
-// under a dim sky with one small bright sun, so the sphere casts a sharp shadow.
+// The AR composite on a scene whose answer is known (ar_test_scene.hpp: a sphere on a plane
+// under a small sun).
 #include <gtest/gtest.h>
 
 #include <limits>
 
 #include <glm/gtc/constants.hpp>
 
+#include "ar_test_scene.hpp"
 #include "holo/ar/albedo_estimate.hpp"
 #include "holo/ar/ar_view.hpp"
 #include "holo/ar/change_filter.hpp"
@@ -19,50 +20,10 @@
 namespace holo::ar {
 namespace {
 
-constexpr float kPlaneAlbedo = 0.5f;
-
-// 64x32 panorama: sky 0.3, ground 0.1, a sun of 4 pixels of radiance 400 high in the +X+Z sky.
-cv::Mat sunnyPanorama() {
-  cv::Mat pano(32, 64, CV_32FC3);
-  for (int y = 0; y < pano.rows; ++y)
-    for (int x = 0; x < pano.cols; ++x) setRgb(pano, x, y, vec3(y < pano.rows / 2 ? 0.3f : 0.1f));
-  const vec3 sun = glm::normalize(vec3(1.0f, 0.8f, 0.1f));
-  const vec2 uv = equirect::directionToUv(sun);
-  const int sx = static_cast<int>(uv.x * pano.cols), sy = static_cast<int>(uv.y * pano.rows);
-  for (int dy = 0; dy < 2; ++dy)
-    for (int dx = 0; dx < 2; ++dx)
-      setRgb(pano, (sx + dx) % pano.cols, std::min(sy + dy, pano.rows - 1), vec3(400.0f));
-  return pano;
-}
-
-RealSurface plane() {
-  RealSurface s;
-  s.mesh.positions = {{-1.0f, 0.0f, -1.0f}, {1.0f, 0.0f, -1.0f}, {1.0f, 0.0f, 1.0f}, {-1.0f, 0.0f, 1.0f}};
-  s.mesh.triangles = {{0, 2, 1}, {0, 3, 2}};
-  s.mesh.normals.assign(4, vec3(0.0f, 1.0f, 0.0f));
-  s.albedo.assign(4, vec3(kPlaneAlbedo));
-  return s;
-}
-
-Model sphereRelic() {
-  Model m;
-  TriangleMesh sphere = makeSphere(0.12f, 16, 32);
-  for (vec3& p : sphere.positions) p += vec3(0.0f, 0.12f, 0.0f);
-  m.meshes.push_back(sphere);
-  Material material;
-  material.base_colour = vec3(0.8f, 0.3f, 0.2f);
-  material.roughness = 0.4f;
-  m.materials.push_back(material);
-  return m;
-}
-
-CameraModel camera(int width = 48, int height = 32) {
-  const float vfov = glm::radians(50.0f);
-  const float hfov =
-      2.0f * std::atan(std::tan(0.5f * vfov) * static_cast<float>(width) / static_cast<float>(height));
-  return CameraModel(Intrinsics::fromFov(width, height, hfov, vfov),
-                     lookAtCameraToWorld({0.0f, 0.7f, 0.8f}, {-0.1f, 0.0f, -0.1f}));
-}
+using test::camera;
+using test::plane;
+using test::sphereRelic;
+using test::sunnyPanorama;
 
 CompositeSettings settings(DifferentialMethod method, int spp, std::uint64_t seed) {
   CompositeSettings s;
