@@ -1,6 +1,8 @@
 // `holopyramid render`: one face view (or an explicit camera) of the relic with one reflection
 // method, written as linear HDR EXR plus a tone-mapped PNG beside it; or, with --ar-camera N, the
-// AR check view of an installation's camera N (pipeline/ar_check_view.hpp) as a PNG.
+// AR check view of an installation's camera N (pipeline/ar_check_view.hpp) as a PNG (and the
+// linear EXR when FILE.exr is asked for).
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <opencv2/imgcodecs.hpp>
@@ -10,6 +12,7 @@
 #include "command.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/files.hpp"
+#include "holo/core/hdr_io.hpp"
 #include "holo/eval/methods.hpp"
 #include "holo/eval/reflection_scene.hpp"
 #include "holo/eval/scoring.hpp"
@@ -44,10 +47,16 @@ int renderAr(const RenderOptions& o) {
   settings.composite.spp = o.ar_spp;
   settings.composite.seed = o.settings.seed;
   const ar::ArView view = pipeline::arCheckView(installation, o.ar_camera, settings);
+  // FILE.exr: the linear radiance, and FILE.png beside it; otherwise the PNG alone.
+  std::filesystem::path png_path = o.out;
+  if (png_path.extension() == ".exr") {
+    saveHdr(png_path, view.radiance);
+    png_path.replace_extension(".png");
+  }
   std::vector<uchar> png;
   if (!cv::imencode(".png", view.image, png))
     throw InputError(o.out, "--out", "a PNG the image can be encoded as");
-  writeFileAtomically(o.out, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
+  writeFileAtomically(png_path, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
   std::cout << "ar camera: " << o.ar_camera << "\n"
             << "installation: " << installation.name << "\n"
             << "relic: " << (installation.relic_name.empty() ? "the scene's" : installation.relic_name)
@@ -112,7 +121,7 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--ar-camera", o->ar_camera,
                      "The AR check view of camera N (of --ar-config, else of the simulated museum --scene, "
                      "museum by default): the relic composited over its image with its shadow and light, "
-                     "by delta path tracing (--out FILE.png)");
+                     "by delta path tracing (--out FILE.png, or FILE.exr with FILE.png beside it)");
       sub.add_option("--ar-config", o->ar_config,
                      "--ar-camera: a configuration file with capture: and exhibit:");
       sub.add_option("--ar-spp", o->ar_spp, "--ar-camera: samples per pixel")
