@@ -64,6 +64,29 @@ ShadowComparison compareInShadow(const cv::Mat& composite, const CompositeImage&
   return c;
 }
 
+// The path tracer the truth and both renderers share, against a closed form: a Lambertian plane of
+// albedo a under a uniform sky of radiance 1 (nothing below it) reflects exactly a.
+TEST(LocalPathTracing, APlaneUnderAUniformSkyReflectsItsAlbedo) {
+  cv::Mat sky(32, 64, CV_32FC3, cv::Scalar::all(0));
+  sky.rowRange(0, 16).setTo(cv::Scalar::all(1.0));
+  const reflect::Environment environment(sky);
+  const LocalScene scene(plane(), Model{}, environment);
+  const CameraModel view = camera();
+  const CompositeImage image = renderLocalScene(scene, SceneContent::kReal, view, settings({}, 64, 5));
+  double sum = 0;
+  int n = 0;
+  for (int y = 0; y < image.radiance.rows; ++y)
+    for (int x = 0; x < image.radiance.cols; ++x) {
+      const Ray ray = view.ray({static_cast<float>(x), static_cast<float>(y)});
+      const vec3 on_plane = ray.origin - (ray.origin.y / ray.direction.y) * ray.direction;
+      if (ray.direction.y >= 0.0f || std::abs(on_plane.x) > 0.9f || std::abs(on_plane.z) > 0.9f) continue;
+      sum += rgbAt(image.radiance, x, y).g;
+      ++n;
+    }
+  ASSERT_GT(n, 500);
+  EXPECT_NEAR(sum / n, test::kPlaneAlbedo, 0.005);
+}
+
 TEST(ArComposite, DeltaPathTracingOnExactInputsGivesTheMixedScene) {
   const Scene s;
   const cv::Mat real = renderLocalScene(s.local, SceneContent::kReal, s.view, settings({}, 256, 7)).radiance;
