@@ -93,7 +93,7 @@ TEST(Layering, EveryModuleIncludesOnlyTheModulesItLinks) {
 
 TEST(Layering, TheLiveProductLinksNoSimulationNoReferenceAndNoMeasurement) {
   const auto modules = linkedModules();
-  const ModuleSet product = {"core",    "capture", "depthfilter", "reflect",
+  const ModuleSet product = {"core",    "capture", "depthfilter", "reflect", "ar",
                              "display", "calib",   "kiosk",       "pipeline"};
   const ModuleSet apart = {"sim", "reference", "simulated", "eval"};
   for (const std::string& module : product) {

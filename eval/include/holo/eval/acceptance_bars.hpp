@@ -85,4 +85,10 @@ inline constexpr double kMaxDepthScaleErrorPct = 0.3;   // depth scale, %
 inline constexpr double kMaxGainErrorPct = 2.0;         // colour gains, %
 inline constexpr double kMaxDisplayedErrorCodes = 1.0;  // displayed error of the loop, 8-bit sRGB codes
 
+// ---- The AR composite, `eval ar` (docs/ar.md), over the region the relic changes ----
+
+// Two-pass differential rendering's relative RMSE at least 2x delta path tracing's at equal time
+// (the comparison of Xu et al.).
+inline constexpr double kArDeltaOverTwoPass = 2.0;
+
 }  // namespace holo::eval

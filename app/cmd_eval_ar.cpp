@@ -1,0 +1,103 @@
+// `holopyramid eval ar`: the AR composite against the path-traced truth on the simulated museum,
+// delta path tracing against two-pass differential rendering at equal time (eval/ar_evaluation.hpp).
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "command.hpp"
+#include "holo/eval/acceptance_bars.hpp"
+#include "holo/eval/ar_evaluation.hpp"
+#include "holo/eval/scoring.hpp"
+
+namespace holo::app {
+namespace {
+
+struct Options {
+  eval::ArEvaluationOptions evaluation;
+  std::string out;
+};
+
+void print(const char* name, const eval::ArErrors& e) {
+  std::cout << name << ": RMSE (8-bit codes) relic and shadow " << e.region << ", shadow " << e.shadow
+            << ", image " << e.image;
+}
+
+int run(const Options& o) {
+  const eval::ArEvaluation e = eval::evaluateArComposite(o.evaluation);
+  const double ratio = e.delta.rmse.region > 0 ? e.two_pass.rmse.region / e.delta.rmse.region : 0.0;
+  std::cout << std::setprecision(4) << "scene: " << o.evaluation.scene << "  size: " << o.evaluation.width
+            << "x" << o.evaluation.height << "  truth spp: " << o.evaluation.truth_spp << "\n"
+            << "region pixels: " << e.region_pixels << " (relic " << e.relic_pixels << ", shadow and light "
+            << e.shadow_pixels << ")\n";
+  print("delta path tracing", e.delta.rmse);
+  std::cout << "  spp " << e.delta.spp << "  ms " << e.delta.ms << "  rays " << e.delta.rays << "\n";
+  print("two-pass differential", e.two_pass.rmse);
+  std::cout << "  spp " << e.two_pass.spp << "  ms " << e.two_pass.ms << "  rays " << e.two_pass.rays << "\n";
+  print("delta path tracing, change filtered (the product's composite)", e.filtered.rmse);
+  std::cout << "  ms " << e.filtered.ms << "\n";
+  print("adversary without the relic's shadow and light", e.no_shadow);
+  std::cout << "\ntwo-pass / delta error over the relic and shadow at equal time: " << ratio
+            << " (bar >= " << eval::kArDeltaOverTwoPass << ": "
+            << (ratio >= eval::kArDeltaOverTwoPass ? "met" : "NOT met") << "); over the shadow "
+            << (e.delta.rmse.shadow > 0 ? e.two_pass.rmse.shadow / e.delta.rmse.shadow : 0.0)
+            << ", over the image "
+            << (e.delta.rmse.image > 0 ? e.two_pass.rmse.image / e.delta.rmse.image : 0.0) << "\n";
+  if (!o.out.empty()) {
+    std::filesystem::create_directories(o.out);
+    eval::writeImagePair(o.out + "/truth.exr", e.truth, e.exposure);
+    eval::writeImagePair(o.out + "/delta.exr", e.delta_composite, e.exposure);
+    eval::writeImagePair(o.out + "/two_pass.exr", e.two_pass_composite, e.exposure);
+    eval::writeImagePair(o.out + "/filtered.exr", e.filtered_composite, e.exposure);
+    eval::writeImagePair(o.out + "/no_shadow.exr", e.no_shadow_composite, e.exposure);
+    cv::Mat strip;  // truth | the product's composite | two-pass | without the shadow
+    cv::hconcat(
+        std::vector<cv::Mat>{e.truth, e.filtered_composite, e.two_pass_composite, e.no_shadow_composite},
+        strip);
+    eval::writeImagePair(o.out + "/strip.exr", strip, e.exposure);
+    std::cout << "images: " << o.out << "\n";
+  }
+  return 0;
+}
+
+}  // namespace
+
+HOLO_REGISTER_COMMAND(Command{
+    "eval ar",
+    [](CLI::App& sub) {
+      auto o = std::make_shared<Options>();
+      auto& e = o->evaluation;
+      sub.add_option("--scene", e.scene, "Simulated museum scene")->capture_default_str();
+      sub.add_option("--relic", e.relic, "Built-in relic name or glTF file (default: the scene's)");
+      sub.add_option("--width", e.width, "Check camera width")
+          ->capture_default_str()
+          ->check(CLI::Range(1, 4096));
+      sub.add_option("--height", e.height, "Check camera height")
+          ->capture_default_str()
+          ->check(CLI::Range(1, 4096));
+      sub.add_option("--truth-spp", e.truth_spp, "Truth samples per pixel")
+          ->capture_default_str()
+          ->check(CLI::Range(1, 1 << 20));
+      sub.add_option("--spp", e.method_spp, "Delta path tracing's samples per pixel (the time budget)")
+          ->capture_default_str()
+          ->check(CLI::Range(1, 1 << 16));
+      sub.add_option("--max-bounces", e.max_bounces, "Scatterings per path")
+          ->capture_default_str()
+          ->check(CLI::Range(1, 64));
+      sub.add_flag(
+          "--no-sensor-noise", [e = &e](std::int64_t n) { e->sensor_noise = n == 0; },
+          "The camera's colour and depth without the sensor model's noise");
+      sub.add_option(
+             "--delta-bounces", e.delta_bounces,
+             "Delta path tracing: real-surface levels whose change is traced (1: the primary hit only)")
+          ->capture_default_str()
+          ->check(CLI::Range(1, 64));
+      sub.add_option("--seed", e.seed, "Sampling seed")->capture_default_str();
+      sub.add_option("--out", o->out, "Folder for truth, delta, two_pass, no_shadow (EXR + PNG)");
+      return [o] { return run(*o); };
+    },
+    "The AR composite against the path-traced truth; delta path tracing vs two-pass at equal time"});
+
+}  // namespace holo::app

@@ -1,0 +1,59 @@
+// Path tracing of the local scene (local_scene.hpp) seen through a camera, and the AR composite
+// over that camera's image by differential rendering, two ways:
+//  * delta path tracing (Xu et al., Sec. 3): at the primary hit of a real surface only the change
+//    the relic makes is traced: the panorama's light the relic blocks there (by environment
+//    sampling and by BSDF sampling, combined by the balance heuristic, the paper's MIS) and what
+//    a BSDF-sampled ray that meets the relic brings instead of what it would have met (the relic's
+//    radiance, path traced in the mixed scene, minus the real scene's radiance along it); a
+//    BSDF-sampled ray that meets a real surface carries that surface's own change (the same
+//    estimator, recursively, `delta_bounces` levels). Where the real scene does not change, no
+//    radiance is traced at all;
+//  * plain differential rendering (Debevec): the mixed and the real scene path traced apart with
+//    independent samples, their difference added.
+// Either way a pixel sample that meets the relic first is the mixed scene's path-traced radiance
+// (mask M of Xu et al. Eq. 1); one that meets a real surface is the camera's radiance L_b plus
+// the difference; one that meets nothing (beyond the local scene) is L_b.
+//
+// Paths: at most max_bounces scatterings (what the last one reaches counts: the panorama); at
+// every non-mirror vertex the panorama is sampled (next-event estimation) and combined with BSDF
+// sampling by the balance heuristic. Pixel samples are jittered over the pixel (pixel centres at
+// integer coordinates, OpenCV's convention) and seeded per pixel and sample, so images are the
+// same for a seed whatever the thread count, and passes with first_sample continue one sequence.
+// Images: CV_32FC3 linear BGR radiance, the camera's size.
+#pragma once
+
+#include <cstdint>
+#include <opencv2/core.hpp>
+
+#include "holo/ar/local_scene.hpp"
+#include "holo/core/camera_model.hpp"
+
+namespace holo::ar {
+
+enum class DifferentialMethod { kDeltaPathTracing, kTwoPass };
+
+struct CompositeSettings {
+  DifferentialMethod method = DifferentialMethod::kDeltaPathTracing;
+  int spp = 16;           // pixel samples, >= 1
+  int first_sample = 0;   // index of the first sample (a later pass continues the sequence)
+  int max_bounces = 3;    // scatterings per path, >= 1
+  int delta_bounces = 3;  // delta path tracing: real-surface levels whose change is traced, >= 1
+  std::uint64_t seed = 1;
+};
+
+struct CompositeImage {
+  cv::Mat radiance;        // the composite, linear
+  cv::Mat relic_coverage;  // CV_32FC1: the fraction of a pixel's samples that met the relic first
+  std::int64_t rays = 0;   // rays cast (intersection and occlusion), the renderer's cost in rays
+};
+
+// `background`: the camera's image as radiance (CV_32FC3 linear BGR, the camera's size).
+CompositeImage renderComposite(const LocalScene& scene, const CameraModel& camera, const cv::Mat& background,
+                               const CompositeSettings& settings);
+
+// The local scene `content` path traced through the camera (pixels beyond it: the panorama).
+// Two renders with one seed share their random numbers wherever the relic does not intervene.
+CompositeImage renderLocalScene(const LocalScene& scene, SceneContent content, const CameraModel& camera,
+                                const CompositeSettings& settings);
+
+}  // namespace holo::ar

@@ -1,0 +1,61 @@
+// The local scene of an AR composite (Debevec's split): the real surfaces near the relic, each a
+// Lambertian reflector with an albedo per vertex, and the virtual relic with its glTF materials
+// (reflect::Bsdf: metallic-roughness GGX and Lambert; textures, transmission and clearcoat are
+// not read, so a glass relic renders opaque), lit by the panorama at infinity. Everything farther
+// than the local scene is the panorama. No surface of it emits.
+//
+// Two ray scenes over the same surfaces: mixed (real + relic) and real only, so the radiance of
+// either (what differential rendering differences) can be traced.
+// Units: metres in the world (pyramid) frame; albedo linear RGB in [0, 1].
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "holo/core/mesh.hpp"
+#include "holo/core/ray_scene.hpp"
+#include "holo/reflect/bsdf.hpp"
+#include "holo/reflect/environment.hpp"
+
+namespace holo::ar {
+
+// Real surfaces: one mesh (world frame, normals per vertex) and its albedo per vertex.
+struct RealSurface {
+  TriangleMesh mesh;
+  std::vector<vec3> albedo;  // same size as mesh.positions
+};
+
+enum class SceneContent { kReal, kMixed };
+
+class LocalScene {
+ public:
+  // The environment must outlive the scene. Throws InputError when the albedo does not match the
+  // mesh's vertices.
+  LocalScene(RealSurface real, const Model& relic, const reflect::Environment& environment);
+  LocalScene(const LocalScene&) = delete;
+  LocalScene& operator=(const LocalScene&) = delete;
+
+  const RayScene& rays(SceneContent content) const {
+    return content == SceneContent::kMixed ? *mixed_ : *real_;
+  }
+  // A geometry id of rays(kMixed) (ids of rays(kReal) are the same for the real surface).
+  bool isRelic(std::uint32_t geometry) const { return geometry != kRealGeometry; }
+  const reflect::Environment& environment() const { return environment_; }
+  // The BSDF at a hit of rays(content) seen along `direction` (unit, towards the surface).
+  reflect::Bsdf bsdfAt(SceneContent content, const Ray& ray, const RayHit& hit) const;
+  // An origin for rays leaving the hit: nudged off the surface to the side of `towards`.
+  vec3 offsetOrigin(const Ray& ray, const RayHit& hit, const vec3& towards) const;
+  const RealSurface& real() const { return real_surface_; }
+
+  static constexpr std::uint32_t kRealGeometry = 0;
+
+ private:
+  RealSurface real_surface_;
+  std::vector<reflect::SurfaceMaterial> relic_materials_;  // per relic mesh (geometry id - 1)
+  std::unique_ptr<RayScene> mixed_;
+  std::unique_ptr<RayScene> real_;
+  const reflect::Environment& environment_;
+};
+
+}  // namespace holo::ar

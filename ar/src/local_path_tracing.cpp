@@ -1,0 +1,217 @@
+#include "holo/ar/local_path_tracing.hpp"
+
+#include <tbb/blocked_range2d.h>
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+
+#include "holo/core/error.hpp"
+#include "holo/core/image.hpp"
+#include "random.hpp"
+
+namespace holo::ar {
+namespace {
+
+bool positive(const vec3& v) {
+  return v.x > 0.0f || v.y > 0.0f || v.z > 0.0f;
+}
+
+// The path tracing of one scene content, counting its rays.
+class Tracer {
+ public:
+  Tracer(const LocalScene& scene, std::int64_t& rays) : scene_(scene), rays_(rays) {}
+
+  // Radiance leaving `hit` back along `ray`, by a path of at most `scatterings` scatterings.
+  vec3 fromHit(SceneContent content, Ray ray, RayHit hit, Random& random, int scatterings) const {
+    const reflect::Environment& environment = scene_.environment();
+    const RayScene& rays = scene_.rays(content);
+    vec3 radiance(0.0f), throughput(1.0f);
+    for (int k = 0; k < scatterings; ++k) {
+      const reflect::Bsdf bsdf = scene_.bsdfAt(content, ray, hit);
+      const vec3 wo = -ray.direction;
+      if (!bsdf.mirror()) {
+        const reflect::EnvironmentSample light = environment.sample(random.uniform2());
+        if (light.pdf > 0.0f) {
+          const vec3 f = bsdf.eval(wo, light.direction);
+          if (positive(f)) {
+            ++rays_;
+            if (!rays.occluded({scene_.offsetOrigin(ray, hit, light.direction), light.direction})) {
+              const float bsdf_pdf = bsdf.pdf(wo, light.direction);
+              radiance += throughput * f * light.radiance / (light.pdf + bsdf_pdf);
+            }
+          }
+        }
+      } else {
+        random.uniform2();  // keep the sample sequence aligned
+      }
+      const auto scattered = bsdf.sample(wo, random.uniform3());
+      if (!scattered || !positive(scattered->weight)) break;
+      throughput *= scattered->weight;
+      const Ray next{scene_.offsetOrigin(ray, hit, scattered->wi), scattered->wi};
+      ++rays_;
+      const RayHit next_hit = rays.intersect(next);
+      if (!next_hit.hit()) {
+        const float weight =
+            scattered->delta ? 1.0f : scattered->pdf / (scattered->pdf + environment.pdf(scattered->wi));
+        radiance += throughput * environment.radiance(scattered->wi) * weight;
+        break;
+      }
+      ray = next;
+      hit = next_hit;
+    }
+    return radiance;
+  }
+
+  // Radiance arriving along `ray` in the scene `content`.
+  vec3 along(SceneContent content, const Ray& ray, Random& random, int scatterings, bool* met_relic) const {
+    ++rays_;
+    const RayHit hit = scene_.rays(content).intersect(ray);
+    if (met_relic) *met_relic = hit.hit() && scene_.isRelic(hit.geometry);
+    if (!hit.hit()) return scene_.environment().radiance(ray.direction);
+    return fromHit(content, ray, hit, random, scatterings);
+  }
+
+  // Delta path tracing at a real surface's hit (the mixed scene's radiance leaving it minus the
+  // real scene's): `scatterings` left for paths from here, `levels` real levels still traced.
+  vec3 delta(const Ray& ray, const RayHit& hit, Random& random, int scatterings, int levels) const {
+    const reflect::Environment& environment = scene_.environment();
+    const RayScene& mixed = scene_.rays(SceneContent::kMixed);
+    const RayScene& real = scene_.rays(SceneContent::kReal);
+    const reflect::Bsdf bsdf = scene_.bsdfAt(SceneContent::kMixed, ray, hit);
+    const vec3 wo = -ray.direction;
+    vec3 change(0.0f);
+    // The panorama's light the relic blocks, by environment sampling.
+    const reflect::EnvironmentSample light = environment.sample(random.uniform2());
+    if (light.pdf > 0.0f) {
+      const vec3 f = bsdf.eval(wo, light.direction);
+      if (positive(f)) {
+        const Ray shadow{scene_.offsetOrigin(ray, hit, light.direction), light.direction};
+        ++rays_;
+        const RayHit blocker = mixed.intersect(shadow);
+        if (blocker.hit() && scene_.isRelic(blocker.geometry)) {
+          ++rays_;
+          if (!real.occluded(shadow))
+            change -= f * light.radiance / (light.pdf + bsdf.pdf(wo, light.direction));
+        }
+      }
+    }
+    // By BSDF sampling: what the relic brings instead of what it hides, or a real surface's change.
+    const auto scattered = bsdf.sample(wo, random.uniform3());
+    if (!scattered || !positive(scattered->weight)) return change;
+    const Ray next{scene_.offsetOrigin(ray, hit, scattered->wi), scattered->wi};
+    ++rays_;
+    const RayHit next_hit = mixed.intersect(next);
+    if (!next_hit.hit()) return change;  // the panorama, in both scenes
+    if (scene_.isRelic(next_hit.geometry)) {
+      const vec3 added = scatterings > 1
+                             ? fromHit(SceneContent::kMixed, next, next_hit, random, scatterings - 1)
+                             : vec3(0.0f);
+      ++rays_;
+      const RayHit hidden = real.intersect(next);
+      vec3 blocked(0.0f);
+      if (!hidden.hit()) {
+        const float weight =
+            scattered->delta ? 1.0f : scattered->pdf / (scattered->pdf + environment.pdf(scattered->wi));
+        blocked = environment.radiance(scattered->wi) * weight;
+      } else if (scatterings > 1) {
+        blocked = fromHit(SceneContent::kReal, next, hidden, random, scatterings - 1);
+      }
+      return change + scattered->weight * (added - blocked);
+    }
+    if (levels > 1 && scatterings > 1)
+      change += scattered->weight * delta(next, next_hit, random, scatterings - 1, levels - 1);
+    return change;
+  }
+
+ private:
+  const LocalScene& scene_;
+  std::int64_t& rays_;
+};
+
+void checkSettings(const CameraModel& camera, const CompositeSettings& s) {
+  if (camera.width() <= 0 || camera.height() <= 0)
+    throw InputError("AR composite", "camera", "an image size of at least 1x1 pixels");
+  if (s.spp < 1) throw InputError("AR composite", "spp", "at least 1 sample per pixel");
+  if (s.max_bounces < 1) throw InputError("AR composite", "max_bounces", "at least 1 scattering");
+  if (s.delta_bounces < 1) throw InputError("AR composite", "delta_bounces", "at least 1 level");
+}
+
+// Runs sample(x, y, index, random, coverage) for every pixel sample over oneTBB tiles.
+template <typename PixelSample>
+CompositeImage renderSamples(const CameraModel& camera, const CompositeSettings& s, PixelSample&& sample) {
+  const int w = camera.width(), h = camera.height();
+  CompositeImage out;
+  out.radiance = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
+  out.relic_coverage = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
+  tbb::combinable<std::int64_t> rays([] { return std::int64_t{0}; });
+  tbb::parallel_for(tbb::blocked_range2d<int>(0, h, 8, 0, w, 8), [&](const tbb::blocked_range2d<int>& r) {
+    std::int64_t& local_rays = rays.local();
+    for (int y = r.rows().begin(); y != r.rows().end(); ++y)
+      for (int x = r.cols().begin(); x != r.cols().end(); ++x) {
+        glm::dvec3 sum(0.0);
+        int on_relic = 0;
+        for (int i = 0; i < s.spp; ++i) {
+          const int index = s.first_sample + i;
+          Random random(s.seed, static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(w) + x,
+                        static_cast<std::uint64_t>(index));
+          const vec2 jitter = random.uniform2();
+          const Ray ray =
+              camera.ray({static_cast<float>(x) + jitter.x - 0.5f, static_cast<float>(y) + jitter.y - 0.5f});
+          bool relic = false;
+          const vec3 value = sample(x, y, ray, random, relic, local_rays);
+          if (std::isfinite(value.x) && std::isfinite(value.y) && std::isfinite(value.z))
+            sum += glm::dvec3(value);
+          on_relic += relic ? 1 : 0;
+        }
+        setRgb(out.radiance, x, y, vec3(sum / static_cast<double>(s.spp)));
+        out.relic_coverage.at<float>(y, x) = static_cast<float>(on_relic) / static_cast<float>(s.spp);
+      }
+  });
+  out.rays = rays.combine(std::plus<>());
+  return out;
+}
+
+}  // namespace
+
+CompositeImage renderComposite(const LocalScene& scene, const CameraModel& camera, const cv::Mat& background,
+                               const CompositeSettings& s) {
+  checkSettings(camera, s);
+  if (background.type() != CV_32FC3 || background.cols != camera.width() ||
+      background.rows != camera.height())
+    throw InputError("AR composite", "background",
+                     "the camera's image as linear radiance (CV_32FC3) of the camera's size " +
+                         std::to_string(camera.width()) + "x" + std::to_string(camera.height()));
+  const RayScene& mixed = scene.rays(SceneContent::kMixed);
+  return renderSamples(
+      camera, s, [&](int x, int y, const Ray& ray, Random& random, bool& relic, std::int64_t& rays) {
+        const Tracer tracer(scene, rays);
+        const vec3 seen = rgbAt(background, x, y);
+        ++rays;
+        const RayHit hit = mixed.intersect(ray);
+        if (!hit.hit()) return seen;
+        if (scene.isRelic(hit.geometry)) {
+          relic = true;
+          return tracer.fromHit(SceneContent::kMixed, ray, hit, random, s.max_bounces);
+        }
+        if (s.method == DifferentialMethod::kDeltaPathTracing)
+          return seen + tracer.delta(ray, hit, random, s.max_bounces, s.delta_bounces);
+        const vec3 with_relic = tracer.fromHit(SceneContent::kMixed, ray, hit, random, s.max_bounces);
+        // The real scene's render is a render of its own: its own samples.
+        Random apart(~s.seed, static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(camera.width()) + x,
+                     static_cast<std::uint64_t>(random.next()));
+        const vec3 without = tracer.along(SceneContent::kReal, ray, apart, s.max_bounces, nullptr);
+        return seen + with_relic - without;
+      });
+}
+
+CompositeImage renderLocalScene(const LocalScene& scene, SceneContent content, const CameraModel& camera,
+                                const CompositeSettings& s) {
+  checkSettings(camera, s);
+  return renderSamples(camera, s,
+                       [&](int, int, const Ray& ray, Random& random, bool& relic, std::int64_t& rays) {
+                         return Tracer(scene, rays).along(content, ray, random, s.max_bounces, &relic);
+                       });
+}
+
+}  // namespace holo::ar

@@ -1,0 +1,68 @@
+#include "holo/ar/local_scene.hpp"
+
+#include <algorithm>
+
+#include "holo/core/error.hpp"
+
+namespace holo::ar {
+namespace {
+
+reflect::SurfaceMaterial relicMaterial(const Material& m) {
+  reflect::SurfaceMaterial s;
+  s.base_colour = glm::clamp(m.base_colour, 0.0f, 1.0f);
+  s.metallic = std::clamp(m.metallic, 0.0f, 1.0f);
+  s.roughness = std::clamp(m.roughness, 0.0f, 1.0f);
+  s.specular = std::clamp(m.specular, 0.0f, 1.0f);
+  s.specular_colour = m.specular_colour;
+  s.ior = m.ior;
+  return s;
+}
+
+}  // namespace
+
+LocalScene::LocalScene(RealSurface real, const Model& relic, const reflect::Environment& environment)
+    : real_surface_(std::move(real)),
+      mixed_(std::make_unique<RayScene>()),
+      real_(std::make_unique<RayScene>()),
+      environment_(environment) {
+  if (real_surface_.albedo.size() != real_surface_.mesh.positions.size())
+    throw InputError("AR local scene", "real surface albedo",
+                     "one albedo per vertex of the real surface's mesh");
+  if (real_surface_.mesh.normals.size() != real_surface_.mesh.positions.size())
+    real_surface_.mesh.computeNormals();
+  mixed_->addMesh(real_surface_.mesh);
+  real_->addMesh(real_surface_.mesh);
+  for (const TriangleMesh& mesh : relic.meshes) {
+    TriangleMesh copy = mesh;
+    if (copy.normals.size() != copy.positions.size()) copy.computeNormals();
+    mixed_->addMesh(copy);
+    const auto index = static_cast<std::size_t>(mesh.material);
+    relic_materials_.push_back(index < relic.materials.size() ? relicMaterial(relic.materials[index])
+                                                              : reflect::SurfaceMaterial{});
+  }
+  mixed_->commit();
+  real_->commit();
+}
+
+reflect::Bsdf LocalScene::bsdfAt(SceneContent content, const Ray& ray, const RayHit& hit) const {
+  const vec3 normal = rays(content).shadingNormal(hit, ray.direction);
+  if (isRelic(hit.geometry)) return reflect::Bsdf(relic_materials_[hit.geometry - 1], normal);
+  const uvec3 tri = real_surface_.mesh.triangles[hit.primitive];
+  const float u = hit.barycentric.x, v = hit.barycentric.y;
+  reflect::SurfaceMaterial lambert;
+  lambert.base_colour = (1.0f - u - v) * real_surface_.albedo[tri.x] + u * real_surface_.albedo[tri.y] +
+                        v * real_surface_.albedo[tri.z];
+  lambert.specular = 0.0f;  // a pure Lambert surface (bsdf.hpp)
+  lambert.roughness = 1.0f;
+  return reflect::Bsdf(lambert, normal);
+}
+
+vec3 LocalScene::offsetOrigin(const Ray& ray, const RayHit& hit, const vec3& towards) const {
+  const vec3 p = ray.origin + hit.t * ray.direction;
+  const vec3 n = hit.geometric_normal;  // faces the incoming ray
+  const float side = glm::dot(n, towards) >= 0.0f ? 1.0f : -1.0f;
+  const float scale = 1e-4f * (1.0f + glm::length(p));
+  return p + side * scale * n;
+}
+
+}  // namespace holo::ar

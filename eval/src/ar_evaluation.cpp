@@ -1,0 +1,241 @@
+#include "holo/eval/ar_evaluation.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "holo/ar/ar_view.hpp"
+#include "holo/ar/change_filter.hpp"
+#include "holo/ar/local_path_tracing.hpp"
+#include "holo/core/error.hpp"
+#include "holo/core/image.hpp"
+#include "holo/core/ray_scene.hpp"
+#include "holo/reflect/environment.hpp"
+#include "holo/sim/museum.hpp"
+#include "holo/sim/sensor_noise.hpp"
+
+namespace holo::eval {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+float luminance(const vec3& c) {
+  return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
+}
+
+// The part of a triangle within the sphere, as small triangles: kept whole inside, dropped
+// outside, split in four across the boundary down to edges of `finest` metres (then kept when
+// its centroid is inside).
+void clipToSphere(const vec3& a, const vec3& b, const vec3& c, const vec3& centre, float radius, float finest,
+                  const vec3& albedo, ar::RealSurface& out) {
+  const auto inside = [&](const vec3& p) { return glm::length(p - centre) <= radius; };
+  const auto keep = [&] {
+    const auto first = static_cast<unsigned>(out.mesh.positions.size());
+    for (const vec3& p : {a, b, c}) {
+      out.mesh.positions.push_back(p);
+      out.albedo.push_back(albedo);
+    }
+    out.mesh.triangles.push_back({first, first + 1, first + 2});
+  };
+  if (inside(a) && inside(b) && inside(c)) return keep();
+  // Farther than the radius from every point of the triangle: its closest point is outside.
+  const vec3 centroid = (a + b + c) / 3.0f;
+  const float extent =
+      std::max({glm::length(a - centroid), glm::length(b - centroid), glm::length(c - centroid)});
+  if (glm::length(centroid - centre) > radius + extent) return;
+  const float longest = std::max({glm::length(a - b), glm::length(b - c), glm::length(c - a)});
+  if (longest <= finest) {
+    if (inside(centroid)) keep();
+    return;
+  }
+  const vec3 ab = 0.5f * (a + b), bc = 0.5f * (b + c), ca = 0.5f * (c + a);
+  clipToSphere(a, ab, ca, centre, radius, finest, albedo, out);
+  clipToSphere(ab, b, bc, centre, radius, finest, albedo, out);
+  clipToSphere(ca, bc, c, centre, radius, finest, albedo, out);
+  clipToSphere(ab, bc, ca, centre, radius, finest, albedo, out);
+}
+
+// The hall's surfaces within the local radius, Lambertian with their base colour (flat normals).
+ar::RealSurface trueLocalSurface(const Model& hall, float radius) {
+  ar::RealSurface out;
+  for (const TriangleMesh& mesh : hall.meshes) {
+    const auto index = static_cast<std::size_t>(mesh.material);
+    const vec3 albedo = glm::clamp(
+        index < hall.materials.size() ? hall.materials[index].base_colour : vec3(0.5f), 0.0f, kTrueAlbedoMax);
+    for (const uvec3& t : mesh.triangles)
+      clipToSphere(mesh.positions[t.x], mesh.positions[t.y], mesh.positions[t.z], vec3(0.0f), radius, 0.05f,
+                   albedo, out);
+  }
+  out.mesh.name = "hall within the local radius";
+  out.mesh.computeNormals();
+  return out;
+}
+
+// The hall's depth and incidence cosine through the camera (0 where out of range).
+void hallDepth(const Model& hall, const CameraModel& camera, const sim::CameraSettings& settings,
+               cv::Mat& depth, cv::Mat& cosine) {
+  RayScene scene;
+  for (const TriangleMesh& mesh : hall.meshes) scene.addMesh(mesh);
+  scene.commit();
+  depth = cv::Mat::zeros(camera.height(), camera.width(), CV_32FC1);
+  cosine = cv::Mat::zeros(camera.height(), camera.width(), CV_32FC1);
+  const vec3 forward = glm::normalize(vec3(camera.T_world_camera()[2]));
+  tbb::parallel_for(0, camera.height(), [&](int y) {
+    for (int x = 0; x < camera.width(); ++x) {
+      const Ray ray = camera.ray({static_cast<float>(x), static_cast<float>(y)});
+      const RayHit hit = scene.intersect(ray);
+      if (!hit.hit()) continue;
+      const float z = hit.t * glm::dot(ray.direction, forward);
+      if (z >= settings.min_range && z <= settings.max_range) depth.at<float>(y, x) = z;
+      cosine.at<float>(y, x) = std::abs(glm::dot(ray.direction, hit.geometric_normal));
+    }
+  });
+}
+
+cv::Mat accumulate(const cv::Mat& sum, const cv::Mat& pass) {
+  return sum.empty() ? pass.clone() : cv::Mat(sum + pass);
+}
+
+}  // namespace
+
+double displayedRmse(const cv::Mat& image, const cv::Mat& truth, const cv::Mat& mask, float exposure) {
+  double squared = 0;
+  std::int64_t n = 0;
+  for (int y = 0; y < truth.rows; ++y)
+    for (int x = 0; x < truth.cols; ++x) {
+      if (!mask.at<std::uint8_t>(y, x)) continue;
+      const vec3 a = rgbAt(image, x, y), t = rgbAt(truth, x, y);
+      for (int c = 0; c < 3; ++c) {
+        const double d = 255.0 * (linearToSrgb(exposure * a[c]) - linearToSrgb(exposure * t[c]));
+        squared += d * d;
+      }
+      n += 3;
+    }
+  return n == 0 ? 0.0 : std::sqrt(squared / static_cast<double>(n));
+}
+
+ArEvaluation evaluateArComposite(const ArEvaluationOptions& o) {
+  if (o.width < 1 || o.height < 1) throw InputError("AR evaluation", "size", "at least 1x1 pixels");
+  if (o.truth_spp < 1 || o.method_spp < 1)
+    throw InputError("AR evaluation", "spp", "at least 1 sample per pixel");
+  sim::SceneDescription description = sim::loadScene(o.scene);
+  if (!o.relic.empty()) description.relic = o.relic;
+  description.visitors = 0;
+  const sim::Museum museum(description);
+  const cv::Mat panorama = museum.renderPanorama(o.panorama_width, o.panorama_width / 2);
+  const reflect::Environment environment(panorama);
+
+  const float vfov = glm::radians(o.vfov_deg);
+  const float hfov =
+      2.0f * std::atan(std::tan(0.5f * vfov) * static_cast<float>(o.width) / static_cast<float>(o.height));
+  const CameraModel camera(Intrinsics::fromFov(o.width, o.height, hfov, vfov),
+                           lookAtCameraToWorld(o.eye, o.look_at));
+
+  ArEvaluation out;
+  out.exposure = description.camera.exposure;
+  ar::CompositeSettings truth_settings;
+  truth_settings.spp = o.truth_spp;
+  truth_settings.max_bounces = o.max_bounces;
+  truth_settings.seed = o.seed ^ 0x7275746Full;
+  const ar::LocalScene truth_scene(trueLocalSurface(museum.hall(), o.local_radius), museum.relic(),
+                                   environment);
+  const ar::CompositeImage truth =
+      ar::renderLocalScene(truth_scene, ar::SceneContent::kMixed, camera, truth_settings);
+  const ar::CompositeImage truth_real =
+      ar::renderLocalScene(truth_scene, ar::SceneContent::kReal, camera, truth_settings);
+  out.truth = truth.radiance;
+
+  // The camera: the real scene through the sensor model.
+  sim::CameraSettings sensor = description.camera;
+  sensor.width = o.width;
+  sensor.height = o.height;
+  sensor.hfov_deg = glm::degrees(hfov);
+  sensor.vfov_deg = o.vfov_deg;
+  sim::SensorNoise noise = description.noise;
+  noise.enabled = o.sensor_noise;
+  cv::Mat true_depth, cosine;
+  hallDepth(museum.hall(), camera, sensor, true_depth, cosine);
+  const sim::SensorOutput sensed = sim::applySensorNoise(noise, sensor, true_depth, cosine,
+                                                         truth_real.radiance, o.seed, o.seed ^ 0x57a71cull);
+  RgbdFrame frame;
+  frame.colour = sensed.colour;
+  frame.depth = sensed.depth;
+  out.camera_colour = sensed.colour;
+
+  // The region the relic changes.
+  out.region = cv::Mat::zeros(o.height, o.width, CV_8UC1);
+  for (int y = 0; y < o.height; ++y)
+    for (int x = 0; x < o.width; ++x) {
+      const bool relic = truth.relic_coverage.at<float>(y, x) > 0.0f;
+      const float real = luminance(rgbAt(truth_real.radiance, x, y));
+      const float change = std::abs(luminance(rgbAt(truth.radiance, x, y)) - real);
+      out.relic_pixels += relic ? 1 : 0;
+      if (relic || change > o.region_threshold * real) out.region.at<std::uint8_t>(y, x) = 255;
+    }
+  out.region_pixels = cv::countNonZero(out.region);
+  out.shadow = out.region & (truth.relic_coverage == 0.0f);
+  out.shadow_pixels = cv::countNonZero(out.shadow);
+  const cv::Mat everywhere(o.height, o.width, CV_8UC1, cv::Scalar(255));
+  const auto errors = [&](const cv::Mat& image) {
+    return ArErrors{displayedRmse(image, out.truth, out.region, out.exposure),
+                    displayedRmse(image, out.truth, out.shadow, out.exposure),
+                    displayedRmse(image, out.truth, everywhere, out.exposure)};
+  };
+
+  ar::DepthSurfaceSettings surface;
+  surface.radius = o.local_radius;
+  ar::CameraRealScene real = ar::realSceneFromCamera(0, camera, frame, environment, out.exposure, surface);
+  const cv::Mat background = real.background;
+  if (!o.estimate_albedo) std::fill(real.surface.albedo.begin(), real.surface.albedo.end(), vec3(0.5f));
+  const ar::LocalScene scene(std::move(real.surface), museum.relic(), environment);
+
+  ar::CompositeSettings delta_settings;
+  delta_settings.spp = o.method_spp;
+  delta_settings.max_bounces = o.max_bounces;
+  delta_settings.delta_bounces = o.delta_bounces;
+  delta_settings.seed = o.seed;
+  const auto delta_start = Clock::now();
+  const ar::CompositeImage delta = ar::renderComposite(scene, camera, background, delta_settings);
+  out.delta.ms = msSince(delta_start);
+  out.delta.spp = o.method_spp;
+  out.delta.rays = delta.rays;
+  out.delta_composite = delta.radiance;
+  out.delta.rmse = errors(delta.radiance);
+
+  ar::CompositeSettings pass = delta_settings;
+  pass.method = ar::DifferentialMethod::kTwoPass;
+  pass.spp = 1;
+  cv::Mat sum;
+  const auto two_pass_start = Clock::now();
+  do {
+    const ar::CompositeImage image = ar::renderComposite(scene, camera, background, pass);
+    sum = accumulate(sum, image.radiance);
+    out.two_pass.rays += image.rays;
+    ++pass.first_sample;
+    out.two_pass.ms = msSince(two_pass_start);
+  } while (o.equal_time ? out.two_pass.ms < out.delta.ms : out.two_pass.rays < out.delta.rays);
+  out.two_pass.spp = pass.first_sample;
+  out.two_pass_composite = sum / static_cast<double>(out.two_pass.spp);
+  out.two_pass.rmse = errors(out.two_pass_composite);
+
+  const auto filter_start = Clock::now();
+  out.filtered_composite =
+      ar::filterChange(delta.radiance, background, delta.relic_coverage, frame.depth, {});
+  out.filtered = out.delta;
+  out.filtered.ms += msSince(filter_start);
+  out.filtered.rmse = errors(out.filtered_composite);
+
+  // The adversary: the relic over the camera's image, the real surfaces left as they are.
+  out.no_shadow_composite = out.filtered_composite.clone();
+  background.copyTo(out.no_shadow_composite, delta.relic_coverage == 0.0f);
+  out.no_shadow = errors(out.no_shadow_composite);
+  return out;
+}
+
+}  // namespace holo::eval

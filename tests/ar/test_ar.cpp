@@ -1,0 +1,269 @@
+// The AR composite on a scene whose answer is known (ar_test_scene.hpp: a sphere on a plane
+// under a small sun).
+#include <gtest/gtest.h>
+
+#include <limits>
+
+#include <glm/gtc/constants.hpp>
+
+#include "ar_test_scene.hpp"
+#include "holo/ar/albedo_estimate.hpp"
+#include "holo/ar/ar_view.hpp"
+#include "holo/ar/change_filter.hpp"
+#include "holo/ar/depth_surface.hpp"
+#include "holo/ar/local_path_tracing.hpp"
+#include "holo/core/equirect.hpp"
+#include "holo/core/error.hpp"
+#include "holo/core/image.hpp"
+#include "holo/core/shapes.hpp"
+
+namespace holo::ar {
+namespace {
+
+using test::camera;
+using test::plane;
+using test::sphereRelic;
+using test::sunnyPanorama;
+
+CompositeSettings settings(DifferentialMethod method, int spp, std::uint64_t seed) {
+  CompositeSettings s;
+  s.method = method;
+  s.spp = spp;
+  s.seed = seed;
+  return s;
+}
+
+float luminance(const vec3& c) {
+  return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
+}
+
+struct Scene {
+  cv::Mat panorama = sunnyPanorama();
+  reflect::Environment environment{panorama};
+  LocalScene local{plane(), sphereRelic(), environment};
+  CameraModel view = camera();
+};
+
+// Mean of a - b over the real pixels where the relic darkens the truth by more than 10%.
+struct ShadowComparison {
+  double composite_change = 0, true_change = 0;
+  int pixels = 0;
+};
+
+ShadowComparison compareInShadow(const cv::Mat& composite, const CompositeImage& truth, const cv::Mat& real) {
+  ShadowComparison c;
+  for (int y = 0; y < real.rows; ++y)
+    for (int x = 0; x < real.cols; ++x) {
+      if (truth.relic_coverage.at<float>(y, x) > 0.0f) continue;
+      const float r = luminance(rgbAt(real, x, y)), t = luminance(rgbAt(truth.radiance, x, y));
+      if (t > 0.9f * r) continue;
+      c.true_change += t - r;
+      c.composite_change += luminance(rgbAt(composite, x, y)) - r;
+      ++c.pixels;
+    }
+  return c;
+}
+
+// The path tracer the truth and both renderers share, against a closed form: a Lambertian plane of
+// albedo a under a uniform sky of radiance 1 (nothing below it) reflects exactly a.
+TEST(LocalPathTracing, APlaneUnderAUniformSkyReflectsItsAlbedo) {
+  cv::Mat sky(32, 64, CV_32FC3, cv::Scalar::all(0));
+  sky.rowRange(0, 16).setTo(cv::Scalar::all(1.0));
+  const reflect::Environment environment(sky);
+  const LocalScene scene(plane(), Model{}, environment);
+  const CameraModel view = camera();
+  const CompositeImage image = renderLocalScene(scene, SceneContent::kReal, view, settings({}, 64, 5));
+  double sum = 0;
+  int n = 0;
+  for (int y = 0; y < image.radiance.rows; ++y)
+    for (int x = 0; x < image.radiance.cols; ++x) {
+      const Ray ray = view.ray({static_cast<float>(x), static_cast<float>(y)});
+      const vec3 on_plane = ray.origin - (ray.origin.y / ray.direction.y) * ray.direction;
+      if (ray.direction.y >= 0.0f || std::abs(on_plane.x) > 0.9f || std::abs(on_plane.z) > 0.9f) continue;
+      sum += rgbAt(image.radiance, x, y).g;
+      ++n;
+    }
+  ASSERT_GT(n, 500);
+  EXPECT_NEAR(sum / n, test::kPlaneAlbedo, 0.005);
+}
+
+TEST(ArComposite, DeltaPathTracingOnExactInputsGivesTheMixedScene) {
+  const Scene s;
+  const cv::Mat real = renderLocalScene(s.local, SceneContent::kReal, s.view, settings({}, 256, 7)).radiance;
+  const CompositeImage truth = renderLocalScene(s.local, SceneContent::kMixed, s.view, settings({}, 256, 7));
+  const CompositeImage delta =
+      renderComposite(s.local, s.view, real, settings(DifferentialMethod::kDeltaPathTracing, 256, 3));
+  const ShadowComparison c = compareInShadow(delta.radiance, truth, real);
+  ASSERT_GT(c.pixels, 20) << "the sphere casts a shadow in view";
+  ASSERT_LT(c.true_change, 0.0);
+  EXPECT_NEAR(c.composite_change / c.true_change, 1.0, 0.05);
+  EXPECT_GT(cv::countNonZero(delta.relic_coverage > 0.0f), 50);
+}
+
+TEST(ArComposite, TwoPassDifferentialRenderingConvergesToTheSameImage) {
+  const Scene s;
+  const cv::Mat real = renderLocalScene(s.local, SceneContent::kReal, s.view, settings({}, 256, 7)).radiance;
+  const CompositeImage truth = renderLocalScene(s.local, SceneContent::kMixed, s.view, settings({}, 256, 7));
+  const CompositeImage two_pass =
+      renderComposite(s.local, s.view, real, settings(DifferentialMethod::kTwoPass, 256, 3));
+  const ShadowComparison c = compareInShadow(two_pass.radiance, truth, real);
+  EXPECT_NEAR(c.composite_change / c.true_change, 1.0, 0.1);
+}
+
+// Xu et al.'s point: where the relic changes nothing, delta path tracing adds exactly nothing,
+// and where it does, its error at the same count of rays is far below two renders' difference.
+TEST(ArComposite, DeltaPathTracingBeatsTwoPassAtEqualRays) {
+  const Scene s;
+  const cv::Mat real = renderLocalScene(s.local, SceneContent::kReal, s.view, settings({}, 256, 7)).radiance;
+  const CompositeImage truth = renderLocalScene(s.local, SceneContent::kMixed, s.view, settings({}, 256, 7));
+  const CompositeImage delta =
+      renderComposite(s.local, s.view, real, settings(DifferentialMethod::kDeltaPathTracing, 4, 11));
+  CompositeSettings pass = settings(DifferentialMethod::kTwoPass, 1, 11);
+  cv::Mat sum(real.size(), CV_32FC3, cv::Scalar::all(0));
+  std::int64_t rays = 0;
+  for (; rays < delta.rays; ++pass.first_sample) {
+    const CompositeImage image = renderComposite(s.local, s.view, real, pass);
+    sum += image.radiance;
+    rays += image.rays;
+  }
+  const cv::Mat two_pass = sum / static_cast<double>(pass.first_sample);
+  double delta_error = 0, two_pass_error = 0;
+  int real_pixels = 0, delta_untouched = 0, two_pass_untouched = 0;
+  for (int y = 0; y < real.rows; ++y)
+    for (int x = 0; x < real.cols; ++x) {
+      if (truth.relic_coverage.at<float>(y, x) > 0.0f) continue;
+      const vec3 t = rgbAt(truth.radiance, x, y);
+      delta_error += glm::length(rgbAt(delta.radiance, x, y) - t);
+      two_pass_error += glm::length(rgbAt(two_pass, x, y) - t);
+      ++real_pixels;
+      delta_untouched += rgbAt(delta.radiance, x, y) == rgbAt(real, x, y) ? 1 : 0;
+      two_pass_untouched += rgbAt(two_pass, x, y) == rgbAt(real, x, y) ? 1 : 0;
+    }
+  EXPECT_GT(two_pass_error, 2.0 * delta_error) << "two-pass " << two_pass_error << ", delta " << delta_error;
+  EXPECT_GT(delta_untouched, real_pixels / 3);
+  EXPECT_LT(two_pass_untouched, real_pixels / 10);
+}
+
+TEST(DepthSurface, IsTheSeenPlaneAndDropsSilhouettesAndFarPoints) {
+  const CameraModel view = camera(40, 30);
+  cv::Mat depth(30, 40, CV_32FC1);
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) {
+      // The plane y = 0 where the ray meets it, a far wall (beyond the radius) elsewhere.
+      const Ray ray = view.ray({static_cast<float>(x), static_cast<float>(y)});
+      const vec3 forward = vec3(view.T_world_camera()[2]);
+      const float t = ray.direction.y < -1e-3f ? -ray.origin.y / ray.direction.y : 100.0f;
+      depth.at<float>(y, x) = std::min(t, 100.0f) * glm::dot(ray.direction, glm::normalize(forward));
+    }
+  DepthSurfaceSettings settings;
+  settings.radius = 1.5f;
+  const DepthSurface surface = depthSurface(depth, view, settings, "camera 0");
+  ASSERT_GT(surface.mesh.triangles.size(), 100u);
+  for (std::size_t i = 0; i < surface.mesh.positions.size(); ++i) {
+    EXPECT_NEAR(surface.mesh.positions[i].y, 0.0f, 1e-4f);
+    EXPECT_LE(glm::length(surface.mesh.positions[i]), 1.5f + 1e-4f);
+    EXPECT_GT(surface.mesh.normals[i].y, 0.999f);
+  }
+  // The albedo of a plane lit by a uniform sky of 1 seen at radiance 0.25: pi * 0.25 / pi.
+  cv::Mat radiance(30, 40, CV_32FC3, cv::Scalar::all(0.25));
+  const reflect::Environment sky = reflect::Environment::uniform(vec3(1.0f));
+  const std::vector<vec3> albedo = estimateAlbedo(surface, radiance, reflect::IrradianceSH(sky));
+  for (const vec3& a : albedo) EXPECT_NEAR(a.g, 0.25f, 0.01f);
+}
+
+TEST(ChangeFilter, SmoothsTheChangeButNotAcrossADepthEdgeOrOverTheRelic) {
+  const int w = 24, h = 12;
+  cv::Mat background(h, w, CV_32FC3, cv::Scalar::all(1.0));
+  cv::Mat composite(h, w, CV_32FC3), depth(h, w, CV_32FC1), coverage(h, w, CV_32FC1, cv::Scalar(0));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const bool shadow = x < w / 2;  // a shadow on the near surface, none on the far one
+      const float noise = ((x + y) % 2 == 0 ? 0.2f : -0.2f);
+      setRgb(composite, x, y, vec3(1.0f + (shadow ? -0.5f : 0.0f) + noise));
+      depth.at<float>(y, x) = shadow ? 1.0f : 2.0f;
+    }
+  coverage.at<float>(5, 3) = 1.0f;
+  setRgb(composite, 3, 5, vec3(7.0f));
+  const cv::Mat filtered = filterChange(composite, background, coverage, depth, {});
+  EXPECT_EQ(rgbAt(filtered, 3, 5), vec3(7.0f));
+  for (int y = 2; y < h - 2; ++y) {
+    EXPECT_NEAR(rgbAt(filtered, w / 2 - 1, y).g, 0.5f, 0.06f) << "the near side of the edge, row " << y;
+    EXPECT_NEAR(rgbAt(filtered, w / 2, y).g, 1.0f, 0.06f) << "the far side of the edge, row " << y;
+    EXPECT_NEAR(rgbAt(filtered, 8, y).g, 0.5f, 0.06f);
+  }
+  ChangeFilterSettings off;
+  off.enabled = false;
+  EXPECT_EQ(cv::norm(filterChange(composite, background, coverage, depth, off), composite, cv::NORM_INF),
+            0.0);
+}
+
+RgbdFrame goodFrame(const CameraModel& view) {
+  RgbdFrame frame;
+  frame.colour = cv::Mat(view.height(), view.width(), CV_8UC3, cv::Scalar::all(100));
+  frame.depth = cv::Mat(view.height(), view.width(), CV_32FC1, cv::Scalar(1.0f));
+  return frame;
+}
+
+std::string refusal(const std::function<void()>& call) {
+  try {
+    call();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// A depth with one valid pixel, or none near the relic, leaves no real surface: the composite is
+// the relic over the camera's image, finite.
+TEST(ArView, AlmostNoDepthGivesTheRelicOverTheImage) {
+  const CameraModel view = camera();
+  const Model relic = sphereRelic();
+  const cv::Mat panorama = sunnyPanorama();
+  ArViewSettings settings;
+  settings.composite.spp = 2;
+  for (const float far : {0.0f, 50.0f}) {
+    RgbdFrame frame = goodFrame(view);
+    frame.depth.setTo(far);
+    frame.depth.at<float>(3, 3) = std::numeric_limits<float>::quiet_NaN();
+    frame.depth.at<float>(4, 4) = 1.0f;
+    const ArView out = renderArView(0, view, frame, relic, panorama, settings);
+    EXPECT_GT(out.relic_pixels, 50);
+    EXPECT_EQ(cv::checkRange(out.radiance), true);
+    EXPECT_EQ(out.image.at<cv::Vec3b>(0, 0), cv::Vec3b(100, 100, 100))
+        << "far from the relic: the camera's pixel";
+  }
+}
+
+TEST(ArCamera, AMissingUncalibratedOrDepthlessCameraIsRefusedByName) {
+  const CameraModel view = camera();
+  EXPECT_EQ(refusal([&] { requireArCameraIndex(2, 4); }), "");
+  EXPECT_EQ(refusal([&] { requireArCameraInputs(2, view, goodFrame(view)); }), "");
+
+  const std::string missing = refusal([&] { requireArCameraIndex(4, 4); });
+  EXPECT_NE(missing.find("camera 4"), std::string::npos) << missing;
+  EXPECT_NE(missing.find("0 to 3"), std::string::npos) << missing;
+  EXPECT_NE(refusal([&] { requireArCameraIndex(-1, 4); }).find("camera -1"), std::string::npos);
+
+  const std::string uncalibrated = refusal([&] { requireArCameraInputs(1, CameraModel{}, goodFrame(view)); });
+  EXPECT_NE(uncalibrated.find("camera 1"), std::string::npos) << uncalibrated;
+  EXPECT_NE(uncalibrated.find("calibrat"), std::string::npos) << uncalibrated;
+  CameraModel bent = view;
+  mat4 pose = view.T_world_camera();
+  pose[0] *= 2.0f;  // not a rotation
+  bent.setPose(pose);
+  EXPECT_NE(refusal([&] { requireArCameraInputs(1, bent, goodFrame(view)); }).find("T_world_camera"),
+            std::string::npos);
+
+  RgbdFrame no_depth = goodFrame(view);
+  no_depth.depth = cv::Mat();
+  const std::string depthless = refusal([&] { requireArCameraInputs(3, view, no_depth); });
+  EXPECT_NE(depthless.find("camera 3"), std::string::npos) << depthless;
+  EXPECT_NE(depthless.find("depth"), std::string::npos) << depthless;
+  RgbdFrame invalid_depth = goodFrame(view);
+  invalid_depth.depth.setTo(0.0f);
+  EXPECT_NE(refusal([&] { requireArCameraInputs(3, view, invalid_depth); }).find("valid depth"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace holo::ar
