@@ -6,6 +6,7 @@
 // without it (holo/eval/depth_stability.hpp); --images writes depth_stability.png.
 #include <filesystem>
 #include <iostream>
+#include <vector>
 
 #include "command.hpp"
 #include "holo/core/error.hpp"
@@ -27,6 +28,8 @@ struct Options {
   int width = 0;
   int height = 0;
   int learning_frames = depthfilter::TemporalDepthFilterConfig{}.learning_frames;
+  int levels = depthfilter::TemporalDepthFilterConfig{}.levels;
+  std::vector<int> compared_levels = eval::SimulatedDepthOptions{}.compared_levels;
   std::string json;
   std::string images;
   std::string recording;
@@ -58,8 +61,17 @@ int run(const Options& o) {
     throw InputError("", "--learning-frames", "a number of frames >= 0", std::to_string(o.learning_frames));
   if (!o.recording.empty()) return runRecording(o);
   if (o.frames < 1) throw InputError("", "--frames", "a number of frames >= 1", std::to_string(o.frames));
-  const eval::SimulatedDepthEvaluation e = eval::evaluateSimulatedDepth(
-      {o.scene, o.visitor_model, o.frames, o.width, o.height, o.learning_frames, !o.images.empty()});
+  const int max_levels = depthfilter::TemporalDepthFilterConfig::kMaxLevels;
+  for (int levels : o.compared_levels)
+    if (levels < 1 || levels > max_levels)
+      throw InputError("", "--compare-levels", "levels in [1, " + std::to_string(max_levels) + "]",
+                       std::to_string(levels));
+  if (o.levels < 1 || o.levels > max_levels)
+    throw InputError("", "--levels", "l_max in [1, " + std::to_string(max_levels) + "]",
+                     std::to_string(o.levels));
+  const eval::SimulatedDepthEvaluation e =
+      eval::evaluateSimulatedDepth({o.scene, o.visitor_model, o.frames, o.width, o.height, o.learning_frames,
+                                    o.levels, o.compared_levels, !o.images.empty()});
   std::cout << e.report.dump(2) << "\n";
   std::cerr << eval::depthMetricsTable(e.rows);
   if (!o.json.empty()) writeFileAtomically(o.json, e.report.dump(2) + "\n");
@@ -76,6 +88,11 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--scene", o->scene, "Built-in scene name or scene YAML file")->capture_default_str();
       sub.add_option("--frames", o->frames, "Scored frames after the learning frames")->capture_default_str();
       sub.add_option("--learning-frames", o->learning_frames, "Frames C that only learn the PDFs")
+          ->capture_default_str();
+      sub.add_option("--levels", o->levels, "Ours' pull-push levels l_max (1: no pull-push)")
+          ->capture_default_str();
+      sub.add_option("--compare-levels", o->compared_levels,
+                     "Also run ours with each of these l_max on the same masks (each level's gain)")
           ->capture_default_str();
       sub.add_option("--width", o->width, "Camera width (default: the scene's)");
       sub.add_option("--height", o->height, "Camera height (default: the scene's)");

@@ -20,7 +20,9 @@ namespace pyramid_detail {
 struct Pair {
   float depth = 0.0f;
   float confidence = 1.0f;
+  float weight = 0.0f;          // pull-push weight: the summed reliabilities of the pixels behind it
   bool straddles_edge = false;  // the pulled block held surfaces farther apart than T(z)
+  cv::Vec3f colour{};           // BGR, the weighted mean colour of the measured pixels behind it
   bool valid() const { return depth > 0.0f; }
 };
 
@@ -141,9 +143,8 @@ std::uint8_t olderBy1(std::uint8_t age) {
   return std::uint8_t(std::min<int>(kNoDepth - 1, age + 1));
 }
 
-float colourDistance(const cv::Vec3b& a, const cv::Vec3b& b) {
-  return std::abs(float(a[0]) - float(b[0])) + std::abs(float(a[1]) - float(b[1])) +
-         std::abs(float(a[2]) - float(b[2]));
+float colourDistance(const cv::Vec3b& a, const cv::Vec3f& b) {
+  return std::abs(float(a[0]) - b[0]) + std::abs(float(a[1]) - b[1]) + std::abs(float(a[2]) - b[2]);
 }
 
 // A hole the push could not fill safely: next to a depth edge, under a pulled block that
@@ -198,16 +199,34 @@ float guidedHoleFill(const cv::Mat& measured, const Level& filtered, const cv::M
   return count > 0 ? sum / float(count) : 0.0f;
 }
 
-// Pull (Algorithm 1, lines 23-26): each parent averages the children whose confidence is within
-// `tolerance` of the block's minimum. Only the parents in `parent_rect` are computed, from the
-// children in `child_rect`; children outside it count as missing (they lie outside the work box).
+// Reliability of a pair: 1 - c (smaller confidence values are more reliable), kept positive so
+// that the least confident measurement still counts.
+float reliability(float confidence) {
+  constexpr float kEps = 1e-3f;
+  return 1.0f - confidence + kEps;
+}
+
+// A measured pair's weight in the pull: every measurement counts, one with a reliable precursor
+// (confidence 0) twice as much as one without (confidence 1).
+float pullWeight(float confidence) {
+  return 1.0f - 0.5f * confidence;
+}
+
+// Pull (Algorithm 1, lines 23-26), depth-aware: each parent is the reliability-weighted mean of
+// the children that lie on the block's dominant surface, the child depth whose agreeing children
+// (within T(z)) carry the most weight (ties: the nearer). Children on another surface (the wall
+// behind a limb, an arm in front of the torso) are left out instead of averaged into a depth
+// between the two, and mark the parent as straddling a depth edge. A parent's weight is the sum
+// of its children's, so a block measured over more pixels outweighs a block with one. Only the
+// parents in `parent_rect` are computed, from the children in `child_rect`; children outside it
+// count as missing (they lie outside the work box).
 void pull(const Level& child, const cv::Rect& child_rect, Level& parent, const cv::Rect& parent_rect,
           const TemporalDepthFilterConfig& config) {
-  const float tolerance = config.min_confidence_tolerance;
   for (int y = parent_rect.y; y < parent_rect.y + parent_rect.height; ++y) {
     for (int x = parent_rect.x; x < parent_rect.x + parent_rect.width; ++x) {
       Pair block[4];
       int n = 0;
+      bool child_straddles = false;
       for (int dy = 0; dy < 2; ++dy)
         for (int dx = 0; dx < 2; ++dx) {
           const int cx = 2 * x + dx, cy = 2 * y + dy;
@@ -215,79 +234,114 @@ void pull(const Level& child, const cv::Rect& child_rect, Level& parent, const c
               cy >= child_rect.y + child_rect.height)
             continue;
           const Pair& p = child.pairs[std::size_t(cy) * std::size_t(child.width) + std::size_t(cx)];
-          if (p.valid()) block[n++] = p;
+          if (!p.valid()) continue;
+          block[n++] = p;
+          child_straddles = child_straddles || p.straddles_edge;
         }
       Pair out;
       if (n > 0) {
-        float min_c = block[0].confidence;
-        for (int k = 1; k < n; ++k) min_c = std::min(min_c, block[k].confidence);
-        // Among those, only the front-most surface: averaging across a depth edge would invent
-        // a "flying" depth between the surfaces that the push would then spread into holes.
-        float front = INFINITY;
-        for (int k = 0; k < n; ++k)
-          if (block[k].confidence <= min_c + tolerance) front = std::min(front, block[k].depth);
-        const float front_limit = front + config.surfaceTolerance(front);
-        float sum_d = 0.0f, sum_c = 0.0f;
-        int used = 0;
+        float surface = 0.0f, best_support = -1.0f;
         for (int k = 0; k < n; ++k) {
-          if (block[k].confidence > min_c + tolerance || block[k].depth > front_limit) continue;
-          sum_d += block[k].depth;
-          sum_c += block[k].confidence;
-          ++used;
+          const float tolerance = config.surfaceTolerance(block[k].depth);
+          float support = 0.0f;
+          for (int j = 0; j < n; ++j)
+            if (std::abs(block[j].depth - block[k].depth) <= tolerance) support += block[j].weight;
+          if (support > best_support || (support == best_support && block[k].depth < surface)) {
+            best_support = support;
+            surface = block[k].depth;
+          }
         }
-        float back = 0.0f;
-        bool child_straddles = false;
+        const float tolerance = config.surfaceTolerance(surface);
+        float sum_w = 0.0f, sum_d = 0.0f, sum_c = 0.0f;
+        cv::Vec3f sum_colour{};
+        bool other_surface = false;
         for (int k = 0; k < n; ++k) {
-          back = std::max(back, block[k].depth);
-          child_straddles = child_straddles || block[k].straddles_edge;
+          if (std::abs(block[k].depth - surface) > tolerance) {
+            other_surface = true;
+            continue;
+          }
+          sum_w += block[k].weight;
+          sum_d += block[k].weight * block[k].depth;
+          sum_c += block[k].weight * block[k].confidence;
+          sum_colour += block[k].weight * block[k].colour;
         }
-        out = {sum_d / float(used), sum_c / float(used),
-               child_straddles || back - front > config.surfaceTolerance(front)};
+        out = {sum_d / sum_w, sum_c / sum_w, sum_w, child_straddles || other_surface, sum_colour / sum_w};
       }
       parent.at(x, y) = out;
     }
   }
 }
 
-// Push (line 28): fill a missing pair from the parent; blend a present one with the parent by
-// reliabilities (1 - c) when both lie on one surface. Only the children in `child_rect`.
-void push(const Level& parent, Level& child, const cv::Rect& child_rect,
+// Push (line 28). A missing pair is filled only where its neighbourhood agrees: the (up to) four
+// parents nearest to it, bilinearly weighted, must all lie on one surface (within T(z)) and none
+// may straddle a depth edge; the fill is their weighted mean. A hole beside a depth edge could
+// belong to either surface, so it stays a hole for the final checks to decide (in the simulated
+// museum a fill from the front surface put 15-20% of such pixels 20 cm or more off). Interpolating
+// between parents instead of copying the one above keeps a fill from jumping by a block's depth
+// gradient when the block grid slides over a moving body (the flicker of the blocky push). A
+// present pair is blended with its own parent by reliabilities when both lie on one surface.
+// Only the children in `child_rect`; parents outside `parent_rect` count as missing.
+void push(const Level& parent, const cv::Rect& parent_rect, Level& child, const cv::Rect& child_rect,
           const TemporalDepthFilterConfig& config) {
-  constexpr float kEps = 1e-3f;  // keeps the weights positive when both confidences are 1
+  const auto parentAt = [&](int px, int py) -> const Pair* {
+    if (px < parent_rect.x || py < parent_rect.y || px >= parent_rect.x + parent_rect.width ||
+        py >= parent_rect.y + parent_rect.height)
+      return nullptr;
+    return &parent.pairs[std::size_t(py) * std::size_t(parent.width) + std::size_t(px)];
+  };
   for (int y = child_rect.y; y < child_rect.y + child_rect.height; ++y) {
+    // The two parent rows nearest to the child's centre and the weight of the second.
+    const int py0 = (y - 1) >> 1;
+    const float ty = (y & 1) == 0 ? 0.75f : 0.25f;
     for (int x = child_rect.x; x < child_rect.x + child_rect.width; ++x) {
-      const Pair& p = parent.pairs[std::size_t(y / 2) * std::size_t(parent.width) + std::size_t(x / 2)];
       Pair& c = child.at(x, y);
-      if (!p.valid()) continue;
-      if (!c.valid()) {
-        // A hole under a block that straddles a depth edge could belong to either surface:
-        // filling it with the front one put 15-20% of such pixels 20 cm or more off in the
-        // simulated museum, so it stays a hole (docs/depthfilter.md, "Holes").
-        if (!p.straddles_edge) c = p;
+      if (c.valid()) {
+        const Pair* p = parentAt(x / 2, y / 2);
+        if (p == nullptr || !p->valid() || std::abs(c.depth - p->depth) > config.surfaceTolerance(c.depth))
+          continue;
+        const float wc = reliability(c.confidence), wp = reliability(p->confidence);
+        c.depth = (wc * c.depth + wp * p->depth) / (wc + wp);
+        c.confidence = (wc * c.confidence + wp * p->confidence) / (wc + wp);
         continue;
       }
-      if (std::abs(c.depth - p.depth) > config.surfaceTolerance(c.depth)) continue;
-      const float wc = 1.0f - c.confidence + kEps;
-      const float wp = 1.0f - p.confidence + kEps;
-      c.depth = (wc * c.depth + wp * p.depth) / (wc + wp);
-      c.confidence = (wc * c.confidence + wp * p.confidence) / (wc + wp);
+      const int px0 = (x - 1) >> 1;
+      const float tx = (x & 1) == 0 ? 0.75f : 0.25f;
+      float sum_w = 0.0f, sum_d = 0.0f, sum_c = 0.0f, lo = INFINITY, hi = 0.0f;
+      cv::Vec3f sum_colour{};
+      bool agrees = true;
+      for (int k = 0; k < 4 && agrees; ++k) {
+        const int dx = k & 1, dy = k >> 1;
+        const Pair* p = parentAt(px0 + dx, py0 + dy);
+        if (p == nullptr || !p->valid()) continue;
+        agrees = !p->straddles_edge;
+        const float w = (dx != 0 ? tx : 1.0f - tx) * (dy != 0 ? ty : 1.0f - ty) * p->weight;
+        sum_w += w;
+        sum_d += w * p->depth;
+        sum_c += w * p->confidence;
+        sum_colour += w * p->colour;
+        lo = std::min(lo, p->depth);
+        hi = std::max(hi, p->depth);
+      }
+      if (!agrees || sum_w <= 0.0f || hi - lo > config.surfaceTolerance(lo)) continue;
+      c = {sum_d / sum_w, sum_c / sum_w, sum_w, false, sum_colour / sum_w};
     }
   }
 }
 
 // The part of the frame that the per-pixel passes work on. Outside the mask the output is 0,
 // and a foreground pixel's output reads at most `reach` pixels around it: its 8 neighbours (flying
-// pixels), the motion window, the depth-edge radius and the hole fill's radius. The pyramid needs
-// nothing more: a pulled block outside the box holds no foreground pixel and so no pair. The box
-// filter of the motion reflects its border within the box; twice the reach keeps the reflected
-// values zero, as outside the mask. Empty when the mask is.
+// pixels), the motion window, the depth-edge radius and the hole fill's radius. The box filter of
+// the motion reflects its border within the box; twice the reach keeps the reflected values zero,
+// as outside the mask. The pyramid needs nothing more than the push's spread: a pulled block
+// outside the box holds no foreground pixel and so no pair, and the push's interpolation carries
+// fills at most about 2^l_max pixels beyond the pulled pairs. Empty when the mask is.
 cv::Rect workBox(const cv::Mat& mask, const TemporalDepthFilterConfig& config) {
   const cv::Rect frame(0, 0, mask.cols, mask.rows);
   if (!config.mask_box_only) return frame;
   const cv::Rect box = cv::boundingRect(mask);
   if (box.empty()) return box;
   const int reach = std::max({1, config.motion_window / 2, config.edge_radius, config.fill_radius});
-  const int margin = 2 * reach;
+  const int margin = std::max(2 * reach, 1 << config.levels);
   return cv::Rect(box.x - margin, box.y - margin, box.width + 2 * margin, box.height + 2 * margin) & frame;
 }
 
@@ -298,7 +352,9 @@ TemporalDepthFilter::TemporalDepthFilter(TemporalDepthFilterConfig config)
       pdf_alpha_(config.pdf_bins, config.alpha_max),
       pdf_depth_diff_(config.pdf_bins, config.depth_diff_max_m),
       scratch_ptr_(std::make_unique<Scratch>()) {
-  if (config_.levels < 1) throw Error("TemporalDepthFilter: levels (l_max) must be >= 1");
+  if (config_.levels < 1 || config_.levels > TemporalDepthFilterConfig::kMaxLevels)
+    throw Error("TemporalDepthFilter: levels (l_max) must be in [1, " +
+                std::to_string(TemporalDepthFilterConfig::kMaxLevels) + "]");
   if (config_.learning_frames < 0) throw Error("TemporalDepthFilter: learning_frames (C) must be >= 0");
   if (config_.fill_radius < 0 || config_.fill_radius > TemporalDepthFilterConfig::kMaxFillRadius)
     throw Error("TemporalDepthFilter: fill_radius must be in [0, " +
@@ -409,6 +465,7 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
     const float* alpha_row = alphas.ptr<float>(y);
     const float* motion_row = motion.ptr<float>(y);
     const float* motion_weight_row = motion_weight.ptr<float>(y);
+    const cv::Vec3b* colour_row = in.colour.ptr<cv::Vec3b>(y);
     for (int x = roi.x; x < roi.x + roi.width; ++x) {
       if (mask[x] == 0) continue;
       const float d = depth[x];
@@ -432,10 +489,13 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
       // (docs/depthfilter.md, "Holes").
       Pair& pair = base.at(x, y);
       if (has_pre) {
-        const float p_diff = pdf_depth_diff_.cdf(diff);                        // line 19
-        pair = {(1.0f - p_diff) * d + p_diff * d_pre, pdf_alpha_.cdf(alpha)};  // lines 18-21
+        const float p_diff = pdf_depth_diff_.cdf(diff);  // line 19
+        const float confidence = pdf_alpha_.cdf(alpha);
+        pair = {(1.0f - p_diff) * d + p_diff * d_pre, confidence, pullWeight(confidence), false,
+                cv::Vec3f(colour_row[x])};  // lines 18-21
       } else if (d > 0.0f) {
-        pair = {d, 1.0f};  // no usable precursor: the measurement, least confident
+        pair = {d, 1.0f, pullWeight(1.0f), false,
+                cv::Vec3f(colour_row[x])};  // no usable precursor: the measurement, least confident
       }
     }
   }
@@ -458,7 +518,7 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
       pull(pyramid[top], child_rect, parent, rects.back(), config_);
       ++top;
     }
-    for (std::size_t l = top; l > 0; --l) push(pyramid[l], pyramid[l - 1], rects[l - 1], config_);
+    for (std::size_t l = top; l > 0; --l) push(pyramid[l], rects[l], pyramid[l - 1], rects[l - 1], config_);
     const Level& filtered = pyramid.front();
     // Pixels farther than edge_radius inside the mask: a hole there lies within the measured
     // surface around it. Nearer the mask's edge, the surface may continue unmeasured (a body's
@@ -479,7 +539,8 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
       std::uint8_t* out_age = age.ptr<std::uint8_t>(y);
       for (int x = roi.x; x < roi.x + roi.width; ++x) {
         if (mask[x] == 0) continue;
-        const float d = filtered.pairs[std::size_t(y) * std::size_t(width) + std::size_t(x)].depth;
+        const Pair& pushed = filtered.pairs[std::size_t(y) * std::size_t(width) + std::size_t(x)];
+        const float d = pushed.depth;
         if (measured_row[x] > 0.0f) {
           out[x] = std::isfinite(d) && d > 0.0f ? d : 0.0f;
           out_age[x] = 0;
@@ -489,25 +550,31 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
         // frames ago: fills that only repeat fills would keep a wrong pick alive.
         const float pre = pre_row[x];
         const bool trusted = pre > 0.0f && pre_age_row[x] < config_.fill_trust_frames;
-        const bool push_fill =
-            d > 0.0f && (trusted ? std::abs(d - pre) <= config_.surfaceTolerance(pre) : inside[x] != 0) &&
-            !nearDepthEdge(measured, x, y, config_);
         float fill = 0.0f;
-        if (push_fill) {
-          fill = d;
-        } else if (trusted || (d <= 0.0f && inside[x] != 0 && !nearDepthEdge(measured, x, y, config_))) {
-          // With a trusted precursor: its surface. Without one, only a hole inside a surface
-          // that the pull could not reach (a block without any measurement): the surface of the
-          // neighbours with the hole's colour.
-          fill = guidedHoleFill(measured, filtered, in.colour, x, y, trusted ? pre : 0.0f, config_);
+        bool used_push = false;
+        if (trusted) {
+          // Its surface, from the neighbours of its colour on it. The push's fill is not used
+          // here: agreeing with the precursor within T(z) still let it pick the wrong one of two
+          // surfaces of one colour near a moving edge (docs/depthfilter.md, "Pull-push").
+          fill = guidedHoleFill(measured, filtered, in.colour, x, y, pre, config_);
+        } else if (inside[x] != 0 && !nearDepthEdge(measured, x, y, config_)) {
+          // Inside a surface: the neighbours with the hole's colour within fill_radius, else the
+          // push's fill where the measured pixels it comes from have the hole's colour (the
+          // pyramid reaches holes wider than fill_radius).
+          fill = guidedHoleFill(measured, filtered, in.colour, x, y, 0.0f, config_);
+          if (fill <= 0.0f && pushed.valid() &&
+              colourDistance(in.colour.ptr<cv::Vec3b>(y)[x], pushed.colour) <=
+                  config_.fill_colour_max + config_.fill_colour_margin) {
+            fill = pushed.depth;
+            used_push = true;
+          }
         }
         // Without a recent measurement of its own, nothing says which surface a hole between
         // two surfaces shows (the trusted precursor does: an edge dropout measured a frame ago).
         if (fill > 0.0f && !trusted && betweenSurfaces(measured, in.mask, x, y, config_)) fill = 0.0f;
         if (fill > 0.0f) {
           out[x] = fill;
-          out_age[x] =
-              push_fill && pre <= 0.0f ? std::uint8_t(config_.fill_trust_frames) : olderBy1(pre_age_row[x]);
+          out_age[x] = used_push ? std::uint8_t(config_.fill_trust_frames) : olderBy1(pre_age_row[x]);
         }
       }
     }

@@ -31,7 +31,11 @@ DepthFilterEvaluation::DepthFilterEvaluation(DepthEvaluationConfig config)
       ours_(config.filter),
       median_(config.median_window),
       taa_(config.taa_blend),
-      adversary_(config.adversary_max_change_m) {}
+      adversary_(config.adversary_max_change_m),
+      variant_scorers_(config.ours_variants.size()) {
+  for (const depthfilter::TemporalDepthFilterConfig& variant : config.ours_variants)
+    variants_.emplace_back(variant);
+}
 
 void DepthFilterEvaluation::learnBackground(const RgbdFrame& background) {
   masker_.learnBackground(background);
@@ -238,6 +242,12 @@ void DepthFilterEvaluation::addFrame(const GroundTruthFrame& truth) {
     if (score) state.scorer.add(out, truth, seconds);
     state.last_output = out;
   }
+  for (std::size_t v = 0; v < variants_.size(); ++v) {
+    const auto start = std::chrono::steady_clock::now();
+    const cv::Mat out = variants_[v].apply(input);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (score) variant_scorers_[v].add(out, truth, seconds);
+  }
   if (score) {
     cv::Mat true_output = cv::Mat::zeros(frame.depth.size(), CV_32FC1);
     truth.true_depth.copyTo(true_output, truth.true_foreground);
@@ -255,6 +265,17 @@ DepthMethodMetrics DepthFilterEvaluation::combined(std::span<const DepthFilterEv
   DepthScorer total;
   for (const DepthFilterEvaluation& e : streams) total.merge(e.methods_[std::size_t(method)].scorer);
   // Frames are counted per stream; time per frame is per camera frame.
+  return total.metrics();
+}
+
+DepthMethodMetrics DepthFilterEvaluation::variantMetrics(std::size_t variant) const {
+  return variant_scorers_.at(variant).metrics();
+}
+
+DepthMethodMetrics DepthFilterEvaluation::combinedVariant(std::span<const DepthFilterEvaluation> streams,
+                                                          std::size_t variant) {
+  DepthScorer total;
+  for (const DepthFilterEvaluation& e : streams) total.merge(e.variant_scorers_.at(variant));
   return total.metrics();
 }
 

@@ -66,6 +66,12 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
 
   DepthEvaluationConfig config;
   config.filter.learning_frames = o.learning_frames;
+  config.filter.levels = o.levels;
+  for (int levels : o.compared_levels) {
+    depthfilter::TemporalDepthFilterConfig variant = config.filter;
+    variant.levels = levels;
+    config.ours_variants.push_back(variant);
+  }
   std::vector<DepthFilterEvaluation> streams;
   for (int c = 0; c < museum.cameraCount(); ++c) streams.emplace_back(config);
   constexpr int kBackgroundFrames = 8;
@@ -97,6 +103,11 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
     rows.emplace_back(depthMethodName(m), DepthFilterEvaluation::combined(streams, m));
     methods[depthMethodName(m)] = toJson(rows.back().second);
   }
+  for (std::size_t v = 0; v < o.compared_levels.size(); ++v) {
+    const std::string name = "ours l_max=" + std::to_string(o.compared_levels[v]);
+    rows.emplace_back(name, DepthFilterEvaluation::combinedVariant(streams, v));
+    methods[name] = toJson(rows.back().second);
+  }
   const auto combined = [&](DepthMethod m) { return rows[std::size_t(m)].second; };
   for (DepthMethod m : {DepthMethod::Ours, DepthMethod::Adversary})
     bars[depthMethodName(m)] = toJson(checkDepthBars(
@@ -105,6 +116,7 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
       {"scene", description.name},
       {"frames", o.frames},
       {"learning_frames", o.learning_frames},
+      {"levels", o.levels},
       {"cameras", museum.cameraCount()},
       {"width", description.camera.width},
       {"height", description.camera.height},

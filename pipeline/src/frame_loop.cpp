@@ -64,6 +64,7 @@ FrameLoop::FrameLoop(FrameLoopOptions options, Installation installation,
         depthfilter::ForegroundPipelineConfig config;
         config.exposure = installation.camera_exposure;
         config.colour_gains = installation.colour_gains;
+        config.filter = installation.depth_filter;
         return depthfilter::ForegroundPipeline(installation.cameras, config);
       }()),
       camera_exposure_(installation.camera_exposure),

@@ -16,6 +16,7 @@
 #include "holo/core/gltf_io.hpp"
 #include "holo/core/hdr_io.hpp"
 #include "holo/core/log.hpp"
+#include "holo/depthfilter/depth_filter_config.hpp"
 #include "holo/pipeline/exhibit_config.hpp"
 #include "holo/relics/relics.hpp"
 
@@ -243,6 +244,8 @@ Installation loadInstallation(const ConfigNode& root, const InstallationOptions&
   installation.camera_exposure = exhibit_config.camera_exposure;
   installation.background_frames = exhibit_config.background_frames;
   installation.fps = exhibit_config.fps;
+  if (const std::optional<ConfigNode> section = root.find("depthfilter"))
+    installation.depth_filter = depthfilter::parseDepthFilterConfig(*section);
 
   // The pyramid file: where the panorama's directions point in the world.
   const fs::path pyramid = calib::pyramidCalibrationPath(capture.calibration_dir);

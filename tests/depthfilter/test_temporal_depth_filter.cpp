@@ -124,6 +124,50 @@ TEST(TemporalDepthFilter, EdgeHoleBetweenSurfacesOfOneColourStaysAHole) {
   for (int y = 20; y < 24; ++y) EXPECT_EQ(out.at<float>(y, 31), 0.0f) << "edge row " << y;
 }
 
+// A flat grey surface at 1.2 m with depth noise and an 8x8 hole that is never measured (no
+// precursor to trust), in the middle of the mask; inside it a 4x4 patch of `patch_colour`.
+cv::Mat wideInteriorHole(int levels, const cv::Vec3b& patch_colour) {
+  TemporalDepthFilterConfig config;
+  config.learning_frames = 3;
+  config.levels = levels;
+  TemporalDepthFilter filter(config);
+  const cv::Size size(64, 48);
+  const cv::Mat mask(size, CV_8UC1, cv::Scalar(255));
+  const cv::Mat flow = cv::Mat::zeros(size, CV_32FC2);
+  cv::Mat colour(size, CV_8UC3, cv::Scalar(128, 128, 128));
+  colour(cv::Rect(29, 21, 4, 4)).setTo(patch_colour);
+  cv::RNG rng(11);
+  cv::Mat out;
+  for (int t = 0; t < 8; ++t) {
+    cv::Mat depth(size, CV_32FC1, cv::Scalar(1.2f)), noise(size, CV_32FC1);
+    rng.fill(noise, cv::RNG::NORMAL, 0.0, 0.003);
+    depth += noise;
+    depth(cv::Rect(27, 19, 8, 8)).setTo(0.0f);
+    out = filter.apply({colour, depth, mask, flow});
+  }
+  return out;
+}
+
+TEST(TemporalDepthFilter, PullPushFillsAnInteriorHoleWiderThanTheGuidedFill) {
+  // The hole's centre lies 4 px from the nearest measurement, beyond fill_radius (3): only the
+  // pull-push reaches it, and its fill lies on the surface.
+  const cv::Mat with = wideInteriorHole(3, {128, 128, 128}), without = wideInteriorHole(1, {128, 128, 128});
+  for (int y = 22; y < 24; ++y)
+    for (int x = 30; x < 32; ++x) {
+      EXPECT_NEAR(with.at<float>(y, x), 1.2f, 0.01f) << x << "," << y;
+      EXPECT_EQ(without.at<float>(y, x), 0.0f) << x << "," << y;
+    }
+}
+
+TEST(TemporalDepthFilter, PullPushLeavesAHoleOfAnotherColourUnfilled) {
+  // A dark patch in the hole is not the surface around it (a bag in front of a coat, the gap
+  // between two limbs): the push's fill comes from grey pixels and is not used there.
+  const cv::Mat out = wideInteriorHole(3, {20, 20, 20});
+  for (int y = 22; y < 24; ++y)
+    for (int x = 30; x < 32; ++x) EXPECT_EQ(out.at<float>(y, x), 0.0f) << x << "," << y;
+  EXPECT_NEAR(out.at<float>(20, 28), 1.2f, 0.01f);  // the grey rim of the hole is still filled
+}
+
 TEST(TemporalDepthFilter, LearningFramesPassTheMeasurementThrough) {
   const test::SyntheticScene scene;
   TemporalDepthFilter filter(quickFilterConfig());

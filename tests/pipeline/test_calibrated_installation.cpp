@@ -197,6 +197,25 @@ TEST_F(CalibratedInstallation, ColourGainsBackgroundAndPanoramaPositionReachTheL
   EXPECT_EQ(relearn.panorama_proxy.base_half_width, 0.0f);  // no base_half_width: no base
 }
 
+TEST_F(CalibratedInstallation, DepthFilterSectionReachesTheLoopAndABadValueIsNamed) {
+  const std::string display = "display:\n  layout: monitors\n";
+  EXPECT_EQ(loadInstallation(config("default_filter.yaml", "", display)).depth_filter.levels,
+            depthfilter::TemporalDepthFilterConfig{}.levels);
+  const Installation installation =
+      loadInstallation(config("filter.yaml", "", display + "depthfilter:\n  levels: 5\n  fill_radius: 2\n"));
+  EXPECT_EQ(installation.depth_filter.levels, 5);
+  EXPECT_EQ(installation.depth_filter.fill_radius, 2);
+  try {
+    (void)loadInstallation(config("bad_filter.yaml", "", display + "depthfilter:\n  levels: 0\n"));
+    ADD_FAILURE() << "accepted levels 0";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("bad_filter.yaml"), std::string::npos) << what;
+    EXPECT_NE(what.find("depthfilter.levels"), std::string::npos) << what;
+    EXPECT_NE(what.find("[1, 8]"), std::string::npos) << what;
+  }
+}
+
 TEST_F(CalibratedInstallation, DisplaySectionOverridesOnlyTheFieldsItSets) {
   const ConfigNode root = config("display.yaml", "",
                                  "display:\n  layout: monitors\n  faces:\n    - {}\n    - {rotation: 0}\n"

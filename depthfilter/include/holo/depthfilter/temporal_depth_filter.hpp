@@ -10,20 +10,24 @@
 //   during the first C frames: only PDF_alpha and PDF_|d| learn, the frame passes unfiltered;
 //   afterwards: d_hat = (1 - P_|d|) px.d + P_|d| px_pre.d with confidence c = P_alpha,
 //   where P_x = P(X <= x) of the learned distribution (smaller c = more reliable).
-// Pull: level l+1 holds, per 2x2 block of level l, the average of the block's pairs whose
-// confidence is within `min_confidence_tolerance` of the block's minimum (front-most surface
-// only). Push: from the top level down, a pixel without a pair takes its parent's unless the
-// parent's block straddles a depth edge; a pixel with one is blended with its parent by their
-// reliabilities (1 - c) unless their depths differ by more than the same-surface tolerance (a
-// depth edge, kept sharp). Only foreground pixels (phi_i) receive output. A hole (a foreground
-// pixel without a measurement) keeps the push's fill only where that is safe: away from depth
-// edges and, unless its precursor was measured within the last `fill_trust_frames` frames and
-// agrees, away from the mask's edge. Other holes take the surface of their measured neighbours
-// that share the hole's colour, if those lie on one surface (and on the trusted precursor's),
-// and stay holes otherwise (see guidedHoleFill in the source). A hole without a trusted
-// precursor is never filled when the first measurements left, right, above and below it inside
-// the mask span a depth edge: it is a gap between two surfaces (between limbs) and may show a
-// third one.
+// Pull, depth-aware: level l+1 holds, per 2x2 block of level l, the weighted mean of the
+// block's pairs on its dominant surface (the depth whose agreeing pairs, within the same-surface
+// tolerance T(z), weigh most; a pair weighs 1 - c/2 at full resolution and the sum of its
+// children above), so a block between a limb and the wall behind it takes the limb's depth or
+// the wall's, never a depth between them, and is marked as straddling a depth edge. Push: from
+// the top level down, a pixel without a pair takes the bilinear, weight-weighted mean of its
+// four nearest parents only when they all lie on one surface and none straddles a depth edge
+// (the hole's neighbourhood agrees); a pixel with a pair is blended with its parent by their
+// reliabilities (1 - c) unless their depths differ by more than T(z) (a depth edge, kept sharp).
+// Only foreground pixels (phi_i) receive output. A hole (a foreground pixel without a
+// measurement) whose precursor was measured within the last `fill_trust_frames` frames takes the
+// surface of its measured neighbours within `fill_radius` that share its colour, if those lie on
+// the precursor's surface (see guidedHoleFill in the source). A hole without such a precursor is
+// filled only away from the mask's edge and from depth edges: from those neighbours (all on one
+// surface) where it has some, else with the push's fill where the mean colour of the measured
+// pixels behind it (carried through the pyramid) is the hole's; but never when the first
+// measurements left, right, above and below it inside the mask span a depth edge: it is a gap
+// between two surfaces (between limbs) and may show a third one. Every other hole stays a hole.
 // The choices where the paper is silent are listed, with reasons, in docs/depthfilter.md.
 //
 // Units: metres; depth 0 = invalid. Invariant: the output is CV_32FC1, finite, 0 outside phi_i,
@@ -39,17 +43,16 @@
 namespace holo::depthfilter {
 
 struct TemporalDepthFilterConfig {
-  // l_max, levels including full resolution (>= 1); fills holes up to ~2^(l_max-1) px. 1 (no
-  // pull-push; holes are left to the colour-guided hole fill) by measurement on the
-  // structured-light museum: l_max 2's fills flicker, temporal error 43.2 cm^2 against the raw
-  // sensor's 33.3 (docs/depthfilter.md).
-  int levels = 1;
+  // l_max, levels including full resolution (1..kMaxLevels); the push reaches holes up to about
+  // 2^l_max px across. 1 turns the pull-push off (holes are then left to the colour-guided hole
+  // fill). Each level's gain on the simulated halls is in docs/depthfilter.md.
+  static constexpr int kMaxLevels = 8;
+  int levels = 3;
   int learning_frames = 30;                  // C: frames that only learn the PDFs (1 s at 30 fps)
   std::int64_t min_learning_samples = 1000;  // learning also lasts until each PDF has this many
   int pdf_bins = 256;                        // discrete values of each PDF
   float alpha_max = 441.68f;                 // PDF_alpha domain: the largest RGB distance, sqrt(3) * 255
   float depth_diff_max_m = 0.5f;             // PDF_|d| domain; larger differences count as the maximum
-  float min_confidence_tolerance = 0.05f;    // pull: pairs this close to the block minimum average
   // Same-surface tolerance T(z) = surface_tolerance_m + surface_tolerance_z2 * z^2 (metres, like
   // depth noise). A precursor farther than T in depth shows another surface (occlusion, fast
   // motion in depth) and is not used, so the filter cannot freeze a surface that moves; in the

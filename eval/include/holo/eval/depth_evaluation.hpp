@@ -132,6 +132,9 @@ struct DepthEvaluationConfig {
   int median_window = 5;
   float taa_blend = 0.1f;
   float adversary_max_change_m = 0.03f;
+  // Ours again with other settings on the same mask and flow (each stage's contribution: l_max 1
+  // is ours without the pull-push), scored like the methods; none by default.
+  std::vector<depthfilter::TemporalDepthFilterConfig> ours_variants;
 };
 
 // One camera stream. Not thread-safe; use one per camera.
@@ -146,6 +149,10 @@ class DepthFilterEvaluation {
   DepthMethodMetrics metrics(DepthMethod method) const;
   // Metrics over several camera streams (sums pooled, not averages of averages).
   static DepthMethodMetrics combined(std::span<const DepthFilterEvaluation> streams, DepthMethod method);
+  // The same for DepthEvaluationConfig::ours_variants[variant].
+  DepthMethodMetrics variantMetrics(std::size_t variant) const;
+  static DepthMethodMetrics combinedVariant(std::span<const DepthFilterEvaluation> streams,
+                                            std::size_t variant);
 
   const cv::Mat& lastOutput(DepthMethod method) const { return methods_[std::size_t(method)].last_output; }
   const cv::Mat& lastMask() const { return last_mask_; }
@@ -168,6 +175,8 @@ class DepthFilterEvaluation {
   TemporalMedianDepthFilter median_;
   TaaDepthFilter taa_;
   HoleLeavingAdversary adversary_;
+  std::vector<depthfilter::TemporalDepthFilter> variants_;
+  std::vector<DepthScorer> variant_scorers_;
   cv::Mat previous_colour_;
   cv::Mat last_mask_;
   std::array<MethodState, kDepthMethods.size()> methods_;

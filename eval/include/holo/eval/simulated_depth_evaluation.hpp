@@ -22,14 +22,20 @@ struct SimulatedDepthOptions {
   int frames = 60;               // scored frames, after the learning frames (>= 1)
   int width = 0, height = 0;     // camera size; 0: the scene's
   int learning_frames = depthfilter::TemporalDepthFilterConfig{}.learning_frames;
+  int levels = depthfilter::TemporalDepthFilterConfig{}.levels;  // ours' l_max
+  // Ours again with each of these l_max on the same masks and flow: what each pyramid level
+  // adds (l_max 1: no pull-push). Reported as the methods "ours l_max=N".
+  std::vector<int> compared_levels = {1, 2};
   bool figure = false;  // also draw SimulatedDepthEvaluation::figure
 };
 
 struct SimulatedDepthEvaluation {
-  // scene, frames, learning_frames, cameras, width, height, methods (each method's metrics),
+  // scene, frames, learning_frames, levels, cameras, width, height, methods (each method's
+  // metrics, the compared l_max among them),
   // bars (the verdicts for ours and the adversary), truth_depth_change_cm2.
   nlohmann::json report;
-  // Each method's pooled metrics, in kDepthMethods' order (for depthMetricsTable).
+  // Each method's pooled metrics, in kDepthMethods' order, then the compared l_max (for
+  // depthMetricsTable).
   std::vector<std::pair<std::string, DepthMethodMetrics>> rows;
   // With SimulatedDepthOptions::figure, a Fig. 9-like picture (BGR) of the last frame of the
   // camera that sees the most visitor pixels: its colour frame, then raw's, the median's, TAA's,

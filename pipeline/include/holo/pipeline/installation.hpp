@@ -7,7 +7,8 @@
 //    the configured cameras (capture_config.hpp: Aravis, V4L2, recordings, and simulated scenes
 //    through the caller's source factory), each camera's model from the calibration folder
 //    (calibration_io.hpp: camera_SERIAL.yml, pyramid.yml for the panorama's yaw), and the
-//    `exhibit:` section (exhibit_config.hpp: the relic, the panorama and their settings).
+//    `exhibit:` section (exhibit_config.hpp: the relic, the panorama and their settings), and the
+//    optional `depthfilter:` section (depth_filter_config.hpp).
 //
 // The background: when the calibration folder holds the background the calibration captured
 // for every camera (background_cameraN.png, 8-bit BGR, and background_depth_cameraN.png, 16-bit
@@ -43,6 +44,7 @@
 #include "holo/core/config.hpp"
 #include "holo/core/mesh.hpp"
 #include "holo/core/rgbd_frame.hpp"
+#include "holo/depthfilter/temporal_depth_filter.hpp"
 #include "holo/reflect/environment.hpp"
 
 namespace holo::pipeline {
@@ -91,8 +93,11 @@ struct Installation {
   // depth intrinsics); empty where colour and depth share one geometry.
   std::vector<std::optional<capture::DepthToColour>> depth_to_colour;
   double fps = 30.0;  // the cameras' frame rate
-  Model relic;        // world frame, standing on the base
-  cv::Mat panorama;   // CV_32FC3 linear BGR, equirectangular
+  // The temporal depth filter's settings: the configuration's `depthfilter:` section
+  // (depth_filter_config.hpp), else the defaults.
+  depthfilter::TemporalDepthFilterConfig depth_filter;
+  Model relic;       // world frame, standing on the base
+  cv::Mat panorama;  // CV_32FC3 linear BGR, equirectangular
   float panorama_yaw_rad = 0.0f;
   // Where the panorama's pixels are. Simulated: simulated::museumPanoramaProxy. Configured:
   // centre = its capture point (pyramid.yml's panorama_position), radius = exhibit.hall_radius,

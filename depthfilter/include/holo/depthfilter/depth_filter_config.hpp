@@ -1,0 +1,30 @@
+// The `depthfilter:` section of a configuration document: the temporal depth filter's settings
+// (TemporalDepthFilterConfig, temporal_depth_filter.hpp, with the meaning and unit of each).
+// Every field is optional and keeps its default when absent:
+//
+//   depthfilter:
+//     levels: 3                     # l_max, 1..8 (1: no pull-push)
+//     learning_frames: 30           # C, 0..100000
+//     min_support: 2                # of the 8 neighbours, 0..8
+//     motion_window: 9              # px, odd, 1..31
+//     edge_radius: 2                # px, 0..8
+//     fill_trust_frames: 3          # frames, 0..254
+//     fill_radius: 3                # px, 0..4
+//     fill_colour_max: 30           # sum of |B|,|G|,|R| differences, 0..765
+//     fill_colour_margin: 20        # 0..765
+//     surface_tolerance_m: 0.03     # metres, 0.001..0.5
+//     surface_tolerance_z2: 0.0075  # 1/metres, 0..0.1
+//
+// An unknown field, a value of the wrong type or out of its range is a holo::InputError naming
+// the file, the field (depthfilter.levels) and the range.
+#pragma once
+
+#include "holo/core/config.hpp"
+#include "holo/depthfilter/temporal_depth_filter.hpp"
+
+namespace holo::depthfilter {
+
+// `section` is root["depthfilter"]; the defaults stand for every field it does not name.
+TemporalDepthFilterConfig parseDepthFilterConfig(const ConfigNode& section);
+
+}  // namespace holo::depthfilter

@@ -1,0 +1,44 @@
+#include "holo/depthfilter/depth_filter_config.hpp"
+
+#include <string>
+
+namespace holo::depthfilter {
+namespace {
+
+// An integer field in [lo, hi]; the error names the range.
+int intInRange(const ConfigNode& section, const std::string& key, int fallback, int lo, int hi) {
+  if (!section.has(key)) return fallback;
+  const ConfigNode child = section[key];
+  const int value = child.as<int>();
+  if (value < lo || value > hi)
+    child.fail("an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]",
+               std::to_string(value));
+  return value;
+}
+
+}  // namespace
+
+TemporalDepthFilterConfig parseDepthFilterConfig(const ConfigNode& section) {
+  section.rejectUnknownKeys({"levels", "learning_frames", "min_support", "motion_window", "edge_radius",
+                             "fill_trust_frames", "fill_radius", "fill_colour_max", "fill_colour_margin",
+                             "surface_tolerance_m", "surface_tolerance_z2"});
+  TemporalDepthFilterConfig c;
+  c.levels = intInRange(section, "levels", c.levels, 1, TemporalDepthFilterConfig::kMaxLevels);
+  c.learning_frames = intInRange(section, "learning_frames", c.learning_frames, 0, 100000);
+  c.min_support = intInRange(section, "min_support", c.min_support, 0, 8);
+  c.motion_window = intInRange(section, "motion_window", c.motion_window, 1, 31);
+  if (c.motion_window % 2 == 0)
+    section["motion_window"].fail("an odd integer in [1, 31] (a window centred on the pixel)",
+                                  std::to_string(c.motion_window));
+  c.edge_radius = intInRange(section, "edge_radius", c.edge_radius, 0, 8);
+  c.fill_trust_frames = intInRange(section, "fill_trust_frames", c.fill_trust_frames, 0, 254);
+  c.fill_radius =
+      intInRange(section, "fill_radius", c.fill_radius, 0, TemporalDepthFilterConfig::kMaxFillRadius);
+  c.fill_colour_max = section.getInRange("fill_colour_max", c.fill_colour_max, 0.0f, 765.0f);
+  c.fill_colour_margin = section.getInRange("fill_colour_margin", c.fill_colour_margin, 0.0f, 765.0f);
+  c.surface_tolerance_m = section.getInRange("surface_tolerance_m", c.surface_tolerance_m, 0.001f, 0.5f);
+  c.surface_tolerance_z2 = section.getInRange("surface_tolerance_z2", c.surface_tolerance_z2, 0.0f, 0.1f);
+  return c;
+}
+
+}  // namespace holo::depthfilter

@@ -1,0 +1,66 @@
+// The `depthfilter:` configuration section: values reach the filter, bad ones are refused with
+// the file, the field and the range.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "holo/core/config.hpp"
+#include "holo/core/error.hpp"
+#include "holo/depthfilter/depth_filter_config.hpp"
+
+namespace holo::depthfilter {
+namespace {
+
+TemporalDepthFilterConfig parsed(const std::string& body) {
+  return parseDepthFilterConfig(ConfigNode::parse("depthfilter:\n" + body, "museum.yaml")["depthfilter"]);
+}
+
+TEST(DepthFilterConfig, FieldsReachTheFilterAndOthersKeepTheirDefaults) {
+  const TemporalDepthFilterConfig c = parsed("  levels: 5\n  fill_radius: 2\n  surface_tolerance_m: 0.05\n");
+  const TemporalDepthFilterConfig defaults;
+  EXPECT_EQ(c.levels, 5);
+  EXPECT_EQ(c.fill_radius, 2);
+  EXPECT_FLOAT_EQ(c.surface_tolerance_m, 0.05f);
+  EXPECT_EQ(c.learning_frames, defaults.learning_frames);
+  EXPECT_EQ(c.edge_radius, defaults.edge_radius);
+  EXPECT_EQ(TemporalDepthFilter(c).config().levels, 5);
+}
+
+TEST(DepthFilterConfig, PullPushIsOnByDefault) {
+  EXPECT_GE(TemporalDepthFilterConfig{}.levels, 3);
+  EXPECT_GE(parsed("  learning_frames: 10\n").levels, 3);
+}
+
+TEST(DepthFilterConfig, BadValuesAreRefusedNamingTheFieldAndTheRange) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"  levels: 0\n", "depthfilter.levels"},
+      {"  levels: 9\n", "depthfilter.levels"},
+      {"  levels: three\n", "depthfilter.levels"},
+      {"  fill_radius: 5\n", "depthfilter.fill_radius"},
+      {"  motion_window: 8\n", "depthfilter.motion_window"},
+      {"  min_support: 9\n", "depthfilter.min_support"},
+      {"  surface_tolerance_m: 0\n", "depthfilter.surface_tolerance_m"},
+      {"  fill_colour_max: -1\n", "depthfilter.fill_colour_max"},
+      {"  pull_levels: 3\n", "pull_levels"},
+  };
+  for (const auto& [yaml, field] : cases) {
+    try {
+      parsed(yaml);
+      ADD_FAILURE() << "accepted " << yaml;
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_EQ(e.file(), "museum.yaml") << what;
+      EXPECT_NE(what.find(field), std::string::npos) << what;
+    }
+  }
+  try {
+    parsed("  levels: 12\n");
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("[1, 8]"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace holo::depthfilter
