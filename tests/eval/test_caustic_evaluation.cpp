@@ -1,0 +1,139 @@
+// Caustics of a glass sphere over a diffuse plane under a small bright light (eval/caustic_
+// evaluation.hpp, reference/caustics.hpp): the photon map against a converged light tracer at CI
+// size (50k photons against 1M); HOLO_FULL_EVAL=1 runs the `eval caustics` defaults (200k
+// against 4M) with the same checks. Beside it the closed forms (the ball lens's focal distance,
+// the peak on the symmetry axis), the adversary without the caustic, the opaque sphere that runs
+// no caustic work, and determinism.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <string>
+
+#include "holo/core/stats.hpp"
+#include "holo/eval/acceptance_bars.hpp"
+#include "holo/eval/caustic_evaluation.hpp"
+#include "holo/reference/dielectric.hpp"
+#include "holo/reflect/surface_shading.hpp"
+
+namespace holo::eval {
+namespace {
+
+bool fullEvaluation() {
+  const char* full = std::getenv("HOLO_FULL_EVAL");
+  return full != nullptr && std::string(full) == "1";
+}
+
+CausticEvaluationOptions options() {
+  CausticEvaluationOptions o;
+  if (fullEvaluation()) return o;
+  o.photons = 50000;
+  o.reference_photons = 1000000;
+  return o;
+}
+
+// The glass sphere's scene, built once (its Embree scene and convex hull take a while).
+const reflect::RenderScene& glassScene() {
+  static const Model sphere = causticSphere(CausticScene{}, false);
+  static const reflect::RenderScene scene(sphere, {});
+  return scene;
+}
+
+const CausticEvaluation& evaluation() {
+  static const CausticEvaluation e = evaluateCaustics(options());
+  return e;
+}
+
+TEST(Caustics, PhotonMapMatchesTheConvergedLightTracer) {
+  const CausticEvaluation& e = evaluation();
+  ASSERT_TRUE(e.plan.runs) << e.plan.reason;
+  const float radius = options().scene.radius;
+  EXPECT_LT(e.peakErrorOverRadius(radius), kCausticPeakOverRadius);
+  EXPECT_LT(e.powerError(), kCausticPowerRelative);
+  // The caustic is there at all: most of the light through the sphere lands on that disc.
+  EXPECT_GT(e.reference_power, 0.0);
+}
+
+TEST(Caustics, PeakLiesOnTheSymmetryAxis) {
+  const CausticEvaluation& e = evaluation();
+  EXPECT_LT(glm::length(e.reference_peak - e.axis_point) / options().scene.radius, kCausticPeakOverRadius);
+}
+
+// The adversary that leaves the caustic out (a receiver lit directly only): its power on the
+// disc is 0, an error of 100%, far outside the bar; the photon map's peak is far above the mean.
+TEST(Caustics, LeavingTheCausticOutFailsTheBar) {
+  const CausticEvaluation& e = evaluation();
+  CausticEvaluation without = e;
+  without.photon_map.irradiance = cv::Mat(e.photon_map.irradiance.size(), CV_32FC3, cv::Scalar::all(0));
+  without.power = reference::causticPower(without.photon_map, e.reference_peak, options().scene.radius);
+  EXPECT_GT(without.powerError(), 10.0 * kCausticPowerRelative);
+  double peak = 0;
+  cv::minMaxLoc(e.photon_map.irradiance.reshape(1), nullptr, &peak);
+  EXPECT_GT(peak, 20.0 * cv::mean(e.photon_map.irradiance)[1]);
+}
+
+// Paraxial light through the sphere mesh and the ground truth's dielectric crosses the axis at
+// f = n R / (2 (n - 1)) from the centre (a ball lens; 1.5 R for n = 1.5).
+TEST(Caustics, BallLensFocusesAtItsClosedFormDistance) {
+  CausticScene s;
+  const reflect::RenderScene& scene = glassScene();
+  const float offset = 0.03f * s.radius;  // paraxial: spherical aberration ~ offset^2
+  Ray ray{vec3(offset, s.centre_height + 2.0f * s.radius, 0.0f), vec3(0.0f, -1.0f, 0.0f)};
+  for (int crossing = 0; crossing < 2; ++crossing) {
+    const RayHit hit = scene.relicOnly().intersect(ray);
+    ASSERT_TRUE(hit.hit());
+    const reflect::SurfacePoint p = reflect::resolveSurface(scene, scene.relicOnly(), ray, hit, 0.0f);
+    const reference::MaterialBsdf bsdf(p.material, p.normal, crossing == 0, p.clearcoat_normal);
+    // u.x just below 1 picks transmission (the dielectric's lobe choice).
+    const auto bs = bsdf.sample(-ray.direction, vec3(0.999999f, 0.5f, 0.5f));
+    ASSERT_TRUE(bs && bs->transmitted);
+    const float side = glm::dot(bs->wi, hit.geometric_normal) >= 0.0f ? 1.0f : -1.0f;
+    ray = Ray{p.position + side * 1e-5f * hit.geometric_normal, bs->wi};
+  }
+  ASSERT_LT(ray.direction.x, 0.0f);  // bent towards the axis
+  const float t = -ray.origin.x / ray.direction.x;
+  const float focus = s.centre_height - (ray.origin.y + t * ray.direction.y);
+  const float closed_form = s.ior * s.radius / (2.0f * (s.ior - 1.0f));
+  EXPECT_NEAR(focus, closed_form, 0.01f * closed_form);
+  RecordProperty("focus_over_closed_form", std::to_string(focus / closed_form));
+}
+
+// An opaque relic does none of the caustic work: the plan says no, no photon is traced or stored.
+TEST(Caustics, OpaqueRelicRunsNoCausticWork) {
+  CausticEvaluationOptions o = options();
+  o.opaque = true;
+  o.reference_photons = 1000;
+  const CausticEvaluation e = evaluateCaustics(o);
+  EXPECT_FALSE(e.plan.runs);
+  EXPECT_EQ(e.photons_traced, 0);
+  EXPECT_EQ(e.photons_stored, 0);
+  EXPECT_EQ(cv::countNonZero(e.photon_map.irradiance.reshape(1)), 0);
+  // The glass sphere does the work, and the counters show it.
+  EXPECT_GT(evaluation().photons_traced, 0);
+  // Photons aim at the sphere's bounding box's bounding sphere: a third of them meet the sphere.
+  EXPECT_GT(evaluation().photons_stored, evaluation().photons_traced / 4);
+}
+
+TEST(Caustics, PlanNeedsTheRelicAboveTheReceiver) {
+  CausticScene s;
+  const reflect::RenderScene& scene = glassScene();
+  reference::CausticReceiver receiver = causticReceiver(s);
+  EXPECT_TRUE(reference::planCaustics(scene, receiver, causticLight(s)).runs);
+  receiver.height = s.centre_height;  // through the sphere
+  EXPECT_FALSE(reference::planCaustics(scene, receiver, causticLight(s)).runs);
+}
+
+TEST(Caustics, DeterministicForASeed) {
+  CausticScene s;
+  const reflect::RenderScene& scene = glassScene();
+  const auto a = reference::tracePhotons(scene, causticReceiver(s), causticLight(s), 100, 20000, 40000);
+  const auto b = reference::tracePhotons(scene, causticReceiver(s), causticLight(s), 100, 20000, 40000);
+  ASSERT_EQ(a.size(), b.size());
+  ASSERT_FALSE(a.empty());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].position, b[i].position);
+    EXPECT_EQ(a[i].power, b[i].power);
+  }
+}
+
+}  // namespace
+}  // namespace holo::eval
