@@ -49,6 +49,8 @@ TEST(Caustics, PhotonMapMatchesTheConvergedLightTracer) {
   const float radius = options().scene.radius;
   EXPECT_LT(e.peakErrorOverRadius(radius), kCausticPeakOverRadius);
   EXPECT_LT(e.powerError(), kCausticPowerRelative);
+  RecordProperty("peak_error_over_radius", std::to_string(e.peakErrorOverRadius(radius)));
+  RecordProperty("power_error", std::to_string(e.powerError()));
   // The caustic is there at all: most of the light through the sphere lands on that disc.
   EXPECT_GT(e.reference_power, 0.0);
 }
