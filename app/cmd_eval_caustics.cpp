@@ -49,7 +49,10 @@ int run(const Options& o) {
             << "power on the disc of R round the peak: photon map " << e.power << " W, light tracer "
             << e.reference_power << " W, error " << e.powerError() << " (bar < "
             << eval::kCausticPowerRelative << ": " << verdict(e.powerError() < eval::kCausticPowerRelative)
-            << ")\n";
+            << ")\n"
+            << "irradiance at the peak (disc of 0.1 R): photon map " << e.peak_irradiance
+            << " W/m^2, light tracer " << e.reference_peak_irradiance << " W/m^2, ratio "
+            << e.peakIrradianceRatio() << "\n";
   if (!o.out.empty()) {
     std::filesystem::create_directories(o.out);
     // photon map | light tracer | the opaque sphere (its shadow, no caustic), direct light added

@@ -107,6 +107,9 @@ CausticEvaluation evaluateCaustics(const CausticEvaluationOptions& o) {
   e.reference_peak = reference::causticPeak(e.light_tracer, window);
   e.power = reference::causticPower(e.photon_map, e.reference_peak, o.scene.radius);
   e.reference_power = reference::causticPower(e.light_tracer, e.reference_peak, o.scene.radius);
+  const double spot = double(window) * double(window) * double(kPi);
+  e.peak_irradiance = reference::causticPower(e.photon_map, e.reference_peak, window) / spot;
+  e.reference_peak_irradiance = reference::causticPower(e.light_tracer, e.reference_peak, window) / spot;
   return e;
 }
 

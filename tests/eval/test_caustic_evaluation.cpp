@@ -2,8 +2,8 @@
 // evaluation.hpp, reference/caustics.hpp): the photon map against a converged light tracer at CI
 // size (50k photons against 1M); HOLO_FULL_EVAL=1 runs the `eval caustics` defaults (200k
 // against 4M) with the same checks. Beside it the closed forms (the ball lens's focal distance,
-// the peak on the symmetry axis), the adversary without the caustic, the opaque sphere that runs
-// no caustic work, and determinism.
+// the peak on the symmetry axis), the adversaries without the caustic and with a blurring
+// kernel, the opaque sphere that runs no caustic work, and determinism.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -71,6 +71,24 @@ TEST(Caustics, LeavingTheCausticOutFailsTheBar) {
   double peak = 0;
   cv::minMaxLoc(e.photon_map.irradiance.reshape(1), nullptr, &peak);
   EXPECT_GT(peak, 20.0 * cv::mean(e.photon_map.irradiance)[1]);
+}
+
+// The adversary that blurs: a kernel of one radius keeps the peak's position (the caustic is
+// symmetric) but flattens the focused core; the irradiance at the peak says so, where the
+// default kernel keeps it within 10%.
+TEST(Caustics, ABlurringKernelFlattensThePeak) {
+  const CausticEvaluation& e = evaluation();
+  EXPECT_NEAR(e.peakIrradianceRatio(), 1.0, 0.1);
+  const CausticScene s;
+  const CausticEvaluationOptions o = options();
+  const auto photons =
+      reference::tracePhotons(glassScene(), causticReceiver(s), causticLight(s), 0, o.photons, o.photons);
+  const reference::ReceiverImage blurred =
+      reference::photonMapEstimate(photons, causticReceiver(s), o.resolution / 2, s.radius);
+  const float window = 0.1f * s.radius;
+  const double spot = double(window) * double(window) * double(kPi);
+  const double blurred_peak = reference::causticPower(blurred, e.reference_peak, window) / spot;
+  EXPECT_LT(blurred_peak / e.reference_peak_irradiance, 0.5);
 }
 
 // Paraxial light through the sphere mesh and the ground truth's dielectric crosses the axis at

@@ -49,6 +49,12 @@ struct CausticEvaluation {
   std::int64_t photons_stored = 0;
   vec2 peak{0.0f}, reference_peak{0.0f}, axis_point{0.0f};
   double power = 0, reference_power = 0;  // W (luminance) on the disc of one radius round reference_peak
+  // Mean irradiance (W/m^2, luminance) on the disc of 0.1 radius round reference_peak: what a
+  // blurring kernel flattens, which the peak position and the power on the disc barely see.
+  double peak_irradiance = 0, reference_peak_irradiance = 0;
+  double peakIrradianceRatio() const {
+    return reference_peak_irradiance > 0 ? peak_irradiance / reference_peak_irradiance : 0.0;
+  }
   double peakErrorOverRadius(float radius) const { return glm::length(peak - reference_peak) / radius; }
   double powerError() const {
     return reference_power > 0 ? std::abs(power - reference_power) / reference_power : 1.0;
