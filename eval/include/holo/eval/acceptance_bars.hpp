@@ -91,4 +91,11 @@ inline constexpr double kMaxDisplayedErrorCodes = 1.0;  // displayed error of th
 // (the comparison of Xu et al.).
 inline constexpr double kArDeltaOverTwoPass = 2.0;
 
+// ---- Caustics, `eval caustics` (docs/tracer/caustics.md): a glass sphere over a diffuse plane ----
+
+// The photon map's caustic peak within 2% of the sphere's radius of the converged light tracer's,
+// and its power on the disc of one radius round that peak within 5% of the light tracer's.
+inline constexpr double kCausticPeakOverRadius = 0.02;
+inline constexpr double kCausticPowerRelative = 0.05;
+
 }  // namespace holo::eval
