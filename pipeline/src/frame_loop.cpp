@@ -70,6 +70,13 @@ FrameLoop::FrameLoop(FrameLoopOptions options, Installation installation,
       colour_gains_(installation.colour_gains),
       eye_tracker_(options_.eyes),
       presenter_(std::move(presenter)) {
+  if (options_.view_size == kViewSizeFromScreen) {
+    if (!presenter_)
+      throw InputError("frame loop", "view_size", "a pixel count when there is no screen to take it from",
+                       "from the screen");
+    options_.view_size = display::screenFaceViewPixels(*presenter_);
+  }
+  full_view_size_ = options_.view_size;
   if (options_.view_size < 16 || options_.view_size > 4096)
     throw InputError("frame loop", "view_size", "16..4096 pixels", std::to_string(options_.view_size));
   const std::size_t n = cameras_.size();
@@ -199,6 +206,8 @@ FrameReport FrameLoop::step() {
   report.times.acquisition = fg.acquisition_ms;
   report.cameras_live = fg.cameras_live;
   report.camera_skew_ms = fg.camera_skew_ms;
+  for (const RgbdFrame& frame : fg.frames)
+    report.camera_arrivals.push_back(frame.colour.empty() ? std::nullopt : std::optional(frame.host_time));
   if (fg.cameras_ended && fg.cameras_live == 0) {  // nothing more will come: no frame to render
     report.cameras_ended = true;
     return report;
@@ -315,6 +324,7 @@ void FrameLoop::present(FrameReport& report) {
     presenter_->present(faces, &coverage);
     report.presented = presenter_->isOpen();
   }
+  report.presented_at = Clock::now();
   report.times.display += msSince(t0);
 }
 
