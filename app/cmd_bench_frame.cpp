@@ -75,6 +75,7 @@ int runBenchFrame(BenchFrameCommand command) {
     j["overlap"] = options.loop.overlap;
     j["busy_cores"] = b.busy_cores;
     j["live"] = options.loop.live;
+    j["late_acquisition"] = options.loop.late_acquisition;
     j["frame_p99_ms"] = b.frame_p99_ms;
     if (b.latency_median_ms) j["latency_median_ms"] = *b.latency_median_ms;
     if (b.latency_p99_ms) j["latency_p99_ms"] = *b.latency_p99_ms;
@@ -142,6 +143,9 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_flag("--live", options->loop.live,
                    "Cameras at their rate on their own capture threads (a loop of frames simulated before "
                    "the run): drops frames the loop is late for and measures arrival-to-present latency");
+      sub.add_flag("!--no-late-acquisition", options->loop.late_acquisition,
+                   "Live: the worker takes the next frame's camera frames at once instead of as late as "
+                   "its foreground can still finish with the rendering");
       sub.add_flag("!--no-overlap", options->loop.overlap,
                    "Compute each frame's foreground after the previous frame instead of during it");
       sub.add_option("--json", command->json, "Write medians, per-frame times and the floor here");

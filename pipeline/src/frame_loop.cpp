@@ -5,7 +5,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <opencv2/imgproc.hpp>
+#include <thread>
 
 #include "camera_acquisition.hpp"
 #include "frame_statistics.hpp"
@@ -213,7 +215,17 @@ FrameReport FrameLoop::step() {
     return report;
   }
   // The next frame's acquisition and foreground run on a worker while this one is rendered.
-  if (options_.overlap) next_foreground_ = std::async(std::launch::async, [this] { return runForeground(); });
+  const auto render_start = Clock::now();
+  if (options_.overlap) {
+    const double wait_ms = options_.live && options_.late_acquisition
+                               ? std::max(0.0, 0.9 * last_render_ms_ - last_foreground_ms_)
+                               : 0.0;
+    next_foreground_ = std::async(std::launch::async, [this, wait_ms] {
+      if (wait_ms > 0) std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(wait_ms));
+      return runForeground();
+    });
+  }
+  last_foreground_ms_ = fg.foreground_ms;
 
   if (keep_camera_images_) {
     camera_colour_.assign(fg.frames.size(), cv::Mat());
@@ -233,6 +245,7 @@ FrameReport FrameLoop::step() {
   addViewCounters(last_result_, report);
   fixExposure();
   present(report);
+  last_render_ms_ = msSince(render_start);
   report.times.total = msSince(frame_start);
   ++index_;
   return report;

@@ -99,6 +99,12 @@ struct FrameLoopOptions {
   // frame's reflections are rendered and presented. Results are the same either way (the
   // foreground and the rendering each keep their own order); only the time differs.
   bool overlap = true;
+  // Live with overlap: the worker takes the next frame's camera frames as late as still lets its
+  // foreground finish with this frame's rendering (it waits the last frame's rendering time less
+  // its foreground time, 10% kept as margin), so a frame shows camera frames about one foreground
+  // step old at its start instead of a whole frame older. Off: at once (the lowest frame time
+  // when the foreground is the longer stage).
+  bool late_acquisition = true;
   reflect::TracerSettings tracer = liveTracerSettings();
   display::EyeTrackerSettings eyes;
 };
@@ -201,6 +207,9 @@ class FrameLoop {
   mat4 worldToRelic() const;
 
   FrameLoopOptions options_;
+  // Live late acquisition: the last frame's rendering (after its foreground was handed over, to
+  // its presentation) and foreground times, ms.
+  double last_render_ms_ = 0, last_foreground_ms_ = 0;
   int full_view_size_ = 0;  // options_.view_size as constructed; setQuality lowers options_'s
   std::string installation_name_;
   bool simulated_cameras_ = false;
