@@ -55,7 +55,7 @@ struct KioskOptions {
   bool relearn_background = false;
   std::string source = "pipeline";
   std::string scene = "museum";
-  int view_size = FrameLoopOptions{}.view_size;
+  int view_size = kViewSizeFromScreen;
   std::int64_t frames = 0;
   std::optional<int> health_port;
   std::optional<std::string> health_file;
@@ -165,8 +165,9 @@ HOLO_REGISTER_COMMAND(Command{
              "Scene of the simulated museum the pipeline shows when the configuration names no cameras")
           ->capture_default_str();
       sub.add_option("--view-size", options->view_size,
-                     "Pixels of each square face view at full quality (pipeline source)")
-          ->check(CLI::Range(16, 4096))
+                     "Pixels of each square face view at full quality (pipeline source); 0: the size "
+                     "the screen shows a face at (a Full HD cross: 360)")
+          ->check(CLI::Range(0, 4096))
           ->capture_default_str();
       sub.add_option("--state-dir", options->state_dir,
                      "Where the last good configuration is kept ('' = nowhere)")

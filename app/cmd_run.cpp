@@ -38,6 +38,7 @@ struct RunOptions {
   std::string out = "out/run";
   std::string json;
   int png_every = 10;
+  RunOptions() { loop.view_size = kViewSizeFromScreen; }
 };
 
 int runPipeline(RunOptions options) {
@@ -134,7 +135,9 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--out", options->out, "Headless output folder")->capture_default_str();
       sub.add_option("--png-every", options->png_every, "Headless: write every Nth frame as PNG (0: none)")
           ->capture_default_str();
-      sub.add_option("--view-size", options->loop.view_size, "Pixels per face view (square)")
+      sub.add_option("--view-size", options->loop.view_size,
+                     "Pixels per face view (square); 0: the size the screen shows a face at (a Full HD "
+                     "cross: 360)")
           ->capture_default_str();
       sub.add_option("--aa", options->aa, "Anti-aliasing: none | edges (4 sub-samples at silhouettes) | full")
           ->capture_default_str();

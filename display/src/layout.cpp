@@ -121,6 +121,15 @@ FacePlacement placeFace(const DisplayConfig& config, int face, cv::Size output, 
   return placement;
 }
 
+int faceViewPixels(const DisplayConfig& config, cv::Size output) {
+  float side = 0.0f;
+  for (int face = 0; face < kFaceCount; ++face) {
+    const std::array<vec2, 4> corners = placeFace(config, face, output, {1.0f, 1.0f}).corners();
+    side = std::max(side, glm::length(corners[1] - corners[0]));
+  }
+  return std::max(1, static_cast<int>(std::lround(side)));
+}
+
 cv::Size canvasSize(const DisplayConfig& config) {
   if (config.layout == LayoutKind::Monitors)
     return {2 * config.output_size.width, 2 * config.output_size.height};

@@ -47,6 +47,7 @@ class RecordingPresenter final : public QuadViewPresenter {
   cv::Mat readBack() override { return inner_->readBack(); }
   bool isOpen() override { return inner_->isOpen(); }
   const DisplayConfig& config() const override { return inner_->config(); }
+  cv::Size outputSize(int output) const override { return inner_->outputSize(output); }
   const std::array<cv::Rect2f, kFaceCount>& lastCrops() const override { return inner_->lastCrops(); }
   void finish() override {
     inner_->finish();

@@ -107,6 +107,11 @@ class WindowPresenter final : public QuadViewPresenter {
     return true;
   }
   const DisplayConfig& config() const override { return config_; }
+  cv::Size outputSize(int output) const override {
+    for (const Window& window : windows_)
+      if (window.output == output) return framebufferSize(window);
+    return config_.output_size;
+  }
   const std::array<cv::Rect2f, kFaceCount>& lastCrops() const override { return crops_; }
 
  private:

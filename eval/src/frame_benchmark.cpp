@@ -3,6 +3,7 @@
 #include <sys/resource.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cmath>
@@ -15,6 +16,7 @@
 #include "holo/eval/frame_timing_report.hpp"
 #include "holo/reflect/view.hpp"
 #include "holo/simulated/museum_installation.hpp"
+#include "replayed_source.hpp"
 
 namespace holo::eval {
 
@@ -90,6 +92,16 @@ double packetFloorMs(const FrameLoop& loop, const std::vector<CameraModel>& view
   return floor_time.ms();
 }
 
+// The `fraction` quantile by nearest rank, a value that occurred as with median(): the smallest
+// value with at least that fraction of the values at or below it; 0 for no values.
+double percentile(std::vector<double> values, double fraction) {
+  if (values.empty()) return 0.0;
+  const double rank = std::ceil(std::clamp(fraction, 0.0, 1.0) * static_cast<double>(values.size()));
+  const std::size_t k = std::min(values.size(), static_cast<std::size_t>(std::max(1.0, rank))) - 1;
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
+  return values[k];
+}
+
 // CPU time of the whole process (every thread), seconds.
 double processCpuSeconds() {
   rusage usage{};
@@ -117,14 +129,47 @@ double meanAbsCodes(const reflect::FrameResult& a, const reflect::FrameResult& b
   return n > 0 ? sum / double(n) : 0.0;
 }
 
+// Keeps the first `n` cameras of `installation` (0 or more than it has: all).
+void keepCameras(Installation& installation, int n) {
+  if (n <= 0 || static_cast<std::size_t>(n) >= installation.cameras.size()) return;
+  const auto keep = [n](auto& per_camera) {
+    if (per_camera.size() > static_cast<std::size_t>(n)) per_camera.resize(static_cast<std::size_t>(n));
+  };
+  keep(installation.sources);
+  keep(installation.cameras);
+  keep(installation.capture_options);
+  keep(installation.background);
+  keep(installation.colour_gains);
+  keep(installation.depth_correction);
+  keep(installation.depth_to_colour);
+}
+
+// The scene's installation; live, its cameras replay frames simulated now (ReplayedSource).
+Installation installation(const FrameBenchOptions& options) {
+  FrameLoopOptions recorded = options.loop;
+  recorded.live = false;  // live: simulated as fast as they can be, then paced by the replay
+  Installation installation = simulated::installationFor(options.loop.live ? recorded : options.loop);
+  keepCameras(installation, options.cameras);
+  if (!options.loop.live) return installation;
+  ProgressReporter progress(static_cast<std::int64_t>(installation.sources.size()), "recording the cameras");
+  for (auto& source : installation.sources) {
+    source =
+        std::make_unique<ReplayedSource>(std::move(source), options.live_recorded_frames, installation.fps);
+    progress.update(1);
+  }
+  progress.done();
+  installation.simulated_cameras = false;  // what they deliver was simulated before the run
+  return installation;
+}
+
 }  // namespace
 
 FrameBenchmark benchFrame(FrameBenchOptions options) {
   FrameBenchmark result;
-  if (options.preload)
-    options.loop.preload_frames = options.warmup + options.frames + 1;  // + the last prefetch
   const Stopwatch setup;
-  FrameLoop loop(options.loop, simulated::installationFor(options.loop), nullptr);
+  if (options.preload && !options.loop.live)
+    options.loop.preload_frames = options.warmup + options.frames + 1;  // + the last prefetch
+  FrameLoop loop(options.loop, installation(options), nullptr);
   result.setup_s = setup.seconds();
   ProgressReporter progress(options.warmup + options.frames, "bench frame");
   for (int i = 0; i < options.warmup; ++i) {
@@ -166,6 +211,16 @@ FrameBenchmark benchFrame(FrameBenchOptions options) {
   result.floor_ms = median(floor_ms);
   result.single_ray_floor_ms = median(single_ray_floor_ms);
   if (options.reference) result.error_vs_reference_codes = median(error_codes);
+  std::vector<double> frame_ms, latency_ms;
+  for (const FrameReport& report : reports) {
+    frame_ms.push_back(report.times.total);
+    if (const double ms = report.arrivalToPresentMs(); ms >= 0) latency_ms.push_back(ms);
+  }
+  result.frame_p99_ms = percentile(frame_ms, 0.99);
+  if (options.loop.live && !latency_ms.empty()) {
+    result.latency_median_ms = median(latency_ms);
+    result.latency_p99_ms = percentile(latency_ms, 0.99);
+  }
   return result;
 }
 

@@ -5,7 +5,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <opencv2/imgproc.hpp>
+#include <thread>
 
 #include "camera_acquisition.hpp"
 #include "frame_statistics.hpp"
@@ -71,6 +73,13 @@ FrameLoop::FrameLoop(FrameLoopOptions options, Installation installation,
       colour_gains_(installation.colour_gains),
       eye_tracker_(options_.eyes),
       presenter_(std::move(presenter)) {
+  if (options_.view_size == kViewSizeFromScreen) {
+    if (!presenter_)
+      throw InputError("frame loop", "view_size", "a pixel count when there is no screen to take it from",
+                       "from the screen");
+    options_.view_size = display::screenFaceViewPixels(*presenter_);
+  }
+  full_view_size_ = options_.view_size;
   if (options_.view_size < 16 || options_.view_size > 4096)
     throw InputError("frame loop", "view_size", "16..4096 pixels", std::to_string(options_.view_size));
   const std::size_t n = cameras_.size();
@@ -200,12 +209,24 @@ FrameReport FrameLoop::step() {
   report.times.acquisition = fg.acquisition_ms;
   report.cameras_live = fg.cameras_live;
   report.camera_skew_ms = fg.camera_skew_ms;
+  for (const RgbdFrame& frame : fg.frames)
+    report.camera_arrivals.push_back(frame.colour.empty() ? std::nullopt : std::optional(frame.host_time));
   if (fg.cameras_ended && fg.cameras_live == 0) {  // nothing more will come: no frame to render
     report.cameras_ended = true;
     return report;
   }
   // The next frame's acquisition and foreground run on a worker while this one is rendered.
-  if (options_.overlap) next_foreground_ = std::async(std::launch::async, [this] { return runForeground(); });
+  const auto render_start = Clock::now();
+  if (options_.overlap) {
+    const double wait_ms = options_.live && options_.late_acquisition
+                               ? std::max(0.0, 0.9 * last_render_ms_ - last_foreground_ms_)
+                               : 0.0;
+    next_foreground_ = std::async(std::launch::async, [this, wait_ms] {
+      if (wait_ms > 0) std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(wait_ms));
+      return runForeground();
+    });
+  }
+  last_foreground_ms_ = fg.foreground_ms;
 
   if (keep_camera_images_) {
     camera_colour_.assign(fg.frames.size(), cv::Mat());
@@ -225,6 +246,7 @@ FrameReport FrameLoop::step() {
   addViewCounters(last_result_, report);
   fixExposure();
   present(report);
+  last_render_ms_ = msSince(render_start);
   report.times.total = msSince(frame_start);
   ++index_;
   return report;
@@ -316,6 +338,7 @@ void FrameLoop::present(FrameReport& report) {
     presenter_->present(faces, &coverage);
     report.presented = presenter_->isOpen();
   }
+  report.presented_at = Clock::now();
   report.times.display += msSince(t0);
 }
 

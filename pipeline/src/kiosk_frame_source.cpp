@@ -117,10 +117,10 @@ class PipelineSource {
     FrameLoopOptions options;
     options.live = true;
     options.view_size = view_size;
-    full_view_size_ = options.view_size;
     loop_ = std::make_shared<FrameLoop>(
         options, std::move(installation),
         headless ? display::makeHeadlessPresenter(config) : display::makeWindowPresenter(config));
+    full_view_size_ = loop_->viewSize();
     for (const CameraModel& camera : loop_->cameras())
       camera_pixels_ += static_cast<double>(camera.width()) * camera.height();
     was_alive_.assign(loop_->cameras().size(), true);

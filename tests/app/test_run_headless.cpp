@@ -13,6 +13,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 
+#include "holo/core/gltf_io.hpp"
+#include "holo/relics/relics.hpp"
 #include "run_holopyramid.hpp"
 #include "shared_data.hpp"
 
@@ -132,6 +134,47 @@ TEST(RunHeadless, LiveModeAccountsForEveryCameraFrame) {
   EXPECT_LE(dropped_per_frame, dropped);  // the rest were dropped after the last step
 }
 
+// `run --relic NAME|FILE` shows that relic, and with no --view-size the faces are rendered at the
+// size the configured screen shows them (a 192x192 cross: 64 pixels). The adversary is a
+// --relic that is ignored: the scene's own vase would then be shown every time.
+TEST(RunHeadless, RelicByNameOrFileIsShownAtTheScreensFaceSize) {
+  const fs::path out = holo::test::scratchDir("app_run_relic");
+  {
+    std::ofstream(out / "display.yaml") << "display:\n  layout: cross\n  output_size: [192, 192]\n";
+    std::ofstream(out / "small_museum.yaml")
+        << "base: museum\ncamera: {width: 160, height: 96, hfov_deg: 110, vfov_deg: 70, fps: 30}\n";
+  }
+  holo::saveGltf(out / "kettle.glb", holo::relics::makeRelic("kettle"));
+  auto firstFrame = [&](const std::string& name, const std::string& relic_args) {
+    const fs::path run_out = out / name;
+    const fs::path log = out / (name + ".log");
+    const int rc = runHolopyramid(
+        "run --headless --frames 1 --png-every 1 --scene " + (out / "small_museum.yaml").string() +
+            " --config " + (out / "display.yaml").string() + relic_args + " --out " + run_out.string(),
+        log);
+    EXPECT_EQ(rc, 0) << logText(log);
+    EXPECT_NE(logText(log).find("views 64x64"), std::string::npos) << logText(log);
+    cv::Mat png = cv::imread((run_out / "frame_00000.png").string(), cv::IMREAD_COLOR);
+    EXPECT_FALSE(png.empty()) << name;
+    return png;
+  };
+  const cv::Mat scene_relic = firstFrame("scene", "");
+  const cv::Mat by_name = firstFrame("name", " --relic kettle");
+  const cv::Mat by_file = firstFrame("file", " --relic " + (out / "kettle.glb").string());
+  ASSERT_FALSE(scene_relic.empty() || by_name.empty() || by_file.empty());
+  ASSERT_EQ(by_name.size(), cv::Size(192, 192));
+  auto meanDifference = [](const cv::Mat& a, const cv::Mat& b) {
+    cv::Mat d;
+    cv::absdiff(a, b, d);
+    return cv::mean(d)[0] + cv::mean(d)[1] + cv::mean(d)[2];
+  };
+  const double kettle_vs_vase = meanDifference(by_name, scene_relic);
+  const double file_vs_name = meanDifference(by_file, by_name);
+  EXPECT_GT(kettle_vs_vase, 0.5) << "--relic kettle shows the scene's vase";
+  // The file is the same kettle (saved as glTF and fitted again): nearly the same picture.
+  EXPECT_LT(file_vs_name, 0.25 * kettle_vs_vase) << file_vs_name << " vs " << kettle_vs_vase;
+}
+
 }  // namespace
 
 namespace {
@@ -154,6 +197,61 @@ TEST(BenchFrame, JsonHasTheStagesTheFloorAndTheFrameTime) {
   EXPECT_GT(floor, 0.0);
   EXPECT_GT(frame, 0.0);
   EXPECT_NEAR(j["fps"].get<double>(), 1000.0 / frame, 1e-6 * j["fps"].get<double>() + 1e-9);
+}
+
+}  // namespace
+
+namespace {
+
+fs::path smallMuseum(const fs::path& dir) {
+  std::ofstream(dir / "small_museum.yaml")
+      << "base: museum\ncamera: {width: 160, height: 96, hfov_deg: 110, vfov_deg: 70, fps: 30}\n";
+  return dir / "small_museum.yaml";
+}
+
+// `bench frame --live`: cameras at their rate on capture threads; every frame's latency from its
+// oldest camera frame's arrival to its presentation, and the frame time's spread. Their sizes are
+// figures (docs/frame_loop.md); here they must exist and be ordered as a distribution's are.
+TEST(BenchFrame, LiveReportsArrivalToPresentLatencyAndFrameTimeSpread) {
+  const fs::path out = holo::test::scratchDir("app_bench_frame_live");
+  const fs::path json = out / "bench.json";
+  const int rc = runHolopyramid("bench frame --live --frames 4 --warmup 1 --view-size 32 --scene " +
+                                    smallMuseum(out).string() + " --json " + json.string(),
+                                out / "log.txt");
+  ASSERT_EQ(rc, 0) << logText(out / "log.txt");
+  const nlohmann::json j = readJson(json);
+  EXPECT_TRUE(j.at("live").get<bool>());
+  EXPECT_EQ(j.at("camera_frames").at("mode").get<std::string>(), "live");
+  const double median = j.at("latency_median_ms").get<double>(), p99 = j.at("latency_p99_ms").get<double>();
+  EXPECT_GT(median, 0.0);
+  EXPECT_GE(p99, median);
+  EXPECT_GE(j.at("frame_p99_ms").get<double>(), j.at("frame_ms").get<double>());
+}
+
+// `bench scaling` at toy sizes: a point per swept value with its frame, floor and peak memory, the
+// plots naming every point, and the serial part from the 1- and 2-thread frames.
+TEST(BenchScaling, WritesAPointPerValueThePlotsAndTheSerialPart) {
+  const fs::path out = holo::test::scratchDir("app_bench_scaling");
+  const int rc = runHolopyramid(
+      "bench scaling --sweeps pixels,threads --view-sizes 32,48 --threads-view-size 32 "
+      "--frames 2 --warmup 0 --scene " +
+          smallMuseum(out).string() + " --out " + (out / "plots").string(),
+      out / "log.txt");
+  ASSERT_EQ(rc, 0) << logText(out / "log.txt");
+  const nlohmann::json j = readJson(out / "plots" / "scaling.json");
+  ASSERT_EQ(j.at("points").size(), 4u);
+  for (const nlohmann::json& p : j.at("points")) {
+    EXPECT_GT(p.at("frame_ms").get<double>(), 0.0) << p;
+    EXPECT_GT(p.at("floor_ms").get<double>(), 0.0) << p;
+    EXPECT_GT(p.at("peak_mib").get<double>(), 10.0) << p;
+  }
+  const double serial = j.at("serial_fraction").get<double>();
+  EXPECT_GE(serial, 0.0);
+  EXPECT_LE(serial, 1.0);
+  const std::string pixels = logText(out / "plots" / "time_pixels.svg");
+  for (const char* label : {"32x32", "48x48", "packet floor"})
+    EXPECT_NE(pixels.find(label), std::string::npos) << label;
+  EXPECT_NE(logText(out / "plots" / "memory_threads.svg").find("2 threads"), std::string::npos);
 }
 
 }  // namespace

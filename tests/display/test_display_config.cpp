@@ -63,7 +63,7 @@ display:
 TEST(DisplayConfig, FileWithoutDisplaySectionGivesDefaults) {
   const DisplayConfig config = loadDisplayConfig(writeYaml("other", "capture: {cameras: 4}\n"));
   EXPECT_EQ(config.layout, LayoutKind::Cross);
-  EXPECT_EQ(config.output_size, cv::Size(1080, 1080));
+  EXPECT_EQ(config.output_size, cv::Size(1920, 1080));  // a Full HD screen
 }
 
 struct BadCase {

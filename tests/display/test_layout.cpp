@@ -1,6 +1,8 @@
 // Layout math (no OpenGL): where the corners of each face's image land on the outputs.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "holo/core/error.hpp"
 #include "holo/display/layout.hpp"
 
@@ -91,6 +93,23 @@ TEST(Layout, ArbitraryRotationFitsTheRotatedBoxInsideTheView) {
     EXPECT_GE(c.y, p.view.y - 1e-3f);
     EXPECT_LE(c.y, p.view.y + p.view.height + 1e-3f);
   }
+}
+
+// The face size the loop renders at follows the screen: what a face covers on it, no more.
+TEST(Layout, FaceViewPixelsAreWhatTheScreenShowsAFaceAt) {
+  DisplayConfig config;  // cross on a Full HD screen: a third of its 1080 rows per face
+  EXPECT_EQ(faceViewPixels(config, {1920, 1080}), 360);
+  EXPECT_EQ(faceViewPixels(config, {3840, 2160}), 720);
+  config.layout = LayoutKind::Monitors;  // a whole monitor per face: its shorter side
+  EXPECT_EQ(faceViewPixels(config, {1920, 1080}), 1080);
+  config.layout = LayoutKind::Cross;
+  config.faces[2].scale = 1.5f;  // the largest face decides, so none is shown upscaled
+  EXPECT_EQ(faceViewPixels(config, {1920, 1080}), 540);
+  config.faces[2].scale = 1.0f;
+  config.faces[1].rotation_deg = 45.0f;  // a tilted face is fitted smaller: the others decide
+  EXPECT_EQ(faceViewPixels(config, {1920, 1080}), 360);
+  for (FaceSettings& face : config.faces) face.rotation_deg = 45.0f;
+  EXPECT_EQ(faceViewPixels(config, {1920, 1080}), static_cast<int>(std::lround(360.0 / std::sqrt(2.0))));
 }
 
 TEST(Layout, EmptyCropIsAnError) {

@@ -156,6 +156,20 @@ TEST(FrameLoop, LiveCamerasFeedTheOverlappedForegroundWhileFramesRender) {
       ++frames_with_all;
       EXPECT_GT(report.foreground_points, 0u);  // the museum's visitors
     }
+    // The frame carries when each camera frame it shows arrived. Each arrived before the frame's
+    // foreground was handed over, so at least the rendering after that separates it from the
+    // presentation: a stamp taken anywhere else (the step's start, the worker's end) would fail.
+    ASSERT_EQ(report.camera_arrivals.size(), 4u);
+    int arrived = 0;
+    for (const auto& arrival : report.camera_arrivals)
+      if (arrival) {
+        ++arrived;
+        EXPECT_LE(*arrival, report.presented_at);
+      }
+    EXPECT_EQ(arrived, report.cameras_live);
+    if (arrived > 0) {
+      EXPECT_GE(report.arrivalToPresentMs(), report.times.dynamic + report.times.statics - 1e-3);
+    }
   }
   EXPECT_EQ(frames_with_all, 4);
   loop.waitForWorker();

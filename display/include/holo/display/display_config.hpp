@@ -5,7 +5,7 @@
 //
 //   display:
 //     layout: cross            # monitors | cross
-//     output_size: [1080, 1080]
+//     output_size: [1920, 1080]
 //     fullscreen: true
 //     exposure: 1.0
 //     cross: {view_size: 0.3333, gap: 0.1667}

@@ -53,8 +53,9 @@ struct AutoFitSettings {
 
 struct DisplayConfig {
   LayoutKind layout = LayoutKind::Cross;
-  // Size of each output when it is not a real monitor (headless, or a window in windowed mode).
-  cv::Size output_size{1080, 1080};
+  // Size of each output when it is not a real monitor (headless, or a window in windowed mode):
+  // a Full HD screen unless configured.
+  cv::Size output_size{1920, 1080};
   // cross layout, fractions of the output's shorter side: side of each view square and the
   // distance from the centre to the inner edge of each view. The views stay on the output when
   // gap + view_size <= 1/2; the defaults (1/3, 1/6) tile the shorter side exactly.
@@ -93,6 +94,13 @@ cv::Rect2f viewRect(const DisplayConfig& config, int face, cv::Size output);
 // `output`. The crop is fitted with its aspect kept so that its rotated bounding box fills the
 // view, then scaled by the face's scale.
 FacePlacement placeFace(const DisplayConfig& config, int face, cv::Size output, cv::Size2f crop);
+
+// The side in output pixels of a square face image as placed on an output of size `output`: the
+// largest over the four faces (their scale and rotation included), rounded, at least 1. Rendering
+// each face at this many pixels shows it without upscaling and without pixels the screen cannot
+// show (cross 1920x1080 with the default view 1/3 of the shorter side: 360; monitors of
+// 1920x1080: 1080).
+int faceViewPixels(const DisplayConfig& config, cv::Size output);
 
 // Headless canvas: the outputs side by side in one image (monitors: a 2x2 sheet, output k at
 // column k % 2, row k / 2; cross: the one output).

@@ -41,6 +41,9 @@ class QuadViewPresenter {
   // False once a window was closed or Escape pressed; always true headless. Polls events.
   virtual bool isOpen() = 0;
   virtual const DisplayConfig& config() const = 0;
+  // Pixels of output `output` (0 .. outputCount - 1): a fullscreen window's, its monitor's mode;
+  // otherwise config().output_size.
+  virtual cv::Size outputSize(int /*output*/) const { return config().output_size; }
   // Crop rectangles (face image pixels) used for the last frame; the whole image without
   // auto-fit; an empty rectangle for a face never given.
   virtual const std::array<cv::Rect2f, kFaceCount>& lastCrops() const = 0;
@@ -48,6 +51,10 @@ class QuadViewPresenter {
   // after the last present(); without it an unfinished recording is discarded.
   virtual void finish() {}
 };
+
+// The side in pixels at which to render square face images for `presenter`'s screen: the largest
+// face as placed on its output (faceViewPixels, layout.hpp), over the outputs.
+int screenFaceViewPixels(const QuadViewPresenter& presenter);
 
 // Throws holo::Error with EGL's reason when no OpenGL 3.3 core context can be made.
 std::unique_ptr<QuadViewPresenter> makeHeadlessPresenter(const DisplayConfig& config);

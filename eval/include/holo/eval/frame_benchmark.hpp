@@ -23,6 +23,12 @@ struct FrameBenchOptions {
   // Simulate every camera frame before timing and replay them: real cameras deliver their
   // frames, while simulating four costs about a frame of CPU and would compete with it.
   bool preload = true;
+  // Live (loop.live): the cameras deliver at their rate on their own capture threads, frames the
+  // loop is late for are dropped, and each frame's arrival-to-present latency is measured. The
+  // cameras replay a loop of `live_recorded_frames` frames simulated before the run, so that
+  // producing them costs the host nothing, as with real cameras.
+  int live_recorded_frames = 30;
+  int cameras = 0;  // the installation's first N cameras only (bench scaling); 0: all
   // Also render every measured frame with 4 samples per pixel, the interreflection bounce and no
   // reuse (untimed) and measure the displayed images' difference.
   bool reference = false;
@@ -44,6 +50,11 @@ struct FrameBenchmark {
   double page_faults_per_frame = 0;      // minor faults: memory freshly mapped per frame
   // Mean absolute difference in 8-bit sRGB codes against the reference, median over the frames.
   std::optional<double> error_vs_reference_codes;
+  // Over the measured frames: the frame time's 99th percentile (nearest rank) and, live, the
+  // arrival-to-present latency of the oldest camera frame each shows (FrameReport), median and
+  // 99th percentile. Milliseconds.
+  double frame_p99_ms = 0;
+  std::optional<double> latency_median_ms, latency_p99_ms;
   double frameOverFloor() const { return floor_ms > 0 ? median.total / floor_ms : 0.0; }
 };
 

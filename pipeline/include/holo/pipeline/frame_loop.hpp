@@ -70,6 +70,8 @@ reflect::TracerSettings liveTracerSettings();
 // The tracer's samples for an anti-aliasing mode (hit_points.hpp).
 void setAntiAliasing(reflect::TracerSettings& tracer, reflect::AntiAliasing mode);
 
+inline constexpr int kViewSizeFromScreen = 0;
+
 struct FrameLoopOptions {
   // Which installation to run on (simulated::installationFor builds it; the loop runs on the one
   // it is given). `scene`: built-in name or YAML file of the simulated museum (sim::loadScene).
@@ -78,8 +80,10 @@ struct FrameLoopOptions {
   // A configuration file with `capture:` and `exhibit:` sections (installation.hpp): its cameras,
   // calibration, relic and panorama instead of the simulated scene. Empty: `scene`.
   std::string config;
-  bool live = false;         // capture threads at the cameras' rate; else deterministic
-  int view_size = 320;       // pixels, square face views
+  bool live = false;  // capture threads at the cameras' rate; else deterministic
+  // Pixels, square face views; kViewSizeFromScreen: the presenter's screen and layout decide
+  // (display::screenFaceViewPixels: a Full HD cross gives 360), which needs a presenter.
+  int view_size = 320;
   int panorama_width = 512;  // of the simulated hall panorama the IBL is built from (scene)
   // The reflections read the panorama at infinity from its capture point instead of through the
   // installation's proxy (Installation::panorama_proxy): no parallax, for comparisons.
@@ -95,6 +99,12 @@ struct FrameLoopOptions {
   // frame's reflections are rendered and presented. Results are the same either way (the
   // foreground and the rendering each keep their own order); only the time differs.
   bool overlap = true;
+  // Live with overlap: the worker takes the next frame's camera frames as late as still lets its
+  // foreground finish with this frame's rendering (it waits the last frame's rendering time less
+  // its foreground time, 10% kept as margin), so a frame shows camera frames about one foreground
+  // step old at its start instead of a whole frame older. Off: at once (the lowest frame time
+  // when the foreground is the longer stage).
+  bool late_acquisition = true;
   reflect::TracerSettings tracer = liveTracerSettings();
   display::EyeTrackerSettings eyes;
 };
@@ -161,6 +171,8 @@ class FrameLoop {
   void setCrossfade(const display::FaceImages& from, float weight);
 
   const std::string& installationName() const { return installation_name_; }
+  // The face views' side at full quality, pixels (resolved from the screen when so configured).
+  int viewSize() const { return full_view_size_; }
   double cameraFps() const { return fps_; }
   const std::vector<CameraModel>& cameras() const { return cameras_; }
   std::vector<CameraModel> faceViews() const;  // the four views of the last frame
@@ -195,6 +207,10 @@ class FrameLoop {
   mat4 worldToRelic() const;
 
   FrameLoopOptions options_;
+  // Live late acquisition: the last frame's rendering (after its foreground was handed over, to
+  // its presentation) and foreground times, ms.
+  double last_render_ms_ = 0, last_foreground_ms_ = 0;
+  int full_view_size_ = 0;  // options_.view_size as constructed; setQuality lowers options_'s
   std::string installation_name_;
   bool simulated_cameras_ = false;
   double fps_ = 30.0;

@@ -9,8 +9,11 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <vector>
 
+#include "holo/core/rgbd_frame.hpp"
 #include "holo/reflect/effect_plan.hpp"
 
 namespace holo::pipeline {
@@ -42,6 +45,20 @@ struct FrameReport {
   // Newest - oldest arrival time (host clock, ms) of the camera frames this frame was made of;
   // -1 with fewer than 2 of them.
   double camera_skew_ms = -1;
+  // When each camera frame this frame was made of reached the host (RgbdFrame::host_time), per
+  // camera in the installation's order; nullopt where a camera gave none.
+  std::vector<std::optional<Clock::time_point>> camera_arrivals;
+  // When the frame was handed to the presenter (without one: when it was ready to be).
+  Clock::time_point presented_at;
+  // presented_at - the oldest camera arrival, ms: how long the oldest visitor picture this frame
+  // shows had waited when it reached the screen (the presenter's own scan-out not included);
+  // -1 without a camera frame. Meaningful live (deterministic runs stamp frames when grabbed).
+  double arrivalToPresentMs() const {
+    std::optional<Clock::time_point> oldest;
+    for (const auto& arrival : camera_arrivals)
+      if (arrival && (!oldest || *arrival < *oldest)) oldest = arrival;
+    return oldest ? std::chrono::duration<double, std::milli>(presented_at - *oldest).count() : -1.0;
+  }
   std::string plan;  // the effect plan of face 0 ("HitPoints,... (reason)")
   std::array<bool, 4> eyes_tracked{};
   bool presented = false;

@@ -70,7 +70,8 @@ struct PipelineSourceOptions {
   std::shared_ptr<ExhibitControl> control;  // optional: reloads replace the playlist through it
 };
 
-// The live frame loop on `installation`, at `view_size` pixels per face at full quality.
+// The live frame loop on `installation`, at `view_size` pixels per face at full quality
+// (kViewSizeFromScreen, frame_loop.hpp: the size the screen shows a face at).
 // Throws InputError when the installation cannot be opened (as FrameLoop does).
 kiosk::RenderFrame pipelineFrameSource(const display::DisplayConfig& config, bool headless,
                                        Installation installation, int view_size,
