@@ -4,6 +4,7 @@
 
 #include "holo/core/fibonacci_sphere.hpp"
 #include "holo/reflect/bsdf.hpp"
+#include "holo/reflect/surface_shading.hpp"
 
 namespace holo::reflect {
 
@@ -34,8 +35,10 @@ InternalDepth measureInternalDepth(const RenderScene& scene, const PrefilteredIb
     const Material& m = scene.relicGltfMaterial(hit, relic);
     if (!(m.transmission > 0.0f)) continue;
     ++result.probes_hit;
-    traceTransmission(scene, ibl, settings, kMaxInternalDepth + 1, relic.position(ray, hit),
-                      relic.shadingNormal(hit, ray.direction), ray.direction, m, nullptr, &alive);
+    // The entry's textures read as a hit point reads them (a texture may make the glass clear).
+    const SurfacePoint surface = resolveSurface(scene, relic, ray, hit, 0.0f);
+    traceTransmission(scene, ibl, settings, kMaxInternalDepth + 1, surface.position, surface.normal,
+                      ray.direction, m, &surface.material, &alive);
   }
   if (!(alive[0] > 0.0)) return result;
   for (int k = 0; k <= kMaxInternalDepth; ++k) result.left[std::size_t(k)] = alive[std::size_t(k)] / alive[0];
