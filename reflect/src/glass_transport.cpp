@@ -150,7 +150,7 @@ TransmittedPath traceTransmissionPerUnitEntry(const RenderScene& scene, const Pr
                                               const vec3& entry_position, const vec3& entry_normal,
                                               const vec3& entry_direction, const Material& entry,
                                               const SurfaceMaterial* entry_textured,
-                                              std::vector<double>* alive) {
+                                              std::vector<glm::dvec3>* alive) {
   TransmittedPath path;
   const RayScene& relic = scene.relicOnly();
   const float offset = std::max(settings.ray_offset, 1e-5f);
@@ -225,7 +225,7 @@ TransmittedPath traceTransmissionPerUnitEntry(const RenderScene& scene, const Pr
       }
     }
     ++path.events;
-    if (alive && first) (*alive)[0] += luminance(path.entry * throughput);
+    if (alive && first) (*alive)[0] += glm::dvec3(path.entry * throughput);
     // From the interface itself, past `offset` (against meeting it again), so a segment's length
     // is the distance between the interfaces.
     const Ray ray{position, direction};
@@ -264,7 +264,7 @@ TransmittedPath traceTransmissionPerUnitEntry(const RenderScene& scene, const Pr
     normal = surface.normal;
     m = surface.material;
     if (alive && path.events < int(alive->size()))
-      (*alive)[std::size_t(path.events)] += luminance(path.entry * throughput);
+      (*alive)[std::size_t(path.events)] += glm::dvec3(path.entry * throughput);
   }
   path.exited = true;
   path.exit_position = position + direction * offset;
@@ -293,7 +293,7 @@ TransmittedPath traceTransmission(const RenderScene& scene, const PrefilteredIbl
                                   const TracerSettings& settings, int depth, const vec3& entry_position,
                                   const vec3& entry_normal, const vec3& entry_direction,
                                   const Material& entry, const SurfaceMaterial* entry_textured,
-                                  std::vector<double>* alive) {
+                                  std::vector<glm::dvec3>* alive) {
   TransmittedPath path =
       traceTransmissionPerUnitEntry(scene, ibl, settings, depth, entry_position, entry_normal,
                                     entry_direction, entry, entry_textured, alive);

@@ -65,14 +65,14 @@ struct TransmittedPath {
 // Traces the light entering at `position` (shading normal `normal` on the viewer's side) along
 // `direction` (into the surface) through the relic, the entry's Fresnel and transmission weight
 // included; entry_textured (optional): the entry's base colour, metallic, roughness, transmission and
-// thickness as the hit point sampled them from textures (later hits read the factors). `alive` (optional,
-// kMaxInternalDepth + 1 entries) gets the luminance of the energy still being followed after each event count
-// added.
+// thickness as the hit point sampled them from textures (every later hit reads its own textures too;
+// without it the entry reads the factors). `alive` (optional, kMaxInternalDepth + 1 entries) gets the
+// RGB energy still being followed after each event count added.
 TransmittedPath traceTransmission(const RenderScene& scene, const PrefilteredIbl& ibl,
                                   const TracerSettings& settings, int depth, const vec3& position,
                                   const vec3& normal, const vec3& direction, const Material& material,
                                   const SurfaceMaterial* entry_textured = nullptr,
-                                  std::vector<double>* alive = nullptr);
+                                  std::vector<glm::dvec3>* alive = nullptr);
 
 // traceTransmission per unit of light entering: path.entry is set, but scale, resolved and
 // reflected leave it out, for the caller to multiply in (applyEntry), or a neighbour's own (a
@@ -81,7 +81,7 @@ TransmittedPath traceTransmissionPerUnitEntry(const RenderScene& scene, const Pr
                                               const TracerSettings& settings, int depth, const vec3& position,
                                               const vec3& normal, const vec3& direction,
                                               const Material& material, const SurfaceMaterial* entry_textured,
-                                              std::vector<double>* alive);
+                                              std::vector<glm::dvec3>* alive);
 
 // The weight path.entry of light entering along `direction` at a surface of shading normal
 // `normal` (the first event of traceTransmissionPerUnitEntry).
