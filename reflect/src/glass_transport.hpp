@@ -10,7 +10,8 @@
 //  * entering from outside: Snell refraction, F of it reflected back out, the rest tinted by
 //    base_colour (glTF's specular BTDF);
 //  * leaving: where F = 1 (total internal reflection) the path reflects and goes on. Otherwise the
-//    refracted (1 - F) leaves, and the light that partly reflects inside is followed where it is
+//    refracted (1 - F) leaves (the interface alone: a volume tints where light enters, as the
+//    path tracer's glass), and the light that partly reflects inside is followed where it is
 //    at least TracerSettings::refraction_branch_weight of the light entering and the path's
 //    refraction_branch_rays last: it bounces on inside, each of its exits reading the
 //    prefiltered IBL along its refracted ray into `resolved` (a crystal's facets send it out in
@@ -21,10 +22,14 @@
 //    back (this, and F at a later entry) joins the entry's reflection weight, its hall and its
 //    visitors: between parallel walls it leaves along the entry's mirror direction, and it costs
 //    no lookup; a followed branch's leaves through the face it last reflected from;
+//  * every interface met reads its material as a hit point does (resolveSurface: its textures,
+//    its mapped normal); an opaque one (no transmitted share: a candle inside a hurricane glass)
+//    ends the path, shaded as a hit point with the hall's light through the relic
+//    (inside_glass.hpp), its specular lobe the exit ray (its visitors walked);
 //  * inside a volume (thickness > 0), Beer-Lambert absorption over each segment's length with
 //    sigma = -ln(attenuation_colour) / attenuation_distance (optics.hpp: a channel of colour 0
 //    is fully absorbed); thin-walled materials (thickness 0) pass light straight through, unbent;
-//  * the light not transmitted at a later interface ((1 - transmission) of a partly
+//  * the light not transmitted where a later interface is entered ((1 - transmission) of a partly
 //    transmissive material) is lit by the IBL's irradiance as a Lambert surface.
 // The path that leaves the relic reads the prefiltered IBL at the transmitted lobe's width (every
 // IBL read of transmitted light through the panorama's proxy from where the light leaves, the
