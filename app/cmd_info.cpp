@@ -12,6 +12,7 @@
 #include "holo/core/error.hpp"
 #include "holo/core/gltf_io.hpp"
 #include "holo/core/hdr_io.hpp"
+#include "holo/core/material_checks.hpp"
 
 namespace holo::app {
 namespace {
@@ -93,6 +94,9 @@ int describeGltf(const std::filesystem::path& path) {
   printFeatures("extensions", inventory.extensions);
   printFeatures("texture slots", inventory.texture_slots);
   printFeatures("material properties", inventory.properties);
+  const std::vector<MaterialWarning> warnings = checkMaterials(model);
+  std::cout << "material warnings: " << warnings.size() << "\n";
+  for (const auto& w : warnings) std::cout << "  " << w.message << "\n";
   return 0;
 }
 

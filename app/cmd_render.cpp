@@ -117,6 +117,10 @@ HOLO_REGISTER_COMMAND(Command{
                      "ibl: a level of roughness r is max(48, density / r) texels wide")
           ->capture_default_str()
           ->check(CLI::Range(1, 1024));
+      sub.add_option("--refraction-depth", o->settings.tracer.refraction_depth,
+                     "ours: interface events a transmitted path follows (0: measured on the relic)")
+          ->capture_default_str()
+          ->check(CLI::Range(0, 32));
       sub.add_flag("--no-visitors", o->no_visitors, "Leave the visitors out");
       sub.add_option("--ar-camera", o->ar_camera,
                      "The AR check view of camera N (of --ar-config, else of the simulated museum --scene, "

@@ -4,20 +4,44 @@
 #include <cmath>
 
 #include "holo/reflect/optics.hpp"
+#include "holo/reflect/surface_shading.hpp"
+#include "inside_glass.hpp"
 #include "layer_inputs.hpp"
 
 namespace holo::reflect {
 namespace {
 
 // An interface's transmitted share of the light past its Fresnel reflection, and the tint it
-// transmits with: the entry's as its hit point sampled the textures, later hits' factors.
-float transmittedShare(const Material& m, const SurfaceMaterial* textured) {
-  return (1.0f - clamp01(textured ? textured->metallic : m.metallic)) *
-         clamp01(textured ? textured->transmission : m.transmission);
+// transmits with, from its material as the point's textures give it.
+float transmittedShare(const SurfaceMaterial& m) {
+  return (1.0f - clamp01(m.metallic)) * clamp01(m.transmission);
 }
 
-vec3 transmissionTint(const Material& m, const SurfaceMaterial* textured) {
-  return glm::clamp(textured ? textured->base_colour : m.base_colour, vec3(0.0f), vec3(1.0f));
+vec3 transmissionTint(const SurfaceMaterial& m) {
+  return glm::clamp(m.base_colour, vec3(0.0f), vec3(1.0f));
+}
+
+// A material's factors alone, for an entry whose textures were not sampled.
+SurfaceMaterial factorsOf(const Material& m) {
+  SurfaceMaterial s;
+  s.base_colour = m.base_colour;
+  s.metallic = m.metallic;
+  s.roughness = m.roughness;
+  s.specular = m.specular;
+  s.specular_colour = m.specular_colour;
+  s.transmission = m.transmission;
+  s.ior = m.ior;
+  s.thin_walled = !(m.thickness > 0.0f);
+  s.attenuation_colour = m.attenuation_colour;
+  s.attenuation_distance = m.attenuation_distance;
+  return s;
+}
+
+// Where a transmitted ray meets the relic: every texture slot read there as at a hit point (a
+// glass whose metallic-roughness texture makes it clear reads it inside too), the normal on the
+// ray's side. Sharpest mip level: the light inside has no pixel footprint of its own.
+SurfacePoint meetRelic(const RenderScene& scene, const RayScene& relic, const Ray& ray, const RayHit& hit) {
+  return resolveSurface(scene, relic, ray, hit, 0.0f);
 }
 
 // The parallel-walls sum at a partial exit with reflectance `fresnel` and the last segment's
@@ -64,13 +88,22 @@ void followReflected(const RenderScene& scene, const PrefilteredIbl& ibl, const 
     if (!hit.hit()) break;
     const vec3 last_absorption = transmittance(sigma, hit.t);
     weight *= last_absorption;
-    position = relic.position(ray, hit);
-    vec3 normal = relic.shadingNormal(hit, direction);
-    const Material& m = scene.relicGltfMaterial(hit, relic);
-    if (!isFinite(position) || !isFinite(normal) || !(m.thickness > 0.0f)) break;
+    const SurfacePoint surface = meetRelic(scene, relic, ray, hit);
+    const SurfaceMaterial& m = surface.material;
+    position = surface.position;
+    vec3 normal = surface.normal;
+    if (!isFinite(position) || !isFinite(normal)) break;
+    if (!(transmittedShare(m) > 0.0f)) {  // an opaque part inside the glass
+      const InsideGlassShading opaque = shadeInsideGlass(scene, ibl, settings, surface, direction);
+      path.rays += opaque.rays;
+      path.resolved +=
+          weight * (opaque.shading.diffuse + opaque.shading.specular_scale * opaque.shading.environment);
+      return;
+    }
+    if (m.thin_walled) break;
     float cos_i = -glm::dot(direction, normal);
     if (!(cos_i > 1e-6f)) {
-      normal = hit.geometric_normal;
+      normal = surface.geometric_normal;
       cos_i = std::max(-glm::dot(direction, normal), 1e-6f);
     }
     const float fresnel = fresnelDielectric(cos_i, eta);
@@ -84,15 +117,11 @@ void followReflected(const RenderScene& scene, const PrefilteredIbl& ibl, const 
       path.reflected += weight;
       return;
     }
-    const float transmitted = transmittedShare(m, nullptr);
-    const vec3 tint = transmissionTint(m, nullptr);
     const float spread = alpha * std::min(safeIor(m.ior) - 1.0f, 2.0f) * 0.5f;
     const vec3 outside = iblSeenFrom(ibl, position, refractIncident(direction, normal, eta),
                                      lobeWidth(settings, alpha2 + spread * spread));
-    const vec3 lit =
-        transmitted < 1.0f ? (1.0f - transmitted) * tint * ibl.irradiance(-normal) / kPi : vec3(0.0f);
     if (budget > 0 && luminance(weight) * fresnel >= settings.refraction_branch_weight) {
-      path.resolved += weight * (1.0f - fresnel) * (transmitted * tint * outside + lit);
+      path.resolved += weight * (1.0f - fresnel) * outside;
       weight *= fresnel;
       direction = reflected_direction;
       alpha2 += alpha * alpha;
@@ -102,11 +131,11 @@ void followReflected(const RenderScene& scene, const PrefilteredIbl& ibl, const 
     }
     vec3 back, front;
     parallelWalls(fresnel, last_absorption, back, front);
-    path.resolved += weight * (back * transmitted * tint * outside + (back + front) * lit);
+    path.resolved += weight * back * outside;
     if (has_behind)
-      path.resolved += weight * front * transmitted * tint * behind;
+      path.resolved += weight * front * behind;
     else
-      path.reflected += weight * front * transmitted * tint;
+      path.reflected += weight * front;
     return;
   }
   path.resolved += weight * iblSeenFrom(ibl, position, direction, lobeWidth(settings, alpha2));
@@ -121,37 +150,34 @@ TransmittedPath traceTransmissionPerUnitEntry(const RenderScene& scene, const Pr
                                               const vec3& entry_position, const vec3& entry_normal,
                                               const vec3& entry_direction, const Material& entry,
                                               const SurfaceMaterial* entry_textured,
-                                              std::vector<double>* alive) {
+                                              std::vector<glm::dvec3>* alive) {
   TransmittedPath path;
   const RayScene& relic = scene.relicOnly();
   const float offset = std::max(settings.ray_offset, 1e-5f);
   vec3 throughput(1.0f), last_absorption(1.0f), sigma(0.0f);
   vec3 position = entry_position, normal = entry_normal, geometric = entry_normal;
   vec3 direction = entry_direction;
-  const Material* material = &entry;
+  // The material of the interface met, as its textures give it there.
+  SurfaceMaterial m = entry_textured ? *entry_textured : factorsOf(entry);
   bool inside = false;
   float medium_ior = 1.0f, alpha2 = 0.0f;
   int branch_budget = settings.refraction_branch_rays;
   const auto lobe = [&] { return lobeWidth(settings, alpha2); };
   for (;;) {
-    // One interface event at (position, normal facing the incoming ray, material).
+    // One interface event at (position, normal facing the incoming ray, m).
     float cos_i = -glm::dot(direction, normal);
     if (!(cos_i > 1e-6f)) {  // a shading normal turned past the ray: the face's own normal
       normal = geometric;
       cos_i = std::max(-glm::dot(direction, normal), 1e-6f);
     }
-    const Material& m = *material;
     const bool first = path.events == 0;
-    // The entry's factors as the hit point sampled its textures; later hits read the factors.
-    const SurfaceMaterial* textured = first ? entry_textured : nullptr;
     const float ior = safeIor(m.ior);
-    const bool thin = textured ? textured->thin_walled : !(m.thickness > 0.0f);
+    const bool thin = m.thin_walled;
     const float eta = thin || !inside ? ior : 1.0f / medium_ior;
     const float fresnel = fresnelDielectric(cos_i, eta);
-    const float transmitted = transmittedShare(m, textured);
-    const vec3 tint = transmissionTint(m, textured);
-    const float roughness = clamp01(textured ? textured->roughness : m.roughness);
-    const float alpha = roughness * roughness;
+    const float transmitted = transmittedShare(m);
+    const vec3 tint = transmissionTint(m);
+    const float alpha = clamp01(m.roughness) * clamp01(m.roughness);
     const float spread = alpha * std::min(ior - 1.0f, 2.0f) * 0.5f;
     if (inside && !thin && fresnel >= 1.0f) {  // total internal reflection
       direction = glm::reflect(direction, normal);
@@ -173,11 +199,8 @@ TransmittedPath traceTransmissionPerUnitEntry(const RenderScene& scene, const Pr
         parallelWalls(fresnel, last_absorption, back, front);
       }
       alpha2 += spread * spread;
-      path.reflected += throughput * front * transmitted * tint;
-      if (transmitted < 1.0f)
-        path.resolved +=
-            throughput * (back + front) * (1.0f - transmitted) * tint * ibl.irradiance(-normal) / kPi;
-      throughput *= back * transmitted * tint;
+      path.reflected += throughput * front;
+      throughput *= back;
       direction = refracted;
       inside = false;
     } else {
@@ -202,7 +225,7 @@ TransmittedPath traceTransmissionPerUnitEntry(const RenderScene& scene, const Pr
       }
     }
     ++path.events;
-    if (alive && first) (*alive)[0] += luminance(path.entry * throughput);
+    if (alive && first) (*alive)[0] += glm::dvec3(path.entry * throughput);
     // From the interface itself, past `offset` (against meeting it again), so a segment's length
     // is the distance between the interfaces.
     const Ray ray{position, direction};
@@ -213,6 +236,22 @@ TransmittedPath traceTransmissionPerUnitEntry(const RenderScene& scene, const Pr
       last_absorption = transmittance(sigma, hit.t);
       throughput *= last_absorption;
     }
+    const SurfacePoint surface = meetRelic(scene, relic, ray, hit);
+    if (!isFinite(surface.position) || !isFinite(surface.normal)) break;
+    if (!(transmittedShare(surface.material) > 0.0f)) {
+      // An opaque part inside the glass, whatever the depth: shaded where the path meets it, its
+      // specular lobe the path's exit (the visitors it reflects are walked along it).
+      const InsideGlassShading opaque = shadeInsideGlass(scene, ibl, settings, surface, direction);
+      path.rays += opaque.rays;
+      path.resolved += throughput * opaque.shading.diffuse;
+      path.exited = true;
+      path.exit_position = surface.position + surface.normal * offset;
+      path.exit_direction = glm::reflect(direction, surface.normal);
+      path.roughness = clamp01(surface.material.roughness);
+      path.scale = throughput * opaque.shading.specular_scale;
+      path.environment = opaque.shading.environment;
+      return path;
+    }
     if (path.events >= depth) {  // the cap: what is left goes to the IBL along the last direction
       path.resolved += throughput * iblSeenFrom(ibl, position, direction, lobe());
       path.exit_position = position + direction * offset;
@@ -220,13 +259,12 @@ TransmittedPath traceTransmissionPerUnitEntry(const RenderScene& scene, const Pr
       path.roughness = lobe();
       return path;
     }
-    position = relic.position(ray, hit);
-    geometric = hit.geometric_normal;
-    normal = relic.shadingNormal(hit, direction);
-    material = &scene.relicGltfMaterial(hit, relic);
-    if (!isFinite(position) || !isFinite(normal)) break;
+    position = surface.position;
+    geometric = surface.geometric_normal;
+    normal = surface.normal;
+    m = surface.material;
     if (alive && path.events < int(alive->size()))
-      (*alive)[std::size_t(path.events)] += luminance(path.entry * throughput);
+      (*alive)[std::size_t(path.events)] += glm::dvec3(path.entry * throughput);
   }
   path.exited = true;
   path.exit_position = position + direction * offset;
@@ -241,7 +279,8 @@ vec3 entryWeight(const vec3& normal, const vec3& direction, const Material& m,
                  const SurfaceMaterial* textured) {
   const float cos_i = std::max(-glm::dot(direction, normal), 1e-6f);
   const float fresnel = fresnelDielectric(cos_i, safeIor(m.ior));
-  return (1.0f - fresnel) * transmittedShare(m, textured) * transmissionTint(m, textured);
+  const SurfaceMaterial surface = textured ? *textured : factorsOf(m);
+  return (1.0f - fresnel) * transmittedShare(surface) * transmissionTint(surface);
 }
 
 void applyEntry(TransmittedPath& path) {
@@ -254,7 +293,7 @@ TransmittedPath traceTransmission(const RenderScene& scene, const PrefilteredIbl
                                   const TracerSettings& settings, int depth, const vec3& entry_position,
                                   const vec3& entry_normal, const vec3& entry_direction,
                                   const Material& entry, const SurfaceMaterial* entry_textured,
-                                  std::vector<double>* alive) {
+                                  std::vector<glm::dvec3>* alive) {
   TransmittedPath path =
       traceTransmissionPerUnitEntry(scene, ibl, settings, depth, entry_position, entry_normal,
                                     entry_direction, entry, entry_textured, alive);

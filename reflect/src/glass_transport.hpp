@@ -10,7 +10,8 @@
 //  * entering from outside: Snell refraction, F of it reflected back out, the rest tinted by
 //    base_colour (glTF's specular BTDF);
 //  * leaving: where F = 1 (total internal reflection) the path reflects and goes on. Otherwise the
-//    refracted (1 - F) leaves, and the light that partly reflects inside is followed where it is
+//    refracted (1 - F) leaves (the interface alone: a volume tints where light enters, as the
+//    path tracer's glass), and the light that partly reflects inside is followed where it is
 //    at least TracerSettings::refraction_branch_weight of the light entering and the path's
 //    refraction_branch_rays last: it bounces on inside, each of its exits reading the
 //    prefiltered IBL along its refracted ray into `resolved` (a crystal's facets send it out in
@@ -21,10 +22,14 @@
 //    back (this, and F at a later entry) joins the entry's reflection weight, its hall and its
 //    visitors: between parallel walls it leaves along the entry's mirror direction, and it costs
 //    no lookup; a followed branch's leaves through the face it last reflected from;
+//  * every interface met reads its material as a hit point does (resolveSurface: its textures,
+//    its mapped normal); an opaque one (no transmitted share: a candle inside a hurricane glass)
+//    ends the path, shaded as a hit point with the hall's light through the relic
+//    (inside_glass.hpp), its specular lobe the exit ray (its visitors walked);
 //  * inside a volume (thickness > 0), Beer-Lambert absorption over each segment's length with
 //    sigma = -ln(attenuation_colour) / attenuation_distance (optics.hpp: a channel of colour 0
 //    is fully absorbed); thin-walled materials (thickness 0) pass light straight through, unbent;
-//  * the light not transmitted at a later interface ((1 - transmission) of a partly
+//  * the light not transmitted where a later interface is entered ((1 - transmission) of a partly
 //    transmissive material) is lit by the IBL's irradiance as a Lambert surface.
 // The path that leaves the relic reads the prefiltered IBL at the transmitted lobe's width (every
 // IBL read of transmitted light through the panorama's proxy from where the light leaves, the
@@ -65,14 +70,14 @@ struct TransmittedPath {
 // Traces the light entering at `position` (shading normal `normal` on the viewer's side) along
 // `direction` (into the surface) through the relic, the entry's Fresnel and transmission weight
 // included; entry_textured (optional): the entry's base colour, metallic, roughness, transmission and
-// thickness as the hit point sampled them from textures (later hits read the factors). `alive` (optional,
-// kMaxInternalDepth + 1 entries) gets the luminance of the energy still being followed after each event count
-// added.
+// thickness as the hit point sampled them from textures (every later hit reads its own textures too;
+// without it the entry reads the factors). `alive` (optional, kMaxInternalDepth + 1 entries) gets the
+// RGB energy still being followed after each event count added.
 TransmittedPath traceTransmission(const RenderScene& scene, const PrefilteredIbl& ibl,
                                   const TracerSettings& settings, int depth, const vec3& position,
                                   const vec3& normal, const vec3& direction, const Material& material,
                                   const SurfaceMaterial* entry_textured = nullptr,
-                                  std::vector<double>* alive = nullptr);
+                                  std::vector<glm::dvec3>* alive = nullptr);
 
 // traceTransmission per unit of light entering: path.entry is set, but scale, resolved and
 // reflected leave it out, for the caller to multiply in (applyEntry), or a neighbour's own (a
@@ -81,7 +86,7 @@ TransmittedPath traceTransmissionPerUnitEntry(const RenderScene& scene, const Pr
                                               const TracerSettings& settings, int depth, const vec3& position,
                                               const vec3& normal, const vec3& direction,
                                               const Material& material, const SurfaceMaterial* entry_textured,
-                                              std::vector<double>* alive);
+                                              std::vector<glm::dvec3>* alive);
 
 // The weight path.entry of light entering along `direction` at a surface of shading normal
 // `normal` (the first event of traceTransmissionPerUnitEntry).

@@ -1,9 +1,11 @@
 #include "internal_depth.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "holo/core/fibonacci_sphere.hpp"
 #include "holo/reflect/bsdf.hpp"
+#include "holo/reflect/surface_shading.hpp"
 
 namespace holo::reflect {
 
@@ -20,7 +22,7 @@ InternalDepth measureInternalDepth(const RenderScene& scene, const PrefilteredIb
   // (R2 low-discrepancy offsets): deterministic, even over directions and over the relic.
   constexpr int kProbes = 1024;
   // Traced one event past the largest depth, so the share still inside at that depth is known.
-  std::vector<double> alive(kMaxInternalDepth + 1, 0.0);
+  std::vector<glm::dvec3> alive(kMaxInternalDepth + 1, glm::dvec3(0.0));
   for (int i = 0; i < kProbes; ++i) {
     const vec3 dir = fibonacciDirection(i, kProbes);
     const Frame frame(dir);
@@ -34,11 +36,20 @@ InternalDepth measureInternalDepth(const RenderScene& scene, const PrefilteredIb
     const Material& m = scene.relicGltfMaterial(hit, relic);
     if (!(m.transmission > 0.0f)) continue;
     ++result.probes_hit;
-    traceTransmission(scene, ibl, settings, kMaxInternalDepth + 1, relic.position(ray, hit),
-                      relic.shadingNormal(hit, ray.direction), ray.direction, m, nullptr, &alive);
+    // The entry's textures read as a hit point reads them (a texture may make the glass clear).
+    const SurfacePoint surface = resolveSurface(scene, relic, ray, hit, 0.0f);
+    traceTransmission(scene, ibl, settings, kMaxInternalDepth + 1, surface.position, surface.normal,
+                      ray.direction, m, &surface.material, &alive);
   }
-  if (!(alive[0] > 0.0)) return result;
-  for (int k = 0; k <= kMaxInternalDepth; ++k) result.left[std::size_t(k)] = alive[std::size_t(k)] / alive[0];
+  // Per RGB channel, the largest share left: a volume that absorbs red and green leaves blue light
+  // bouncing long after the luminance is gone (the Khronos hurricane glass's thick bottom).
+  if (!(std::max({alive[0].x, alive[0].y, alive[0].z}) > 0.0)) return result;
+  for (int k = 0; k <= kMaxInternalDepth; ++k) {
+    double left = 0.0;
+    for (int c = 0; c < 3; ++c)
+      if (alive[0][c] > 0.0) left = std::max(left, alive[std::size_t(k)][c] / alive[0][c]);
+    result.left[std::size_t(k)] = left;
+  }
   result.depth = kMaxInternalDepth;
   for (int k = 1; k <= kMaxInternalDepth; ++k)
     if (result.left[std::size_t(k)] < double(residual_limit)) {

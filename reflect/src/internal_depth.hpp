@@ -2,8 +2,8 @@
 // needs (EffectPlan::internal_depth where TracerSettings::refraction_depth is 0, "measured").
 // Probe rays from a sphere of directions around the relic are traced through it (glass
 // transport, glass_transport.hpp) with a cap of kMaxInternalDepth, keeping the share of the
-// transmitted light still being followed after k events; the depth is the smallest k whose share
-// is below TracerSettings::refraction_residual.
+// transmitted light still being followed after k events, per RGB channel; the depth is the
+// smallest k whose largest channel share is below TracerSettings::refraction_residual.
 #pragma once
 
 #include <cstdint>
@@ -21,7 +21,8 @@ namespace holo::reflect {
 struct InternalDepth {
   int depth = 1;
   float residual = 0.0f;         // share of the transmitted light still inside at that depth
-  std::vector<double> left;      // the share after k = 0..kMaxInternalDepth events
+  std::vector<double> left;      // the share after k = 0..kMaxInternalDepth events (the largest
+                                 // over the RGB channels)
   std::uint32_t probes_hit = 0;  // probe rays that met a transmissive material
 };
 // The smallest depth whose residual is below `residual_limit` (kMaxInternalDepth when none is),

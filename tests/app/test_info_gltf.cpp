@@ -27,7 +27,10 @@ TEST(InfoGltf, ListsEveryExtensionAndTextureSlotWithItsState) {
   for (const char* line :
        {"KHR_materials_transmission: rendered (1 material)", "KHR_materials_volume: rendered (1 material)",
         "baseColorTexture: rendered (2 materials)", "occlusionTexture: rendered (2 materials)",
-        "thicknessTexture: rendered (1 material)"})
+        "thicknessTexture: rendered (1 material)", "material warnings: 1",
+        "material 1 (\"GlassHurricaneCandleHolder-glass\"): KHR_materials_volume thickness 0.1 is far from "
+        "its "
+        "meshes' walls"})
     EXPECT_NE(out.find(line), std::string::npos) << line << "\n" << out;
 }
 

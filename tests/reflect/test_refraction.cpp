@@ -469,6 +469,28 @@ TEST(Refraction, InternalDepthIsTheSmallestThatLeavesLessThanTheLimit) {
   for (std::size_t k = 1; k + 1 < deep.left.size(); ++k) EXPECT_LE(deep.left[k + 1], deep.left[k] + 1e-9);
 }
 
+// The depth follows the channel that stays: a diamond cube that absorbs red and green within a few
+// of its widths keeps its blue light bouncing after the luminance is gone, and its depth is the clear
+// cube's, where the luminance (72% green) alone would stop it early and send the blue light out
+// along its last direction.
+TEST(Refraction, InternalDepthFollowsTheChannelTheVolumeDoesNotAbsorb) {
+  const PrefilteredIbl ibl(Environment::uniform(vec3(1.0f)), PrefilterOptions{3, 16, 8});
+  TracerSettings settings;
+  Material diamond;
+  diamond.transmission = 1.0f;
+  diamond.roughness = 0.0f;
+  diamond.ior = 2.42f;
+  diamond.thickness = 0.1f;
+  const InternalDepth clear =
+      measureInternalDepth(RenderScene(slab(1.0f, diamond), {}), ibl, settings, 0.01f);
+  diamond.attenuation_colour = vec3(0.05f, 0.05f, 1.0f);
+  diamond.attenuation_distance = 1.0f;
+  const InternalDepth blue = measureInternalDepth(RenderScene(slab(1.0f, diamond), {}), ibl, settings, 0.01f);
+  EXPECT_EQ(blue.depth, clear.depth);
+  EXPECT_LT(blue.residual, 0.01f);
+  EXPECT_GE(blue.left[std::size_t(blue.depth - 1)], 0.01);
+}
+
 // A sphere of radius 0.15 at (0, 0.3, 0) whose base is black and reflects nothing
 // (SurfaceMaterial::specular 0), under a mirror clearcoat where `coated`: the override is the
 // material at every hit, its coat included (as the path tracer reads it).

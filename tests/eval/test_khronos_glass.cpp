@@ -1,0 +1,203 @@
+// The live renderer held to the path tracer on every Khronos model of ../shared/data (glass with
+// textures, something opaque inside the glass, roughness and IOR grids, attenuation, a clearcoat),
+// over the relic's pixels, as the pyramid displays them (Reinhard at the truth's exposure, sRGB
+// codes 0-255, the mean over the channels of the absolute difference).
+//
+// CI size: a 40^2 view under one real panorama against a 64-spp truth (a few seconds per model),
+// each model held to what the live renderer measures there with a margin (the truth's own noise
+// counts: a second 64-spp truth is 4-7 codes from the first, 8.6 on the candle's pixels), below
+// what it measured with the glass's textures read at the entry only (docs/materials.md).
+// HOLO_FULL_EVAL=1: the 256^2 figure of docs/materials.md, under two real panoramas against a
+// 256-spp truth, the bar of 8 codes (not met on the candle holder and the roughness grid:
+// docs/materials.md says why).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "holo/core/ray_scene.hpp"
+#include "holo/eval/methods.hpp"
+#include "holo/eval/reflection_scene.hpp"
+#include "holo/eval/scoring.hpp"
+#include "holo/reflect/render_scene.hpp"
+#include "holo/reflect/tone_map.hpp"
+#include "holo/reflect/view.hpp"
+#include "shared_data.hpp"
+
+namespace holo::eval {
+namespace {
+
+bool fullEvaluation() {
+  const char* env = std::getenv("HOLO_FULL_EVAL");
+  return env != nullptr && std::string(env) == "1";
+}
+
+struct Size {
+  int pixels, gt_spp;
+  std::vector<std::string> panoramas;
+};
+
+Size evaluationSize() {
+  if (fullEvaluation()) return {256, 256, {"hdri/rooitou_park_1k.hdr", "hdri/st_fagans_interior_1k.hdr"}};
+  return {40, 64, {"hdri/rooitou_park_1k.hdr"}};
+}
+
+ReflectionScene khronosScene(const std::string& model, const std::string& panorama) {
+  SceneOptions options;
+  options.scene = "empty";
+  options.relic = test::sharedData("models/" + model).string();
+  options.panorama = test::sharedData(panorama).string();
+  options.fit = true;
+  return loadReflectionScene(options);
+}
+
+cv::Mat renderView(const std::string& method, const ReflectionScene& scene, const CameraModel& camera,
+                   int spp) {
+  MethodSettings settings;
+  settings.spp = spp;
+  settings.with_visitors = false;
+  return renderMethod(method, scene, camera, settings).image;
+}
+
+// The relic's pixels: 255 where the pixel centre's ray meets `relic` (its cut-out and invisible
+// parts passed); `glass` gets those whose first hit is on a transmissive material.
+cv::Mat relicPixels(const Model& relic, const CameraModel& camera, cv::Mat* glass = nullptr) {
+  const reflect::RenderScene scene(relic, {});
+  cv::Mat mask(camera.height(), camera.width(), CV_8UC1, cv::Scalar(0));
+  if (glass) *glass = mask.clone();
+  for (int y = 0; y < camera.height(); ++y)
+    for (int x = 0; x < camera.width(); ++x) {
+      const RayHit hit = scene.relicOnly().intersect(reflect::primaryRay(camera, vec2(float(x), float(y))));
+      if (!hit.hit()) continue;
+      mask.at<std::uint8_t>(y, x) = 255;
+      if (glass && scene.relicGltfMaterial(hit, scene.relicOnly()).transmissive())
+        glass->at<std::uint8_t>(y, x) = 255;
+    }
+  return mask;
+}
+
+// Mean absolute difference in sRGB codes over the mask's pixels, both images displayed at the
+// truth's automatic exposure.
+double meanCodes(const cv::Mat& ours_hdr, const cv::Mat& truth_hdr, const cv::Mat& mask) {
+  const float exposure = reflect::autoExposure(truth_hdr);
+  const cv::Mat a = reflect::toneMap(ours_hdr, exposure), b = reflect::toneMap(truth_hdr, exposure);
+  double sum = 0;
+  int n = 0;
+  for (int y = 0; y < mask.rows; ++y)
+    for (int x = 0; x < mask.cols; ++x) {
+      if (!mask.at<std::uint8_t>(y, x)) continue;
+      for (int c = 0; c < 3; ++c)
+        sum += std::abs(double(a.at<cv::Vec3b>(y, x)[c]) - double(b.at<cv::Vec3b>(y, x)[c]));
+      ++n;
+    }
+  return n > 0 ? sum / (3.0 * n) : 0.0;
+}
+
+struct KhronosCase {
+  std::string model;
+  double ci_bar;  // sRGB codes at CI size (measured 15.9, 20.9, 4.7, 11.9; with the textures read at
+                  // the entry only 32.5, 34.1, 5.7, 11.9)
+};
+
+void PrintTo(const KhronosCase& c, std::ostream* os) {
+  *os << c.model;
+}
+
+class KhronosGlass : public ::testing::TestWithParam<KhronosCase> {};
+
+TEST_P(KhronosGlass, OursHoldsToThePathTracerOverTheRelic) {
+  const KhronosCase& c = GetParam();
+  HOLO_REQUIRE_SHARED_DATA("models/" + c.model);
+  const Size size = evaluationSize();
+  for (const std::string& panorama : size.panoramas) {
+    HOLO_REQUIRE_SHARED_DATA(panorama);
+    const ReflectionScene scene = khronosScene(c.model, panorama);
+    ViewOptions view;
+    view.width = view.height = size.pixels;
+    const CameraModel camera = viewCamera(view, scene);
+    cv::Mat glass;
+    const cv::Mat mask = relicPixels(scene.relic, camera, &glass);
+    ASSERT_GT(cv::countNonZero(mask), size.pixels * size.pixels / 20) << "the relic is not in the view";
+    const cv::Mat truth = renderView("gt", scene, camera, size.gt_spp);
+    const cv::Mat ours = renderView("ours", scene, camera, 1);
+    const double codes = meanCodes(ours, truth, mask);
+    // Apart, for the figure: the pixels whose first hit is glass and the opaque ones.
+    const cv::Mat opaque = mask & ~glass;
+    std::printf(
+        "%s under %s, %d^2, truth %d spp: ours %.2f sRGB codes from the truth over %d relic pixels "
+        "(%.2f over its %d glass pixels, %.2f over its %d opaque ones)\n",
+        c.model.c_str(), panorama.c_str(), size.pixels, size.gt_spp, codes, cv::countNonZero(mask),
+        meanCodes(ours, truth, glass), cv::countNonZero(glass), meanCodes(ours, truth, opaque),
+        cv::countNonZero(opaque));
+    EXPECT_LT(codes, fullEvaluation() ? 8.0 : c.ci_bar) << panorama;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Models, KhronosGlass,
+                         ::testing::Values(KhronosCase{"khronos_glass_hurricane_candle_holder.glb", 17.5},
+                                           KhronosCase{"khronos_transmission_roughness_test.glb", 23.0},
+                                           KhronosCase{"khronos_attenuation_test.glb", 5.5},
+                                           KhronosCase{"khronos_clearcoat_wicker.glb", 13.5}));
+
+// The candle inside the hurricane glass: the pixels whose view ray meets the glass first and the
+// candle behind it (the relic without its glass). Ours must show the candle there as the truth
+// does; the adversary that leaves what stands inside out (the relic without the candle, the hall
+// seen through the glass instead) must be measurably further from the truth on the same pixels.
+// The bar at 256^2 (HOLO_FULL_EVAL=1) is the 8 codes, not met (15.7).
+TEST(KhronosGlassCandle, TheCandleIsSeenThroughTheGlassAsInTheTruth) {
+  const std::string model = "khronos_glass_hurricane_candle_holder.glb";
+  HOLO_REQUIRE_SHARED_DATA("models/" + model);
+  const Size size = evaluationSize();
+  HOLO_REQUIRE_SHARED_DATA(size.panoramas.front());
+  const ReflectionScene scene = khronosScene(model, size.panoramas.front());
+  ViewOptions view;
+  view.width = view.height = size.pixels;
+  const CameraModel camera = viewCamera(view, scene);
+
+  // The relic split into what transmits and what does not.
+  Model glass = scene.relic, inside = scene.relic;
+  const auto keep = [](Model& m, bool transmissive) {
+    std::erase_if(m.meshes, [&](const TriangleMesh& mesh) {
+      return (m.materials[std::size_t(mesh.material)].transmission > 0.0f) != transmissive;
+    });
+  };
+  keep(glass, true);
+  keep(inside, false);
+  ASSERT_FALSE(glass.meshes.empty());
+  ASSERT_FALSE(inside.meshes.empty());
+  const reflect::RenderScene glass_scene(glass, {}), relic_scene(scene.relic, {}), inside_scene(inside, {});
+  cv::Mat candle(camera.height(), camera.width(), CV_8UC1, cv::Scalar(0));
+  for (int y = 0; y < camera.height(); ++y)
+    for (int x = 0; x < camera.width(); ++x) {
+      const Ray ray = reflect::primaryRay(camera, vec2(float(x), float(y)));
+      const RayHit first = relic_scene.relicOnly().intersect(ray);
+      const RayHit glass_hit = glass_scene.relicOnly().intersect(ray);
+      if (first.hit() && glass_hit.hit() && std::abs(first.t - glass_hit.t) < 1e-6f &&
+          inside_scene.relicOnly().intersect(ray).hit())
+        candle.at<std::uint8_t>(y, x) = 255;
+    }
+  const int pixels = cv::countNonZero(candle);
+  ASSERT_GT(pixels, size.pixels * size.pixels / 100) << "no candle behind the glass in the view";
+
+  const cv::Mat truth = renderView("gt", scene, camera, size.gt_spp);
+  const cv::Mat ours = renderView("ours", scene, camera, 1);
+  ReflectionScene dropped = khronosScene(model, size.panoramas.front());
+  dropped.relic = glass;
+  const cv::Mat without = renderView("ours", dropped, camera, 1);
+  const double codes = meanCodes(ours, truth, candle), dropped_codes = meanCodes(without, truth, candle);
+  std::printf(
+      "candle seen through the glass (%d pixels, %d^2): ours %.2f sRGB codes from the truth, "
+      "the candle left out %.2f\n",
+      pixels, size.pixels, codes, dropped_codes);
+  // Measured at CI size: 18.7 (the truth's own noise there: 8.6), the candle left out 27.4; at
+  // 256^2 15.7 and 24.7. The glass's textures read at the entry only: 40.9 (the candle hidden).
+  EXPECT_LT(codes, fullEvaluation() ? 8.0 : 21.0);
+  EXPECT_GT(dropped_codes, 1.3 * codes);
+}
+
+}  // namespace
+}  // namespace holo::eval
