@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include <tbb/parallel_for.h>
 
@@ -36,6 +37,24 @@ FrameRenderer::FrameRenderer(const RenderScene& scene, const PrefilteredIbl& ibl
       internal_residual_ = measured.residual;
     }
   }
+  if (!settings_.evaluation.self_occlusion) {
+    self_occlusion_reason_ = "self-occlusion off";
+  } else if (scene_.relic().triangleCount() == 0 || scene_.relicIsConvex()) {
+    self_occlusion_reason_ = "convex relic: no self-occlusion";
+  } else {
+    auto visibility = std::make_unique<RelicVisibility>(
+        scene_, RelicVisibilitySettings{settings_.self_occlusion_rays, settings_.self_occlusion_bounces,
+                                        settings_.ray_offset});
+    char figures[96];
+    std::snprintf(figures, sizeof figures, "%zu vertex sides, up to %.0f%% occluded",
+                  visibility->vertexSides(), double(visibility->maxOcclusion()) * 100.0);
+    if (visibility->maxOcclusion() >= settings_.self_occlusion_min) {
+      visibility_ = std::move(visibility);
+      self_occlusion_reason_ = std::string("self-occlusion (") + figures + ")";
+    } else {
+      self_occlusion_reason_ = std::string("no self-occlusion to show (") + figures + ")";
+    }
+  }
   std::vector<float> rough;
   for (const Material& m : scene_.relic().materials)
     if (!m.metallic_roughness_texture.used() && m.roughness >= settings_.foreground_map_roughness &&
@@ -67,6 +86,8 @@ EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
   in.internal_depth = internal_depth_;
   in.internal_residual = internal_residual_;
   in.internal_depth_source = settings_.refraction_depth > 0 ? "set" : "measured";
+  in.self_occlusion = visibility_ != nullptr;
+  in.self_occlusion_reason = self_occlusion_reason_;
   return planEffects(in);
 }
 
@@ -185,8 +206,10 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       cache.hdr = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
       cache.coverage = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
       cache.zero_weight = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
-      StaticShading(scene_, ibl_, settings_, rough_map_.get())
-          .shade(cache.hits, view, cache.shading, cache.walk_rays, cache.bounces, cache.hdr, cache.coverage);
+      out.occluded_samples = StaticShading(scene_, ibl_, settings_, rough_map_.get(),
+                                           plan.has(Pass::SelfOcclusion) ? visibility_.get() : nullptr)
+                                 .shade(cache.hits, view, cache.shading, cache.walk_rays, cache.bounces,
+                                        cache.hdr, cache.coverage);
     }
     if (layered) {
       PassTimer tl(out.timings, plan.has(Pass::Refraction) ? Pass::Refraction : Pass::Clearcoat);
