@@ -22,6 +22,10 @@ std::uint64_t mix(std::uint64_t x) {  // splitmix64's finaliser
   return x ^ (x >> 31);
 }
 
+// The solid angle of a stratum's lobe over the stratum's own (docs/tracer/self_occlusion.md: 1, 4
+// and 9 measured, 4 the lowest error).
+constexpr float kStratumOverlap = 4.0f;
+
 float unitFloat(std::uint64_t bits) {
   return float(bits >> 40) / float(1ull << 24);
 }
@@ -38,36 +42,31 @@ vec3 diffuseAlbedo(const SurfaceMaterial& m) {
 RelicVisibility::RelicVisibility(const RenderScene& scene, const RelicVisibilitySettings& settings)
     : model_(&scene.relic()) {
   const std::string src = "relic visibility";
-  const int side = int(std::lround(std::sqrt(double(std::max(settings.rays_per_vertex, 0)))));
-  if (side * side != settings.rays_per_vertex || side < 2 || side > 64)
-    throw InputError(src, "rays_per_vertex", "a square number 4..4096",
-                     std::to_string(settings.rays_per_vertex));
+  side_ = int(std::lround(std::sqrt(double(std::max(settings.rays_per_vertex, 0)))));
+  if (side_ * side_ != settings.rays_per_vertex || side_ < 2 || side_ > 8)
+    throw InputError(src, "rays_per_vertex", "4, 16, 36 or 64", std::to_string(settings.rays_per_vertex));
   if (settings.bounces < 0 || settings.bounces > 8)
     throw InputError(src, "bounces", "0..8", std::to_string(settings.bounces));
   if (!std::isfinite(settings.ray_offset) || settings.ray_offset < 0.0f || settings.ray_offset > 0.1f)
     throw InputError(src, "ray_offset", "0..0.1 metres", std::to_string(settings.ray_offset));
+  ray_offset_ = settings.ray_offset;
 
   const Model& model = scene.relic();
   const RayScene& relic = scene.relicOnly();
   const int n = settings.rays_per_vertex;
   transfers_.resize(model.meshes.size());
-  // Per mesh, its vertex normals (computed from the faces where the mesh has none).
-  std::vector<std::vector<vec3>> normals(model.meshes.size());
-  struct Job {
-    std::uint32_t mesh, vertex, side;
-  };
-  std::vector<Job> jobs;
+  normals_.resize(model.meshes.size());
   for (std::size_t m = 0; m < model.meshes.size(); ++m) {
     const TriangleMesh& mesh = model.meshes[m];
     if (mesh.triangles.empty()) continue;
     if (mesh.normals.size() == mesh.positions.size()) {
-      normals[m] = mesh.normals;
+      normals_[m] = mesh.normals;
     } else {
       TriangleMesh copy = mesh;
       copy.computeNormals();
-      normals[m] = copy.normals;
+      normals_[m] = copy.normals;
     }
-    for (vec3& normal : normals[m]) {
+    for (vec3& normal : normals_[m]) {
       const float len = glm::length(normal);
       normal = len > 1e-12f && std::isfinite(len) ? normal / len : vec3(0.0f);
     }
@@ -77,26 +76,12 @@ RelicVisibility::RelicVisibility(const RenderScene& scene, const RelicVisibility
                             model.materials[std::size_t(material)].transmission > 0.0f);
     for (std::uint32_t s = 0; s < (two_sided ? 2u : 1u); ++s) {
       transfers_[m][s].resize(mesh.positions.size());
-      for (std::uint32_t v = 0; v < mesh.positions.size(); ++v) jobs.push_back({std::uint32_t(m), v, s});
+      for (std::uint32_t v = 0; v < mesh.positions.size(); ++v)
+        vertex_sides_list_.push_back({std::uint32_t(m), v, s});
     }
   }
+  const std::vector<VertexSide>& jobs = vertex_sides_list_;
   vertex_sides_ = jobs.size();
-
-  // The k-th ray of a vertex side: stratum (k % side, k / side) of the cosine-distributed
-  // hemisphere, its offset within the stratum hashed from the vertex side.
-  const auto rayOf = [&](const Job& job, int k) {
-    const vec3 normal = (job.side == 0 ? 1.0f : -1.0f) * normals[job.mesh][job.vertex];
-    const std::uint64_t key =
-        mix((std::uint64_t(job.mesh) << 40) ^ (std::uint64_t(job.vertex) << 1) ^ job.side);
-    const float jx = unitFloat(mix(key ^ std::uint64_t(2 * k))),
-                jy = unitFloat(mix(key ^ std::uint64_t(2 * k + 1)));
-    const float u1 = (float(k % side) + jx) / float(side), u2 = (float(k / side) + jy) / float(side);
-    const float r = std::sqrt(u1), phi = 2.0f * kPi * u2;
-    const Frame frame(normal);
-    const vec3 origin = model.meshes[job.mesh].positions[job.vertex] + settings.ray_offset * normal;
-    return Ray{origin, frame.toWorld(
-                           vec3(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(1.0f - u1, 0.0f))))};
-  };
 
   // Pass 0: the open directions' clamped cosine; pass b: plus the bounce off the transfers of
   // pass b - 1.
@@ -108,24 +93,27 @@ RelicVisibility::RelicVisibility(const RenderScene& scene, const RelicVisibility
         tbb::blocked_range<std::size_t>(0, jobs.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
           std::uint64_t cast = 0;
           for (std::size_t j = r.begin(); j < r.end(); ++j) {
-            const Job& job = jobs[j];
-            const vec3 normal = (job.side == 0 ? 1.0f : -1.0f) * normals[job.mesh][job.vertex];
+            const VertexSide& job = jobs[j];
+            const vec3 normal = (job.side == 0 ? 1.0f : -1.0f) * normals_[job.mesh][job.vertex];
             Transfer out;
-            if (!isFinite(normal) || !(glm::length(normal) > 0.5f)) {
-              transfers_[job.mesh][job.side][job.vertex] = out;  // no hemisphere: left unoccluded, black
+            if (!(glm::length(normal) > 0.5f)) {
+              transfers_[job.mesh][job.side][job.vertex] = out;  // no hemisphere: nothing reaches it
               continue;
             }
             const auto y = IrradianceSH::basis(normal);
-            for (int i = 0; i < 9; ++i) out.t[i] = vec3(IrradianceSH::kCosineLobe[i] * y[i]);
+            for (int i = 0; i < 9; ++i) out.whole[i] = vec3(IrradianceSH::kCosineLobe[i] * y[i]);
             int occluded = 0;
             for (int k = 0; k < n; ++k) {
-              const Ray ray = rayOf(job, k);
+              const Ray ray = this->ray(job, k);
               const RayHit hit = relic.intersect(ray);
               ++cast;
-              if (!hit.hit()) continue;
+              if (!hit.hit()) {
+                out.open_strata |= std::uint64_t(1) << k;
+                continue;
+              }
               ++occluded;
               const auto yw = IrradianceSH::basis(ray.direction);
-              for (int i = 0; i < 9; ++i) out.t[i] -= vec3(kPi / float(n) * yw[i]);
+              for (int i = 0; i < 9; ++i) out.whole[i] -= vec3(kPi / float(n) * yw[i]);
               if (pass == 0) continue;
               const SurfacePoint s = resolveSurface(scene, relic, ray, hit, 0.0f);
               const vec3 albedo = diffuseAlbedo(s.material) * s.occlusion;
@@ -136,10 +124,11 @@ RelicVisibility::RelicVisibility(const RenderScene& scene, const RelicVisibility
               const uvec3 tri = model.meshes[s.location.mesh].triangles[s.location.triangle];
               const float u = s.location.barycentric.x, v = s.location.barycentric.y;
               for (int i = 0; i < 9; ++i)
-                out.t[i] +=
-                    albedo / float(n) *
-                    ((1.0f - u - v) * values[tri.x].t[i] + u * values[tri.y].t[i] + v * values[tri.z].t[i]);
+                out.bounce[i] += albedo / float(n) *
+                                 ((1.0f - u - v) * values[tri.x].whole[i] + u * values[tri.y].whole[i] +
+                                  v * values[tri.z].whole[i]);
             }
+            for (int i = 0; i < 9; ++i) out.whole[i] += out.bounce[i];
             out.open = 1.0f - float(occluded) / float(n);
             transfers_[job.mesh][job.side][job.vertex] = out;
           }
@@ -148,7 +137,7 @@ RelicVisibility::RelicVisibility(const RenderScene& scene, const RelicVisibility
   }
   rays_ = rays.load();
   double sum = 0.0;
-  for (const Job& job : jobs) {
+  for (const VertexSide& job : jobs) {
     const float occlusion = 1.0f - transfers_[job.mesh][job.side][job.vertex].open;
     max_occlusion_ = std::max(max_occlusion_, occlusion);
     sum += double(occlusion);
@@ -156,34 +145,75 @@ RelicVisibility::RelicVisibility(const RenderScene& scene, const RelicVisibility
   mean_occlusion_ = jobs.empty() ? 0.0f : float(sum / double(jobs.size()));
 }
 
+Ray RelicVisibility::ray(const VertexSide& v, int k) const {
+  const vec3 normal = (v.side == 0 ? 1.0f : -1.0f) * normals_[v.mesh][v.vertex];
+  const std::uint64_t key = mix((std::uint64_t(v.mesh) << 40) ^ (std::uint64_t(v.vertex) << 1) ^ v.side);
+  const float jx = unitFloat(mix(key ^ std::uint64_t(2 * k))),
+              jy = unitFloat(mix(key ^ std::uint64_t(2 * k + 1)));
+  const float u1 = (float(k % side_) + jx) / float(side_), u2 = (float(k / side_) + jy) / float(side_);
+  const float r = std::sqrt(u1), phi = 2.0f * kPi * u2;
+  const Frame frame(normal);
+  const vec3 origin = model_->meshes[v.mesh].positions[v.vertex] + ray_offset_ * normal;
+  return {origin,
+          frame.toWorld(vec3(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(1.0f - u1, 0.0f))))};
+}
+
+RelicVisibility::Lighting RelicVisibility::lit(const PrefilteredIbl& ibl) const {
+  Lighting lighting;
+  lighting.irradiance.resize(transfers_.size());
+  for (std::size_t m = 0; m < transfers_.size(); ++m)
+    for (int s = 0; s < 2; ++s)
+      lighting.irradiance[m][std::size_t(s)].resize(transfers_[m][std::size_t(s)].size());
+  const std::array<vec3, 9> radiance = ibl.relicFrameRadiance();
+  const int n = side_ * side_;
+  const std::vector<VertexSide>& jobs = vertex_sides_list_;
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, jobs.size(), 64), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t j = r.begin(); j < r.end(); ++j) {
+          const VertexSide& v = jobs[j];
+          const Transfer& t = transfers_[v.mesh][v.side][v.vertex];
+          vec3 e(0.0f);
+          for (int i = 0; i < 9; ++i) e += t.bounce[i] * radiance[i];
+          const vec3 normal = (v.side == 0 ? 1.0f : -1.0f) * normals_[v.mesh][v.vertex];
+          for (int k = 0; k < n; ++k) {
+            if (!(t.open_strata >> k & 1u)) continue;
+            const Ray ray = this->ray(v, k);
+            // The stratum's solid angle, 1 / (N pdf) with pdf = cos / pi, read as a GGX lobe about the
+            // reflected direction (4 pi alpha^2) kStratumOverlap times as large: neighbouring strata's
+            // lobes overlap, so a small bright light does not flicker between vertices as it falls in
+            // one stratum or the next.
+            const float cosine = std::max(glm::dot(ray.direction, normal), 1e-3f);
+            const float alpha = std::sqrt(kStratumOverlap * kPi / (float(n) * cosine) / (4.0f * kPi));
+            e += kPi / float(n) * ibl.seenFrom(ray.origin, ray.direction, std::min(std::sqrt(alpha), 1.0f));
+          }
+          lighting.irradiance[v.mesh][v.side][v.vertex] = isFinite(e) ? glm::max(e, vec3(0.0f)) : vec3(0.0f);
+        }
+      });
+  return lighting;
+}
+
 bool RelicVisibility::covers(const SurfaceLocation& at) const {
   if (!at.located() || at.mesh >= transfers_.size()) return false;
-  const auto& sides = transfers_[at.mesh];
-  return !sides[at.front ? 0 : 1].empty();
+  return !transfers_[at.mesh][at.front ? 0 : 1].empty();
 }
 
 RelicVisibility::Corners RelicVisibility::corners(const SurfaceLocation& at) const {
-  const auto& values = transfers_[at.mesh][at.front ? 0 : 1];
-  const uvec3 tri = model_->meshes[at.mesh].triangles[at.triangle];
   const float u = at.barycentric.x, v = at.barycentric.y;
-  return {{&values[tri.x], &values[tri.y], &values[tri.z]}, {1.0f - u - v, u, v}};
+  return {model_->meshes[at.mesh].triangles[at.triangle], {1.0f - u - v, u, v}};
 }
 
-vec3 RelicVisibility::irradiance(const SurfaceLocation& at, const std::array<vec3, 9>& radiance) const {
+vec3 RelicVisibility::irradiance(const Lighting& lighting, const SurfaceLocation& at) const {
   const Corners c = corners(at);
-  vec3 e(0.0f);
-  for (int i = 0; i < 9; ++i)
-    e += (c.weight[0] * c.vertex[0]->t[i] + c.weight[1] * c.vertex[1]->t[i] +
-          c.weight[2] * c.vertex[2]->t[i]) *
-         radiance[i];
-  return isFinite(e) ? glm::max(e, vec3(0.0f)) : vec3(0.0f);
+  const std::vector<vec3>& e = lighting.irradiance[at.mesh][at.front ? 0 : 1];
+  return c.weight[0] * e[c.vertex.x] + c.weight[1] * e[c.vertex.y] + c.weight[2] * e[c.vertex.z];
 }
 
 float RelicVisibility::openness(const SurfaceLocation& at) const {
   const Corners c = corners(at);
-  return std::clamp(
-      c.weight[0] * c.vertex[0]->open + c.weight[1] * c.vertex[1]->open + c.weight[2] * c.vertex[2]->open,
-      0.0f, 1.0f);
+  const auto& values = transfers_[at.mesh][at.front ? 0 : 1];
+  return std::clamp(c.weight[0] * values[c.vertex.x].open + c.weight[1] * values[c.vertex.y].open +
+                        c.weight[2] * values[c.vertex.z].open,
+                    0.0f, 1.0f);
 }
 
 }  // namespace holo::reflect

@@ -72,9 +72,13 @@ void LobeBounce::add(const LobeBounce& other, float weight) {
 
 StaticShading::StaticShading(const RenderScene& scene, const PrefilteredIbl& ibl,
                              const TracerSettings& settings, const RoughForegroundMap* rough_map,
-                             const RelicVisibility* visibility)
-    : scene_(scene), ibl_(ibl), settings_(settings), rough_map_(rough_map), visibility_(visibility) {
-  if (visibility_) relic_radiance_ = ibl_.relicFrameRadiance();
+                             const RelicVisibility* visibility, const RelicVisibility::Lighting* lighting)
+    : scene_(scene),
+      ibl_(ibl),
+      settings_(settings),
+      rough_map_(rough_map),
+      visibility_(lighting ? visibility : nullptr),
+      lighting_(lighting) {
   for (const Material& m : scene_.relic().materials)
     lobe_materials_ = lobe_materials_ || m.metallic_roughness_texture.used() || tracesLobe(m.roughness);
   if (const auto& material = scene_.relicMaterialOverride())
@@ -90,7 +94,7 @@ bool StaticShading::tracesLobe(float roughness) const {
 
 SplitSumShading StaticShading::shadeAt(const SurfacePoint& surface, const vec3& wo) const {
   if (!visibility_ || !visibility_->covers(surface.location)) return shadeSurface(ibl_, surface, wo);
-  const vec3 irradiance = visibility_->irradiance(surface.location, relic_radiance_);
+  const vec3 irradiance = visibility_->irradiance(*lighting_, surface.location);
   SplitSumShading parts = ibl_.shadeParts(surface.material, surface.normal, wo,
                                           glm::reflect(-wo, surface.normal), surface.position, &irradiance);
   // The texture's occlusion beyond what the vertices' visibility already holds.
@@ -158,6 +162,23 @@ void StaticShading::compositeBehind(const HitPoint& hp, const LobeShare& share,
   shading.diffuse = a * shading.diffuse + (1.0f - a) * behind;
 }
 
+vec3 StaticShading::secondEnvironment(const SurfacePoint& surface, const Ray& ray, const RayHit& hit,
+                                      const SplitSumShading& second, const LobeShare& share) const {
+  if (!(maxComponent(second.specular_scale) > 0.0f)) return second.environment;
+  const vec3 reflected = glm::reflect(ray.direction, surface.normal);
+  if (!scene_.mayMeetRelicAgain(hit, reflected)) return second.environment;
+  const RayScene& relic = scene_.relicOnly();
+  const Ray next{surface.position + surface.normal * settings_.ray_offset, reflected};
+  const RayHit third_hit = relic.intersect(next);
+  if (!third_hit.hit()) return second.environment;
+  const SurfacePoint third_surface =
+      resolveSurface(scene_, relic, next, third_hit, share.cone_width + (hit.t + third_hit.t) * share.spread);
+  if (!isFinite(third_surface.normal)) return second.environment;
+  const SplitSumShading third = shadeAt(third_surface, -next.direction);
+  const vec3 seen = third.specular_scale * third.environment + third.diffuse;
+  return isFinite(seen) ? seen : second.environment;
+}
+
 LobeBounce StaticShading::traceLobeBounce(const HitPoint& hp, const LobeShare& share) const {
   LobeBounce bounce;
   const Frame frame(hp.normal);
@@ -179,7 +200,7 @@ LobeBounce StaticShading::traceLobeBounce(const HitPoint& hp, const LobeShare& s
         if (!isFinite(surface.normal)) return;
         const SplitSumShading second = shadeAt(surface, -ray.direction);
         bounce.diffuse += second.diffuse;
-        bounce.specular += second.specular_scale * second.environment;
+        bounce.specular += second.specular_scale * secondEnvironment(surface, ray, hit, second, share);
         bounce.met += 1.0f;
       });
   return bounce;

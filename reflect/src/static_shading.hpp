@@ -7,18 +7,20 @@
 // diffuse part); a BLEND hit point is composited over the static shading of what is behind it.
 //
 // Self-occlusion: with the relic's visibility (relic_visibility.hpp), every relic surface's diffuse
-// irradiance is its transfer's under the IBL's radiance coefficients instead of the unoccluded
-// one; the glTF occlusion texture then counts only where it is darker than the vertices' open
-// share (its factor occlusion / openness, at most 1), so the two never darken twice.
+// irradiance is its vertices' lit one instead of the unoccluded SH irradiance; the glTF occlusion texture
+// then counts only where it is darker than the vertices' open share (its factor occlusion / openness, at most
+// 1), so the two never darken twice.
 //
 // Interreflection: a material below rough_interreflection_roughness (and not read from the rough
 // map) follows its mirror ray; where that meets the relic, the point's environment becomes the
 // second point's (its specular scale multiplied in, its diffuse added) and the walk starts there.
 // A rougher one traces its GGX lobe at rough_interreflection_grid^2 strata centres instead: the
 // share that meets the relic sees the second points' static shading (a blur of them as wide as
-// the lobe), the rest the hall; its walk keeps the first point's mirror ray. Interleaved, each
-// hit point traces only the strata of its 2x2 pixel class dealt to its sample, and a 3x3 tent
-// over the pixels of the same surface sums them all.
+// the lobe), the rest the hall; a second point that reflects follows its own mirror ray once
+// more, and where that meets the relic again shows the third point's static shading instead of
+// the hall (inside a bowl the light goes round); its walk keeps the first point's mirror ray. Interleaved,
+// each hit point traces only the strata of its 2x2 pixel class dealt to its sample, and a 3x3 tent over the
+// pixels of the same surface sums them all.
 #pragma once
 
 #include <array>
@@ -56,9 +58,10 @@ struct PixelBounce {
 class StaticShading {
  public:
   // Everything must outlive this; rough_map may be null (no material reads it), visibility null
-  // (no self-occlusion).
+  // (no self-occlusion), else with its lighting under `ibl` (RelicVisibility::lit).
   StaticShading(const RenderScene& scene, const PrefilteredIbl& ibl, const TracerSettings& settings,
-                const RoughForegroundMap* rough_map, const RelicVisibility* visibility = nullptr);
+                const RoughForegroundMap* rough_map, const RelicVisibility* visibility = nullptr,
+                const RelicVisibility::Lighting* lighting = nullptr);
 
   // Shades every valid sample of `hits` (traced from `view`) into shading and walk_rays (per
   // entry of hits.hits; others are left as they were) and writes the static image: hdr, CV_32FC3
@@ -87,6 +90,10 @@ class StaticShading {
   // BLEND: the hit point's shading composited over the static shading of what is behind it.
   void compositeBehind(const HitPoint& hp, const LobeShare& share, SplitSumShading& shading) const;
   LobeBounce traceLobeBounce(const HitPoint& hp, const LobeShare& share) const;
+  // What a lobe sample's second point (`surface`, met by `ray` at `hit`, shaded `second`)
+  // reflects: the hall, or where its mirror ray meets the relic again, that third point's shading.
+  vec3 secondEnvironment(const SurfacePoint& surface, const Ray& ray, const RayHit& hit,
+                         const SplitSumShading& second, const LobeShare& share) const;
   // Whether a material this rough traces its lobe's strata for the interreflection.
   bool tracesLobe(float roughness) const;
   // surface_shading.hpp's shadeSurface, with the visibility's irradiance where it covers the point.
@@ -99,8 +106,8 @@ class StaticShading {
   const TracerSettings& settings_;
   const RoughForegroundMap* rough_map_;
   const RelicVisibility* visibility_;
-  std::array<vec3, 9> relic_radiance_{};  // the IBL's radiance coefficients in the relic's frame
-  bool lobe_materials_ = false;           // some relic material traces its lobe (tracesLobe)
+  const RelicVisibility::Lighting* lighting_;
+  bool lobe_materials_ = false;  // some relic material traces its lobe (tracesLobe)
 };
 
 }  // namespace holo::reflect

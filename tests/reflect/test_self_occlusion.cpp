@@ -160,10 +160,18 @@ TEST(SelfOcclusion, ConvexRelicDoesNoneOfTheWork) {
   FrameRenderer concave(bowl, ibl);
   ASSERT_NE(concave.visibility(), nullptr);
   EXPECT_GT(concave.visibility()->rays(), 0u);
-  EXPECT_GT(concave.visibility()->maxOcclusion(), 0.5f);  // the floor sees mostly the walls
+  EXPECT_GT(concave.visibility()->maxOcclusion(), 0.4f);  // the floor sees much of the walls
   const FrameResult c = concave.render({}, {}, {bowlView(bowl.relicBounds(), 24)});
   EXPECT_TRUE(c.plan.has(Pass::SelfOcclusion)) << c.plan.describe();
   EXPECT_GT(c.views.at(0).occluded_samples, 0u);
+
+  // The same bowl all metal: its lobes trace their own interreflection, no diffuse part to occlude.
+  const RenderScene metal(relics::makeRelic("metal-bowl"), {});
+  FrameRenderer metal_renderer(metal, ibl);
+  EXPECT_EQ(metal_renderer.visibility(), nullptr);
+  const FrameResult m = metal_renderer.render({}, {}, {bowlView(metal.relicBounds(), 24)});
+  EXPECT_FALSE(m.plan.has(Pass::SelfOcclusion)) << m.plan.describe();
+  EXPECT_EQ(m.views.at(0).occluded_samples, 0u);
 }
 
 // The inside of the Lambert bowl against the path tracer: with the visibility its mean is close
@@ -195,6 +203,7 @@ TEST(SelfOcclusion, Figures) {
   const int size = 128, spp = std::getenv("TMP_SPP") ? std::atoi(std::getenv("TMP_SPP")) : 1024;
   const auto dir = test::scratchDir("self_occlusion");
   for (const std::string hdri : {"st_fagans_interior_1k.hdr", "empty_warehouse_01_1k.hdr"}) {
+    if (std::getenv("TMP_HDRI") && hdri != std::getenv("TMP_HDRI")) continue;
     HOLO_REQUIRE_SHARED_DATA("hdri/" + hdri);
     const Environment env(loadHdr(test::sharedData("hdri/" + hdri)).pixels);
     const PrefilteredIbl ibl(env);
@@ -227,12 +236,14 @@ TEST(SelfOcclusion, Figures) {
       reference::PathTracerOptions other_seed;
       other_seed.seed = 2;
       const double noise =
-          regionError(reference::renderPathTraced(reference::PathTracer(scene, env, other_seed), view, spp), truth,
-                      region)
+          regionError(reference::renderPathTraced(reference::PathTracer(scene, env, other_seed), view, spp),
+                      truth, region)
               .rmse /
           std::sqrt(2.0);
       TracerSettings settings;
-      if (const char* rays = std::getenv("HOLO_SELF_OCCLUSION_RAYS")) settings.self_occlusion_rays = std::atoi(rays);
+      if (const char* rays = std::getenv("HOLO_SELF_OCCLUSION_RAYS"))
+        settings.self_occlusion_rays = std::atoi(rays);
+      if (const char* nb = std::getenv("TMP_BOUNCES")) settings.self_occlusion_bounces = std::atoi(nb);
       const OursRender on = renderOurs(scene, ibl, view, settings);
       const OursRender off = renderOurs(scene, ibl, view, beforeSettings());
       const RegionError with = regionError(on.hdr, truth, region),
@@ -245,9 +256,21 @@ TEST(SelfOcclusion, Figures) {
           without.rmse, without.rmse / with.rmse, on.ms, off.ms, on.visibility_ms, off.visibility_ms,
           (unsigned long long)on.visibility_rays, gt_ms);
       const auto clean = [&](double rmse) { return std::sqrt(std::max(rmse * rmse - noise * noise, 0.0)); };
-      std::printf("  truth noise rmse %.5f, mean truth %.4f; without it: rmse %.5f with, %.5f without (%.2fx lower)\n",
-                  noise, with.mean_truth, clean(with.rmse), clean(without.rmse), clean(without.rmse) / clean(with.rmse));
+      std::printf(
+          "  truth noise rmse %.5f, mean truth %.4f; without it: rmse %.5f with, %.5f without (%.2fx "
+          "lower)\n",
+          noise, with.mean_truth, clean(with.rmse), clean(without.rmse),
+          clean(without.rmse) / clean(with.rmse));
       std::printf("  plan: %s\n", on.frame.plan.describe().c_str());
+      if (std::getenv("TMP_DUMP"))
+        for (int y = 0; y < size; y += 4) {
+          std::printf("  row %3d:", y);
+          for (int x = 8; x < size; x += 8)
+            if (region.at<std::uint8_t>(y, x))
+              std::printf(" %.2f/%.2f/%.2f", luminance(rgbAt(truth, x, y)), luminance(rgbAt(on.hdr, x, y)),
+                          luminance(rgbAt(off.hdr, x, y)));
+          std::printf("\n");
+        }
       const float e = autoExposure(truth);
       const std::string stem = (dir / (hdri.substr(0, hdri.find('_')) + "_" + relic)).string();
       cv::imwrite(stem + "_truth.png", toneMap(truth, e));

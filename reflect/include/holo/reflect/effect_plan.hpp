@@ -5,8 +5,9 @@
 // seen through it), and the effect is on. The material effects run only where a relic material
 // calls for them: Refraction (KHR_materials_transmission) with the internal depth measured on the
 // relic (refraction_pass.hpp), Clearcoat (KHR_materials_clearcoat); an opaque relic's frame does
-// no refraction work at all. SelfOcclusion runs where the relic shadows itself by more than
-// TracerSettings::self_occlusion_min (relic_visibility.hpp, built with the renderer): a convex
+// no refraction work at all. SelfOcclusion runs where a relic with a diffuse material shadows
+// itself by more than TracerSettings::self_occlusion_min (relic_visibility.hpp, built with the
+// renderer; the lobes of metal and glass trace their own interreflection): a convex or all-metal
 // relic casts none of its rays.
 #pragma once
 

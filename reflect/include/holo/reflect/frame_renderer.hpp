@@ -84,6 +84,11 @@ class FrameRenderer {
   // For the relic materials at least foreground_map_roughness rough; null when there is none.
   std::unique_ptr<RoughForegroundMap> rough_map_;
   std::unique_ptr<RelicVisibility> visibility_;
+  // Its lighting under the IBL, lit again when the IBL's panorama or relic turn changes.
+  RelicVisibility::Lighting lighting_;
+  std::uint64_t lit_source_ = 0;
+  float lit_turn_ = 0.0f;
+  bool lit_ = false;
   std::string self_occlusion_reason_;
   std::vector<std::unique_ptr<ViewCache>> caches_;  // per view slot
 };

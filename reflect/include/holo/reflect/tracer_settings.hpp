@@ -102,10 +102,11 @@ struct TracerSettings {
   // would show a sharp image of them.
   float rough_interreflection_roughness = 0.3f;
   // Rays per vertex and side of the relic's visibility (relic_visibility.hpp), built when the
-  // renderer is built, for a relic that is not convex; a square number 4..4096; default 64.
+  // renderer is built, for a relic that is not convex: 4, 16, 36 or 64; default 64.
   int self_occlusion_rays = 64;
-  // Diffuse interreflection bounces folded into the visibility's transfer, 0..8; default 2.
-  int self_occlusion_bounces = 2;
+  // Diffuse interreflection bounces folded into the visibility's transfer, 0..8; default 4: the
+  // Lambert bowl's inside loses 3% of its light with 2 (docs/tracer/self_occlusion.md).
+  int self_occlusion_bounces = 4;
   // A relic whose vertices are all less occluded than this share of their cosine-weighted
   // hemisphere gets no visibility (the plan leaves it off), [0, 1]; default 1/255: below one
   // sRGB code of a white surface.
