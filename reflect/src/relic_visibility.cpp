@@ -43,8 +43,9 @@ RelicVisibility::RelicVisibility(const RenderScene& scene, const RelicVisibility
     : model_(&scene.relic()) {
   const std::string src = "relic visibility";
   side_ = int(std::lround(std::sqrt(double(std::max(settings.rays_per_vertex, 0)))));
-  if (side_ * side_ != settings.rays_per_vertex || side_ < 2 || side_ > 8)
-    throw InputError(src, "rays_per_vertex", "4, 16, 36 or 64", std::to_string(settings.rays_per_vertex));
+  if (side_ * side_ != settings.rays_per_vertex || side_ < 2 || side_ > 16)
+    throw InputError(src, "rays_per_vertex", "a square number 4..256",
+                     std::to_string(settings.rays_per_vertex));
   if (settings.bounces < 0 || settings.bounces > 8)
     throw InputError(src, "bounces", "0..8", std::to_string(settings.bounces));
   if (!std::isfinite(settings.ray_offset) || settings.ray_offset < 0.0f || settings.ray_offset > 0.1f)
@@ -108,7 +109,7 @@ RelicVisibility::RelicVisibility(const RenderScene& scene, const RelicVisibility
               const RayHit hit = relic.intersect(ray);
               ++cast;
               if (!hit.hit()) {
-                out.open_strata |= std::uint64_t(1) << k;
+                out.open_strata[std::size_t(k / 64)] |= std::uint64_t(1) << (k % 64);
                 continue;
               }
               ++occluded;
@@ -176,7 +177,7 @@ RelicVisibility::Lighting RelicVisibility::lit(const PrefilteredIbl& ibl) const 
           for (int i = 0; i < 9; ++i) e += t.bounce[i] * radiance[i];
           const vec3 normal = (v.side == 0 ? 1.0f : -1.0f) * normals_[v.mesh][v.vertex];
           for (int k = 0; k < n; ++k) {
-            if (!(t.open_strata >> k & 1u)) continue;
+            if (!(t.open_strata[std::size_t(k / 64)] >> (k % 64) & 1u)) continue;
             const Ray ray = this->ray(v, k);
             // The stratum's solid angle, 1 / (N pdf) with pdf = cos / pi, read as a GGX lobe about the
             // reflected direction (4 pi alpha^2) kStratumOverlap times as large: neighbouring strata's

@@ -50,8 +50,8 @@ void TracerSettings::validate() const {
                      std::to_string(rough_interreflection_roughness));
   {
     const int side = int(std::lround(std::sqrt(double(std::max(self_occlusion_rays, 0)))));
-    if (side * side != self_occlusion_rays || side < 2 || side > 64)
-      throw InputError(src, "self_occlusion_rays", "a square number 4..4096",
+    if (side * side != self_occlusion_rays || side < 2 || side > 16)
+      throw InputError(src, "self_occlusion_rays", "a square number 4..256",
                        std::to_string(self_occlusion_rays));
   }
   if (self_occlusion_bounces < 0 || self_occlusion_bounces > 8)

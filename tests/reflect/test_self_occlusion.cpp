@@ -98,6 +98,7 @@ struct OursRender {
   cv::Mat hdr;
   double ms = 0;             // the view's static passes (hit points, static shading)
   double visibility_ms = 0;  // building the renderer (the relic's visibility included)
+  double lighting_ms = 0;    // lighting the visibility's vertices under the IBL (first frame)
   std::uint64_t visibility_rays = 0;
   FrameResult frame;
 };
@@ -111,6 +112,8 @@ OursRender renderOurs(const RenderScene& scene, const PrefilteredIbl& ibl, const
   if (renderer.visibility()) out.visibility_rays = renderer.visibility()->rays();
   out.frame = renderer.render({}, {}, {view});
   out.hdr = out.frame.views.at(0).hdr;
+  for (const PassTiming& t : out.frame.frame_timings)
+    if (t.pass == Pass::SelfOcclusion) out.lighting_ms += t.ms;
   for (const PassTiming& t : out.frame.views.at(0).timings)
     if (t.pass == Pass::HitPoints || t.pass == Pass::StaticReflections) out.ms += t.ms;
   return out;
@@ -126,6 +129,14 @@ TracerSettings beforeSettings() {
 
 // An open direction's transfer is the clamped cosine's: under the IBL's coefficients turned into the
 // relic's frame it gives the IBL's own irradiance, with the relic turned as well as not.
+// CI's size: 64 rays per vertex instead of the default 256 (a quarter of the visibility's rays;
+// the figures hold the bars on the defaults).
+TracerSettings ciSettings() {
+  TracerSettings s;
+  s.self_occlusion_rays = 64;
+  return s;
+}
+
 TEST(SelfOcclusion, RelicFrameRadianceFollowsTheTurn) {
   const Environment env(skyPanorama(64, 32));
   PrefilteredIbl ibl(env, PrefilterOptions{6, 32, 16});
@@ -157,7 +168,7 @@ TEST(SelfOcclusion, ConvexRelicDoesNoneOfTheWork) {
 
   const RenderScene bowl(relics::makeRelic("bowl"), {});
   ASSERT_FALSE(bowl.relicIsConvex());
-  FrameRenderer concave(bowl, ibl);
+  FrameRenderer concave(bowl, ibl, ciSettings());
   ASSERT_NE(concave.visibility(), nullptr);
   EXPECT_GT(concave.visibility()->rays(), 0u);
   EXPECT_GT(concave.visibility()->maxOcclusion(), 0.4f);  // the floor sees much of the walls
@@ -185,7 +196,7 @@ TEST(SelfOcclusion, LambertBowlInsideMatchesTruthAndWorsensWithoutIt) {
   const cv::Mat region = insideMask(scene, view);
   ASSERT_GT(cv::countNonZero(region), 150);
   const cv::Mat truth = reference::renderPathTraced(reference::PathTracer(scene, env), view, kSpp);
-  const RegionError with = regionError(renderOurs(scene, ibl, view, {}).hdr, truth, region);
+  const RegionError with = regionError(renderOurs(scene, ibl, view, ciSettings()).hdr, truth, region);
   const RegionError without = regionError(renderOurs(scene, ibl, view, beforeSettings()).hdr, truth, region);
   std::printf(
       "Lambert bowl inside, %d px: mean ours/truth %.3f with the visibility, %.3f without; "
@@ -200,15 +211,13 @@ TEST(SelfOcclusion, LambertBowlInsideMatchesTruthAndWorsensWithoutIt) {
 // handle and spout, ours against the path tracer with and without the effect.
 TEST(SelfOcclusion, Figures) {
   if (!std::getenv("HOLO_FULL_EVAL")) GTEST_SKIP() << "HOLO_FULL_EVAL=1 renders the figures";
-  const int size = 128, spp = std::getenv("TMP_SPP") ? std::atoi(std::getenv("TMP_SPP")) : 1024;
+  const int size = 128, spp = 1024;
   const auto dir = test::scratchDir("self_occlusion");
   for (const std::string hdri : {"st_fagans_interior_1k.hdr", "empty_warehouse_01_1k.hdr"}) {
-    if (std::getenv("TMP_HDRI") && hdri != std::getenv("TMP_HDRI")) continue;
     HOLO_REQUIRE_SHARED_DATA("hdri/" + hdri);
     const Environment env(loadHdr(test::sharedData("hdri/" + hdri)).pixels);
     const PrefilteredIbl ibl(env);
     for (const std::string relic : {"bowl", "metal-bowl", "kettle"}) {
-      if (std::getenv("TMP_RELIC") && relic != std::getenv("TMP_RELIC")) continue;
       const RenderScene scene(relics::makeRelic(relic), {});
       const Bounds3 b = scene.relicBounds();
       CameraModel view = bowlView(b, size);
@@ -240,21 +249,17 @@ TEST(SelfOcclusion, Figures) {
                       truth, region)
               .rmse /
           std::sqrt(2.0);
-      TracerSettings settings;
-      if (const char* rays = std::getenv("HOLO_SELF_OCCLUSION_RAYS"))
-        settings.self_occlusion_rays = std::atoi(rays);
-      if (const char* nb = std::getenv("TMP_BOUNCES")) settings.self_occlusion_bounces = std::atoi(nb);
-      const OursRender on = renderOurs(scene, ibl, view, settings);
+      const OursRender on = renderOurs(scene, ibl, view, {});
       const OursRender off = renderOurs(scene, ibl, view, beforeSettings());
       const RegionError with = regionError(on.hdr, truth, region),
                         without = regionError(off.hdr, truth, region);
       std::printf(
           "%s %s: %d px; mean ours/truth %.4f with, %.4f without; rmse %.5f with, %.5f without "
           "(%.2fx lower); static passes %.1f ms with, %.1f ms without; renderer build %.0f ms with, "
-          "%.0f ms without (%llu visibility rays); truth %.0f ms\n",
+          "%.0f ms without (%llu visibility rays), lighting them %.1f ms; truth %.0f ms\n",
           hdri.c_str(), relic.c_str(), with.pixels, with.meanRatio(), without.meanRatio(), with.rmse,
           without.rmse, without.rmse / with.rmse, on.ms, off.ms, on.visibility_ms, off.visibility_ms,
-          (unsigned long long)on.visibility_rays, gt_ms);
+          (unsigned long long)on.visibility_rays, on.lighting_ms, gt_ms);
       const auto clean = [&](double rmse) { return std::sqrt(std::max(rmse * rmse - noise * noise, 0.0)); };
       std::printf(
           "  truth noise rmse %.5f, mean truth %.4f; without it: rmse %.5f with, %.5f without (%.2fx "
@@ -262,15 +267,6 @@ TEST(SelfOcclusion, Figures) {
           noise, with.mean_truth, clean(with.rmse), clean(without.rmse),
           clean(without.rmse) / clean(with.rmse));
       std::printf("  plan: %s\n", on.frame.plan.describe().c_str());
-      if (std::getenv("TMP_DUMP"))
-        for (int y = 0; y < size; y += 4) {
-          std::printf("  row %3d:", y);
-          for (int x = 8; x < size; x += 8)
-            if (region.at<std::uint8_t>(y, x))
-              std::printf(" %.2f/%.2f/%.2f", luminance(rgbAt(truth, x, y)), luminance(rgbAt(on.hdr, x, y)),
-                          luminance(rgbAt(off.hdr, x, y)));
-          std::printf("\n");
-        }
       const float e = autoExposure(truth);
       const std::string stem = (dir / (hdri.substr(0, hdri.find('_')) + "_" + relic)).string();
       cv::imwrite(stem + "_truth.png", toneMap(truth, e));

@@ -1,7 +1,7 @@
 // The relic's self-occlusion under the hall's light, precomputed per vertex when the relic is
 // loaded: visibility under prefiltered lighting (filtered importance sampling, Section 5.2), its
 // interreflection in the per-vertex transfer form of precomputed radiance transfer. Per vertex
-// and side of each relic mesh, N stratified cosine-distributed rays (N <= 64, a square) are cast
+// and side of each relic mesh, N stratified cosine-distributed rays (N <= 256, a square) are cast
 // against the relic once; each vertex side keeps
 //  * which strata are open (a bit mask): lit(), for one environment, sums over the open strata
 //    the prefiltered environment along the stratum's direction, read at the roughness whose lobe
@@ -31,7 +31,7 @@
 namespace holo::reflect {
 
 struct RelicVisibilitySettings {
-  int rays_per_vertex = 64;  // per vertex and side: 4, 16, 36 or 64 (side x side strata)
+  int rays_per_vertex = 256;  // per vertex and side, a square number 4..256 (side x side strata)
   int bounces = 4;           // diffuse interreflection bounces folded in, 0..8 (0: visibility only)
   float ray_offset = 1e-3f;  // metres a ray starts along the vertex normal, against self-hits
 };
@@ -65,9 +65,9 @@ class RelicVisibility {
 
  private:
   struct Transfer {
-    std::array<vec3, 9> whole{};   // T: the irradiance's transfer (what a bounce reads)
-    std::array<vec3, 9> bounce{};  // B: its interreflection part
-    std::uint64_t open_strata = 0;
+    std::array<vec3, 9> whole{};                 // T: the irradiance's transfer (what a bounce reads)
+    std::array<vec3, 9> bounce{};                // B: its interreflection part
+    std::array<std::uint64_t, 4> open_strata{};  // bit k: stratum k is open
     float open = 1.0f;
   };
   struct VertexSide {
