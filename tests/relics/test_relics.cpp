@@ -28,6 +28,7 @@ TEST(Relics, RoundTripThroughGlb) {
     ASSERT_EQ(back.materials.size(), made.materials.size());
     EXPECT_FLOAT_EQ(back.materials[0].roughness, made.materials[0].roughness);
     EXPECT_FLOAT_EQ(back.materials[0].metallic, made.materials[0].metallic);
+    EXPECT_FLOAT_EQ(back.materials[0].specular, made.materials[0].specular);  // the Lambert bowl's 0
     EXPECT_FLOAT_EQ(back.materials[0].transmission, made.materials[0].transmission);
     EXPECT_FLOAT_EQ(back.materials[0].ior, made.materials[0].ior);
     EXPECT_FLOAT_EQ(back.materials[0].thickness, made.materials[0].thickness);
