@@ -166,7 +166,9 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
   if (result.plan.has(Pass::SelfOcclusion) &&
       (!lit_ || lit_source_ != ibl_.sourceHash() || lit_turn_ != ibl_.relicTurn())) {
     PassTimer t(result.frame_timings, Pass::SelfOcclusion);
-    lighting_ = visibility_->lit(ibl_);
+    // A turning relic is lit from the transfer alone: filtering every stratum again at every
+    // turn step would cost a still relic's first frame every frame.
+    lighting_ = visibility_->lit(ibl_, ibl_.relicTurn() == 0.0f);
     lit_source_ = ibl_.sourceHash();
     lit_turn_ = ibl_.relicTurn();
     lit_ = true;

@@ -159,7 +159,7 @@ Ray RelicVisibility::ray(const VertexSide& v, int k) const {
           frame.toWorld(vec3(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(1.0f - u1, 0.0f))))};
 }
 
-RelicVisibility::Lighting RelicVisibility::lit(const PrefilteredIbl& ibl) const {
+RelicVisibility::Lighting RelicVisibility::lit(const PrefilteredIbl& ibl, bool filtered) const {
   Lighting lighting;
   lighting.irradiance.resize(transfers_.size());
   for (std::size_t m = 0; m < transfers_.size(); ++m)
@@ -174,9 +174,9 @@ RelicVisibility::Lighting RelicVisibility::lit(const PrefilteredIbl& ibl) const 
           const VertexSide& v = jobs[j];
           const Transfer& t = transfers_[v.mesh][v.side][v.vertex];
           vec3 e(0.0f);
-          for (int i = 0; i < 9; ++i) e += t.bounce[i] * radiance[i];
+          for (int i = 0; i < 9; ++i) e += (filtered ? t.bounce[i] : t.whole[i]) * radiance[i];
           const vec3 normal = (v.side == 0 ? 1.0f : -1.0f) * normals_[v.mesh][v.vertex];
-          for (int k = 0; k < n; ++k) {
+          for (int k = 0; filtered && k < n; ++k) {
             if (!(t.open_strata[std::size_t(k / 64)] >> (k % 64) & 1u)) continue;
             const Ray ray = this->ray(v, k);
             // The stratum's solid angle, 1 / (N pdf) with pdf = cos / pi, read as a GGX lobe about the

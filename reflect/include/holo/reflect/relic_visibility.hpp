@@ -32,8 +32,8 @@ namespace holo::reflect {
 
 struct RelicVisibilitySettings {
   int rays_per_vertex = 256;  // per vertex and side, a square number 4..256 (side x side strata)
-  int bounces = 4;           // diffuse interreflection bounces folded in, 0..8 (0: visibility only)
-  float ray_offset = 1e-3f;  // metres a ray starts along the vertex normal, against self-hits
+  int bounces = 4;            // diffuse interreflection bounces folded in, 0..8 (0: visibility only)
+  float ray_offset = 1e-3f;   // metres a ray starts along the vertex normal, against self-hits
 };
 
 class RelicVisibility {
@@ -47,9 +47,11 @@ class RelicVisibility {
   struct Lighting {
     std::vector<std::array<std::vector<vec3>, 2>> irradiance;  // per mesh, side, vertex
   };
-  // Lights every vertex side with `ibl` (its relic turn included): a prefiltered lookup per open
-  // stratum plus the interreflection transfer.
-  Lighting lit(const PrefilteredIbl& ibl) const;
+  // Lights every vertex side with `ibl` (its relic turn included). `filtered`: a prefiltered
+  // lookup per open stratum plus the interreflection transfer; else the whole transfer T under
+  // the radiance coefficients alone (9 products a vertex, cheap enough for every frame of a
+  // turning relic; the shadows' detail of the 9 coefficients only).
+  Lighting lit(const PrefilteredIbl& ibl, bool filtered = true) const;
 
   // Whether `at` has a transfer (a located point on a side that was computed).
   bool covers(const SurfaceLocation& at) const;
