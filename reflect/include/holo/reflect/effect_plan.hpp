@@ -58,7 +58,8 @@ struct EffectInputs {
   float internal_residual = 0.0f;
   std::string internal_depth_source;  // "measured" or "set"
   // The relic's visibility was built and occludes enough to show; why or why not, for the plan's
-  // reason ("self-occlusion, 4160 vertex sides, up to 71%", "convex relic", ...).
+  // reason ("self-occlusion (6305 vertex sides, up to 52% occluded)", "convex relic: no
+  // self-occlusion", ...).
   bool self_occlusion = false;
   std::string self_occlusion_reason;
 };

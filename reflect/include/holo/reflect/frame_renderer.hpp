@@ -8,9 +8,9 @@
 // psi_f = psi_d w + psi_s (1 - w) in HDR (specular part; the diffuse irradiance is added to
 // both), and tone-maps to sRGB. Which passes run comes from the effect plan (effect_plan.hpp);
 // every pass is timed. The relic's self-occlusion (relic_visibility.hpp) is built with the
-// renderer, for a relic that is not convex and shadows itself enough to show. The passes live in reflect/src:
-// static_shading, foreground_walk (with its camera choice and near-miss march), compose_pass, and
-// tone_map.hpp's toneMapCovered. What it takes and returns has its own headers: tracer_settings.hpp,
+// renderer, for a diffuse relic that is not convex and shadows itself enough to show. The passes live in
+// reflect/src: static_shading, foreground_walk (with its camera choice and near-miss march), compose_pass,
+// and tone_map.hpp's toneMapCovered. What it takes and returns has its own headers: tracer_settings.hpp,
 // foreground_camera_image.hpp, frame_result.hpp.
 //
 // The relic and the hall do not move, only the eyes: per view slot (the index in `views`) the
@@ -60,7 +60,7 @@ class FrameRenderer {
 
   const VoxelGrid& grid() const { return grid_; }
   // The relic's visibility (SelfOcclusion), built with the renderer; null where the plan leaves
-  // it off (a convex relic, too little occlusion, or switched off).
+  // it off (a convex or all-metal relic, too little occlusion, or switched off).
   const RelicVisibility* visibility() const { return visibility_.get(); }
   const TracerSettings& settings() const { return settings_; }
   // Fixes the exposure (> 0) or makes it automatic (<= 0) from the next frame on.
