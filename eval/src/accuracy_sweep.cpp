@@ -91,6 +91,7 @@ AccuracySweep sweepAccuracy(const AccuracyOptions& o) {
     int refraction_stride = reflect::TracerSettings{}.refraction_stride;
     int refraction_branch_rays = reflect::TracerSettings{}.refraction_branch_rays;
     float refraction_supersample_contrast = reflect::TracerSettings{}.refraction_supersample_contrast;
+    bool self_occlusion = true;  // false: the unoccluded irradiance, the mirror ray at every roughness
   };
   const int lobe = reflect::TracerSettings{}.lobe_components;
   std::vector<OursConfig> ours;
@@ -99,6 +100,12 @@ AccuracySweep sweepAccuracy(const AccuracyOptions& o) {
       for (float voxel : {0.02f, 0.03125f, 0.05f}) ours.push_back({aa, levels, voxel, 0.0f, lobe});
   for (float bias : {-1.0f, 1.0f}) ours.push_back({4, 9, 0.03125f, bias, lobe});
   for (int components : {1, 4}) ours.push_back({4, 9, 0.03125f, 0.0f, components});
+  {  // the default tracer without its self-occlusion and rough lobe: the effect's (time, error) point
+    const reflect::TracerSettings d;
+    OursConfig off{d.aa_samples, d.pyramid_levels, d.grid.voxel_size, 0.0f, lobe};
+    off.self_occlusion = false;
+    ours.push_back(off);
+  }
   // A glass relic: the refraction pass's knobs, around the default tracer.
   const bool transmissive = std::any_of(scene.relic.materials.begin(), scene.relic.materials.end(),
                                         [](const Material& m) { return m.transmission > 0.0f; });
@@ -135,9 +142,14 @@ AccuracySweep sweepAccuracy(const AccuracyOptions& o) {
     s.tracer.refraction_stride = c.refraction_stride;
     s.tracer.refraction_branch_rays = c.refraction_branch_rays;
     s.tracer.refraction_supersample_contrast = c.refraction_supersample_contrast;
+    if (!c.self_occlusion) {
+      s.tracer.evaluation.self_occlusion = false;
+      s.tracer.rough_interreflection_roughness = 2.0f;
+    }
     std::string knob = "aa=" + std::to_string(c.aa) + " levels=" + std::to_string(c.levels) +
                        " voxel_cm=" + fmt(100 * c.voxel, 4) + " level_bias=" + fmt(c.bias, 2) +
                        " lobe=" + std::to_string(c.lobe_components);
+    if (!c.self_occlusion) knob += " self_occlusion=off rough_lobe=mirror";
     if (transmissive)
       knob +=
           " internal_depth=" + (c.refraction_depth > 0 ? std::to_string(c.refraction_depth) : "measured") +

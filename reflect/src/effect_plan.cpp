@@ -24,6 +24,8 @@ const char* passName(Pass pass) {
       return "RoughForegroundMap";
     case Pass::HitPoints:
       return "HitPoints";
+    case Pass::SelfOcclusion:
+      return "SelfOcclusion";
     case Pass::StaticReflections:
       return "StaticReflections";
     case Pass::ForegroundWalk:
@@ -97,9 +99,11 @@ EffectPlan planEffects(const EffectInputs& in) {
     plan.material_reason = "opaque relic";
   }
   plan.material_reason += in.relic_clearcoat ? ", clearcoat" : ", no clearcoat";
+  if (!in.self_occlusion_reason.empty()) plan.material_reason += ", " + in.self_occlusion_reason;
   if (foreground) plan.passes = {Pass::VoxelGrid, Pass::Pyramids};
   if (foreground && in.relic_rough) plan.passes.push_back(Pass::RoughForegroundMap);
   plan.passes.push_back(Pass::HitPoints);
+  if (in.self_occlusion) plan.passes.push_back(Pass::SelfOcclusion);
   plan.passes.push_back(Pass::StaticReflections);
   if (in.relic_transmissive) plan.passes.push_back(Pass::Refraction);
   if (in.relic_clearcoat) plan.passes.push_back(Pass::Clearcoat);

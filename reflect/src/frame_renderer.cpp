@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include <tbb/parallel_for.h>
 
@@ -14,6 +15,24 @@
 #include "static_shading.hpp"
 
 namespace holo::reflect {
+
+namespace {
+
+// Some relic surface reflects diffusely (a base colour not all metal nor glass, or textured so).
+bool relicHasDiffuse(const RenderScene& scene) {
+  const auto diffuse = [](float metallic, float transmission) {
+    return (1.0f - metallic) * (1.0f - transmission) > 0.0f;
+  };
+  if (const auto& m = scene.relicMaterialOverride()) return diffuse(m->metallic, m->transmission);
+  if (scene.relic().materials.empty()) return diffuse(Material{}.metallic, Material{}.transmission);
+  for (const Material& m : scene.relic().materials)
+    if (m.metallic_roughness_texture.used() || m.transmission_texture.used() ||
+        diffuse(m.metallic, m.transmission))
+      return true;
+  return false;
+}
+
+}  // namespace
 
 FrameRenderer::FrameRenderer(const RenderScene& scene, const PrefilteredIbl& ibl, TracerSettings settings)
     : scene_(scene), ibl_(ibl), settings_((settings.validate(), settings)), grid_(settings_.grid) {
@@ -34,6 +53,27 @@ FrameRenderer::FrameRenderer(const RenderScene& scene, const PrefilteredIbl& ibl
           measureInternalDepth(scene_, ibl_, settings_, settings_.refraction_residual);
       internal_depth_ = measured.depth;
       internal_residual_ = measured.residual;
+    }
+  }
+  if (!settings_.evaluation.self_occlusion) {
+    self_occlusion_reason_ = "self-occlusion off";
+  } else if (scene_.relic().triangleCount() == 0 || scene_.relicIsConvex()) {
+    self_occlusion_reason_ = "convex relic: no self-occlusion";
+  } else if (!relicHasDiffuse(scene_)) {
+    // All its light is reflected by lobes the interreflection traces.
+    self_occlusion_reason_ = "no diffuse relic material: no self-occlusion";
+  } else {
+    auto visibility = std::make_unique<RelicVisibility>(
+        scene_, RelicVisibilitySettings{settings_.self_occlusion_rays, settings_.self_occlusion_bounces,
+                                        settings_.ray_offset});
+    char figures[96];
+    std::snprintf(figures, sizeof figures, "%zu vertex sides, up to %.0f%% occluded",
+                  visibility->vertexSides(), double(visibility->maxOcclusion()) * 100.0);
+    if (visibility->maxOcclusion() >= settings_.self_occlusion_min) {
+      visibility_ = std::move(visibility);
+      self_occlusion_reason_ = std::string("self-occlusion (") + figures + ")";
+    } else {
+      self_occlusion_reason_ = std::string("no self-occlusion to show (") + figures + ")";
     }
   }
   std::vector<float> rough;
@@ -67,6 +107,8 @@ EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
   in.internal_depth = internal_depth_;
   in.internal_residual = internal_residual_;
   in.internal_depth_source = settings_.refraction_depth > 0 ? "set" : "measured";
+  in.self_occlusion = visibility_ != nullptr;
+  in.self_occlusion_reason = self_occlusion_reason_;
   return planEffects(in);
 }
 
@@ -120,6 +162,17 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
       if (!cameras[c].colour_bgr.empty())
         pyramids_[c].build(cameras[c].colour_bgr, cameras[c].mask, settings_.pyramid_levels);
     });
+  }
+  if (result.plan.has(Pass::SelfOcclusion) &&
+      (!lit_ || lit_source_ != ibl_.sourceHash() || lit_turn_ != ibl_.relicTurn())) {
+    PassTimer t(result.frame_timings, Pass::SelfOcclusion);
+    // A turning relic is lit from the transfer alone: filtering every stratum again at every
+    // turn step would cost a still relic's first frame every frame.
+    lighting_ = visibility_->lit(ibl_, ibl_.relicTurn() == 0.0f);
+    lit_source_ = ibl_.sourceHash();
+    lit_turn_ = ibl_.relicTurn();
+    lit_ = true;
+    for (auto& cache : caches_) cache->ready = false;  // shaded with the old lighting
   }
   while (caches_.size() < views.size()) caches_.push_back(std::make_unique<ViewCache>());
   for (std::size_t v = 0; v < views.size(); ++v)
@@ -185,8 +238,11 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       cache.hdr = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
       cache.coverage = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
       cache.zero_weight = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
-      StaticShading(scene_, ibl_, settings_, rough_map_.get())
-          .shade(cache.hits, view, cache.shading, cache.walk_rays, cache.bounces, cache.hdr, cache.coverage);
+      out.occluded_samples =
+          StaticShading(scene_, ibl_, settings_, rough_map_.get(),
+                        plan.has(Pass::SelfOcclusion) ? visibility_.get() : nullptr, &lighting_)
+              .shade(cache.hits, view, cache.shading, cache.walk_rays, cache.bounces, cache.hdr,
+                     cache.coverage);
     }
     if (layered) {
       PassTimer tl(out.timings, plan.has(Pass::Refraction) ? Pass::Refraction : Pass::Clearcoat);

@@ -41,6 +41,7 @@ bool resolveHitPoint(const RenderScene& scene, const RayScene& relic, const Came
   h.emission = s.emission;
   h.occlusion = s.occlusion;
   h.alpha = s.alpha;
+  h.location = s.location;
   h.gltf = &scene.relicGltfMaterial(hit, relic);
   h.mirror_may_meet_relic = scene.mayMeetRelicAgain(hit, h.reflected);
   return isFinite(h.position) && isFinite(h.normal) && isFinite(h.reflected);

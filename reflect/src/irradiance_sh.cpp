@@ -3,13 +3,13 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
 
+#include <cmath>
+
 #include "holo/core/equirect.hpp"
 
 namespace holo::reflect {
 
-namespace {
-
-std::array<float, 9> basis(const vec3& d) {
+std::array<float, 9> IrradianceSH::basis(const vec3& d) {
   return {0.282095f,
           0.488603f * d.y,
           0.488603f * d.z,
@@ -20,6 +20,8 @@ std::array<float, 9> basis(const vec3& d) {
           1.092548f * d.x * d.z,
           0.546274f * (d.x * d.x - d.y * d.y)};
 }
+
+namespace {
 
 using Coefficients = std::array<glm::dvec3, 9>;
 
@@ -54,13 +56,34 @@ IrradianceSH::IrradianceSH(const Environment& environment) {
 }
 
 vec3 IrradianceSH::irradiance(const vec3& n) const {
-  // Cosine-lobe convolution factors A_l: pi, 2 pi / 3, pi / 4.
-  constexpr float a0 = kPi, a1 = 2.0f * kPi / 3.0f, a2 = kPi / 4.0f;
   const auto b = basis(n);
-  vec3 e = a0 * c_[0] * b[0];
-  for (int i = 1; i < 4; ++i) e += a1 * c_[i] * b[i];
-  for (int i = 4; i < 9; ++i) e += a2 * c_[i] * b[i];
+  vec3 e(0.0f);
+  for (int i = 0; i < 9; ++i) e += kCosineLobe[i] * c_[i] * b[i];
   return glm::max(e, vec3(0.0f));
+}
+
+std::array<vec3, 9> IrradianceSH::turnedAboutY(float cos_a, float sin_a) const {
+  // L'_j = sum_k L_k integral Y_j(d) Y_k(turn(d)) dd. The integrands are polynomials of degree
+  // <= 4, so a product rule is exact: 3 Gauss-Legendre nodes in y (exact to degree 5) times 8
+  // equally spaced azimuths (exact to trigonometric degree 7).
+  constexpr float kNodes[3] = {-0.7745966692f, 0.0f, 0.7745966692f};
+  constexpr float kWeights[3] = {5.0f / 9.0f, 8.0f / 9.0f, 5.0f / 9.0f};
+  constexpr int kAzimuths = 8;
+  std::array<vec3, 9> turned{};
+  for (int i = 0; i < 3; ++i) {
+    const float y = kNodes[i], r = std::sqrt(1.0f - y * y);
+    for (int k = 0; k < kAzimuths; ++k) {
+      const float phi = 2.0f * kPi * float(k) / float(kAzimuths);
+      const vec3 d(r * std::cos(phi), y, r * std::sin(phi));
+      const vec3 t(cos_a * d.x + sin_a * d.z, d.y, cos_a * d.z - sin_a * d.x);
+      const float w = kWeights[i] * 2.0f * kPi / float(kAzimuths);
+      const auto bd = basis(d), bt = basis(t);
+      vec3 radiance(0.0f);  // L(turn(d)) of the 9-coefficient approximation
+      for (int c = 0; c < 9; ++c) radiance += c_[c] * bt[c];
+      for (int j = 0; j < 9; ++j) turned[j] += w * bd[j] * radiance;
+    }
+  }
+  return turned;
 }
 
 }  // namespace holo::reflect

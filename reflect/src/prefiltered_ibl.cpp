@@ -122,7 +122,8 @@ void PrefilteredIbl::setRelicTurn(const vec3& pivot, float angle_rad) {
 }
 
 SplitSumShading PrefilteredIbl::shadeParts(const SurfaceMaterial& m, const vec3& n, const vec3& wo,
-                                           const vec3& reflected, const vec3& position) const {
+                                           const vec3& reflected, const vec3& position,
+                                           const vec3* irradiance_at) const {
   SplitSumShading parts;
   const float nv = glm::dot(n, wo);
   if (!(nv > 0.0f)) return parts;
@@ -138,8 +139,8 @@ SplitSumShading PrefilteredIbl::shadeParts(const SurfaceMaterial& m, const vec3&
   // The diffuse keeps what the strongest channel of the dielectric's reflection leaves
   // (KHR_materials_specular's fresnel_mix).
   const vec3 dielectric_reflectance = dielectric_f0 * s * ab.x + s * ab.y;
-  parts.diffuse =
-      (1.0f - metallic) * (1.0f - maxComponent(dielectric_reflectance)) * base * irradiance(n) / kPi;
+  parts.diffuse = (1.0f - metallic) * (1.0f - maxComponent(dielectric_reflectance)) * base *
+                  (irradiance_at ? *irradiance_at : irradiance(n)) / kPi;
   return parts;
 }
 

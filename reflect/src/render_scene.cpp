@@ -57,6 +57,16 @@ RenderScene::RenderScene(const Model& relic, const std::vector<Model>& emitters)
   all_->commit();
   relic_->commit();
   supporting_ = findSupportingPlanes(relic_model_).sides;
+  // Degenerate triangles (a lathe's poles) bound nothing and lie in no plane: they do not count.
+  for (std::size_t m = 0; m < supporting_.size() && relic_convex_; ++m) {
+    const TriangleMesh& mesh = relic_model_.meshes[m];
+    for (std::size_t t = 0; t < supporting_[m].size() && relic_convex_; ++t) {
+      const uvec3& tri = mesh.triangles[t];
+      const float area = glm::length(glm::cross(mesh.positions[tri.y] - mesh.positions[tri.x],
+                                                mesh.positions[tri.z] - mesh.positions[tri.x]));
+      relic_convex_ = supporting_[m][t] != 0 || !(area > 1e-12f);
+    }
+  }
 }
 
 bool RenderScene::mayMeetRelicAgain(const RayHit& hit, const vec3& direction) const {

@@ -1,6 +1,7 @@
 #include "static_shading.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include <tbb/blocked_range.h>
@@ -56,6 +57,7 @@ SurfacePoint surfaceOf(const HitPoint& hp) {
   s.emission = hp.emission;
   s.occlusion = hp.occlusion;
   s.alpha = hp.alpha;
+  s.location = hp.location;
   return s;
 }
 
@@ -69,17 +71,47 @@ void LobeBounce::add(const LobeBounce& other, float weight) {
 }
 
 StaticShading::StaticShading(const RenderScene& scene, const PrefilteredIbl& ibl,
-                             const TracerSettings& settings, const RoughForegroundMap* rough_map)
-    : scene_(scene), ibl_(ibl), settings_(settings), rough_map_(rough_map) {}
+                             const TracerSettings& settings, const RoughForegroundMap* rough_map,
+                             const RelicVisibility* visibility, const RelicVisibility::Lighting* lighting)
+    : scene_(scene),
+      ibl_(ibl),
+      settings_(settings),
+      rough_map_(rough_map),
+      visibility_(lighting ? visibility : nullptr),
+      lighting_(lighting) {
+  for (const Material& m : scene_.relic().materials)
+    lobe_materials_ = lobe_materials_ || m.metallic_roughness_texture.used() || tracesLobe(m.roughness);
+  if (const auto& material = scene_.relicMaterialOverride())
+    lobe_materials_ = tracesLobe(material->roughness);
+  else if (scene_.relic().materials.empty())
+    lobe_materials_ = tracesLobe(Material{}.roughness);
+}
+
+bool StaticShading::tracesLobe(float roughness) const {
+  return settings_.rough_interreflection_grid > 1 && (readsRoughMap(rough_map_, settings_, roughness) ||
+                                                      roughness >= settings_.rough_interreflection_roughness);
+}
+
+SplitSumShading StaticShading::shadeAt(const SurfacePoint& surface, const vec3& wo) const {
+  if (!visibility_ || !visibility_->covers(surface.location)) return shadeSurface(ibl_, surface, wo);
+  const vec3 irradiance = visibility_->irradiance(*lighting_, surface.location);
+  SplitSumShading parts = ibl_.shadeParts(surface.material, surface.normal, wo,
+                                          glm::reflect(-wo, surface.normal), surface.position, &irradiance);
+  // The texture's occlusion beyond what the vertices' visibility already holds.
+  const float beyond =
+      std::min(1.0f, surface.occlusion / std::max(visibility_->openness(surface.location), 1e-3f));
+  parts.specular_scale *= beyond;
+  parts.diffuse = beyond * parts.diffuse + surface.emission;
+  return parts;
+}
 
 std::optional<LobeBounce> StaticShading::shadeHit(const HitPoint& hp, const LobeShare& share,
                                                   SplitSumShading& shading, WalkRay& walk_ray) const {
-  shading = shadeSurface(ibl_, surfaceOf(hp), hp.to_viewer);
+  shading = shadeAt(surfaceOf(hp), hp.to_viewer);
   walk_ray = {hp.position, hp.normal, hp.reflected, hp.material.roughness, false};
   if (hp.alpha < 1.0f) compositeBehind(hp, share, shading);
   if (!settings_.relic_interreflection) return std::nullopt;
-  if (settings_.rough_interreflection_grid > 1 &&
-      readsRoughMap(rough_map_, settings_, hp.material.roughness)) {
+  if (tracesLobe(hp.material.roughness)) {
     const LobeBounce bounce = traceLobeBounce(hp, share);
     if (settings_.evaluation.rough_interreflection_interleaved) return bounce;
     addLobeBounce(bounce, shading);
@@ -97,7 +129,7 @@ std::optional<LobeBounce> StaticShading::shadeHit(const HitPoint& hp, const Lobe
   const vec3 reflected = glm::reflect(ray.direction, normal);
   if (!isFinite(position) || !isFinite(normal) || !isFinite(reflected)) return std::nullopt;
   const SurfaceMaterial& material = surface.material;
-  const SplitSumShading second = shadeSurface(ibl_, surface, -ray.direction);
+  const SplitSumShading second = shadeAt(surface, -ray.direction);
   // L = diffuse_1 + s_1 L_2 and L_2 = diffuse_2 + s_2 (psi_d w + env_2 (1 - w)): the composition's
   // form with scale s_1 s_2 and environment env_2.
   shading.diffuse += shading.specular_scale * second.diffuse;
@@ -121,13 +153,30 @@ void StaticShading::compositeBehind(const HitPoint& hp, const LobeShare& share,
   if (hit.hit()) {
     const SurfacePoint surface =
         resolveSurface(scene_, relic, ray, hit, share.cone_width + hit.t * share.spread);
-    const SplitSumShading parts = shadeSurface(ibl_, surface, -ray.direction);
+    const SplitSumShading parts = shadeAt(surface, -ray.direction);
     behind = parts.specular_scale * parts.environment + parts.diffuse;
     if (!isFinite(behind)) behind = vec3(0.0f);
   }
   const float a = hp.alpha;
   shading.specular_scale *= a;
   shading.diffuse = a * shading.diffuse + (1.0f - a) * behind;
+}
+
+vec3 StaticShading::secondEnvironment(const SurfacePoint& surface, const Ray& ray, const RayHit& hit,
+                                      const SplitSumShading& second, const LobeShare& share) const {
+  if (!(maxComponent(second.specular_scale) > 0.0f)) return second.environment;
+  const vec3 reflected = glm::reflect(ray.direction, surface.normal);
+  if (!scene_.mayMeetRelicAgain(hit, reflected)) return second.environment;
+  const RayScene& relic = scene_.relicOnly();
+  const Ray next{surface.position + surface.normal * settings_.ray_offset, reflected};
+  const RayHit third_hit = relic.intersect(next);
+  if (!third_hit.hit()) return second.environment;
+  const SurfacePoint third_surface =
+      resolveSurface(scene_, relic, next, third_hit, share.cone_width + (hit.t + third_hit.t) * share.spread);
+  if (!isFinite(third_surface.normal)) return second.environment;
+  const SplitSumShading third = shadeAt(third_surface, -next.direction);
+  const vec3 seen = third.specular_scale * third.environment + third.diffuse;
+  return isFinite(seen) ? seen : second.environment;
 }
 
 LobeBounce StaticShading::traceLobeBounce(const HitPoint& hp, const LobeShare& share) const {
@@ -149,9 +198,9 @@ LobeBounce StaticShading::traceLobeBounce(const HitPoint& hp, const LobeShare& s
         const SurfacePoint surface =
             resolveSurface(scene_, relic, ray, hit, share.cone_width + hit.t * share.spread);
         if (!isFinite(surface.normal)) return;
-        const SplitSumShading second = shadeSurface(ibl_, surface, -ray.direction);
+        const SplitSumShading second = shadeAt(surface, -ray.direction);
         bounce.diffuse += second.diffuse;
-        bounce.specular += second.specular_scale * second.environment;
+        bounce.specular += second.specular_scale * secondEnvironment(surface, ray, hit, second, share);
         bounce.met += 1.0f;
       });
   return bounce;
@@ -178,21 +227,20 @@ void StaticShading::poolLobeBounces(const HitPointBuffer& hits, const std::vecto
     }
   const std::size_t first = hits.firstSample(p);
   for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i)
-    if (hits.valid[i] && readsRoughMap(rough_map_, settings_, hits.hits[i].material.roughness))
-      addLobeBounce(sum, shading[i]);
+    if (hits.valid[i] && tracesLobe(hits.hits[i].material.roughness)) addLobeBounce(sum, shading[i]);
 }
 
-void StaticShading::shade(const HitPointBuffer& hits, const CameraModel& view,
-                          std::vector<SplitSumShading>& shading, std::vector<WalkRay>& walk_rays,
-                          std::vector<PixelBounce>& bounces, cv::Mat& hdr, cv::Mat& coverage) const {
+std::uint64_t StaticShading::shade(const HitPointBuffer& hits, const CameraModel& view,
+                                   std::vector<SplitSumShading>& shading, std::vector<WalkRay>& walk_rays,
+                                   std::vector<PixelBounce>& bounces, cv::Mat& hdr, cv::Mat& coverage) const {
   const int w = hits.width;
   shading.resize(hits.hits.size());
   walk_rays.resize(hits.hits.size());
-  const bool pool_bounces = rough_map_ && settings_.relic_interreflection &&
-                            settings_.rough_interreflection_grid > 1 &&
+  const bool pool_bounces = lobe_materials_ && settings_.relic_interreflection &&
                             settings_.evaluation.rough_interreflection_interleaved;
   if (pool_bounces) bounces.assign(hits.pixelCount(), PixelBounce{});
   const float spread = 1.0f / view.intrinsics().fx;  // radians per pixel: the footprint's growth
+  std::atomic<std::uint64_t> occluded{0};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t k = r.begin(); k < r.end(); ++k) {
@@ -200,10 +248,12 @@ void StaticShading::shade(const HitPointBuffer& hits, const CameraModel& view,
                         const std::size_t first = hits.firstSample(p);
                         const int x = int(p % std::size_t(w)), y = int(p / std::size_t(w));
                         LobeShare share{(x & 1) + 2 * (y & 1), 0, hits.sampleCount(p)};
+                        std::uint64_t visible = 0;
                         share.spread = spread;
                         for (share.sample = 0; share.sample < share.samples; ++share.sample) {
                           const std::size_t i = first + std::size_t(share.sample);
                           if (!hits.valid[i]) continue;
+                          if (visibility_ && visibility_->covers(hits.hits[i].location)) ++visible;
                           share.cone_width = glm::length(hits.hits[i].position - view.position()) * spread;
                           const std::optional<LobeBounce> bounce =
                               shadeHit(hits.hits[i], share, shading[i], walk_rays[i]);
@@ -212,6 +262,7 @@ void StaticShading::shade(const HitPointBuffer& hits, const CameraModel& view,
                           if (!pixel.rough) pixel = {true, hits.hits[i].position, hits.hits[i].normal, {}};
                           pixel.samples.add(*bounce, 1.0f);
                         }
+                        if (visible > 0) occluded += visible;
                       }
                     });
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
@@ -225,6 +276,7 @@ void StaticShading::shade(const HitPointBuffer& hits, const CameraModel& view,
                         coverage.at<float>(y, x) = hits.coverage(x, y);
                       }
                     });
+  return occluded.load();
 }
 
 }  // namespace holo::reflect

@@ -6,15 +6,25 @@
 // shaded by surface_shading.hpp (occlusion scales the reflected parts, emission is added to the
 // diffuse part); a BLEND hit point is composited over the static shading of what is behind it.
 //
-// Interreflection: a material below foreground_map_roughness follows its mirror ray; where that
-// meets the relic, the point's environment becomes the second point's (its specular scale
-// multiplied in, its diffuse added) and the walk starts there. A material read from the rough
-// map traces its GGX lobe at rough_interreflection_grid^2 strata centres instead: the share that
-// meets the relic sees the second points' static shading, the rest the hall. Interleaved, each
-// hit point traces only the strata of its 2x2 pixel class dealt to its sample, and a 3x3 tent
-// over the pixels of the same surface sums them all.
+// Self-occlusion: with the relic's visibility (relic_visibility.hpp), every relic surface's diffuse
+// irradiance is its vertices' lit one instead of the unoccluded SH irradiance; the glTF occlusion texture
+// then counts only where it is darker than the vertices' open share (its factor occlusion / openness, at most
+// 1), so the two never darken twice.
+//
+// Interreflection: a material below rough_interreflection_roughness (and not read from the rough
+// map) follows its mirror ray; where that meets the relic, the point's environment becomes the
+// second point's (its specular scale multiplied in, its diffuse added) and the walk starts there.
+// A rougher one traces its GGX lobe at rough_interreflection_grid^2 strata centres instead: the
+// share that meets the relic sees the second points' static shading (a blur of them as wide as
+// the lobe), the rest the hall; a second point that reflects follows its own mirror ray once
+// more, and where that meets the relic again shows the third point's static shading instead of
+// the hall (inside a bowl the light goes round); its walk keeps the first point's mirror ray. Interleaved,
+// each hit point traces only the strata of its 2x2 pixel class dealt to its sample, and a 3x3 tent over the
+// pixels of the same surface sums them all.
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -23,6 +33,7 @@
 #include "holo/core/camera_model.hpp"
 #include "holo/reflect/hit_points.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
+#include "holo/reflect/relic_visibility.hpp"
 #include "holo/reflect/render_scene.hpp"
 #include "holo/reflect/rough_foreground_map.hpp"
 #include "holo/reflect/tracer_settings.hpp"
@@ -46,18 +57,21 @@ struct PixelBounce {
 
 class StaticShading {
  public:
-  // Everything must outlive this; rough_map may be null (no material reads it).
+  // Everything must outlive this; rough_map may be null (no material reads it), visibility null
+  // (no self-occlusion), else with its lighting under `ibl` (RelicVisibility::lit).
   StaticShading(const RenderScene& scene, const PrefilteredIbl& ibl, const TracerSettings& settings,
-                const RoughForegroundMap* rough_map);
+                const RoughForegroundMap* rough_map, const RelicVisibility* visibility = nullptr,
+                const RelicVisibility::Lighting* lighting = nullptr);
 
   // Shades every valid sample of `hits` (traced from `view`) into shading and walk_rays (per
   // entry of hits.hits; others are left as they were) and writes the static image: hdr, CV_32FC3
   // linear BGR, the mean over each pixel's samples of psi_s + diffuse (misses black), and
   // coverage, CV_32FC1; both must be view-sized and zero, only covered pixels are written.
-  // `bounces` is scratch, reused across calls.
-  void shade(const HitPointBuffer& hits, const CameraModel& view, std::vector<SplitSumShading>& shading,
-             std::vector<WalkRay>& walk_rays, std::vector<PixelBounce>& bounces, cv::Mat& hdr,
-             cv::Mat& coverage) const;
+  // `bounces` is scratch, reused across calls. Returns the samples whose diffuse light the
+  // visibility occluded.
+  std::uint64_t shade(const HitPointBuffer& hits, const CameraModel& view,
+                      std::vector<SplitSumShading>& shading, std::vector<WalkRay>& walk_rays,
+                      std::vector<PixelBounce>& bounces, cv::Mat& hdr, cv::Mat& coverage) const;
 
  private:
   // Which of the rough lobe's strata a hit point traces: its pixel's 2x2 class ((x & 1) +
@@ -76,6 +90,14 @@ class StaticShading {
   // BLEND: the hit point's shading composited over the static shading of what is behind it.
   void compositeBehind(const HitPoint& hp, const LobeShare& share, SplitSumShading& shading) const;
   LobeBounce traceLobeBounce(const HitPoint& hp, const LobeShare& share) const;
+  // What a lobe sample's second point (`surface`, met by `ray` at `hit`, shaded `second`)
+  // reflects: the hall, or where its mirror ray meets the relic again, that third point's shading.
+  vec3 secondEnvironment(const SurfacePoint& surface, const Ray& ray, const RayHit& hit,
+                         const SplitSumShading& second, const LobeShare& share) const;
+  // Whether a material this rough traces its lobe's strata for the interreflection.
+  bool tracesLobe(float roughness) const;
+  // surface_shading.hpp's shadeSurface, with the visibility's irradiance where it covers the point.
+  SplitSumShading shadeAt(const SurfacePoint& surface, const vec3& wo) const;
   void poolLobeBounces(const HitPointBuffer& hits, const std::vector<PixelBounce>& bounces,
                        const CameraModel& view, int x, int y, std::vector<SplitSumShading>& shading) const;
 
@@ -83,6 +105,9 @@ class StaticShading {
   const PrefilteredIbl& ibl_;
   const TracerSettings& settings_;
   const RoughForegroundMap* rough_map_;
+  const RelicVisibility* visibility_;
+  const RelicVisibility::Lighting* lighting_;
+  bool lobe_materials_ = false;  // some relic material traces its lobe (tracesLobe)
 };
 
 }  // namespace holo::reflect

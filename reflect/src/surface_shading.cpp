@@ -41,6 +41,12 @@ SurfacePoint resolveSurface(const RenderScene& scene, const RayScene& traced, co
   const TriangleMesh& mesh = model.meshes[mesh_index];
   const Material& m = meshMaterial(model, mesh_index);
   const Corner c = cornerOf(mesh, hit);
+  s.location.mesh = std::uint32_t(mesh_index);
+  s.location.triangle = hit.primitive;
+  s.location.barycentric = hit.barycentric;
+  const vec3 winding = glm::cross(mesh.positions[c.t.y] - mesh.positions[c.t.x],
+                                  mesh.positions[c.t.z] - mesh.positions[c.t.x]);
+  s.location.front = !(glm::dot(winding, hit.geometric_normal) < 0.0f);
   const float cosine = std::max(std::abs(glm::dot(hit.geometric_normal, ray.direction)), kMinFootprintCosine);
   const float footprint = std::isfinite(cone_width) ? std::max(cone_width, 0.0f) / cosine : 0.0f;
 

@@ -1,5 +1,6 @@
 #include "holo/reflect/tracer_settings.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -44,6 +45,19 @@ void TracerSettings::validate() const {
                                           rough_interreflection_grid % 2 != 0))
     throw InputError(src, "rough_interreflection_grid", "1 (the mirror ray) or an even side 2..8",
                      std::to_string(rough_interreflection_grid));
+  if (!std::isfinite(rough_interreflection_roughness) || rough_interreflection_roughness < 0.0f)
+    throw InputError(src, "rough_interreflection_roughness", "a roughness >= 0 (> 1: never)",
+                     std::to_string(rough_interreflection_roughness));
+  {
+    const int side = int(std::lround(std::sqrt(double(std::max(self_occlusion_rays, 0)))));
+    if (side * side != self_occlusion_rays || side < 2 || side > 16)
+      throw InputError(src, "self_occlusion_rays", "a square number 4..256",
+                       std::to_string(self_occlusion_rays));
+  }
+  if (self_occlusion_bounces < 0 || self_occlusion_bounces > 8)
+    throw InputError(src, "self_occlusion_bounces", "0..8", std::to_string(self_occlusion_bounces));
+  if (!std::isfinite(self_occlusion_min) || self_occlusion_min < 0.0f || self_occlusion_min > 1.0f)
+    throw InputError(src, "self_occlusion_min", "a share in [0, 1]", std::to_string(self_occlusion_min));
   if (lobe_components < 1 || lobe_components > kMaxLobeComponents)
     throw InputError(src, "lobe_components", "1.." + std::to_string(kMaxLobeComponents),
                      std::to_string(lobe_components));

@@ -243,10 +243,46 @@ Model sphere() {
   return model;
 }
 
+// A thick open bowl, one closed solid: the outer wall up from a foot ring, round over the rim,
+// the inner wall down to a floor 2.8 cm above the base. Its inside sees itself over most of its
+// hemisphere: the relic that self-occlusion and the rough interreflection are measured on.
+Model bowl(Material material) {
+  Model model;
+  model.materials.push_back(std::move(material));
+  TriangleMesh mesh = makeLathe(smoothProfile({{0.0f, 0.0f},
+                                               {0.05f, 0.0f},
+                                               {0.056f, 0.01f},
+                                               {0.09f, 0.03f},
+                                               {0.125f, 0.07f},
+                                               {0.145f, 0.11f},
+                                               {0.15f, 0.128f},
+                                               {0.143f, 0.136f},
+                                               {0.135f, 0.126f},
+                                               {0.127f, 0.1f},
+                                               {0.105f, 0.062f},
+                                               {0.07f, 0.037f},
+                                               {0.0f, 0.028f}}),
+                                64);
+  mesh.name = "bowl";
+  model.meshes.push_back(std::move(mesh));
+  return model;
+}
+
+// Matte glazed clay: a Lambert surface (KHR_materials_specular's specular = 0: no reflection lobe).
+Material lambert(const std::string& name, const vec3& colour) {
+  Material m;
+  m.name = name;
+  m.base_colour = colour;
+  m.metallic = 0.0f;
+  m.roughness = 1.0f;
+  m.specular = 0.0f;
+  return m;
+}
+
 }  // namespace
 
 std::vector<std::string> relicNames() {
-  return {"vase", "kettle", "tripod", "sphere", "glass-vase", "crystal"};
+  return {"vase", "kettle", "tripod", "sphere", "glass-vase", "crystal", "bowl", "metal-bowl"};
 }
 
 std::string relicNameList() {
@@ -269,6 +305,13 @@ Model makeRelic(const std::string& name, const std::string& origin) {
     relic = glassVase();
   else if (name == "crystal")
     relic = crystal();
+  else if (name == "bowl")
+    relic = bowl(lambert("clay_matte", {0.8f, 0.74f, 0.64f}));
+  else if (name == "metal-bowl") {
+    Material m = metal("silver_satin", {0.96f, 0.93f, 0.88f}, 0.4f);
+    m.double_sided = false;  // a closed solid: only its outside is ever seen
+    relic = bowl(m);
+  }
   if (!relic.meshes.empty()) {
     fitOnPedestal(relic);  // exact size and placement, whatever the profiles above add up to
     return relic;

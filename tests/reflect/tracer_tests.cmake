@@ -23,3 +23,10 @@ holo_test(test_refraction
   SOURCES test_refraction.cpp
   DEPS holo::reflect holo::reference holo::depthfilter holo_test_support)
 target_include_directories(test_refraction PRIVATE ${PROJECT_SOURCE_DIR}/reflect/src)
+# The relic's self-occlusion and the rough interreflection's lobe on the concave bowl, against
+# path-traced truth (needs the built-in relics).
+if(TARGET holo::relics)
+  holo_test(test_self_occlusion
+    SOURCES test_self_occlusion.cpp
+    DEPS holo::reflect holo::reference holo::relics holo_test_support)
+endif()

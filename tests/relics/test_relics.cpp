@@ -28,6 +28,7 @@ TEST(Relics, RoundTripThroughGlb) {
     ASSERT_EQ(back.materials.size(), made.materials.size());
     EXPECT_FLOAT_EQ(back.materials[0].roughness, made.materials[0].roughness);
     EXPECT_FLOAT_EQ(back.materials[0].metallic, made.materials[0].metallic);
+    EXPECT_FLOAT_EQ(back.materials[0].specular, made.materials[0].specular);  // the Lambert bowl's 0
     EXPECT_FLOAT_EQ(back.materials[0].transmission, made.materials[0].transmission);
     EXPECT_FLOAT_EQ(back.materials[0].ior, made.materials[0].ior);
     EXPECT_FLOAT_EQ(back.materials[0].thickness, made.materials[0].thickness);
@@ -38,6 +39,33 @@ TEST(Relics, RoundTripThroughGlb) {
 // A volume (KHR_materials_volume) needs a closed surface wound counter-clockwise from outside:
 // with positions welded, every edge is shared by exactly two triangles that run it in opposite
 // directions, and the signed volume (divergence theorem) is positive.
+void expectClosedOutwardSolid(const Model& relic) {
+  std::map<std::array<float, 3>, int> weld;
+  auto id = [&](const vec3& p) {
+    const std::array<float, 3> key{std::round(p.x * 1e5f), std::round(p.y * 1e5f), std::round(p.z * 1e5f)};
+    return weld.emplace(key, static_cast<int>(weld.size())).first->second;
+  };
+  std::map<std::pair<int, int>, int> directed;
+  double volume = 0.0;
+  for (const auto& mesh : relic.meshes)
+    for (const auto& t : mesh.triangles) {
+      const vec3 a = mesh.positions[t.x], b = mesh.positions[t.y], c = mesh.positions[t.z];
+      volume += glm::dot(glm::dvec3(a), glm::cross(glm::dvec3(b), glm::dvec3(c))) / 6.0;
+      const int ia = id(a), ib = id(b), ic = id(c);
+      if (ia == ib || ib == ic || ia == ic) continue;  // a lathe's pole: zero area
+      ++directed[{ia, ib}];
+      ++directed[{ib, ic}];
+      ++directed[{ic, ia}];
+    }
+  int unmatched = 0;
+  for (const auto& [edge, count] : directed) {
+    const auto back = directed.find({edge.second, edge.first});
+    if (count != 1 || back == directed.end() || back->second != 1) ++unmatched;
+  }
+  EXPECT_EQ(unmatched, 0);
+  EXPECT_GT(volume, 0.0);
+}
+
 TEST(Relics, GlassRelicsAreClosedOutwardSolids) {
   for (const std::string name : {"glass-vase", "crystal"}) {
     SCOPED_TRACE(name);
@@ -48,31 +76,34 @@ TEST(Relics, GlassRelicsAreClosedOutwardSolids) {
     EXPECT_GT(m.thickness, 0.0f);  // a volume, not thin-walled
     EXPECT_TRUE(std::isfinite(m.attenuation_distance));
     EXPECT_FLOAT_EQ(m.ior, name == "crystal" ? 2.42f : 1.5f);
-    std::map<std::array<float, 3>, int> weld;
-    auto id = [&](const vec3& p) {
-      const std::array<float, 3> key{std::round(p.x * 1e5f), std::round(p.y * 1e5f), std::round(p.z * 1e5f)};
-      return weld.emplace(key, static_cast<int>(weld.size())).first->second;
-    };
-    std::map<std::pair<int, int>, int> directed;
-    double volume = 0.0;
-    for (const auto& mesh : relic.meshes)
-      for (const auto& t : mesh.triangles) {
-        const vec3 a = mesh.positions[t.x], b = mesh.positions[t.y], c = mesh.positions[t.z];
-        volume += glm::dot(glm::dvec3(a), glm::cross(glm::dvec3(b), glm::dvec3(c))) / 6.0;
-        const int ia = id(a), ib = id(b), ic = id(c);
-        if (ia == ib || ib == ic || ia == ic) continue;  // a lathe's pole: zero area
-        ++directed[{ia, ib}];
-        ++directed[{ib, ic}];
-        ++directed[{ic, ia}];
-      }
-    int unmatched = 0;
-    for (const auto& [edge, count] : directed) {
-      const auto back = directed.find({edge.second, edge.first});
-      if (count != 1 || back == directed.end() || back->second != 1) ++unmatched;
-    }
-    EXPECT_EQ(unmatched, 0);
-    EXPECT_GT(volume, 0.0);
+    expectClosedOutwardSolid(relic);
   }
+}
+
+// The bowls: one thick closed solid, open at the top: a ray straight down the axis meets the inner
+// floor well above the base, one down through the wall's middle meets the wall's top surface.
+TEST(Relics, BowlsAreThickOpenSolids) {
+  for (const std::string name : {"bowl", "metal-bowl"}) {
+    SCOPED_TRACE(name);
+    const Model relic = makeRelic(name);
+    expectClosedOutwardSolid(relic);
+    RayScene scene;
+    for (const auto& mesh : relic.meshes) scene.addMesh(mesh);
+    scene.commit();
+    const Bounds3 b = relic.bounds();
+    const RayHit floor = scene.intersect({{0.0f, 1.0f, 0.0f}, {0, -1, 0}});
+    ASSERT_TRUE(floor.hit());
+    const float floor_y = 1.0f - floor.t;
+    EXPECT_GT(floor_y, 0.1f * b.hi.y);       // the floor stands on a thick base
+    EXPECT_LT(floor_y, 0.4f * b.hi.y);       // and the inside is deep
+    EXPECT_GT(b.extent().x, 1.5f * b.hi.y);  // wider than tall: a bowl
+  }
+  const Material& clay = makeRelic("bowl").materials.at(0);
+  EXPECT_FLOAT_EQ(clay.specular, 0.0f);  // Lambert: no reflection lobe
+  EXPECT_FLOAT_EQ(clay.metallic, 0.0f);
+  const Material& metal = makeRelic("metal-bowl").materials.at(0);
+  EXPECT_FLOAT_EQ(metal.metallic, 1.0f);
+  EXPECT_FLOAT_EQ(metal.roughness, 0.4f);
 }
 
 TEST(Relics, MaterialsSpanMirrorToRoughMetal) {

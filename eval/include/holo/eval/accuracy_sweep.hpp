@@ -2,12 +2,14 @@
 // evaluation (a hall x relic with its walkers and visitors close to the pyramid, the view where the
 // visitors matter most: visitorView) it sweeps each method's quality knobs,
 //   ours   anti-aliasing (1, 4) x pyramid levels (5, 7, 9) x voxel size (2, 3.125, 5 cm), the
-//          pyramid level offset -1 / +1 around the derived level, and 1 or 4 Gaussians for the GGX
-//          lobe instead of 2; on a transmissive relic also the refraction pass's internal depth
-//          (1, 2, 4, 8, 16 interface events against the measured one) and the transmitted lobe's
-//          width (its derived roughness x 0, 0.5, 2: the IBL level and pyramid levels it reads)
-//          and the pixels between traced transmitted paths (refraction_stride 1..4) and the rays
-//          a path may spend following light reflected inside at an exit (0, 2, 16);
+//          pyramid level offset -1 / +1 around the derived level, 1 or 4 Gaussians for the GGX
+//          lobe instead of 2, and the default tracer without its self-occlusion and rough lobe
+//          (no visibility, the mirror ray at every roughness: that effect's point); on a
+//          transmissive relic also the refraction pass's internal depth (1, 2, 4, 8, 16 interface
+//          events against the measured one) and the transmitted lobe's width (its derived
+//          roughness x 0, 0.5, 2: the IBL level and pyramid levels it reads) and the pixels
+//          between traced transmitted paths (refraction_stride 1..4) and the rays a path may
+//          spend following light reflected inside at an exit (0, 2, 16);
 //   ibl    the paper's IBL (visitors reprojected into the panorama, prefiltered every frame) at
 //          6, 8, 10 roughness levels;
 //   ssrt   1, 2, 4, 8, 16 rays per hit point;

@@ -5,7 +5,10 @@
 // seen through it), and the effect is on. The material effects run only where a relic material
 // calls for them: Refraction (KHR_materials_transmission) with the internal depth measured on the
 // relic (refraction_pass.hpp), Clearcoat (KHR_materials_clearcoat); an opaque relic's frame does
-// no refraction work at all.
+// no refraction work at all. SelfOcclusion runs where a relic with a diffuse material shadows
+// itself by more than TracerSettings::self_occlusion_min (relic_visibility.hpp, built with the
+// renderer; the lobes of metal and glass trace their own interreflection): a convex or all-metal
+// relic casts none of its rays.
 #pragma once
 
 #include <string>
@@ -20,6 +23,7 @@ enum class Pass {
   Pyramids,             // Kawase colour and mask pyramids per camera
   RoughForegroundMap,   // the visitors prefiltered around the relic, for its roughest materials
   HitPoints,            // primary rays against the relic (psi_r, coverage)
+  SelfOcclusion,        // the static shading's light occluded by the relic itself (relic_visibility.hpp)
   StaticReflections,    // prefiltered IBL (psi_s) and diffuse
   Refraction,           // transmitted paths through the relic to the IBL (static, like the hit points)
   Clearcoat,            // the coat's specular lobe over the base (static shading and composition)
@@ -53,12 +57,17 @@ struct EffectInputs {
   int internal_depth = 0;
   float internal_residual = 0.0f;
   std::string internal_depth_source;  // "measured" or "set"
+  // The relic's visibility was built and occludes enough to show; why or why not, for the plan's
+  // reason ("self-occlusion (6305 vertex sides, up to 52% occluded)", "convex relic: no
+  // self-occlusion", ...).
+  bool self_occlusion = false;
+  std::string self_occlusion_reason;
 };
 
 struct EffectPlan {
   std::vector<Pass> passes;
   std::string foreground_reason;  // why the foreground passes run or not, for the statistics
-  std::string material_reason;    // why Refraction / Clearcoat run or not
+  std::string material_reason;    // why Refraction / Clearcoat / SelfOcclusion run or not
   int internal_depth = 0;         // interface events per transmitted path; 0 without Refraction
   bool has(Pass pass) const;
   // "HitPoints,StaticReflections,ToneMap (no foreground points; opaque relic, no clearcoat)"

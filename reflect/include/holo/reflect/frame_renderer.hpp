@@ -7,10 +7,11 @@
 // roughest materials read the visitors prefiltered around the relic instead), composes
 // psi_f = psi_d w + psi_s (1 - w) in HDR (specular part; the diffuse irradiance is added to
 // both), and tone-maps to sRGB. Which passes run comes from the effect plan (effect_plan.hpp);
-// every pass is timed. The passes live in reflect/src: static_shading, foreground_walk (with its
-// camera choice and near-miss march), compose_pass, and tone_map.hpp's toneMapCovered.
-// What it takes and returns has its own headers: tracer_settings.hpp, foreground_camera_image.hpp,
-// frame_result.hpp.
+// every pass is timed. The relic's self-occlusion (relic_visibility.hpp) is built with the
+// renderer, for a diffuse relic that is not convex and shadows itself enough to show. The passes live in
+// reflect/src: static_shading, foreground_walk (with its camera choice and near-miss march), compose_pass,
+// and tone_map.hpp's toneMapCovered. What it takes and returns has its own headers: tracer_settings.hpp,
+// foreground_camera_image.hpp, frame_result.hpp.
 //
 // The relic and the hall do not move, only the eyes: per view slot (the index in `views`) the
 // renderer keeps the hit points, their static shading and the static image (psi_s + diffuse, and
@@ -23,6 +24,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "holo/core/camera_model.hpp"
@@ -33,6 +35,7 @@
 #include "holo/reflect/foreground_pyramid.hpp"
 #include "holo/reflect/frame_result.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
+#include "holo/reflect/relic_visibility.hpp"
 #include "holo/reflect/render_scene.hpp"
 #include "holo/reflect/rough_foreground_map.hpp"
 #include "holo/reflect/tracer_settings.hpp"
@@ -56,6 +59,9 @@ class FrameRenderer {
                      const std::vector<CameraModel>& views);
 
   const VoxelGrid& grid() const { return grid_; }
+  // The relic's visibility (SelfOcclusion), built with the renderer; null where the plan leaves
+  // it off (a convex or all-metal relic, too little occlusion, or switched off).
+  const RelicVisibility* visibility() const { return visibility_.get(); }
   const TracerSettings& settings() const { return settings_; }
   // Fixes the exposure (> 0) or makes it automatic (<= 0) from the next frame on.
   void setExposure(float exposure);
@@ -77,6 +83,13 @@ class FrameRenderer {
   std::vector<ForegroundPyramid> pyramids_;
   // For the relic materials at least foreground_map_roughness rough; null when there is none.
   std::unique_ptr<RoughForegroundMap> rough_map_;
+  std::unique_ptr<RelicVisibility> visibility_;
+  // Its lighting under the IBL, lit again when the IBL's panorama or relic turn changes.
+  RelicVisibility::Lighting lighting_;
+  std::uint64_t lit_source_ = 0;
+  float lit_turn_ = 0.0f;
+  bool lit_ = false;
+  std::string self_occlusion_reason_;
   std::vector<std::unique_ptr<ViewCache>> caches_;  // per view slot
 };
 

@@ -28,6 +28,9 @@ struct ViewCounters {
   std::uint64_t refraction_rays = 0, refracted_samples = 0, capped_paths = 0, refracted_walks = 0;
   std::uint64_t supersampled_samples = 0;  // samples whose transmitted light is a mean of paths
   std::uint64_t coated_samples = 0;
+  // Samples whose diffuse light the relic's visibility occluded (SelfOcclusion; 0 when the static
+  // shading was reused or the plan left it off).
+  std::uint64_t occluded_samples = 0;
 };
 
 // One view's images, with its counters.

@@ -24,6 +24,7 @@
 #include "holo/core/camera_model.hpp"
 #include "holo/reflect/bsdf.hpp"
 #include "holo/reflect/render_scene.hpp"
+#include "holo/reflect/surface_shading.hpp"
 
 namespace holo::reflect {
 
@@ -37,6 +38,7 @@ struct HitPoint {
   vec3 emission{0.0f};  // surface_shading.hpp's SurfacePoint fields
   float occlusion = 1.0f;
   float alpha = 1.0f;  // BLEND coverage: what is behind shows through 1 - alpha of it
+  SurfaceLocation location;
   // The mirror ray (position, reflected) may meet the relic again (RenderScene::mayMeetRelicAgain):
   // false where the relic's shape proves it cannot, and the interreflection casts no ray there.
   bool mirror_may_meet_relic = true;

@@ -56,15 +56,20 @@ class PrefilteredIbl {
     return specular(proxy_.lookupDirection(turnPoint(origin), turnDirection(direction)), roughness);
   }
   vec3 irradiance(const vec3& normal) const { return sh_.irradiance(turnDirection(normal)); }
+  // The diffuse light's radiance coefficients (irradiance_sh.hpp) in the relic's frame: those of
+  // the hall's, turned with the relic (setRelicTurn).
+  std::array<vec3, 9> relicFrameRadiance() const { return sh_.turnedAboutY(turn_cos_, turn_sin_); }
   // Radiance leaving a surface at `position` (world, metres) towards `wo` (split-sum specular +
   // SH diffuse). The specular lookup goes through the environment's PanoramaProxy: the lobe's
   // centre direction from `position` is turned into the panorama direction it meets (parallax
   // correction of the lookup; the lobe's width stays the one prefiltered at the capture point).
   vec3 shade(const SurfaceMaterial& material, const vec3& normal, const vec3& wo, const vec3& position) const;
   // shade() in parts; `reflected` is wo mirrored about the normal. All zero when wo is not in
-  // front of the surface.
+  // front of the surface. `irradiance`, when given, is the diffuse part's irradiance in place of
+  // the unoccluded irradiance(normal) (the relic's visibility, relic_visibility.hpp).
   SplitSumShading shadeParts(const SurfaceMaterial& material, const vec3& normal, const vec3& wo,
-                             const vec3& reflected, const vec3& position) const;
+                             const vec3& reflected, const vec3& position,
+                             const vec3* irradiance = nullptr) const;
   const PanoramaProxy& proxy() const { return proxy_; }
 
   // A turntable: the relic turned by `angle_rad` (counter-clockwise seen from above) about the

@@ -50,6 +50,9 @@ class RenderScene {
   // from, and `direction` leaves to that side. The interreflection casts no mirror ray there, so
   // a convex relic casts none. Decided at construction from the relic's convex hull (Qhull).
   bool mayMeetRelicAgain(const RayHit& hit, const vec3& direction) const;
+  // Every relic triangle lies in a supporting plane of the relic (the same decision): no point of
+  // a convex relic sees another, so it casts no shadow on itself.
+  bool relicIsConvex() const { return relic_convex_; }
 
  private:
   struct Surface {
@@ -66,6 +69,7 @@ class RenderScene {
   std::unique_ptr<RayScene> relic_;
   std::optional<SurfaceMaterial> override_;
   std::vector<std::vector<std::uint8_t>> supporting_;  // by relic mesh, triangle: supporting_planes.hpp
+  bool relic_convex_ = true;
 };
 
 }  // namespace holo::reflect

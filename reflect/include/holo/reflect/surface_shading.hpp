@@ -30,6 +30,8 @@
 // footprint holo::sampleTexture picks the mip level from. 0: the sharpest level.
 #pragma once
 
+#include <cstdint>
+
 #include "holo/core/ray_scene.hpp"
 #include "holo/reflect/bsdf.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
@@ -38,6 +40,17 @@
 namespace holo::reflect {
 
 inline constexpr float kMinFootprintCosine = 0.2f;
+
+// Where on the relic's mesh a surface point lies: what per-vertex data (relic_visibility.hpp) is
+// interpolated with.
+struct SurfaceLocation {
+  static constexpr std::uint32_t kNone = 0xffffffffu;
+  std::uint32_t mesh = kNone;  // index into the relic's meshes; kNone: not located
+  std::uint32_t triangle = 0;
+  vec2 barycentric{0.0f};  // Embree's (u, v) on the triangle
+  bool front = true;       // seen from the side its winding's normal points to
+  bool located() const { return mesh != kNone; }
+};
 
 struct SurfacePoint {
   vec3 position{0.0f};
@@ -49,6 +62,7 @@ struct SurfacePoint {
   float occlusion = 1.0f;      // [0,1], scales reflected light only
   float alpha = 1.0f;          // [0,1] BLEND coverage (1 for OPAQUE and MASK)
   bool normal_mapped = false;  // the normal comes from a normal map (it may lean past the face)
+  SurfaceLocation location;
 };
 
 // The relic's surface where `ray` hit it in `traced` (relicOnly() or all(); hit on the relic).

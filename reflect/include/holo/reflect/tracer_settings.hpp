@@ -42,6 +42,10 @@ struct TracerEvaluationKnobs {
   // every sample traces every stratum (side^2 rays). Default true, one ray per sample at side 4
   // with four samples; false is the reference it is checked against.
   bool rough_interreflection_interleaved = true;
+  // The relic's self-occlusion (relic_visibility.hpp) where the effect plan wants it; false: the
+  // diffuse light is the unoccluded irradiance (the glTF occlusion texture the only visibility).
+  // Default true; false measures what the visibility adds.
+  bool self_occlusion = true;
 };
 
 struct TracerSettings {
@@ -92,6 +96,23 @@ struct TracerSettings {
   // the mirror ray alone, all or nothing (stripes where the truth is smooth). Default 4, one ray
   // per sample with four samples and interleaving.
   int rough_interreflection_grid = 4;
+  // Roughness from which every material's interreflection traces the lobe's strata (as above)
+  // instead of the mirror ray, >= 0 (> 1: only the materials read from the rough map); default
+  // 0.3: a lobe this wide shows a soft glow of the relic's other parts, where the mirror ray
+  // would show a sharp image of them.
+  float rough_interreflection_roughness = 0.3f;
+  // Rays per vertex and side of the relic's visibility (relic_visibility.hpp), built when the
+  // renderer is built, for a relic that can shadow its own diffuse light: a square number 4..256;
+  // default 256: the Lambert bowl's per-pixel error falls with more strata (2.2x lower than the
+  // unoccluded light's at 64, 2.9x at 256; docs/tracer/self_occlusion.md).
+  int self_occlusion_rays = 256;
+  // Diffuse interreflection bounces folded into the visibility's transfer, 0..8; default 4: the
+  // Lambert bowl's inside loses 3% of its light with 2 (docs/tracer/self_occlusion.md).
+  int self_occlusion_bounces = 4;
+  // A relic whose vertices are all less occluded than this share of their cosine-weighted
+  // hemisphere gets no visibility (the plan leaves it off), [0, 1]; default 1/255: below one
+  // sRGB code of a white surface.
+  float self_occlusion_min = 1.0f / 255.0f;
   // Metres a reflected ray may travel through the grid, finite > 0; default 3, the default grid's
   // corners are about 3 m from the relic.
   float max_reflection_distance = 3.0f;
