@@ -4,6 +4,8 @@
 #include <cstdlib>
 #include <limits>
 
+#include <opencv2/imgproc.hpp>
+
 #include "holo/core/error.hpp"
 
 namespace holo::depthfilter {
@@ -11,6 +13,8 @@ namespace holo::depthfilter {
 MaskPersistence::MaskPersistence(MaskPersistenceConfig config) : config_(config) {
   if (!(config_.colour_max >= 0.0f && config_.colour_max <= 765.0f))
     throw Error("MaskPersistence: colour_max must be in [0, 765], got " + std::to_string(config_.colour_max));
+  if (config_.max_motion_px < 0)
+    throw Error("MaskPersistence: max_motion_px must be >= 0, got " + std::to_string(config_.max_motion_px));
 }
 
 void MaskPersistence::reset() {
@@ -28,12 +32,16 @@ void MaskPersistence::extend(cv::Mat& mask, const RgbdFrame& frame, const cv::Ma
     throw Error("MaskPersistence: expected a CV_32FC2 flow of the frame's size");
   if (has_previous) {
     const int colour_max = int(config_.colour_max);
-    for (int y = 0; y < size.height; ++y) {
+    const int reach = config_.max_motion_px;
+    const cv::Rect box = cv::Rect(previous_box_.x - reach, previous_box_.y - reach,
+                                  previous_box_.width + 2 * reach, previous_box_.height + 2 * reach) &
+                         cv::Rect(0, 0, size.width, size.height);
+    for (int y = box.y; y < box.y + box.height; ++y) {
       const float* d = frame.depth.ptr<float>(y);
       const cv::Vec2f* f = flow.ptr<cv::Vec2f>(y);
       const cv::Vec3b* c = frame.colour.ptr<cv::Vec3b>(y);
       std::uint8_t* m = mask.ptr<std::uint8_t>(y);
-      for (int x = 0; x < size.width; ++x) {
+      for (int x = box.x; x < box.x + box.width; ++x) {
         // Positive and finite depth decided the pixel already.
         if (m[x] != 0 || ((d[x] > 0.0f) & (d[x] <= std::numeric_limits<float>::max()))) continue;
         const float fx = f[x][0], fy = f[x][1];
@@ -49,6 +57,7 @@ void MaskPersistence::extend(cv::Mat& mask, const RgbdFrame& frame, const cv::Ma
     }
   }
   mask.copyTo(previous_mask_);
+  previous_box_ = cv::boundingRect(previous_mask_);
   frame.colour.copyTo(previous_colour_);
 }
 

@@ -25,11 +25,14 @@ namespace holo::depthfilter {
 struct MaskPersistenceConfig {
   bool enabled = true;
   float colour_max = 30.0f;  // sum of absolute B, G, R differences to the precursor (0..765)
+  // Only pixels within this many pixels of the previous mask's bounding box are looked at (a
+  // precursor farther away is an image motion faster than a visitor's; it bounds the work).
+  int max_motion_px = 32;
 };
 
 class MaskPersistence {
  public:
-  // Throws holo::Error when colour_max is outside [0, 765].
+  // Throws holo::Error when colour_max is outside [0, 765] or max_motion_px is negative.
   explicit MaskPersistence(MaskPersistenceConfig config = {});
 
   // Extends `mask` (CV_8UC1, 255 = foreground, changed in place) for `frame` with the flow to the
@@ -44,6 +47,7 @@ class MaskPersistence {
  private:
   MaskPersistenceConfig config_;
   cv::Mat previous_mask_, previous_colour_;
+  cv::Rect previous_box_;  // bounding box of previous_mask_
 };
 
 }  // namespace holo::depthfilter
