@@ -30,6 +30,7 @@ struct Options {
   int learning_frames = depthfilter::TemporalDepthFilterConfig{}.learning_frames;
   int levels = depthfilter::TemporalDepthFilterConfig{}.levels;
   std::vector<int> compared_levels = eval::SimulatedDepthOptions{}.compared_levels;
+  bool mask_persistence = eval::SimulatedDepthOptions{}.mask_persistence;
   std::string json;
   std::string images;
   std::string recording;
@@ -71,7 +72,7 @@ int run(const Options& o) {
                      std::to_string(o.levels));
   const eval::SimulatedDepthEvaluation e =
       eval::evaluateSimulatedDepth({o.scene, o.visitor_model, o.frames, o.width, o.height, o.learning_frames,
-                                    o.levels, o.compared_levels, !o.images.empty()});
+                                    o.levels, o.compared_levels, !o.images.empty(), o.mask_persistence});
   std::cout << e.report.dump(2) << "\n";
   std::cerr << eval::depthMetricsTable(e.rows);
   if (!o.json.empty()) writeFileAtomically(o.json, e.report.dump(2) + "\n");
@@ -93,6 +94,10 @@ HOLO_REGISTER_COMMAND(Command{
           ->capture_default_str();
       sub.add_option("--compare-levels", o->compared_levels,
                      "Also run ours with each of these l_max on the same masks (each level's gain)")
+          ->capture_default_str();
+      sub.add_option("--mask-persistence", o->mask_persistence,
+                     "Keep foreground the pixels without depth whose precursor was foreground and whose "
+                     "colour still matches it (false: the mask without it)")
           ->capture_default_str();
       sub.add_option("--width", o->width, "Camera width (default: the scene's)");
       sub.add_option("--height", o->height, "Camera height (default: the scene's)");

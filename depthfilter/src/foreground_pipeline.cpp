@@ -14,6 +14,7 @@ namespace holo::depthfilter {
 struct ForegroundPipeline::CameraStage {
   ForegroundMasker masker;
   PrecursorFlow flow;
+  MaskPersistence persistence;
   TemporalDepthFilter filter;
   std::vector<vec3> plane_directions;  // z = 1 ray per pixel, row-major
   cv::Mat previous_colour;
@@ -96,6 +97,7 @@ ForegroundPipeline::ForegroundPipeline(std::vector<CameraModel> cameras, Foregro
     if (i < config_.static_foreground.size()) mask_config.static_foreground = config_.static_foreground[i];
     stages_.push_back(CameraStage{ForegroundMasker(mask_config),
                                   PrecursorFlow(config_.flow),
+                                  MaskPersistence(config_.persistence),
                                   TemporalDepthFilter(config_.filter),
                                   cameras_[i].planeDirectionTable(),
                                   {},
@@ -133,6 +135,7 @@ void ForegroundPipeline::forgetBackground() {
   for (CameraStage& stage : stages_) {
     stage.masker = ForegroundMasker(stage.masker.config());
     stage.filter.resetHistory();
+    stage.persistence.reset();
     stage.previous_colour.release();
     stage.result = {};
   }
@@ -152,6 +155,7 @@ ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> frames) {
     if (frame.empty()) {
       stage.result = {};
       stage.previous_colour.release();
+      stage.persistence.reset();
       stage.filter.resetHistory();
       stats::add("Depthfilter/Missing camera frames");
       return;
@@ -160,6 +164,7 @@ ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> frames) {
     result.present = true;
     result.mask = stage.masker.apply(frame);
     result.flow = stage.flow.compute(frame.colour, stage.previous_colour);
+    stage.persistence.extend(result.mask, frame, result.flow);
     result.depth = stage.filter.apply({frame.colour, frame.depth, result.mask, result.flow});
     result.border = expandBorder(result.mask, result.depth, config_.border);
     frame.colour.copyTo(stage.previous_colour);  // reuses the buffer of the frame before

@@ -28,6 +28,7 @@ const char* depthMethodName(DepthMethod method) {
 DepthFilterEvaluation::DepthFilterEvaluation(DepthEvaluationConfig config)
     : masker_(config.mask),
       flow_(config.flow),
+      persistence_(config.persistence),
       ours_(config.filter),
       median_(config.median_window),
       taa_(config.taa_blend),
@@ -208,6 +209,7 @@ void DepthFilterEvaluation::addFrame(const GroundTruthFrame& truth) {
         "size");
   last_mask_ = masker_.apply(frame);
   const cv::Mat flow = flow_.compute(frame.colour, previous_colour_);
+  persistence_.extend(last_mask_, frame, flow);
   previous_colour_ = frame.colour.clone();
   const depthfilter::DepthFilterInput input{frame.colour, frame.depth, last_mask_, flow};
   const bool score = !ours_.learning();  // decided before this frame, like the filter itself

@@ -67,6 +67,7 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
   DepthEvaluationConfig config;
   config.filter.learning_frames = o.learning_frames;
   config.filter.levels = o.levels;
+  config.persistence.enabled = o.mask_persistence;
   for (int levels : o.compared_levels) {
     depthfilter::TemporalDepthFilterConfig variant = config.filter;
     variant.levels = levels;
@@ -117,6 +118,7 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
       {"frames", o.frames},
       {"learning_frames", o.learning_frames},
       {"levels", o.levels},
+      {"mask_persistence", o.mask_persistence},
       {"cameras", museum.cameraCount()},
       {"width", description.camera.width},
       {"height", description.camera.height},

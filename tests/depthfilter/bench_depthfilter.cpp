@@ -5,6 +5,7 @@
 #include "holo/depthfilter/border_expansion.hpp"
 #include "holo/depthfilter/foreground_mask.hpp"
 #include "holo/depthfilter/foreground_pipeline.hpp"
+#include "holo/depthfilter/mask_persistence.hpp"
 #include "holo/depthfilter/precursor_flow.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
 #include "synthetic_rgbd.hpp"
@@ -80,17 +81,34 @@ void BM_TemporalFilter(benchmark::State& state) {
 }
 BENCHMARK(BM_TemporalFilter)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
 
+// The mask's persistence on the true masks with a zero flow (every pixel is its own precursor).
+void BM_MaskPersistence(benchmark::State& state) {
+  MaskPersistence persistence;
+  const cv::Mat flow = cv::Mat::zeros(frames()[0].frame.depth.size(), CV_32FC2);
+  std::size_t t = 0;
+  cv::Mat mask;
+  for (auto _ : state) {
+    const test::SyntheticFrame& f = frames()[t++ % frames().size()];
+    f.true_mask.copyTo(mask);
+    persistence.extend(mask, f.frame, flow);
+    benchmark::DoNotOptimize(mask.data);
+  }
+}
+BENCHMARK(BM_MaskPersistence)->Unit(benchmark::kMillisecond);
+
 void BM_BorderExpansion(benchmark::State& state) {
   const test::SyntheticFrame& f = frames()[8];
   for (auto _ : state) benchmark::DoNotOptimize(expandBorder(f.true_mask, f.true_depth, {}));
 }
 BENCHMARK(BM_BorderExpansion)->Unit(benchmark::kMillisecond);
 
-// The whole per-camera step (mask, flow, filter, border, back-projection) on one core.
+// The whole per-camera step (mask, flow, mask persistence, filter, border, back-projection) on
+// one core; argument 0 switches the mask's persistence off (its cost).
 void BM_PipelineOneCamera(benchmark::State& state) {
   const test::SyntheticScene scene = scene640();
   ForegroundPipelineConfig config;
   config.parallel = false;
+  config.persistence.enabled = state.range(0) != 0;
   config.filter.learning_frames = 4;
   ForegroundPipeline pipeline({CameraModel(scene.intrinsics(), mat4(1.0f))}, config);
   test::SyntheticScene empty = scene;
@@ -104,6 +122,6 @@ void BM_PipelineOneCamera(benchmark::State& state) {
   for (auto _ : state)
     benchmark::DoNotOptimize(pipeline.process({&frames()[t++ % frames().size()].frame, 1}));
 }
-BENCHMARK(BM_PipelineOneCamera)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PipelineOneCamera)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -1,9 +1,9 @@
 // The foreground point cloud of all cameras, every frame (paper Sec. 3.2, docs/architecture.md): per
 // camera, in parallel (oneTBB), the foreground mask phi_i, the precursor flow lambda_i, the
-// pull-push temporal depth filter and the border expansion; then every filtered foreground pixel
-// is back-projected into the world (pyramid) frame with that camera's CameraModel, its sRGB colour
-// linearised, multiplied by the camera's colour gains and divided by the exposure, its source
-// (camera, pixel) kept.
+// mask's persistence where the sensor reads nothing, the pull-push temporal depth filter and the border
+// expansion; then every filtered foreground pixel is back-projected into the world (pyramid) frame with that
+// camera's CameraModel, its sRGB colour linearised, multiplied by the camera's colour gains and divided by
+// the exposure, its source (camera, pixel) kept.
 //
 // A camera whose frame is missing (empty RgbdFrame) contributes nothing this frame and its
 // filter forgets its history (counted as "Depthfilter/Missing camera frames").
@@ -18,6 +18,7 @@
 #include "holo/depthfilter/border_expansion.hpp"
 #include "holo/depthfilter/foreground_cloud.hpp"
 #include "holo/depthfilter/foreground_mask.hpp"
+#include "holo/depthfilter/mask_persistence.hpp"
 #include "holo/depthfilter/precursor_flow.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
 
@@ -27,6 +28,7 @@ struct ForegroundPipelineConfig {
   ForegroundMaskConfig mask;
   std::vector<cv::Mat> static_foreground;  // per camera (may be shorter or hold empty Mats)
   PrecursorFlowConfig flow;
+  MaskPersistenceConfig persistence;
   TemporalDepthFilterConfig filter;
   BorderExpansionConfig border;
   float exposure = 1.0f;  // radiance = srgbToLinear(colour) / exposure (the camera's exposure)

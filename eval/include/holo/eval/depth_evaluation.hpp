@@ -40,6 +40,7 @@
 
 #include "holo/core/rgbd_frame.hpp"
 #include "holo/depthfilter/foreground_mask.hpp"
+#include "holo/depthfilter/mask_persistence.hpp"
 #include "holo/depthfilter/precursor_flow.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
 #include "holo/eval/depth_baselines.hpp"
@@ -128,6 +129,7 @@ class DepthScorer {
 struct DepthEvaluationConfig {
   depthfilter::ForegroundMaskConfig mask;
   depthfilter::PrecursorFlowConfig flow;
+  depthfilter::MaskPersistenceConfig persistence;
   depthfilter::TemporalDepthFilterConfig filter;
   int median_window = 5;
   float taa_blend = 0.1f;
@@ -171,6 +173,7 @@ class DepthFilterEvaluation {
 
   depthfilter::ForegroundMasker masker_;
   depthfilter::PrecursorFlow flow_;
+  depthfilter::MaskPersistence persistence_;
   depthfilter::TemporalDepthFilter ours_;
   TemporalMedianDepthFilter median_;
   TaaDepthFilter taa_;

@@ -27,6 +27,8 @@ struct SimulatedDepthOptions {
   // adds (l_max 1: no pull-push). Reported as the methods "ours l_max=N".
   std::vector<int> compared_levels = {1, 2};
   bool figure = false;  // also draw SimulatedDepthEvaluation::figure
+  // The mask's persistence where the sensor reads nothing (false: its contribution).
+  bool mask_persistence = depthfilter::MaskPersistenceConfig{}.enabled;
 };
 
 struct SimulatedDepthEvaluation {
