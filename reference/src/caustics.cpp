@@ -10,6 +10,7 @@
 #include "holo/reference/sampler.hpp"
 #include "holo/reflect/optics.hpp"
 #include "holo/reflect/surface_shading.hpp"
+#include "surface_rays.hpp"
 
 namespace holo::reference {
 
@@ -17,22 +18,6 @@ using reflect::RenderScene;
 using reflect::SurfacePoint;
 
 namespace {
-
-// Offset along the geometric normal, scaled with the magnitude of the position (float ulps).
-Ray spawnRay(const vec3& p, const vec3& geometric_normal, const vec3& direction) {
-  const float eps = 1e-4f * (1.0f + std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}));
-  const float side = glm::dot(direction, geometric_normal) >= 0.0f ? 1.0f : -1.0f;
-  return {p + side * eps * geometric_normal, direction};
-}
-
-// Whether `direction` meets the hit triangle's front face (glTF winding: the outside of a volume).
-bool meetsFrontFace(const RayScene& scene, const RayHit& hit, const vec3& direction) {
-  const TriangleMesh& mesh = scene.mesh(hit.geometry);
-  const uvec3& t = mesh.triangles[hit.primitive];
-  const vec3 winding =
-      glm::cross(mesh.positions[t.y] - mesh.positions[t.x], mesh.positions[t.z] - mesh.positions[t.x]);
-  return glm::dot(winding, direction) < 0.0f;
-}
 
 bool relicTransmits(const RenderScene& scene) {
   if (scene.relicMaterialOverride()) return scene.relicMaterialOverride()->transmission > 0.0f;
