@@ -25,7 +25,7 @@
 #include <vector>
 
 #include "holo/core/camera_model.hpp"
-#include "static_shading.hpp"
+#include "lobe_bounce.hpp"
 
 namespace holo::reflect {
 

@@ -64,14 +64,6 @@ SurfacePoint surfaceOf(const HitPoint& hp) {
 
 }  // namespace
 
-void LobeBounce::add(const LobeBounce& other, float weight) {
-  above += weight * other.above;
-  met += weight * other.met;
-  diffuse += weight * other.diffuse;
-  specular += weight * other.specular;
-  if (weight > 0.0f) nearest = std::min(nearest, other.nearest);
-}
-
 StaticShading::StaticShading(const RenderScene& scene, const PrefilteredIbl& ibl,
                              const TracerSettings& settings, const RoughForegroundMap* rough_map,
                              const RelicVisibility* visibility, const RelicVisibility::Lighting* lighting)

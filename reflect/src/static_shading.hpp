@@ -26,7 +26,6 @@
 
 #include <array>
 #include <cstdint>
-#include <limits>
 #include <optional>
 #include <vector>
 
@@ -39,29 +38,13 @@
 #include "holo/reflect/render_scene.hpp"
 #include "holo/reflect/rough_foreground_map.hpp"
 #include "holo/reflect/tracer_settings.hpp"
+#include "lobe_bounce.hpp"
 #include "walk_ray.hpp"
 
 namespace holo::reflect {
 
 class AxisAlignedFilter;
 struct FilterCounts;
-
-// The rough lobe's interreflection samples of one hit point (or their sum over pixels).
-struct LobeBounce {
-  float above = 0.0f, met = 0.0f;      // lobe samples above the surface; those that met the relic
-  vec3 diffuse{0.0f}, specular{0.0f};  // sums over the met ones of their second points' shading
-  // Metres to the nearest second point (axis_aligned_filter.hpp's z_min); infinite: none met.
-  float nearest = std::numeric_limits<float>::infinity();
-  void add(const LobeBounce& other, float weight);
-};
-
-// A pixel's interleaved lobe samples and where they lie (its first rough sample's point).
-struct PixelBounce {
-  bool rough = false;
-  vec3 position{0.0f}, normal{0.0f};
-  float roughness = 0.0f;  // of the first rough sample's material
-  LobeBounce samples;
-};
 
 class StaticShading {
  public:
