@@ -1,7 +1,7 @@
 // The calibration rig of the simulated museum: a simulated technician acts out what each step
 // asks (begin()): moves the intrinsics board in front of each camera, holding it still at 16
 // poses with a moving frame between them; stands the placement board on the easel at each marked
-// spot in turn; clears the hall. The four cameras film it over their view of the hall (frame();
+// spot in turn; clears the hall; mounts the verification jig (calib/verification_target.hpp). The four cameras film it over their view of the hall (frame();
 // the boards in colour and in depth), the simulated monitors show the test pattern with a known misalignment.
 // Everything is seeded, and the truth (intrinsics, poses, panorama yaw, face alignment) is exposed for
 // checking. `holopyramid simulate --calibration` records the same frames, so a calibration from that
@@ -61,6 +61,7 @@ class SimulatedRig : public calib::CalibrationRig {
   calib::AutoCalibrationConfig config_;
   calib::BoardTexture intrinsics_texture_;
   calib::BoardTexture placement_texture_;
+  calib::BoardTexture verification_texture_;
   float panorama_yaw_ = 0.0f;
   int panorama_shift_px_ = 0;
   double depth_delay_s_ = 0.0;
