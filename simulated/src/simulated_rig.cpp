@@ -219,8 +219,10 @@ RgbdFrame SimulatedRig::frame(RigActivity activity, int camera, int index) const
       out = museum_.renderCamera(camera, index, false).frame;
       break;
     case RigActivity::VerificationJig: {
-      const cv::Matx44d T = calib::rigidInverse(calib::toMatx(trueCamera(camera).T_world_camera())) *
-                            calib::verificationTargetPose(camera);
+      cv::Matx44d T_world_camera = calib::toMatx(trueCamera(camera).T_world_camera());
+      if (const auto knock = knocked_.find(camera); knock != knocked_.end())
+        T_world_camera = T_world_camera * knock->second;
+      const cv::Matx44d T = calib::rigidInverse(T_world_camera) * calib::verificationTargetPose(camera);
       out = boardFrame(verification_texture_, K, T, T, camera,
                        static_cast<std::uint64_t>(4000 + 100 * camera + index), 0.5f);
       break;
