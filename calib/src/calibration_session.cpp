@@ -609,21 +609,37 @@ StepOutcome CalibrationSession::measureVerification(std::ostream& log, const Pre
   rig_.begin(RigActivity::VerificationJig);
   for (int c = 0; c < rig_.cameraCount(); ++c) {
     const std::string label = cameraLabel(rig_, c);
-    std::optional<RgbdFrame> frame = rig_.nextFrame(c);
-    if (!frame)
-      throw InputError(label, "verification frames", "a frame with the verification jig mounted",
-                       "the frames ended");
     const CameraModel camera = toCameraModel(cameras_[static_cast<std::size_t>(c)]);
     const std::vector<EdgeSegment> edges = verificationTargetEdges(verificationTargetPose(c));
-    const EdgeAlignment alignment = measureEdgeAlignment(frame->colour, camera, edges, label);
+    // Frames until one shows the jig's squares near where the calibration puts them (a recording
+    // or a live camera may still show the hall before the jig is on); the closest is judged.
+    std::optional<EdgeAlignment> best;
+    cv::Mat best_colour;
+    int frames = 0;
+    while (frames < config_.max_frames_per_step) {
+      std::optional<RgbdFrame> frame = rig_.nextFrame(c);
+      if (!frame) break;
+      ++frames;
+      const EdgeAlignment alignment = measureEdgeAlignment(frame->colour, camera, edges, label);
+      if (on_preview) on_preview(c, label + ", frame " + std::to_string(frames), frame->colour);
+      if (!best || alignment.chamfer_aligned_px < best->chamfer_aligned_px) {
+        best = alignment;
+        best_colour = frame->colour;
+      }
+      if (alignment.chamfer_aligned_px < kVerificationMaxEdgePx) break;
+    }
+    if (!best)
+      throw InputError(label, "verification frames", "a frame with the verification jig mounted",
+                       "the frames ended");
+    const EdgeAlignment& alignment = *best;
     std::ostringstream figures;
-    figures << std::setprecision(3) << "edges " << alignment.chamfer_px << " px, pose error "
+    figures << std::fixed << std::setprecision(2) << "edges " << alignment.chamfer_px << " px; off "
             << alignment.position_error_mm << " mm, " << alignment.rotation_error_deg << " deg";
     log << "  camera " << c << ": " << figures.str() << " (" << 100.0 * alignment.seen_fraction
-        << "% of the jig in view)\n";
-    const cv::Mat picture = drawEdgeAlignment(frame->colour, camera, edges, alignment);
+        << "% of the jig in view; " << frames << " frames looked at)\n";
+    const cv::Mat picture = drawEdgeAlignment(best_colour, camera, edges, alignment);
     out.files.emplace_back("verification_camera" + std::to_string(c) + ".png", picture);
-    preview(out, on_preview, label + ": " + figures.str(), picture);
+    preview(out, on_preview, label + "\n" + figures.str(), picture);
     addVerdict(out, log, judgeVerification("verification camera " + std::to_string(c), alignment));
   }
   return out;
