@@ -112,15 +112,18 @@ std::vector<cv::Mat> CrossCameraFill::apply(std::span<CrossCameraView> views,
 
   constexpr float kFar = std::numeric_limits<float>::infinity();
   constexpr float kMinFacingCosine = 0.1f;  // grazing surfaces are where depth is least sure
-  cv::Mat nearest;
+  cv::Mat nearest, front_sum, front_count;
   for (std::size_t b = 0; b < views.size(); ++b) {
     CrossCameraView& target = views[b];
     if (target.depth.empty()) continue;
     const CameraModel& camera_b = cameras_[b];
     const int cols = camera_b.width(), rows = camera_b.height();
-    nearest.create(rows, cols, CV_32FC1);
-    nearest.setTo(kFar);
-    int x_min = cols, x_max = -1, y_min = rows, y_max = -1;
+    // Every source point B can face, as B's pixel square and depth.
+    struct Splat {
+      int x0, y0, size;
+      float z;
+    };
+    std::vector<Splat> splats;
     for (std::size_t a = 0; a < views.size(); ++a) {
       if (a == b || sources[a].empty()) continue;
       const CameraModel& camera_a = cameras_[a];
@@ -138,17 +141,46 @@ std::vector<cv::Mat> CrossCameraFill::apply(std::span<CrossCameraView> views,
         const int size = std::clamp(int(std::ceil(footprint * s.position.z / p.z)), 1, config_.max_splat_px);
         const int x0 = int(std::lround(pixel->x - 0.5f * float(size - 1)));
         const int y0 = int(std::lround(pixel->y - 0.5f * float(size - 1)));
-        for (int y = std::max(y0, 0); y < std::min(y0 + size, rows); ++y) {
-          float* z = nearest.ptr<float>(y);
-          for (int x = std::max(x0, 0); x < std::min(x0 + size, cols); ++x) {
-            z[x] = std::min(z[x], p.z);
-            x_min = std::min(x_min, x), x_max = std::max(x_max, x);
-            y_min = std::min(y_min, y), y_max = std::max(y_max, y);
-          }
-        }
+        if (x0 + size <= 0 || y0 + size <= 0 || x0 >= cols || y0 >= rows) continue;
+        splats.push_back({x0, y0, size, p.z});
       }
     }
-    if (x_max < 0) continue;
+    if (splats.empty()) continue;
+    // The nearest surface per pixel (a z-buffer), then the mean of the points on it: one
+    // source's noise and a splat's offset along a slope average out.
+    nearest.create(rows, cols, CV_32FC1);
+    nearest.setTo(kFar);
+    int x_min = cols, x_max = -1, y_min = rows, y_max = -1;
+    const auto for_each_pixel = [&](const Splat& s, const auto& visit) {
+      for (int y = std::max(s.y0, 0); y < std::min(s.y0 + s.size, rows); ++y)
+        for (int x = std::max(s.x0, 0); x < std::min(s.x0 + s.size, cols); ++x) visit(x, y);
+    };
+    for (const Splat& s : splats)
+      for_each_pixel(s, [&](int x, int y) {
+        float& z = nearest.at<float>(y, x);
+        z = std::min(z, s.z);
+        x_min = std::min(x_min, x), x_max = std::max(x_max, x);
+        y_min = std::min(y_min, y), y_max = std::max(y_max, y);
+      });
+    front_sum.create(rows, cols, CV_32FC1);
+    front_count.create(rows, cols, CV_32FC1);
+    const cv::Rect box(x_min, y_min, x_max - x_min + 1, y_max - y_min + 1);
+    front_sum(box).setTo(0.0f);
+    front_count(box).setTo(0.0f);
+    for (const Splat& s : splats)
+      for_each_pixel(s, [&](int x, int y) {
+        const float z = nearest.at<float>(y, x);
+        if (s.z > z + tolerance(config_, z)) return;
+        front_sum.at<float>(y, x) += s.z;
+        front_count.at<float>(y, x) += 1.0f;
+      });
+    for (int y = y_min; y <= y_max; ++y) {
+      float* z = nearest.ptr<float>(y);
+      const float* sum = front_sum.ptr<float>(y);
+      const float* count = front_count.ptr<float>(y);
+      for (int x = x_min; x <= x_max; ++x)
+        if (count[x] > 0.0f) z[x] = sum[x] / count[x];
+    }
 
     cv::Mat filled;
     CrossCameraCounts count;

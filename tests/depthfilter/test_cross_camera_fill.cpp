@@ -60,11 +60,16 @@ struct TwoCameras {
   std::vector<CrossCameraView> views;
   std::vector<cv::Mat> out;
   std::vector<CrossCameraCounts> counts;
+  static CrossCameraFillConfig on() {
+    CrossCameraFillConfig c;
+    c.enabled = true;
+    return c;
+  }
 
   // A sees `scene_a`, B `scene_b`; B's reading is dropped where `drop_b` is non-zero. Each mask
   // is where the visitor (scene index 0) is the nearest surface and was read.
   void run(const std::vector<Rectangle>& scene_a, const std::vector<Rectangle>& scene_b,
-           const cv::Mat& drop_b, const cv::Mat& background_b, CrossCameraFillConfig config = {}) {
+           const cv::Mat& drop_b, const cv::Mat& background_b, CrossCameraFillConfig config = on()) {
     views.clear();
     for (int i = 0; i < 2; ++i) {
       cv::Mat index;
@@ -142,7 +147,7 @@ TEST(CrossCameraFill, NeverPaintsAVisitorHiddenBehindAWallThatBReads) {
   EXPECT_EQ(cv::countNonZero(s.views[1].mask), 0);
   EXPECT_EQ(cv::countNonZero(s.out[1] != s.views[1].depth), 0);
 
-  CrossCameraFillConfig unchecked;
+  CrossCameraFillConfig unchecked = TwoCameras::on();
   unchecked.visibility_radius_px = 0;
   s.run(scene_a, scene_b, dropouts, cv::Mat(), unchecked);
   EXPECT_GT(s.counts[1].filled, 20) << "the adversary must be real: A's visitor lands on B's wall";
@@ -183,7 +188,7 @@ TEST(CrossCameraFill, MeasuredPixelsAgreeingWithAnotherCameraJoinTheMask) {
   const cv::Mat lost = full_mask & ~views[1].mask;
   ASSERT_GT(cv::countNonZero(lost), 20);
   std::vector<CrossCameraCounts> counts;
-  const std::vector<cv::Mat> out = CrossCameraFill(s.cameras).apply(views, &counts);
+  const std::vector<cv::Mat> out = CrossCameraFill(s.cameras, TwoCameras::on()).apply(views, &counts);
   // A's silhouette pixels are not sent, so the strip's ends next to it may stay out.
   const int rejoined = cv::countNonZero(lost & views[1].mask);
   EXPECT_GE(rejoined, cv::countNonZero(lost) * 8 / 10);
@@ -195,7 +200,7 @@ TEST(CrossCameraFill, MeasuredPixelsAgreeingWithAnotherCameraJoinTheMask) {
 
 TEST(CrossCameraFill, RefusesBadSettingsAndMismatchedViews) {
   const std::vector<CameraModel> cameras{camera(-1.0f), camera(1.0f)};
-  CrossCameraFillConfig bad;
+  CrossCameraFillConfig bad = TwoCameras::on();
   bad.max_splat_px = 0;
   EXPECT_THROW(CrossCameraFill(cameras, bad), Error);
   bad = {};

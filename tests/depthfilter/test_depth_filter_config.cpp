@@ -36,11 +36,11 @@ TEST(DepthFilterConfig, FieldsReachTheFilterAndOthersKeepTheirDefaults) {
 
 TEST(DepthFilterConfig, CrossCameraFieldsReachTheStepAndOthersKeepTheirDefaults) {
   const CrossCameraFillConfig c =
-      parsedCrossCamera("  levels: 2\n  cross_camera: false\n  cross_camera_max_splat_px: 2\n");
-  EXPECT_FALSE(c.enabled);
+      parsedCrossCamera("  levels: 2\n  cross_camera: true\n  cross_camera_max_splat_px: 2\n");
+  EXPECT_TRUE(c.enabled);
   EXPECT_EQ(c.max_splat_px, 2);
   EXPECT_EQ(c.visibility_radius_px, CrossCameraFillConfig{}.visibility_radius_px);
-  EXPECT_TRUE(parsedCrossCamera("  levels: 2\n").enabled == CrossCameraFillConfig{}.enabled);
+  EXPECT_EQ(parsedCrossCamera("  levels: 2\n").enabled, CrossCameraFillConfig{}.enabled);
   EXPECT_EQ(parsed("  cross_camera_visibility_radius_px: 3\n").levels, TemporalDepthFilterConfig{}.levels);
 }
 

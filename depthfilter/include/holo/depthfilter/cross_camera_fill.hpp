@@ -6,7 +6,8 @@
 //     the same surface (|difference| <= tolerance(z)): a silhouette's mixed pixels are not sent;
 //     the surface's normal (from those neighbours) must face B: a side B cannot see is not sent;
 //   * each source point is splatted into B as a square as wide as its footprint there (1 to
-//     max_splat_px pixels), keeping the nearest point per pixel (a z-buffer over all sources);
+//     max_splat_px pixels); per pixel the nearest surface wins (a z-buffer over all sources) and
+//     its depth is the mean of the points on it (within tolerance(z) of the nearest);
 //   * a projected point fills B's pixel only where B's sensor read nothing, where it lies in front
 //     of B's learned background depth by more than tolerance(z) (the hall's walls and anything
 //     standing in them hide it), and where no valid depth of B's own within visibility_radius_px
@@ -33,7 +34,9 @@
 namespace holo::depthfilter {
 
 struct CrossCameraFillConfig {
-  bool enabled = true;
+  // Off by default: on the five simulated halls it raises the coverage everywhere but makes ours
+  // less steady on two (docs/depthfilter.md, "Cameras filling each other").
+  bool enabled = false;
   float tolerance_m = 0.04f;     // constant part of tolerance(z), metres
   float tolerance_z2 = 0.0075f;  // grows with z^2, 1/metres
   int visibility_radius_px = 2;  // B's own nearer depth within this many pixels hides a fill

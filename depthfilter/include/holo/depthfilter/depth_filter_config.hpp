@@ -15,7 +15,7 @@
 //     fill_colour_margin: 20        # 0..765
 //     surface_tolerance_m: 0.03     # metres, 0.001..0.5
 //     surface_tolerance_z2: 0.0075  # 1/metres, 0..0.1
-//     cross_camera: true                      # the cameras fill each other's holes
+//     cross_camera: false                     # the cameras fill each other's holes
 //     cross_camera_tolerance_m: 0.04          # metres, 0.001..0.5
 //     cross_camera_tolerance_z2: 0.0075       # 1/metres, 0..0.1
 //     cross_camera_visibility_radius_px: 2    # px, 0..8
