@@ -67,6 +67,7 @@ FrameLoop::FrameLoop(FrameLoopOptions options, Installation installation,
         config.exposure = installation.camera_exposure;
         config.colour_gains = installation.colour_gains;
         config.filter = installation.depth_filter;
+        config.cross_camera = installation.cross_camera_fill;
         return depthfilter::ForegroundPipeline(installation.cameras, config);
       }()),
       camera_exposure_(installation.camera_exposure),
