@@ -100,6 +100,10 @@ EffectPlan planEffects(const EffectInputs& in) {
   }
   plan.material_reason += in.relic_clearcoat ? ", clearcoat" : ", no clearcoat";
   if (!in.self_occlusion_reason.empty()) plan.material_reason += ", " + in.self_occlusion_reason;
+  plan.interreflection = in.interreflection && !in.relic_convex;
+  plan.material_reason += !in.interreflection ? ", interreflection off"
+                          : in.relic_convex   ? ", convex relic: no interreflection"
+                                              : ", interreflection where the relic can see itself";
   if (foreground) plan.passes = {Pass::VoxelGrid, Pass::Pyramids};
   if (foreground && in.relic_rough) plan.passes.push_back(Pass::RoughForegroundMap);
   plan.passes.push_back(Pass::HitPoints);

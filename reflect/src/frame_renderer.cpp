@@ -109,6 +109,8 @@ EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
   in.internal_depth_source = settings_.refraction_depth > 0 ? "set" : "measured";
   in.self_occlusion = visibility_ != nullptr;
   in.self_occlusion_reason = self_occlusion_reason_;
+  in.interreflection = settings_.relic_interreflection;
+  in.relic_convex = scene_.relicIsConvex();
   return planEffects(in);
 }
 
@@ -238,11 +240,17 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       cache.hdr = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
       cache.coverage = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
       cache.zero_weight = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
-      out.occluded_samples =
-          StaticShading(scene_, ibl_, settings_, rough_map_.get(),
+      TracerSettings planned = settings_;
+      planned.relic_interreflection = plan.interreflection;
+      const StaticCounts counts =
+          StaticShading(scene_, ibl_, planned, rough_map_.get(),
                         plan.has(Pass::SelfOcclusion) ? visibility_.get() : nullptr, &lighting_)
               .shade(cache.hits, view, cache.shading, cache.walk_rays, cache.bounces, cache.hdr,
                      cache.coverage);
+      out.occluded_samples = counts.occluded_samples;
+      out.shaded_samples = counts.shaded_samples;
+      out.interreflected_samples = counts.interreflected_samples;
+      out.interreflection_rays = counts.interreflection_rays;
     }
     if (layered) {
       PassTimer tl(out.timings, plan.has(Pass::Refraction) ? Pass::Refraction : Pass::Clearcoat);

@@ -30,3 +30,10 @@ if(TARGET holo::relics)
     SOURCES test_self_occlusion.cpp
     DEPS holo::reflect holo::reference holo::relics holo_test_support)
 endif()
+# Where the interreflection casts rays on the built-in relics: conservative (brute force) and counted.
+if(TARGET holo::relics)
+  holo_test(test_interreflection_plan
+    SOURCES test_interreflection_plan.cpp
+    DEPS holo::reflect holo::relics holo_test_support)
+  target_include_directories(test_interreflection_plan PRIVATE ${PROJECT_SOURCE_DIR}/reflect/src)
+endif()

@@ -31,6 +31,9 @@ struct ViewCounters {
   // Samples whose diffuse light the relic's visibility occluded (SelfOcclusion; 0 when the static
   // shading was reused or the plan left it off).
   std::uint64_t occluded_samples = 0;
+  // Samples shaded, those that cast an interreflection ray and the rays they cast (0 when the
+  // static shading was reused; no ray on a convex relic: the plan leaves the effect off).
+  std::uint64_t shaded_samples = 0, interreflected_samples = 0, interreflection_rays = 0;
 };
 
 // One view's images, with its counters.
