@@ -17,7 +17,6 @@ struct ForegroundPipeline::CameraStage {
   MaskPersistence persistence;
   TemporalDepthFilter filter;
   std::vector<vec3> plane_directions;  // z = 1 ray per pixel, row-major
-  cv::Mat previous_colour;
   CameraForeground result;
   std::vector<ForegroundPoint> points;
 };
@@ -103,7 +102,6 @@ ForegroundPipeline::ForegroundPipeline(std::vector<CameraModel> cameras, Foregro
                                   TemporalDepthFilter(config_.filter),
                                   cameras_[i].planeDirectionTable(),
                                   {},
-                                  {},
                                   {}});
   }
 }
@@ -138,7 +136,7 @@ void ForegroundPipeline::forgetBackground() {
     stage.masker = ForegroundMasker(stage.masker.config());
     stage.filter.resetHistory();
     stage.persistence.reset();
-    stage.previous_colour.release();
+    stage.flow.reset();
     stage.result = {};
   }
 }
@@ -157,7 +155,7 @@ ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> frames) {
     stage.points.clear();
     if (frame.empty()) {
       stage.result = {};
-      stage.previous_colour.release();
+      stage.flow.reset();
       stage.persistence.reset();
       stage.filter.resetHistory();
       stats::add("Depthfilter/Missing camera frames");
@@ -166,7 +164,7 @@ ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> frames) {
     CameraForeground& result = stage.result;
     result.present = true;
     result.mask = stage.masker.apply(frame);
-    result.flow = stage.flow.compute(frame.colour, stage.previous_colour);
+    result.flow = stage.flow.next(frame.colour);  // from the frame before, kept by the flow
     stage.persistence.extend(result.mask, frame, result.flow);
   };
   // Per camera: the filter on the depth the other cameras completed, the border, the points.
@@ -178,7 +176,6 @@ ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> frames) {
     CameraForeground& result = stage.result;
     result.depth = stage.filter.apply({frame.colour, depth[i], result.mask, result.flow});
     result.border = expandBorder(result.mask, result.depth, config_.border);
-    frame.colour.copyTo(stage.previous_colour);  // reuses the buffer of the frame before
     appendPoints(cameras_[i], static_cast<std::uint16_t>(i), stage.plane_directions, frame.colour, result,
                  borderBox(result.mask, config_.border), gainsOverExposure(config_, i), stage.points);
   };
