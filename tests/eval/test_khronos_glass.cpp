@@ -224,9 +224,14 @@ TEST(KhronosWicker, WhatTheSunDoes) {
       m.metallic_roughness_texture = {};
     }
   };
-  const std::vector<std::string> variants = {
-      "as it is",      "no self-occlusion in ours",  "the sun clamped to the sky", "no clearcoat",
-      "the sun alone", "the sun alone, diffuse only"};
+  const std::vector<std::string> variants = {"as it is",
+                                             "no self-occlusion in ours",
+                                             "the sun clamped to the sky",
+                                             "no clearcoat",
+                                             "the sun alone",
+                                             "the sun alone, diffuse only",
+                                             "the sun alone, diffuse only, no normal map",
+                                             "the sun alone, diffuse only, no occlusion texture"};
   std::vector<double> codes;
   for (std::size_t v = 0; v < variants.size(); ++v) {
     ReflectionScene scene = khronosScene(model, panorama);
@@ -237,7 +242,11 @@ TEST(KhronosWicker, WhatTheSunDoes) {
     if (v == 3)
       for (Material& m : scene.relic.materials) m.clearcoat = 0.0f;
     if (v >= 4) keep(scene.panorama, true);
-    if (v == 5) diffuseOnly(scene.relic);
+    if (v >= 5) diffuseOnly(scene.relic);
+    for (Material& m : scene.relic.materials) {
+      if (v == 6) m.normal_texture = {};
+      if (v == 7) m.occlusion_texture = {};
+    }
     ViewOptions view;
     view.width = view.height = kPixels;
     const CameraModel camera = viewCamera(view, scene);
