@@ -26,7 +26,8 @@
 // reflected at the open share of its brightness). The glTF occlusion texture then counts only
 // where it is darker than the lobe's open share, so the two never darken the specular twice. Interleaved,
 // each hit point traces only the strata of its 2x2 pixel class dealt to its sample, and a 3x3 tent over the
-// pixels of the same surface sums them all.
+// pixels of the same surface sums them all; with an axis-aligned filter (axis_aligned_filter.hpp) the
+// tent's sums are filtered further, as wide as the lobe's bandwidth and the distance to what it meets allow.
 #pragma once
 
 #include <array>
@@ -43,26 +44,13 @@
 #include "holo/reflect/render_scene.hpp"
 #include "holo/reflect/rough_foreground_map.hpp"
 #include "holo/reflect/tracer_settings.hpp"
+#include "lobe_bounce.hpp"
 #include "walk_ray.hpp"
 
 namespace holo::reflect {
 
-// The rough lobe's interreflection samples of one hit point (or their sum over pixels).
-struct LobeBounce {
-  float above = 0.0f, met = 0.0f;      // lobe samples above the surface; those that met the relic
-  vec3 diffuse{0.0f}, specular{0.0f};  // sums over the met ones of their second points' shading
-  // The hall's prefiltered radiance along each sample, read at its stratum's share of the lobe
-  // (filtered importance sampling): summed over the samples above, and over those that missed.
-  vec3 hall{0.0f}, open{0.0f};
-  void add(const LobeBounce& other, float weight);
-};
-
-// A pixel's interleaved lobe samples and where they lie (its first rough sample's point).
-struct PixelBounce {
-  bool rough = false;
-  vec3 position{0.0f}, normal{0.0f};
-  LobeBounce samples;
-};
+class AxisAlignedFilter;
+struct FilterCounts;
 
 class StaticShading {
  public:
@@ -76,11 +64,15 @@ class StaticShading {
   // entry of hits.hits; others are left as they were) and writes the static image: hdr, CV_32FC3
   // linear BGR, the mean over each pixel's samples of psi_s + diffuse (misses black), and
   // coverage, CV_32FC1; both must be view-sized and zero, only covered pixels are written.
-  // `bounces` is scratch, reused across calls. Returns the samples whose diffuse light the
-  // visibility occluded.
+  // `bounces` is scratch, reused across calls. With `filter` (may be null) the rough lobe's pooled
+  // interreflection is filtered and `filter_counts` (then not null) receives its counters. Returns
+  // the samples whose diffuse light the visibility occluded.
   std::uint64_t shade(const HitPointBuffer& hits, const CameraModel& view,
                       std::vector<SplitSumShading>& shading, std::vector<WalkRay>& walk_rays,
-                      std::vector<PixelBounce>& bounces, cv::Mat& hdr, cv::Mat& coverage) const;
+                      std::vector<PixelBounce>& bounces, cv::Mat& hdr, cv::Mat& coverage,
+                      const AxisAlignedFilter* filter = nullptr, FilterCounts* filter_counts = nullptr) const;
+  // Some relic material traces its lobe's strata for the interreflection (the term a filter has to work on).
+  bool samplesLobe() const { return lobe_materials_ && settings_.relic_interreflection; }
 
  private:
   // Which of the rough lobe's strata a hit point traces: its pixel's 2x2 class ((x & 1) +
@@ -110,8 +102,9 @@ class StaticShading {
   float textureOcclusion(const SurfacePoint& surface) const;
   // surface_shading.hpp's shadeSurface, with the visibility's irradiance where it covers the point.
   SplitSumShading shadeAt(const SurfacePoint& surface, const vec3& wo) const;
-  void poolLobeBounces(const HitPointBuffer& hits, const std::vector<PixelBounce>& bounces,
-                       const CameraModel& view, int x, int y, std::vector<SplitSumShading>& shading) const;
+  // The 3x3 tent's sum of the pixel's and its same-surface neighbours' lobe samples.
+  LobeBounce poolLobeBounces(const std::vector<PixelBounce>& bounces, int width, int height,
+                             const CameraModel& view, int x, int y) const;
 
   const RenderScene& scene_;
   const PrefilteredIbl& ibl_;

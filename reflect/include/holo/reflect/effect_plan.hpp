@@ -8,7 +8,9 @@
 // no refraction work at all. SelfOcclusion runs where a relic with a diffuse material shadows
 // itself by more than TracerSettings::self_occlusion_min (relic_visibility.hpp, built with the
 // renderer; the lobes of metal and glass trace their own interreflection): a convex or all-metal
-// relic casts none of its rays.
+// relic casts none of its rays. AxisAlignedFilter runs where some relic material samples its rough
+// lobe for the interreflection (the one Monte Carlo term of the static shading, interleaved over
+// pixels); a smooth or Lambert relic's frame does no filtering.
 #pragma once
 
 #include <string>
@@ -25,6 +27,7 @@ enum class Pass {
   HitPoints,            // primary rays against the relic (psi_r, coverage)
   SelfOcclusion,        // the static shading's light occluded by the relic itself (relic_visibility.hpp)
   StaticReflections,    // prefiltered IBL (psi_s) and diffuse
+  AxisAlignedFilter,    // the rough lobe's sampled interreflection filtered (axis_aligned_filter.hpp)
   Refraction,           // transmitted paths through the relic to the IBL (static, like the hit points)
   Clearcoat,            // the coat's specular lobe over the base (static shading and composition)
   ForegroundWalk,       // voxel walk + pyramid reads (psi_d, w)
@@ -62,6 +65,10 @@ struct EffectInputs {
   // self-occlusion", ...).
   bool self_occlusion = false;
   std::string self_occlusion_reason;
+  // Some relic material samples its rough lobe for the interreflection (interleaved), and the
+  // filter is on; why or why not, for the plan's reason.
+  bool lobe_filter = false;
+  std::string lobe_filter_reason;
 };
 
 struct EffectPlan {

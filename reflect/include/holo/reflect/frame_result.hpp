@@ -31,6 +31,9 @@ struct ViewCounters {
   // Samples whose diffuse light the relic's visibility occluded (SelfOcclusion; 0 when the static
   // shading was reused or the plan left it off).
   std::uint64_t occluded_samples = 0;
+  // Pixels whose rough-lobe interreflection the axis-aligned filter smoothed, and the weights it
+  // took (AxisAlignedFilter; 0 when the static shading was reused or the plan left it off).
+  std::uint64_t filtered_pixels = 0, filter_taps = 0;
 };
 
 // One view's images, with its counters.
