@@ -14,6 +14,9 @@ namespace holo::reflect {
 struct LobeBounce {
   float above = 0.0f, met = 0.0f;      // lobe samples above the surface; those that met the relic
   vec3 diffuse{0.0f}, specular{0.0f};  // sums over the met ones of their second points' shading
+  // The hall's prefiltered radiance along each sample, read at its stratum's share of the lobe
+  // (filtered importance sampling): summed over the samples above, and over those that missed.
+  vec3 hall{0.0f}, open{0.0f};
   // Metres to the nearest second point (axis_aligned_filter.hpp's z_min); infinite: none met.
   float nearest = std::numeric_limits<float>::infinity();
   // Adds `other`'s sums times `weight` (>= 0); a positive weight brings its nearest point along.
@@ -22,6 +25,8 @@ struct LobeBounce {
     met += weight * other.met;
     diffuse += weight * other.diffuse;
     specular += weight * other.specular;
+    hall += weight * other.hall;
+    open += weight * other.open;
     if (weight > 0.0f) nearest = std::min(nearest, other.nearest);
   }
 };

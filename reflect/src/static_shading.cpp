@@ -40,13 +40,42 @@ void forEachLobeStratum(int side, bool interleaved, int pixel_class, int sample,
   for (int r = sample; r < count; r += samples) own(r);
 }
 
-void addLobeBounce(const LobeBounce& bounce, SplitSumShading& shading) {
+// The solid angle of a lobe sample's prefiltered lookup over its stratum's own (as the relic's
+// visibility reads its strata): neighbouring strata overlap, so a small bright light does not
+// flicker between pixels as it falls in one stratum or the next.
+constexpr float kLobeStratumOverlap = 4.0f;
+
+// The perceptual roughness whose GGX lobe (4 pi alpha^2 about the reflected direction) covers
+// kLobeStratumOverlap times a stratum of the visible-normal sampling, 1 / (strata pdf), with
+// pdf = G1(wo) D(h) / (4 wo.z) the reflected direction's density (wo, h local, wo.z > 0).
+float stratumRoughness(const vec3& wo, const vec3& h, float alpha, int strata) {
+  const float pdf = ggx::G1(wo.z, alpha) * ggx::D(h.z, alpha) / (4.0f * wo.z);
+  if (!(pdf > 0.0f)) return 1.0f;
+  const float stratum_alpha = std::sqrt(kLobeStratumOverlap / (float(strata) * pdf) / (4.0f * kPi));
+  return std::min(std::sqrt(stratum_alpha), 1.0f);
+}
+
+// `texture_occlusion`: the factor the occlusion texture put on shading.specular_scale;
+// `weighted`: the hall's share weighted by its light (else by the open count).
+void addLobeBounce(const LobeBounce& bounce, float texture_occlusion, bool weighted,
+                   SplitSumShading& shading) {
+  if (!(bounce.above > 0.0f)) return;
+  const float fraction = std::min(bounce.met / bounce.above, 1.0f);
+  // The texture beyond the lobe's own open share (the traced samples already hold the relic's
+  // occlusion of the lobe).
+  if (fraction > 0.0f && texture_occlusion > 0.0f && texture_occlusion < 1.0f)
+    shading.specular_scale *= std::min(1.0f, texture_occlusion / (1.0f - fraction)) / texture_occlusion;
+  // The hall seen through the lobe's open directions: the whole lobe's prefiltered light scaled
+  // by the open samples' share of it (per channel; by the open count where the hall is black).
+  vec3 open_share(1.0f - fraction);
+  for (int c = 0; c < 3; ++c)
+    if (weighted && bounce.hall[c] > 0.0f) open_share[c] = std::min(bounce.open[c] / bounce.hall[c], 1.0f);
+  shading.environment *= open_share;
   if (!(bounce.met > 0.0f)) return;
   // The share of the lobe that meets the relic sees its second points' static shading (their own
   // foreground is left out: the rough map read at the first point stands for the whole lobe).
-  const float fraction = std::min(bounce.met / bounce.above, 1.0f);
   shading.diffuse += shading.specular_scale * fraction * bounce.diffuse / bounce.met;
-  shading.environment = (1.0f - fraction) * shading.environment + fraction * bounce.specular / bounce.met;
+  shading.environment += fraction * bounce.specular / bounce.met;
 }
 
 SurfacePoint surfaceOf(const HitPoint& hp) {
@@ -93,14 +122,18 @@ bool StaticShading::tracesLobe(float roughness) const {
                                                       roughness >= settings_.rough_interreflection_roughness);
 }
 
+float StaticShading::textureOcclusion(const SurfacePoint& surface) const {
+  if (!visibility_ || !visibility_->covers(surface.location)) return surface.occlusion;
+  return std::min(1.0f, surface.occlusion / std::max(visibility_->openness(surface.location), 1e-3f));
+}
+
 SplitSumShading StaticShading::shadeAt(const SurfacePoint& surface, const vec3& wo) const {
   if (!visibility_ || !visibility_->covers(surface.location)) return shadeSurface(ibl_, surface, wo);
   const vec3 irradiance = visibility_->irradiance(*lighting_, surface.location);
   SplitSumShading parts = ibl_.shadeParts(surface.material, surface.normal, wo,
                                           glm::reflect(-wo, surface.normal), surface.position, &irradiance);
   // The texture's occlusion beyond what the vertices' visibility already holds.
-  const float beyond =
-      std::min(1.0f, surface.occlusion / std::max(visibility_->openness(surface.location), 1e-3f));
+  const float beyond = textureOcclusion(surface);
   parts.specular_scale *= beyond;
   parts.diffuse = beyond * parts.diffuse + surface.emission;
   return parts;
@@ -116,7 +149,7 @@ std::optional<LobeBounce> StaticShading::shadeHit(const HitPoint& hp, const Lobe
   if (tracesLobe(hp.material.roughness)) {
     const LobeBounce bounce = traceLobeBounce(hp, share, rays);
     if (settings_.evaluation.rough_interreflection_interleaved) return bounce;
-    addLobeBounce(bounce, shading);
+    addLobeBounce(bounce, textureOcclusion(surfaceOf(hp)), settings_.evaluation.lobe_visibility, shading);
     return std::nullopt;
   }
   if (!hp.mirror_may_meet_relic) return std::nullopt;  // a ray it need not cast: it would miss
@@ -192,20 +225,29 @@ LobeBounce StaticShading::traceLobeBounce(const HitPoint& hp, const LobeShare& s
   if (!(wo.z > 0.0f)) return bounce;
   const float alpha = std::max(hp.material.roughness * hp.material.roughness, 1e-3f);
   const RayScene& relic = scene_.relicOnly();
+  const int strata = settings_.rough_interreflection_grid * settings_.rough_interreflection_grid;
   forEachLobeStratum(
       settings_.rough_interreflection_grid, settings_.evaluation.rough_interreflection_interleaved,
       share.pixel_class, share.sample, share.samples, [&](const vec2& u) {
-        const vec3 l = glm::reflect(-hp.to_viewer, frame.toWorld(ggx::sampleVisibleNormal(wo, alpha, u)));
+        const vec3 h = ggx::sampleVisibleNormal(wo, alpha, u);
+        const vec3 l = glm::reflect(-hp.to_viewer, frame.toWorld(h));
         if (!(glm::dot(l, hp.normal) > 0.0f)) return;
         bounce.above += 1.0f;
+        const vec3 hall = ibl_.seenFrom(hp.position, l, stratumRoughness(wo, h, alpha, strata));
+        if (isFinite(hall)) bounce.hall += hall;
         // A stratum the supporting planes prove a miss counts as one: it sees the hall.
         if (hp.location.located() &&
-            !scene_.mayMeetRelicAgain(hp.location.mesh, hp.location.triangle, hp.location.front, l))
+            !scene_.mayMeetRelicAgain(hp.location.mesh, hp.location.triangle, hp.location.front, l)) {
+          if (isFinite(hall)) bounce.open += hall;
           return;
+        }
         const Ray ray{hp.position + hp.normal * settings_.ray_offset, l};
         const RayHit hit = relic.intersect(ray);
         ++rays;
-        if (!hit.hit()) return;
+        if (!hit.hit()) {
+          if (isFinite(hall)) bounce.open += hall;
+          return;
+        }
         const SurfacePoint surface =
             resolveSurface(scene_, relic, ray, hit, share.cone_width + hit.t * share.spread);
         if (!isFinite(surface.normal)) return;
@@ -301,7 +343,8 @@ StaticCounts StaticShading::shade(const HitPointBuffer& hits, const CameraModel&
                           const std::size_t first = hits.firstSample(p);
                           for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i)
                             if (hits.valid[i] && tracesLobe(hits.hits[i].material.roughness))
-                              addLobeBounce(pooled[p], shading[i]);
+                              addLobeBounce(pooled[p], textureOcclusion(surfaceOf(hits.hits[i])),
+                                            settings_.evaluation.lobe_visibility, shading[i]);
                         }
                         float weight = 0.0f;
                         setRgb(hdr, x, y, composePixel(hits, shading, nullptr, p, weight));

@@ -18,7 +18,13 @@
 // share that meets the relic sees the second points' static shading (a blur of them as wide as
 // the lobe), the rest the hall; a second point that reflects follows its own mirror ray once
 // more, and where that meets the relic again shows the third point's static shading instead of
-// the hall (inside a bowl the light goes round); its walk keeps the first point's mirror ray. Interleaved,
+// the hall (inside a bowl the light goes round); its walk keeps the first point's mirror ray. The
+// hall's share is the prefiltered environment of the whole lobe scaled by the share of its light
+// that comes from the open samples' directions (each sample reads the environment prefiltered to
+// its stratum, FIS Section 5.2): the lobe's own visibility, weighted by where the hall's light
+// is, not by the count of open samples alone (a bright window the bowl's rim hides is not
+// reflected at the open share of its brightness). The glTF occlusion texture then counts only
+// where it is darker than the lobe's open share, so the two never darken the specular twice. Interleaved,
 // each hit point traces only the strata of its 2x2 pixel class dealt to its sample, and a 3x3 tent over the
 // pixels of the same surface sums them all; with an axis-aligned filter (axis_aligned_filter.hpp) the
 // tent's sums are filtered further, as wide as the lobe's bandwidth and the distance to what it meets allow.
@@ -103,6 +109,9 @@ class StaticShading {
                          const SplitSumShading& second, const LobeShare& share, std::uint64_t& rays) const;
   // Whether a material this rough traces its lobe's strata for the interreflection.
   bool tracesLobe(float roughness) const;
+  // The factor the occlusion texture puts on a surface's reflected light: beyond the visibility's
+  // open share where the visibility covers it, the texture's own occlusion elsewhere.
+  float textureOcclusion(const SurfacePoint& surface) const;
   // surface_shading.hpp's shadeSurface, with the visibility's irradiance where it covers the point.
   SplitSumShading shadeAt(const SurfacePoint& surface, const vec3& wo) const;
   // The 3x3 tent's sum of the pixel's and its same-surface neighbours' lobe samples.

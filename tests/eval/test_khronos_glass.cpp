@@ -99,7 +99,7 @@ double meanCodes(const cv::Mat& ours_hdr, const cv::Mat& truth_hdr, const cv::Ma
 
 struct KhronosCase {
   std::string model;
-  double ci_bar;  // sRGB codes at CI size (measured 15.9, 20.9, 4.7, 11.9; with the textures read at
+  double ci_bar;  // sRGB codes at CI size (measured 16.6, 18.3, 4.4, 11.9; with the textures read at
                   // the entry only 32.5, 34.1, 5.7, 11.9)
 };
 
@@ -139,7 +139,7 @@ TEST_P(KhronosGlass, OursHoldsToThePathTracerOverTheRelic) {
 
 INSTANTIATE_TEST_SUITE_P(Models, KhronosGlass,
                          ::testing::Values(KhronosCase{"khronos_glass_hurricane_candle_holder.glb", 17.5},
-                                           KhronosCase{"khronos_transmission_roughness_test.glb", 23.0},
+                                           KhronosCase{"khronos_transmission_roughness_test.glb", 21.0},
                                            KhronosCase{"khronos_attenuation_test.glb", 5.5},
                                            KhronosCase{"khronos_clearcoat_wicker.glb", 13.5}));
 
@@ -197,6 +197,76 @@ TEST(KhronosGlassCandle, TheCandleIsSeenThroughTheGlassAsInTheTruth) {
   // 256^2 15.7 and 24.7. The glass's textures read at the entry only: 40.9 (the candle hidden).
   EXPECT_LT(codes, fullEvaluation() ? 8.0 : 21.0);
   EXPECT_GT(dropped_codes, 1.3 * codes);
+}
+
+// Why the clearcoat wicker departs from its truth under the park's sun (opt-in, HOLO_FULL_EVAL=1;
+// docs/materials.md): the model as it is, then one thing taken away from both renderers or from
+// ours alone, 128^2 under rooitou park, truth 256 spp.
+TEST(KhronosWicker, WhatTheSunDoes) {
+  if (!fullEvaluation()) GTEST_SKIP() << "HOLO_FULL_EVAL=1 renders the wicker's figures";
+  const std::string model = "khronos_clearcoat_wicker.glb", panorama = "hdri/rooitou_park_1k.hdr";
+  HOLO_REQUIRE_SHARED_DATA("models/" + model);
+  HOLO_REQUIRE_SHARED_DATA(panorama);
+  constexpr int kPixels = 128, kSpp = 256;
+  constexpr float kSunLuminance = 50.0f;  // the sun: the panorama's pixels brighter than this
+  const auto keep = [&](cv::Mat& pano, bool sun) {
+    for (int y = 0; y < pano.rows; ++y)
+      for (int x = 0; x < pano.cols; ++x) {
+        cv::Vec3f& v = pano.at<cv::Vec3f>(y, x);
+        const float l = 0.0722f * v[0] + 0.7152f * v[1] + 0.2126f * v[2];
+        if (sun && l < kSunLuminance) v = cv::Vec3f(0.0f, 0.0f, 0.0f);
+        if (!sun && l > kSunLuminance) v *= kSunLuminance / l;
+      }
+  };
+  const auto diffuseOnly = [](Model& relic) {
+    for (Material& m : relic.materials) {
+      m.clearcoat = m.specular = m.metallic = 0.0f;
+      m.metallic_roughness_texture = {};
+    }
+  };
+  const std::vector<std::string> variants = {"as it is",
+                                             "no self-occlusion in ours",
+                                             "the sun clamped to the sky",
+                                             "no clearcoat",
+                                             "the sun alone",
+                                             "the sun alone, diffuse only",
+                                             "the sun alone, diffuse only, no normal map",
+                                             "the sun alone, diffuse only, no occlusion texture"};
+  std::vector<double> codes;
+  for (std::size_t v = 0; v < variants.size(); ++v) {
+    ReflectionScene scene = khronosScene(model, panorama);
+    MethodSettings ours;
+    ours.with_visitors = false;
+    if (v == 1) ours.tracer.evaluation.self_occlusion = false;
+    if (v == 2) keep(scene.panorama, false);
+    if (v == 3)
+      for (Material& m : scene.relic.materials) m.clearcoat = 0.0f;
+    if (v >= 4) keep(scene.panorama, true);
+    if (v >= 5) diffuseOnly(scene.relic);
+    for (Material& m : scene.relic.materials) {
+      if (v == 6) m.normal_texture = {};
+      if (v == 7) m.occlusion_texture = {};
+    }
+    ViewOptions view;
+    view.width = view.height = kPixels;
+    const CameraModel camera = viewCamera(view, scene);
+    const cv::Mat mask = relicPixels(scene.relic, camera);
+    const cv::Mat truth = renderView("gt", scene, camera, kSpp);
+    const cv::Mat image = renderMethod("ours", scene, camera, ours).image;
+    double ours_sum = 0, truth_sum = 0;
+    for (int y = 0; y < kPixels; ++y)
+      for (int x = 0; x < kPixels; ++x)
+        if (mask.at<std::uint8_t>(y, x))
+          for (int c = 0; c < 3; ++c) {
+            ours_sum += image.at<cv::Vec3f>(y, x)[c];
+            truth_sum += truth.at<cv::Vec3f>(y, x)[c];
+          }
+    codes.push_back(meanCodes(image, truth, mask));
+    std::printf("wicker, %s: %.2f sRGB codes, mean ours/truth %.3f\n", variants[v].c_str(), codes.back(),
+                ours_sum / truth_sum);
+  }
+  EXPECT_LT(codes[2], 0.5 * codes[0]);  // the sun is the cause
+  EXPECT_GT(codes[3], 0.8 * codes[0]);  // the clearcoat is not
 }
 
 }  // namespace

@@ -197,7 +197,10 @@ TEST(AxisAlignedFilter, MetalBowlErrorWorsensWithoutIt) {
       "estimate %.5f, %.5f (%.3fx)\n",
       on_truth, off_truth, off_truth / on_truth, on_noise, off_noise, off_noise / on_noise);
   EXPECT_LT(on_truth, 0.99 * off_truth);
-  EXPECT_LT(on_noise, 0.97 * off_noise);
+  // Measured 1.022x lower: the lobe's hall share is weighted by its light (static_shading.hpp),
+  // which took a quarter of the error to the truth away and left the filter less noise to remove
+  // (1.041x with the share by the open count).
+  EXPECT_LT(on_noise, 0.985 * off_noise);
 }
 
 // The adversary: blurring everything as widely as the filter's widest (its radius) scores worse

@@ -50,6 +50,10 @@ struct TracerEvaluationKnobs {
   // diffuse light is the unoccluded irradiance (the glTF occlusion texture the only visibility).
   // Default true; false measures what the visibility adds.
   bool self_occlusion = true;
+  // A rough lobe's hall share is the prefiltered lobe scaled by the open samples' share of its
+  // light (static_shading.hpp); false: by the open samples' count alone, the hall's light as if
+  // spread evenly over the lobe. Default true; false measures what weighting by the light adds.
+  bool lobe_visibility = true;
 };
 
 struct TracerSettings {
