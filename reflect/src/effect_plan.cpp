@@ -40,6 +40,8 @@ const char* passName(Pass pass) {
       return "RefractedForeground";
     case Pass::Clearcoat:
       return "Clearcoat";
+    case Pass::ProgressiveRefinement:
+      return "ProgressiveRefinement";
   }
   return "?";
 }
@@ -100,6 +102,8 @@ EffectPlan planEffects(const EffectInputs& in) {
   }
   plan.material_reason += in.relic_clearcoat ? ", clearcoat" : ", no clearcoat";
   if (!in.self_occlusion_reason.empty()) plan.material_reason += ", " + in.self_occlusion_reason;
+  if (!in.progressive_refinement_reason.empty())
+    plan.material_reason += ", " + in.progressive_refinement_reason;
   if (foreground) plan.passes = {Pass::VoxelGrid, Pass::Pyramids};
   if (foreground && in.relic_rough) plan.passes.push_back(Pass::RoughForegroundMap);
   plan.passes.push_back(Pass::HitPoints);
@@ -107,6 +111,8 @@ EffectPlan planEffects(const EffectInputs& in) {
   plan.passes.push_back(Pass::StaticReflections);
   if (in.relic_transmissive) plan.passes.push_back(Pass::Refraction);
   if (in.relic_clearcoat) plan.passes.push_back(Pass::Clearcoat);
+  if (in.progressive_refinement && !in.relic_transmissive && !in.relic_clearcoat)
+    plan.passes.push_back(Pass::ProgressiveRefinement);
   if (foreground) {
     plan.passes.push_back(Pass::ForegroundWalk);
     if (in.relic_transmissive && in.refracted_foreground) plan.passes.push_back(Pass::RefractedForeground);

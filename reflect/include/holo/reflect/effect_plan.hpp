@@ -8,7 +8,10 @@
 // no refraction work at all. SelfOcclusion runs where a relic with a diffuse material shadows
 // itself by more than TracerSettings::self_occlusion_min (relic_visibility.hpp, built with the
 // renderer; the lobes of metal and glass trace their own interreflection): a convex or all-metal
-// relic casts none of its rays.
+// relic casts none of its rays. ProgressiveRefinement runs where an opaque relic's material traces
+// its rough lobe for the interreflection (progressive_accumulation.hpp in reflect/src): a still
+// view adds a sample set a frame, its cost at most the static pass's on the rough samples, nothing
+// once converged or while the foreground keeps changing.
 #pragma once
 
 #include <string>
@@ -19,18 +22,19 @@
 namespace holo::reflect {
 
 enum class Pass {
-  VoxelGrid,            // bin the foreground cloud
-  Pyramids,             // Kawase colour and mask pyramids per camera
-  RoughForegroundMap,   // the visitors prefiltered around the relic, for its roughest materials
-  HitPoints,            // primary rays against the relic (psi_r, coverage)
-  SelfOcclusion,        // the static shading's light occluded by the relic itself (relic_visibility.hpp)
-  StaticReflections,    // prefiltered IBL (psi_s) and diffuse
-  Refraction,           // transmitted paths through the relic to the IBL (static, like the hit points)
-  Clearcoat,            // the coat's specular lobe over the base (static shading and composition)
-  ForegroundWalk,       // voxel walk + pyramid reads (psi_d, w)
-  RefractedForeground,  // the visitors seen through the relic: a walk per transmitted exit ray
-  Composition,          // psi_d * w + psi_s * (1 - w)
-  ToneMap,              // exposure, tone mapping, sRGB (the last: pipeline's kPassCount counts on it)
+  VoxelGrid,              // bin the foreground cloud
+  Pyramids,               // Kawase colour and mask pyramids per camera
+  RoughForegroundMap,     // the visitors prefiltered around the relic, for its roughest materials
+  HitPoints,              // primary rays against the relic (psi_r, coverage)
+  SelfOcclusion,          // the static shading's light occluded by the relic itself (relic_visibility.hpp)
+  StaticReflections,      // prefiltered IBL (psi_s) and diffuse
+  Refraction,             // transmitted paths through the relic to the IBL (static, like the hit points)
+  Clearcoat,              // the coat's specular lobe over the base (static shading and composition)
+  ProgressiveRefinement,  // a still view's rough interreflection: one more sample set accumulated
+  ForegroundWalk,         // voxel walk + pyramid reads (psi_d, w)
+  RefractedForeground,    // the visitors seen through the relic: a walk per transmitted exit ray
+  Composition,            // psi_d * w + psi_s * (1 - w)
+  ToneMap,                // exposure, tone mapping, sRGB (the last: pipeline's kPassCount counts on it)
 };
 
 const char* passName(Pass pass);
@@ -62,13 +66,18 @@ struct EffectInputs {
   // self-occlusion", ...).
   bool self_occlusion = false;
   std::string self_occlusion_reason;
+  // A relic material traces its rough lobe's strata, the relic is opaque and refinement is on;
+  // why or why not, for the plan's reason ("rough lobes refined up to 64 sets", ...).
+  bool progressive_refinement = false;
+  std::string progressive_refinement_reason;
 };
 
 struct EffectPlan {
   std::vector<Pass> passes;
   std::string foreground_reason;  // why the foreground passes run or not, for the statistics
-  std::string material_reason;    // why Refraction / Clearcoat / SelfOcclusion run or not
-  int internal_depth = 0;         // interface events per transmitted path; 0 without Refraction
+  std::string
+      material_reason;     // why Refraction / Clearcoat / SelfOcclusion / ProgressiveRefinement run or not
+  int internal_depth = 0;  // interface events per transmitted path; 0 without Refraction
   bool has(Pass pass) const;
   // "HitPoints,StaticReflections,ToneMap (no foreground points; opaque relic, no clearcoat)"
   std::string describe() const;
