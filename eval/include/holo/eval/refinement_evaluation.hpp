@@ -4,8 +4,9 @@
 // alone) the error of the four views against the converged image (converged_sets sets), as the
 // luminance RMS over the pixels where the rough interreflection shows divided by that light's own
 // RMS there (the relic with its interreflection minus the relic without it); and the frame's time.
-// The budget beside it: the frame when an eye moves (hit points and the static shading traced
-// again) and the still frame without refinement (both medians over the same frames' count).
+// The budget beside it, measured in turn in the same minutes: a refining frame, the frame when
+// every eye moves (hit points and the static shading traced again) and the still frame without
+// refinement (medians over timing_frames each).
 // Units: milliseconds, ratios.
 #pragma once
 
@@ -28,7 +29,7 @@ struct RefinementEvaluation {
   std::vector<double> frame_ms;  // per frame, the renderer's frame (four views)
   double moved_ms = 0;           // median frame with every eye moved
   double reused_ms = 0;          // median still frame without refinement
-  double refining_ms = 0;        // median of frame_ms over the refining frames (n >= 2)
+  double refining_ms = 0;        // median refining frame
   std::size_t region_pixels = 0;
   double interreflected_rms = 0;  // luminance RMS of the interreflected light over the region
   std::string plan;               // the effect plan of a still frame
