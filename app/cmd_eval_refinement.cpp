@@ -1,5 +1,6 @@
 // `holopyramid eval refinement`: a still scene's error against the converged image frame after
 // frame with progressive refinement, at the live view size (eval/refinement_evaluation.hpp).
+#include <algorithm>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -33,11 +34,11 @@ int run(const Options& o) {
   for (std::size_t n = 0; n < e.error.size(); ++n)
     std::cout << std::setw(6) << n + 1 << std::setw(12) << e.error[n] << std::setw(10) << e.frame_ms[n]
               << "\n";
-  std::cout << "2 s at the refining rate: " << two_seconds << " frames; error there "
-            << (two_seconds >= 1 && two_seconds <= int(e.error.size()) ? e.error[std::size_t(two_seconds) - 1]
-                                                                       : -1.0)
-            << "; first frame <= 10%: " << below << "; monotonic to frame " << two_seconds << ": "
-            << (e.monotonicUpTo(two_seconds) ? "yes" : "no") << "\n";
+  const int shown = std::min(two_seconds, int(e.error.size()));
+  std::cout << "2 s at the refining rate: " << two_seconds << " frames; error at frame " << shown << ": "
+            << (shown >= 1 ? e.error[std::size_t(shown) - 1] : -1.0) << "; first frame <= 10%: " << below
+            << "; monotonic over frames 1.." << e.error.size() << ": "
+            << (e.monotonicUpTo(int(e.error.size())) ? "yes" : "no") << "\n";
   if (!o.out.empty()) {
     std::filesystem::create_directories(o.out);
     std::string csv = "frame,error,frame_ms\n";

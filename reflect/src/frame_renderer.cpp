@@ -190,7 +190,8 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
   }
   while (caches_.size() < views.size()) caches_.push_back(std::make_unique<ViewCache>());
   // Still, for ProgressiveRefinement: what the grid holds is what it held last frame.
-  const std::uint64_t foreground = foregroundSignature(grid_);
+  const std::uint64_t foreground =
+      result.plan.has(Pass::ProgressiveRefinement) ? foregroundSignature(grid_) : 0;
   for (std::size_t v = 0; v < views.size(); ++v)
     result.views.push_back(renderView(result.plan, cameras, views[v], foreground, *caches_[v]));
   return result;
