@@ -1,9 +1,6 @@
 #include "progressive_accumulation.hpp"
 
-#include <algorithm>
 #include <bit>
-#include <cmath>
-#include <numeric>
 
 namespace holo::reflect {
 namespace {

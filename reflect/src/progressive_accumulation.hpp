@@ -19,10 +19,11 @@
 // those pixels: at most the static pass's work on them, which a moved eye's frame does anyway. A
 // reset costs the same once; a view that stays reset (the foreground keeps changing) or has
 // accumulated TracerSettings::refinement_sets sets does no work at all.
-// Sample sets n > 0: every stratum of pixel p's sample s offset by point n - 1 of Sobol's first two
-// dimensions, digitally shifted (XOR) by a hash of (p, s): deterministic per frame index of the
-// accumulation; the first 2^k sets after set 0 stratify each stratum into 2^k cells, and the
-// samples' own shifts keep neighbouring pixels (which the tent pools) from erring alike.
+// Sample sets n > 0: every stratum of pixel p's sample s offset by point n - 1 + phi(p, s) of
+// Sobol's first two dimensions, digitally shifted (XOR) by a hash of (p, s): deterministic per
+// frame index of the accumulation. Each sample runs through the sequence from a phase phi of its
+// own (0..1023), so that the pixels' errors do not rise and fall together with the sequence's
+// stratification, and the shifts keep neighbouring pixels (which the tent pools) from erring alike.
 #pragma once
 
 #include <cstdint>
