@@ -24,7 +24,10 @@ int run(const Options& o) {
   const int below = e.firstFrameBelow(0.10);
   std::cout << std::setprecision(4) << "relic " << o.evaluation.relic << ", "
             << (o.evaluation.panorama.empty() ? std::string("synthetic sky") : o.evaluation.panorama)
-            << ", four views of " << o.evaluation.view_size << "^2 at the default eyes\n"
+            << ", four views of " << o.evaluation.view_size << "^2 at the default eyes, "
+            << (o.evaluation.live_loop ? "the live loop's settings with the interreflection on"
+                                       : "the tracer's defaults")
+            << "\n"
             << "plan: " << e.plan << "\n"
             << "region: " << e.region_pixels << " px where the interreflection shows, its light's rms "
             << e.interreflected_rms << "; converged: " << o.evaluation.converged_sets << " sets\n"
@@ -77,6 +80,9 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--timing-frames", e.timing_frames, "Frames per median of the budget's frames")
           ->capture_default_str()
           ->check(CLI::Range(1, 1000));
+      sub.add_flag("--live-loop", e.live_loop,
+                   "The live loop's tracer settings (one sample per pixel, edge anti-aliasing) with the "
+                   "interreflection on");
       sub.add_option("--out", o->out, "Folder for refinement.csv and refinement.svg");
       return [o] { return run(*o); };
     },

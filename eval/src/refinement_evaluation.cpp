@@ -10,6 +10,7 @@
 #include "holo/core/image.hpp"
 #include "holo/core/stopwatch.hpp"
 #include "holo/eval/loglog_plot.hpp"
+#include "holo/pipeline/frame_loop.hpp"
 #include "holo/reflect/frame_renderer.hpp"
 #include "holo/reflect/view.hpp"
 #include "holo/relics/relics.hpp"
@@ -83,15 +84,20 @@ RefinementEvaluation evaluateRefinement(const RefinementEvaluationOptions& o) {
   const reflect::PrefilteredIbl ibl(environment);
   const std::vector<CameraModel> views = faceViews(scene.relicBounds(), o.view_size, 0.0f);
   RefinementEvaluation e;
+  reflect::TracerSettings base;
+  if (o.live_loop) {
+    base = pipeline::liveTracerSettings();
+    base.relic_interreflection = true;
+  }
 
-  reflect::TracerSettings converging;
+  reflect::TracerSettings converging = base;
   converging.refinement_sets = o.converged_sets;
   std::vector<cv::Mat> converged;
   {
     reflect::FrameRenderer renderer(scene, ibl, converging);
     for (int f = 0; f < o.converged_sets; ++f) converged = renderFrame(renderer, views);
   }
-  reflect::TracerSettings flat;
+  reflect::TracerSettings flat = base;
   flat.relic_interreflection = false;
   reflect::FrameRenderer flat_renderer(scene, ibl, flat);
   const std::vector<cv::Mat> without = renderFrame(flat_renderer, views);
@@ -113,7 +119,7 @@ RefinementEvaluation evaluateRefinement(const RefinementEvaluationOptions& o) {
   }
   e.interreflected_rms = e.region_pixels ? std::sqrt(light_sq / double(e.region_pixels)) : 0.0;
 
-  reflect::FrameRenderer renderer(scene, ibl, reflect::TracerSettings{});
+  reflect::FrameRenderer renderer(scene, ibl, base);
   e.plan = renderer.plan({}, {}).describe();
   for (int f = 0; f < o.frames; ++f) {
     double ms = 0;
@@ -137,7 +143,7 @@ RefinementEvaluation evaluateRefinement(const RefinementEvaluationOptions& o) {
   // without refinement.
   std::vector<double> refining, moved, reused;
   const std::vector<CameraModel> other = faceViews(scene.relicBounds(), o.view_size, 0.01f);
-  reflect::TracerSettings endless, off;
+  reflect::TracerSettings endless = base, off = base;
   endless.refinement_sets = 4096;
   off.refinement_sets = 1;
   reflect::FrameRenderer refiner(scene, ibl, endless), still(scene, ibl, off);

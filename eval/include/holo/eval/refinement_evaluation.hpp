@@ -22,6 +22,10 @@ struct RefinementEvaluationOptions {
   int frames = 64;                   // frames of the curve
   int converged_sets = 256;          // sample sets of the converged image
   int timing_frames = 9;             // frames per median of the budget's frames
+  // The live loop's tracer settings (pipeline::liveTracerSettings: one sample per pixel with edge
+  // anti-aliasing, static reuse within 1 cm) with the interreflection on, which the loop leaves
+  // off; false: the tracer's defaults (four samples per pixel), the evaluations'.
+  bool live_loop = false;
 };
 
 struct RefinementEvaluation {
