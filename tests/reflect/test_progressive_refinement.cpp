@@ -18,6 +18,7 @@
 #include "holo/reflect/frame_renderer.hpp"
 #include "holo/reflect/view.hpp"
 #include "holo/relics/relics.hpp"
+#include "progressive_accumulation.hpp"
 #include "reflect_test_scenes.hpp"
 
 namespace holo::reflect {
@@ -212,6 +213,23 @@ TEST(ProgressiveRefinement, ConvergedOrSmoothRelicsDoNoneOfTheWork) {
     EXPECT_EQ(r.views.at(0).refinement_samples, 0u);
     EXPECT_EQ(r.views.at(0).accumulated_sets, 0u);
   }
+}
+
+// "Still" for the visitors: the signature follows what the grid holds, not the order the points
+// came in.
+TEST(ProgressiveRefinement, ForegroundSignatureFollowsWhatTheGridHolds) {
+  depthfilter::ForegroundCloud cloud = holo::test::redWall(-0.2f, 0.1f, 21, 21).cloud;
+  for (std::size_t i = 0; i < cloud.points.size(); ++i) cloud.points[i].weight = 0.5f + 0.001f * float(i);
+  depthfilter::ForegroundCloud reversed = cloud, moved = cloud;
+  std::reverse(reversed.points.begin(), reversed.points.end());
+  moved.points[0].position.z += 0.1f;
+  VoxelGrid a, b, c, empty;
+  a.build(cloud);
+  b.build(reversed);
+  c.build(moved);
+  EXPECT_EQ(foregroundSignature(a), foregroundSignature(b));
+  EXPECT_NE(foregroundSignature(a), foregroundSignature(c));
+  EXPECT_NE(foregroundSignature(a), foregroundSignature(empty));
 }
 
 }  // namespace

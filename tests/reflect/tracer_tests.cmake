@@ -36,4 +36,5 @@ if(TARGET holo::relics)
   holo_test(test_progressive_refinement
     SOURCES test_progressive_refinement.cpp
     DEPS holo::reflect holo::relics holo::depthfilter holo_test_support)
+  target_include_directories(test_progressive_refinement PRIVATE ${PROJECT_SOURCE_DIR}/reflect/src)
 endif()
