@@ -6,6 +6,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "axis_aligned_filter.hpp"
 #include "compose_pass.hpp"
 #include "foreground_walk.hpp"
 #include "holo/reflect/tone_map.hpp"
@@ -98,6 +99,12 @@ FrameRenderer::FrameRenderer(const RenderScene& scene, const PrefilteredIbl& ibl
   else
     refinement_reason_ = "rough lobes refined up to " + std::to_string(settings_.refinement_sets) + " sets";
   refines_ = refinement_reason_.starts_with("rough lobes refined");
+  const bool samples_lobe = StaticShading(scene_, ibl_, settings_, rough_map_.get()).samplesLobe() &&
+                            settings_.evaluation.rough_interreflection_interleaved;
+  lobe_filter_ = samples_lobe && settings_.evaluation.axis_aligned_filter;
+  lobe_filter_reason_ = !samples_lobe  ? "no sampled rough lobe: no filter"
+                        : lobe_filter_ ? "axis-aligned filter of the rough lobe"
+                                       : "axis-aligned filter off";
 }
 
 EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
@@ -122,6 +129,8 @@ EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
   in.self_occlusion_reason = self_occlusion_reason_;
   in.progressive_refinement = refines_;
   in.progressive_refinement_reason = refinement_reason_;
+  in.lobe_filter = lobe_filter_;
+  in.lobe_filter_reason = lobe_filter_reason_;
   return planEffects(in);
 }
 
@@ -256,11 +265,20 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       cache.hdr = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
       cache.coverage = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
       cache.zero_weight = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
+      const AxisAlignedFilter filter;
+      FilterCounts filtered;
       out.occluded_samples =
           StaticShading(scene_, ibl_, settings_, rough_map_.get(),
                         plan.has(Pass::SelfOcclusion) ? visibility_.get() : nullptr, &lighting_)
               .shade(cache.hits, view, cache.shading, cache.walk_rays, cache.bounces, cache.hdr,
-                     cache.coverage);
+                     cache.coverage, plan.has(Pass::AxisAlignedFilter) ? &filter : nullptr, &filtered);
+      out.filtered_pixels = filtered.pixels;
+      out.filter_taps = filtered.taps;
+      // The filter runs inside the static shading; its time is its own pass's, not the shading's.
+      if (plan.has(Pass::AxisAlignedFilter)) {
+        t.subtract(filtered.ms);
+        out.timings.push_back({Pass::AxisAlignedFilter, filtered.ms});
+      }
     }
     if (layered) {
       PassTimer tl(out.timings, plan.has(Pass::Refraction) ? Pass::Refraction : Pass::Clearcoat);
@@ -280,11 +298,19 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     if (plan.has(Pass::ProgressiveRefinement)) cache.progress.restart(cache.bounces, foreground);
   } else if (plan.has(Pass::ProgressiveRefinement)) {
     PassTimer t(out.timings, Pass::ProgressiveRefinement);
+    const AxisAlignedFilter filter;
     const RefinementStep step = cache.progress.advance(
         StaticShading(scene_, ibl_, settings_, rough_map_.get(),
                       plan.has(Pass::SelfOcclusion) ? visibility_.get() : nullptr, &lighting_),
         cache.hits, cache.camera, foreground, std::uint32_t(settings_.refinement_sets), cache.shading,
-        cache.walk_rays, cache.bounces, cache.hdr);
+        cache.walk_rays, cache.bounces, cache.hdr, plan.has(Pass::AxisAlignedFilter) ? &filter : nullptr);
+    // The filter's time is its own pass's, as in the static pass.
+    if (step.filtered.ms > 0.0) {
+      t.subtract(step.filtered.ms);
+      out.timings.push_back({Pass::AxisAlignedFilter, step.filtered.ms});
+    }
+    out.filtered_pixels = step.filtered.pixels;
+    out.filter_taps = step.filtered.taps;
     out.refinement_samples = step.samples;
     out.refinement_reset = step.reset;
     if (step.image_changed) cache.display_exposure = 0.0f;

@@ -57,7 +57,8 @@ RefinementStep ProgressiveAccumulation::advance(const StaticShading& shading_pas
                                                 const CameraModel& view, std::uint64_t foreground,
                                                 std::uint32_t max_sets, std::vector<SplitSumShading>& shading,
                                                 std::vector<WalkRay>& walk_rays,
-                                                std::vector<PixelBounce>& bounces, cv::Mat& hdr) {
+                                                std::vector<PixelBounce>& bounces, cv::Mat& hdr,
+                                                const AxisAlignedFilter* filter) {
   RefinementStep step;
   const bool still = foreground == foreground_;
   foreground_ = foreground;
@@ -79,7 +80,7 @@ RefinementStep ProgressiveAccumulation::advance(const StaticShading& shading_pas
   hdr = hdr.clone();
   step.samples = shading_pass.reshadeLobes(
       hits, view, pixels_, [set](std::size_t pixel, int sample) { return stratumOffset(set, pixel, sample); },
-      shading, walk_rays, bounces, hdr);
+      shading, walk_rays, bounces, hdr, filter, &step.filtered);
   sets_ += 1;
   step.sets = sets_;
   step.image_changed = true;

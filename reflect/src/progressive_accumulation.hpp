@@ -31,6 +31,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "axis_aligned_filter.hpp"
 #include "holo/core/camera_model.hpp"
 #include "holo/reflect/hit_points.hpp"
 #include "holo/reflect/voxel_grid.hpp"
@@ -52,6 +53,7 @@ struct RefinementStep {
   std::uint64_t samples = 0;   // samples shaded again this frame (0: nothing to do)
   bool reset = false;          // the foreground changed: back to set 0
   bool image_changed = false;  // hdr (and the shading) were written this frame
+  FilterCounts filtered;       // the axis-aligned filter's, where it ran
 };
 
 // One view's accumulation, kept with its static shading (FrameRenderer's view cache).
@@ -63,11 +65,13 @@ class ProgressiveAccumulation {
   // A frame whose static shading was reused: with the same foreground, the next sample set added
   // (until max_sets); with another, back to set 0. shading, walk_rays and bounces are the view's,
   // after shade() and restart(); hdr, the view's static image, is replaced by a new image when
-  // written (an image handed out before is never written).
+  // written (an image handed out before is never written). `filter` (may be null): the static
+  // pass's axis-aligned filter, applied to the accumulated sums as to set 0's.
   RefinementStep advance(const StaticShading& shading_pass, const HitPointBuffer& hits,
                          const CameraModel& view, std::uint64_t foreground, std::uint32_t max_sets,
                          std::vector<SplitSumShading>& shading, std::vector<WalkRay>& walk_rays,
-                         std::vector<PixelBounce>& bounces, cv::Mat& hdr);
+                         std::vector<PixelBounce>& bounces, cv::Mat& hdr,
+                         const AxisAlignedFilter* filter = nullptr);
   std::uint32_t sets() const { return sets_; }
 
  private:

@@ -20,7 +20,8 @@
 // more, and where that meets the relic again shows the third point's static shading instead of
 // the hall (inside a bowl the light goes round); its walk keeps the first point's mirror ray. Interleaved,
 // each hit point traces only the strata of its 2x2 pixel class dealt to its sample, and a 3x3 tent over the
-// pixels of the same surface sums them all.
+// pixels of the same surface sums them all; with an axis-aligned filter (axis_aligned_filter.hpp) the
+// tent's sums are filtered further, as wide as the lobe's bandwidth and the distance to what it meets allow.
 #pragma once
 
 #include <array>
@@ -38,23 +39,13 @@
 #include "holo/reflect/render_scene.hpp"
 #include "holo/reflect/rough_foreground_map.hpp"
 #include "holo/reflect/tracer_settings.hpp"
+#include "lobe_bounce.hpp"
 #include "walk_ray.hpp"
 
 namespace holo::reflect {
 
-// The rough lobe's interreflection samples of one hit point (or their sum over pixels).
-struct LobeBounce {
-  float above = 0.0f, met = 0.0f;      // lobe samples above the surface; those that met the relic
-  vec3 diffuse{0.0f}, specular{0.0f};  // sums over the met ones of their second points' shading
-  void add(const LobeBounce& other, float weight);
-};
-
-// A pixel's interleaved lobe samples and where they lie (its first rough sample's point).
-struct PixelBounce {
-  bool rough = false;
-  vec3 position{0.0f}, normal{0.0f};
-  LobeBounce samples;
-};
+class AxisAlignedFilter;
+struct FilterCounts;
 
 class StaticShading {
  public:
@@ -68,11 +59,15 @@ class StaticShading {
   // entry of hits.hits; others are left as they were) and writes the static image: hdr, CV_32FC3
   // linear BGR, the mean over each pixel's samples of psi_s + diffuse (misses black), and
   // coverage, CV_32FC1; both must be view-sized and zero, only covered pixels are written.
-  // `bounces` is scratch, reused across calls. Returns the samples whose diffuse light the
-  // visibility occluded.
+  // `bounces` is scratch, reused across calls. With `filter` (may be null) the rough lobe's pooled
+  // interreflection is filtered and `filter_counts` (then not null) receives its counters. Returns
+  // the samples whose diffuse light the visibility occluded.
   std::uint64_t shade(const HitPointBuffer& hits, const CameraModel& view,
                       std::vector<SplitSumShading>& shading, std::vector<WalkRay>& walk_rays,
-                      std::vector<PixelBounce>& bounces, cv::Mat& hdr, cv::Mat& coverage) const;
+                      std::vector<PixelBounce>& bounces, cv::Mat& hdr, cv::Mat& coverage,
+                      const AxisAlignedFilter* filter = nullptr, FilterCounts* filter_counts = nullptr) const;
+  // Some relic material traces its lobe's strata for the interreflection (the term a filter has to work on).
+  bool samplesLobe() const { return lobe_materials_ && settings_.relic_interreflection; }
 
   // Where a sample (pixel index, sample within the pixel) takes its lobe's strata: an offset in
   // [0, 1)^2 within each stratum; shade() takes the centres (0.5, 0.5).
@@ -81,13 +76,15 @@ class StaticShading {
   // with the same hits, view and buffers: each valid sample of `pixels` whose material traces its
   // lobe is shaded again with its strata at `offset`, its lobe samples added to
   // accumulated[pixel] (the sums of the sets so far; shade()'s `bounces`); then each of those
-  // pixels pools its neighbours' accumulated sums and its samples' shading and hdr pixel are
-  // written again. The interleaved strata only (rough_interreflection_interleaved). Returns the
-  // samples shaded.
+  // pixels pools its neighbours' accumulated sums (filtered with `filter` as shade() does; then
+  // filter_counts is not null) and its samples' shading and hdr pixel are written again. The
+  // interleaved strata only (rough_interreflection_interleaved). Returns the samples shaded.
   std::uint64_t reshadeLobes(const HitPointBuffer& hits, const CameraModel& view,
                              const std::vector<std::uint32_t>& pixels, const StratumOffset& offset,
                              std::vector<SplitSumShading>& shading, std::vector<WalkRay>& walk_rays,
-                             std::vector<PixelBounce>& accumulated, cv::Mat& hdr) const;
+                             std::vector<PixelBounce>& accumulated, cv::Mat& hdr,
+                             const AxisAlignedFilter* filter = nullptr,
+                             FilterCounts* filter_counts = nullptr) const;
   // Some relic material traces its lobe's strata for the interreflection.
   bool tracesLobes() const { return lobe_materials_; }
 
@@ -118,8 +115,9 @@ class StaticShading {
   bool tracesLobe(float roughness) const;
   // surface_shading.hpp's shadeSurface, with the visibility's irradiance where it covers the point.
   SplitSumShading shadeAt(const SurfacePoint& surface, const vec3& wo) const;
-  void poolLobeBounces(const HitPointBuffer& hits, const std::vector<PixelBounce>& bounces,
-                       const CameraModel& view, int x, int y, std::vector<SplitSumShading>& shading) const;
+  // The 3x3 tent's sum of the pixel's and its same-surface neighbours' lobe samples.
+  LobeBounce poolLobeBounces(const std::vector<PixelBounce>& bounces, int width, int height,
+                             const CameraModel& view, int x, int y) const;
 
   const RenderScene& scene_;
   const PrefilteredIbl& ibl_;

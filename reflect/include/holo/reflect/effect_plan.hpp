@@ -8,7 +8,10 @@
 // no refraction work at all. SelfOcclusion runs where a relic with a diffuse material shadows
 // itself by more than TracerSettings::self_occlusion_min (relic_visibility.hpp, built with the
 // renderer; the lobes of metal and glass trace their own interreflection): a convex or all-metal
-// relic casts none of its rays. ProgressiveRefinement runs where an opaque relic's material traces
+// relic casts none of its rays. AxisAlignedFilter runs where some relic material samples its rough
+// lobe for the interreflection (the one Monte Carlo term of the static shading, interleaved over
+// pixels); a smooth or Lambert relic's frame does no filtering.
+// ProgressiveRefinement runs where an opaque relic's material traces
 // its rough lobe for the interreflection (progressive_accumulation.hpp in reflect/src): a still
 // view adds a sample set a frame, its cost at most the static pass's on the rough samples, nothing
 // once converged or while the foreground keeps changing.
@@ -28,6 +31,7 @@ enum class Pass {
   HitPoints,              // primary rays against the relic (psi_r, coverage)
   SelfOcclusion,          // the static shading's light occluded by the relic itself (relic_visibility.hpp)
   StaticReflections,      // prefiltered IBL (psi_s) and diffuse
+  AxisAlignedFilter,      // the rough lobe's sampled interreflection filtered (axis_aligned_filter.hpp)
   Refraction,             // transmitted paths through the relic to the IBL (static, like the hit points)
   Clearcoat,              // the coat's specular lobe over the base (static shading and composition)
   ProgressiveRefinement,  // a still view's rough interreflection: one more sample set accumulated
@@ -70,6 +74,10 @@ struct EffectInputs {
   // why or why not, for the plan's reason ("rough lobes refined up to 64 sets", ...).
   bool progressive_refinement = false;
   std::string progressive_refinement_reason;
+  // Some relic material samples its rough lobe for the interreflection (interleaved), and the
+  // filter is on; why or why not, for the plan's reason.
+  bool lobe_filter = false;
+  std::string lobe_filter_reason;
 };
 
 struct EffectPlan {

@@ -94,6 +94,8 @@ class FrameRenderer {
   std::string self_occlusion_reason_;
   bool refines_ = false;  // ProgressiveRefinement: a rough lobe to refine on an opaque relic
   std::string refinement_reason_;
+  bool lobe_filter_ = false;  // the plan's AxisAlignedFilter: some material samples its rough lobe
+  std::string lobe_filter_reason_;
   std::vector<std::unique_ptr<ViewCache>> caches_;  // per view slot
 };
 

@@ -37,6 +37,9 @@ struct ViewCounters {
   std::uint32_t accumulated_sets = 0;
   std::uint64_t refinement_samples = 0;
   bool refinement_reset = false;
+  // Pixels whose rough-lobe interreflection the axis-aligned filter smoothed, and the weights it
+  // took (AxisAlignedFilter; 0 when the static shading was reused or the plan left it off).
+  std::uint64_t filtered_pixels = 0, filter_taps = 0;
 };
 
 // One view's images, with its counters.
