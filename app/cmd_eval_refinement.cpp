@@ -83,6 +83,8 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_flag("--live-loop", e.live_loop,
                    "The live loop's tracer settings (one sample per pixel, edge anti-aliasing) with the "
                    "interreflection on");
+      sub.add_flag("!--no-axis-aligned-filter", e.axis_aligned_filter,
+                   "Leave the rough lobe's axis-aligned filter off: the accumulation alone");
       sub.add_option("--out", o->out, "Folder for refinement.csv and refinement.svg");
       return [o] { return run(*o); };
     },

@@ -89,6 +89,7 @@ RefinementEvaluation evaluateRefinement(const RefinementEvaluationOptions& o) {
     base = pipeline::liveTracerSettings();
     base.relic_interreflection = true;
   }
+  base.evaluation.axis_aligned_filter = o.axis_aligned_filter;
 
   reflect::TracerSettings converging = base;
   converging.refinement_sets = o.converged_sets;

@@ -26,6 +26,9 @@ struct RefinementEvaluationOptions {
   // anti-aliasing, static reuse within 1 cm) with the interreflection on, which the loop leaves
   // off; false: the tracer's defaults (four samples per pixel), the evaluations'.
   bool live_loop = false;
+  // The axis-aligned filter of the rough lobe (TracerSettings' evaluation knob); false: unfiltered
+  // sums, the accumulation alone.
+  bool axis_aligned_filter = true;
 };
 
 struct RefinementEvaluation {
