@@ -24,7 +24,10 @@
 namespace holo::reflect {
 namespace {
 
-// The frames 2 s hold at the live loop's measured rate at 320^2 (30 fps, docs/frame_loop.md).
+// The frames 2 s hold at the metal bowl's refining frame measured at 320^2 (4.99 fps, four views;
+// docs/tracer/progressive_refinement.md), and at the live loop's measured rate (30 fps,
+// docs/frame_loop.md), the length of the curve.
+constexpr int kFramesInTwoSecondsMeasured = 9;
 constexpr int kFramesInTwoSeconds = 60;
 // The converged image: this many sample sets.
 constexpr int kConvergedSets = 256;
@@ -137,6 +140,7 @@ TEST(ProgressiveRefinement, StillViewConvergesMonotonicallyWithinTwoSecondsOfFra
   }
   std::printf("largest rise over the best so far: %.1f%%\n", 100.0 * worst_rise);
   EXPECT_GT(error.front(), 0.10);  // one set alone is not converged: a bar that could fail
+  EXPECT_LT(error[kFramesInTwoSecondsMeasured - 1], 0.10);
   EXPECT_LT(error.back(), 0.10);
   EXPECT_LT(error.back(), 0.2 * error.front());
 
