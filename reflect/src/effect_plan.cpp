@@ -42,6 +42,8 @@ const char* passName(Pass pass) {
       return "RefractedForeground";
     case Pass::Clearcoat:
       return "Clearcoat";
+    case Pass::ProgressiveRefinement:
+      return "ProgressiveRefinement";
   }
   return "?";
 }
@@ -102,6 +104,8 @@ EffectPlan planEffects(const EffectInputs& in) {
   }
   plan.material_reason += in.relic_clearcoat ? ", clearcoat" : ", no clearcoat";
   if (!in.self_occlusion_reason.empty()) plan.material_reason += ", " + in.self_occlusion_reason;
+  if (!in.progressive_refinement_reason.empty())
+    plan.material_reason += ", " + in.progressive_refinement_reason;
   if (!in.lobe_filter_reason.empty()) plan.material_reason += ", " + in.lobe_filter_reason;
   plan.interreflection = in.interreflection && !in.relic_convex;
   plan.material_reason += !in.interreflection ? ", interreflection off"
@@ -115,6 +119,8 @@ EffectPlan planEffects(const EffectInputs& in) {
   if (in.lobe_filter && plan.interreflection) plan.passes.push_back(Pass::AxisAlignedFilter);
   if (in.relic_transmissive) plan.passes.push_back(Pass::Refraction);
   if (in.relic_clearcoat) plan.passes.push_back(Pass::Clearcoat);
+  if (in.progressive_refinement && plan.interreflection && !in.relic_transmissive && !in.relic_clearcoat)
+    plan.passes.push_back(Pass::ProgressiveRefinement);
   if (foreground) {
     plan.passes.push_back(Pass::ForegroundWalk);
     if (in.relic_transmissive && in.refracted_foreground) plan.passes.push_back(Pass::RefractedForeground);

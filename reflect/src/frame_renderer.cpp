@@ -12,6 +12,7 @@
 #include "holo/reflect/tone_map.hpp"
 #include "internal_depth.hpp"
 #include "pass_timer.hpp"
+#include "progressive_accumulation.hpp"
 #include "refraction_pass.hpp"
 #include "static_shading.hpp"
 
@@ -88,6 +89,16 @@ FrameRenderer::FrameRenderer(const RenderScene& scene, const PrefilteredIbl& ibl
     if (rough.size() > 8) rough.resize(8);  // the map's limit; rougher ones read the nearest
     rough_map_ = std::make_unique<RoughForegroundMap>(settings_.foreground_map_width, rough);
   }
+  if (settings_.refinement_sets <= 1)
+    refinement_reason_ = "progressive refinement off";
+  else if (!settings_.relic_interreflection || !settings_.evaluation.rough_interreflection_interleaved ||
+           !StaticShading(scene_, ibl_, settings_, rough_map_.get()).tracesLobes())
+    refinement_reason_ = "no rough lobe sampled: no progressive refinement";
+  else if (relic_transmissive_ || relic_clearcoat_)
+    refinement_reason_ = "layered relic: no progressive refinement";
+  else
+    refinement_reason_ = "rough lobes refined up to " + std::to_string(settings_.refinement_sets) + " sets";
+  refines_ = refinement_reason_.starts_with("rough lobes refined");
   const bool samples_lobe = StaticShading(scene_, ibl_, settings_, rough_map_.get()).samplesLobe() &&
                             settings_.evaluation.rough_interreflection_interleaved;
   lobe_filter_ = samples_lobe && settings_.evaluation.axis_aligned_filter;
@@ -116,6 +127,8 @@ EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
   in.internal_depth_source = settings_.refraction_depth > 0 ? "set" : "measured";
   in.self_occlusion = visibility_ != nullptr;
   in.self_occlusion_reason = self_occlusion_reason_;
+  in.progressive_refinement = refines_;
+  in.progressive_refinement_reason = refinement_reason_;
   in.lobe_filter = lobe_filter_;
   in.lobe_filter_reason = lobe_filter_reason_;
   in.interreflection = settings_.relic_interreflection;
@@ -136,7 +149,8 @@ struct FrameRenderer::ViewCache {
   // The static result. Never written once handed out: a rebuild allocates new images, so a
   // caller's FrameResult keeps the pixels it was given.
   cv::Mat hdr, coverage, display, zero_weight;
-  float display_exposure = 0.0f;  // the exposure `display` was tone-mapped at; 0: none
+  float display_exposure = 0.0f;     // the exposure `display` was tone-mapped at; 0: none
+  ProgressiveAccumulation progress;  // with ProgressiveRefinement
 };
 
 FrameRenderer::~FrameRenderer() = default;
@@ -186,8 +200,11 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
     for (auto& cache : caches_) cache->ready = false;  // shaded with the old lighting
   }
   while (caches_.size() < views.size()) caches_.push_back(std::make_unique<ViewCache>());
+  // Still, for ProgressiveRefinement: what the grid holds is what it held last frame.
+  const std::uint64_t foreground =
+      result.plan.has(Pass::ProgressiveRefinement) ? foregroundSignature(grid_) : 0;
   for (std::size_t v = 0; v < views.size(); ++v)
-    result.views.push_back(renderView(result.plan, cameras, views[v], *caches_[v]));
+    result.views.push_back(renderView(result.plan, cameras, views[v], foreground, *caches_[v]));
   return result;
 }
 
@@ -216,7 +233,8 @@ bool reusable(const CameraModel& cached, const CameraModel& wanted, float distan
 
 ViewImages FrameRenderer::renderView(const EffectPlan& plan,
                                      const std::vector<ForegroundCameraImage>& cameras,
-                                     const CameraModel& view, ViewCache& cache) const {
+                                     const CameraModel& view, std::uint64_t foreground,
+                                     ViewCache& cache) const {
   ViewImages out;
   const int w = view.width(), h = view.height();
   const bool fixed_exposure = settings_.exposure > 0.0f;
@@ -285,7 +303,27 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     cache.camera = view;
     cache.display_exposure = 0.0f;
     cache.ready = true;
+    if (plan.has(Pass::ProgressiveRefinement)) cache.progress.restart(cache.bounces, foreground);
+  } else if (plan.has(Pass::ProgressiveRefinement)) {
+    PassTimer t(out.timings, Pass::ProgressiveRefinement);
+    const AxisAlignedFilter filter;
+    const RefinementStep step = cache.progress.advance(
+        StaticShading(scene_, ibl_, settings_, rough_map_.get(),
+                      plan.has(Pass::SelfOcclusion) ? visibility_.get() : nullptr, &lighting_),
+        cache.hits, cache.camera, foreground, std::uint32_t(settings_.refinement_sets), cache.shading,
+        cache.walk_rays, cache.bounces, cache.hdr, plan.has(Pass::AxisAlignedFilter) ? &filter : nullptr);
+    // The filter's time is its own pass's, as in the static pass.
+    if (step.filtered.ms > 0.0) {
+      t.subtract(step.filtered.ms);
+      out.timings.push_back({Pass::AxisAlignedFilter, step.filtered.ms});
+    }
+    out.filtered_pixels = step.filtered.pixels;
+    out.filter_taps = step.filtered.taps;
+    out.refinement_samples = step.samples;
+    out.refinement_reset = step.reset;
+    if (step.image_changed) cache.display_exposure = 0.0f;
   }
+  if (plan.has(Pass::ProgressiveRefinement)) out.accumulated_sets = cache.progress.sets();
   if (fixed_exposure && cache.display_exposure != settings_.exposure) {
     PassTimer t(out.timings, Pass::ToneMap);
     cache.display = toneMapCovered(cache.hdr, cache.hits.covered, settings_.exposure);

@@ -16,14 +16,16 @@
 namespace holo::reflect {
 namespace {
 
-// The stratum centres (the u of ggx::sampleVisibleNormal) of a side x side grid over the lobe
-// that one hit point traces. Interleaved: the 2x2 pixel classes take every other stratum in each
-// direction (each class alone a coarse grid over the whole lobe), dealt round-robin to the
-// pixel's samples; a 3x3 tent over the pixels then sums every stratum with equal weight.
+// The stratum points (the u of ggx::sampleVisibleNormal) of a side x side grid over the lobe
+// that one hit point traces, each at `offset` within its stratum ((0.5, 0.5): the centres; other
+// offsets are the further sample sets of progressive_accumulation.hpp). Interleaved: the 2x2 pixel classes
+// take every other stratum in each direction (each class alone a coarse grid over the whole lobe), dealt
+// round-robin to the pixel's samples; a 3x3 tent over the pixels then sums every stratum with equal weight.
 template <class F>
-void forEachLobeStratum(int side, bool interleaved, int pixel_class, int sample, int samples, F&& f) {
+void forEachLobeStratum(int side, bool interleaved, int pixel_class, int sample, int samples, vec2 offset,
+                        F&& f) {
   const auto centre = [&](int i, int j) {
-    f(vec2((float(i) + 0.5f) / float(side), (float(j) + 0.5f) / float(side)));
+    f(vec2((float(i) + offset.x) / float(side), (float(j) + offset.y) / float(side)));
   };
   if (!interleaved) {
     for (int k = 0; k < side * side; ++k) centre(k % side, k / side);
@@ -228,7 +230,7 @@ LobeBounce StaticShading::traceLobeBounce(const HitPoint& hp, const LobeShare& s
   const int strata = settings_.rough_interreflection_grid * settings_.rough_interreflection_grid;
   forEachLobeStratum(
       settings_.rough_interreflection_grid, settings_.evaluation.rough_interreflection_interleaved,
-      share.pixel_class, share.sample, share.samples, [&](const vec2& u) {
+      share.pixel_class, share.sample, share.samples, share.stratum_offset, [&](const vec2& u) {
         const vec3 h = ggx::sampleVisibleNormal(wo, alpha, u);
         const vec3 l = glm::reflect(-hp.to_viewer, frame.toWorld(h));
         if (!(glm::dot(l, hp.normal) > 0.0f)) return;
@@ -277,6 +279,67 @@ LobeBounce StaticShading::poolLobeBounces(const std::vector<PixelBounce>& bounce
       sum.add(other.samples, float((2 - std::abs(dx)) * (2 - std::abs(dy))));
     }
   return sum;
+}
+
+std::uint64_t StaticShading::reshadeLobes(const HitPointBuffer& hits, const CameraModel& view,
+                                          const std::vector<std::uint32_t>& pixels,
+                                          const StratumOffset& offset, std::vector<SplitSumShading>& shading,
+                                          std::vector<WalkRay>& walk_rays,
+                                          std::vector<PixelBounce>& accumulated, cv::Mat& hdr,
+                                          const AxisAlignedFilter* filter,
+                                          FilterCounts* filter_counts) const {
+  const int w = hits.width;
+  const float spread = 1.0f / view.intrinsics().fx;
+  std::atomic<std::uint64_t> reshaded{0};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pixels.size(), 256),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      std::uint64_t count = 0;
+                      for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                        const std::size_t p = pixels[k];
+                        const std::size_t first = hits.firstSample(p);
+                        const int x = int(p % std::size_t(w)), y = int(p / std::size_t(w));
+                        LobeShare share{(x & 1) + 2 * (y & 1), 0, hits.sampleCount(p)};
+                        share.spread = spread;
+                        for (share.sample = 0; share.sample < share.samples; ++share.sample) {
+                          const std::size_t i = first + std::size_t(share.sample);
+                          if (!hits.valid[i] || !tracesLobe(hits.hits[i].material.roughness)) continue;
+                          share.cone_width = glm::length(hits.hits[i].position - view.position()) * spread;
+                          share.stratum_offset = offset(p, share.sample);
+                          std::uint64_t rays = 0;
+                          const std::optional<LobeBounce> bounce =
+                              shadeHit(hits.hits[i], share, shading[i], walk_rays[i], rays);
+                          ++count;
+                          if (bounce) accumulated[p].samples.add(*bounce, 1.0f);
+                        }
+                      }
+                      reshaded += count;
+                    });
+  // Pooled and filtered as shade() does, from the accumulated sums.
+  std::vector<LobeBounce> pooled(hits.pixelCount());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pixels.size(), 256),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                        const std::size_t p = pixels[k];
+                        pooled[p] = poolLobeBounces(accumulated, w, hits.height, view,
+                                                    int(p % std::size_t(w)), int(p / std::size_t(w)));
+                      }
+                    });
+  if (filter) *filter_counts = filter->apply(accumulated, pooled, w, hits.height, view);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pixels.size(), 256),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                        const std::size_t p = pixels[k];
+                        const std::size_t first = hits.firstSample(p);
+                        for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i)
+                          if (hits.valid[i] && tracesLobe(hits.hits[i].material.roughness))
+                            addLobeBounce(pooled[p], textureOcclusion(surfaceOf(hits.hits[i])),
+                                          settings_.evaluation.lobe_visibility, shading[i]);
+                        float weight = 0.0f;
+                        setRgb(hdr, int(p % std::size_t(w)), int(p / std::size_t(w)),
+                               composePixel(hits, shading, nullptr, p, weight));
+                      }
+                    });
+  return reshaded.load();
 }
 
 StaticCounts StaticShading::shade(const HitPointBuffer& hits, const CameraModel& view,

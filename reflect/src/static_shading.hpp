@@ -32,6 +32,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -85,14 +86,35 @@ class StaticShading {
   // Some relic material traces its lobe's strata for the interreflection (the term a filter has to work on).
   bool samplesLobe() const { return lobe_materials_ && settings_.relic_interreflection; }
 
+  // Where a sample (pixel index, sample within the pixel) takes its lobe's strata: an offset in
+  // [0, 1)^2 within each stratum; shade() takes the centres (0.5, 0.5).
+  using StratumOffset = std::function<vec2(std::size_t pixel, int sample)>;
+  // Another sample set of the rough interreflection (progressive_accumulation.hpp), after shade()
+  // with the same hits, view and buffers: each valid sample of `pixels` whose material traces its
+  // lobe is shaded again with its strata at `offset`, its lobe samples added to
+  // accumulated[pixel] (the sums of the sets so far; shade()'s `bounces`); then each of those
+  // pixels pools its neighbours' accumulated sums (filtered with `filter` as shade() does; then
+  // filter_counts is not null) and its samples' shading and hdr pixel are written again. The
+  // interleaved strata only (rough_interreflection_interleaved). Returns the samples shaded.
+  std::uint64_t reshadeLobes(const HitPointBuffer& hits, const CameraModel& view,
+                             const std::vector<std::uint32_t>& pixels, const StratumOffset& offset,
+                             std::vector<SplitSumShading>& shading, std::vector<WalkRay>& walk_rays,
+                             std::vector<PixelBounce>& accumulated, cv::Mat& hdr,
+                             const AxisAlignedFilter* filter = nullptr,
+                             FilterCounts* filter_counts = nullptr) const;
+  // Some relic material traces its lobe's strata for the interreflection.
+  bool tracesLobes() const { return lobe_materials_; }
+
  private:
   // Which of the rough lobe's strata a hit point traces: its pixel's 2x2 class ((x & 1) +
   // 2 (y & 1)) and its sample of the pixel's.
   // With the footprint of the hit point's pixel: cone_width (metres at the hit) grows by
   // spread (radians) per metre a secondary ray travels.
+  // stratum_offset: where within each of its strata the sample takes its lobe sample.
   struct LobeShare {
     int pixel_class = 0, sample = 0, samples = 1;
     float cone_width = 0.0f, spread = 0.0f;
+    vec2 stratum_offset{0.5f};
   };
   // One hit point: its shading and walk ray. For a material read from the rough map with
   // interleaved strata, its share of the lobe's interreflection, left for the pixel pooling.

@@ -30,7 +30,14 @@ if(TARGET holo::relics)
     SOURCES test_self_occlusion.cpp
     DEPS holo::reflect holo::reference holo::relics holo_test_support)
 endif()
-
+# Progressive refinement of the rough interreflection while nothing moves, on the metal bowl
+# (needs the built-in relics).
+if(TARGET holo::relics)
+  holo_test(test_progressive_refinement
+    SOURCES test_progressive_refinement.cpp
+    DEPS holo::reflect holo::relics holo::depthfilter holo_test_support)
+  target_include_directories(test_progressive_refinement PRIVATE ${PROJECT_SOURCE_DIR}/reflect/src)
+endif()
 # The axis-aligned filter of the rough lobe's interreflection against path-traced truth.
 if(TARGET holo::relics)
   holo_test(test_axis_aligned_filter

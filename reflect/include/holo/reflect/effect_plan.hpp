@@ -15,6 +15,10 @@
 // AxisAlignedFilter runs where the interreflection runs and some relic material samples its rough
 // lobe for it (the one Monte Carlo term of the static shading, interleaved over pixels); a smooth
 // or convex relic's frame does no filtering.
+// ProgressiveRefinement runs where the interreflection runs and an opaque relic's material traces
+// its rough lobe for it (progressive_accumulation.hpp in reflect/src): a still view adds a sample
+// set a frame, its cost at most the static pass's on the rough samples, nothing once converged or
+// while the foreground keeps changing.
 #pragma once
 
 #include <string>
@@ -25,19 +29,20 @@
 namespace holo::reflect {
 
 enum class Pass {
-  VoxelGrid,            // bin the foreground cloud
-  Pyramids,             // Kawase colour and mask pyramids per camera
-  RoughForegroundMap,   // the visitors prefiltered around the relic, for its roughest materials
-  HitPoints,            // primary rays against the relic (psi_r, coverage)
-  SelfOcclusion,        // the static shading's light occluded by the relic itself (relic_visibility.hpp)
-  StaticReflections,    // prefiltered IBL (psi_s) and diffuse
-  AxisAlignedFilter,    // the rough lobe's sampled interreflection filtered (axis_aligned_filter.hpp)
-  Refraction,           // transmitted paths through the relic to the IBL (static, like the hit points)
-  Clearcoat,            // the coat's specular lobe over the base (static shading and composition)
-  ForegroundWalk,       // voxel walk + pyramid reads (psi_d, w)
-  RefractedForeground,  // the visitors seen through the relic: a walk per transmitted exit ray
-  Composition,          // psi_d * w + psi_s * (1 - w)
-  ToneMap,              // exposure, tone mapping, sRGB (the last: pipeline's kPassCount counts on it)
+  VoxelGrid,              // bin the foreground cloud
+  Pyramids,               // Kawase colour and mask pyramids per camera
+  RoughForegroundMap,     // the visitors prefiltered around the relic, for its roughest materials
+  HitPoints,              // primary rays against the relic (psi_r, coverage)
+  SelfOcclusion,          // the static shading's light occluded by the relic itself (relic_visibility.hpp)
+  StaticReflections,      // prefiltered IBL (psi_s) and diffuse
+  AxisAlignedFilter,      // the rough lobe's sampled interreflection filtered (axis_aligned_filter.hpp)
+  Refraction,             // transmitted paths through the relic to the IBL (static, like the hit points)
+  Clearcoat,              // the coat's specular lobe over the base (static shading and composition)
+  ProgressiveRefinement,  // a still view's rough interreflection: one more sample set accumulated
+  ForegroundWalk,         // voxel walk + pyramid reads (psi_d, w)
+  RefractedForeground,    // the visitors seen through the relic: a walk per transmitted exit ray
+  Composition,            // psi_d * w + psi_s * (1 - w)
+  ToneMap,                // exposure, tone mapping, sRGB (the last: pipeline's kPassCount counts on it)
 };
 
 const char* passName(Pass pass);
@@ -69,6 +74,10 @@ struct EffectInputs {
   // self-occlusion", ...).
   bool self_occlusion = false;
   std::string self_occlusion_reason;
+  // A relic material traces its rough lobe's strata, the relic is opaque and refinement is on;
+  // why or why not, for the plan's reason ("rough lobes refined up to 64 sets", ...).
+  bool progressive_refinement = false;
+  std::string progressive_refinement_reason;
   // Some relic material samples its rough lobe for the interreflection (interleaved), and the
   // filter is on; why or why not, for the plan's reason.
   bool lobe_filter = false;
@@ -82,7 +91,7 @@ struct EffectInputs {
 struct EffectPlan {
   std::vector<Pass> passes;
   std::string foreground_reason;  // why the foreground passes run or not, for the statistics
-  std::string material_reason;    // why Refraction / Clearcoat / SelfOcclusion run or not
+  std::string material_reason;    // why the material passes run or not
   int internal_depth = 0;         // interface events per transmitted path; 0 without Refraction
   // The static shading casts the interreflection's rays (static_shading.hpp); false for a convex
   // relic or with the effect off. A part of the StaticReflections pass, timed with it.

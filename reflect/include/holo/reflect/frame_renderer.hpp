@@ -19,7 +19,8 @@
 // within static_reuse_distance of the one they were traced from (the result is then rendered from
 // the cached camera). A frame then costs only the foreground: the walk over the cached hit
 // points and the composition of the pixels some foreground reached, written over a copy of the
-// static image.
+// static image. While the view and the foreground stay still, the rough interreflection accumulates
+// one more sample set a frame (ProgressiveRefinement, reflect/src/progressive_accumulation.hpp).
 // Units: metres, linear radiance; images CV_32FC3 linear BGR (HDR) and CV_8UC3 sRGB BGR.
 #pragma once
 
@@ -68,8 +69,9 @@ class FrameRenderer {
 
  private:
   struct ViewCache;
+  // foreground: foregroundSignature of this frame's grid (progressive_accumulation.hpp).
   ViewImages renderView(const EffectPlan& plan, const std::vector<ForegroundCameraImage>& cameras,
-                        const CameraModel& view, ViewCache& cache) const;
+                        const CameraModel& view, std::uint64_t foreground, ViewCache& cache) const;
 
   const RenderScene& scene_;
   const PrefilteredIbl& ibl_;
@@ -90,6 +92,8 @@ class FrameRenderer {
   float lit_turn_ = 0.0f;
   bool lit_ = false;
   std::string self_occlusion_reason_;
+  bool refines_ = false;  // ProgressiveRefinement: a rough lobe to refine on an opaque relic
+  std::string refinement_reason_;
   bool lobe_filter_ = false;  // the plan's AxisAlignedFilter: some material samples its rough lobe
   std::string lobe_filter_reason_;
   std::vector<std::unique_ptr<ViewCache>> caches_;  // per view slot

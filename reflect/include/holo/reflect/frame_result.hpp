@@ -31,6 +31,12 @@ struct ViewCounters {
   // Samples whose diffuse light the relic's visibility occluded (SelfOcclusion; 0 when the static
   // shading was reused or the plan left it off).
   std::uint64_t occluded_samples = 0;
+  // ProgressiveRefinement: the rough interreflection's sample sets the image holds (1: set 0, a
+  // moving scene's; 0 without the pass), the samples shaded again this frame, and whether a
+  // changed foreground reset the view to set 0 this frame.
+  std::uint32_t accumulated_sets = 0;
+  std::uint64_t refinement_samples = 0;
+  bool refinement_reset = false;
   // Pixels whose rough-lobe interreflection the axis-aligned filter smoothed, and the weights it
   // took (AxisAlignedFilter; 0 when the static shading was reused or the plan left it off).
   std::uint64_t filtered_pixels = 0, filter_taps = 0;

@@ -109,6 +109,12 @@ struct TracerSettings {
   // 0.3: a lobe this wide shows a soft glow of the relic's other parts, where the mirror ray
   // would show a sharp image of them.
   float rough_interreflection_roughness = 0.3f;
+  // Sample sets of the rough interreflection a still view accumulates, a set a frame
+  // (progressive_accumulation.hpp in reflect/src; the plan's ProgressiveRefinement), 1..4096; 1:
+  // off, every frame shows set 0 (the strata's centres). Default 64: the metal bowl's error
+  // against the converged image is then below 3% of its interreflected light
+  // (docs/tracer/progressive_refinement.md); later frames cost nothing.
+  int refinement_sets = 64;
   // Rays per vertex and side of the relic's visibility (relic_visibility.hpp), built when the
   // renderer is built, for a relic that can shadow its own diffuse light: a square number 4..256;
   // default 256: the Lambert bowl's per-pixel error falls with more strata (2.2x lower than the
