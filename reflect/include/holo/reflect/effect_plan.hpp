@@ -8,7 +8,10 @@
 // no refraction work at all. SelfOcclusion runs where a relic with a diffuse material shadows
 // itself by more than TracerSettings::self_occlusion_min (relic_visibility.hpp, built with the
 // renderer; the lobes of metal and glass trace their own interreflection): a convex or all-metal
-// relic casts none of its rays.
+// relic casts none of its rays. VisitorLight (visitor_light.hpp) runs where the foreground comes
+// within TracerSettings::visitor_light_distance of a relic whose diffuse or widest lobes the walk
+// does not light: the visitors' shadow and light on them, with the voxel grid it reads; with no
+// visitor that near the frame does none of its work.
 #pragma once
 
 #include <string>
@@ -30,6 +33,7 @@ enum class Pass {
   ForegroundWalk,       // voxel walk + pyramid reads (psi_d, w)
   RefractedForeground,  // the visitors seen through the relic: a walk per transmitted exit ray
   Composition,          // psi_d * w + psi_s * (1 - w)
+  VisitorLight,         // the visitors' shadow and light on the diffuse and widest lobes (visitor_light.hpp)
   ToneMap,              // exposure, tone mapping, sRGB (the last: pipeline's kPassCount counts on it)
 };
 
@@ -62,15 +66,23 @@ struct EffectInputs {
   // self-occlusion", ...).
   bool self_occlusion = false;
   std::string self_occlusion_reason;
+  // The visitors' light: the user's switch, whether some relic surface takes the hall's light by
+  // a diffuse or a lobe the walk leaves (rough >= kGlossyRoughnessLimit), and the foreground's
+  // reach (metres between the relic's and the foreground's boxes).
+  bool visitor_light_enabled = true;
+  bool relic_lit_diffusely = false;
+  float visitor_light_distance = 1.5f;
 };
 
 struct EffectPlan {
   std::vector<Pass> passes;
-  std::string foreground_reason;  // why the foreground passes run or not, for the statistics
-  std::string material_reason;    // why Refraction / Clearcoat / SelfOcclusion run or not
-  int internal_depth = 0;         // interface events per transmitted path; 0 without Refraction
+  std::string foreground_reason;     // why the foreground passes run or not, for the statistics
+  std::string material_reason;       // why Refraction / Clearcoat / SelfOcclusion run or not
+  std::string visitor_light_reason;  // why VisitorLight runs or not
+  int internal_depth = 0;            // interface events per transmitted path; 0 without Refraction
   bool has(Pass pass) const;
-  // "HitPoints,StaticReflections,ToneMap (no foreground points; opaque relic, no clearcoat)"
+  // "HitPoints,StaticReflections,ToneMap (no foreground points; opaque relic, no clearcoat; no
+  // visitor near enough to light the relic)"
   std::string describe() const;
 };
 

@@ -31,6 +31,8 @@ struct ViewCounters {
   // Samples whose diffuse light the relic's visibility occluded (SelfOcclusion; 0 when the static
   // shading was reused or the plan left it off).
   std::uint64_t occluded_samples = 0;
+  // Samples whose light the visitors changed (VisitorLight; 0 when the plan left it off).
+  std::uint64_t visitor_lit_samples = 0;
 };
 
 // One view's images, with its counters.
@@ -48,6 +50,8 @@ struct FrameResult {
   EffectPlan plan;
   std::vector<PassTiming> frame_timings;  // per-frame passes (voxel grid, pyramids)
   std::vector<ViewImages> views;
+  // VisitorLight's build this frame: voxel splats and covered texels over its probes (0 without it).
+  std::uint64_t visitor_light_splats = 0, visitor_light_texels = 0;
 };
 
 }  // namespace holo::reflect
