@@ -113,7 +113,7 @@ EffectPlan planEffects(const EffectInputs& in) {
     plan.visitor_light_reason = "no diffuse or wide-lobed relic material: no visitors' light";
   else if (in.foreground_points == 0 || in.foreground_bounds.empty())
     plan.visitor_light_reason = "no visitor to light the relic";
-  else if (!(boxDistance(in.relic_bounds, in.foreground_bounds) <= in.visitor_light_distance))
+  else if (!in.visitor_within_light_distance)
     plan.visitor_light_reason = "no visitor near enough to light the relic";
   else
     plan.visitor_light_reason = "visitors near the relic's diffuse light";

@@ -114,7 +114,17 @@ EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
   in.self_occlusion_reason = self_occlusion_reason_;
   in.visitor_light_enabled = settings_.evaluation.visitor_light;
   in.relic_lit_diffusely = relic_lit_diffusely_;
-  in.visitor_light_distance = settings_.visitor_light_distance;
+  if (in.visitor_light_enabled && in.relic_lit_diffusely) {
+    const float reach2 = settings_.visitor_light_distance * settings_.visitor_light_distance;
+    for (const depthfilter::ForegroundPoint& p : cloud.points) {
+      const vec3 gap =
+          glm::max(glm::max(in.relic_bounds.lo - p.position, p.position - in.relic_bounds.hi), vec3(0.0f));
+      if (glm::dot(gap, gap) <= reach2) {
+        in.visitor_within_light_distance = true;
+        break;
+      }
+    }
+  }
   return planEffects(in);
 }
 

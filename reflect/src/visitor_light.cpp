@@ -154,35 +154,41 @@ std::uint64_t VisitorLight::apply(const HitPointBuffer& hits, const std::vector<
                                   const PrefilteredIbl& ibl, cv::Mat& hdr) const {
   if (empty_) return 0;
   const std::size_t w = std::size_t(hits.width);
+  // One pixel: the mean change over its samples; the probes' light changes over metres, so one
+  // interpolation serves all of them.
+  const auto pixelChange = [&](std::size_t p, std::uint64_t& changed) {
+    const std::size_t first = hits.firstSample(p);
+    const int count = hits.sampleCount(p);
+    vec3 sum(0.0f);
+    Coefficients c{};
+    bool interpolated = false;
+    for (std::size_t i = first; i < first + std::size_t(count); ++i) {
+      if (!hits.valid[i]) continue;
+      const HitPoint& hp = hits.hits[i];
+      const SplitSumShading& sh = shading[i];
+      if (!interpolated) c = coefficientsAt(hp.position);
+      interpolated = true;
+      // The diffuse reflectance times the visibility's share of the hall's light, per channel.
+      const vec3 hall = ibl.irradiance(hp.normal);
+      vec3 rho(0.0f);
+      for (int ch = 0; ch < 3; ++ch)
+        if (hall[ch] > 1e-6f) rho[ch] = std::clamp(sh.diffuse[ch] / hall[ch], 0.0f, 1.0f / kPi);
+      vec3 change = rho * convolve(c, hp.normal);
+      if (hp.material.roughness >= kGlossyRoughnessLimit)
+        change += sh.specular_scale * convolve(c, hp.reflected) / kPi;
+      sum += change;
+      ++changed;
+    }
+    return sum / float(count);
+  };
   std::atomic<std::uint64_t> changed{0};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       std::uint64_t local = 0;
                       for (std::size_t k = r.begin(); k < r.end(); ++k) {
                         const std::size_t p = hits.covered[k];
-                        const std::size_t first = hits.firstSample(p);
-                        const int count = hits.sampleCount(p);
-                        vec3 sum(0.0f);
-                        for (std::size_t i = first; i < first + std::size_t(count); ++i) {
-                          if (!hits.valid[i]) continue;
-                          const HitPoint& hp = hits.hits[i];
-                          const SplitSumShading& sh = shading[i];
-                          const Coefficients c = coefficientsAt(hp.position);
-                          // The diffuse reflectance times the visibility's share of the hall's light, per
-                          // channel.
-                          const vec3 hall = ibl.irradiance(hp.normal);
-                          vec3 rho(0.0f);
-                          for (int ch = 0; ch < 3; ++ch)
-                            if (hall[ch] > 1e-6f)
-                              rho[ch] = std::clamp(sh.diffuse[ch] / hall[ch], 0.0f, 1.0f / kPi);
-                          vec3 change = rho * convolve(c, hp.normal);
-                          if (hp.material.roughness >= kGlossyRoughnessLimit)
-                            change += sh.specular_scale * convolve(c, hp.reflected) / kPi;
-                          sum += change;
-                          ++local;
-                        }
                         const int x = int(p % w), y = int(p / w);
-                        setRgb(hdr, x, y, glm::max(rgbAt(hdr, x, y) + sum / float(count), vec3(0.0f)));
+                        setRgb(hdr, x, y, glm::max(rgbAt(hdr, x, y) + pixelChange(p, local), vec3(0.0f)));
                       }
                       changed += local;
                     });

@@ -13,6 +13,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <opencv2/imgcodecs.hpp>
@@ -71,14 +74,32 @@ struct WindowFigures {
   double rmse_with = 0, rmse_without = 0;  // ours with and without the effect, over the region
   double truth_noise = 0;                  // the truth's own rmse over the region (a second seed)
   double ms_with = 0, ms_without = 0;      // medians of alternated views (cloud to image)
+  double grid_ms = 0, light_ms = 0;        // medians of the VoxelGrid and VisitorLight passes (with)
   reflect::FrameResult frame;              // ours with the effect, for its plan and counters
   cv::Mat truth_with, truth_without, ours_with, ours_without, region;
 };
 
-WindowFigures measureWindow(int size, int spp, int timing_repeats, bool noise) {
-  SceneOptions options;
-  options.scene = "window";
-  const ReflectionScene scene = loadReflectionScene(options);
+// The window scene (face 0's default view), loaded once.
+const ReflectionScene& windowScene() {
+  static const ReflectionScene scene = [] {
+    SceneOptions options;
+    options.scene = "window";
+    return loadReflectionScene(options);
+  }();
+  return scene;
+}
+
+// CI's size: 16 visibility rays per vertex instead of 256 (the bowl's self-occlusion is built by
+// every renderer; the figures keep the defaults).
+reflect::TracerSettings ciTracer() {
+  reflect::TracerSettings s;
+  s.self_occlusion_rays = 16;
+  return s;
+}
+
+WindowFigures measureWindow(int size, int spp, int timing_repeats, bool noise,
+                            const reflect::TracerSettings& tracer = {}) {
+  const ReflectionScene& scene = windowScene();
   ViewOptions view;
   view.width = view.height = size;
   const CameraModel camera = viewCamera(view, scene);
@@ -93,14 +114,22 @@ WindowFigures measureWindow(int size, int spp, int timing_repeats, bool noise) {
   f.pixels = cv::countNonZero(f.region);
 
   MethodSettings ours;
+  ours.tracer = tracer;
   ours.static_ibl = staticIbl(scene, ours);
   MethodSettings off = ours;
   off.tracer.evaluation.visitor_light = false;
-  std::vector<double> with_ms, without_ms;
+  std::vector<double> with_ms, without_ms, grid_ms, light_ms;
   for (int r = 0; r < std::max(timing_repeats, 1); ++r) {
     const MethodResult a = renderMethod("ours", scene, camera, ours);
     const MethodResult b = renderMethod("ours", scene, camera, off);
     with_ms.push_back(a.ms);
+    double grid = 0, light = 0;
+    for (const auto& [pass, ms] : a.passes) {
+      if (pass == reflect::passName(reflect::Pass::VoxelGrid)) grid += ms;
+      if (pass == reflect::passName(reflect::Pass::VisitorLight)) light += ms;
+    }
+    grid_ms.push_back(grid);
+    light_ms.push_back(light);
     without_ms.push_back(b.ms);
     f.ours_with = a.image;
     f.ours_without = b.image;
@@ -111,6 +140,8 @@ WindowFigures measureWindow(int size, int spp, int timing_repeats, bool noise) {
   };
   f.ms_with = median(with_ms);
   f.ms_without = median(without_ms);
+  f.grid_ms = median(grid_ms);
+  f.light_ms = median(light_ms);
   f.rmse_with = regionRmse(f.ours_with, f.truth_with, f.region);
   f.rmse_without = regionRmse(f.ours_without, f.truth_with, f.region);
   if (noise) {
@@ -129,7 +160,7 @@ WindowFigures measureWindow(int size, int spp, int timing_repeats, bool noise) {
 
 // The window scene at CI size: the region's error with the effect well below the error without.
 TEST(VisitorLight, WindowSceneShadowAndColourNeedTheEffect) {
-  const WindowFigures f = measureWindow(40, 128, 1, false);
+  const WindowFigures f = measureWindow(40, 128, 1, false, ciTracer());
   std::printf("window scene 40^2: region %d px, rmse with %.4f, without %.4f (%.2fx); %s\n", f.pixels,
               f.rmse_with, f.rmse_without, f.rmse_without / f.rmse_with, f.frame.plan.describe().c_str());
   ASSERT_GT(f.pixels, 40) << "the visitor changes too little of the truth";
@@ -141,9 +172,7 @@ TEST(VisitorLight, WindowSceneShadowAndColourNeedTheEffect) {
 // Visitors far from the relic, none at all, or near a relic with no diffuse or wide lobe: the frame
 // plans no visitors' light, builds no probe and changes no sample.
 TEST(VisitorLight, NoVisitorNearDoesNoWork) {
-  SceneOptions options;
-  options.scene = "window";
-  const ReflectionScene scene = loadReflectionScene(options);
+  const ReflectionScene& scene = windowScene();
   ViewOptions view;
   view.width = view.height = 24;
   const CameraModel camera = viewCamera(view, scene);
@@ -153,7 +182,7 @@ TEST(VisitorLight, NoVisitorNearDoesNoWork) {
 
   depthfilter::ForegroundCloud far = scene.foreground;
   for (auto& p : far.points) p.position += vec3(0.0f, 0.0f, 2.0f);  // the visitor 2.8 m from the axis
-  reflect::FrameRenderer renderer(bowl, *ibl);
+  reflect::FrameRenderer renderer(bowl, *ibl, ciTracer());
   for (const depthfilter::ForegroundCloud* cloud :
        std::vector<const depthfilter::ForegroundCloud*>{&far, nullptr}) {
     const reflect::FrameResult r = cloud ? renderer.render(*cloud, scene.foreground_cameras, {camera})
@@ -177,6 +206,38 @@ TEST(VisitorLight, NoVisitorNearDoesNoWork) {
   EXPECT_FALSE(m.plan.has(reflect::Pass::VisitorLight)) << m.plan.describe();
   EXPECT_EQ(m.visitor_light_splats, 0u);
   EXPECT_EQ(mirror_renderer.visitorLight(), nullptr);
+}
+
+// The plan alone: the visitors' light needs its switch, a relic lit diffusely and a visitor within
+// reach; the voxel grid comes with it even where the walk's passes do not run.
+TEST(VisitorLight, PlanWantsASwitchADiffuseRelicAndANearVisitor) {
+  reflect::EffectInputs in;
+  in.relic_glossy = false;
+  in.relic_lit_diffusely = true;
+  in.visitor_within_light_distance = true;
+  in.foreground_points = 100;
+  in.cameras = 4;
+  in.relic_bounds = {vec3(-0.1f), vec3(0.1f)};
+  in.foreground_bounds = {vec3(0.5f), vec3(1.0f)};
+  const reflect::EffectPlan on = reflect::planEffects(in);
+  EXPECT_TRUE(on.has(reflect::Pass::VisitorLight)) << on.describe();
+  EXPECT_TRUE(on.has(reflect::Pass::VoxelGrid)) << on.describe();
+  EXPECT_FALSE(on.has(reflect::Pass::ForegroundWalk)) << on.describe();
+  for (const auto& [change, reason] :
+       std::vector<std::pair<std::function<void(reflect::EffectInputs&)>, std::string>>{
+           {[](reflect::EffectInputs& i) { i.visitor_light_enabled = false; }, "visitors' light off"},
+           {[](reflect::EffectInputs& i) { i.relic_lit_diffusely = false; },
+            "no diffuse or wide-lobed relic material: no visitors' light"},
+           {[](reflect::EffectInputs& i) { i.foreground_points = 0; }, "no visitor to light the relic"},
+           {[](reflect::EffectInputs& i) { i.visitor_within_light_distance = false; },
+            "no visitor near enough to light the relic"}}) {
+    reflect::EffectInputs off = in;
+    change(off);
+    const reflect::EffectPlan plan = reflect::planEffects(off);
+    EXPECT_EQ(plan.visitor_light_reason, reason);
+    EXPECT_FALSE(plan.has(reflect::Pass::VisitorLight)) << plan.describe();
+    EXPECT_FALSE(plan.has(reflect::Pass::VoxelGrid)) << plan.describe();
+  }
 }
 
 // A visitor shell all round the relic, of radiance Lv under a hall of uniform radiance Lh, changes
@@ -224,9 +285,11 @@ TEST(VisitorLight, Figures) {
   const WindowFigures f = measureWindow(128, 1024, 9, true);
   std::printf(
       "window scene 128^2 (truth 1024 spp): region %d px; rmse with %.4f, without %.4f (%.2fx lower with); "
-      "truth noise %.4f; view %.2f ms with, %.2f ms without (medians of 9 alternated)\n%s\n",
+      "truth noise %.4f; view %.2f ms with, %.2f ms without (medians of 9 alternated); passes VoxelGrid %.2f "
+      "ms, "
+      "VisitorLight %.2f ms (build and apply)\n%s\n",
       f.pixels, f.rmse_with, f.rmse_without, f.rmse_without / f.rmse_with, f.truth_noise, f.ms_with,
-      f.ms_without, f.frame.plan.describe().c_str());
+      f.ms_without, f.grid_ms, f.light_ms, f.frame.plan.describe().c_str());
   const auto dir = test::scratchDir("visitor_light");
   const float exposure = reflect::autoExposure(f.truth_without);
   cv::Mat region_image;

@@ -8,10 +8,10 @@
 // no refraction work at all. SelfOcclusion runs where a relic with a diffuse material shadows
 // itself by more than TracerSettings::self_occlusion_min (relic_visibility.hpp, built with the
 // renderer; the lobes of metal and glass trace their own interreflection): a convex or all-metal
-// relic casts none of its rays. VisitorLight (visitor_light.hpp) runs where the foreground comes
-// within TracerSettings::visitor_light_distance of a relic whose diffuse or widest lobes the walk
-// does not light: the visitors' shadow and light on them, with the voxel grid it reads; with no
-// visitor that near the frame does none of its work.
+// relic casts none of its rays. VisitorLight (visitor_light.hpp) runs where a foreground point
+// comes within TracerSettings::visitor_light_distance of a relic whose diffuse or widest lobes the
+// walk does not light: the visitors' shadow and light on them, with the voxel grid it reads; with
+// no visitor that near the frame does none of its work.
 #pragma once
 
 #include <string>
@@ -67,11 +67,12 @@ struct EffectInputs {
   bool self_occlusion = false;
   std::string self_occlusion_reason;
   // The visitors' light: the user's switch, whether some relic surface takes the hall's light by
-  // a diffuse or a lobe the walk leaves (rough >= kGlossyRoughnessLimit), and the foreground's
-  // reach (metres between the relic's and the foreground's boxes).
+  // a diffuse or a lobe the walk leaves (rough >= kGlossyRoughnessLimit), and whether some
+  // foreground point lies within TracerSettings::visitor_light_distance of the relic's box (the
+  // renderer looks, stopping at the first; the box of visitors all round holds the relic).
   bool visitor_light_enabled = true;
   bool relic_lit_diffusely = false;
-  float visitor_light_distance = 1.5f;
+  bool visitor_within_light_distance = false;
 };
 
 struct EffectPlan {
