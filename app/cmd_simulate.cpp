@@ -173,7 +173,7 @@ int simulate(const SimulateOptions& o) {
     rig.emplace(scene, config);
     rig->setDepthDelay(errors.depth_skew_s);
     for (const auto activity : {calib::RigActivity::HandHeldBoard, calib::RigActivity::PlacementBoard,
-                                calib::RigActivity::EmptyHall})
+                                calib::RigActivity::EmptyHall, calib::RigActivity::VerificationJig})
       calibration_frames += rig->frameCount(activity);
   }
 
@@ -207,7 +207,7 @@ int simulate(const SimulateOptions& o) {
     if (rig) {
       int recorded = 0;
       for (const auto activity : {calib::RigActivity::HandHeldBoard, calib::RigActivity::PlacementBoard,
-                                  calib::RigActivity::EmptyHall})
+                                  calib::RigActivity::EmptyHall, calib::RigActivity::VerificationJig})
         for (int i = 0; i < rig->frameCount(activity); ++i, ++recorded)
           for (int c = 0; c < cameras; ++c) {
             RgbdFrame frame = rig->frame(activity, c, i);

@@ -6,15 +6,18 @@
 #include <limits>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <sstream>
 
 #include "holo/calib/background.hpp"
 #include "holo/calib/colour_gains.hpp"
 #include "holo/calib/depth_registration.hpp"
 #include "holo/calib/display_alignment.hpp"
+#include "holo/calib/edge_alignment.hpp"
 #include "holo/calib/extrinsics.hpp"
 #include "holo/calib/intrinsics.hpp"
 #include "holo/calib/panorama_alignment.hpp"
 #include "holo/calib/pose.hpp"
+#include "holo/calib/verification_target.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/files.hpp"
 #include "holo/core/median.hpp"
@@ -64,6 +67,8 @@ const char* stepTitle(CalibrationStep step) {
       return "panorama yaw";
     case CalibrationStep::Display:
       return "display alignment";
+    case CalibrationStep::Verification:
+      return "verification";
     case CalibrationStep::Save:
       return "save";
   }
@@ -93,6 +98,11 @@ const char* stepInstructions(CalibrationStep step) {
       return "Each face shows the test pattern. Its 25 dots are found on the monitor and the face's "
              "offset, scale, rotation and mirror are fitted. The arrow must point up and the number read "
              "normally on the pyramid.";
+    case CalibrationStep::Verification:
+      return "Slot the verification jig onto each side of the base (its arm on the two dowel pins beside the "
+             "camera) and keep everyone out of the cameras' view. Each picture shows the jig's printed "
+             "squares where the calibration puts them (green) over the edges the camera sees (blue); the "
+             "pose error they show must stay under 5 mm and 0.5 degree. Take the jigs off before opening.";
     case CalibrationStep::Save:
       return "Every step passed. Save writes the calibration into the output folder; the previous "
              "calibration is kept as .bak beside each file.";
@@ -146,6 +156,9 @@ const StepOutcome& CalibrationSession::measure(CalibrationStep step, std::ostrea
         break;
       case CalibrationStep::Display:
         out = measureDisplay(log, on_preview);
+        break;
+      case CalibrationStep::Verification:
+        out = measureVerification(log, on_preview);
         break;
       case CalibrationStep::Save:
         break;
@@ -587,6 +600,47 @@ StepOutcome CalibrationSession::measureDisplay(std::ostream& log, const PreviewC
         << " px, scale " << fit.alignment.scale << ", rotation " << fit.alignment.rotation_deg << " deg"
         << (fit.alignment.mirror ? ", mirrored" : "") << "\n";
     addVerdict(out, log, judgeDisplay("display face " + std::to_string(f), fit.residual_px));
+  }
+  return out;
+}
+
+StepOutcome CalibrationSession::measureVerification(std::ostream& log, const PreviewCallback& on_preview) {
+  StepOutcome out;
+  rig_.begin(RigActivity::VerificationJig);
+  for (int c = 0; c < rig_.cameraCount(); ++c) {
+    const std::string label = cameraLabel(rig_, c);
+    const CameraModel camera = toCameraModel(cameras_[static_cast<std::size_t>(c)]);
+    const std::vector<EdgeSegment> edges = verificationTargetEdges(verificationTargetPose(c));
+    // Frames until one shows the jig's squares near where the calibration puts them (a recording
+    // or a live camera may still show the hall before the jig is on); the closest is judged.
+    std::optional<EdgeAlignment> best;
+    cv::Mat best_colour;
+    int frames = 0;
+    while (frames < config_.max_frames_per_step) {
+      std::optional<RgbdFrame> frame = rig_.nextFrame(c);
+      if (!frame) break;
+      ++frames;
+      const EdgeAlignment alignment = measureEdgeAlignment(frame->colour, camera, edges, label);
+      if (on_preview) on_preview(c, label + ", frame " + std::to_string(frames), frame->colour);
+      if (!best || alignment.chamfer_aligned_px < best->chamfer_aligned_px) {
+        best = alignment;
+        best_colour = frame->colour;
+      }
+      if (alignment.chamfer_aligned_px < kVerificationMaxEdgePx) break;
+    }
+    if (!best)
+      throw InputError(label, "verification frames", "a frame with the verification jig mounted",
+                       "the frames ended");
+    const EdgeAlignment& alignment = *best;
+    std::ostringstream figures;
+    figures << std::fixed << std::setprecision(2) << "edges " << alignment.chamfer_px << " px; off "
+            << alignment.position_error_mm << " mm, " << alignment.rotation_error_deg << " deg";
+    log << "  camera " << c << ": " << figures.str() << " (" << 100.0 * alignment.seen_fraction
+        << "% of the jig in view; " << frames << " frames looked at)\n";
+    const cv::Mat picture = drawEdgeAlignment(best_colour, camera, edges, alignment);
+    out.files.emplace_back("verification_camera" + std::to_string(c) + ".png", picture);
+    preview(out, on_preview, label + "\n" + figures.str(), picture);
+    addVerdict(out, log, judgeVerification("verification camera " + std::to_string(c), alignment));
   }
   return out;
 }

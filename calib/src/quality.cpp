@@ -133,4 +133,25 @@ StepVerdict judgeColourGains(const std::string& step, vec3 gains) {
   return v;
 }
 
+StepVerdict judgeVerification(const std::string& step, const EdgeAlignment& a) {
+  StepVerdict v{step, "pose error from the jig's edges (mm)", a.position_error_mm, kVerificationMaxMm, false,
+                {}};
+  if (a.seen_fraction < kVerificationMinSeen)
+    v.hint = "the camera sees only " + number(100 * a.seen_fraction) +
+             "% of the verification jig where its calibration puts it: check that the jig is mounted on "
+             "this side of the base; if it is, the camera's pose is far off: measure the poses again";
+  else if (!(a.chamfer_aligned_px < kVerificationMaxEdgePx))
+    v.hint = "the jig's printed squares are not found where the calibration puts them (" +
+             number(a.chamfer_aligned_px) +
+             " px from the nearest edges): check that the jig is mounted and lit and nothing covers it; "
+             "if it is, the camera's pose or intrinsics are far off: calibrate again";
+  else if (!(a.position_error_mm < kVerificationMaxMm) || !(a.rotation_error_deg < kVerificationMaxDeg))
+    v.hint = "the camera's calibrated pose is off by " + number(a.position_error_mm) + " mm and " +
+             number(a.rotation_error_deg) +
+             " degrees: was the camera knocked since the poses were measured? Tighten its mount and "
+             "measure the poses again";
+  v.pass = v.hint.empty();
+  return v;
+}
+
 }  // namespace holo::calib

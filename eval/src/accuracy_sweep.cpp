@@ -16,6 +16,7 @@
 #include "holo/reference/image_metrics.hpp"
 #include "holo/reference/path_tracer.hpp"
 #include "holo/reference/voxel_emitters.hpp"
+#include "holo/reflect/effect_plan.hpp"
 #include "holo/reflect/voxel_grid.hpp"
 
 namespace holo::eval {
@@ -92,6 +93,9 @@ AccuracySweep sweepAccuracy(const AccuracyOptions& o) {
     int refraction_branch_rays = reflect::TracerSettings{}.refraction_branch_rays;
     float refraction_supersample_contrast = reflect::TracerSettings{}.refraction_supersample_contrast;
     bool self_occlusion = true;  // false: the unoccluded irradiance, the mirror ray at every roughness
+    // false: the rough lobe's interreflection unfiltered, with lobe_grid^2 strata
+    bool lobe_filter = true;
+    int lobe_grid = reflect::TracerSettings{}.rough_interreflection_grid;
   };
   const int lobe = reflect::TracerSettings{}.lobe_components;
   std::vector<OursConfig> ours;
@@ -105,6 +109,20 @@ AccuracySweep sweepAccuracy(const AccuracyOptions& o) {
     OursConfig off{d.aa_samples, d.pyramid_levels, d.grid.voxel_size, 0.0f, lobe};
     off.self_occlusion = false;
     ours.push_back(off);
+  }
+  // A relic that samples its rough lobe: the default tracer without the axis-aligned filter, with
+  // the default strata and denser ones (the time the filter takes spent on samples instead).
+  if (std::any_of(scene.relic.materials.begin(), scene.relic.materials.end(), [](const Material& m) {
+        return m.roughness >= reflect::TracerSettings{}.rough_interreflection_roughness &&
+               m.roughness < reflect::kGlossyRoughnessLimit;
+      })) {
+    const reflect::TracerSettings d;
+    for (int grid : {4, 6, 8}) {
+      OursConfig off{d.aa_samples, d.pyramid_levels, d.grid.voxel_size, 0.0f, lobe};
+      off.lobe_filter = false;
+      off.lobe_grid = grid;
+      ours.push_back(off);
+    }
   }
   // A glass relic: the refraction pass's knobs, around the default tracer.
   const bool transmissive = std::any_of(scene.relic.materials.begin(), scene.relic.materials.end(),
@@ -150,6 +168,9 @@ AccuracySweep sweepAccuracy(const AccuracyOptions& o) {
                        " voxel_cm=" + fmt(100 * c.voxel, 4) + " level_bias=" + fmt(c.bias, 2) +
                        " lobe=" + std::to_string(c.lobe_components);
     if (!c.self_occlusion) knob += " self_occlusion=off rough_lobe=mirror";
+    s.tracer.evaluation.axis_aligned_filter = c.lobe_filter;
+    s.tracer.rough_interreflection_grid = c.lobe_grid;
+    if (!c.lobe_filter) knob += " lobe_filter=off lobe_grid=" + std::to_string(c.lobe_grid);
     if (transmissive)
       knob +=
           " internal_depth=" + (c.refraction_depth > 0 ? std::to_string(c.refraction_depth) : "measured") +

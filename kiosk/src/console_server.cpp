@@ -1,18 +1,14 @@
 #include "holo/kiosk/console_server.hpp"
 
-#include <arpa/inet.h>
 #include <httplib.h>
-#include <sys/socket.h>
 
-#include <cerrno>
-#include <chrono>
-#include <cstring>
 #include <nlohmann/json.hpp>
 
 #include "console_assets.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/log.hpp"
-#include "holo/kiosk/health_server.hpp"
+#include "holo/kiosk/listen_address.hpp"
+#include "http_listener.hpp"
 
 namespace holo::kiosk {
 namespace {
@@ -97,15 +93,7 @@ struct Routes {
 
 void addConsoleRoutes(httplib::Server& server, std::shared_ptr<ConsoleAuth> auth, ConsoleBackend backend) {
   auto routes = std::make_shared<const Routes>(Routes{std::move(auth), std::move(backend)});
-  server.set_read_timeout(kTimeoutS, 0);
-  server.set_write_timeout(kTimeoutS, 0);
-  server.set_keep_alive_max_count(1);
-  server.set_keep_alive_timeout(kTimeoutS);
-  server.set_payload_max_length(ConsoleServer::kMaxBodyBytes);
-  server.set_socket_options([](socket_t socket) {
-    const int one = 1;
-    ::setsockopt(socket, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-  });
+  setConnectionLimits(server, kTimeoutS, ConsoleServer::kMaxBodyBytes);
   server.set_default_headers({
       {"Cache-Control", "no-store"},
       {"X-Content-Type-Options", "nosniff"},
@@ -231,48 +219,26 @@ void addConsoleRoutes(httplib::Server& server, std::shared_ptr<ConsoleAuth> auth
   });
   server.set_exception_handler(
       [](const httplib::Request& request, httplib::Response& response, std::exception_ptr error) {
-        std::string what = "unknown error";
-        try {
-          std::rethrow_exception(error);
-        } catch (const std::exception& e) {
-          what = e.what();
-        } catch (...) {
-        }
-        HOLO_LOG_ERROR("console: {} {}: {}", request.method, request.path, what);
+        HOLO_LOG_ERROR("console: {} {}: {}", request.method, request.path, exceptionMessage(error));
         text(response, 500, "internal error");
       });
 }
 
 ConsoleServer::ConsoleServer(const std::string& address, std::uint16_t port,
                              std::shared_ptr<ConsoleAuth> auth, ConsoleBackend backend,
-                             const std::string& field)
-    : server_(std::make_unique<httplib::Server>()) {
+                             const std::string& field) {
   if (!isIpAddress(address))
     throw InputError("", field, "an IP address to listen on (127.0.0.1 = this machine only)", address);
-  server_->new_task_queue = [] { return new httplib::ThreadPool(kWorkers); };
-  addConsoleRoutes(*server_, std::move(auth), std::move(backend));
-  const std::string name = address == "localhost" ? "127.0.0.1" : address;
-  errno = 0;
-  if (port == 0) {
-    const int bound = server_->bind_to_any_port(name);
-    if (bound > 0) port_ = static_cast<std::uint16_t>(bound);
-  } else if (server_->bind_to_port(name, port)) {
-    port_ = port;
-  }
-  if (port_ == 0)
-    throw Error("console: cannot listen on " + address + ":" + std::to_string(port) + ": " +
-                (errno != 0 ? std::strerror(errno) : "bind failed"));
-  thread_ = std::thread([this] {
-    server_->listen_after_bind();
-    listening_ended_ = true;
-  });
+  auto server = std::make_unique<httplib::Server>();
+  server->new_task_queue = [] { return new httplib::ThreadPool(kWorkers); };
+  addConsoleRoutes(*server, std::move(auth), std::move(backend));
+  listener_ = std::make_unique<HttpListener>(std::move(server), "console", address, port);
 }
 
-ConsoleServer::~ConsoleServer() {
-  while (!server_->is_running() && !listening_ended_)
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  server_->stop();
-  if (thread_.joinable()) thread_.join();
+ConsoleServer::~ConsoleServer() = default;
+
+std::uint16_t ConsoleServer::port() const {
+  return listener_->port();
 }
 
 }  // namespace holo::kiosk

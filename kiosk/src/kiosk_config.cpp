@@ -2,7 +2,7 @@
 
 #include "holo/core/files.hpp"
 #include "holo/core/log.hpp"
-#include "holo/kiosk/health_server.hpp"
+#include "holo/kiosk/listen_address.hpp"
 
 namespace holo::kiosk {
 namespace {

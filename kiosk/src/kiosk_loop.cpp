@@ -10,6 +10,7 @@
 #include "holo/core/log.hpp"
 #include "holo/core/log_tail.hpp"
 #include "holo/core/stats.hpp"
+#include "holo/kiosk/listen_address.hpp"
 
 namespace holo::kiosk {
 namespace {

@@ -61,7 +61,8 @@ void addPassTimes(const reflect::FrameResult& result, FrameReport& report) {
     report.times.dynamic +=
         passMs(view.timings, {reflect::Pass::ForegroundWalk, reflect::Pass::RefractedForeground});
     report.times.statics += passMs(view.timings, {reflect::Pass::HitPoints, reflect::Pass::StaticReflections,
-                                                  reflect::Pass::Refraction, reflect::Pass::Clearcoat});
+                                                  reflect::Pass::AxisAlignedFilter, reflect::Pass::Refraction,
+                                                  reflect::Pass::Clearcoat});
     report.times.composition += passMs(view.timings, {reflect::Pass::Composition, reflect::Pass::ToneMap});
   }
 }

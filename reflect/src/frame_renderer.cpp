@@ -6,6 +6,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "axis_aligned_filter.hpp"
 #include "compose_pass.hpp"
 #include "foreground_walk.hpp"
 #include "holo/reflect/tone_map.hpp"
@@ -90,6 +91,12 @@ FrameRenderer::FrameRenderer(const RenderScene& scene, const PrefilteredIbl& ibl
     if (rough.size() > 8) rough.resize(8);  // the map's limit; rougher ones read the nearest
     rough_map_ = std::make_unique<RoughForegroundMap>(settings_.foreground_map_width, rough);
   }
+  const bool samples_lobe = StaticShading(scene_, ibl_, settings_, rough_map_.get()).samplesLobe() &&
+                            settings_.evaluation.rough_interreflection_interleaved;
+  lobe_filter_ = samples_lobe && settings_.evaluation.axis_aligned_filter;
+  lobe_filter_reason_ = !samples_lobe  ? "no sampled rough lobe: no filter"
+                        : lobe_filter_ ? "axis-aligned filter of the rough lobe"
+                                       : "axis-aligned filter off";
 }
 
 EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
@@ -125,6 +132,8 @@ EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
       }
     }
   }
+  in.lobe_filter = lobe_filter_;
+  in.lobe_filter_reason = lobe_filter_reason_;
   return planEffects(in);
 }
 
@@ -261,11 +270,20 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       cache.hdr = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
       cache.coverage = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
       cache.zero_weight = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
+      const AxisAlignedFilter filter;
+      FilterCounts filtered;
       out.occluded_samples =
           StaticShading(scene_, ibl_, settings_, rough_map_.get(),
                         plan.has(Pass::SelfOcclusion) ? visibility_.get() : nullptr, &lighting_)
               .shade(cache.hits, view, cache.shading, cache.walk_rays, cache.bounces, cache.hdr,
-                     cache.coverage);
+                     cache.coverage, plan.has(Pass::AxisAlignedFilter) ? &filter : nullptr, &filtered);
+      out.filtered_pixels = filtered.pixels;
+      out.filter_taps = filtered.taps;
+      // The filter runs inside the static shading; its time is its own pass's, not the shading's.
+      if (plan.has(Pass::AxisAlignedFilter)) {
+        t.subtract(filtered.ms);
+        out.timings.push_back({Pass::AxisAlignedFilter, filtered.ms});
+      }
     }
     if (layered) {
       PassTimer tl(out.timings, plan.has(Pass::Refraction) ? Pass::Refraction : Pass::Clearcoat);

@@ -14,8 +14,10 @@ class PassTimer {
       : out_(out), pass_(pass), start_(std::chrono::steady_clock::now()) {}
   ~PassTimer() {
     const auto end = std::chrono::steady_clock::now();
-    out_.push_back({pass_, std::chrono::duration<double, std::milli>(end - start_).count()});
+    out_.push_back({pass_, std::chrono::duration<double, std::milli>(end - start_).count() - subtracted_ms_});
   }
+  // Time spent inside the pass that another pass accounts for (milliseconds).
+  void subtract(double ms) { subtracted_ms_ += ms; }
   PassTimer(const PassTimer&) = delete;
   PassTimer& operator=(const PassTimer&) = delete;
 
@@ -23,6 +25,7 @@ class PassTimer {
   std::vector<PassTiming>& out_;
   Pass pass_;
   std::chrono::steady_clock::time_point start_;
+  double subtracted_ms_ = 0.0;
 };
 
 }  // namespace holo::reflect

@@ -7,6 +7,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "axis_aligned_filter.hpp"
 #include "compose_pass.hpp"
 #include "holo/core/image.hpp"
 #include "holo/reflect/bsdf.hpp"
@@ -62,13 +63,6 @@ SurfacePoint surfaceOf(const HitPoint& hp) {
 }
 
 }  // namespace
-
-void LobeBounce::add(const LobeBounce& other, float weight) {
-  above += weight * other.above;
-  met += weight * other.met;
-  diffuse += weight * other.diffuse;
-  specular += weight * other.specular;
-}
 
 StaticShading::StaticShading(const RenderScene& scene, const PrefilteredIbl& ibl,
                              const TracerSettings& settings, const RoughForegroundMap* rough_map,
@@ -202,37 +196,34 @@ LobeBounce StaticShading::traceLobeBounce(const HitPoint& hp, const LobeShare& s
         bounce.diffuse += second.diffuse;
         bounce.specular += second.specular_scale * secondEnvironment(surface, ray, hit, second, share);
         bounce.met += 1.0f;
+        bounce.nearest = std::min(bounce.nearest, hit.t);
       });
   return bounce;
 }
 
-void StaticShading::poolLobeBounces(const HitPointBuffer& hits, const std::vector<PixelBounce>& bounces,
-                                    const CameraModel& view, int x, int y,
-                                    std::vector<SplitSumShading>& shading) const {
-  const std::size_t p = std::size_t(y) * std::size_t(hits.width) + std::size_t(x);
-  const PixelBounce& own = bounces[p];
-  if (!own.rough) return;
+LobeBounce StaticShading::poolLobeBounces(const std::vector<PixelBounce>& bounces, int width, int height,
+                                          const CameraModel& view, int x, int y) const {
+  const PixelBounce& own = bounces[std::size_t(y) * std::size_t(width) + std::size_t(x)];
   // Neighbours on the same surface only: a few pixels' footprint away and facing alike.
   const float reach = 4.0f * glm::length(own.position - view.position()) / view.intrinsics().fx;
   LobeBounce sum;
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx) {
       const int nx = x + dx, ny = y + dy;
-      if (nx < 0 || ny < 0 || nx >= hits.width || ny >= hits.height) continue;
-      const PixelBounce& other = bounces[std::size_t(ny) * std::size_t(hits.width) + std::size_t(nx)];
+      if (nx < 0 || ny < 0 || nx >= width || ny >= height) continue;
+      const PixelBounce& other = bounces[std::size_t(ny) * std::size_t(width) + std::size_t(nx)];
       if (!other.rough || glm::dot(other.normal, own.normal) < 0.9f ||
           glm::length(other.position - own.position) > reach)
         continue;
       sum.add(other.samples, float((2 - std::abs(dx)) * (2 - std::abs(dy))));
     }
-  const std::size_t first = hits.firstSample(p);
-  for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i)
-    if (hits.valid[i] && tracesLobe(hits.hits[i].material.roughness)) addLobeBounce(sum, shading[i]);
+  return sum;
 }
 
 std::uint64_t StaticShading::shade(const HitPointBuffer& hits, const CameraModel& view,
                                    std::vector<SplitSumShading>& shading, std::vector<WalkRay>& walk_rays,
-                                   std::vector<PixelBounce>& bounces, cv::Mat& hdr, cv::Mat& coverage) const {
+                                   std::vector<PixelBounce>& bounces, cv::Mat& hdr, cv::Mat& coverage,
+                                   const AxisAlignedFilter* filter, FilterCounts* filter_counts) const {
   const int w = hits.width;
   shading.resize(hits.hits.size());
   walk_rays.resize(hits.hits.size());
@@ -241,36 +232,56 @@ std::uint64_t StaticShading::shade(const HitPointBuffer& hits, const CameraModel
   if (pool_bounces) bounces.assign(hits.pixelCount(), PixelBounce{});
   const float spread = 1.0f / view.intrinsics().fx;  // radians per pixel: the footprint's growth
   std::atomic<std::uint64_t> occluded{0};
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t k = r.begin(); k < r.end(); ++k) {
-                        const std::size_t p = hits.covered[k];
-                        const std::size_t first = hits.firstSample(p);
-                        const int x = int(p % std::size_t(w)), y = int(p / std::size_t(w));
-                        LobeShare share{(x & 1) + 2 * (y & 1), 0, hits.sampleCount(p)};
-                        std::uint64_t visible = 0;
-                        share.spread = spread;
-                        for (share.sample = 0; share.sample < share.samples; ++share.sample) {
-                          const std::size_t i = first + std::size_t(share.sample);
-                          if (!hits.valid[i]) continue;
-                          if (visibility_ && visibility_->covers(hits.hits[i].location)) ++visible;
-                          share.cone_width = glm::length(hits.hits[i].position - view.position()) * spread;
-                          const std::optional<LobeBounce> bounce =
-                              shadeHit(hits.hits[i], share, shading[i], walk_rays[i]);
-                          if (!bounce) continue;
-                          PixelBounce& pixel = bounces[p];
-                          if (!pixel.rough) pixel = {true, hits.hits[i].position, hits.hits[i].normal, {}};
-                          pixel.samples.add(*bounce, 1.0f);
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
+      [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t k = r.begin(); k < r.end(); ++k) {
+          const std::size_t p = hits.covered[k];
+          const std::size_t first = hits.firstSample(p);
+          const int x = int(p % std::size_t(w)), y = int(p / std::size_t(w));
+          LobeShare share{(x & 1) + 2 * (y & 1), 0, hits.sampleCount(p)};
+          std::uint64_t visible = 0;
+          share.spread = spread;
+          for (share.sample = 0; share.sample < share.samples; ++share.sample) {
+            const std::size_t i = first + std::size_t(share.sample);
+            if (!hits.valid[i]) continue;
+            if (visibility_ && visibility_->covers(hits.hits[i].location)) ++visible;
+            share.cone_width = glm::length(hits.hits[i].position - view.position()) * spread;
+            const std::optional<LobeBounce> bounce = shadeHit(hits.hits[i], share, shading[i], walk_rays[i]);
+            if (!bounce) continue;
+            PixelBounce& pixel = bounces[p];
+            if (!pixel.rough)
+              pixel = {true, hits.hits[i].position, hits.hits[i].normal, hits.hits[i].material.roughness, {}};
+            pixel.samples.add(*bounce, 1.0f);
+          }
+          if (visible > 0) occluded += visible;
+        }
+      });
+  std::vector<LobeBounce> pooled;
+  if (pool_bounces) {
+    pooled.resize(hits.pixelCount());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                          const std::size_t p = hits.covered[k];
+                          if (bounces[p].rough)
+                            pooled[p] = poolLobeBounces(bounces, w, hits.height, view,
+                                                        int(p % std::size_t(w)), int(p / std::size_t(w)));
                         }
-                        if (visible > 0) occluded += visible;
-                      }
-                    });
+                      });
+    if (filter) *filter_counts = filter->apply(bounces, pooled, w, hits.height, view);
+  }
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t k = r.begin(); k < r.end(); ++k) {
                         const std::size_t p = hits.covered[k];
                         const int x = int(p % std::size_t(w)), y = int(p / std::size_t(w));
-                        if (pool_bounces) poolLobeBounces(hits, bounces, view, x, y, shading);
+                        if (pool_bounces && bounces[p].rough) {
+                          const std::size_t first = hits.firstSample(p);
+                          for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i)
+                            if (hits.valid[i] && tracesLobe(hits.hits[i].material.roughness))
+                              addLobeBounce(pooled[p], shading[i]);
+                        }
                         float weight = 0.0f;
                         setRgb(hdr, x, y, composePixel(hits, shading, nullptr, p, weight));
                         coverage.at<float>(y, x) = hits.coverage(x, y);

@@ -20,7 +20,8 @@
 // more, and where that meets the relic again shows the third point's static shading instead of
 // the hall (inside a bowl the light goes round); its walk keeps the first point's mirror ray. Interleaved,
 // each hit point traces only the strata of its 2x2 pixel class dealt to its sample, and a 3x3 tent over the
-// pixels of the same surface sums them all.
+// pixels of the same surface sums them all; with an axis-aligned filter (axis_aligned_filter.hpp) the
+// tent's sums are filtered further, as wide as the lobe's bandwidth and the distance to what it meets allow.
 #pragma once
 
 #include <array>
@@ -37,23 +38,13 @@
 #include "holo/reflect/render_scene.hpp"
 #include "holo/reflect/rough_foreground_map.hpp"
 #include "holo/reflect/tracer_settings.hpp"
+#include "lobe_bounce.hpp"
 #include "walk_ray.hpp"
 
 namespace holo::reflect {
 
-// The rough lobe's interreflection samples of one hit point (or their sum over pixels).
-struct LobeBounce {
-  float above = 0.0f, met = 0.0f;      // lobe samples above the surface; those that met the relic
-  vec3 diffuse{0.0f}, specular{0.0f};  // sums over the met ones of their second points' shading
-  void add(const LobeBounce& other, float weight);
-};
-
-// A pixel's interleaved lobe samples and where they lie (its first rough sample's point).
-struct PixelBounce {
-  bool rough = false;
-  vec3 position{0.0f}, normal{0.0f};
-  LobeBounce samples;
-};
+class AxisAlignedFilter;
+struct FilterCounts;
 
 class StaticShading {
  public:
@@ -67,11 +58,15 @@ class StaticShading {
   // entry of hits.hits; others are left as they were) and writes the static image: hdr, CV_32FC3
   // linear BGR, the mean over each pixel's samples of psi_s + diffuse (misses black), and
   // coverage, CV_32FC1; both must be view-sized and zero, only covered pixels are written.
-  // `bounces` is scratch, reused across calls. Returns the samples whose diffuse light the
-  // visibility occluded.
+  // `bounces` is scratch, reused across calls. With `filter` (may be null) the rough lobe's pooled
+  // interreflection is filtered and `filter_counts` (then not null) receives its counters. Returns
+  // the samples whose diffuse light the visibility occluded.
   std::uint64_t shade(const HitPointBuffer& hits, const CameraModel& view,
                       std::vector<SplitSumShading>& shading, std::vector<WalkRay>& walk_rays,
-                      std::vector<PixelBounce>& bounces, cv::Mat& hdr, cv::Mat& coverage) const;
+                      std::vector<PixelBounce>& bounces, cv::Mat& hdr, cv::Mat& coverage,
+                      const AxisAlignedFilter* filter = nullptr, FilterCounts* filter_counts = nullptr) const;
+  // Some relic material traces its lobe's strata for the interreflection (the term a filter has to work on).
+  bool samplesLobe() const { return lobe_materials_ && settings_.relic_interreflection; }
 
  private:
   // Which of the rough lobe's strata a hit point traces: its pixel's 2x2 class ((x & 1) +
@@ -98,8 +93,9 @@ class StaticShading {
   bool tracesLobe(float roughness) const;
   // surface_shading.hpp's shadeSurface, with the visibility's irradiance where it covers the point.
   SplitSumShading shadeAt(const SurfacePoint& surface, const vec3& wo) const;
-  void poolLobeBounces(const HitPointBuffer& hits, const std::vector<PixelBounce>& bounces,
-                       const CameraModel& view, int x, int y, std::vector<SplitSumShading>& shading) const;
+  // The 3x3 tent's sum of the pixel's and its same-surface neighbours' lobe samples.
+  LobeBounce poolLobeBounces(const std::vector<PixelBounce>& bounces, int width, int height,
+                             const CameraModel& view, int x, int y) const;
 
   const RenderScene& scene_;
   const PrefilteredIbl& ibl_;

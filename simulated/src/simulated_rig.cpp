@@ -6,6 +6,7 @@
 
 #include "holo/calib/pose.hpp"
 #include "holo/calib/synthetic_board.hpp"
+#include "holo/calib/verification_target.hpp"
 #include "holo/core/equirect.hpp"
 #include "holo/core/image.hpp"
 
@@ -31,7 +32,8 @@ SimulatedRig::SimulatedRig(sim::SceneDescription scene, const AutoCalibrationCon
       scene_(scene.name),
       config_(config),
       intrinsics_texture_(calib::renderBoardTexture(config.intrinsics_board, 60)),
-      placement_texture_(calib::renderBoardTexture(config.placement_board, 60)) {
+      placement_texture_(calib::renderBoardTexture(config.placement_board, 60)),
+      verification_texture_(calib::renderVerificationTargetTexture()) {
   // The panorama was captured turned by 40 of its 512 columns (28.1 degrees); find the yaw
   // that undoes it the way holo::equirect applies a yaw, so the truth has the right sign.
   if (static_cast<int>(config_.placements.size()) != museum_.cameraCount())
@@ -81,6 +83,8 @@ constexpr int kFramesAway = 3;
 // Per marked spot: the board stands three frames, then two frames without it while it is carried.
 constexpr int kFramesAtSpot = 3;
 constexpr int kFramesBetweenSpots = 2;
+// The verification jig stands still: a few frames are enough.
+constexpr int kFramesOfJig = 3;
 
 cv::Matx44d handHeldPose(const BoardSpec& board, const double* p) {
   const double d = CV_PI / 180.0;
@@ -132,6 +136,8 @@ int SimulatedRig::frameCount(RigActivity activity) const {
       return cameraCount() * (kFramesAtSpot + kFramesBetweenSpots);
     case RigActivity::EmptyHall:
       return config_.background_frames;
+    case RigActivity::VerificationJig:
+      return kFramesOfJig;
   }
   return 0;
 }
@@ -212,6 +218,15 @@ RgbdFrame SimulatedRig::frame(RigActivity activity, int camera, int index) const
     case RigActivity::EmptyHall:
       out = museum_.renderCamera(camera, index, false).frame;
       break;
+    case RigActivity::VerificationJig: {
+      cv::Matx44d T_world_camera = calib::toMatx(trueCamera(camera).T_world_camera());
+      if (const auto knock = knocked_.find(camera); knock != knocked_.end())
+        T_world_camera = T_world_camera * knock->second;
+      const cv::Matx44d T = calib::rigidInverse(T_world_camera) * calib::verificationTargetPose(camera);
+      out = boardFrame(verification_texture_, K, T, T, camera,
+                       static_cast<std::uint64_t>(4000 + 100 * camera + index), 0.5f);
+      break;
+    }
   }
   out.camera_id = camera;
   out.sequence = static_cast<std::uint64_t>(index);

@@ -63,21 +63,23 @@ TEST(CalibrationWizard, ScriptedRunPassesEveryStepAndSavesTheTruth) {
   const fs::path dir = holo::test::scratchDir("calib_wizard");
   const fs::path out = dir / "calibration", shots = dir / "screenshots";
   const WizardRun run = runWizard(
-      dir, "--background-frames 3 --script next,next,next,next,back,retry,next,back,next,next,save,close");
+      dir,
+      "--background-frames 3 --script next,next,next,next,back,retry,next,back,next,next,next,save,close");
   ASSERT_EQ(run.exit_code, 0) << "the wizard did not save a passing calibration";
 
-  // Every step's final verdict: 4 intrinsics, 4 poses, 4 backgrounds, the panorama, 4 faces.
+  // Every step's final verdict: 4 intrinsics, 4 poses, 4 backgrounds, the panorama, 4 faces, 4
+  // verifications.
   const std::string& text = run.output;
   const auto summary_at = text.find("verdicts:\n");
   ASSERT_NE(summary_at, std::string::npos);
   const std::string summary = text.substr(summary_at);
   const std::regex verdict(
-      R"((intrinsics camera|pose camera|background camera|panorama yaw|display face)[^\n]*(PASS|FAIL))");
+      R"((intrinsics camera|pose camera|background camera|panorama yaw|display face|verification camera)[^\n]*(PASS|FAIL))");
   int passes = 0, fails = 0;
   for (auto it = std::sregex_iterator(summary.begin(), summary.end(), verdict); it != std::sregex_iterator();
        ++it)
     ((*it)[2] == "PASS" ? passes : fails)++;
-  EXPECT_EQ(passes, 17);
+  EXPECT_EQ(passes, 21);
   EXPECT_EQ(fails, 0);
   // Retry measured the panorama again and so forgot the display alignment, which Next measured
   // again; Back then Next kept the panorama; nothing before it was measured twice.
@@ -91,6 +93,7 @@ TEST(CalibrationWizard, ScriptedRunPassesEveryStepAndSavesTheTruth) {
   EXPECT_EQ(count("step 3: background"), 1);
   EXPECT_EQ(count("step 4: panorama yaw"), 2);
   EXPECT_EQ(count("step 5: display alignment"), 2);
+  EXPECT_EQ(count("step 6: verification"), 1);
   EXPECT_NE(summary.find("saved into"), std::string::npos);
 
   AutoCalibrationConfig config;
@@ -118,7 +121,7 @@ TEST(CalibrationWizard, ScriptedRunPassesEveryStepAndSavesTheTruth) {
   // 29-64 in the band.)
   // The intrinsics take seconds, so their live pictures were caught mid-measurement too.
   const char* steps[] = {"1_intrinsics",   "1_intrinsics_measuring", "2_camera_poses", "3_background",
-                         "4_panorama_yaw", "5_display_alignment",    "6_save"};
+                         "4_panorama_yaw", "5_display_alignment",    "6_verification", "7_save"};
   for (const char* step : steps) {
     const fs::path png = shots / (std::string("wizard_") + step + ".png");
     const cv::Mat shot = cv::imread(png.string(), cv::IMREAD_COLOR);
@@ -182,7 +185,7 @@ TEST(CalibrationWizard, ScriptedRunOnARecording) {
   ASSERT_EQ(std::system(simulate.c_str()), 0);
   const WizardRun run =
       runWizard(dir, "--config " + (rec / "installation.yaml").string() +
-                         " --background-frames 3 --script next,next,next,next,next,save,close");
+                         " --background-frames 3 --script next,next,next,next,next,next,save,close");
   ASSERT_EQ(run.exit_code, 0);
   const std::string summary = run.output.substr(run.output.find("verdicts:\n"));
   EXPECT_EQ(summary.find("FAIL"), std::string::npos);
@@ -215,9 +218,9 @@ TEST(CalibrationWizard, ScriptedRunOnARecording) {
     EXPECT_LT(depth_scale_pct, 0.3) << camera.serial;
     EXPECT_LT(gain_pct, 2.0) << camera.serial;
   }
-  for (const char* shot :
-       {"wizard_1_intrinsics.png", "wizard_2_camera_poses.png", "wizard_3_background.png",
-        "wizard_4_panorama_yaw.png", "wizard_5_display_alignment.png", "wizard_6_save.png"})
+  for (const char* shot : {"wizard_1_intrinsics.png", "wizard_2_camera_poses.png", "wizard_3_background.png",
+                           "wizard_4_panorama_yaw.png", "wizard_5_display_alignment.png",
+                           "wizard_6_verification.png", "wizard_7_save.png"})
     EXPECT_FALSE(cv::imread((dir / "screenshots" / shot).string()).empty()) << shot;
 }
 

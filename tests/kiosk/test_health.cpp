@@ -12,6 +12,7 @@
 #include "holo/core/error.hpp"
 #include "holo/kiosk/health_server.hpp"
 #include "holo/kiosk/health_status.hpp"
+#include "holo/kiosk/listen_address.hpp"
 
 namespace holo::kiosk {
 namespace {

@@ -30,3 +30,11 @@ if(TARGET holo::relics)
     SOURCES test_self_occlusion.cpp
     DEPS holo::reflect holo::reference holo::relics holo_test_support)
 endif()
+
+# The axis-aligned filter of the rough lobe's interreflection against path-traced truth.
+if(TARGET holo::relics)
+  holo_test(test_axis_aligned_filter
+    SOURCES test_axis_aligned_filter.cpp
+    DEPS holo::reflect holo::reference holo::relics holo_test_support)
+  target_include_directories(test_axis_aligned_filter PRIVATE ${PROJECT_SOURCE_DIR}/reflect/src)
+endif()

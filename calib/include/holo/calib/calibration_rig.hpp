@@ -20,9 +20,10 @@ namespace holo::calib {
 
 // What the technician is asked to do while a step takes frames.
 enum class RigActivity {
-  HandHeldBoard,   // the intrinsics board moved and tilted in front of each camera
-  PlacementBoard,  // the placement board on the easel at each marked spot in turn
-  EmptyHall,       // nobody and nothing in front of the cameras
+  HandHeldBoard,    // the intrinsics board moved and tilted in front of each camera
+  PlacementBoard,   // the placement board on the easel at each marked spot in turn
+  EmptyHall,        // nobody and nothing in front of the cameras
+  VerificationJig,  // the verification jig on the base's sides (verification_target.hpp), nobody in front
 };
 
 class CalibrationRig {

@@ -23,6 +23,10 @@
 //               closure: the relative pose of cameras i and j through the board must agree with
 //               their calibrated poses.
 //   background  the next background_frames frames of every camera.
+//   verification  the first frame of every camera with the verification jig mounted
+//               (verification_target.hpp): its printed squares projected through the camera's
+//               calibration against the picture's edges (edge_alignment.hpp), the pose error
+//               they show judged (quality.hpp).
 //
 // Invariants: a step runs only after every earlier step has been measured (it builds on their
 // results); measuring a step again forgets the outcomes of the steps after it.
@@ -44,9 +48,9 @@
 
 namespace holo::calib {
 
-enum class CalibrationStep { Intrinsics, Poses, Background, Panorama, Display, Save };
-inline constexpr int kCalibrationSteps = 6;  // including Save
-inline constexpr int kMeasuringSteps = 5;    // every step but Save
+enum class CalibrationStep { Intrinsics, Poses, Background, Panorama, Display, Verification, Save };
+inline constexpr int kCalibrationSteps = 7;  // including Save
+inline constexpr int kMeasuringSteps = 6;    // every step but Save
 
 // Short name ("intrinsics", "camera poses", ...) and what the technician does in the step.
 const char* stepTitle(CalibrationStep step);
@@ -114,6 +118,7 @@ class CalibrationSession {
   StepOutcome measureBackground(std::ostream& log, bool quiet, const PreviewCallback& on_preview);
   StepOutcome measurePanorama(std::ostream& log, const PreviewCallback& on_preview);
   StepOutcome measureDisplay(std::ostream& log, const PreviewCallback& on_preview);
+  StepOutcome measureVerification(std::ostream& log, const PreviewCallback& on_preview);
 
   CalibrationRig& rig_;
   AutoCalibrationConfig config_;

@@ -11,11 +11,16 @@
 //   depth        the board's plane in depth against its plane from the colour corners, RMS
 //                distance < 5 mm over >= 4 views
 //   colour       every channel's gain within 0.5-2 (a larger correction is a camera set wrong)
+//   verification the verification jig's printed edges (verification_target.hpp) projected through
+//                the calibration: the pose error they show (edge_alignment.hpp) < 5 mm and
+//                < 0.5 degree, the jig wholly in view and its edges found (mean distance after
+//                alignment < 1.5 px)
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "holo/calib/edge_alignment.hpp"
 #include "holo/core/math.hpp"
 
 namespace holo::calib {
@@ -56,6 +61,10 @@ inline constexpr int kDepthRegistrationMinViews = 4;
 inline constexpr double kDepthRegistrationIdentityMm = 3.0;
 inline constexpr double kDepthRegistrationIdentityDeg = 0.3;
 inline constexpr double kColourMaxCorrection = 2.0;  // a gain outside [1/2, 2] fails
+inline constexpr double kVerificationMaxMm = 5.0;
+inline constexpr double kVerificationMaxDeg = 0.5;
+inline constexpr double kVerificationMaxEdgePx = 1.5;
+inline constexpr double kVerificationMinSeen = 0.95;
 
 // `views` used of `offered` frames; `board_fraction` is the median share of the image width the board
 // spans (small boards mean "board too far").
@@ -69,5 +78,8 @@ StepVerdict judgeDisplay(const std::string& step, double residual_px);
 StepVerdict judgeDepthRegistration(const std::string& step, double rms_distance_mm, int views);
 // `gains`: linear RGB multipliers; the figure is the largest correction factor max(g, 1/g).
 StepVerdict judgeColourGains(const std::string& step, vec3 gains);
+// The figure is the position error; the verdict also needs the rotation, the jig in view and its
+// edges found.
+StepVerdict judgeVerification(const std::string& step, const EdgeAlignment& alignment);
 
 }  // namespace holo::calib

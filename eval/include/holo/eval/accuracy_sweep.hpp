@@ -4,7 +4,9 @@
 //   ours   anti-aliasing (1, 4) x pyramid levels (5, 7, 9) x voxel size (2, 3.125, 5 cm), the
 //          pyramid level offset -1 / +1 around the derived level, 1 or 4 Gaussians for the GGX
 //          lobe instead of 2, and the default tracer without its self-occlusion and rough lobe
-//          (no visibility, the mirror ray at every roughness: that effect's point); on a
+//          (no visibility, the mirror ray at every roughness: that effect's point), on a relic
+//          that samples its rough lobe the default tracer without the axis-aligned filter at 4x4,
+//          6x6 and 8x8 strata (the filter's time spent on samples instead); on a
 //          transmissive relic also the refraction pass's internal depth (1, 2, 4, 8, 16 interface
 //          events against the measured one) and the transmitted lobe's width (its derived
 //          roughness x 0, 0.5, 2: the IBL level and pyramid levels it reads) and the pixels

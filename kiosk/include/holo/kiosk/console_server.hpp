@@ -22,12 +22,10 @@
 // same-origin Content-Security-Policy; the session cookie is HttpOnly and SameSite=Strict.
 #pragma once
 
-#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "holo/kiosk/console_auth.hpp"
@@ -39,6 +37,8 @@ class Server;
 }
 
 namespace holo::kiosk {
+
+class HttpListener;  // kiosk/src/http_listener.hpp
 
 enum class SnapshotKind { Face, Camera };
 
@@ -67,13 +67,10 @@ class ConsoleServer {
   ConsoleServer(const ConsoleServer&) = delete;
   ConsoleServer& operator=(const ConsoleServer&) = delete;
 
-  std::uint16_t port() const { return port_; }
+  std::uint16_t port() const;
 
  private:
-  std::unique_ptr<httplib::Server> server_;
-  std::uint16_t port_ = 0;
-  std::atomic<bool> listening_ended_{false};
-  std::thread thread_;
+  std::unique_ptr<HttpListener> listener_;
 };
 
 // Installs the routes, limits and error answers above on `server` (ConsoleServer and the fuzz

@@ -15,7 +15,6 @@
 #include <functional>
 #include <memory>
 #include <string>
-#include <thread>
 
 #include "holo/kiosk/health_status.hpp"
 
@@ -24,6 +23,8 @@ class Server;
 }
 
 namespace holo::kiosk {
+
+class HttpListener;  // kiosk/src/http_listener.hpp
 
 using HealthProvider = std::function<HealthStatus()>;
 
@@ -38,16 +39,13 @@ class HealthServer {
   HealthServer(const HealthServer&) = delete;
   HealthServer& operator=(const HealthServer&) = delete;
 
-  std::uint16_t port() const { return port_; }
+  std::uint16_t port() const;
   // Successful /health and /metrics answers so far.
   long requestsServed() const { return served_->load(); }
 
  private:
-  std::unique_ptr<httplib::Server> server_;
   std::shared_ptr<std::atomic<long>> served_;
-  std::uint16_t port_ = 0;
-  std::atomic<bool> listening_ended_{false};
-  std::thread thread_;
+  std::unique_ptr<HttpListener> listener_;
 };
 
 // Installs the /health and /metrics routes, the limits above and the error answers on `server`;
@@ -55,10 +53,5 @@ class HealthServer {
 // raw bytes through the same routes without a socket.
 void addHealthRoutes(httplib::Server& server, HealthProvider provider,
                      std::shared_ptr<std::atomic<long>> served);
-
-// True for the addresses HealthServer accepts.
-bool isLoopbackAddress(const std::string& address);
-// True for a numeric IPv4 or IPv6 address, or "localhost".
-bool isIpAddress(const std::string& address);
 
 }  // namespace holo::kiosk

@@ -11,7 +11,9 @@
 // relic casts none of its rays. VisitorLight (visitor_light.hpp) runs where a foreground point
 // comes within TracerSettings::visitor_light_distance of a relic whose diffuse or widest lobes the
 // walk does not light: the visitors' shadow and light on them, with the voxel grid it reads; with
-// no visitor that near the frame does none of its work.
+// no visitor that near the frame does none of its work. AxisAlignedFilter runs where some relic material
+// samples its rough lobe for the interreflection (the one Monte Carlo term of the static shading, interleaved
+// over pixels); a smooth or Lambert relic's frame does no filtering.
 #pragma once
 
 #include <string>
@@ -28,6 +30,7 @@ enum class Pass {
   HitPoints,            // primary rays against the relic (psi_r, coverage)
   SelfOcclusion,        // the static shading's light occluded by the relic itself (relic_visibility.hpp)
   StaticReflections,    // prefiltered IBL (psi_s) and diffuse
+  AxisAlignedFilter,    // the rough lobe's sampled interreflection filtered (axis_aligned_filter.hpp)
   Refraction,           // transmitted paths through the relic to the IBL (static, like the hit points)
   Clearcoat,            // the coat's specular lobe over the base (static shading and composition)
   ForegroundWalk,       // voxel walk + pyramid reads (psi_d, w)
@@ -73,6 +76,10 @@ struct EffectInputs {
   bool visitor_light_enabled = true;
   bool relic_lit_diffusely = false;
   bool visitor_within_light_distance = false;
+  // Some relic material samples its rough lobe for the interreflection (interleaved), and the
+  // filter is on; why or why not, for the plan's reason.
+  bool lobe_filter = false;
+  std::string lobe_filter_reason;
 };
 
 struct EffectPlan {

@@ -98,6 +98,8 @@ class FrameRenderer {
   float lit_turn_ = 0.0f;
   bool lit_ = false;
   std::string self_occlusion_reason_;
+  bool lobe_filter_ = false;  // the plan's AxisAlignedFilter: some material samples its rough lobe
+  std::string lobe_filter_reason_;
   std::vector<std::unique_ptr<ViewCache>> caches_;  // per view slot
 };
 

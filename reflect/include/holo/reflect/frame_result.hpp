@@ -33,6 +33,9 @@ struct ViewCounters {
   std::uint64_t occluded_samples = 0;
   // Samples whose light the visitors changed (VisitorLight; 0 when the plan left it off).
   std::uint64_t visitor_lit_samples = 0;
+  // Pixels whose rough-lobe interreflection the axis-aligned filter smoothed, and the weights it
+  // took (AxisAlignedFilter; 0 when the static shading was reused or the plan left it off).
+  std::uint64_t filtered_pixels = 0, filter_taps = 0;
 };
 
 // One view's images, with its counters.

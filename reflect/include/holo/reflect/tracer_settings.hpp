@@ -42,6 +42,10 @@ struct TracerEvaluationKnobs {
   // every sample traces every stratum (side^2 rays). Default true, one ray per sample at side 4
   // with four samples; false is the reference it is checked against.
   bool rough_interreflection_interleaved = true;
+  // The axis-aligned filter of the rough lobe's interleaved interreflection (axis_aligned_filter.hpp)
+  // where the effect plan wants it; false: the 3x3 tent's sums alone. Default true; false measures
+  // what the filter adds.
+  bool axis_aligned_filter = true;
   // The relic's self-occlusion (relic_visibility.hpp) where the effect plan wants it; false: the
   // diffuse light is the unoccluded irradiance (the glTF occlusion texture the only visibility).
   // Default true; false measures what the visibility adds.

@@ -1,11 +1,12 @@
 // The calibration rig of the simulated museum: a simulated technician acts out what each step
 // asks (begin()): moves the intrinsics board in front of each camera, holding it still at 16
 // poses with a moving frame between them; stands the placement board on the easel at each marked
-// spot in turn; clears the hall. The four cameras film it over their view of the hall (frame();
-// the boards in colour and in depth), the simulated monitors show the test pattern with a known misalignment.
-// Everything is seeded, and the truth (intrinsics, poses, panorama yaw, face alignment) is exposed for
-// checking. `holopyramid simulate --calibration` records the same frames, so a calibration from that
-// recording (calib/capture_rig.hpp) runs the very steps a calibration on this rig runs.
+// spot in turn; clears the hall; mounts the verification jig (calib/verification_target.hpp). The four
+// cameras film it over their view of the hall (frame(); the boards in colour and in depth), the simulated
+// monitors show the test pattern with a known misalignment. Everything is seeded, and the truth (intrinsics,
+// poses, panorama yaw, face alignment) is exposed for checking. `holopyramid simulate --calibration` records
+// the same frames, so a calibration from that recording (calib/capture_rig.hpp) runs the very steps a
+// calibration on this rig runs.
 #pragma once
 
 #include <algorithm>
@@ -43,6 +44,10 @@ class SimulatedRig : public calib::CalibrationRig {
   // The depth device's frames lag the colour device's by `seconds` (>= 0): its picture of a
   // moving board shows the board further along (sim/device_errors.hpp). Default 0.
   void setDepthDelay(double seconds) { depth_delay_s_ = std::max(0.0, seconds); }
+  // Camera `camera` was knocked after its pose was measured: the verification jig's frames show
+  // it from T_world_camera * T_camera_knocked (camera-frame motion, metres). The hall behind the
+  // jig stays as the camera saw it before (only the jig's edges are measured).
+  void knockCamera(int camera, const cv::Matx44d& T_camera_knocked) { knocked_[camera] = T_camera_knocked; }
 
   // The truth the calibration should recover.
   const sim::Museum& museum() const { return museum_; }
@@ -61,9 +66,11 @@ class SimulatedRig : public calib::CalibrationRig {
   calib::AutoCalibrationConfig config_;
   calib::BoardTexture intrinsics_texture_;
   calib::BoardTexture placement_texture_;
+  calib::BoardTexture verification_texture_;
   float panorama_yaw_ = 0.0f;
   int panorama_shift_px_ = 0;
   double depth_delay_s_ = 0.0;
+  std::map<int, cv::Matx44d> knocked_;
   calib::RigActivity activity_ = calib::RigActivity::HandHeldBoard;
   std::vector<int> next_;  // per camera: the next frame of the current activity
   mutable std::mutex cache_mutex_;
