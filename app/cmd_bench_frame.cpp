@@ -38,6 +38,22 @@ int runBenchFrame(BenchFrameCommand command) {
         "error against the same frames traced fresh with 4 samples per pixel: median {:.3f} sRGB codes "
         "(mean absolute, 8-bit, four faces)\n",
         *b.error_vs_reference_codes);
+  {
+    std::uint64_t shaded = 0, bounced = 0, rays = 0;
+    for (const FrameReport& r : b.reports) {
+      shaded += r.shaded_samples;
+      bounced += r.interreflected_samples;
+      rays += r.interreflection_rays;
+    }
+    std::cout << fmt::format(
+        "interreflection: {} of the {} relic samples shaded afresh in the measured frames ({:.1f}%) cast {} "
+        "rays against the relic ({})\n",
+        bounced, shaded, shaded > 0 ? 100.0 * double(bounced) / double(shaded) : 0.0, rays,
+        b.reports.empty() ? std::string("no frames") : b.reports.back().plan);
+  }
+  if (b.display_digest)
+    std::cout << fmt::format("displayed faces of the measured frames: FNV-1a digest {:016x}\n",
+                             *b.display_digest);
   if (b.latency_median_ms && b.latency_p99_ms)
     std::cout << fmt::format(
         "live: cameras replayed at their rate on their capture threads; arrival-to-present latency of the "
@@ -81,6 +97,7 @@ int runBenchFrame(BenchFrameCommand command) {
     if (b.latency_p99_ms) j["latency_p99_ms"] = *b.latency_p99_ms;
     j["page_faults_per_frame"] = b.page_faults_per_frame;
     if (b.error_vs_reference_codes) j["error_vs_full_aa_codes"] = *b.error_vs_reference_codes;
+    if (b.display_digest) j["display_digest"] = fmt::format("{:016x}", *b.display_digest);
     for (const auto& [name, ms] : b.passes) j["passes_ms"][name] = ms;
     j["anti_aliasing"] = command.aa;
     j["static_reuse_m"] = options.loop.tracer.static_reuse_distance;
@@ -129,8 +146,11 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--static-reuse", options->loop.tracer.static_reuse_distance,
                      "Metres an eye may move before a view's hit points are traced again (0: identical only)")
           ->capture_default_str();
-      sub.add_flag("--interreflection", options->loop.tracer.relic_interreflection,
-                   "One bounce where the relic reflects itself (off in the live loop)");
+      sub.add_flag("!--no-interreflection", options->loop.tracer.relic_interreflection,
+                   "No bounce where the relic reflects itself (on by default where the relic can see "
+                   "itself; a convex relic casts no ray)");
+      sub.add_flag("--digest", options->digest,
+                   "Print an FNV-1a digest of every measured frame's displayed faces (untimed)");
       sub.add_flag("!--no-foreground", options->loop.tracer.foreground_enabled, "IBL only");
       addPanoramaAtInfinityFlag(sub, options->loop.panorama_at_infinity);
       sub.add_flag(

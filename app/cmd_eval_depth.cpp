@@ -31,6 +31,7 @@ struct Options {
   int levels = depthfilter::TemporalDepthFilterConfig{}.levels;
   std::vector<int> compared_levels = eval::SimulatedDepthOptions{}.compared_levels;
   bool mask_persistence = eval::SimulatedDepthOptions{}.mask_persistence;
+  bool cross_camera = eval::SimulatedDepthOptions{}.cross_camera;
   std::string json;
   std::string images;
   std::string recording;
@@ -70,9 +71,9 @@ int run(const Options& o) {
   if (o.levels < 1 || o.levels > max_levels)
     throw InputError("", "--levels", "l_max in [1, " + std::to_string(max_levels) + "]",
                      std::to_string(o.levels));
-  const eval::SimulatedDepthEvaluation e =
-      eval::evaluateSimulatedDepth({o.scene, o.visitor_model, o.frames, o.width, o.height, o.learning_frames,
-                                    o.levels, o.compared_levels, !o.images.empty(), o.mask_persistence});
+  const eval::SimulatedDepthEvaluation e = eval::evaluateSimulatedDepth(
+      {o.scene, o.visitor_model, o.frames, o.width, o.height, o.learning_frames, o.levels, o.compared_levels,
+       !o.images.empty(), o.mask_persistence, o.cross_camera});
   std::cout << e.report.dump(2) << "\n";
   std::cerr << eval::depthMetricsTable(e.rows);
   if (!o.json.empty()) writeFileAtomically(o.json, e.report.dump(2) + "\n");
@@ -98,6 +99,10 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--mask-persistence", o->mask_persistence,
                      "Keep foreground the pixels without depth whose precursor was foreground and whose "
                      "colour still matches it (false: the mask without it)")
+          ->capture_default_str();
+      sub.add_option("--cross-camera", o->cross_camera,
+                     "The cameras fill each other's holes with their measured depth of the same visitor, "
+                     "projected through the poses (false: each camera on its own)")
           ->capture_default_str();
       sub.add_option("--width", o->width, "Camera width (default: the scene's)");
       sub.add_option("--height", o->height, "Camera height (default: the scene's)");

@@ -19,9 +19,11 @@ int intInRange(const ConfigNode& section, const std::string& key, int fallback, 
 }  // namespace
 
 TemporalDepthFilterConfig parseDepthFilterConfig(const ConfigNode& section) {
-  section.rejectUnknownKeys({"levels", "learning_frames", "min_support", "motion_window", "edge_radius",
-                             "fill_trust_frames", "fill_radius", "fill_colour_max", "fill_colour_margin",
-                             "surface_tolerance_m", "surface_tolerance_z2"});
+  section.rejectUnknownKeys(
+      {"levels", "learning_frames", "min_support", "motion_window", "edge_radius", "fill_trust_frames",
+       "fill_radius", "fill_colour_max", "fill_colour_margin", "surface_tolerance_m", "surface_tolerance_z2",
+       "cross_camera", "cross_camera_tolerance_m", "cross_camera_tolerance_z2",
+       "cross_camera_visibility_radius_px", "cross_camera_max_splat_px", "cross_camera_confirm_measured"});
   TemporalDepthFilterConfig c;
   c.levels = intInRange(section, "levels", c.levels, 1, TemporalDepthFilterConfig::kMaxLevels);
   c.learning_frames = intInRange(section, "learning_frames", c.learning_frames, 0, 100000);
@@ -38,6 +40,18 @@ TemporalDepthFilterConfig parseDepthFilterConfig(const ConfigNode& section) {
   c.fill_colour_margin = section.getInRange("fill_colour_margin", c.fill_colour_margin, 0.0f, 765.0f);
   c.surface_tolerance_m = section.getInRange("surface_tolerance_m", c.surface_tolerance_m, 0.001f, 0.5f);
   c.surface_tolerance_z2 = section.getInRange("surface_tolerance_z2", c.surface_tolerance_z2, 0.0f, 0.1f);
+  return c;
+}
+
+CrossCameraFillConfig parseCrossCameraFillConfig(const ConfigNode& section) {
+  CrossCameraFillConfig c;
+  c.enabled = section.get("cross_camera", c.enabled);
+  c.tolerance_m = section.getInRange("cross_camera_tolerance_m", c.tolerance_m, 0.001f, 0.5f);
+  c.tolerance_z2 = section.getInRange("cross_camera_tolerance_z2", c.tolerance_z2, 0.0f, 0.1f);
+  c.visibility_radius_px =
+      intInRange(section, "cross_camera_visibility_radius_px", c.visibility_radius_px, 0, 8);
+  c.max_splat_px = intInRange(section, "cross_camera_max_splat_px", c.max_splat_px, 1, 8);
+  c.confirm_measured = section.get("cross_camera_confirm_measured", c.confirm_measured);
   return c;
 }
 

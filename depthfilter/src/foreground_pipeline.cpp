@@ -17,7 +17,6 @@ struct ForegroundPipeline::CameraStage {
   MaskPersistence persistence;
   TemporalDepthFilter filter;
   std::vector<vec3> plane_directions;  // z = 1 ray per pixel, row-major
-  cv::Mat previous_colour;
   CameraForeground result;
   std::vector<ForegroundPoint> points;
 };
@@ -84,7 +83,9 @@ void checkFrame(const RgbdFrame& frame, const CameraModel& camera, std::size_t i
 }  // namespace
 
 ForegroundPipeline::ForegroundPipeline(std::vector<CameraModel> cameras, ForegroundPipelineConfig config)
-    : cameras_(std::move(cameras)), config_(std::move(config)) {
+    : cameras_(std::move(cameras)),
+      config_(std::move(config)),
+      cross_camera_(cameras_, config_.cross_camera) {
   if (cameras_.empty()) throw Error("ForegroundPipeline: expected at least one camera");
   if (!(config_.exposure > 0.0f) || !std::isfinite(config_.exposure))
     throw Error("ForegroundPipeline: exposure must be positive and finite");
@@ -100,7 +101,6 @@ ForegroundPipeline::ForegroundPipeline(std::vector<CameraModel> cameras, Foregro
                                   MaskPersistence(config_.persistence),
                                   TemporalDepthFilter(config_.filter),
                                   cameras_[i].planeDirectionTable(),
-                                  {},
                                   {},
                                   {}});
   }
@@ -136,7 +136,7 @@ void ForegroundPipeline::forgetBackground() {
     stage.masker = ForegroundMasker(stage.masker.config());
     stage.filter.resetHistory();
     stage.persistence.reset();
-    stage.previous_colour.release();
+    stage.flow.reset();
     stage.result = {};
   }
 }
@@ -148,13 +148,14 @@ ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> frames) {
   for (std::size_t i = 0; i < frames.size(); ++i)
     if (!frames[i].empty()) checkFrame(frames[i], cameras_[i], i);
 
-  auto run_camera = [&](std::size_t i) {
+  // Per camera: the mask and the flow.
+  auto mask_camera = [&](std::size_t i) {
     CameraStage& stage = stages_[i];
     const RgbdFrame& frame = frames[i];
     stage.points.clear();
     if (frame.empty()) {
       stage.result = {};
-      stage.previous_colour.release();
+      stage.flow.reset();
       stage.persistence.reset();
       stage.filter.resetHistory();
       stats::add("Depthfilter/Missing camera frames");
@@ -163,18 +164,40 @@ ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> frames) {
     CameraForeground& result = stage.result;
     result.present = true;
     result.mask = stage.masker.apply(frame);
-    result.flow = stage.flow.compute(frame.colour, stage.previous_colour);
+    result.flow = stage.flow.next(frame.colour);  // from the frame before, kept by the flow
     stage.persistence.extend(result.mask, frame, result.flow);
-    result.depth = stage.filter.apply({frame.colour, frame.depth, result.mask, result.flow});
+  };
+  // Per camera: the filter on the depth the other cameras completed, the border, the points.
+  std::vector<cv::Mat> depth;
+  auto filter_camera = [&](std::size_t i) {
+    CameraStage& stage = stages_[i];
+    const RgbdFrame& frame = frames[i];
+    if (frame.empty()) return;
+    CameraForeground& result = stage.result;
+    result.depth = stage.filter.apply({frame.colour, depth[i], result.mask, result.flow});
     result.border = expandBorder(result.mask, result.depth, config_.border);
-    frame.colour.copyTo(stage.previous_colour);  // reuses the buffer of the frame before
     appendPoints(cameras_[i], static_cast<std::uint16_t>(i), stage.plane_directions, frame.colour, result,
                  borderBox(result.mask, config_.border), gainsOverExposure(config_, i), stage.points);
   };
-  if (config_.parallel)
-    tbb::parallel_for(std::size_t(0), stages_.size(), run_camera);
-  else
-    for (std::size_t i = 0; i < stages_.size(); ++i) run_camera(i);
+  const auto for_each_camera = [&](const auto& step) {
+    if (config_.parallel)
+      tbb::parallel_for(std::size_t(0), stages_.size(), step);
+    else
+      for (std::size_t i = 0; i < stages_.size(); ++i) step(i);
+  };
+  for_each_camera(mask_camera);
+  std::vector<CrossCameraView> views(stages_.size());
+  for (std::size_t i = 0; i < stages_.size(); ++i)
+    views[i] = frames[i].empty() ? CrossCameraView{}
+                                 : CrossCameraView{frames[i].depth, stages_[i].result.mask,
+                                                   stages_[i].masker.backgroundDepth()};
+  std::vector<CrossCameraCounts> counts;
+  depth = cross_camera_.apply(views, &counts);
+  for (const CrossCameraCounts& c : counts) {
+    if (c.filled > 0) stats::add("Depthfilter/Cross-camera filled pixels", std::int64_t(c.filled));
+    if (c.confirmed > 0) stats::add("Depthfilter/Cross-camera confirmed pixels", std::int64_t(c.confirmed));
+  }
+  for_each_camera(filter_camera);
 
   ForegroundCloud cloud;
   std::size_t total = 0;

@@ -12,27 +12,64 @@ PrecursorFlow::PrecursorFlow(PrecursorFlowConfig config)
   if (downscale_ < 1) throw Error("PrecursorFlow: downscale must be >= 1");
 }
 
+void PrecursorFlow::flowImage(const cv::Mat& bgr, cv::Mat& out) {
+  if (downscale_ == 1) {
+    cv::cvtColor(bgr, out, cv::COLOR_BGR2GRAY);
+    return;
+  }
+  cv::cvtColor(bgr, grey_, cv::COLOR_BGR2GRAY);
+  const cv::Size small((bgr.cols + downscale_ - 1) / downscale_, (bgr.rows + downscale_ - 1) / downscale_);
+  cv::resize(grey_, out, small, 0, 0, cv::INTER_AREA);
+}
+
+cv::Mat PrecursorFlow::flowBetween(const cv::Mat& current, const cv::Mat& previous, const cv::Size& size) {
+  cv::Mat flow;
+  float scale = 1.0f;
+  if (downscale_ == 1) {
+    flow = cv::Mat::zeros(size, CV_32FC2);
+    dis_->calc(current, previous, flow);
+  } else {
+    small_flow_ = cv::Mat::zeros(current.size(), CV_32FC2);
+    dis_->calc(current, previous, small_flow_);
+    cv::resize(small_flow_, flow, size, 0, 0, cv::INTER_LINEAR);  // writes every pixel
+    scale = float(downscale_);
+  }
+  // To full-size pixels, and, in the same pass, DIS's rare non-finite vectors patched to 0 so
+  // precursors stay indexable (one pass over the flow instead of a multiply and a patch).
+  const int values = flow.cols * 2;
+  for (int y = 0; y < flow.rows; ++y) {
+    float* __restrict row = flow.ptr<float>(y);
+    for (int i = 0; i < values; ++i) {
+      const float v = row[i] * scale;
+      row[i] = v == v ? v : 0.0f;  // NaN -> 0, as cv::patchNaNs
+    }
+  }
+  return flow;
+}
+
 cv::Mat PrecursorFlow::compute(const cv::Mat& current_bgr, const cv::Mat& previous_bgr) {
   if (current_bgr.type() != CV_8UC3) throw Error("PrecursorFlow: expected a CV_8UC3 current frame");
-  cv::Mat flow = cv::Mat::zeros(current_bgr.size(), CV_32FC2);
-  if (previous_bgr.empty() || previous_bgr.size() != current_bgr.size()) return flow;
-  cv::cvtColor(current_bgr, current_grey_, cv::COLOR_BGR2GRAY);
-  cv::cvtColor(previous_bgr, previous_grey_, cv::COLOR_BGR2GRAY);
-  if (downscale_ == 1) {
-    dis_->calc(current_grey_, previous_grey_, flow);
-  } else {
-    const cv::Size small((current_bgr.cols + downscale_ - 1) / downscale_,
-                         (current_bgr.rows + downscale_ - 1) / downscale_);
-    cv::resize(current_grey_, small_current_, small, 0, 0, cv::INTER_AREA);
-    cv::resize(previous_grey_, small_previous_, small, 0, 0, cv::INTER_AREA);
-    small_flow_ = cv::Mat::zeros(small, CV_32FC2);
-    dis_->calc(small_current_, small_previous_, small_flow_);
-    cv::resize(small_flow_, flow, current_bgr.size(), 0, 0, cv::INTER_LINEAR);
-    flow *= double(downscale_);
-  }
-  // DIS keeps flow finite on valid images; patch anything else so precursors stay indexable.
-  cv::patchNaNs(flow, 0.0);
+  if (previous_bgr.empty() || previous_bgr.size() != current_bgr.size())
+    return cv::Mat::zeros(current_bgr.size(), CV_32FC2);
+  flowImage(current_bgr, current_image_);
+  flowImage(previous_bgr, previous_image_);
+  previous_size_ = {};  // previous_image_ is not next()'s previous frame any more
+  return flowBetween(current_image_, previous_image_, current_bgr.size());
+}
+
+cv::Mat PrecursorFlow::next(const cv::Mat& current_bgr) {
+  if (current_bgr.type() != CV_8UC3) throw Error("PrecursorFlow: expected a CV_8UC3 current frame");
+  flowImage(current_bgr, current_image_);
+  cv::Mat flow = previous_size_ == current_bgr.size()
+                     ? flowBetween(current_image_, previous_image_, current_bgr.size())
+                     : cv::Mat::zeros(current_bgr.size(), CV_32FC2);
+  std::swap(current_image_, previous_image_);
+  previous_size_ = current_bgr.size();
   return flow;
+}
+
+void PrecursorFlow::reset() {
+  previous_size_ = {};
 }
 
 float precursorConfidence(const cv::Vec3b& pixel, const cv::Vec3b& precursor) {

@@ -201,17 +201,33 @@ cv::Mat HoleLeavingAdversary::apply(const cv::Mat& depth) {
 }
 
 void DepthFilterEvaluation::addFrame(const GroundTruthFrame& truth) {
+  prepareFrame(truth.frame);
+  scoreFrame(truth, truth.frame.depth);
+}
+
+void DepthFilterEvaluation::prepareFrame(const RgbdFrame& frame) {
+  last_mask_ = masker_.apply(frame);
+  last_flow_ = flow_.compute(frame.colour, previous_colour_);
+  persistence_.extend(last_mask_, frame, last_flow_);
+  previous_colour_ = frame.colour.clone();
+}
+
+depthfilter::CrossCameraView DepthFilterEvaluation::crossCameraView(const RgbdFrame& frame) {
+  return {frame.depth, last_mask_, masker_.backgroundDepth()};
+}
+
+void DepthFilterEvaluation::scoreFrame(const GroundTruthFrame& truth, const cv::Mat& ours_depth) {
   const RgbdFrame& frame = truth.frame;
   if (truth.true_depth.type() != CV_32FC1 || truth.true_depth.size() != frame.depth.size() ||
-      truth.true_foreground.type() != CV_8UC1 || truth.true_foreground.size() != frame.depth.size())
+      truth.true_foreground.type() != CV_8UC1 || truth.true_foreground.size() != frame.depth.size() ||
+      ours_depth.type() != CV_32FC1 || ours_depth.size() != frame.depth.size())
     throw Error(
-        "DepthFilterEvaluation: expected true depth CV_32FC1 and true foreground CV_8UC1 of the frame's "
-        "size");
-  last_mask_ = masker_.apply(frame);
-  const cv::Mat flow = flow_.compute(frame.colour, previous_colour_);
-  persistence_.extend(last_mask_, frame, flow);
-  previous_colour_ = frame.colour.clone();
-  const depthfilter::DepthFilterInput input{frame.colour, frame.depth, last_mask_, flow};
+        "DepthFilterEvaluation: expected true depth and our depth CV_32FC1 and true foreground CV_8UC1 of "
+        "the frame's size");
+  if (last_mask_.size() != frame.depth.size())
+    throw Error("DepthFilterEvaluation: scoreFrame needs prepareFrame on the same frame first");
+  const depthfilter::DepthFilterInput input{frame.colour, frame.depth, last_mask_, last_flow_};
+  const depthfilter::DepthFilterInput ours_input{frame.colour, ours_depth, last_mask_, last_flow_};
   const bool score = !ours_.learning();  // decided before this frame, like the filter itself
 
   for (DepthMethod method : kDepthMethods) {
@@ -220,7 +236,7 @@ void DepthFilterEvaluation::addFrame(const GroundTruthFrame& truth) {
     cv::Mat out;
     switch (method) {
       case DepthMethod::Ours:
-        out = ours_.apply(input);
+        out = ours_.apply(ours_input);
         break;
       case DepthMethod::Raw:
         out = cv::Mat::zeros(frame.depth.size(), CV_32FC1);
@@ -246,7 +262,7 @@ void DepthFilterEvaluation::addFrame(const GroundTruthFrame& truth) {
   }
   for (std::size_t v = 0; v < variants_.size(); ++v) {
     const auto start = std::chrono::steady_clock::now();
-    const cv::Mat out = variants_[v].apply(input);
+    const cv::Mat out = variants_[v].apply(ours_input);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (score) variant_scorers_[v].add(out, truth, seconds);
   }

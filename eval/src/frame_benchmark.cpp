@@ -162,6 +162,21 @@ Installation installation(const FrameBenchOptions& options) {
   return installation;
 }
 
+constexpr std::uint64_t kFnvOffset = 14695981039346656037ull;
+
+// 64-bit FNV-1a of the four faces' displayed pixels, row by row, continuing from `hash`.
+std::uint64_t foldDisplays(const reflect::FrameResult& frame, std::uint64_t hash) {
+  for (const reflect::ViewImages& view : frame.views)
+    for (int y = 0; y < view.display.rows; ++y) {
+      const std::uint8_t* row = view.display.ptr<std::uint8_t>(y);
+      for (std::size_t i = 0; i < std::size_t(view.display.cols) * view.display.elemSize(); ++i) {
+        hash ^= row[i];
+        hash *= 1099511628211ull;
+      }
+    }
+  return hash;
+}
+
 }  // namespace
 
 FrameBenchmark benchFrame(FrameBenchOptions options) {
@@ -178,6 +193,7 @@ FrameBenchmark benchFrame(FrameBenchOptions options) {
   }
   std::vector<FrameReport>& reports = result.reports;
   std::vector<double> floor_ms, single_ray_floor_ms, error_codes;
+  std::uint64_t digest = kFnvOffset;
   reflect::TracerSettings reference_settings = options.loop.tracer;
   setAntiAliasing(reference_settings, reflect::AntiAliasing::Full);
   reference_settings.static_reuse_distance = 0.0f;
@@ -194,6 +210,7 @@ FrameBenchmark benchFrame(FrameBenchOptions options) {
     views.push_back(loop.faceViews());
     if (options.reference)  // untimed, but it perturbs the overlapped worker's times
       error_codes.push_back(meanAbsCodes(loop.lastResult(), loop.renderReference(reference_settings)));
+    if (options.digest) digest = foldDisplays(loop.lastResult(), digest);
     progress.update(1);
   }
   loop.waitForWorker();
@@ -211,6 +228,7 @@ FrameBenchmark benchFrame(FrameBenchOptions options) {
   result.floor_ms = median(floor_ms);
   result.single_ray_floor_ms = median(single_ray_floor_ms);
   if (options.reference) result.error_vs_reference_codes = median(error_codes);
+  if (options.digest) result.display_digest = digest;
   std::vector<double> frame_ms, latency_ms;
   for (const FrameReport& report : reports) {
     frame_ms.push_back(report.times.total);

@@ -122,6 +122,9 @@ std::string timingJson(const StageTimes& m, const std::vector<FrameReport>& repo
     f["refraction_rays"] = r.refraction_rays;
     f["refracted_walks"] = r.refracted_walks;
     f["supersampled_samples"] = r.supersampled_samples;
+    f["shaded_samples"] = r.shaded_samples;
+    f["interreflected_samples"] = r.interreflected_samples;
+    f["interreflection_rays"] = r.interreflection_rays;
     nlohmann::json passes;
     for (std::size_t p = 0; p < kPassCount; ++p)
       passes[reflect::passName(static_cast<reflect::Pass>(p))] = r.pass_ms[p];

@@ -82,19 +82,42 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
     for (int t = 0; t < kBackgroundFrames; ++t, progress.update())
       streams[std::size_t(c)].learnBackground(museum.renderCamera(c, t, false).frame);
 
+  std::vector<CameraModel> cameras;
+  for (int c = 0; c < museum.cameraCount(); ++c) cameras.push_back(museum.camera(c));
+  depthfilter::CrossCameraFillConfig cross_config;
+  cross_config.enabled = o.cross_camera;
+  const depthfilter::CrossCameraFill cross_camera(cameras, cross_config);
+  long filled = 0, confirmed = 0, camera_frames = 0;
+
   int figure_camera = 0;
   long figure_pixels = -1;
   sim::SimulatedFrame figure_frame;
-  for (int t = 0; t < total; ++t)
+  std::vector<sim::SimulatedFrame> frames(std::size_t(museum.cameraCount()));
+  std::vector<depthfilter::CrossCameraView> views(frames.size());
+  std::vector<depthfilter::CrossCameraCounts> counts;
+  for (int t = 0; t < total; ++t) {
+    for (int c = 0; c < museum.cameraCount(); ++c) {
+      frames[std::size_t(c)] = museum.renderCamera(c, t);
+      streams[std::size_t(c)].prepareFrame(frames[std::size_t(c)].frame);
+      views[std::size_t(c)] = streams[std::size_t(c)].crossCameraView(frames[std::size_t(c)].frame);
+    }
+    const std::vector<cv::Mat> ours_depth = cross_camera.apply(views, &counts);
     for (int c = 0; c < museum.cameraCount(); ++c, progress.update()) {
-      sim::SimulatedFrame f = museum.renderCamera(c, t);
-      streams[std::size_t(c)].addFrame({f.frame, f.true_depth, f.foreground});
+      sim::SimulatedFrame& f = frames[std::size_t(c)];
+      const bool scored = !streams[std::size_t(c)].learning();
+      streams[std::size_t(c)].scoreFrame({f.frame, f.true_depth, f.foreground}, ours_depth[std::size_t(c)]);
+      if (scored) {
+        filled += counts[std::size_t(c)].filled;
+        confirmed += counts[std::size_t(c)].confirmed;
+        ++camera_frames;
+      }
       if (t + 1 == total && cv::countNonZero(f.foreground) > figure_pixels) {
         figure_pixels = cv::countNonZero(f.foreground);
         figure_camera = c;
         figure_frame = std::move(f);
       }
     }
+  }
   progress.done();
 
   SimulatedDepthEvaluation result;
@@ -119,6 +142,11 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
       {"learning_frames", o.learning_frames},
       {"levels", o.levels},
       {"mask_persistence", o.mask_persistence},
+      {"cross_camera", o.cross_camera},
+      {"cross_camera_filled_per_camera_frame",
+       camera_frames > 0 ? double(filled) / double(camera_frames) : 0.0},
+      {"cross_camera_confirmed_per_camera_frame",
+       camera_frames > 0 ? double(confirmed) / double(camera_frames) : 0.0},
       {"cameras", museum.cameraCount()},
       {"width", description.camera.width},
       {"height", description.camera.height},

@@ -26,10 +26,6 @@ reflect::TracerSettings liveTracerSettings() {
   settings.aa_samples = 1;
   settings.edge_aa = true;
   settings.static_reuse_distance = 0.01f;
-  // Off in the loop, on in the tracer's evaluation: at 25 fps on 2 cores the bounce's extra ray
-  // per hit point (+6 ms a frame) does not fit; its (time, error) point is in docs/frame_loop.md
-  // (`bench frame --interreflection --reference`).
-  settings.relic_interreflection = false;
   return settings;
 }
 
@@ -67,6 +63,7 @@ FrameLoop::FrameLoop(FrameLoopOptions options, Installation installation,
         config.exposure = installation.camera_exposure;
         config.colour_gains = installation.colour_gains;
         config.filter = installation.depth_filter;
+        config.cross_camera = installation.cross_camera_fill;
         return depthfilter::ForegroundPipeline(installation.cameras, config);
       }()),
       camera_exposure_(installation.camera_exposure),

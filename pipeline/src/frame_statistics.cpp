@@ -81,6 +81,9 @@ void addViewCounters(const reflect::FrameResult& result, FrameReport& report) {
     report.refraction_rays += view.refraction_rays;
     report.refracted_walks += view.refracted_walks;
     report.supersampled_samples += view.supersampled_samples;
+    report.shaded_samples += view.shaded_samples;
+    report.interreflected_samples += view.interreflected_samples;
+    report.interreflection_rays += view.interreflection_rays;
     if (!view.coverage.empty())
       report.relic_pixels += static_cast<std::size_t>(cv::countNonZero(view.coverage));
   }

@@ -244,8 +244,10 @@ Installation loadInstallation(const ConfigNode& root, const InstallationOptions&
   installation.camera_exposure = exhibit_config.camera_exposure;
   installation.background_frames = exhibit_config.background_frames;
   installation.fps = exhibit_config.fps;
-  if (const std::optional<ConfigNode> section = root.find("depthfilter"))
+  if (const std::optional<ConfigNode> section = root.find("depthfilter")) {
     installation.depth_filter = depthfilter::parseDepthFilterConfig(*section);
+    installation.cross_camera_fill = depthfilter::parseCrossCameraFillConfig(*section);
+  }
 
   // The pyramid file: where the panorama's directions point in the world.
   const fs::path pyramid = calib::pyramidCalibrationPath(capture.calibration_dir);

@@ -121,13 +121,17 @@ EffectPlan planEffects(const EffectInputs& in) {
     plan.visitor_light_reason = "visitors near the relic's diffuse light";
   const bool visitor_light = plan.visitor_light_reason == "visitors near the relic's diffuse light";
   if (!in.lobe_filter_reason.empty()) plan.material_reason += ", " + in.lobe_filter_reason;
+  plan.interreflection = in.interreflection && !in.relic_convex;
+  plan.material_reason += !in.interreflection ? ", interreflection off"
+                          : in.relic_convex   ? ", convex relic: no interreflection"
+                                              : ", interreflection where the relic can see itself";
   if (foreground) plan.passes = {Pass::VoxelGrid, Pass::Pyramids};
   if (!foreground && visitor_light) plan.passes = {Pass::VoxelGrid};
   if (foreground && in.relic_rough) plan.passes.push_back(Pass::RoughForegroundMap);
   plan.passes.push_back(Pass::HitPoints);
   if (in.self_occlusion) plan.passes.push_back(Pass::SelfOcclusion);
   plan.passes.push_back(Pass::StaticReflections);
-  if (in.lobe_filter) plan.passes.push_back(Pass::AxisAlignedFilter);
+  if (in.lobe_filter && plan.interreflection) plan.passes.push_back(Pass::AxisAlignedFilter);
   if (in.relic_transmissive) plan.passes.push_back(Pass::Refraction);
   if (in.relic_clearcoat) plan.passes.push_back(Pass::Clearcoat);
   if (foreground) {

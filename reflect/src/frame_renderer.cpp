@@ -134,6 +134,8 @@ EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
   }
   in.lobe_filter = lobe_filter_;
   in.lobe_filter_reason = lobe_filter_reason_;
+  in.interreflection = settings_.relic_interreflection;
+  in.relic_convex = scene_.relicIsConvex();
   return planEffects(in);
 }
 
@@ -270,13 +272,19 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       cache.hdr = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
       cache.coverage = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
       cache.zero_weight = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
+      TracerSettings planned = settings_;
+      planned.relic_interreflection = plan.interreflection;
       const AxisAlignedFilter filter;
       FilterCounts filtered;
-      out.occluded_samples =
-          StaticShading(scene_, ibl_, settings_, rough_map_.get(),
+      const StaticCounts counts =
+          StaticShading(scene_, ibl_, planned, rough_map_.get(),
                         plan.has(Pass::SelfOcclusion) ? visibility_.get() : nullptr, &lighting_)
               .shade(cache.hits, view, cache.shading, cache.walk_rays, cache.bounces, cache.hdr,
                      cache.coverage, plan.has(Pass::AxisAlignedFilter) ? &filter : nullptr, &filtered);
+      out.occluded_samples = counts.occluded_samples;
+      out.shaded_samples = counts.shaded_samples;
+      out.interreflected_samples = counts.interreflected_samples;
+      out.interreflection_rays = counts.interreflection_rays;
       out.filtered_pixels = filtered.pixels;
       out.filter_taps = filtered.taps;
       // The filter runs inside the static shading; its time is its own pass's, not the shading's.

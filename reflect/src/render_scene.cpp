@@ -71,16 +71,25 @@ RenderScene::RenderScene(const Model& relic, const std::vector<Model>& emitters)
 
 bool RenderScene::mayMeetRelicAgain(const RayHit& hit, const vec3& direction) const {
   const std::size_t m = relic_mesh_.at(hit.geometry);
-  const std::uint8_t sides = supporting_[m][hit.primitive];
-  if (sides == 0 || !(glm::dot(direction, hit.geometric_normal) > 0.0f)) return true;
   // geometric_normal faces the side the hit was seen from; the winding's normal names the side.
   const TriangleMesh& mesh = relic_model_.meshes[m];
   const uvec3& tri = mesh.triangles[hit.primitive];
   const vec3 winding = glm::cross(mesh.positions[tri.y] - mesh.positions[tri.x],
                                   mesh.positions[tri.z] - mesh.positions[tri.x]);
-  const std::uint8_t seen =
-      glm::dot(winding, hit.geometric_normal) > 0.0f ? kFrontSupporting : kBackSupporting;
-  return (sides & seen) == 0;
+  return mayMeetRelicAgain(m, hit.primitive, glm::dot(winding, hit.geometric_normal) > 0.0f, direction);
+}
+
+bool RenderScene::mayMeetRelicAgain(std::size_t mesh_index, std::uint32_t triangle, bool front,
+                                    const vec3& direction) const {
+  const std::uint8_t sides = supporting_.at(mesh_index).at(triangle);
+  const std::uint8_t seen = front ? kFrontSupporting : kBackSupporting;
+  if ((sides & seen) == 0) return true;
+  const TriangleMesh& mesh = relic_model_.meshes[mesh_index];
+  const uvec3& tri = mesh.triangles[triangle];
+  const vec3 winding = glm::cross(mesh.positions[tri.y] - mesh.positions[tri.x],
+                                  mesh.positions[tri.z] - mesh.positions[tri.x]);
+  // Leaving to the supporting side: the whole relic is behind that plane.
+  return !(glm::dot(direction, front ? winding : -winding) > 0.0f);
 }
 
 bool RenderScene::isRelic(std::uint32_t geometry) const {

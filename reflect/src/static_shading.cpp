@@ -1,10 +1,10 @@
 #include "static_shading.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include "axis_aligned_filter.hpp"
@@ -64,6 +64,13 @@ SurfacePoint surfaceOf(const HitPoint& hp) {
 
 }  // namespace
 
+void StaticCounts::add(const StaticCounts& other) {
+  shaded_samples += other.shaded_samples;
+  occluded_samples += other.occluded_samples;
+  interreflected_samples += other.interreflected_samples;
+  interreflection_rays += other.interreflection_rays;
+}
+
 StaticShading::StaticShading(const RenderScene& scene, const PrefilteredIbl& ibl,
                              const TracerSettings& settings, const RoughForegroundMap* rough_map,
                              const RelicVisibility* visibility, const RelicVisibility::Lighting* lighting)
@@ -100,13 +107,14 @@ SplitSumShading StaticShading::shadeAt(const SurfacePoint& surface, const vec3& 
 }
 
 std::optional<LobeBounce> StaticShading::shadeHit(const HitPoint& hp, const LobeShare& share,
-                                                  SplitSumShading& shading, WalkRay& walk_ray) const {
+                                                  SplitSumShading& shading, WalkRay& walk_ray,
+                                                  std::uint64_t& rays) const {
   shading = shadeAt(surfaceOf(hp), hp.to_viewer);
   walk_ray = {hp.position, hp.normal, hp.reflected, hp.material.roughness, false};
   if (hp.alpha < 1.0f) compositeBehind(hp, share, shading);
   if (!settings_.relic_interreflection) return std::nullopt;
   if (tracesLobe(hp.material.roughness)) {
-    const LobeBounce bounce = traceLobeBounce(hp, share);
+    const LobeBounce bounce = traceLobeBounce(hp, share, rays);
     if (settings_.evaluation.rough_interreflection_interleaved) return bounce;
     addLobeBounce(bounce, shading);
     return std::nullopt;
@@ -115,6 +123,7 @@ std::optional<LobeBounce> StaticShading::shadeHit(const HitPoint& hp, const Lobe
   const RayScene& relic = scene_.relicOnly();
   const Ray ray{hp.position + hp.normal * settings_.ray_offset, hp.reflected};
   const RayHit hit = relic.intersect(ray);
+  ++rays;
   if (!hit.hit()) return std::nullopt;
   const SurfacePoint surface =
       resolveSurface(scene_, relic, ray, hit, share.cone_width + hit.t * share.spread);
@@ -157,13 +166,15 @@ void StaticShading::compositeBehind(const HitPoint& hp, const LobeShare& share,
 }
 
 vec3 StaticShading::secondEnvironment(const SurfacePoint& surface, const Ray& ray, const RayHit& hit,
-                                      const SplitSumShading& second, const LobeShare& share) const {
+                                      const SplitSumShading& second, const LobeShare& share,
+                                      std::uint64_t& rays) const {
   if (!(maxComponent(second.specular_scale) > 0.0f)) return second.environment;
   const vec3 reflected = glm::reflect(ray.direction, surface.normal);
   if (!scene_.mayMeetRelicAgain(hit, reflected)) return second.environment;
   const RayScene& relic = scene_.relicOnly();
   const Ray next{surface.position + surface.normal * settings_.ray_offset, reflected};
   const RayHit third_hit = relic.intersect(next);
+  ++rays;
   if (!third_hit.hit()) return second.environment;
   const SurfacePoint third_surface =
       resolveSurface(scene_, relic, next, third_hit, share.cone_width + (hit.t + third_hit.t) * share.spread);
@@ -173,7 +184,8 @@ vec3 StaticShading::secondEnvironment(const SurfacePoint& surface, const Ray& ra
   return isFinite(seen) ? seen : second.environment;
 }
 
-LobeBounce StaticShading::traceLobeBounce(const HitPoint& hp, const LobeShare& share) const {
+LobeBounce StaticShading::traceLobeBounce(const HitPoint& hp, const LobeShare& share,
+                                          std::uint64_t& rays) const {
   LobeBounce bounce;
   const Frame frame(hp.normal);
   const vec3 wo = frame.toLocal(hp.to_viewer);
@@ -186,15 +198,20 @@ LobeBounce StaticShading::traceLobeBounce(const HitPoint& hp, const LobeShare& s
         const vec3 l = glm::reflect(-hp.to_viewer, frame.toWorld(ggx::sampleVisibleNormal(wo, alpha, u)));
         if (!(glm::dot(l, hp.normal) > 0.0f)) return;
         bounce.above += 1.0f;
+        // A stratum the supporting planes prove a miss counts as one: it sees the hall.
+        if (hp.location.located() &&
+            !scene_.mayMeetRelicAgain(hp.location.mesh, hp.location.triangle, hp.location.front, l))
+          return;
         const Ray ray{hp.position + hp.normal * settings_.ray_offset, l};
         const RayHit hit = relic.intersect(ray);
+        ++rays;
         if (!hit.hit()) return;
         const SurfacePoint surface =
             resolveSurface(scene_, relic, ray, hit, share.cone_width + hit.t * share.spread);
         if (!isFinite(surface.normal)) return;
         const SplitSumShading second = shadeAt(surface, -ray.direction);
         bounce.diffuse += second.diffuse;
-        bounce.specular += second.specular_scale * secondEnvironment(surface, ray, hit, second, share);
+        bounce.specular += second.specular_scale * secondEnvironment(surface, ray, hit, second, share, rays);
         bounce.met += 1.0f;
         bounce.nearest = std::min(bounce.nearest, hit.t);
       });
@@ -220,10 +237,10 @@ LobeBounce StaticShading::poolLobeBounces(const std::vector<PixelBounce>& bounce
   return sum;
 }
 
-std::uint64_t StaticShading::shade(const HitPointBuffer& hits, const CameraModel& view,
-                                   std::vector<SplitSumShading>& shading, std::vector<WalkRay>& walk_rays,
-                                   std::vector<PixelBounce>& bounces, cv::Mat& hdr, cv::Mat& coverage,
-                                   const AxisAlignedFilter* filter, FilterCounts* filter_counts) const {
+StaticCounts StaticShading::shade(const HitPointBuffer& hits, const CameraModel& view,
+                                  std::vector<SplitSumShading>& shading, std::vector<WalkRay>& walk_rays,
+                                  std::vector<PixelBounce>& bounces, cv::Mat& hdr, cv::Mat& coverage,
+                                  const AxisAlignedFilter* filter, FilterCounts* filter_counts) const {
   const int w = hits.width;
   shading.resize(hits.hits.size());
   walk_rays.resize(hits.hits.size());
@@ -231,7 +248,7 @@ std::uint64_t StaticShading::shade(const HitPointBuffer& hits, const CameraModel
                             settings_.evaluation.rough_interreflection_interleaved;
   if (pool_bounces) bounces.assign(hits.pixelCount(), PixelBounce{});
   const float spread = 1.0f / view.intrinsics().fx;  // radians per pixel: the footprint's growth
-  std::atomic<std::uint64_t> occluded{0};
+  tbb::enumerable_thread_specific<StaticCounts> counts;
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
       [&](const tbb::blocked_range<std::size_t>& r) {
@@ -240,21 +257,25 @@ std::uint64_t StaticShading::shade(const HitPointBuffer& hits, const CameraModel
           const std::size_t first = hits.firstSample(p);
           const int x = int(p % std::size_t(w)), y = int(p / std::size_t(w));
           LobeShare share{(x & 1) + 2 * (y & 1), 0, hits.sampleCount(p)};
-          std::uint64_t visible = 0;
+          StaticCounts& local = counts.local();
           share.spread = spread;
           for (share.sample = 0; share.sample < share.samples; ++share.sample) {
             const std::size_t i = first + std::size_t(share.sample);
             if (!hits.valid[i]) continue;
-            if (visibility_ && visibility_->covers(hits.hits[i].location)) ++visible;
+            ++local.shaded_samples;
+            if (visibility_ && visibility_->covers(hits.hits[i].location)) ++local.occluded_samples;
             share.cone_width = glm::length(hits.hits[i].position - view.position()) * spread;
-            const std::optional<LobeBounce> bounce = shadeHit(hits.hits[i], share, shading[i], walk_rays[i]);
+            std::uint64_t rays = 0;
+            const std::optional<LobeBounce> bounce =
+                shadeHit(hits.hits[i], share, shading[i], walk_rays[i], rays);
+            local.interreflection_rays += rays;
+            local.interreflected_samples += rays > 0 ? 1 : 0;
             if (!bounce) continue;
             PixelBounce& pixel = bounces[p];
             if (!pixel.rough)
               pixel = {true, hits.hits[i].position, hits.hits[i].normal, hits.hits[i].material.roughness, {}};
             pixel.samples.add(*bounce, 1.0f);
           }
-          if (visible > 0) occluded += visible;
         }
       });
   std::vector<LobeBounce> pooled;
@@ -287,7 +308,9 @@ std::uint64_t StaticShading::shade(const HitPointBuffer& hits, const CameraModel
                         coverage.at<float>(y, x) = hits.coverage(x, y);
                       }
                     });
-  return occluded.load();
+  StaticCounts total;
+  for (const StaticCounts& local : counts) total.add(local);
+  return total;
 }
 
 }  // namespace holo::reflect

@@ -46,6 +46,16 @@ namespace holo::reflect {
 class AxisAlignedFilter;
 struct FilterCounts;
 
+// What a shade() call did, for the statistics.
+struct StaticCounts {
+  std::uint64_t shaded_samples = 0;    // valid samples shaded
+  std::uint64_t occluded_samples = 0;  // those whose diffuse light the visibility occluded
+  // Those that cast at least one interreflection ray, and the rays (mirror, lobe strata and the
+  // lobe's second bounces) cast against the relic.
+  std::uint64_t interreflected_samples = 0, interreflection_rays = 0;
+  void add(const StaticCounts& other);
+};
+
 class StaticShading {
  public:
   // Everything must outlive this; rough_map may be null (no material reads it), visibility null
@@ -59,12 +69,13 @@ class StaticShading {
   // linear BGR, the mean over each pixel's samples of psi_s + diffuse (misses black), and
   // coverage, CV_32FC1; both must be view-sized and zero, only covered pixels are written.
   // `bounces` is scratch, reused across calls. With `filter` (may be null) the rough lobe's pooled
-  // interreflection is filtered and `filter_counts` (then not null) receives its counters. Returns
-  // the samples whose diffuse light the visibility occluded.
-  std::uint64_t shade(const HitPointBuffer& hits, const CameraModel& view,
-                      std::vector<SplitSumShading>& shading, std::vector<WalkRay>& walk_rays,
-                      std::vector<PixelBounce>& bounces, cv::Mat& hdr, cv::Mat& coverage,
-                      const AxisAlignedFilter* filter = nullptr, FilterCounts* filter_counts = nullptr) const;
+  // interreflection is filtered and `filter_counts` (then not null) receives its counters. The
+  // interreflection runs where settings.relic_interreflection is on and casts no ray that the
+  // relic's supporting planes prove a miss (RenderScene::mayMeetRelicAgain).
+  StaticCounts shade(const HitPointBuffer& hits, const CameraModel& view,
+                     std::vector<SplitSumShading>& shading, std::vector<WalkRay>& walk_rays,
+                     std::vector<PixelBounce>& bounces, cv::Mat& hdr, cv::Mat& coverage,
+                     const AxisAlignedFilter* filter = nullptr, FilterCounts* filter_counts = nullptr) const;
   // Some relic material traces its lobe's strata for the interreflection (the term a filter has to work on).
   bool samplesLobe() const { return lobe_materials_ && settings_.relic_interreflection; }
 
@@ -79,16 +90,17 @@ class StaticShading {
   };
   // One hit point: its shading and walk ray. For a material read from the rough map with
   // interleaved strata, its share of the lobe's interreflection, left for the pixel pooling.
+  // `rays` counts the interreflection rays cast.
   std::optional<LobeBounce> shadeHit(const HitPoint& hp, const LobeShare& share, SplitSumShading& shading,
-                                     WalkRay& walk_ray) const;
+                                     WalkRay& walk_ray, std::uint64_t& rays) const;
 
   // BLEND: the hit point's shading composited over the static shading of what is behind it.
   void compositeBehind(const HitPoint& hp, const LobeShare& share, SplitSumShading& shading) const;
-  LobeBounce traceLobeBounce(const HitPoint& hp, const LobeShare& share) const;
+  LobeBounce traceLobeBounce(const HitPoint& hp, const LobeShare& share, std::uint64_t& rays) const;
   // What a lobe sample's second point (`surface`, met by `ray` at `hit`, shaded `second`)
   // reflects: the hall, or where its mirror ray meets the relic again, that third point's shading.
   vec3 secondEnvironment(const SurfacePoint& surface, const Ray& ray, const RayHit& hit,
-                         const SplitSumShading& second, const LobeShare& share) const;
+                         const SplitSumShading& second, const LobeShare& share, std::uint64_t& rays) const;
   // Whether a material this rough traces its lobe's strata for the interreflection.
   bool tracesLobe(float roughness) const;
   // surface_shading.hpp's shadeSurface, with the visibility's irradiance where it covers the point.

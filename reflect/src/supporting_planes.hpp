@@ -26,9 +26,10 @@ struct SupportingPlanes {
   std::size_t hull_vertices = 0;  // of the relic's convex hull (0: none could be built)
 };
 
-// Builds the relic's convex hull (Qhull) and tests every triangle's plane against it, finding
-// the hull's farthest vertex along the plane's normal by ascent over the hull's edges (a linear
-// function's local maximum on a convex polytope is its maximum).
+// Builds the relic's convex hull (Qhull) and tests every triangle's plane against it: an ascent
+// over the hull's facet graph rejects most sides at once, and a side it accepts is proved against
+// every hull vertex (the graph Qhull leaves after merging facets can stop the ascent short of the
+// maximum). Where hull vertices times triangle sides exceed 4e8 no side is flagged (a bounded load).
 SupportingPlanes findSupportingPlanes(const Model& relic);
 
 }  // namespace holo::reflect

@@ -14,7 +14,13 @@ namespace holo::depthfilter {
 namespace {
 
 TemporalDepthFilterConfig parsed(const std::string& body) {
-  return parseDepthFilterConfig(ConfigNode::parse("depthfilter:\n" + body, "museum.yaml")["depthfilter"]);
+  const ConfigNode section = ConfigNode::parse("depthfilter:\n" + body, "museum.yaml")["depthfilter"];
+  parseCrossCameraFillConfig(section);
+  return parseDepthFilterConfig(section);
+}
+
+CrossCameraFillConfig parsedCrossCamera(const std::string& body) {
+  return parseCrossCameraFillConfig(ConfigNode::parse("depthfilter:\n" + body, "museum.yaml")["depthfilter"]);
 }
 
 TEST(DepthFilterConfig, FieldsReachTheFilterAndOthersKeepTheirDefaults) {
@@ -26,6 +32,16 @@ TEST(DepthFilterConfig, FieldsReachTheFilterAndOthersKeepTheirDefaults) {
   EXPECT_EQ(c.learning_frames, defaults.learning_frames);
   EXPECT_EQ(c.edge_radius, defaults.edge_radius);
   EXPECT_EQ(TemporalDepthFilter(c).config().levels, 5);
+}
+
+TEST(DepthFilterConfig, CrossCameraFieldsReachTheStepAndOthersKeepTheirDefaults) {
+  const CrossCameraFillConfig c =
+      parsedCrossCamera("  levels: 2\n  cross_camera: true\n  cross_camera_max_splat_px: 2\n");
+  EXPECT_TRUE(c.enabled);
+  EXPECT_EQ(c.max_splat_px, 2);
+  EXPECT_EQ(c.visibility_radius_px, CrossCameraFillConfig{}.visibility_radius_px);
+  EXPECT_EQ(parsedCrossCamera("  levels: 2\n").enabled, CrossCameraFillConfig{}.enabled);
+  EXPECT_EQ(parsed("  cross_camera_visibility_radius_px: 3\n").levels, TemporalDepthFilterConfig{}.levels);
 }
 
 TEST(DepthFilterConfig, PullPushIsOnByDefault) {
@@ -44,6 +60,10 @@ TEST(DepthFilterConfig, BadValuesAreRefusedNamingTheFieldAndTheRange) {
       {"  surface_tolerance_m: 0\n", "depthfilter.surface_tolerance_m"},
       {"  fill_colour_max: -1\n", "depthfilter.fill_colour_max"},
       {"  pull_levels: 3\n", "pull_levels"},
+      {"  cross_camera: maybe\n", "depthfilter.cross_camera"},
+      {"  cross_camera_max_splat_px: 0\n", "depthfilter.cross_camera_max_splat_px"},
+      {"  cross_camera_visibility_radius_px: 9\n", "depthfilter.cross_camera_visibility_radius_px"},
+      {"  cross_camera_tolerance_m: 0\n", "depthfilter.cross_camera_tolerance_m"},
   };
   for (const auto& [yaml, field] : cases) {
     try {

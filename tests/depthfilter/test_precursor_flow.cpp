@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 #include <cmath>
+#include <opencv2/imgproc.hpp>
+#include <vector>
 
 #include "holo/depthfilter/precursor_flow.hpp"
 #include "synthetic_rgbd.hpp"
@@ -84,6 +86,30 @@ TEST(PrecursorFlow, HalfSizeFlowAt640x360) {
     EXPECT_LT(e.disc_px, 0.5);
     EXPECT_LT(e.background_px, 0.2);
   }
+}
+
+// next() keeps the previous frame's flow image instead of making it again from its colour: the
+// same flow as compute() with both frames, to the bit (it moves), and none on a first frame, after
+// reset() or a size change.
+TEST(PrecursorFlow, NextGivesTheFlowComputeGivesFromTheFrameBefore) {
+  test::SyntheticScene scene;
+  std::vector<cv::Mat> colours;
+  for (int t = 0; t < 4; ++t) colours.push_back(scene.render(t, 3).frame.colour);
+  PrecursorFlow kept, fresh;
+  EXPECT_EQ(cv::countNonZero(kept.next(colours[0]).reshape(1)), 0);
+  double moved = 0.0;
+  for (int t = 1; t < 4; ++t) {
+    const cv::Mat a = kept.next(colours[std::size_t(t)]);
+    const cv::Mat b = fresh.compute(colours[std::size_t(t)], colours[std::size_t(t) - 1]);
+    EXPECT_EQ(cv::norm(a, b, cv::NORM_INF), 0.0) << "frame " << t;
+    moved = std::max(moved, cv::norm(a, cv::NORM_INF));
+  }
+  EXPECT_GT(moved, 1.0);
+  kept.reset();
+  EXPECT_EQ(cv::countNonZero(kept.next(colours[1]).reshape(1)), 0);
+  cv::Mat smaller;
+  cv::resize(colours[2], smaller, cv::Size(colours[2].cols / 2, colours[2].rows / 2));
+  EXPECT_EQ(cv::countNonZero(kept.next(smaller).reshape(1)), 0);
 }
 
 }  // namespace

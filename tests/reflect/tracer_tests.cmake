@@ -38,3 +38,11 @@ if(TARGET holo::relics)
     DEPS holo::reflect holo::reference holo::relics holo_test_support)
   target_include_directories(test_axis_aligned_filter PRIVATE ${PROJECT_SOURCE_DIR}/reflect/src)
 endif()
+
+# Where the interreflection casts rays on the built-in relics: conservative (brute force) and counted.
+if(TARGET holo::relics)
+  holo_test(test_interreflection_plan
+    SOURCES test_interreflection_plan.cpp
+    DEPS holo::reflect holo::relics holo_test_support)
+  target_include_directories(test_interreflection_plan PRIVATE ${PROJECT_SOURCE_DIR}/reflect/src)
+endif()

@@ -1,5 +1,6 @@
 // The `depthfilter:` section of a configuration document: the temporal depth filter's settings
-// (TemporalDepthFilterConfig, temporal_depth_filter.hpp, with the meaning and unit of each).
+// (TemporalDepthFilterConfig, temporal_depth_filter.hpp, with the meaning and unit of each) and
+// the cross-camera fill's (CrossCameraFillConfig, cross_camera_fill.hpp).
 // Every field is optional and keeps its default when absent:
 //
 //   depthfilter:
@@ -14,17 +15,26 @@
 //     fill_colour_margin: 20        # 0..765
 //     surface_tolerance_m: 0.03     # metres, 0.001..0.5
 //     surface_tolerance_z2: 0.0075  # 1/metres, 0..0.1
+//     cross_camera: false                     # the cameras fill each other's holes
+//     cross_camera_tolerance_m: 0.04          # metres, 0.001..0.5
+//     cross_camera_tolerance_z2: 0.0075       # 1/metres, 0..0.1
+//     cross_camera_visibility_radius_px: 2    # px, 0..8
+//     cross_camera_max_splat_px: 3            # px, 1..8
+//     cross_camera_confirm_measured: true     # agreeing measured depth joins the mask
 //
 // An unknown field, a value of the wrong type or out of its range is a holo::InputError naming
 // the file, the field (depthfilter.levels) and the range.
 #pragma once
 
 #include "holo/core/config.hpp"
+#include "holo/depthfilter/cross_camera_fill.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
 
 namespace holo::depthfilter {
 
 // `section` is root["depthfilter"]; the defaults stand for every field it does not name.
 TemporalDepthFilterConfig parseDepthFilterConfig(const ConfigNode& section);
+// The cross_camera* fields of the same section.
+CrossCameraFillConfig parseCrossCameraFillConfig(const ConfigNode& section);
 
 }  // namespace holo::depthfilter

@@ -1,9 +1,11 @@
 // The foreground point cloud of all cameras, every frame (paper Sec. 3.2, docs/architecture.md): per
-// camera, in parallel (oneTBB), the foreground mask phi_i, the precursor flow lambda_i, the
-// mask's persistence where the sensor reads nothing, the pull-push temporal depth filter and the border
-// expansion; then every filtered foreground pixel is back-projected into the world (pyramid) frame with that
-// camera's CameraModel, its sRGB colour linearised, multiplied by the camera's colour gains and divided by
-// the exposure, its source (camera, pixel) kept.
+// camera, in parallel (oneTBB), the foreground mask phi_i, the precursor flow lambda_i and the
+// mask's persistence where the sensor reads nothing; then, across the cameras, each camera's holes
+// on a visitor filled with the depth another camera measured of it (cross_camera_fill.hpp); then
+// per camera again the pull-push temporal depth filter and the border expansion; then every filtered
+// foreground pixel is back-projected into the world (pyramid) frame with that camera's CameraModel, its sRGB
+// colour linearised, multiplied by the camera's colour gains and divided by the exposure, its source (camera,
+// pixel) kept.
 //
 // A camera whose frame is missing (empty RgbdFrame) contributes nothing this frame and its
 // filter forgets its history (counted as "Depthfilter/Missing camera frames").
@@ -16,6 +18,7 @@
 #include "holo/core/camera_model.hpp"
 #include "holo/core/rgbd_frame.hpp"
 #include "holo/depthfilter/border_expansion.hpp"
+#include "holo/depthfilter/cross_camera_fill.hpp"
 #include "holo/depthfilter/foreground_cloud.hpp"
 #include "holo/depthfilter/foreground_mask.hpp"
 #include "holo/depthfilter/mask_persistence.hpp"
@@ -29,6 +32,7 @@ struct ForegroundPipelineConfig {
   std::vector<cv::Mat> static_foreground;  // per camera (may be shorter or hold empty Mats)
   PrecursorFlowConfig flow;
   MaskPersistenceConfig persistence;
+  CrossCameraFillConfig cross_camera;
   TemporalDepthFilterConfig filter;
   BorderExpansionConfig border;
   float exposure = 1.0f;  // radiance = srgbToLinear(colour) / exposure (the camera's exposure)
@@ -74,6 +78,7 @@ class ForegroundPipeline {
   std::vector<CameraModel> cameras_;
   ForegroundPipelineConfig config_;
   std::vector<CameraStage> stages_;
+  CrossCameraFill cross_camera_;
 };
 
 }  // namespace holo::depthfilter

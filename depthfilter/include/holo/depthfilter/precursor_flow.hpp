@@ -27,11 +27,22 @@ class PrecursorFlow {
   // Flow from `current` to `previous` (both CV_8UC3 BGR of one size): previous(px + flow(px))
   // shows what current(px) shows. Zero flow when `previous` is empty (the first frame).
   cv::Mat compute(const cv::Mat& current_bgr, const cv::Mat& previous_bgr);
+  // The same flow from `current` to the frame of the previous next() call, whose grey (downscaled)
+  // image is kept instead of being made again from its colour; zero flow on the first frame, after
+  // reset() or when the size changed.
+  cv::Mat next(const cv::Mat& current_bgr);
+  void reset();  // the next frame is a first frame
 
  private:
+  // The grey image the flow is computed on (downscaled), into `out`.
+  void flowImage(const cv::Mat& bgr, cv::Mat& out);
+  // The flow between two flow images of a full-size frame `size`.
+  cv::Mat flowBetween(const cv::Mat& current, const cv::Mat& previous, const cv::Size& size);
+
   cv::Ptr<cv::DISOpticalFlow> dis_;
   int downscale_ = 1;
-  cv::Mat current_grey_, previous_grey_, small_current_, small_previous_, small_flow_;  // scratch
+  cv::Mat grey_, current_image_, previous_image_, small_flow_;  // scratch
+  cv::Size previous_size_;  // of the frame previous_image_ was made from; empty: none (next())
 };
 
 // Confidence alpha of Equation 1: the RGB distance between a pixel and its precursor, in 8-bit

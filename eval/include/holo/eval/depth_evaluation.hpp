@@ -39,6 +39,7 @@
 #include <vector>
 
 #include "holo/core/rgbd_frame.hpp"
+#include "holo/depthfilter/cross_camera_fill.hpp"
 #include "holo/depthfilter/foreground_mask.hpp"
 #include "holo/depthfilter/mask_persistence.hpp"
 #include "holo/depthfilter/precursor_flow.hpp"
@@ -145,8 +146,18 @@ class DepthFilterEvaluation {
   explicit DepthFilterEvaluation(DepthEvaluationConfig config = {});
 
   void learnBackground(const RgbdFrame& background);
-  // Runs every method on the frame and scores it once our filter has stopped learning.
+  // Runs every method on the frame and scores it once our filter has stopped learning:
+  // prepareFrame, then scoreFrame with the sensor's depth.
   void addFrame(const GroundTruthFrame& frame);
+  // The two halves of addFrame, for the cameras to help each other in between: the mask (with
+  // its persistence) and the flow of the frame; then every method on it, ours filtering
+  // `ours_depth` (the sensor's depth with other cameras' fills, depthfilter::CrossCameraFill)
+  // where the others see the sensor's. The mask they all use is lastMask() as it stands then.
+  void prepareFrame(const RgbdFrame& frame);
+  void scoreFrame(const GroundTruthFrame& frame, const cv::Mat& ours_depth);
+  // This camera's frame for depthfilter::CrossCameraFill after prepareFrame: its mask is
+  // lastMask() itself (grown in place), its background the masker's learned depth.
+  depthfilter::CrossCameraView crossCameraView(const RgbdFrame& frame);
 
   DepthMethodMetrics metrics(DepthMethod method) const;
   // Metrics over several camera streams (sums pooled, not averages of averages).
@@ -181,7 +192,7 @@ class DepthFilterEvaluation {
   std::vector<depthfilter::TemporalDepthFilter> variants_;
   std::vector<DepthScorer> variant_scorers_;
   cv::Mat previous_colour_;
-  cv::Mat last_mask_;
+  cv::Mat last_mask_, last_flow_;
   std::array<MethodState, kDepthMethods.size()> methods_;
   MethodState truth_;
 };

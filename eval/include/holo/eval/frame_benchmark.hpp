@@ -32,6 +32,9 @@ struct FrameBenchOptions {
   // Also render every measured frame with 4 samples per pixel, the interreflection bounce and no
   // reuse (untimed) and measure the displayed images' difference.
   bool reference = false;
+  // Also fold every measured frame's displayed faces into one FNV-1a digest (untimed): two runs
+  // show the same pictures exactly when their digests agree.
+  bool digest = false;
 };
 
 struct FrameBenchmark {
@@ -50,6 +53,7 @@ struct FrameBenchmark {
   double page_faults_per_frame = 0;      // minor faults: memory freshly mapped per frame
   // Mean absolute difference in 8-bit sRGB codes against the reference, median over the frames.
   std::optional<double> error_vs_reference_codes;
+  std::optional<std::uint64_t> display_digest;  // with FrameBenchOptions::digest
   // Over the measured frames: the frame time's 99th percentile (nearest rank) and, live, the
   // arrival-to-present latency of the oldest camera frame each shows (FrameReport), median and
   // 99th percentile. Milliseconds.

@@ -1,7 +1,8 @@
 // The temporal depth filter against its baselines on a simulated scene (`holopyramid eval depth`,
 // paper Table 2): every camera of the scene's museum through DepthFilterEvaluation, first the
 // empty hall's background frames, then the learning frames, then the scored ones; the metrics
-// pooled over the cameras, the bars' verdicts (acceptance_bars.hpp) for ours and for the
+// pooled over the cameras (between each frame's masks and the filters the cameras fill each
+// other's holes, depthfilter::CrossCameraFill), the bars' verdicts (acceptance_bars.hpp) for ours and for the
 // hole-leaving adversary, and the report as JSON (NaN written as null).
 #pragma once
 
@@ -11,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "holo/depthfilter/cross_camera_fill.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
 #include "holo/eval/depth_evaluation.hpp"
 
@@ -29,12 +31,16 @@ struct SimulatedDepthOptions {
   bool figure = false;  // also draw SimulatedDepthEvaluation::figure
   // The mask's persistence where the sensor reads nothing (false: its contribution).
   bool mask_persistence = depthfilter::MaskPersistenceConfig{}.enabled;
+  // The cameras filling each other's holes before ours filters (depthfilter::CrossCameraFill;
+  // false: each camera on its own).
+  bool cross_camera = depthfilter::CrossCameraFillConfig{}.enabled;
 };
 
 struct SimulatedDepthEvaluation {
-  // scene, frames, learning_frames, levels, cameras, width, height, methods (each method's
-  // metrics, the compared l_max among them),
-  // bars (the verdicts for ours and the adversary), truth_depth_change_cm2.
+  // scene, frames, learning_frames, levels, mask_persistence, cross_camera (and the
+  // cross-camera step's filled and confirmed pixels per camera frame), cameras, width, height, methods (each
+  // method's metrics, the compared l_max among them), bars (the verdicts for ours and the adversary),
+  // truth_depth_change_cm2.
   nlohmann::json report;
   // Each method's pooled metrics, in kDepthMethods' order, then the compared l_max (for
   // depthMetricsTable).

@@ -64,8 +64,8 @@ class CameraAcquisition;
 
 // The tracer as the live loop runs it: one sample per pixel plus four at silhouette and crease
 // pixels (instead of four everywhere), each view's static passes reused while its eye moves
-// less than 1 cm, and no interreflection bounce. Their (time, error) points:
-// docs/frame_loop.md.
+// less than 1 cm, and the interreflection bounce where the relic can see itself (none on a convex
+// relic: effect_plan.hpp). Their (time, error) points: docs/frame_loop.md.
 reflect::TracerSettings liveTracerSettings();
 // The tracer's samples for an anti-aliasing mode (hit_points.hpp).
 void setAntiAliasing(reflect::TracerSettings& tracer, reflect::AntiAliasing mode);

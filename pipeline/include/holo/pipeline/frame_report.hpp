@@ -79,6 +79,9 @@ struct FrameReport {
   // whose transmitted light is a mean of paths (supersampled), all views (0 for an opaque relic:
   // the plan runs no refraction pass).
   std::uint64_t refraction_rays = 0, refracted_walks = 0, supersampled_samples = 0;
+  // Relic samples shaded, those that cast an interreflection ray and the rays, all views (0 for
+  // views whose static shading was reused).
+  std::uint64_t shaded_samples = 0, interreflected_samples = 0, interreflection_rays = 0;
   // Milliseconds per reflect::Pass (index = the enum's value), summed over the views; plus the
   // camera images' conversion to linear colour for the pyramids (part of `dynamic`).
   std::array<double, kPassCount> pass_ms{};

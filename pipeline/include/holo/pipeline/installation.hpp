@@ -44,6 +44,7 @@
 #include "holo/core/config.hpp"
 #include "holo/core/mesh.hpp"
 #include "holo/core/rgbd_frame.hpp"
+#include "holo/depthfilter/cross_camera_fill.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
 #include "holo/reflect/environment.hpp"
 
@@ -96,6 +97,8 @@ struct Installation {
   // The temporal depth filter's settings: the configuration's `depthfilter:` section
   // (depth_filter_config.hpp), else the defaults.
   depthfilter::TemporalDepthFilterConfig depth_filter;
+  // The cameras filling each other's holes: the cross_camera* fields of the same section.
+  depthfilter::CrossCameraFillConfig cross_camera_fill;
   Model relic;       // world frame, standing on the base
   cv::Mat panorama;  // CV_32FC3 linear BGR, equirectangular
   float panorama_yaw_rad = 0.0f;

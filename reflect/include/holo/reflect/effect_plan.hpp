@@ -8,12 +8,16 @@
 // no refraction work at all. SelfOcclusion runs where a relic with a diffuse material shadows
 // itself by more than TracerSettings::self_occlusion_min (relic_visibility.hpp, built with the
 // renderer; the lobes of metal and glass trace their own interreflection): a convex or all-metal
-// relic casts none of its rays. VisitorLight (visitor_light.hpp) runs where a foreground point
-// comes within TracerSettings::visitor_light_distance of a relic whose diffuse or widest lobes the
-// walk does not light: the visitors' shadow and light on them, with the voxel grid it reads; with
-// no visitor that near the frame does none of its work. AxisAlignedFilter runs where some relic material
-// samples its rough lobe for the interreflection (the one Monte Carlo term of the static shading, interleaved
-// over pixels); a smooth or Lambert relic's frame does no filtering.
+// relic casts none of its rays. The interreflection (one bounce where a hit point's reflection
+// meets the relic itself, static_shading.hpp) runs where the relic can see itself at all: a convex
+// relic, every triangle in a supporting plane of the relic (render_scene.hpp), casts none of its
+// rays, and on any other relic a ray is cast only where its triangle's plane does not prove a miss.
+// AxisAlignedFilter runs where the interreflection runs and some relic material samples its rough
+// lobe for it (the one Monte Carlo term of the static shading, interleaved over pixels); a smooth
+// or convex relic's frame does no filtering. VisitorLight (visitor_light.hpp) runs where a
+// foreground point comes within TracerSettings::visitor_light_distance of a relic whose diffuse or
+// widest lobes the walk does not light: the visitors' shadow and light on them, with the voxel
+// grid it reads; with no visitor that near the frame does none of its work.
 #pragma once
 
 #include <string>
@@ -80,6 +84,10 @@ struct EffectInputs {
   // filter is on; why or why not, for the plan's reason.
   bool lobe_filter = false;
   std::string lobe_filter_reason;
+  bool interreflection = true;  // the user's switch (TracerSettings::relic_interreflection)
+  // Every relic triangle lies in a supporting plane of the relic (RenderScene::relicIsConvex):
+  // a ray leaving its surface outwards cannot meet it again.
+  bool relic_convex = false;
 };
 
 struct EffectPlan {
@@ -88,9 +96,12 @@ struct EffectPlan {
   std::string material_reason;       // why Refraction / Clearcoat / SelfOcclusion run or not
   std::string visitor_light_reason;  // why VisitorLight runs or not
   int internal_depth = 0;            // interface events per transmitted path; 0 without Refraction
+  // The static shading casts the interreflection's rays (static_shading.hpp); false for a convex
+  // relic or with the effect off. A part of the StaticReflections pass, timed with it.
+  bool interreflection = false;
   bool has(Pass pass) const;
-  // "HitPoints,StaticReflections,ToneMap (no foreground points; opaque relic, no clearcoat; no
-  // visitor near enough to light the relic)"
+  // "HitPoints,StaticReflections,ToneMap (no foreground points; opaque relic, no clearcoat,
+  // convex relic: no interreflection; no visitor near enough to light the relic)"
   std::string describe() const;
 };
 

@@ -36,6 +36,9 @@ struct ViewCounters {
   // Pixels whose rough-lobe interreflection the axis-aligned filter smoothed, and the weights it
   // took (AxisAlignedFilter; 0 when the static shading was reused or the plan left it off).
   std::uint64_t filtered_pixels = 0, filter_taps = 0;
+  // Samples shaded, those that cast an interreflection ray and the rays they cast (0 when the
+  // static shading was reused; no ray on a convex relic: the plan leaves the effect off).
+  std::uint64_t shaded_samples = 0, interreflected_samples = 0, interreflection_rays = 0;
 };
 
 // One view's images, with its counters.

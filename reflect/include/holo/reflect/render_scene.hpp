@@ -50,6 +50,9 @@ class RenderScene {
   // from, and `direction` leaves to that side. The interreflection casts no mirror ray there, so
   // a convex relic casts none. Decided at construction from the relic's convex hull (Qhull).
   bool mayMeetRelicAgain(const RayHit& hit, const vec3& direction) const;
+  // The same decision at triangle `triangle` of relic mesh `mesh`, seen from the side its
+  // winding's normal points to (`front`) or the other: any direction, e.g. a rough lobe's.
+  bool mayMeetRelicAgain(std::size_t mesh, std::uint32_t triangle, bool front, const vec3& direction) const;
   // Every relic triangle lies in a supporting plane of the relic (the same decision): no point of
   // a convex relic sees another, so it casts no shadow on itself.
   bool relicIsConvex() const { return relic_convex_; }
