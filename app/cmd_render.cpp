@@ -31,6 +31,7 @@ struct RenderOptions {
   MethodSettings settings;
   std::string out;
   bool no_visitors = false;
+  bool no_visitor_light = false;
   int ar_camera = -1;
   std::string ar_config;
   int ar_spp = 16;
@@ -77,6 +78,7 @@ int render(const RenderOptions& o) {
   const CameraModel camera = viewCamera(o.view, scene);
   MethodSettings settings = o.settings;
   settings.with_visitors = !o.no_visitors;
+  settings.tracer.evaluation.visitor_light = !o.no_visitor_light;
   const MethodResult result = renderMethod(o.method, scene, camera, settings, false);
   writeImagePair(o.out, result.image);
   std::cout << "method: " << o.method << "\n"
@@ -122,6 +124,8 @@ HOLO_REGISTER_COMMAND(Command{
           ->capture_default_str()
           ->check(CLI::Range(0, 32));
       sub.add_flag("--no-visitors", o->no_visitors, "Leave the visitors out");
+      sub.add_flag("--no-visitor-light", o->no_visitor_light,
+                   "ours: the visitors neither shadow nor light the relic's diffuse and widest lobes");
       sub.add_option("--ar-camera", o->ar_camera,
                      "The AR check view of camera N (of --ar-config, else of the simulated museum --scene, "
                      "museum by default): the relic composited over its image with its shadow and light, "

@@ -53,7 +53,8 @@ inline void addSceneOptions(CLI::App& app, eval::SceneOptions& options) {
   app.add_option("--scene", options.scene, "Built-in scene name or YAML file; 'empty' = relic alone")
       ->capture_default_str();
   app.add_option("--relic", options.relic, "Built-in relic name or glTF file (default: the scene's)");
-  app.add_option("--hall", options.hall, "Built-in hall (room, gallery, atrium) instead of the scene's");
+  app.add_option("--hall", options.hall,
+                 "Built-in hall (room, gallery, atrium, window) instead of the scene's");
   app.add_option("--panorama", options.panorama,
                  "HDR/EXR panorama (default: the museum hall rendered from the pyramid)");
   app.add_flag("--fit", options.fit, "Scale and centre a relic file on the pedestal");

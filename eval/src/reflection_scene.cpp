@@ -75,7 +75,7 @@ sim::SceneDescription sceneDescription(const SceneOptions& o) {
   if (!o.hall.empty()) {
     const auto halls = sim::hallNames();
     if (std::find(halls.begin(), halls.end(), o.hall) == halls.end())
-      throw InputError("command line", "--hall", "one of room, gallery, atrium, none", o.hall);
+      throw InputError("command line", "--hall", "one of room, gallery, atrium, window, none", o.hall);
     d.hall = o.hall;
   }
   if (o.close_visitors >= 0) d.close_visitors = o.close_visitors;

@@ -34,6 +34,8 @@ const char* passName(Pass pass) {
       return "ForegroundWalk";
     case Pass::Composition:
       return "Composition";
+    case Pass::VisitorLight:
+      return "VisitorLight";
     case Pass::ToneMap:
       return "ToneMap";
     case Pass::Refraction:
@@ -64,6 +66,10 @@ std::string EffectPlan::describe() const {
     s.append("; ");
     s.append(material_reason);
   }
+  if (!visitor_light_reason.empty()) {
+    s.append("; ");
+    s.append(visitor_light_reason);
+  }
   s.push_back(')');
   return s;
 }
@@ -73,6 +79,7 @@ EffectPlan planEffects(const EffectInputs& in) {
   if (in.relic_empty) {
     plan.foreground_reason = "no relic";
     plan.material_reason = "no relic";
+    plan.visitor_light_reason = "no relic";
     plan.passes = {Pass::ToneMap};
     return plan;
   }
@@ -106,12 +113,24 @@ EffectPlan planEffects(const EffectInputs& in) {
   if (!in.self_occlusion_reason.empty()) plan.material_reason += ", " + in.self_occlusion_reason;
   if (!in.progressive_refinement_reason.empty())
     plan.material_reason += ", " + in.progressive_refinement_reason;
+  if (!in.visitor_light_enabled)
+    plan.visitor_light_reason = "visitors' light off";
+  else if (!in.relic_lit_diffusely)
+    plan.visitor_light_reason = "no diffuse or wide-lobed relic material: no visitors' light";
+  else if (in.foreground_points == 0 || in.foreground_bounds.empty())
+    plan.visitor_light_reason = "no visitor to light the relic";
+  else if (!in.visitor_within_light_distance)
+    plan.visitor_light_reason = "no visitor near enough to light the relic";
+  else
+    plan.visitor_light_reason = "visitors near the relic's diffuse light";
+  const bool visitor_light = plan.visitor_light_reason == "visitors near the relic's diffuse light";
   if (!in.lobe_filter_reason.empty()) plan.material_reason += ", " + in.lobe_filter_reason;
   plan.interreflection = in.interreflection && !in.relic_convex;
   plan.material_reason += !in.interreflection ? ", interreflection off"
                           : in.relic_convex   ? ", convex relic: no interreflection"
                                               : ", interreflection where the relic can see itself";
   if (foreground) plan.passes = {Pass::VoxelGrid, Pass::Pyramids};
+  if (!foreground && visitor_light) plan.passes = {Pass::VoxelGrid};
   if (foreground && in.relic_rough) plan.passes.push_back(Pass::RoughForegroundMap);
   plan.passes.push_back(Pass::HitPoints);
   if (in.self_occlusion) plan.passes.push_back(Pass::SelfOcclusion);
@@ -126,6 +145,7 @@ EffectPlan planEffects(const EffectInputs& in) {
     if (in.relic_transmissive && in.refracted_foreground) plan.passes.push_back(Pass::RefractedForeground);
     plan.passes.push_back(Pass::Composition);
   }
+  if (visitor_light) plan.passes.push_back(Pass::VisitorLight);
   plan.passes.push_back(Pass::ToneMap);
   return plan;
 }

@@ -41,6 +41,9 @@ FrameRenderer::FrameRenderer(const RenderScene& scene, const PrefilteredIbl& ibl
   for (const Material& m : scene_.relic().materials)
     if (m.roughness < kGlossyRoughnessLimit || m.metallic_roughness_texture.used()) relic_glossy_ = true;
   if (scene_.relic().materials.empty()) relic_glossy_ = true;  // default material: be safe
+  relic_lit_diffusely_ = relicHasDiffuse(scene_) || !relic_glossy_;
+  for (const Material& m : scene_.relic().materials)
+    relic_lit_diffusely_ = relic_lit_diffusely_ || m.roughness >= kGlossyRoughnessLimit;
   relic_bounds_ = scene_.relicBounds();
   for (const Material& m : scene_.relic().materials) {
     relic_transmissive_ =
@@ -129,6 +132,19 @@ EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
   in.self_occlusion_reason = self_occlusion_reason_;
   in.progressive_refinement = refines_;
   in.progressive_refinement_reason = refinement_reason_;
+  in.visitor_light_enabled = settings_.evaluation.visitor_light;
+  in.relic_lit_diffusely = relic_lit_diffusely_;
+  if (in.visitor_light_enabled && in.relic_lit_diffusely) {
+    const float reach2 = settings_.visitor_light_distance * settings_.visitor_light_distance;
+    for (const depthfilter::ForegroundPoint& p : cloud.points) {
+      const vec3 gap =
+          glm::max(glm::max(in.relic_bounds.lo - p.position, p.position - in.relic_bounds.hi), vec3(0.0f));
+      if (glm::dot(gap, gap) <= reach2) {
+        in.visitor_within_light_distance = true;
+        break;
+      }
+    }
+  }
   in.lobe_filter = lobe_filter_;
   in.lobe_filter_reason = lobe_filter_reason_;
   in.interreflection = settings_.relic_interreflection;
@@ -170,6 +186,13 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
     grid_.build(cloud);
   } else {
     grid_.clear();
+  }
+  if (result.plan.has(Pass::VisitorLight)) {
+    PassTimer t(result.frame_timings, Pass::VisitorLight);
+    if (!visitor_light_) visitor_light_ = std::make_unique<VisitorLight>(settings_.visitor_light_map_width);
+    visitor_light_->build(grid_, ibl_, relic_bounds_);
+    result.visitor_light_splats = visitor_light_->splats();
+    result.visitor_light_texels = visitor_light_->coveredTexels();
   }
   if (result.plan.has(Pass::RoughForegroundMap)) {
     PassTimer t(result.frame_timings, Pass::RoughForegroundMap);
@@ -361,6 +384,13 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     out.composed_pixels =
         composeForeground(hits, cache.shading, cache.fg, fixed_exposure ? settings_.exposure : 0.0f, out.hdr,
                           out.weight, out.display, layered ? &cache.layers : nullptr);
+  }
+  if (plan.has(Pass::VisitorLight)) {
+    PassTimer t(out.timings, Pass::VisitorLight);
+    // Over a copy: the static image stays the cache's.
+    if (!plan.has(Pass::ForegroundWalk)) out.hdr = cache.hdr.clone();
+    out.visitor_lit_samples = visitor_light_->apply(hits, cache.shading, ibl_, out.hdr);
+    if (fixed_exposure) out.display = toneMapCovered(out.hdr, hits.covered, settings_.exposure);
   }
   if (fixed_exposure) {
     out.exposure = settings_.exposure;

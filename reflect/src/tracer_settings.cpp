@@ -38,6 +38,12 @@ void TracerSettings::validate() const {
   if (!std::isfinite(foreground_map_roughness) || foreground_map_roughness < 0.0f)
     throw InputError(src, "foreground_map_roughness", "a roughness >= 0 (> 1: never)",
                      std::to_string(foreground_map_roughness));
+  if (!std::isfinite(visitor_light_distance) || visitor_light_distance < 0.0f)
+    throw InputError(src, "visitor_light_distance", "a finite distance >= 0 (metres)",
+                     std::to_string(visitor_light_distance));
+  if (visitor_light_map_width < 8 || visitor_light_map_width > 1024 || visitor_light_map_width % 2 != 0)
+    throw InputError(src, "visitor_light_map_width", "an even number of texels in 8..1024",
+                     std::to_string(visitor_light_map_width));
   if (foreground_map_width < 8 || foreground_map_width > 1024 || foreground_map_width % 2 != 0)
     throw InputError(src, "foreground_map_width", "an even number of texels in 8..1024",
                      std::to_string(foreground_map_width));

@@ -219,18 +219,44 @@ Model atrium() {
   return b.take();
 }
 
+// A plain room whose light comes mostly through one tall window on the +Z wall, 2.2 m from the
+// pyramid axis: the close visitor of the window scene (planCloseVisitors stands it in front of
+// face 0) is between the window and the relic, so it shadows the relic and lends it its colour.
+Model window() {
+  HallBuilder b;
+  b.base();
+  const float x0 = -3.0f, x1 = 3.0f, z0 = -3.0f, z1 = 2.2f, ceiling = 2.0f;
+  for (int i = 0; i < 26; ++i) {
+    const float z = z0 + 0.2f * static_cast<float>(i);
+    const bool dark = i % 2 == 1;
+    b.box(dark ? "floor_dark" : "floor_light", dark ? vec3(0.12f, 0.09f, 0.06f) : vec3(0.16f, 0.12f, 0.08f),
+          {x0, kFloor - 0.05f, z}, {x1, kFloor, std::min(z + 0.2f, z1)});
+  }
+  b.shell(x0, x1, z0, z1, ceiling, {0.18f, 0.17f, 0.16f}, {0.2f, 0.19f, 0.17f}, {0.17f, 0.18f, 0.2f},
+          {0.2f, 0.17f, 0.15f}, {0.22f, 0.22f, 0.21f});
+  // Daylight through the window, from knee height to above a visitor's head.
+  b.box("window", {9.0f, 10.0f, 11.5f}, {-0.9f, -0.7f, z1 - 0.02f}, {0.9f, 1.5f, z1});
+  b.box("window_frame", {0.05f, 0.05f, 0.05f}, {-0.95f, -0.75f, z1 - 0.03f}, {0.95f, -0.7f, z1});
+  b.box("window_frame", {0.05f, 0.05f, 0.05f}, {-0.95f, 1.5f, z1 - 0.03f}, {0.95f, 1.55f, z1});
+  // A dim lamp in the far corner and a grey bench against the west wall.
+  b.add("lamp_shade", {3.0f, 2.6f, 1.8f}, makeSphere(0.15f, 8, 16), at({-2.6f, 1.5f, -2.6f}));
+  b.box("bench", {0.25f, 0.24f, 0.22f}, {-2.9f, kFloor, -1.0f}, {-2.5f, -0.55f, 1.0f});
+  return b.take();
+}
+
 }  // namespace
 
 std::vector<std::string> hallNames() {
-  return {"room", "gallery", "atrium", "none"};
+  return {"room", "gallery", "atrium", "window", "none"};
 }
 
 Model makeHall(const std::string& name, const std::string& origin) {
   if (name == "room") return room();
   if (name == "gallery") return gallery();
   if (name == "atrium") return atrium();
+  if (name == "window") return window();
   if (name == "none") return {};
-  throw InputError(origin, "hall", "one of room, gallery, atrium, none", name);
+  throw InputError(origin, "hall", "one of room, gallery, atrium, window, none", name);
 }
 
 }  // namespace holo::sim

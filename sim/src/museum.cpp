@@ -31,6 +31,7 @@ struct Builtin {
   const char* relic;
   int visitors;
   const char* what;
+  int close_visitors = 0;
 };
 // The default demo is "museum"; the halls x relics of the evaluation are the other names.
 constexpr Builtin kBuiltins[] = {
@@ -40,6 +41,8 @@ constexpr Builtin kBuiltins[] = {
     {"atrium", "atrium", "vase", 4, "tall atrium with a skylight, vase, four visitors"},
     {"mirror", "gallery", "sphere", 2, "gallery, mirror sphere, two visitors"},
     {"empty", "gallery", "vase", 0, "gallery, vase, nobody there"},
+    {"window", "window", "bowl", 0,
+     "room lit by a bright window, clay bowl, one visitor standing between them", 1},
 };
 
 bool isRelicName(const std::string& relic) {
@@ -151,6 +154,7 @@ SceneDescription builtin(const Builtin& b) {
   d.hall = b.hall;
   d.relic = b.relic;
   d.visitors = b.visitors;
+  d.close_visitors = b.close_visitors;
   return d;
 }
 
@@ -182,7 +186,7 @@ SceneDescription loadSceneFile(const fs::path& path) {
     d.hall = root["hall"].as<std::string>();
     const auto halls = hallNames();
     if (std::find(halls.begin(), halls.end(), d.hall) == halls.end())
-      root["hall"].fail("one of room, gallery, atrium, none", d.hall);
+      root["hall"].fail("one of room, gallery, atrium, window, none", d.hall);
   }
   if (root.has("relic")) {
     d.relic = root["relic"].as<std::string>();

@@ -82,8 +82,11 @@ std::vector<VisitorPlan> planVisitors(int count, std::uint64_t seed, const std::
 std::vector<VisitorPlan> planCloseVisitors(int count, std::uint64_t seed, const std::string& hall,
                                            VisitorModel model) {
   // Faces (0..3: +Z, +X, -Z, -X) with room to stand: the room has its side table on +X and its
-  // plant towards -Z; the gallery's info pole and the atrium's bollards stand on the diagonals.
-  const std::vector<int> faces = hall == "room" ? std::vector<int>{0, 3} : std::vector<int>{0, 1, 2, 3};
+  // plant towards -Z; the gallery's info pole and the atrium's bollards stand on the diagonals;
+  // in the window hall the one close visitor stands between the window (+Z) and the relic.
+  const std::vector<int> faces = hall == "room"     ? std::vector<int>{0, 3}
+                                 : hall == "window" ? std::vector<int>{0}
+                                                    : std::vector<int>{0, 1, 2, 3};
   const int n = std::clamp(count, 0, static_cast<int>(faces.size()));
   std::vector<VisitorPlan> plans;
   const std::size_t first_face =

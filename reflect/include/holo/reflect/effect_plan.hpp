@@ -19,6 +19,10 @@
 // its rough lobe for it (progressive_accumulation.hpp in reflect/src): a still view adds a sample
 // set a frame, its cost at most the static pass's on the rough samples, nothing once converged or
 // while the foreground keeps changing.
+// VisitorLight (visitor_light.hpp) runs where a foreground point comes within
+// TracerSettings::visitor_light_distance of a relic whose diffuse or widest lobes the walk does
+// not light: the visitors' shadow and light on them, with the voxel grid it reads; with no visitor
+// that near the frame does none of its work.
 #pragma once
 
 #include <string>
@@ -42,7 +46,8 @@ enum class Pass {
   ForegroundWalk,         // voxel walk + pyramid reads (psi_d, w)
   RefractedForeground,    // the visitors seen through the relic: a walk per transmitted exit ray
   Composition,            // psi_d * w + psi_s * (1 - w)
-  ToneMap,                // exposure, tone mapping, sRGB (the last: pipeline's kPassCount counts on it)
+  VisitorLight,  // the visitors' shadow and light on the diffuse and widest lobes (visitor_light.hpp)
+  ToneMap,       // exposure, tone mapping, sRGB (the last: pipeline's kPassCount counts on it)
 };
 
 const char* passName(Pass pass);
@@ -78,6 +83,13 @@ struct EffectInputs {
   // why or why not, for the plan's reason ("rough lobes refined up to 64 sets", ...).
   bool progressive_refinement = false;
   std::string progressive_refinement_reason;
+  // The visitors' light: the user's switch, whether some relic surface takes the hall's light by
+  // a diffuse or a lobe the walk leaves (rough >= kGlossyRoughnessLimit), and whether some
+  // foreground point lies within TracerSettings::visitor_light_distance of the relic's box (the
+  // renderer looks, stopping at the first; the box of visitors all round holds the relic).
+  bool visitor_light_enabled = true;
+  bool relic_lit_diffusely = false;
+  bool visitor_within_light_distance = false;
   // Some relic material samples its rough lobe for the interreflection (interleaved), and the
   // filter is on; why or why not, for the plan's reason.
   bool lobe_filter = false;
@@ -90,15 +102,16 @@ struct EffectInputs {
 
 struct EffectPlan {
   std::vector<Pass> passes;
-  std::string foreground_reason;  // why the foreground passes run or not, for the statistics
-  std::string material_reason;    // why the material passes run or not
-  int internal_depth = 0;         // interface events per transmitted path; 0 without Refraction
+  std::string foreground_reason;     // why the foreground passes run or not, for the statistics
+  std::string material_reason;       // why the material passes run or not
+  int internal_depth = 0;            // interface events per transmitted path; 0 without Refraction
+  std::string visitor_light_reason;  // why VisitorLight runs or not
   // The static shading casts the interreflection's rays (static_shading.hpp); false for a convex
   // relic or with the effect off. A part of the StaticReflections pass, timed with it.
   bool interreflection = false;
   bool has(Pass pass) const;
   // "HitPoints,StaticReflections,ToneMap (no foreground points; opaque relic, no clearcoat,
-  // convex relic: no interreflection)"
+  // convex relic: no interreflection; no visitor near enough to light the relic)"
   std::string describe() const;
 };
 

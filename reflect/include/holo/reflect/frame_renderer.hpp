@@ -8,7 +8,9 @@
 // psi_f = psi_d w + psi_s (1 - w) in HDR (specular part; the diffuse irradiance is added to
 // both), and tone-maps to sRGB. Which passes run comes from the effect plan (effect_plan.hpp);
 // every pass is timed. The relic's self-occlusion (relic_visibility.hpp) is built with the
-// renderer, for a diffuse relic that is not convex and shadows itself enough to show. The passes live in
+// renderer, for a diffuse relic that is not convex and shadows itself enough to show. Visitors near
+// a relic with diffuse or very rough surfaces shadow and light them (visitor_light.hpp), built per
+// frame from the voxel grid and added to each view after the composition. The passes live in
 // reflect/src: static_shading, foreground_walk (with its camera choice and near-miss march), compose_pass,
 // and tone_map.hpp's toneMapCovered. What it takes and returns has its own headers: tracer_settings.hpp,
 // foreground_camera_image.hpp, frame_result.hpp.
@@ -40,6 +42,7 @@
 #include "holo/reflect/render_scene.hpp"
 #include "holo/reflect/rough_foreground_map.hpp"
 #include "holo/reflect/tracer_settings.hpp"
+#include "holo/reflect/visitor_light.hpp"
 #include "holo/reflect/voxel_grid.hpp"
 
 namespace holo::reflect {
@@ -63,6 +66,9 @@ class FrameRenderer {
   // The relic's visibility (SelfOcclusion), built with the renderer; null where the plan leaves
   // it off (a convex or all-metal relic, too little occlusion, or switched off).
   const RelicVisibility* visibility() const { return visibility_.get(); }
+  // The visitors' light of the last frame that planned it; null for a relic with no diffuse or
+  // very rough surface, or before such a frame.
+  const VisitorLight* visitorLight() const { return visitor_light_.get(); }
   const TracerSettings& settings() const { return settings_; }
   // Fixes the exposure (> 0) or makes it automatic (<= 0) from the next frame on.
   void setExposure(float exposure);
@@ -77,6 +83,7 @@ class FrameRenderer {
   const PrefilteredIbl& ibl_;
   TracerSettings settings_;
   bool relic_glossy_ = false;
+  bool relic_lit_diffusely_ = false;  // some surface takes the hall's light by a diffuse or a wide lobe
   bool relic_transmissive_ = false, relic_clearcoat_ = false;
   int internal_depth_ = 0;  // with a transmissive relic: settings' or measured
   float internal_residual_ = 0.0f;
@@ -86,6 +93,7 @@ class FrameRenderer {
   // For the relic materials at least foreground_map_roughness rough; null when there is none.
   std::unique_ptr<RoughForegroundMap> rough_map_;
   std::unique_ptr<RelicVisibility> visibility_;
+  std::unique_ptr<VisitorLight> visitor_light_;  // made at the first frame that plans it
   // Its lighting under the IBL, lit again when the IBL's panorama or relic turn changes.
   RelicVisibility::Lighting lighting_;
   std::uint64_t lit_source_ = 0;

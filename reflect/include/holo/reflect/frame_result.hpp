@@ -37,6 +37,8 @@ struct ViewCounters {
   std::uint32_t accumulated_sets = 0;
   std::uint64_t refinement_samples = 0;
   bool refinement_reset = false;
+  // Samples whose light the visitors changed (VisitorLight; 0 when the plan left it off).
+  std::uint64_t visitor_lit_samples = 0;
   // Pixels whose rough-lobe interreflection the axis-aligned filter smoothed, and the weights it
   // took (AxisAlignedFilter; 0 when the static shading was reused or the plan left it off).
   std::uint64_t filtered_pixels = 0, filter_taps = 0;
@@ -60,6 +62,8 @@ struct FrameResult {
   EffectPlan plan;
   std::vector<PassTiming> frame_timings;  // per-frame passes (voxel grid, pyramids)
   std::vector<ViewImages> views;
+  // VisitorLight's build this frame: voxel splats and covered texels over its probes (0 without it).
+  std::uint64_t visitor_light_splats = 0, visitor_light_texels = 0;
 };
 
 }  // namespace holo::reflect

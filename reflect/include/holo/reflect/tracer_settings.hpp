@@ -54,6 +54,10 @@ struct TracerEvaluationKnobs {
   // light (static_shading.hpp); false: by the open samples' count alone, the hall's light as if
   // spread evenly over the lobe. Default true; false measures what weighting by the light adds.
   bool lobe_visibility = true;
+  // The visitors' shadow and light on the relic's diffuse and widest lobes (visitor_light.hpp)
+  // where the effect plan wants them; false: those are lit by the empty hall. Default true;
+  // false measures what the visitors' light adds.
+  bool visitor_light = true;
 };
 
 struct TracerSettings {
@@ -127,6 +131,14 @@ struct TracerSettings {
   // hemisphere gets no visibility (the plan leaves it off), [0, 1]; default 1/255: below one
   // sRGB code of a white surface.
   float self_occlusion_min = 1.0f / 255.0f;
+  // Metres between the relic's box and the foreground's within which the visitors' shadow and
+  // light on the relic's diffuse and widest lobes are computed (VisitorLight), finite >= 0;
+  // default 1.5: a body there (about 0.5 x 1.7 m) hides about a fifth of a steradian, tenths of
+  // a window's light; farther, the grid (2 m round the axis) holds little of it.
+  float visitor_light_distance = 1.5f;
+  // The visitors' light's probe maps, width in texels (height width / 2), even, 8..1024; default
+  // 64, ~5.6 degrees a texel, finer than the clamped cosine's second band resolves.
+  int visitor_light_map_width = 64;
   // Metres a reflected ray may travel through the grid, finite > 0; default 3, the default grid's
   // corners are about 3 m from the relic.
   float max_reflection_distance = 3.0f;

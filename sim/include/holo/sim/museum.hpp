@@ -32,7 +32,7 @@ namespace holo::sim {
 struct SceneDescription {
   std::string name;              // built-in name or file stem
   std::string source;            // file it came from, or "built-in"
-  std::string hall = "gallery";  // room | gallery | atrium
+  std::string hall = "gallery";  // room | gallery | atrium | window
   std::string relic = "vase";    // vase | kettle | tripod | sphere, or a glTF path
   bool fit_relic = true;         // scale and centre the relic on the pedestal
   // Overrides of the relic's material; negative means "keep the model's".
@@ -51,7 +51,7 @@ struct SceneDescription {
   vec3 panorama_position{0.0f, 0.35f, 0.0f};
 };
 
-// A built-in name ("museum", "room", "gallery", "atrium", "empty", ...) or a YAML file. Throws
+// A built-in name ("museum", "room", "gallery", "atrium", "window", "empty", ...) or a YAML file. Throws
 // InputError naming the file and field for a bad file or an unknown name (listing the names).
 SceneDescription loadScene(const std::string& name_or_file);
 std::vector<std::string> builtinSceneNames();

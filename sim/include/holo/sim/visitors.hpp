@@ -37,7 +37,8 @@ std::vector<VisitorPlan> planVisitors(int count, std::uint64_t seed, const std::
 // `count` visitors who stand close to the pyramid looking at it (feet 0.45-0.6 m from the base's
 // side, i.e. 0.75-0.9 m from the axis, leaning in and out by 5 cm), one arm reaching out towards
 // it (the hand ~0.25 m from the glass), the first one carrying a bag in the other hand. Each
-// stands in front of its own face, away from the hall's furniture near the pyramid; at most 4.
+// stands in front of its own face, away from the hall's furniture near the pyramid; at most 4 (in
+// the window hall one, at face 0, between the window and the relic).
 // Their random stream is apart from planVisitors', so adding them changes no walking visitor.
 std::vector<VisitorPlan> planCloseVisitors(int count, std::uint64_t seed, const std::string& hall,
                                            VisitorModel model = VisitorModel::bodies);

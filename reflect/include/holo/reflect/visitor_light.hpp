@@ -1,0 +1,75 @@
+// Visitors in the hall's light: the visitors near the relic hide part of the hall from it (a
+// visitor between a bright window and the relic shadows it) and light it with their own radiance.
+// The static shading lights the relic's diffuse and widest lobes from the empty hall; this adds,
+// per frame, the change the visitors make to that light.
+//
+// Per frame (build): from each of eight probes at the corners of the relic's box, every occupied
+// voxel of the foreground grid is splatted into a small equirectangular map as a disc of one voxel
+// edge's angular radius, the nearest voxel winning each texel (as RoughForegroundMap): its
+// radiance and mask weight w. Over the covered texels the change of the incoming radiance,
+// dL = w (L_visitor - L_hall), L_hall the IBL seen from the probe through the hall's proxy, is
+// projected on the 9 real spherical harmonics of bands 0-2 (irradiance_sh.hpp's basis; each
+// texel its exact solid angle). Per sample (apply): the probes' coefficients interpolated
+// trilinearly at the hit point give the irradiance change dE(n) = sum_i kCosineLobe_i c_i Y_i(n)
+// (Ramamoorthi & Hanrahan's clamped-cosine convolution). The diffuse part gains
+// rho_eff dE(n), rho_eff = diffuse / E_hall(n) per channel (at most 1 / pi): the material's
+// diffuse reflectance times the share of the hall's light the relic's own visibility let through,
+// so the visitors' light is self-occluded as the hall's is. A material at least
+// kGlossyRoughnessLimit rough (no voxel walk reads the visitors for it) also gains
+// specular_scale dE(r) / pi around its reflected direction r: the cosine lobe stands for a lobe
+// that wide. A pixel never goes below zero.
+// Parallax between the probes is linear; the relic shadows the visitors' light only through the
+// visibility share above. Units: metres, linear radiance, irradiance in radiance x sr.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "holo/core/math.hpp"
+#include "holo/reflect/hit_points.hpp"
+#include "holo/reflect/prefiltered_ibl.hpp"
+#include "holo/reflect/voxel_grid.hpp"
+
+namespace holo::reflect {
+
+class VisitorLight {
+ public:
+  // Probe maps of map_width x map_width / 2 texels (even, 8..1024; throws InputError otherwise).
+  explicit VisitorLight(int map_width = 64);
+
+  // This frame's light change from the grid's visitors around `relic_bounds` (an empty grid or
+  // box: no change anywhere).
+  void build(const VoxelGrid& grid, const PrefilteredIbl& ibl, const Bounds3& relic_bounds);
+
+  // The irradiance change dE at a point (clamped into the probes' box) for a unit normal.
+  vec3 irradianceChange(const vec3& position, const vec3& normal) const;
+
+  // Adds each covered pixel's mean change over its samples to hdr (view-sized CV_32FC3 linear
+  // BGR, the frame's image so far), clamping the pixel at 0. Returns the samples changed.
+  std::uint64_t apply(const HitPointBuffer& hits, const std::vector<SplitSumShading>& shading,
+                      const PrefilteredIbl& ibl, cv::Mat& hdr) const;
+
+  // This frame's counters: voxel splats over all probes, covered texels over all probes.
+  std::uint64_t splats() const { return splats_; }
+  std::uint64_t coveredTexels() const { return covered_texels_; }
+  int mapWidth() const { return width_; }
+
+  static constexpr int kProbes = 8;
+
+ private:
+  using Coefficients = std::array<vec3, 9>;
+  Coefficients coefficientsAt(const vec3& position) const;
+
+  int width_ = 0, height_ = 0;
+  std::vector<vec3> direction_;     // per texel, unit, its centre
+  std::vector<float> solid_angle_;  // per texel, sr
+  Bounds3 box_;                     // the probes' box
+  std::array<Coefficients, kProbes> coefficients_{};
+  bool empty_ = true;
+  std::uint64_t splats_ = 0, covered_texels_ = 0;
+};
+
+}  // namespace holo::reflect

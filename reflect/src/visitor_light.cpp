@@ -1,0 +1,198 @@
+#include "holo/reflect/visitor_light.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "equirect_disc.hpp"
+#include "holo/core/equirect.hpp"
+#include "holo/core/error.hpp"
+#include "holo/core/image.hpp"
+#include "holo/reflect/effect_plan.hpp"
+#include "holo/reflect/irradiance_sh.hpp"
+
+namespace holo::reflect {
+namespace {
+
+// The hall's radiance a probe texel stands for, read at a lobe about a 64-wide texel's size.
+constexpr float kHallReadRoughness = 0.25f;
+
+vec3 probePosition(const Bounds3& box, int probe) {
+  return vec3((probe & 1) ? box.hi.x : box.lo.x, (probe & 2) ? box.hi.y : box.lo.y,
+              (probe & 4) ? box.hi.z : box.lo.z);
+}
+
+}  // namespace
+
+VisitorLight::VisitorLight(int map_width) : width_(map_width), height_(map_width / 2) {
+  if (map_width < 8 || map_width % 2 != 0 || map_width > 1024)
+    throw InputError("visitor light", "map_width", "an even number of texels in 8..1024",
+                     std::to_string(map_width));
+  const std::size_t n = std::size_t(width_) * std::size_t(height_);
+  direction_.resize(n);
+  solid_angle_.resize(n);
+  for (int y = 0; y < height_; ++y)
+    for (int x = 0; x < width_; ++x) {
+      const std::size_t t = std::size_t(y) * std::size_t(width_) + std::size_t(x);
+      direction_[t] =
+          equirect::uvToDirection({(float(x) + 0.5f) / float(width_), (float(y) + 0.5f) / float(height_)});
+      solid_angle_[t] = equirect::pixelSolidAngle(y, width_, height_);
+    }
+}
+
+void VisitorLight::build(const VoxelGrid& grid, const PrefilteredIbl& ibl, const Bounds3& relic_bounds) {
+  coefficients_ = {};
+  splats_ = 0;
+  covered_texels_ = 0;
+  empty_ = grid.empty() || relic_bounds.empty();
+  if (empty_) return;
+  box_ = relic_bounds;
+  // The occupied voxels' centres and samples, gathered once for the eight probes.
+  struct Voxel {
+    vec3 centre;
+    vec3 premultiplied;  // radiance * w
+    float weight;        // w
+  };
+  std::vector<Voxel> voxels;
+  voxels.reserve(grid.occupiedCount());
+  const glm::ivec3 bricks = grid.brickDims();
+  const int b = grid.brickSize();
+  for (int bz = 0; bz < bricks.z; ++bz)
+    for (int by = 0; by < bricks.y; ++by)
+      for (int bx = 0; bx < bricks.x; ++bx) {
+        if (grid.brickCount({bx, by, bz}) == 0) continue;
+        for (int z = bz * b; z < (bz + 1) * b; ++z)
+          for (int y = by * b; y < (by + 1) * b; ++y)
+            for (int x = bx * b; x < (bx + 1) * b; ++x) {
+              const glm::ivec3 v(x, y, z);
+              if (!grid.occupied(v)) continue;
+              const VoxelSample& s = grid.sample(grid.sampleIndex(v));
+              if (!isFinite(s.radiance) || !std::isfinite(s.weight)) continue;  // must not poison the sums
+              const float w = std::clamp(s.weight, 0.0f, 1.0f);
+              if (!(w > 0.0f)) continue;
+              const Bounds3 box = grid.voxelBounds(v);
+              voxels.push_back({0.5f * (box.lo + box.hi), glm::max(s.radiance, vec3(0.0f)) * w, w});
+            }
+      }
+  const std::size_t n = direction_.size();
+  std::atomic<std::uint64_t> splats{0}, covered{0};
+  tbb::parallel_for(0, kProbes, [&](int probe) {
+    const vec3 origin = probePosition(box_, probe);
+    std::vector<float> depth(n, std::numeric_limits<float>::infinity());
+    std::vector<std::int32_t> nearest(n, -1);
+    std::uint64_t local_splats = 0;
+    for (std::size_t k = 0; k < voxels.size(); ++k) {
+      const vec3 d = voxels[k].centre - origin;
+      const float dist = glm::length(d);
+      if (!(dist > grid.voxelSize())) continue;  // the probe inside a visitor: no direction to it
+      // A disc of one voxel edge's angular radius: neighbouring voxels close up.
+      forEachDiscPixel(d / dist, std::atan(grid.voxelSize() / dist), width_, height_, 0.0f,
+                       [&](int tx, int ty) {
+                         const std::size_t t = std::size_t(ty) * std::size_t(width_) + std::size_t(tx);
+                         ++local_splats;
+                         if (dist >= depth[t]) return;
+                         depth[t] = dist;
+                         nearest[t] = std::int32_t(k);
+                       });
+    }
+    Coefficients c{};
+    std::uint64_t local_covered = 0;
+    for (std::size_t t = 0; t < n; ++t) {
+      if (nearest[t] < 0) continue;
+      ++local_covered;
+      const Voxel& v = voxels[std::size_t(nearest[t])];
+      const vec3 hall = ibl.seenFrom(origin, direction_[t], kHallReadRoughness);
+      const vec3 change = (v.premultiplied - v.weight * hall) * solid_angle_[t];
+      const auto y = IrradianceSH::basis(direction_[t]);
+      for (int i = 0; i < 9; ++i) c[std::size_t(i)] += y[std::size_t(i)] * change;
+    }
+    coefficients_[std::size_t(probe)] = c;
+    splats += local_splats;
+    covered += local_covered;
+  });
+  splats_ = splats;
+  covered_texels_ = covered;
+}
+
+VisitorLight::Coefficients VisitorLight::coefficientsAt(const vec3& position) const {
+  const vec3 extent = box_.hi - box_.lo;
+  vec3 f(0.5f);
+  for (int a = 0; a < 3; ++a)
+    if (extent[a] > 0.0f) f[a] = std::clamp((position[a] - box_.lo[a]) / extent[a], 0.0f, 1.0f);
+  Coefficients c{};
+  for (int probe = 0; probe < kProbes; ++probe) {
+    const float w = ((probe & 1) ? f.x : 1.0f - f.x) * ((probe & 2) ? f.y : 1.0f - f.y) *
+                    ((probe & 4) ? f.z : 1.0f - f.z);
+    if (w == 0.0f) continue;
+    for (std::size_t i = 0; i < 9; ++i) c[i] += w * coefficients_[std::size_t(probe)][i];
+  }
+  return c;
+}
+
+namespace {
+
+vec3 convolve(const std::array<vec3, 9>& c, const vec3& normal) {
+  const auto y = IrradianceSH::basis(normal);
+  vec3 e(0.0f);
+  for (std::size_t i = 0; i < 9; ++i) e += IrradianceSH::kCosineLobe[i] * y[i] * c[i];
+  return e;
+}
+
+}  // namespace
+
+vec3 VisitorLight::irradianceChange(const vec3& position, const vec3& normal) const {
+  if (empty_) return vec3(0.0f);
+  return convolve(coefficientsAt(position), normal);
+}
+
+std::uint64_t VisitorLight::apply(const HitPointBuffer& hits, const std::vector<SplitSumShading>& shading,
+                                  const PrefilteredIbl& ibl, cv::Mat& hdr) const {
+  if (empty_) return 0;
+  const std::size_t w = std::size_t(hits.width);
+  // One pixel: the mean change over its samples; the probes' light changes over metres, so one
+  // interpolation serves all of them.
+  const auto pixelChange = [&](std::size_t p, std::uint64_t& changed) {
+    const std::size_t first = hits.firstSample(p);
+    const int count = hits.sampleCount(p);
+    vec3 sum(0.0f);
+    Coefficients c{};
+    bool interpolated = false;
+    for (std::size_t i = first; i < first + std::size_t(count); ++i) {
+      if (!hits.valid[i]) continue;
+      const HitPoint& hp = hits.hits[i];
+      const SplitSumShading& sh = shading[i];
+      if (!interpolated) c = coefficientsAt(hp.position);
+      interpolated = true;
+      // The diffuse reflectance times the visibility's share of the hall's light, per channel.
+      const vec3 hall = ibl.irradiance(hp.normal);
+      vec3 rho(0.0f);
+      for (int ch = 0; ch < 3; ++ch)
+        if (hall[ch] > 1e-6f) rho[ch] = std::clamp(sh.diffuse[ch] / hall[ch], 0.0f, 1.0f / kPi);
+      vec3 change = rho * convolve(c, hp.normal);
+      if (hp.material.roughness >= kGlossyRoughnessLimit)
+        change += sh.specular_scale * convolve(c, hp.reflected) / kPi;
+      sum += change;
+      ++changed;
+    }
+    return sum / float(count);
+  };
+  std::atomic<std::uint64_t> changed{0};
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      std::uint64_t local = 0;
+                      for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                        const std::size_t p = hits.covered[k];
+                        const int x = int(p % w), y = int(p / w);
+                        setRgb(hdr, x, y, glm::max(rgbAt(hdr, x, y) + pixelChange(p, local), vec3(0.0f)));
+                      }
+                      changed += local;
+                    });
+  return changed;
+}
+
+}  // namespace holo::reflect
