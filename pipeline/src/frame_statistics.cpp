@@ -56,13 +56,17 @@ void addPassTimes(const reflect::FrameResult& result, FrameReport& report) {
   for (const reflect::ViewImages& view : result.views)
     for (const reflect::PassTiming& t : view.timings) report.pass_ms[std::size_t(t.pass)] += t.ms;
   report.times.foreground += passMs(result.frame_timings, {reflect::Pass::VoxelGrid});
-  report.times.dynamic += passMs(result.frame_timings, {reflect::Pass::Pyramids});
+  report.times.dynamic +=
+      passMs(result.frame_timings,
+             {reflect::Pass::Pyramids, reflect::Pass::RoughForegroundMap, reflect::Pass::VisitorLight});
+  report.times.statics += passMs(result.frame_timings, {reflect::Pass::SelfOcclusion});
   for (const reflect::ViewImages& view : result.views) {
     report.times.dynamic +=
         passMs(view.timings, {reflect::Pass::ForegroundWalk, reflect::Pass::RefractedForeground});
-    report.times.statics += passMs(view.timings, {reflect::Pass::HitPoints, reflect::Pass::StaticReflections,
-                                                  reflect::Pass::AxisAlignedFilter, reflect::Pass::Refraction,
-                                                  reflect::Pass::Clearcoat});
+    report.times.statics +=
+        passMs(view.timings,
+               {reflect::Pass::HitPoints, reflect::Pass::StaticReflections, reflect::Pass::AxisAlignedFilter,
+                reflect::Pass::Refraction, reflect::Pass::Clearcoat, reflect::Pass::ProgressiveRefinement});
     report.times.composition += passMs(view.timings, {reflect::Pass::Composition, reflect::Pass::ToneMap});
   }
 }

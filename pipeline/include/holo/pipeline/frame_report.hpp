@@ -24,8 +24,12 @@ inline constexpr std::size_t kPassCount = static_cast<std::size_t>(reflect::Pass
 struct StageTimes {
   double acquisition = 0;  // waiting for camera frames (their grabbing overlaps processing)
   double foreground = 0;   // masks, flow, temporal filter, back-projection, voxel grid
-  double dynamic = 0;      // Kawase pyramids and voxel walk (reflected and transmitted rays)
-  double statics = 0;      // hit points, prefiltered IBL, refraction through the relic, clearcoat
+  // Kawase pyramids, the rough foreground map, the visitors' light and the voxel walk (reflected
+  // and transmitted rays)
+  double dynamic = 0;
+  // hit points, self-occlusion, prefiltered IBL and its filtered lobe, refraction through the
+  // relic, clearcoat, progressive refinement
+  double statics = 0;
   double composition = 0;  // composition, tone mapping
   double display = 0;      // eye tracking, quad layout, presentation
   double total = 0;        // the frame's wall time on the loop's thread (the frame period)
