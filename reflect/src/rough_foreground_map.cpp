@@ -56,36 +56,23 @@ void RoughForegroundMap::build(const VoxelGrid& grid, const vec3& centre) {
   std::fill(depth_.begin(), depth_.end(), std::numeric_limits<float>::infinity());
   covered_.clear();
   if (!grid.empty()) {
-    // Occupied bricks only.
-    const glm::ivec3 bricks = grid.brickDims();
-    const int b = grid.brickSize();
-    for (int bz = 0; bz < bricks.z; ++bz)
-      for (int by = 0; by < bricks.y; ++by)
-        for (int bx = 0; bx < bricks.x; ++bx) {
-          if (grid.brickCount({bx, by, bz}) == 0) continue;
-          for (int z = bz * b; z < (bz + 1) * b; ++z)
-            for (int y = by * b; y < (by + 1) * b; ++y)
-              for (int x = bx * b; x < (bx + 1) * b; ++x) {
-                const glm::ivec3 v(x, y, z);
-                if (!grid.occupied(v)) continue;
-                const Bounds3 box = grid.voxelBounds(v);
-                const vec3 d = 0.5f * (box.lo + box.hi) - centre;
-                const float dist = glm::length(d);
-                if (!(dist > 1e-6f)) continue;
-                const VoxelSample& s = grid.sample(grid.sampleIndex(v));
-                if (!isFinite(s.radiance) || !std::isfinite(s.weight)) continue;  // must not poison the map
-                const float weight = std::clamp(s.weight, 0.0f, 1.0f);
-                const Texel texel{glm::max(s.radiance, vec3(0.0f)) * weight, weight};
-                // A disc of one voxel edge's angular radius: neighbouring voxels close up.
-                forEachDiscPixel(
-                    d / dist, std::atan(grid.voxelSize() / dist), width_, height_, 0.0f, [&](int tx, int ty) {
-                      const std::size_t t = std::size_t(ty) * std::size_t(width_) + std::size_t(tx);
-                      if (dist >= depth_[t]) return;
-                      depth_[t] = dist;
-                      splat_[t] = texel;
-                    });
-              }
-        }
+    grid.forEachOccupied([&](const glm::ivec3& v, const VoxelSample& s) {
+      const Bounds3 box = grid.voxelBounds(v);
+      const vec3 d = 0.5f * (box.lo + box.hi) - centre;
+      const float dist = glm::length(d);
+      if (!(dist > 1e-6f)) return;
+      if (!isFinite(s.radiance) || !std::isfinite(s.weight)) return;  // must not poison the map
+      const float weight = std::clamp(s.weight, 0.0f, 1.0f);
+      const Texel texel{glm::max(s.radiance, vec3(0.0f)) * weight, weight};
+      // A disc of one voxel edge's angular radius: neighbouring voxels close up.
+      forEachDiscPixel(d / dist, std::atan(grid.voxelSize() / dist), width_, height_, 0.0f,
+                       [&](int tx, int ty) {
+                         const std::size_t t = std::size_t(ty) * std::size_t(width_) + std::size_t(tx);
+                         if (dist >= depth_[t]) return;
+                         depth_[t] = dist;
+                         splat_[t] = texel;
+                       });
+    });
     for (std::size_t t = 0; t < splat_.size(); ++t)
       if (splat_[t].weight > 0.0f) covered_.push_back(std::uint32_t(t));
   }

@@ -60,25 +60,13 @@ void VisitorLight::build(const VoxelGrid& grid, const PrefilteredIbl& ibl, const
   };
   std::vector<Voxel> voxels;
   voxels.reserve(grid.occupiedCount());
-  const glm::ivec3 bricks = grid.brickDims();
-  const int b = grid.brickSize();
-  for (int bz = 0; bz < bricks.z; ++bz)
-    for (int by = 0; by < bricks.y; ++by)
-      for (int bx = 0; bx < bricks.x; ++bx) {
-        if (grid.brickCount({bx, by, bz}) == 0) continue;
-        for (int z = bz * b; z < (bz + 1) * b; ++z)
-          for (int y = by * b; y < (by + 1) * b; ++y)
-            for (int x = bx * b; x < (bx + 1) * b; ++x) {
-              const glm::ivec3 v(x, y, z);
-              if (!grid.occupied(v)) continue;
-              const VoxelSample& s = grid.sample(grid.sampleIndex(v));
-              if (!isFinite(s.radiance) || !std::isfinite(s.weight)) continue;  // must not poison the sums
-              const float w = std::clamp(s.weight, 0.0f, 1.0f);
-              if (!(w > 0.0f)) continue;
-              const Bounds3 box = grid.voxelBounds(v);
-              voxels.push_back({0.5f * (box.lo + box.hi), glm::max(s.radiance, vec3(0.0f)) * w, w});
-            }
-      }
+  grid.forEachOccupied([&](const glm::ivec3& v, const VoxelSample& s) {
+    if (!isFinite(s.radiance) || !std::isfinite(s.weight)) return;  // must not poison the sums
+    const float w = std::clamp(s.weight, 0.0f, 1.0f);
+    if (!(w > 0.0f)) return;
+    const Bounds3 box = grid.voxelBounds(v);
+    voxels.push_back({0.5f * (box.lo + box.hi), glm::max(s.radiance, vec3(0.0f)) * w, w});
+  });
   const std::size_t n = direction_.size();
   std::atomic<std::uint64_t> splats{0}, covered{0};
   tbb::parallel_for(0, kProbes, [&](int probe) {

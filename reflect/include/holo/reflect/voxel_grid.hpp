@@ -97,6 +97,23 @@ class VoxelGrid {
   Bounds3 voxelBounds(const glm::ivec3& v) const;
 
   std::size_t occupiedCount() const { return samples_.size(); }
+  // Calls fn(v, sample) for every occupied voxel v, skipping empty bricks, in a fixed order (bricks
+  // z, y, x, then the voxels within each brick z, y, x), so sums over it are deterministic.
+  template <class Fn>
+  void forEachOccupied(Fn&& fn) const {
+    const int b = settings_.brick_size;
+    for (int bz = 0; bz < brick_dims_.z; ++bz)
+      for (int by = 0; by < brick_dims_.y; ++by)
+        for (int bx = 0; bx < brick_dims_.x; ++bx) {
+          if (brickCount({bx, by, bz}) == 0) continue;
+          for (int z = bz * b; z < (bz + 1) * b; ++z)
+            for (int y = by * b; y < (by + 1) * b; ++y)
+              for (int x = bx * b; x < (bx + 1) * b; ++x) {
+                const glm::ivec3 v(x, y, z);
+                if (occupied(v)) fn(v, samples_[std::size_t(sampleIndex(v))]);
+              }
+        }
+  }
   std::size_t droppedPoints() const { return dropped_; }
   bool empty() const { return samples_.empty(); }
   // Occupied voxel range: [occupiedLo, occupiedHi) in voxel coordinates; lo >= hi when empty.
