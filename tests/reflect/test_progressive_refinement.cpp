@@ -125,10 +125,11 @@ TEST(ProgressiveRefinement, StillViewConvergesMonotonicallyWithinTwoSecondsOfFra
   for (double e : error) std::printf(" %.4f", e);
   std::printf("\n");
   // Monotonic within the sampling's own noise at this size: a frame never rises more than 15%
-  // above the best error so far (13% measured with the lobe weighted by the hall's light), and every 8 frames the error is lower (strictly frame by frame, a few hundred
-  // pixels' errors rise by a few percent now and then; docs/reflect.md has the full-size curve).
-  // Down to 1% only: below it the comparison measures the converged image's own error (the curve
-  // levels off at about 0.6% from frame 43 on).
+  // above the best error so far (13% measured with the lobe weighted by the hall's light), and
+  // every 8 frames the error is lower (strictly frame by frame, a few hundred pixels' errors rise by
+  // a few percent now and then; docs/reflect.md has the full-size curve). Down to 1% only: below it
+  // the comparison measures the converged image's own error (the curve levels off at about 0.6%
+  // from frame 43 on).
   double best = error.front(), worst_rise = 0;
   for (std::size_t f = 1; f < error.size() && error[f - 1] > 0.01; ++f) {
     worst_rise = std::max(worst_rise, error[f] / best - 1.0);
