@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -12,6 +13,7 @@
 #include "holo/core/equirect.hpp"
 #include "holo/core/error.hpp"
 #include "holo/reflect/lobe_integral.hpp"
+#include "sphere_texels.hpp"
 
 namespace holo::reflect {
 
@@ -26,16 +28,10 @@ RoughForegroundMap::RoughForegroundMap(int width, std::vector<float> roughness)
     r = std::isfinite(r) ? std::clamp(r, 0.05f, 1.0f) : 1.0f;
     k1_.push_back(ggxLobeK1(r * r));
   }
-  const std::size_t n = std::size_t(width_) * std::size_t(height_);
-  direction_.resize(n);
-  solid_angle_.resize(n);
-  for (int y = 0; y < height_; ++y)
-    for (int x = 0; x < width_; ++x) {
-      const std::size_t t = std::size_t(y) * std::size_t(width_) + std::size_t(x);
-      direction_[t] =
-          equirect::uvToDirection({(float(x) + 0.5f) / float(width_), (float(y) + 0.5f) / float(height_)});
-      solid_angle_[t] = equirect::pixelSolidAngle(y, width_, height_);
-    }
+  SphereTexels texels = sphereTexels(width_, height_);
+  direction_ = std::move(texels.direction);
+  solid_angle_ = std::move(texels.solid_angle);
+  const std::size_t n = direction_.size();
   for (const float k1 : k1_) {
     std::vector<float> norm(n, 0.0f);
     tbb::parallel_for(std::size_t(0), n, [&](std::size_t o) {

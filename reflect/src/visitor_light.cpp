@@ -5,16 +5,17 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "equirect_disc.hpp"
-#include "holo/core/equirect.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/image.hpp"
 #include "holo/reflect/effect_plan.hpp"
 #include "holo/reflect/irradiance_sh.hpp"
+#include "sphere_texels.hpp"
 
 namespace holo::reflect {
 namespace {
@@ -33,16 +34,9 @@ VisitorLight::VisitorLight(int map_width) : width_(map_width), height_(map_width
   if (map_width < 8 || map_width % 2 != 0 || map_width > 1024)
     throw InputError("visitor light", "map_width", "an even number of texels in 8..1024",
                      std::to_string(map_width));
-  const std::size_t n = std::size_t(width_) * std::size_t(height_);
-  direction_.resize(n);
-  solid_angle_.resize(n);
-  for (int y = 0; y < height_; ++y)
-    for (int x = 0; x < width_; ++x) {
-      const std::size_t t = std::size_t(y) * std::size_t(width_) + std::size_t(x);
-      direction_[t] =
-          equirect::uvToDirection({(float(x) + 0.5f) / float(width_), (float(y) + 0.5f) / float(height_)});
-      solid_angle_[t] = equirect::pixelSolidAngle(y, width_, height_);
-    }
+  SphereTexels texels = sphereTexels(width_, height_);
+  direction_ = std::move(texels.direction);
+  solid_angle_ = std::move(texels.solid_angle);
 }
 
 void VisitorLight::build(const VoxelGrid& grid, const PrefilteredIbl& ibl, const Bounds3& relic_bounds) {
