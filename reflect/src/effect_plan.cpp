@@ -113,17 +113,15 @@ EffectPlan planEffects(const EffectInputs& in) {
   if (!in.self_occlusion_reason.empty()) plan.material_reason += ", " + in.self_occlusion_reason;
   if (!in.progressive_refinement_reason.empty())
     plan.material_reason += ", " + in.progressive_refinement_reason;
-  if (!in.visitor_light_enabled)
-    plan.visitor_light_reason = "visitors' light off";
-  else if (!in.relic_lit_diffusely)
-    plan.visitor_light_reason = "no diffuse or wide-lobed relic material: no visitors' light";
-  else if (in.foreground_points == 0 || in.foreground_bounds.empty())
-    plan.visitor_light_reason = "no visitor to light the relic";
-  else if (!in.visitor_within_light_distance)
-    plan.visitor_light_reason = "no visitor near enough to light the relic";
-  else
-    plan.visitor_light_reason = "visitors near the relic's diffuse light";
-  const bool visitor_light = plan.visitor_light_reason == "visitors near the relic's diffuse light";
+  const bool visitor_present = in.foreground_points > 0 && !in.foreground_bounds.empty();
+  const bool visitor_light = in.visitor_light_enabled && in.relic_lit_diffusely && visitor_present &&
+                             in.visitor_within_light_distance;
+  plan.visitor_light_reason = !in.visitor_light_enabled ? "visitors' light off"
+                              : !in.relic_lit_diffusely
+                                  ? "no diffuse or wide-lobed relic material: no visitors' light"
+                              : !visitor_present ? "no visitor to light the relic"
+                              : !visitor_light   ? "no visitor near enough to light the relic"
+                                                 : "visitors near the relic's diffuse light";
   if (!in.lobe_filter_reason.empty()) plan.material_reason += ", " + in.lobe_filter_reason;
   plan.interreflection = in.interreflection && !in.relic_convex;
   plan.material_reason += !in.interreflection ? ", interreflection off"

@@ -92,18 +92,18 @@ FrameRenderer::FrameRenderer(const RenderScene& scene, const PrefilteredIbl& ibl
     if (rough.size() > 8) rough.resize(8);  // the map's limit; rougher ones read the nearest
     rough_map_ = std::make_unique<RoughForegroundMap>(settings_.foreground_map_width, rough);
   }
-  if (settings_.refinement_sets <= 1)
-    refinement_reason_ = "progressive refinement off";
-  else if (!settings_.relic_interreflection || !settings_.evaluation.rough_interreflection_interleaved ||
-           !StaticShading(scene_, ibl_, settings_, rough_map_.get()).tracesLobes())
-    refinement_reason_ = "no rough lobe sampled: no progressive refinement";
-  else if (relic_transmissive_ || relic_clearcoat_)
-    refinement_reason_ = "layered relic: no progressive refinement";
-  else
-    refinement_reason_ = "rough lobes refined up to " + std::to_string(settings_.refinement_sets) + " sets";
-  refines_ = refinement_reason_.starts_with("rough lobes refined");
-  const bool samples_lobe = StaticShading(scene_, ibl_, settings_, rough_map_.get()).samplesLobe() &&
-                            settings_.evaluation.rough_interreflection_interleaved;
+  // The rough lobe's strata are the static shading's one Monte Carlo term: the refinement and the
+  // filter work on them only where some material samples them, interleaved over pixels.
+  const bool samples_lobe = settings_.relic_interreflection &&
+                            settings_.evaluation.rough_interreflection_interleaved &&
+                            StaticShading(scene_, ibl_, settings_, rough_map_.get()).tracesLobes();
+  const bool layered = relic_transmissive_ || relic_clearcoat_;
+  refines_ = settings_.refinement_sets > 1 && samples_lobe && !layered;
+  refinement_reason_ =
+      settings_.refinement_sets <= 1 ? "progressive refinement off"
+      : !samples_lobe                ? "no rough lobe sampled: no progressive refinement"
+      : layered                      ? "layered relic: no progressive refinement"
+                : "rough lobes refined up to " + std::to_string(settings_.refinement_sets) + " sets";
   lobe_filter_ = samples_lobe && settings_.evaluation.axis_aligned_filter;
   lobe_filter_reason_ = !samples_lobe  ? "no sampled rough lobe: no filter"
                         : lobe_filter_ ? "axis-aligned filter of the rough lobe"

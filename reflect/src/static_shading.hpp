@@ -83,8 +83,6 @@ class StaticShading {
                      std::vector<SplitSumShading>& shading, std::vector<WalkRay>& walk_rays,
                      std::vector<PixelBounce>& bounces, cv::Mat& hdr, cv::Mat& coverage,
                      const AxisAlignedFilter* filter = nullptr, FilterCounts* filter_counts = nullptr) const;
-  // Some relic material traces its lobe's strata for the interreflection (the term a filter has to work on).
-  bool samplesLobe() const { return lobe_materials_ && settings_.relic_interreflection; }
 
   // Where a sample (pixel index, sample within the pixel) takes its lobe's strata: an offset in
   // [0, 1)^2 within each stratum; shade() takes the centres (0.5, 0.5).
