@@ -1,9 +1,13 @@
 // `holopyramid run`: the product's main job. The live pipeline on the cameras, relic and panorama
 // of a configuration file (--config with capture: and exhibit: sections, installation.hpp) or on a
 // scene of the simulated museum, on the monitors (GLFW) or headless (EGL) into PNG frames, an MP4
-// and a timing table.
+// and a timing table. With --ar-camera N, the live AR check view of camera N instead
+// (pipeline/ar_check_view.hpp): in a window, or headless into ar_cameraN.mp4, PNG frames and its
+// frame rate.
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -16,7 +20,10 @@
 #include "holo/core/log.hpp"
 #include "holo/core/progress.hpp"
 #include "holo/display/display_config.hpp"
+#include "holo/display/frame_output.hpp"
+#include "holo/display/quad_view_presenter.hpp"
 #include "holo/eval/frame_timing_report.hpp"
+#include "holo/pipeline/ar_check_view.hpp"
 #include "holo/pipeline/calibrated_display.hpp"
 #include "holo/pipeline/frame_loop.hpp"
 #include "holo/simulated/museum_installation.hpp"
@@ -38,10 +45,93 @@ struct RunOptions {
   std::string out = "out/run";
   std::string json;
   int png_every = 10;
+  int ar_camera = -1;
+  int ar_spp = 1;
+  int ar_max_samples = 1024;
   RunOptions() { loop.view_size = kViewSizeFromScreen; }
 };
 
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2),
+                   values.end());
+  return values[values.size() / 2];
+}
+
+// The live AR check view of camera options.ar_camera: a window (the composite on the first
+// output, not mirrored) or headless ar_cameraN.mp4 and PNGs; per frame the time to grab the
+// camera's frame and the time to composite it, their medians and the composite's frame rate.
+int runArCamera(RunOptions options) {
+  if (!options.config_file.empty()) options.loop.config = options.config_file;
+  Installation installation = simulated::installationFor(options.loop);
+  ar::LiveCompositeSettings settings;
+  settings.view.composite.spp = options.ar_spp;
+  settings.max_samples = options.ar_max_samples;
+  ArLiveView view(installation, options.ar_camera, settings);
+  const CameraModel& camera = view.camera();
+  const cv::Size size(camera.width(), camera.height());
+  const std::filesystem::path out(options.out);
+  const std::string stem = "ar_camera" + std::to_string(options.ar_camera);
+  std::unique_ptr<display::VideoFileWriter> video;
+  std::unique_ptr<display::QuadViewPresenter> window;
+  if (options.headless) {
+    std::filesystem::create_directories(out);
+    video = std::make_unique<display::VideoFileWriter>(out / (stem + ".mp4"), size, installation.fps);
+  } else {
+    display::DisplayConfig config;
+    config.layout = display::LayoutKind::Monitors;
+    config.fullscreen = false;
+    config.output_size = size;
+    config.faces[0].mirror = false;
+    window = display::makeWindowPresenter(config);
+  }
+  const int frames = options.frames > 0 ? options.frames : (options.headless ? 30 : 0);
+  std::vector<double> grab_ms, composite_ms;
+  int resets = 0, last_samples = 0, relic_pixels = 0;
+  using Clock = std::chrono::steady_clock;
+  const auto ms = [](Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); };
+  for (int n = 0; frames == 0 || n < frames; ++n) {
+    const auto t0 = Clock::now();
+    std::optional<ar::LiveCompositeFrame> frame = view.step();
+    if (!frame) break;
+    const double total = ms(Clock::now() - t0);
+    composite_ms.push_back(frame->ms);
+    grab_ms.push_back(total - frame->ms);
+    resets += frame->reset ? 1 : 0;
+    last_samples = frame->samples;
+    relic_pixels = frame->relic_pixels;
+    if (video) {
+      video->write(frame->image);
+      if (options.png_every > 0 && n % options.png_every == 0)
+        display::writePngAtomically(out / fmt::format("{}_{:05d}.png", stem, n), frame->image);
+    } else {
+      window->present({frame->image, cv::Mat(), cv::Mat(), cv::Mat()});
+      if (!window->isOpen()) break;
+    }
+  }
+  if (video) video->finish();
+  if (window) window->finish();
+  const double composite = median(composite_ms);
+  const std::string report = fmt::format(
+      "ar camera: {}\ninstallation: {}\nsize: {}x{}\nframes: {}\nsamples per frame: {}\n"
+      "accumulations started: {}\nsamples at the end: {}\nrelic pixels: {}{}\n"
+      "composite ms (median): {:.1f}\ncomposite fps: {:.1f}\ngrab ms (median, {}): {:.1f}\n",
+      options.ar_camera, installation.name, size.width, size.height, composite_ms.size(), options.ar_spp,
+      resets, last_samples, relic_pixels,
+      relic_pixels == 0 ? " (the relic is outside this camera's view)" : "", composite,
+      composite > 0.0 ? 1000.0 / composite : 0.0,
+      installation.simulated_cameras ? "rendering the simulated camera" : "the camera's delivery",
+      median(grab_ms));
+  std::cout << report;
+  if (options.headless) {
+    writeFileAtomically(out / (stem + ".txt"), report);
+    std::cout << fmt::format("wrote {} ({}.mp4, {}_*.png, {}.txt)\n", out.string(), stem, stem, stem);
+  }
+  return 0;
+}
+
 int runPipeline(RunOptions options) {
+  if (options.ar_camera != -1) return runArCamera(std::move(options));
   setAntiAliasing(options.loop.tracer, reflect::parseAntiAliasing(options.aa, "--aa"));
   std::optional<ConfigNode> config;
   if (!options.config_file.empty()) config = ConfigNode::loadFile(options.config_file);
@@ -150,6 +240,17 @@ HOLO_REGISTER_COMMAND(Command{
       addPanoramaAtInfinityFlag(sub, options->loop.panorama_at_infinity);
       sub.add_flag("!--no-overlap", options->loop.overlap,
                    "Compute each frame's foreground after the previous frame instead of during it");
+      sub.add_option("--ar-camera", options->ar_camera,
+                     "The live AR check view of camera N (the rig's, then the check cameras; the simulated "
+                     "museum's check camera is 4) instead of the pyramid: the relic composited over its "
+                     "image by delta path tracing, refined while still (headless: --out/ar_cameraN.mp4)");
+      sub.add_option("--ar-spp", options->ar_spp, "--ar-camera: samples per pixel each frame adds")
+          ->capture_default_str()
+          ->check(CLI::Range(1, 1 << 16));
+      sub.add_option("--ar-max-samples", options->ar_max_samples,
+                     "--ar-camera: samples per pixel a still view accumulates before it stops tracing")
+          ->capture_default_str()
+          ->check(CLI::Range(1, 1 << 20));
       sub.add_option("--json", options->json, "Also write the timing report (medians, per frame) here");
       return [options] { return runPipeline(*options); };
     },

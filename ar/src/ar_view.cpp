@@ -89,7 +89,7 @@ ArView renderArView(int index, const CameraModel& camera, const RgbdFrame& frame
   const CompositeImage composite = renderComposite(scene, camera, real.background, settings.composite);
   out.radiance = filterChange(composite.radiance, real.background, composite.relic_coverage, frame.depth,
                               settings.filter);
-  out.image = linearToSrgb8(composite.radiance, exposure);
+  out.image = linearToSrgb8(out.radiance, exposure);
   out.relic_pixels = cv::countNonZero(composite.relic_coverage > 0.0f);
   out.rays = composite.rays;
   return out;

@@ -305,7 +305,7 @@ struct Museum::Impl {
   std::vector<VisitorPlan> plans;
   std::vector<CameraModel> cameras;
   RayScene hall_scene;
-  std::vector<vec3> plane_directions;  // z = 1 directions per pixel, shared by the four cameras
+  std::vector<vec3> plane_directions;  // z = 1 directions per pixel, shared by the cameras
 };
 
 Museum::Museum(SceneDescription description) : impl_(std::make_unique<Impl>()) {
@@ -334,6 +334,7 @@ Museum::Museum(SceneDescription description) : impl_(std::make_unique<Impl>()) {
   const Intrinsics K =
       Intrinsics::fromFov(c.width, c.height, c.hfov_deg * kPi / 180.0f, c.vfov_deg * kPi / 180.0f);
   for (int f = 0; f < kFaceCount; ++f) m.cameras.emplace_back(K, cameraPose(f, c.tilt_deg));
+  m.cameras.emplace_back(K, lookAtCameraToWorld(kCheckCameraEye, kCheckCameraTarget));
   m.plane_directions = m.cameras.front().planeDirectionTable();
   for (const auto& mesh : m.hall.meshes) m.hall_scene.addMesh(mesh);
   m.hall_scene.commit();

@@ -73,6 +73,9 @@ pipeline::Installation museumInstallation(const std::string& scene, bool paced, 
     options.camera_id = i;
     installation.capture_options.push_back(options);
   }
+  installation.check_sources.push_back(std::make_unique<SimulatedSource>(museum, sim::Museum::kCheckCamera,
+                                                                         SimulationOptions{.paced = paced}));
+  installation.check_cameras.push_back(museum->camera(sim::Museum::kCheckCamera));
   installation.simulated_cameras = true;
   installation.camera_exposure = museum->description().camera.exposure;
   installation.fps = museum->description().camera.fps;

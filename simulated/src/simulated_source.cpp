@@ -15,17 +15,29 @@ using capture::cameraPowered;
 using capture::GrabResult;
 using capture::GrabStatus;
 
+namespace {
+
+// The power switches are the rig's; the check camera has none.
+bool powered(int camera) {
+  return camera == sim::Museum::kCheckCamera || cameraPowered(camera);
+}
+
+}  // namespace
+
 SimulatedSource::SimulatedSource(std::shared_ptr<const sim::Museum> museum, int camera,
                                  SimulationOptions options)
     : museum_(std::move(museum)), camera_(camera), options_(options), next_frame_(options.first_frame) {
   if (!museum_) throw InputError("", "museum", "a simulated museum");
-  if (camera_ < 0 || camera_ >= museum_->cameraCount())
+  if (camera_ < 0 || (camera_ >= museum_->cameraCount() && camera_ != sim::Museum::kCheckCamera))
     throw InputError(museum_->description().source, "camera",
-                     "0.." + std::to_string(museum_->cameraCount() - 1), std::to_string(camera_));
+                     "0.." + std::to_string(museum_->cameraCount() - 1) + " or the check camera " +
+                         std::to_string(sim::Museum::kCheckCamera),
+                     std::to_string(camera_));
   if (options_.first_frame < 0) throw InputError(museum_->description().source, "first_frame", ">= 0");
 }
 
 std::string SimulatedSource::name() const {
+  if (camera_ == sim::Museum::kCheckCamera) return "sim:" + museum_->description().name + "/check";
   return "sim:" + museum_->description().name + "/cam" + std::to_string(camera_);
 }
 
@@ -34,7 +46,7 @@ std::string SimulatedSource::serial() const {
 }
 
 void SimulatedSource::open() {
-  if (!cameraPowered(camera_)) throw Error(name() + ": switched off (injected fault)");
+  if (!powered(camera_)) throw Error(name() + ": switched off (injected fault)");
 }
 
 void SimulatedSource::start() {
@@ -43,7 +55,7 @@ void SimulatedSource::start() {
 }
 
 GrabResult SimulatedSource::grab(Nanoseconds timeout) {
-  if (!cameraPowered(camera_)) {
+  if (!powered(camera_)) {
     std::this_thread::sleep_for(timeout);
     return {GrabStatus::Timeout, {}, "switched off (injected fault)"};
   }

@@ -74,6 +74,13 @@ struct Installation {
   std::vector<std::unique_ptr<capture::CameraSource>> sources;
   std::vector<CameraModel> cameras;
   std::vector<capture::CaptureOptions> capture_options;
+  // Check cameras: calibrated cameras that see the relic's place on the pyramid (a camera on a
+  // tripod in the hall; the simulated museum's sim::Museum::kCheckCamera), for the AR check view
+  // only (ar_check_view.hpp): the frame loop reads none of them. AR camera indices number the rig's
+  // cameras first, then these (cameras.size() + k). Their frames are used as delivered (no depth
+  // correction).
+  std::vector<std::unique_ptr<capture::CameraSource>> check_sources;
+  std::vector<CameraModel> check_cameras;
   // Every camera is simulated: rendering their frames is part of acquisition here, a cost no real
   // installation pays (the timing table shows it apart from the appliance's stages).
   bool simulated_cameras = false;

@@ -74,7 +74,16 @@ class Museum {
   Museum& operator=(Museum&&) noexcept;
 
   const SceneDescription& description() const;
+  // The rig's cameras, 0..kFaceCount-1.
   int cameraCount() const { return kFaceCount; }
+  // The check camera (index kCheckCamera): a camera of the rig's intrinsics on a tripod in the
+  // hall, behind face 0 and to its right, looking down at the relic (eye kCheckCameraEye, looking
+  // at kCheckCameraTarget): what a technician sets up to see the AR check view, since the rig's
+  // cameras look outward and never see the relic. No part of the rig: the frame loop ignores it.
+  static constexpr int kCheckCamera = kFaceCount;
+  static constexpr vec3 kCheckCameraEye{0.25f, 0.4f, 0.6f};
+  static constexpr vec3 kCheckCameraTarget{0.0f, 0.08f, 0.0f};
+  // A rig camera (0..cameraCount()-1) or the check camera.
   const CameraModel& camera(int index) const;
   float frameTime(int frame) const;
 
@@ -87,9 +96,9 @@ class Museum {
   // Head centre of every visitor at this frame (world, metres), in visitor order.
   std::vector<vec3> visitorHeads(int frame) const;
 
-  // Renders camera `index` at `frame` with Embree. `with_visitors = false` gives the empty hall.
-  // `time_offset_s` poses the visitors that much after the frame's time (a depth device whose
-  // frames lag the colour device's); the sensor noise stays the frame's.
+  // Renders camera `index` (a rig camera or the check camera) at `frame` with Embree. `with_visitors = false`
+  // gives the empty hall. `time_offset_s` poses the visitors that much after the frame's time (a depth device
+  // whose frames lag the colour device's); the sensor noise stays the frame's.
   SimulatedFrame renderCamera(int index, int frame, bool with_visitors = true,
                               double time_offset_s = 0.0) const;
   // The background frame gamma_s of a camera: the empty hall, with sensor noise.

@@ -1,5 +1,6 @@
 // The simulated museum as an installation the frame loop runs on (pipeline/installation.hpp): its
-// four simulated cameras with their true models, its relic, its rendered hall panorama placed
+// four simulated cameras with their true models, its check camera (sim::Museum::kCheckCamera, for
+// the AR check view), its relic, its rendered hall panorama placed
 // where the hall is, and its empty hall as the background. The default demo and kiosk content.
 // Units: metres in the world (pyramid) frame.
 #pragma once

@@ -35,7 +35,8 @@ struct SimulationOptions {
 
 class SimulatedSource : public capture::CameraSource {
  public:
-  // Throws InputError when `camera` is not 0..museum->cameraCount()-1.
+  // `camera`: a rig camera 0..museum->cameraCount()-1 or sim::Museum::kCheckCamera (named
+  // "sim:<scene>/check"); anything else is an InputError.
   SimulatedSource(std::shared_ptr<const sim::Museum> museum, int camera, SimulationOptions options = {});
 
   std::string name() const override;    // "sim:<scene>/cam<i>"
