@@ -39,6 +39,12 @@ int run(const Options& o) {
   print("delta path tracing, change filtered (the product's composite)", e.filtered.rmse);
   std::cout << "  ms " << e.filtered.ms << "\n";
   print("adversary without the relic's shadow and light", e.no_shadow);
+  std::cout << "\n";
+  if (e.glass_opaque) {
+    print("the composite with the relic's glass opaque", *e.glass_opaque);
+    std::cout << "\n  glass / opaque error over the relic and shadow: "
+              << (e.glass_opaque->region > 0 ? e.filtered.rmse.region / e.glass_opaque->region : 0.0) << "\n";
+  }
   std::cout << "\ntwo-pass / delta error over the relic and shadow at equal time: " << ratio
             << " (bar >= " << eval::kArDeltaOverTwoPass << ": "
             << (ratio >= eval::kArDeltaOverTwoPass ? "met" : "NOT met") << "); over the shadow "
@@ -52,6 +58,12 @@ int run(const Options& o) {
     eval::writeImagePair(o.out + "/two_pass.exr", e.two_pass_composite, e.exposure);
     eval::writeImagePair(o.out + "/filtered.exr", e.filtered_composite, e.exposure);
     eval::writeImagePair(o.out + "/no_shadow.exr", e.no_shadow_composite, e.exposure);
+    if (e.glass_opaque) {
+      eval::writeImagePair(o.out + "/glass_opaque.exr", e.glass_opaque_composite, e.exposure);
+      cv::Mat glass_strip;  // truth | the product's composite | the same with the glass opaque
+      cv::hconcat(std::vector<cv::Mat>{e.truth, e.filtered_composite, e.glass_opaque_composite}, glass_strip);
+      eval::writeImagePair(o.out + "/glass_strip.exr", glass_strip, e.exposure);
+    }
     cv::Mat strip;  // truth | the product's composite | two-pass | without the shadow
     cv::hconcat(
         std::vector<cv::Mat>{e.truth, e.filtered_composite, e.two_pass_composite, e.no_shadow_composite},
@@ -95,7 +107,10 @@ HOLO_REGISTER_COMMAND(Command{
           ->capture_default_str()
           ->check(CLI::Range(1, 64));
       sub.add_option("--seed", e.seed, "Sampling seed")->capture_default_str();
-      sub.add_option("--out", o->out, "Folder for truth, delta, two_pass, no_shadow (EXR + PNG)");
+      sub.add_option(
+          "--out", o->out,
+          "Folder for truth, delta, two_pass, no_shadow, strip (EXR + PNG); a transmissive relic also "
+          "glass_opaque and glass_strip");
       return [o] { return run(*o); };
     },
     "The AR composite against the path-traced truth; delta path tracing vs two-pass at equal time"});

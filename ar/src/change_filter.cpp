@@ -2,6 +2,8 @@
 
 #include <tbb/parallel_for.h>
 
+#include <opencv2/imgproc.hpp>
+
 #include <cmath>
 #include <vector>
 
@@ -9,6 +11,20 @@
 #include "holo/core/image.hpp"
 
 namespace holo::ar {
+namespace {
+
+// 255 where a pixel's window (2 radius + 1)^2 holds a change: elsewhere the filtered value is the
+// pixel's own (background + 0), so only the neighbourhood of what the relic changes is filtered.
+cv::Mat nearChange(const cv::Mat& change, int radius) {
+  std::vector<cv::Mat> channels;
+  cv::split(change, channels);
+  cv::Mat near = (channels[0] != 0.0f) | (channels[1] != 0.0f) | (channels[2] != 0.0f);
+  const int side = 2 * radius + 1;
+  cv::dilate(near, near, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)));
+  return near;
+}
+
+}  // namespace
 
 cv::Mat filterChange(const cv::Mat& composite, const cv::Mat& background, const cv::Mat& relic_coverage,
                      const cv::Mat& depth, const ChangeFilterSettings& s) {
@@ -20,6 +36,7 @@ cv::Mat filterChange(const cv::Mat& composite, const cv::Mat& background, const 
   cv::Mat out = composite.clone();
   if (!s.enabled || s.radius < 1) return out;
   const cv::Mat change = composite - background;
+  const cv::Mat near_change = nearChange(change, s.radius);
   std::vector<float> weights;
   for (int dy = -s.radius; dy <= s.radius; ++dy)
     for (int dx = -s.radius; dx <= s.radius; ++dx)
@@ -29,7 +46,7 @@ cv::Mat filterChange(const cv::Mat& composite, const cv::Mat& background, const 
   };
   tbb::parallel_for(0, composite.rows, [&](int y) {
     for (int x = 0; x < composite.cols; ++x) {
-      if (!real(x, y)) continue;
+      if (!real(x, y) || near_change.at<std::uint8_t>(y, x) == 0) continue;
       const float d = depth.at<float>(y, x);
       vec3 sum(0.0f);
       float total = 0.0f;

@@ -8,10 +8,15 @@
 
 #include "holo/core/error.hpp"
 #include "holo/core/image.hpp"
+#include "holo/reflect/optics.hpp"
 #include "random.hpp"
 
 namespace holo::ar {
 namespace {
+
+// Reflections and refractions at the relic's glass a path follows, apart from its scatterings
+// (a ray through a thick-walled vase crosses four interfaces).
+constexpr int kMaxGlassEvents = 16;
 
 bool positive(const vec3& v) {
   return v.x > 0.0f || v.y > 0.0f || v.z > 0.0f;
@@ -22,12 +27,33 @@ class Tracer {
  public:
   Tracer(const LocalScene& scene, std::int64_t& rays) : scene_(scene), rays_(rays) {}
 
-  // Radiance leaving `hit` back along `ray`, by a path of at most `scatterings` scatterings.
+  // Radiance leaving `hit` back along `ray`, by a path of at most `scatterings` scatterings on
+  // opaque lobes and at most kMaxGlassEvents on the relic's glass.
   vec3 fromHit(SceneContent content, Ray ray, RayHit hit, Random& random, int scatterings) const {
     const reflect::Environment& environment = scene_.environment();
     const RayScene& rays = scene_.rays(content);
     vec3 radiance(0.0f), throughput(1.0f);
-    for (int k = 0; k < scatterings; ++k) {
+    int glass_events = 0;
+    for (int k = 0; k < scatterings;) {
+      if (const RelicGlass* glass = scene_.glassAt(hit)) {
+        random.uniform2();  // keep the sample sequence aligned: no light sampling at a smooth interface
+        const vec3 u = random.uniform3();
+        if (u.z < glass->transmission) {
+          if (++glass_events > kMaxGlassEvents) break;
+          const vec3 direction = crossGlass(*glass, ray, hit, u.x, throughput);
+          const Ray next{scene_.offsetOrigin(ray, hit, direction), direction};
+          ++rays_;
+          const RayHit next_hit = rays.intersect(next);
+          if (!next_hit.hit()) {  // a delta event: no light sample could have found this
+            radiance += throughput * environment.radiance(direction);
+            break;
+          }
+          ray = next;
+          hit = next_hit;
+          continue;
+        }
+      }
+      ++k;
       const reflect::Bsdf bsdf = scene_.bsdfAt(content, ray, hit);
       const vec3 wo = -ray.direction;
       if (!bsdf.mirror()) {
@@ -61,6 +87,28 @@ class Tracer {
       hit = next_hit;
     }
     return radiance;
+  }
+
+  // The direction a path takes at the relic's smooth glass (reflected with the Fresnel
+  // reflectance's probability, else refracted or, thin-walled, passed straight), `throughput`
+  // multiplied by what the glass keeps: the tint on entering, Beer-Lambert absorption over the
+  // segment inside that ends here.
+  vec3 crossGlass(const RelicGlass& glass, const Ray& ray, const RayHit& hit, float u,
+                  vec3& throughput) const {
+    const bool front = scene_.frontFace(SceneContent::kMixed, ray, hit);
+    vec3 n = scene_.rays(SceneContent::kMixed).shadingNormal(hit, ray.direction);
+    if (glm::dot(n, ray.direction) > 0.0f) n = -n;
+    const float cos_i = std::clamp(-glm::dot(ray.direction, n), 0.0f, 1.0f);
+    if (glass.thin_walled) {
+      if (u < reflect::fresnelDielectric(cos_i, glass.ior)) return glm::reflect(ray.direction, n);
+      throughput *= glass.tint;
+      return ray.direction;
+    }
+    if (!front) throughput *= reflect::transmittance(glass.sigma, hit.t);
+    const float eta = front ? glass.ior : 1.0f / glass.ior;
+    if (u < reflect::fresnelDielectric(cos_i, eta)) return glm::reflect(ray.direction, n);
+    if (front) throughput *= glass.tint;
+    return reflect::refractIncident(ray.direction, n, eta);
   }
 
   // Radiance arriving along `ray` in the scene `content`.

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "holo/core/error.hpp"
+#include "holo/reflect/optics.hpp"
 
 namespace holo::ar {
 namespace {
@@ -16,6 +17,16 @@ reflect::SurfaceMaterial relicMaterial(const Material& m) {
   s.specular_colour = m.specular_colour;
   s.ior = m.ior;
   return s;
+}
+
+RelicGlass relicGlass(const Material& m) {
+  RelicGlass g;
+  g.transmission = std::clamp(m.transmission, 0.0f, 1.0f) * (1.0f - std::clamp(m.metallic, 0.0f, 1.0f));
+  g.ior = std::max(m.ior, 1.0f);
+  g.tint = glm::clamp(m.base_colour, 0.0f, 1.0f);
+  g.thin_walled = !(m.thickness > 0.0f);
+  if (!g.thin_walled) g.sigma = reflect::attenuationCoefficient(m.attenuation_colour, m.attenuation_distance);
+  return g;
 }
 
 }  // namespace
@@ -39,6 +50,8 @@ LocalScene::LocalScene(RealSurface real, const Model& relic, const reflect::Envi
     const auto index = static_cast<std::size_t>(mesh.material);
     relic_materials_.push_back(index < relic.materials.size() ? relicMaterial(relic.materials[index])
                                                               : reflect::SurfaceMaterial{});
+    relic_glass_.push_back(index < relic.materials.size() ? relicGlass(relic.materials[index])
+                                                          : RelicGlass{});
   }
   mixed_->commit();
   real_->commit();
@@ -55,6 +68,20 @@ reflect::Bsdf LocalScene::bsdfAt(SceneContent content, const Ray& ray, const Ray
   lambert.specular = 0.0f;  // a pure Lambert surface (bsdf.hpp)
   lambert.roughness = 1.0f;
   return reflect::Bsdf(lambert, normal);
+}
+
+const RelicGlass* LocalScene::glassAt(const RayHit& hit) const {
+  if (!isRelic(hit.geometry)) return nullptr;
+  const RelicGlass& glass = relic_glass_[hit.geometry - 1];
+  return glass.transmission > 0.0f ? &glass : nullptr;
+}
+
+bool LocalScene::frontFace(SceneContent content, const Ray& ray, const RayHit& hit) const {
+  const TriangleMesh& mesh = rays(content).mesh(hit.geometry);
+  const uvec3 tri = mesh.triangles[hit.primitive];
+  const vec3 winding = glm::cross(mesh.positions[tri.y] - mesh.positions[tri.x],
+                                  mesh.positions[tri.z] - mesh.positions[tri.x]);
+  return glm::dot(winding, ray.direction) < 0.0f;
 }
 
 vec3 LocalScene::offsetOrigin(const Ray& ray, const RayHit& hit, const vec3& towards) const {

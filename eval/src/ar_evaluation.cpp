@@ -235,6 +235,21 @@ ArEvaluation evaluateArComposite(const ArEvaluationOptions& o) {
   out.no_shadow_composite = out.filtered_composite.clone();
   background.copyTo(out.no_shadow_composite, delta.relic_coverage == 0.0f);
   out.no_shadow = errors(out.no_shadow_composite);
+
+  Model opaque = museum.relic();
+  bool transmissive = false;
+  for (Material& material : opaque.materials) {
+    transmissive = transmissive || material.transmissive();
+    material.transmission = 0.0f;
+  }
+  if (transmissive) {
+    ar::CameraRealScene again = ar::realSceneFromCamera(0, camera, frame, environment, out.exposure, surface);
+    const ar::LocalScene opaque_scene(std::move(again.surface), opaque, environment);
+    const ar::CompositeImage image = ar::renderComposite(opaque_scene, camera, background, delta_settings);
+    out.glass_opaque_composite =
+        ar::filterChange(image.radiance, background, image.relic_coverage, frame.depth, {});
+    out.glass_opaque = errors(out.glass_opaque_composite);
+  }
   return out;
 }
 

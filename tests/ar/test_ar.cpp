@@ -87,6 +87,66 @@ TEST(LocalPathTracing, APlaneUnderAUniformSkyReflectsItsAlbedo) {
   EXPECT_NEAR(sum / n, test::kPlaneAlbedo, 0.005);
 }
 
+// The relic's glass against a closed form (a white furnace): clear glass under a uniform sky of
+// radiance 1, nothing else in the scene, neither absorbs nor emits, so every path through it
+// (reflected or refracted, totally internally reflected) brings exactly 1 back.
+TEST(LocalPathTracing, ClearGlassUnderAUniformSkyNeitherLosesNorGainsLight) {
+  const cv::Mat sky(32, 64, CV_32FC3, cv::Scalar::all(1.0));
+  const reflect::Environment environment(sky);
+  Model relic = sphereRelic();
+  relic.materials[0].base_colour = vec3(1.0f);
+  relic.materials[0].transmission = 1.0f;
+  relic.materials[0].thickness = 0.1f;
+  relic.materials[0].ior = 1.5f;
+  const LocalScene glass(RealSurface{}, relic, environment);
+  const CameraModel view = camera();
+  const CompositeImage image = renderLocalScene(glass, SceneContent::kMixed, view, settings({}, 4, 3));
+  double low = 10, high = 0;
+  int relic_pixels = 0;
+  for (int y = 0; y < view.height(); ++y)
+    for (int x = 0; x < view.width(); ++x)
+      if (image.relic_coverage.at<float>(y, x) == 1.0f) {
+        const float g = rgbAt(image.radiance, x, y).g;
+        low = std::min<double>(low, g);
+        high = std::max<double>(high, g);
+        ++relic_pixels;
+      }
+  ASSERT_GT(relic_pixels, 30);
+  EXPECT_NEAR(low, 1.0, 1e-3);
+  EXPECT_NEAR(high, 1.0, 1e-3);
+}
+
+// A glass ball is a lens: seen level under a bright sky over a black ground, its upper half shows
+// the ground and its lower half the sky (the image turned over), where the same ball opaque is
+// lit from above.
+TEST(LocalPathTracing, AGlassBallTurnsTheSkyOver) {
+  cv::Mat sky(32, 64, CV_32FC3, cv::Scalar::all(0));
+  sky.rowRange(0, 16).setTo(cv::Scalar::all(1.0));
+  const reflect::Environment environment(sky);
+  const CameraModel level(Intrinsics::fromFov(48, 32, glm::radians(30.0f), glm::radians(20.0f)),
+                          lookAtCameraToWorld({0.0f, 0.12f, 1.0f}, {0.0f, 0.12f, 0.0f}));
+  // Mean radiance of the ball's upper and lower halves in the image.
+  const auto halves = [&](bool transmissive) {
+    Model relic = sphereRelic();
+    relic.materials[0].base_colour = vec3(1.0f);
+    relic.materials[0].transmission = transmissive ? 1.0f : 0.0f;
+    relic.materials[0].thickness = 0.1f;
+    const LocalScene scene(RealSurface{}, relic, environment);
+    const CompositeImage image = renderLocalScene(scene, SceneContent::kMixed, level, settings({}, 16, 3));
+    const cv::Mat on_relic = image.relic_coverage == 1.0f;
+    const int mid = level.height() / 2;
+    const cv::Scalar upper = cv::mean(image.radiance.rowRange(0, mid), on_relic.rowRange(0, mid));
+    const cv::Scalar lower =
+        cv::mean(image.radiance.rowRange(mid, level.height()), on_relic.rowRange(mid, level.height()));
+    return std::pair<double, double>(upper[1], lower[1]);
+  };
+  const auto [glass_upper, glass_lower] = halves(true);
+  const auto [opaque_upper, opaque_lower] = halves(false);
+  EXPECT_LT(glass_upper, 0.5 * glass_lower) << "glass: upper " << glass_upper << ", lower " << glass_lower;
+  EXPECT_GT(opaque_upper, 2.0 * opaque_lower)
+      << "opaque: upper " << opaque_upper << ", lower " << opaque_lower;
+}
+
 TEST(ArComposite, DeltaPathTracingOnExactInputsGivesTheMixedScene) {
   const Scene s;
   const cv::Mat real = renderLocalScene(s.local, SceneContent::kReal, s.view, settings({}, 256, 7)).radiance;

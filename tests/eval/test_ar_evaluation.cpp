@@ -69,5 +69,20 @@ TEST(ArEvaluation, TheEstimatedAlbedoBeatsAUniformGrey) {
       << "estimated " << with.filtered.rmse.shadow << ", grey " << without.filtered.rmse.shadow;
 }
 
+// The glass vase: the composite refracts the room and the panorama through it, closer to the
+// truth than the same composite with the glass read as opaque, and different from it.
+TEST(ArEvaluation, GlassRelicsAreTransmissiveAndCloserToTheTruthThanOpaque) {
+  ArEvaluationOptions glass = options();
+  glass.relic = "glass-vase";
+  if (!fullEvaluation()) glass.truth_spp = 128;
+  const ArEvaluation e = evaluateArComposite(glass);
+  ASSERT_GT(e.relic_pixels, 100);
+  ASSERT_TRUE(e.glass_opaque.has_value()) << "the vase's glass is transmissive";
+  EXPECT_LT(e.filtered.rmse.region, 0.75 * e.glass_opaque->region)
+      << "glass " << e.filtered.rmse.region << ", opaque " << e.glass_opaque->region;
+  EXPECT_GT(cv::norm(e.filtered_composite, e.glass_opaque_composite, cv::NORM_L1), 0.0);
+  EXPECT_FALSE(evaluation().glass_opaque.has_value()) << "an opaque relic has nothing to compare";
+}
+
 }  // namespace
 }  // namespace holo::eval

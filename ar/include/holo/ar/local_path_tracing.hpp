@@ -16,10 +16,13 @@
 //
 // Paths: at most max_bounces scatterings (what the last one reaches counts: the panorama); at
 // every non-mirror vertex the panorama is sampled (next-event estimation) and combined with BSDF
-// sampling by the balance heuristic. Pixel samples are jittered over the pixel (pixel centres at
-// integer coordinates, OpenCV's convention) and seeded per pixel and sample, so images are the
-// same for a seed whatever the thread count, and passes with first_sample continue one sequence.
-// Images: CV_32FC3 linear BGR radiance, the camera's size.
+// sampling by the balance heuristic. A relic's glass (local_scene.hpp's RelicGlass) reflects or
+// refracts a path without counting as a scattering (up to 16 such events), so the camera's real
+// surroundings and the panorama are seen through it and it casts a shadow lit by what it
+// transmits (found by BSDF sampling only: light sampling cannot see through a refracting surface). Pixel
+// samples are jittered over the pixel (pixel centres at integer coordinates, OpenCV's convention) and seeded
+// per pixel and sample, so images are the same for a seed whatever the thread count, and passes with
+// first_sample continue one sequence. Images: CV_32FC3 linear BGR radiance, the camera's size.
 #pragma once
 
 #include <cstdint>

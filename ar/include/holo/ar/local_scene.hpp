@@ -1,8 +1,15 @@
 // The local scene of an AR composite (Debevec's split): the real surfaces near the relic, each a
 // Lambertian reflector with an albedo per vertex, and the virtual relic with its glTF materials
-// (reflect::Bsdf: metallic-roughness GGX and Lambert; textures, transmission and clearcoat are
-// not read, so a glass relic renders opaque), lit by the panorama at infinity. Everything farther
-// than the local scene is the panorama. No surface of it emits.
+// (reflect::Bsdf: metallic-roughness GGX and Lambert; textures and clearcoat are not read), lit by
+// the panorama at infinity. Everything farther than the local scene is the panorama. No surface of
+// it emits.
+//
+// A transmissive relic material (KHR_materials_transmission) is smooth glass (RelicGlass): with
+// probability `transmission` a scattering there is the dielectric interface (exact Fresnel
+// reflection or Snell refraction, total internal reflection included), else the opaque lobes
+// above; a material with thickness > 0 (KHR_materials_volume) is a closed solid absorbing by
+// Beer-Lambert inside, one of thickness 0 thin-walled (light passes straight through). Its
+// roughness is not read (the interface is smooth).
 //
 // Two ray scenes over the same surfaces: mixed (real + relic) and real only, so the radiance of
 // either (what differential rendering differences) can be traced.
@@ -28,6 +35,15 @@ struct RealSurface {
 
 enum class SceneContent { kReal, kMixed };
 
+// The dielectric part of a transmissive relic material.
+struct RelicGlass {
+  float transmission = 0.0f;  // [0, 1]: the share of scatterings that are the interface's
+  float ior = 1.5f;           // >= 1
+  vec3 tint{1.0f};            // base colour: multiplies light entering (or crossing a thin wall)
+  vec3 sigma{0.0f};           // Beer-Lambert coefficient inside, 1/m (reflect::attenuationCoefficient)
+  bool thin_walled = false;   // thickness 0: no bending, no volume
+};
+
 class LocalScene {
  public:
   // The environment must outlive the scene. Throws InputError when the albedo does not match the
@@ -44,6 +60,10 @@ class LocalScene {
   const reflect::Environment& environment() const { return environment_; }
   // The BSDF at a hit of rays(content) seen along `direction` (unit, towards the surface).
   reflect::Bsdf bsdfAt(SceneContent content, const Ray& ray, const RayHit& hit) const;
+  // The glass of a relic hit of rays(kMixed); nullptr for an opaque material.
+  const RelicGlass* glassAt(const RayHit& hit) const;
+  // Whether a ray meets the hit surface from its glTF front (the winding's side: outside a solid).
+  bool frontFace(SceneContent content, const Ray& ray, const RayHit& hit) const;
   // An origin for rays leaving the hit: nudged off the surface to the side of `towards`.
   vec3 offsetOrigin(const Ray& ray, const RayHit& hit, const vec3& towards) const;
   const RealSurface& real() const { return real_surface_; }
@@ -53,6 +73,7 @@ class LocalScene {
  private:
   RealSurface real_surface_;
   std::vector<reflect::SurfaceMaterial> relic_materials_;  // per relic mesh (geometry id - 1)
+  std::vector<RelicGlass> relic_glass_;                    // per relic mesh; transmission 0: opaque
   std::unique_ptr<RayScene> mixed_;
   std::unique_ptr<RayScene> real_;
   const reflect::Environment& environment_;

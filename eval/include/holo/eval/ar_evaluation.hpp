@@ -26,6 +26,7 @@
 
 #include <cstdint>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 
 #include "holo/core/math.hpp"
@@ -79,6 +80,9 @@ struct ArEvaluation {
   cv::Mat delta_composite, two_pass_composite, filtered_composite, no_shadow_composite;  // CV_32FC3
   ArMethodScore delta, two_pass, filtered;
   ArErrors no_shadow;  // the adversary: the relic pasted over the image, no change
+  // A transmissive relic only: the product's composite with the relic's glass opaque.
+  std::optional<ArErrors> glass_opaque;
+  cv::Mat glass_opaque_composite;  // CV_32FC3
   int region_pixels = 0, relic_pixels = 0, shadow_pixels = 0;
   float exposure = 1.0f;
 };
