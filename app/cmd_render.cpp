@@ -128,7 +128,8 @@ HOLO_REGISTER_COMMAND(Command{
                    "ours: the visitors neither shadow nor light the relic's diffuse and widest lobes");
       sub.add_option("--ar-camera", o->ar_camera,
                      "The AR check view of camera N (of --ar-config, else of the simulated museum --scene, "
-                     "museum by default): the relic composited over its image with its shadow and light, "
+                     "museum by default: cameras 0-3 the rig's, 4 its check camera): the relic composited "
+                     "over its image with its shadow and light, "
                      "by delta path tracing (--out FILE.png, or FILE.exr with FILE.png beside it)");
       sub.add_option("--ar-config", o->ar_config,
                      "--ar-camera: a configuration file with capture: and exhibit:");

@@ -1,6 +1,9 @@
 // The simulated museum's cameras as CameraSources: deterministic content, pacing, end of stream.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <optional>
+
 #include "holo/capture/capture_config.hpp"
 #include "holo/capture/capture_thread.hpp"
 #include "holo/core/error.hpp"
@@ -78,9 +81,29 @@ TEST(SimulatedSource, PacedFramesComeNoEarlierThanTheirTime) {
   EXPECT_EQ(next.frame.device_time.count(), 11'000'000'000);
 }
 
+// The check camera (4) sees the hall from a tripod, the relic's place in view: its frames have depth
+// there, and it has no power switch of the rig's.
+TEST(SimulatedSource, TheCheckCameraSeesThePyramidBase) {
+  const auto museum = smallMuseum();
+  SimulatedSource check(museum, sim::Museum::kCheckCamera, SimulationOptions{.paced = false});
+  EXPECT_EQ(check.name().substr(check.name().size() - 6), "/check");
+  check.open();
+  check.start();
+  const GrabResult grabbed = check.grab(30s);
+  ASSERT_EQ(grabbed.status, GrabStatus::Ok);
+  const CameraModel& model = museum->camera(sim::Museum::kCheckCamera);
+  float true_depth = 0.0f;
+  const std::optional<vec2> base_centre = model.project(vec3(0.0f), &true_depth);
+  ASSERT_TRUE(base_centre.has_value());
+  const int x = static_cast<int>(std::lround(base_centre->x)),
+            y = static_cast<int>(std::lround(base_centre->y));
+  ASSERT_TRUE(x >= 0 && y >= 0 && x < model.width() && y < model.height());
+  EXPECT_NEAR(grabbed.frame.depth.at<float>(y, x), true_depth, 0.03f) << "the base top at the relic's place";
+}
+
 TEST(SimulatedSource, RunsInACaptureThreadAndRejectsBadCameras) {
   const auto museum = smallMuseum();
-  EXPECT_THROW(SimulatedSource(museum, 4), InputError);
+  EXPECT_THROW(SimulatedSource(museum, 5), InputError);
   EXPECT_THROW(SimulatedSource(museum, -1), InputError);
   LatestFrameMailbox mailbox;
   CaptureOptions options;
