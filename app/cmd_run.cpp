@@ -63,6 +63,7 @@ double median(std::vector<double> values) {
 // camera's frame and the time to composite it, their medians and the composite's frame rate.
 int runArCamera(RunOptions options) {
   if (!options.config_file.empty()) options.loop.config = options.config_file;
+  if (!options.headless) options.loop.live = true;  // a window shows the cameras as they deliver
   Installation installation = simulated::installationFor(options.loop);
   ar::LiveCompositeSettings settings;
   settings.view.composite.spp = options.ar_spp;
