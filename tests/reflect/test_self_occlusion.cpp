@@ -226,6 +226,10 @@ TEST(SelfOcclusion, PlanLeavesItOffBelowOneDisplayedCode) {
       codes_change = std::max(codes_change, maxComponent(glm::abs(toneMapCodes(ra, evening.exposure) -
                                                                   toneMapCodes(rb, evening.exposure))));
     }
+  std::printf(
+      "bright: %s\ndim at the bright exposure: %s\nforced on: largest radiance change %.0f%%, %.2f codes\n",
+      shown.plan.describe().c_str(), off.plan.describe().c_str(), double(radiance_change) * 100.0,
+      double(codes_change));
   EXPECT_GT(radiance_change, 0.1f);  // the visibility darkens the inside by tens of percent
   EXPECT_LT(codes_change, 1.0f);
 }
