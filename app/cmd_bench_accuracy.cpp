@@ -1,10 +1,14 @@
 // `holopyramid bench accuracy`: accuracy against time on one scene (eval/accuracy_sweep.hpp): each
 // reflection method's quality knobs swept and scored against the path-traced truth; writes
-// accuracy.csv and accuracy.svg (fg_mse against milliseconds per view, the Pareto front marked).
+// accuracy.csv and accuracy.svg (fg_mse against milliseconds per view, the Pareto front marked);
+// with --effects, each effect of the plan switched against the default tracer on each scene of
+// --scenes: effects.csv, effects.svg and effects.md.
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "command.hpp"
 #include "holo/core/files.hpp"
@@ -19,6 +23,8 @@ namespace {
 struct AccuracyCommand {
   AccuracyOptions sweep;
   std::string out = "bench-accuracy";
+  bool effects = false;
+  std::vector<std::string> scenes;  // hall:relic; empty: effectScenes()
 };
 
 std::string fmt(double v, int precision) {
@@ -27,7 +33,38 @@ std::string fmt(double v, int precision) {
   return s.str();
 }
 
+// Each scene's effect points (sweepAccuracy with effects_only), one table, CSV and plot for all.
+int benchEffects(const AccuracyCommand& command) {
+  const std::vector<std::string> scenes = command.scenes.empty() ? effectScenes() : command.scenes;
+  std::vector<SceneSweep> sweeps;
+  std::string csv;
+  for (const std::string& scene : scenes) {
+    const auto colon = scene.find(':');
+    AccuracyOptions o = command.sweep;
+    o.effects_only = true;
+    o.hall = scene.substr(0, colon);
+    o.relic = scene.substr(colon + 1);
+    std::cout << "scene " << o.hall << " x " << o.relic << std::endl;
+    SceneSweep s{o, sweepAccuracy(o)};
+    const std::string rows = accuracyCsv(o, s.sweep);
+    csv += csv.empty() ? rows : rows.substr(rows.find('\n') + 1);
+    sweeps.push_back(std::move(s));
+  }
+  const std::filesystem::path dir = command.out;
+  std::filesystem::create_directories(dir);
+  const std::string table = effectsTable(sweeps);
+  writeFileAtomically(dir / "effects.csv", csv);
+  writeFileAtomically(dir / "effects.md", table);
+  writeFileAtomically(
+      dir / "effects.svg",
+      effectsSvg(sweeps, "each effect against the default tracer, " + std::to_string(command.sweep.size) +
+                             "^2, truth " + std::to_string(command.sweep.gt_spp) + " spp"));
+  std::cout << table << "wrote " << (dir / "effects.csv").string() << ", effects.md and effects.svg\n";
+  return 0;
+}
+
 int benchAccuracy(const AccuracyCommand& command) {
+  if (command.effects) return benchEffects(command);
   const AccuracyOptions& o = command.sweep;
   const AccuracySweep sweep = sweepAccuracy(o);
   const std::vector<AccuracyPoint>& points = sweep.points;
@@ -60,7 +97,7 @@ HOLO_REGISTER_COMMAND(Command{
       AccuracyOptions* o = &command->sweep;
       sub.add_option("--hall", o->hall, "Hall (room, gallery, atrium): its walkers come along")
           ->capture_default_str()
-          ->check(CLI::IsMember({"room", "gallery", "atrium"}));
+          ->check(CLI::IsMember({"room", "gallery", "atrium", "window"}));
       sub.add_option("--relic", o->relic, "Relic (" + relics::relicNameList() + ")")
           ->capture_default_str()
           ->check(CLI::IsMember(relics::relicNames()));
@@ -82,6 +119,26 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--visitor-model", o->visitor_model,
                      "Visitors instead of the hall's own: bodies (the default) or figures");
       addPanoramaAtInfinityFlag(sub, o->panorama_at_infinity);
+      sub.add_flag("--effects", command->effects,
+                   "Only the default tracer with each effect of the plan switched, on each of --scenes: "
+                   "effects.csv, effects.md and effects.svg");
+      sub.add_option(
+             "--scenes", command->scenes,
+             "With --effects: hall:relic scenes (default: the nine, gallery:bowl, gallery:metal-bowl, "
+             "window:bowl)")
+          ->delimiter(',')
+          ->check([](const std::string& scene) -> std::string {
+            const auto colon = scene.find(':');
+            if (colon == std::string::npos) return "expected hall:relic, got " + scene;
+            const std::string hall = scene.substr(0, colon), relic = scene.substr(colon + 1);
+            for (const char* h : {"room", "gallery", "atrium", "window"})
+              if (hall == h) {
+                for (const std::string& r : relics::relicNames())
+                  if (relic == r) return "";
+                return "unknown relic " + relic + " (one of " + relics::relicNameList() + ")";
+              }
+            return "unknown hall " + hall + " (one of room, gallery, atrium, window)";
+          });
       sub.add_option("--out", command->out, "Output folder")->capture_default_str();
       sub.add_option("--cache", o->cache, "Ground-truth cache folder")->capture_default_str();
       return [command] { return benchAccuracy(*command); };

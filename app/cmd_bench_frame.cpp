@@ -152,6 +152,18 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_flag("--digest", options->digest,
                    "Print an FNV-1a digest of every measured frame's displayed faces (untimed)");
       sub.add_flag("!--no-foreground", options->loop.tracer.foreground_enabled, "IBL only");
+      sub.add_flag_callback(
+          "--no-light-effects",
+          [options] {
+            reflect::TracerSettings& t = options->loop.tracer;
+            t.evaluation.self_occlusion = false;
+            t.evaluation.visitor_light = false;
+            t.evaluation.axis_aligned_filter = false;
+            t.rough_interreflection_roughness = 2.0f;
+            t.refinement_sets = 1;
+          },
+          "Without the relic's self-occlusion, rough interreflection lobe, visitors' light, axis-aligned "
+          "filter and progressive refinement (the frame they are measured against)");
       addPanoramaAtInfinityFlag(sub, options->loop.panorama_at_infinity);
       sub.add_flag(
           "--reference", options->reference,

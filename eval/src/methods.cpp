@@ -115,6 +115,11 @@ MethodResult renderMethod(const std::string& method, const ReflectionScene& scen
       const Stopwatch view;
       reflect::FrameResult fr = renderer.render(cloud, scene.foreground_cameras, {camera});
       r.ms = view.ms();
+      for (int i = 0; i < settings.still_frames; ++i) {
+        const Stopwatch still;
+        fr = renderer.render(cloud, scene.foreground_cameras, {camera});
+        r.ms = still.ms();
+      }
       for (const reflect::PassTiming& p : fr.frame_timings) {
         r.passes.emplace_back(reflect::passName(p.pass), p.ms);
         r.frame_ms += p.ms;
@@ -124,6 +129,7 @@ MethodResult renderMethod(const std::string& method, const ReflectionScene& scen
         r.view_ms += p.ms;
       }
       r.image = std::move(fr.views.at(0).hdr);
+      r.plan = fr.plan.describe();
     } else {
       reference::SsrtSettings ss;
       ss.rays = std::max(1, settings.spp);

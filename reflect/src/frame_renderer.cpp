@@ -76,6 +76,7 @@ FrameRenderer::FrameRenderer(const RenderScene& scene, const PrefilteredIbl& ibl
                   visibility->vertexSides(), double(visibility->maxOcclusion()) * 100.0);
     if (visibility->maxOcclusion() >= settings_.self_occlusion_min) {
       visibility_ = std::move(visibility);
+      self_occlusion_figures_ = figures;
       self_occlusion_reason_ = std::string("self-occlusion (") + figures + ")";
     } else {
       self_occlusion_reason_ = std::string("no self-occlusion to show (") + figures + ")";
@@ -130,6 +131,14 @@ EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
   in.internal_depth_source = settings_.refraction_depth > 0 ? "set" : "measured";
   in.self_occlusion = visibility_ != nullptr;
   in.self_occlusion_reason = self_occlusion_reason_;
+  if (visibility_ && lit_) {  // the displayed change under this light decides
+    char codes[64];
+    std::snprintf(codes, sizeof codes, "%.2g sRGB codes", double(self_occlusion_codes_));
+    in.self_occlusion = self_occlusion_codes_ >= settings_.effect_min_codes;
+    in.self_occlusion_reason =
+        std::string(in.self_occlusion ? "self-occlusion (" : "self-occlusion not shown (") +
+        self_occlusion_figures_ + ", at most " + codes + " under this light)";
+  }
   in.progressive_refinement = refines_;
   in.progressive_refinement_reason = refinement_reason_;
   in.visitor_light_enabled = settings_.evaluation.visitor_light;
@@ -180,6 +189,18 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
                                   const std::vector<ForegroundCameraImage>& cameras,
                                   const std::vector<CameraModel>& views) {
   FrameResult result;
+  // The visibility lit before the plan: whether it shows (effect_min_codes) depends on the light.
+  if (visibility_ && (!lit_ || lit_source_ != ibl_.sourceHash() || lit_turn_ != ibl_.relicTurn())) {
+    PassTimer t(result.frame_timings, Pass::SelfOcclusion);
+    // A turning relic is lit from the transfer alone: filtering every stratum again at every
+    // turn step would cost a still relic's first frame every frame.
+    lighting_ = visibility_->lit(ibl_, ibl_.relicTurn() == 0.0f);
+    self_occlusion_codes_ = visibility_->largestDisplayedChange(lighting_, ibl_, settings_.exposure);
+    lit_source_ = ibl_.sourceHash();
+    lit_turn_ = ibl_.relicTurn();
+    lit_ = true;
+    for (auto& cache : caches_) cache->ready = false;  // shaded with the old lighting
+  }
   result.plan = plan(cloud, cameras);
   if (result.plan.has(Pass::VoxelGrid)) {
     PassTimer t(result.frame_timings, Pass::VoxelGrid);
@@ -210,17 +231,6 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
       if (!cameras[c].colour_bgr.empty())
         pyramids_[c].build(cameras[c].colour_bgr, cameras[c].mask, settings_.pyramid_levels);
     });
-  }
-  if (result.plan.has(Pass::SelfOcclusion) &&
-      (!lit_ || lit_source_ != ibl_.sourceHash() || lit_turn_ != ibl_.relicTurn())) {
-    PassTimer t(result.frame_timings, Pass::SelfOcclusion);
-    // A turning relic is lit from the transfer alone: filtering every stratum again at every
-    // turn step would cost a still relic's first frame every frame.
-    lighting_ = visibility_->lit(ibl_, ibl_.relicTurn() == 0.0f);
-    lit_source_ = ibl_.sourceHash();
-    lit_turn_ = ibl_.relicTurn();
-    lit_ = true;
-    for (auto& cache : caches_) cache->ready = false;  // shaded with the old lighting
   }
   while (caches_.size() < views.size()) caches_.push_back(std::make_unique<ViewCache>());
   // Still, for ProgressiveRefinement: what the grid holds is what it held last frame.

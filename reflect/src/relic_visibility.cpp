@@ -11,6 +11,7 @@
 #include "holo/core/error.hpp"
 #include "holo/reflect/bsdf.hpp"
 #include "holo/reflect/irradiance_sh.hpp"
+#include "holo/reflect/tone_map.hpp"
 
 namespace holo::reflect {
 namespace {
@@ -191,6 +192,44 @@ RelicVisibility::Lighting RelicVisibility::lit(const PrefilteredIbl& ibl, bool f
         }
       });
   return lighting;
+}
+
+float RelicVisibility::largestDisplayedChange(const Lighting& lighting, const PrefilteredIbl& ibl,
+                                              float exposure) const {
+  std::vector<vec3> albedo(model_->meshes.size());
+  for (std::size_t m = 0; m < albedo.size(); ++m) {
+    const std::size_t material = std::size_t(std::max(model_->meshes[m].material, 0));
+    if (material >= model_->materials.size()) continue;
+    const Material& mat = model_->materials[material];
+    SurfaceMaterial factors;
+    factors.base_colour = mat.base_colour;
+    factors.metallic = mat.metallic;
+    factors.specular = mat.specular;
+    factors.specular_colour = mat.specular_colour;
+    factors.transmission = mat.transmission;
+    factors.ior = mat.ior;
+    albedo[m] = diffuseAlbedo(factors) / kPi;
+  }
+  if (!(exposure > 0.0f)) {  // autoExposure over the vertices: the log-average luminance to 0.18
+    double log_sum = 0.0;
+    std::size_t count = 0;
+    for (const VertexSide& v : vertex_sides_list_) {
+      const float l = luminance(albedo[v.mesh] * lighting.irradiance[v.mesh][v.side][v.vertex]);
+      if (!(l > 0.0f)) continue;
+      log_sum += std::log(double(l));
+      ++count;
+    }
+    exposure = count == 0 ? 1.0f : float(0.18 / std::exp(log_sum / double(count)));
+  }
+  float largest = 0.0f;
+  for (const VertexSide& v : vertex_sides_list_) {
+    const vec3 normal = (v.side == 0 ? 1.0f : -1.0f) * normals_[v.mesh][v.vertex];
+    if (!(glm::length(normal) > 0.5f)) continue;
+    const vec3 lit = toneMapCodes(albedo[v.mesh] * lighting.irradiance[v.mesh][v.side][v.vertex], exposure);
+    const vec3 open = toneMapCodes(albedo[v.mesh] * ibl.irradiance(normal), exposure);
+    largest = std::max(largest, maxComponent(glm::abs(lit - open)));
+  }
+  return largest;
 }
 
 bool RelicVisibility::covers(const SurfaceLocation& at) const {

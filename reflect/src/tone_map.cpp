@@ -1,5 +1,6 @@
 #include "holo/reflect/tone_map.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -57,6 +58,20 @@ cv::Vec3b toneMapPixel(const vec3& rgb, float exposure) {
   if (l > 0.0f) c *= (1.0f / (1.0f + l));
   const auto& table = srgbTable();
   return {encode(table, c.b), encode(table, c.g), encode(table, c.r)};
+}
+
+vec3 toneMapCodes(const vec3& rgb, float exposure) {
+  vec3 c = rgb * exposure;
+  if (!isFinite(c)) c = vec3(0.0f);
+  c = glm::max(c, vec3(0.0f));
+  const float l = luminance(c);
+  if (l > 0.0f) c *= (1.0f / (1.0f + l));
+  vec3 codes;
+  for (int i = 0; i < 3; ++i) {
+    const float v = std::min(c[i], 1.0f);
+    codes[i] = 255.0f * (v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f);
+  }
+  return codes;
 }
 
 cv::Mat toneMap(const cv::Mat& hdr, float exposure) {

@@ -64,6 +64,8 @@ void TracerSettings::validate() const {
     throw InputError(src, "self_occlusion_bounces", "0..8", std::to_string(self_occlusion_bounces));
   if (!std::isfinite(self_occlusion_min) || self_occlusion_min < 0.0f || self_occlusion_min > 1.0f)
     throw InputError(src, "self_occlusion_min", "a share in [0, 1]", std::to_string(self_occlusion_min));
+  if (!std::isfinite(effect_min_codes) || effect_min_codes < 0.0f)
+    throw InputError(src, "effect_min_codes", "finite sRGB codes >= 0", std::to_string(effect_min_codes));
   if (refinement_sets < 1 || refinement_sets > 4096)
     throw InputError(src, "refinement_sets", "1..4096", std::to_string(refinement_sets));
   if (lobe_components < 1 || lobe_components > kMaxLobeComponents)

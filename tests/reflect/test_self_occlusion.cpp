@@ -185,6 +185,55 @@ TEST(SelfOcclusion, ConvexRelicDoesNoneOfTheWork) {
   EXPECT_EQ(m.views.at(0).occluded_samples, 0u);
 }
 
+// The plan leaves the visibility off where its largest displayed change is below one sRGB code:
+// the bowl's hall dimmed a thousandfold at the exposure the bright hall fixed (a frame loop's
+// evening). Forced on (effect_min_codes 0) it does its lookups and changes the radiance, yet no
+// displayed pixel by a code; in the bright hall it shows and the plan runs it.
+TEST(SelfOcclusion, PlanLeavesItOffBelowOneDisplayedCode) {
+  const RenderScene bowl(relics::makeRelic("bowl"), {});
+  const CameraModel view = bowlView(bowl.relicBounds(), 24);
+  const Environment bright_env(skyPanorama(64, 32));
+  const PrefilteredIbl bright(bright_env, PrefilterOptions{6, 32, 16});
+  FrameRenderer day(bowl, bright, ciSettings());
+  const FrameResult shown = day.render({}, {}, {view});
+  EXPECT_TRUE(shown.plan.has(Pass::SelfOcclusion)) << shown.plan.describe();
+  EXPECT_NE(shown.plan.describe().find("sRGB codes under this light"), std::string::npos);
+  EXPECT_GT(shown.views.at(0).occluded_samples, 0u);
+
+  const Environment dim_env(skyPanorama(64, 32) * 0.001);
+  const PrefilteredIbl dim(dim_env, PrefilterOptions{6, 32, 16});
+  TracerSettings evening = ciSettings();
+  evening.exposure = autoExposure(shown.views.at(0).hdr);
+  FrameRenderer gated(bowl, dim, evening);
+  const FrameResult off = gated.render({}, {}, {view});
+  EXPECT_FALSE(off.plan.has(Pass::SelfOcclusion)) << off.plan.describe();
+  EXPECT_NE(off.plan.describe().find("self-occlusion not shown"), std::string::npos) << off.plan.describe();
+  EXPECT_EQ(off.views.at(0).occluded_samples, 0u);
+
+  evening.effect_min_codes = 0.0f;
+  FrameRenderer forced(bowl, dim, evening);
+  const FrameResult on = forced.render({}, {}, {view});
+  ASSERT_TRUE(on.plan.has(Pass::SelfOcclusion)) << on.plan.describe();
+  EXPECT_GT(on.views.at(0).occluded_samples, 0u);
+  const cv::Mat& a = off.views.at(0).hdr;
+  const cv::Mat& b = on.views.at(0).hdr;
+  float radiance_change = 0.0f, codes_change = 0.0f;
+  for (int y = 0; y < a.rows; ++y)
+    for (int x = 0; x < a.cols; ++x) {
+      const vec3 ra = rgbAt(a, x, y), rb = rgbAt(b, x, y);
+      radiance_change =
+          std::max(radiance_change, maxComponent(glm::abs(ra - rb)) / std::max(maxComponent(ra), 1e-12f));
+      codes_change = std::max(codes_change, maxComponent(glm::abs(toneMapCodes(ra, evening.exposure) -
+                                                                  toneMapCodes(rb, evening.exposure))));
+    }
+  std::printf(
+      "bright: %s\ndim at the bright exposure: %s\nforced on: largest radiance change %.0f%%, %.2f codes\n",
+      shown.plan.describe().c_str(), off.plan.describe().c_str(), double(radiance_change) * 100.0,
+      double(codes_change));
+  EXPECT_GT(radiance_change, 0.1f);  // the visibility darkens the inside by tens of percent
+  EXPECT_LT(codes_change, 1.0f);
+}
+
 // The inside of the Lambert bowl against the path tracer: with the visibility its mean is close
 // and its per-pixel error well below the unoccluded irradiance's, which is too bright.
 TEST(SelfOcclusion, LambertBowlInsideMatchesTruthAndWorsensWithoutIt) {

@@ -54,6 +54,10 @@ struct MethodSettings {
   bool with_visitors = true;
   std::uint64_t seed = 1;
   reflect::TracerSettings tracer;  // ours: anti-aliasing, pyramid levels, voxel grid
+  // ours: frames rendered after the timed one with nothing moving (the progressive refinement
+  // adds a sample set each); the image and the times are the last one's. Default 0: the timed
+  // frame follows a moved eye, as in the live loop with the eyes moving.
+  int still_frames = 0;
   // ours, ssrt, ibl: the static hall's prefiltered panorama. The hall does not move, so it is
   // built once per scene (staticIbl) and not counted in the per-view time; null = build it here
   // (reported in build_ms; ours, ssrt: outside ms). ibl-baseline always builds its own.
@@ -74,6 +78,7 @@ struct MethodResult {
   std::vector<std::pair<std::string, double>> passes;  // ours: ms per pass (frame passes first)
   double frame_ms = 0;  // ours: the per-frame passes (voxel grid, pyramids), shared by all views
   double view_ms = 0;   // ours: the per-view passes (hit points, static, walk, composition, tone map)
+  std::string plan;     // ours: the last frame's effect plan (EffectPlan::describe)
 };
 
 // Throws InputError(field "--method") for an unknown method.

@@ -7,8 +7,11 @@
 // relic (refraction_pass.hpp), Clearcoat (KHR_materials_clearcoat); an opaque relic's frame does
 // no refraction work at all. SelfOcclusion runs where a relic with a diffuse material shadows
 // itself by more than TracerSettings::self_occlusion_min (relic_visibility.hpp, built with the
-// renderer; the lobes of metal and glass trace their own interreflection): a convex or all-metal
-// relic casts none of its rays. The interreflection (one bounce where a hit point's reflection
+// renderer; the lobes of metal and glass trace their own interreflection) and, under the light
+// shown, changes the displayed relic by at least TracerSettings::effect_min_codes
+// (RelicVisibility::largestDisplayedChange, at each panorama's first frame): a convex or
+// all-metal relic casts none of its rays, a dim hall at a fixed exposure reads none of them.
+// The interreflection (one bounce where a hit point's reflection
 // meets the relic itself, static_shading.hpp) runs where the relic can see itself at all: a convex
 // relic, every triangle in a supporting plane of the relic (render_scene.hpp), casts none of its
 // rays, and on any other relic a ray is cast only where its triangle's plane does not prove a miss.

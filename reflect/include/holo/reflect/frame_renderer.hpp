@@ -99,6 +99,8 @@ class FrameRenderer {
   std::uint64_t lit_source_ = 0;
   float lit_turn_ = 0.0f;
   bool lit_ = false;
+  float self_occlusion_codes_ = 0.0f;   // largestDisplayedChange of lighting_
+  std::string self_occlusion_figures_;  // "6305 vertex sides, up to 52% occluded"
   std::string self_occlusion_reason_;
   bool refines_ = false;  // ProgressiveRefinement: a rough lobe to refine on an opaque relic
   std::string refinement_reason_;

@@ -52,6 +52,13 @@ class RelicVisibility {
   // the radiance coefficients alone (9 products a vertex, cheap enough for every frame of a
   // turning relic; the shadows' detail of the 9 coefficients only).
   Lighting lit(const PrefilteredIbl& ibl, bool filtered = true) const;
+  // What `lighting` changes on the display, in sRGB codes: over every vertex side, the largest
+  // channel's difference between its diffuse radiance (the material's diffuse albedo / pi, its
+  // factors alone: a texture only darkens) under lighting and under the unoccluded irradiance
+  // (ibl.irradiance of its normal), each tone-mapped at `exposure` (tone_map.hpp; <= 0: the one
+  // autoExposure would choose for the relic's vertices so lit). The gloss a display adds over
+  // the diffuse only lessens a difference, so this bounds it from above.
+  float largestDisplayedChange(const Lighting& lighting, const PrefilteredIbl& ibl, float exposure) const;
 
   // Whether `at` has a transfer (a located point on a side that was computed).
   bool covers(const SurfaceLocation& at) const;

@@ -18,6 +18,9 @@ float autoExposure(const cv::Mat& hdr_bgr32f);
 // non-finite -> black. The sRGB curve is read from a table of 2^14 steps over [0, 1] (within 0.1
 // of a code value of the exact curve), so the renderer can tone-map single pixels cheaply.
 cv::Vec3b toneMapPixel(const vec3& rgb, float exposure);
+// The same, unrounded: the exact sRGB curve's codes in [0, 255], RGB order; for telling whether a
+// change of radiance would move a displayed code at all.
+vec3 toneMapCodes(const vec3& rgb, float exposure);
 // CV_32FC3 linear BGR -> CV_8UC3 sRGB BGR, toneMapPixel per pixel.
 cv::Mat toneMap(const cv::Mat& hdr_bgr32f, float exposure);
 // The same at the listed pixels only (y * width + x, each < hdr's pixel count), black elsewhere:

@@ -131,6 +131,11 @@ struct TracerSettings {
   // hemisphere gets no visibility (the plan leaves it off), [0, 1]; default 1/255: below one
   // sRGB code of a white surface.
   float self_occlusion_min = 1.0f / 255.0f;
+  // sRGB codes a plan entry's estimated largest change of the displayed relic must reach for the
+  // plan to run it, finite >= 0 (0: wherever it can change anything). SelfOcclusion's estimate:
+  // RelicVisibility::largestDisplayedChange at each panorama's first frame. Default 1: a change
+  // below one code cannot be seen.
+  float effect_min_codes = 1.0f;
   // Metres between the relic's box and the foreground's within which the visitors' shadow and
   // light on the relic's diffuse and widest lobes are computed (VisitorLight), finite >= 0;
   // default 1.5: a body there (about 0.5 x 1.7 m) hides about a fifth of a steradian, tenths of
