@@ -34,6 +34,7 @@ struct Options {
   std::vector<int> compared_levels = eval::SimulatedDepthOptions{}.compared_levels;
   bool mask_persistence = eval::SimulatedDepthOptions{}.mask_persistence;
   bool cross_camera = eval::SimulatedDepthOptions{}.cross_camera;
+  bool round_trip_check = eval::SimulatedDepthOptions{}.round_trip_check;
   bool reflection_flicker = eval::SimulatedDepthOptions{}.reflection_flicker;
   int view_size = eval::SimulatedDepthOptions{}.view_size;
   std::string json;
@@ -77,9 +78,10 @@ int run(const Options& o) {
   if (o.levels < 1 || o.levels > max_levels)
     throw InputError("", "--levels", "l_max in [1, " + std::to_string(max_levels) + "]",
                      std::to_string(o.levels));
-  const eval::SimulatedDepthEvaluation e = eval::evaluateSimulatedDepth(
-      {o.scene, o.visitor_model, o.frames, o.width, o.height, o.learning_frames, o.levels, o.compared_levels,
-       !o.images.empty(), o.mask_persistence, o.cross_camera, o.reflection_flicker, o.view_size});
+  const eval::SimulatedDepthEvaluation e =
+      eval::evaluateSimulatedDepth({o.scene, o.visitor_model, o.frames, o.width, o.height, o.learning_frames,
+                                    o.levels, o.compared_levels, !o.images.empty(), o.mask_persistence,
+                                    o.cross_camera, o.round_trip_check, o.reflection_flicker, o.view_size});
   std::cout << e.report.dump(2) << "\n";
   std::cerr << eval::depthMetricsTable(e.rows);
   if (!e.flicker_rows.empty()) std::cerr << "\n" << eval::reflectionFlickerTable(e.flicker_rows);
@@ -112,6 +114,10 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--cross-camera", o->cross_camera,
                      "The cameras fill each other's holes with their measured depth of the same visitor, "
                      "projected through the poses (false: each camera on its own)")
+          ->capture_default_str();
+      sub.add_option("--flow-check", o->round_trip_check,
+                     "The precursor flow's forward-backward check: a pixel whose precursor does not map "
+                     "back to it (hidden in the previous frame) has none")
           ->capture_default_str();
       sub.add_option("--reflection-flicker", o->reflection_flicker,
                      "Also feed every method's depth through the live renderer and report the relic's "

@@ -179,6 +179,7 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
   config.filter.learning_frames = o.learning_frames;
   config.filter.levels = o.levels;
   config.persistence.enabled = o.mask_persistence;
+  config.flow.round_trip_check = o.round_trip_check;
   for (int levels : o.compared_levels) {
     depthfilter::TemporalDepthFilterConfig variant = config.filter;
     variant.levels = levels;
@@ -275,6 +276,7 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
       {"levels", o.levels},
       {"mask_persistence", o.mask_persistence},
       {"cross_camera", o.cross_camera},
+      {"round_trip_check", o.round_trip_check},
       {"cross_camera_filled_per_camera_frame",
        camera_frames > 0 ? double(filled) / double(camera_frames) : 0.0},
       {"cross_camera_confirmed_per_camera_frame",

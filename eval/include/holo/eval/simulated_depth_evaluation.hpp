@@ -38,6 +38,9 @@ struct SimulatedDepthOptions {
   // The cameras filling each other's holes before ours filters (depthfilter::CrossCameraFill;
   // false: each camera on its own).
   bool cross_camera = depthfilter::CrossCameraFillConfig{}.enabled;
+  // The precursor flow's forward-backward check (depthfilter::PrecursorFlowConfig::round_trip_check),
+  // for every method (they share the flow).
+  bool round_trip_check = depthfilter::PrecursorFlowConfig{}.round_trip_check;
   // Each scored frame of every method rendered by the live renderer and its displayed reflection
   // flicker scored (false: the depth metrics alone).
   bool reflection_flicker = true;
