@@ -3,7 +3,9 @@
 // (docs/depthfilter.md); --images writes a Fig. 9-like picture of each method's point cloud.
 // `--recording DIR` instead runs a recording without truth (ours from `holopyramid simulate`, a
 // TUM sequence folder) through the product's foreground pipeline and reports what can be measured
-// without it (holo/eval/depth_stability.hpp); --images writes depth_stability.png.
+// without it (holo/eval/depth_stability.hpp); --images writes depth_stability.png. Next to the
+// depth metrics it reports the relic's displayed reflection flicker with each method's depth fed
+// through the live renderer (--images: reflection_flicker.png).
 #include <filesystem>
 #include <iostream>
 #include <vector>
@@ -32,6 +34,9 @@ struct Options {
   std::vector<int> compared_levels = eval::SimulatedDepthOptions{}.compared_levels;
   bool mask_persistence = eval::SimulatedDepthOptions{}.mask_persistence;
   bool cross_camera = eval::SimulatedDepthOptions{}.cross_camera;
+  bool round_trip_check = eval::SimulatedDepthOptions{}.round_trip_check;
+  bool reflection_flicker = eval::SimulatedDepthOptions{}.reflection_flicker;
+  int view_size = eval::SimulatedDepthOptions{}.view_size;
   std::string json;
   std::string images;
   std::string recording;
@@ -68,16 +73,22 @@ int run(const Options& o) {
     if (levels < 1 || levels > max_levels)
       throw InputError("", "--compare-levels", "levels in [1, " + std::to_string(max_levels) + "]",
                        std::to_string(levels));
+  if (o.view_size < 0 || o.view_size > 4096)
+    throw InputError("", "--view-size", "0 (the live loop's) or 1..4096 pixels", std::to_string(o.view_size));
   if (o.levels < 1 || o.levels > max_levels)
     throw InputError("", "--levels", "l_max in [1, " + std::to_string(max_levels) + "]",
                      std::to_string(o.levels));
-  const eval::SimulatedDepthEvaluation e = eval::evaluateSimulatedDepth(
-      {o.scene, o.visitor_model, o.frames, o.width, o.height, o.learning_frames, o.levels, o.compared_levels,
-       !o.images.empty(), o.mask_persistence, o.cross_camera});
+  const eval::SimulatedDepthEvaluation e =
+      eval::evaluateSimulatedDepth({o.scene, o.visitor_model, o.frames, o.width, o.height, o.learning_frames,
+                                    o.levels, o.compared_levels, !o.images.empty(), o.mask_persistence,
+                                    o.cross_camera, o.round_trip_check, o.reflection_flicker, o.view_size});
   std::cout << e.report.dump(2) << "\n";
   std::cerr << eval::depthMetricsTable(e.rows);
+  if (!e.flicker_rows.empty()) std::cerr << "\n" << eval::reflectionFlickerTable(e.flicker_rows);
   if (!o.json.empty()) writeFileAtomically(o.json, e.report.dump(2) + "\n");
   if (!o.images.empty()) writeFigure(o.images, "depth_methods.png", e.figure);
+  if (!o.images.empty() && !e.flicker_figure.empty())
+    writeFigure(o.images, "reflection_flicker.png", e.flicker_figure);
   return 0;
 }
 
@@ -103,6 +114,17 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--cross-camera", o->cross_camera,
                      "The cameras fill each other's holes with their measured depth of the same visitor, "
                      "projected through the poses (false: each camera on its own)")
+          ->capture_default_str();
+      sub.add_option("--flow-check", o->round_trip_check,
+                     "The precursor flow's forward-backward check: a pixel whose precursor does not map "
+                     "back to it (hidden in the previous frame) has none")
+          ->capture_default_str();
+      sub.add_option("--reflection-flicker", o->reflection_flicker,
+                     "Also feed every method's depth through the live renderer and report the relic's "
+                     "displayed reflection flicker (false: the depth metrics alone)")
+          ->capture_default_str();
+      sub.add_option("--view-size", o->view_size,
+                     "Face view size of the reflection flicker (0: the live loop's)")
           ->capture_default_str();
       sub.add_option("--width", o->width, "Camera width (default: the scene's)");
       sub.add_option("--height", o->height, "Camera height (default: the scene's)");

@@ -1,6 +1,7 @@
 #include "holo/depthfilter/precursor_flow.hpp"
 
 #include <cmath>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 
 #include "holo/core/error.hpp"
@@ -8,8 +9,12 @@
 namespace holo::depthfilter {
 
 PrecursorFlow::PrecursorFlow(PrecursorFlowConfig config)
-    : dis_(cv::DISOpticalFlow::create(config.preset)), downscale_(config.downscale) {
+    : dis_(cv::DISOpticalFlow::create(config.preset)),
+      downscale_(config.downscale),
+      round_trip_check_(config.round_trip_check),
+      round_trip_max_px_(config.round_trip_max_px) {
   if (downscale_ < 1) throw Error("PrecursorFlow: downscale must be >= 1");
+  if (!(round_trip_max_px_ >= 0.0f)) throw Error("PrecursorFlow: round_trip_max_px must be >= 0");
 }
 
 void PrecursorFlow::flowImage(const cv::Mat& bgr, cv::Mat& out) {
@@ -44,7 +49,30 @@ cv::Mat PrecursorFlow::flowBetween(const cv::Mat& current, const cv::Mat& previo
       row[i] = v == v ? v : 0.0f;  // NaN -> 0, as cv::patchNaNs
     }
   }
+  if (round_trip_check_) rejectRoundTripFailures(current, previous, flow);
   return flow;
+}
+
+void PrecursorFlow::rejectRoundTripFailures(const cv::Mat& current, const cv::Mat& previous, cv::Mat& flow) {
+  forward_flow_ = cv::Mat::zeros(current.size(), CV_32FC2);
+  dis_->calc(previous, current, forward_flow_);
+  // In the downscaled images' pixels, where both flows live.
+  const float scale = 1.0f / float(downscale_);
+  const float max_sq = (round_trip_max_px_ * scale) * (round_trip_max_px_ * scale);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const int w = forward_flow_.cols, h = forward_flow_.rows;
+  for (int y = 0; y < flow.rows; ++y) {
+    cv::Vec2f* row = flow.ptr<cv::Vec2f>(y);
+    for (int x = 0; x < flow.cols; ++x) {
+      const cv::Vec2f back = row[x] * scale;
+      const float sx = (float(x) + 0.5f) * scale - 0.5f, sy = (float(y) + 0.5f) * scale - 0.5f;
+      const int qx = int(std::lround(sx + back[0])), qy = int(std::lround(sy + back[1]));
+      if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;  // leaves the frame: the filter ignores it
+      const cv::Vec2f forward = forward_flow_.at<cv::Vec2f>(qy, qx);
+      const float ex = back[0] + forward[0], ey = back[1] + forward[1];
+      if (!(ex * ex + ey * ey <= max_sq)) row[x] = cv::Vec2f(nan, nan);
+    }
+  }
 }
 
 cv::Mat PrecursorFlow::compute(const cv::Mat& current_bgr, const cv::Mat& previous_bgr) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "holo/eval/depth_evaluation.hpp"
+#include "holo/eval/reflection_flicker.hpp"
 
 namespace holo::eval {
 
@@ -21,6 +22,14 @@ DepthBarVerdicts checkDepthBars(const DepthMethodMetrics& m, const DepthMethodMe
   v.rmse_below_raw = m.depth_rmse_cm < raw.depth_rmse_cm;
   v.coverage = m.coverage >= bars.coverage;
   v.ghosts = m.ghost_ratio < raw.ghost_ratio && m.ghost_ratio < bars.ghosts;
+  return v;
+}
+
+FlickerBarVerdicts checkFlickerBars(const ReflectionFlickerMetrics& m, const ReflectionFlickerMetrics& raw,
+                                    const ReflectionFlickerMetrics& taa) {
+  FlickerBarVerdicts v;
+  v.below_raw = m.flicker * kFlickerBelowRaw <= raw.flicker;
+  v.below_taa = m.flicker < taa.flicker;
   return v;
 }
 

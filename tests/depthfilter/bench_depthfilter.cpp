@@ -106,12 +106,14 @@ void BM_BorderExpansion(benchmark::State& state) {
 BENCHMARK(BM_BorderExpansion)->Unit(benchmark::kMillisecond);
 
 // The whole per-camera step (mask, flow, mask persistence, filter, border, back-projection) on
-// one core; argument 0 switches the mask's persistence off (its cost).
+// one core; argument 0 switches the mask's persistence off (its cost), 2 adds the precursor flow's
+// forward-backward check (its cost).
 void BM_PipelineOneCamera(benchmark::State& state) {
   const test::SyntheticScene scene = scene640();
   ForegroundPipelineConfig config;
   config.parallel = false;
   config.persistence.enabled = state.range(0) != 0;
+  config.flow.round_trip_check = state.range(0) == 2;
   config.filter.learning_frames = 4;
   ForegroundPipeline pipeline({CameraModel(scene.intrinsics(), mat4(1.0f))}, config);
   test::SyntheticScene empty = scene;
@@ -125,7 +127,7 @@ void BM_PipelineOneCamera(benchmark::State& state) {
   for (auto _ : state)
     benchmark::DoNotOptimize(pipeline.process({&frames()[t++ % frames().size()].frame, 1}));
 }
-BENCHMARK(BM_PipelineOneCamera)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PipelineOneCamera)->Arg(1)->Arg(0)->Arg(2)->Unit(benchmark::kMillisecond);
 
 // The cameras filling each other (the combining step between the per-camera masks and filters)
 // for four cameras on one core, each seeing the sequence's frame with a sixth of its pixels

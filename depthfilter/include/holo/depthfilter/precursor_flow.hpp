@@ -1,7 +1,9 @@
 // Optical flow lambda_i of one camera (paper Sec. 3.2) with OpenCV's DIS optical flow. The flow is
 // computed backwards, from the current frame to the previous one, so that every current pixel px
 // directly indexes its precursor px_pre = px + lambda_i(px) in the previous frame (the pixel that
-// showed the same real content). Units: pixels. Output CV_32FC2, finite everywhere.
+// showed the same real content). Units: pixels. Output CV_32FC2, finite everywhere except, with
+// the round-trip check, NaN at the pixels whose precursor it rejects (every user treats a
+// non-finite vector as "no precursor").
 #pragma once
 
 #include <opencv2/core.hpp>
@@ -18,6 +20,13 @@ struct PrecursorFlowConfig {
   // The flow is computed on frames downscaled by this factor (area average) and scaled back
   // (bilinear, vectors times the factor). 1 = full size. See docs/depthfilter.md, "Speed".
   int downscale = 2;
+  // The forward-backward check: the flow is also computed forwards (previous -> current, on the
+  // same downscaled images) and a pixel px whose precursor q = px + lambda(px) does not map back
+  // to it (|lambda(px) + forward(q)| above round_trip_max_px, in full-size pixels) has none: what
+  // it shows was hidden in the previous frame (a disocclusion), so the previous depth there is
+  // another surface's. Costs a second DIS flow.
+  bool round_trip_check = false;
+  float round_trip_max_px = 2.0f;
 };
 
 class PrecursorFlow {
@@ -39,9 +48,14 @@ class PrecursorFlow {
   // The flow between two flow images of a full-size frame `size`.
   cv::Mat flowBetween(const cv::Mat& current, const cv::Mat& previous, const cv::Size& size);
 
+  // NaN where the forward flow does not bring the precursor back (round_trip_check).
+  void rejectRoundTripFailures(const cv::Mat& current, const cv::Mat& previous, cv::Mat& flow);
+
   cv::Ptr<cv::DISOpticalFlow> dis_;
   int downscale_ = 1;
-  cv::Mat grey_, current_image_, previous_image_, small_flow_;  // scratch
+  bool round_trip_check_ = false;
+  float round_trip_max_px_ = 2.0f;
+  cv::Mat grey_, current_image_, previous_image_, small_flow_, forward_flow_;  // scratch
   cv::Size previous_size_;  // of the frame previous_image_ was made from; empty: none (next())
 };
 

@@ -7,6 +7,7 @@
 namespace holo::eval {
 
 struct DepthMethodMetrics;
+struct ReflectionFlickerMetrics;
 
 // ---- Reflections, per scene of `eval tracer` (docs/tracer/evaluation.md), on the displayed images ----
 
@@ -75,6 +76,18 @@ inline constexpr DepthBars kCiDepthBars{
 // and with the bodies (3.4x measured: holes cost most of what the figures' bar allows).
 inline constexpr double kCiFiguresBelowRaw = 5.0;
 inline constexpr double kCiBodiesBelowRaw = 3.0;
+
+// ---- What a visitor sees of it: the relic's displayed reflection flicker, `eval depth` ----
+
+// ours' displayed reflection flicker (reflection_flicker.hpp) at least this many times below the
+// same renderer fed the raw depth, and below the renderer fed TAA's.
+inline constexpr double kFlickerBelowRaw = 3.0;
+struct FlickerBarVerdicts {
+  bool below_raw = false, below_taa = false;
+  bool all() const { return below_raw && below_taa; }
+};
+FlickerBarVerdicts checkFlickerBars(const ReflectionFlickerMetrics& method,
+                                    const ReflectionFlickerMetrics& raw, const ReflectionFlickerMetrics& taa);
 
 // ---- Calibration of an installation, `eval calibration` (docs/calib.md), worst camera ----
 

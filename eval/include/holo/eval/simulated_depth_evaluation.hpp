@@ -3,7 +3,10 @@
 // empty hall's background frames, then the learning frames, then the scored ones; the metrics
 // pooled over the cameras (between each frame's masks and the filters the cameras fill each
 // other's holes, depthfilter::CrossCameraFill), the bars' verdicts (acceptance_bars.hpp) for ours and for the
-// hole-leaving adversary, and the report as JSON (NaN written as null).
+// hole-leaving adversary, and the report as JSON (NaN written as null). Next to the depth metrics,
+// what a visitor sees of them: every method's output, the truth's and no visitors at all fed
+// through the live reflection renderer (displayed_reflection.hpp) with the scene's relic, the
+// displayed reflection flicker of each (reflection_flicker.hpp) and its bars.
 #pragma once
 
 #include <nlohmann/json.hpp>
@@ -15,6 +18,7 @@
 #include "holo/depthfilter/cross_camera_fill.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
 #include "holo/eval/depth_evaluation.hpp"
+#include "holo/eval/reflection_flicker.hpp"
 
 namespace holo::eval {
 
@@ -34,6 +38,13 @@ struct SimulatedDepthOptions {
   // The cameras filling each other's holes before ours filters (depthfilter::CrossCameraFill;
   // false: each camera on its own).
   bool cross_camera = depthfilter::CrossCameraFillConfig{}.enabled;
+  // The precursor flow's forward-backward check (depthfilter::PrecursorFlowConfig::round_trip_check),
+  // for every method (they share the flow).
+  bool round_trip_check = depthfilter::PrecursorFlowConfig{}.round_trip_check;
+  // Each scored frame of every method rendered by the live renderer and its displayed reflection
+  // flicker scored (false: the depth metrics alone).
+  bool reflection_flicker = true;
+  int view_size = 0;  // of the face views the flicker is measured on; 0: the live loop's
 };
 
 struct SimulatedDepthEvaluation {
@@ -49,6 +60,12 @@ struct SimulatedDepthEvaluation {
   // camera that sees the most visitor pixels: its colour frame, then raw's, the median's, TAA's,
   // ours' and the truth's point clouds seen 0.8 m behind and 0.2 m to the right of the camera.
   cv::Mat figure;
+  // With SimulatedDepthOptions::reflection_flicker: the displayed reflection flicker of ours, raw,
+  // the median, TAA, the adversary and "nobody" (the renderer fed no visitors: the reflection
+  // left out altogether), and the truth's (its displayed_change is the visitors' own change).
+  std::vector<std::pair<std::string, ReflectionFlickerMetrics>> flicker_rows;
+  // Their flicker per frame pair, ours, raw, the median and TAA, as a picture (BGR, log scale).
+  cv::Mat flicker_figure;
 };
 
 SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& options);
