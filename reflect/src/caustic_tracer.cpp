@@ -8,9 +8,9 @@
 #include <tbb/parallel_for.h>
 #include <opencv2/imgproc.hpp>
 
+#include "environment_directions.hpp"
 #include "holo/core/stats.hpp"
 #include "holo/core/stopwatch.hpp"
-#include "holo/reflect/distribution.hpp"
 #include "holo/reflect/optics.hpp"
 #include "holo/reflect/surface_shading.hpp"
 
@@ -224,29 +224,7 @@ CausticImage tracePointCaustics(const RenderScene& scene, const vec3& light_posi
 CausticImage traceEnvironmentCaustics(const RenderScene& scene, const PrefilteredIbl& ibl,
                                       const CausticReceiverGrid& grid,
                                       const CausticTracerSettings& settings) {
-  const OctahedralMap& map = ibl.level(0);
-  const int size = map.size();
-  // Radiance (luminance) times each texel's solid angle, from its corners' directions.
-  std::vector<double> weights(std::size_t(size) * std::size_t(size));
-  std::vector<double> solid(weights.size());
-  double solid_total = 0.0;
-  for (int y = 0; y < size; ++y)
-    for (int x = 0; x < size; ++x) {
-      const auto corner = [&](int dx, int dy) {
-        return octahedralDecode(vec2(float(x + dx), float(y + dy)) / float(size));
-      };
-      const vec3 a = corner(0, 0), b = corner(1, 0), c = corner(1, 1), d = corner(0, 1);
-      const double omega = 0.5 * (double(glm::length(glm::cross(b - a, c - a))) +
-                                  double(glm::length(glm::cross(c - a, d - a))));
-      solid[std::size_t(y) * std::size_t(size) + std::size_t(x)] = omega;
-      solid_total += omega;
-    }
-  for (std::size_t i = 0; i < solid.size(); ++i) {
-    solid[i] *= 4.0 * double(kPi) / solid_total;  // the flat-triangle areas, made to sum to 4 pi
-    const vec3 L = map.at(int(i % std::size_t(size)), int(i / std::size_t(size)));
-    weights[i] = double(luminance(L)) * solid[i];
-  }
-  const Distribution2D directions(weights, size, size);
+  const EnvironmentDirections directions(ibl.level(0));
   const BoundingSphere bound = boundingSphereOf(scene.relicBounds());
   const float c = std::cos(ibl.relicTurn()), s = std::sin(ibl.relicTurn());
   const double disc = double(kPi) * double(bound.radius) * double(bound.radius);
@@ -257,13 +235,12 @@ CausticImage traceEnvironmentCaustics(const RenderScene& scene, const Prefiltere
     return traceAndBin(scene, grid, none, [](std::uint64_t, PhotonRandom&, Emitted&) { return false; });
   }
   return traceAndBin(scene, grid, settings, [&](std::uint64_t, PhotonRandom& random, Emitted& out) {
-    const Distribution2D::Sample pick = directions.sample(random.next2D());
-    if (!(pick.probability > 0.0)) return false;
-    const vec3 hall = octahedralDecode((vec2(float(pick.x), float(pick.y)) + pick.within) / float(size));
+    const EnvironmentDirections::Sample pick = directions.sample(random.next2D());
+    if (!(pick.pdf > 0.0)) return false;
+    const vec3& hall = pick.direction;
     // The hall direction in the relic's frame: PrefilteredIbl::turnDirection inverted.
     const vec3 towards_light(c * hall.x - s * hall.z, hall.y, s * hall.x + c * hall.z);
-    const std::size_t texel = std::size_t(pick.y) * std::size_t(size) + std::size_t(pick.x);
-    const double pdf = pick.probability / solid[texel];
+    const double pdf = pick.pdf;
     const vec3 travel = -glm::normalize(towards_light);
     vec3 u, v;
     frameAround(travel, u, v);
@@ -272,7 +249,7 @@ CausticImage traceEnvironmentCaustics(const RenderScene& scene, const Prefiltere
     out.ray =
         Ray{bound.centre - 2.0f * bound.radius * travel + radius * (std::cos(phi) * u + std::sin(phi) * v),
             travel};
-    out.flux = map.at(pick.x, pick.y) * float(disc / (pdf * photons));
+    out.flux = pick.radiance * float(disc / (pdf * photons));
     return true;
   });
 }

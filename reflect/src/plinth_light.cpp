@@ -5,6 +5,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "environment_directions.hpp"
 #include "holo/reflect/view.hpp"
 
 namespace holo::reflect {
@@ -41,43 +42,58 @@ std::uint64_t PlinthLight::light(const RenderScene& scene, const PrefilteredIbl&
   const int res = resolution_;
   blocked_.assign(std::size_t(res) * std::size_t(res), vec3(0.0f));
   if (!shadow) return 0;
-  const int strata = std::max(1, int(std::lround(std::sqrt(double(shadow_rays_)))));
+  // Half the rays cosine-distributed over strata, half drawn from the hall's bright directions
+  // (its small lamps), combined by the balance heuristic.
+  const int strata = std::max(1, int(std::lround(std::sqrt(0.5 * double(shadow_rays_)))));
+  const int cosine_rays = strata * strata, hall_rays = strata * strata;
   const float c = std::cos(ibl.relicTurn()), s = std::sin(ibl.relicTurn());
+  const auto toHall = [c, s](const vec3& d) { return vec3(c * d.x + s * d.z, d.y, c * d.z - s * d.x); };
   const OctahedralMap& sharp = ibl.level(0);
+  const EnvironmentDirections directions(sharp);
   const RayScene& relic = scene.relicOnly();
   const float texel = 2.0f * box_.half_width / float(res);
   const float lift = 1e-4f * std::max(1e-3f, box_.half_width);
   tbb::parallel_for(0, res, [&](int z) {
-    std::vector<Ray> rays(std::size_t(strata) * std::size_t(strata));
+    std::vector<Ray> rays(std::size_t(cosine_rays + hall_rays));
     std::vector<RayHit> found(rays.size());
     for (int x = 0; x < res; ++x) {
       const vec3 origin(box_.centre.x - box_.half_width + (float(x) + 0.5f) * texel, box_.top + lift,
                         box_.centre.y - box_.half_width + (float(z) + 0.5f) * texel);
-      // Stratified cosine-distributed directions, the strata's offsets hashed from the texel so
-      // neighbouring texels do not share one pattern.
+      // The strata's offsets hashed from the texel so neighbouring texels do not share a pattern.
       std::uint32_t h = std::uint32_t(z * 73856093) ^ std::uint32_t(x * 19349663);
+      const auto next = [&h] {
+        h = h * 1664525u + 1013904223u;
+        return float(h >> 8) / 16777216.0f;
+      };
       for (int j = 0; j < strata; ++j)
         for (int i = 0; i < strata; ++i) {
-          h = h * 1664525u + 1013904223u;
-          const float jx = float(h >> 8) / 16777216.0f;
-          h = h * 1664525u + 1013904223u;
-          const float jy = float(h >> 8) / 16777216.0f;
-          const float u1 = (float(i) + jx) / float(strata), u2 = (float(j) + jy) / float(strata);
+          const float u1 = (float(i) + next()) / float(strata), u2 = (float(j) + next()) / float(strata);
           const float r = std::sqrt(u1), phi = 2.0f * kPi * u2;
           rays[std::size_t(j * strata + i)] =
               Ray{origin, vec3(r * std::cos(phi), std::sqrt(std::max(0.0f, 1.0f - u1)), r * std::sin(phi))};
         }
+      for (int k = 0; k < hall_rays; ++k) {
+        const float u1 = next(), u2 = next();
+        const vec3 hall =
+            directions.empty() ? vec3(0.0f, -1.0f, 0.0f) : directions.sample(vec2(u1, u2)).direction;
+        // The hall direction in the relic's frame: toHall inverted.
+        rays[std::size_t(cosine_rays + k)] =
+            Ray{origin, vec3(c * hall.x - s * hall.z, hall.y, s * hall.x + c * hall.z)};
+      }
       relic.intersectCoherent(rays, found, 0.0f, 1e30f);
       vec3 sum(0.0f);
       for (std::size_t k = 0; k < rays.size(); ++k) {
-        if (!found[k].hit()) continue;
         const vec3& d = rays[k].direction;
-        sum += sharp.bilinear(vec3(c * d.x + s * d.z, d.y, c * d.z - s * d.x));  // turnDirection
+        if (!found[k].hit() || d.y <= 0.0f) continue;
+        const vec3 hall = toHall(d);
+        const double p = double(cosine_rays) * double(d.y) / double(kPi) +
+                         (directions.empty() ? 0.0 : double(hall_rays) * directions.pdf(hall));
+        if (p > 0.0) sum += sharp.bilinear(hall) * float(double(d.y) / p);
       }
-      blocked_[std::size_t(z) * std::size_t(res) + std::size_t(x)] = sum * (kPi / float(rays.size()));
+      blocked_[std::size_t(z) * std::size_t(res) + std::size_t(x)] = sum;
     }
   });
-  return std::uint64_t(res) * std::uint64_t(res) * std::uint64_t(strata) * std::uint64_t(strata);
+  return std::uint64_t(res) * std::uint64_t(res) * std::uint64_t(cosine_rays + hall_rays);
 }
 
 vec3 PlinthLight::irradiance(const vec3& position, const vec3& normal, const PrefilteredIbl& ibl) const {

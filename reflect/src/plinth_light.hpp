@@ -1,9 +1,11 @@
 // The virtual plinth's light and its drawing in a view (internal to the frame renderer). The top
 // face's irradiance is a map over its square: the hall's unshadowed irradiance (the IBL's
 // spherical harmonics) less the light the relic blocks, plus the caustic the relic focuses onto
-// it (caustic_tracer.hpp). The blocked light is the delta of the relic alone: per texel, cosine-
-// distributed stratified rays against the relic, (pi / N) sum of the hall's radiance along those
-// that meet it, so a texel the relic does not shadow is exact. Glass blocks like any surface here;
+// it (caustic_tracer.hpp). The blocked light is the delta of the relic alone: per texel, rays
+// against the relic, half cosine-distributed over strata and half drawn from the hall's bright
+// directions (environment_directions.hpp), the hall's radiance times cosine along those that meet
+// it summed by the balance heuristic, so a texel the relic does not shadow is exact and a small
+// lamp's shadow is sharp. Glass blocks like any surface here;
 // the light it lets through is the caustic's. The sides take the unshadowed irradiance. The
 // plinth is Lambertian: radiance albedo / pi times irradiance. Units: metres, linear radiance.
 #pragma once
@@ -24,7 +26,7 @@ namespace holo::reflect {
 
 class PlinthLight {
  public:
-  // resolution: texels along the top's side; shadow_rays: per texel (a square number).
+  // resolution: texels along the top's side; shadow_rays: per texel (rounded to twice a square).
   PlinthLight(const PlinthBox& box, int resolution, int shadow_rays);
   // Lights the top under `ibl` (its panorama and relic turn) with the relic's shadow, and adds
   // `caustic` (null: none) over its square; without `shadow` the top is unshadowed. Returns the
