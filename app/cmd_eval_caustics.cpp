@@ -53,6 +53,21 @@ int run(const Options& o) {
             << "irradiance at the peak (disc of 0.1 R): photon map " << e.peak_irradiance
             << " W/m^2, light tracer " << e.reference_peak_irradiance << " W/m^2, ratio "
             << e.peakIrradianceRatio() << "\n";
+  if (o.evaluation.live_photons > 0) {
+    const double live_peak = e.livePeakErrorOverRadius(s.radius);
+    std::cout << "live light tracer (the pyramid views'): " << o.evaluation.live_photons << " photons, "
+              << e.live_photons_stored << " landed, " << e.live_ms << " ms\n"
+              << "live peak (" << e.live_peak.x << ", " << e.live_peak.y << ") m, error " << live_peak
+              << " R (bar < " << eval::kCausticPeakOverRadius << ": "
+              << verdict(live_peak < eval::kCausticPeakOverRadius) << ")\n"
+              << "live power on the disc of R " << e.live_power << " W, error " << e.livePowerError()
+              << " (bar < " << eval::kCausticPowerRelative << ": "
+              << verdict(e.livePowerError() < eval::kCausticPowerRelative) << "); irradiance at the peak "
+              << e.live_peak_irradiance << " W/m^2, ratio "
+              << (e.reference_peak_irradiance > 0 ? e.live_peak_irradiance / e.reference_peak_irradiance
+                                                  : 0.0)
+              << "\n";
+  }
   if (!o.out.empty()) {
     std::filesystem::create_directories(o.out);
     // photon map | light tracer | the opaque sphere (its shadow, no caustic), direct light added
@@ -90,6 +105,9 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--kernel", e.kernel_radius_over_radius, "Photon map kernel radius, in sphere radii")
           ->capture_default_str()
           ->check(CLI::Range(1e-4f, 1.0f));
+      sub.add_option("--live-photons", e.live_photons,
+                     "Photons of the live light tracer (reflect/caustic_tracer.hpp); 0: not run")
+          ->capture_default_str();
       sub.add_flag("--opaque", e.opaque, "An opaque (mirror metal) sphere instead of glass");
       sub.add_option("--seed", e.seed, "Sampling seed")->capture_default_str();
       sub.add_option("--out", o->out, "Folder for caustics.exr and caustics.png");

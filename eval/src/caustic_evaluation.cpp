@@ -5,6 +5,7 @@
 
 #include "holo/core/shapes.hpp"
 #include "holo/core/stats.hpp"
+#include "holo/reflect/caustic_tracer.hpp"
 
 namespace holo::eval {
 
@@ -110,6 +111,29 @@ CausticEvaluation evaluateCaustics(const CausticEvaluationOptions& o) {
   const double spot = double(window) * double(window) * double(kPi);
   e.peak_irradiance = reference::causticPower(e.photon_map, e.reference_peak, window) / spot;
   e.reference_peak_irradiance = reference::causticPower(e.light_tracer, e.reference_peak, window) / spot;
+
+  // The live light tracer (reflect/caustic_tracer.hpp) on the same receiver grid, as the appliance
+  // runs it (its smoothing included).
+  if (o.live_photons > 0) {
+    reflect::CausticReceiverGrid grid;
+    grid.centre = receiver.centre;
+    grid.half_size = receiver.half_size;
+    grid.height = receiver.height;
+    grid.resolution = o.resolution;
+    reflect::CausticTracerSettings live;
+    live.photons = o.live_photons;
+    live.seed = o.seed + 2;
+    const reflect::CausticImage image =
+        reflect::tracePointCaustics(scene, light.position, light.power, grid, live);
+    e.live.receiver = receiver;
+    e.live.resolution = o.resolution;
+    e.live.irradiance = image.irradiance;
+    e.live_ms = image.ms;
+    e.live_photons_stored = image.stored;
+    e.live_peak = reference::causticPeak(e.live, window);
+    e.live_power = reference::causticPower(e.live, e.reference_peak, o.scene.radius);
+    e.live_peak_irradiance = reference::causticPower(e.live, e.reference_peak, window) / spot;
+  }
   return e;
 }
 

@@ -55,7 +55,9 @@ MethodResult renderMethod(const std::string& method, const ReflectionScene& scen
   if (method == "gt") {
     std::vector<Model> emitters = scene.static_emitters;
     if (settings.with_visitors && !scene.visitors.meshes.empty()) emitters.push_back(scene.visitors);
-    const reflect::RenderScene rs(scene.relic, emitters);
+    Model relic = scene.relic;
+    if (scene.plinth) appendPlinth(relic, placePlinth(*scene.plinth, scene.relic.bounds()));
+    const reflect::RenderScene rs(relic, emitters);
     const reflect::Environment env(scene.panorama);
     reference::PathTracerOptions options;
     options.seed = settings.seed;
@@ -103,7 +105,9 @@ MethodResult renderMethod(const std::string& method, const ReflectionScene& scen
     static const depthfilter::ForegroundCloud kNobody;
     const depthfilter::ForegroundCloud& cloud = settings.with_visitors ? scene.foreground : kNobody;
     if (method == "ours") {
-      reflect::FrameRenderer renderer(rs, *ibl, settings.tracer);
+      reflect::TracerSettings tracer = settings.tracer;
+      if (scene.plinth) tracer.plinth = scene.plinth;
+      reflect::FrameRenderer renderer(rs, *ibl, tracer);
       // Timed as the live loop runs it, where the eyes move every frame: buffers already
       // allocated and touched by a frame before (the grid, the pyramids, the view's hit points),
       // the view's static passes traced again (the eye 1 mm away: no reuse).

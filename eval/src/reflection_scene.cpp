@@ -110,6 +110,7 @@ ReflectionScene loadReflectionScene(const SceneOptions& o) {
     museum.emplace(d);
     s.relic_name = d.relic;
     s.relic = museum->relic();
+    s.plinth = d.plinth;
     s.static_emitters.push_back(museum->hall());
     s.visitors = museum->visitors(o.frame);
     foregroundFromCameras(*museum, o.frame, s);

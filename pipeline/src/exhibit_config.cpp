@@ -73,7 +73,7 @@ RelicEntryConfig parseRelicEntry(const ConfigNode& entry, int index, const Exhib
 
 ExhibitConfig parseExhibitConfig(const ConfigNode& exhibit) {
   exhibit.rejectUnknownKeys({"relic", "relics", "fit_relic", "panorama", "hall_radius", "base_half_width",
-                             "camera_exposure", "background_frames", "fps"});
+                             "camera_exposure", "background_frames", "fps", "plinth"});
   ExhibitConfig config;
   const bool playlist = exhibit.has("relics");
   if (playlist && exhibit.has("relic"))
@@ -97,6 +97,7 @@ ExhibitConfig parseExhibitConfig(const ConfigNode& exhibit) {
     exhibit["background_frames"].fail("a number of frames in 0..10000");
   config.fps = exhibit.get<double>("fps", 30.0);
   if (!(config.fps > 0.0 && config.fps <= 1000.0)) exhibit["fps"].fail("a frame rate in Hz in (0, 1000]");
+  if (exhibit.has("plinth")) config.plinth = parsePlinth(exhibit["plinth"]);
 
   if (!playlist) return config;
   const ConfigNode relics = exhibit["relics"];

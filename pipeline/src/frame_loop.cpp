@@ -84,6 +84,7 @@ FrameLoop::FrameLoop(FrameLoopOptions options, Installation installation,
     throw Error("installation " + installation.name + ": one source and capture setting per camera expected");
 
   configured_exposure_ = options_.tracer.exposure;
+  if (installation.plinth) options_.tracer.plinth = installation.plinth;
   stage_ = buildStage(installation.relic_name, installation.relic, installation.panorama,
                       installation.panorama_yaw_rad,
                       options_.panorama_at_infinity ? reflect::PanoramaProxy{} : installation.panorama_proxy);

@@ -244,6 +244,7 @@ Installation loadInstallation(const ConfigNode& root, const InstallationOptions&
   installation.camera_exposure = exhibit_config.camera_exposure;
   installation.background_frames = exhibit_config.background_frames;
   installation.fps = exhibit_config.fps;
+  installation.plinth = exhibit_config.plinth;
   if (const std::optional<ConfigNode> section = root.find("depthfilter")) {
     installation.depth_filter = depthfilter::parseDepthFilterConfig(*section);
     installation.cross_camera_fill = depthfilter::parseCrossCameraFillConfig(*section);

@@ -46,6 +46,10 @@ const char* passName(Pass pass) {
       return "Clearcoat";
     case Pass::ProgressiveRefinement:
       return "ProgressiveRefinement";
+    case Pass::Caustics:
+      return "Caustics";
+    case Pass::Plinth:
+      return "Plinth";
   }
   return "?";
 }
@@ -69,6 +73,10 @@ std::string EffectPlan::describe() const {
   if (!visitor_light_reason.empty()) {
     s.append("; ");
     s.append(visitor_light_reason);
+  }
+  if (!plinth_reason.empty()) {
+    s.append("; ");
+    s.append(plinth_reason);
   }
   s.push_back(')');
   return s;
@@ -144,6 +152,13 @@ EffectPlan planEffects(const EffectInputs& in) {
     plan.passes.push_back(Pass::Composition);
   }
   if (visitor_light) plan.passes.push_back(Pass::VisitorLight);
+  const bool caustics = in.plinth && in.plinth_caustic && in.relic_transmissive;
+  plan.plinth_reason = !in.plinth               ? "no plinth"
+                       : !in.relic_transmissive ? "plinth under an opaque relic: no caustic"
+                       : !in.plinth_caustic     ? "plinth, caustic off"
+                                                : "plinth under a transmissive relic: caustic";
+  if (caustics) plan.passes.push_back(Pass::Caustics);
+  if (in.plinth) plan.passes.push_back(Pass::Plinth);
   plan.passes.push_back(Pass::ToneMap);
   return plan;
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
 
 #include <tbb/parallel_for.h>
 
@@ -12,6 +13,7 @@
 #include "holo/reflect/tone_map.hpp"
 #include "internal_depth.hpp"
 #include "pass_timer.hpp"
+#include "plinth_light.hpp"
 #include "progressive_accumulation.hpp"
 #include "refraction_pass.hpp"
 #include "static_shading.hpp"
@@ -109,6 +111,14 @@ FrameRenderer::FrameRenderer(const RenderScene& scene, const PrefilteredIbl& ibl
   lobe_filter_reason_ = !samples_lobe  ? "no sampled rough lobe: no filter"
                         : lobe_filter_ ? "axis-aligned filter of the rough lobe"
                                        : "axis-aligned filter off";
+  if (settings_.plinth && scene_.relic().triangleCount() > 0)
+    plinth_light_ =
+        std::make_unique<PlinthLight>(placePlinth(*settings_.plinth, relic_bounds_),
+                                      settings_.plinth_map_resolution, settings_.plinth_shadow_rays);
+}
+
+const CausticImage* FrameRenderer::plinthCaustic() const {
+  return plinth_light_ && !plinth_light_->caustic().irradiance.empty() ? &plinth_light_->caustic() : nullptr;
 }
 
 EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
@@ -158,6 +168,8 @@ EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
   in.lobe_filter_reason = lobe_filter_reason_;
   in.interreflection = settings_.relic_interreflection;
   in.relic_convex = scene_.relicIsConvex();
+  in.plinth = plinth_light_ != nullptr;
+  in.plinth_caustic = settings_.evaluation.plinth_caustic;
   return planEffects(in);
 }
 
@@ -171,6 +183,9 @@ struct FrameRenderer::ViewCache {
   std::vector<ForegroundSample> fg;      // per entry of hits.hits, this frame's walk (scratch)
   WalkScratch walk;
   LayerBuffers layers;  // per entry of hits.hits, with Refraction or Clearcoat
+  // With Plinth: the pixels it was drawn in, and those with the relic's covered ones (ascending):
+  // what a fixed exposure tone-maps.
+  std::vector<std::uint32_t> plinth_pixels, shown;
   // The static result. Never written once handed out: a rebuild allocates new images, so a
   // caller's FrameResult keeps the pixels it was given.
   cv::Mat hdr, coverage, display, zero_weight;
@@ -231,6 +246,32 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
       if (!cameras[c].colour_bgr.empty())
         pyramids_[c].build(cameras[c].colour_bgr, cameras[c].mask, settings_.pyramid_levels);
     });
+  }
+  if (result.plan.has(Pass::Plinth) &&
+      (!plinth_lit_ || plinth_source_ != ibl_.sourceHash() || plinth_turn_ != ibl_.relicTurn())) {
+    CausticImage caustic;
+    if (result.plan.has(Pass::Caustics)) {
+      PassTimer t(result.frame_timings, Pass::Caustics);
+      const PlinthBox& box = plinth_light_->box();
+      CausticReceiverGrid grid;
+      grid.centre = box.centre;
+      grid.half_size = box.half_width;
+      grid.height = box.top;
+      grid.resolution = settings_.caustic_resolution;
+      CausticTracerSettings trace;
+      trace.photons = settings_.caustic_photons;
+      caustic = traceEnvironmentCaustics(scene_, ibl_, grid, trace);
+      result.caustic_photons_traced = caustic.traced;
+      result.caustic_photons_stored = caustic.stored;
+    }
+    PassTimer t(result.frame_timings, Pass::Plinth);
+    result.plinth_shadow_rays =
+        plinth_light_->light(scene_, ibl_, result.plan.has(Pass::Caustics) ? &caustic : nullptr,
+                             settings_.evaluation.plinth_shadow);
+    plinth_source_ = ibl_.sourceHash();
+    plinth_turn_ = ibl_.relicTurn();
+    plinth_lit_ = true;
+    for (auto& cache : caches_) cache->ready = false;  // drawn with the old light
   }
   while (caches_.size() < views.size()) caches_.push_back(std::make_unique<ViewCache>());
   // Still, for ProgressiveRefinement: what the grid holds is what it held last frame.
@@ -333,6 +374,14 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       out.supersampled_samples = counts.supersampled_samples;
       out.coated_samples = counts.coated_samples;
     }
+    cache.plinth_pixels.clear();
+    cache.shown.clear();
+    if (plan.has(Pass::Plinth)) {
+      PassTimer tp(out.timings, Pass::Plinth);
+      drawPlinth(*plinth_light_, ibl_, view, cache.hits, cache.hdr, cache.plinth_pixels);
+      std::set_union(cache.hits.covered.begin(), cache.hits.covered.end(), cache.plinth_pixels.begin(),
+                     cache.plinth_pixels.end(), std::back_inserter(cache.shown));
+    }
     cache.camera = view;
     cache.display_exposure = 0.0f;
     cache.ready = true;
@@ -359,12 +408,14 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
   if (plan.has(Pass::ProgressiveRefinement)) out.accumulated_sets = cache.progress.sets();
   if (fixed_exposure && cache.display_exposure != settings_.exposure) {
     PassTimer t(out.timings, Pass::ToneMap);
-    cache.display = toneMapCovered(cache.hdr, cache.hits.covered, settings_.exposure);
+    cache.display = toneMapCovered(cache.hdr, plan.has(Pass::Plinth) ? cache.shown : cache.hits.covered,
+                                   settings_.exposure);
     cache.display_exposure = settings_.exposure;
   }
   const HitPointBuffer& hits = cache.hits;
   out.camera = cache.camera;
   out.refined_pixels = hits.refined.size();
+  out.plinth_pixels = cache.plinth_pixels.size();
   out.coverage = cache.coverage;
 
   if (!plan.has(Pass::ForegroundWalk)) {
@@ -400,7 +451,9 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     // Over a copy: the static image stays the cache's.
     if (!plan.has(Pass::ForegroundWalk)) out.hdr = cache.hdr.clone();
     out.visitor_lit_samples = visitor_light_->apply(hits, cache.shading, ibl_, out.hdr);
-    if (fixed_exposure) out.display = toneMapCovered(out.hdr, hits.covered, settings_.exposure);
+    if (fixed_exposure)
+      out.display =
+          toneMapCovered(out.hdr, plan.has(Pass::Plinth) ? cache.shown : hits.covered, settings_.exposure);
   }
   if (fixed_exposure) {
     out.exposure = settings_.exposure;

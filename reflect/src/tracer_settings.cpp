@@ -92,6 +92,14 @@ void TracerSettings::validate() const {
       (refraction_supersample_contrast != 0.0f && !(refraction_supersample_contrast >= 1.0f)))
     throw InputError(src, "refraction_supersample_contrast", "0 (off) or a ratio >= 1",
                      std::to_string(refraction_supersample_contrast));
+  if (plinth_map_resolution < 8 || plinth_map_resolution > 1024)
+    throw InputError(src, "plinth_map_resolution", "8..1024 texels", std::to_string(plinth_map_resolution));
+  if (plinth_shadow_rays < 1 || plinth_shadow_rays > 4096)
+    throw InputError(src, "plinth_shadow_rays", "1..4096 rays", std::to_string(plinth_shadow_rays));
+  if (caustic_photons < 1 || caustic_photons > 1000000000ull)
+    throw InputError(src, "caustic_photons", "1..1e9 photons", std::to_string(caustic_photons));
+  if (caustic_resolution < 8 || caustic_resolution > 2048)
+    throw InputError(src, "caustic_resolution", "8..2048 cells", std::to_string(caustic_resolution));
   grid.validate(src + " grid");
 }
 

@@ -162,14 +162,14 @@ SceneDescription loadSceneFile(const fs::path& path) {
   const ConfigNode root = ConfigNode::loadFile(path);
   if (!root.isMap()) root.fail("a map of scene settings (hall, relic, visitors, seed, camera, noise, ...)");
   static const std::set<std::string> known = {
-      "base",           "hall",     "relic",         "fit_relic",        "relic_roughness",
-      "relic_metallic", "visitors", "visitor_model", "close_visitors",   "seed",
-      "camera",         "sensor",   "noise",         "panorama_position"};
+      "base",           "hall",     "relic",         "fit_relic",         "relic_roughness",
+      "relic_metallic", "visitors", "visitor_model", "close_visitors",    "seed",
+      "camera",         "sensor",   "noise",         "panorama_position", "plinth"};
   for (const auto& key : root.keys())
     if (!known.count(key))
       root[key].fail(
           "one of base, hall, relic, fit_relic, relic_roughness, relic_metallic, visitors, visitor_model, "
-          "close_visitors, seed, camera, sensor, noise, panorama_position",
+          "close_visitors, seed, camera, sensor, noise, panorama_position, plinth",
           key);
   SceneDescription d;
   if (root.has("base")) {
@@ -242,6 +242,9 @@ SceneDescription loadSceneFile(const fs::path& path) {
   if (root.has("panorama_position")) {
     d.panorama_position = root["panorama_position"].as<vec3>();
     if (!isFinite(d.panorama_position)) root["panorama_position"].fail("three finite numbers (metres)");
+  }
+  if (root.has("plinth")) {
+    d.plinth = parsePlinth(root["plinth"]);
   }
   return d;
 }

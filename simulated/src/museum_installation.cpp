@@ -80,6 +80,7 @@ pipeline::Installation museumInstallation(const std::string& scene, bool paced, 
   installation.camera_exposure = museum->description().camera.exposure;
   installation.fps = museum->description().camera.fps;
   installation.relic = museum->relic();
+  installation.plinth = museum->description().plinth;
   const int pw = std::max(64, panorama_width);
   installation.panorama = museum->renderPanorama(pw, pw / 2);
   installation.panorama_proxy = museumPanoramaProxy(*museum);

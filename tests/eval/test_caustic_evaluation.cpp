@@ -15,6 +15,7 @@
 #include "holo/eval/acceptance_bars.hpp"
 #include "holo/eval/caustic_evaluation.hpp"
 #include "holo/reference/dielectric.hpp"
+#include "holo/reflect/caustic_tracer.hpp"
 #include "holo/reflect/surface_shading.hpp"
 
 namespace holo::eval {
@@ -30,6 +31,7 @@ CausticEvaluationOptions options() {
   if (fullEvaluation()) return o;
   o.photons = 50000;
   o.reference_photons = 1000000;
+  o.live_photons = 1u << 18;
   return o;
 }
 
@@ -55,6 +57,38 @@ TEST(Caustics, PhotonMapMatchesTheConvergedLightTracer) {
   RecordProperty("power_error", std::to_string(e.powerError()));
   // The caustic is there at all: most of the light through the sphere lands on that disc.
   EXPECT_GT(e.reference_power, 0.0);
+}
+
+// The live light tracer the pyramid views use (reflect/caustic_tracer.hpp), its own code and
+// random numbers, against the evaluation's converged light tracer on the same grid.
+TEST(Caustics, LiveLightTracerMatchesTheConvergedLightTracer) {
+  const CausticEvaluation& e = evaluation();
+  const float radius = options().scene.radius;
+  EXPECT_LT(e.livePeakErrorOverRadius(radius), kCausticPeakOverRadius);
+  EXPECT_LT(e.livePowerError(), kCausticPowerRelative);
+  RecordProperty("live_peak_error_over_radius", std::to_string(e.livePeakErrorOverRadius(radius)));
+  RecordProperty("live_power_error", std::to_string(e.livePowerError()));
+  EXPECT_GT(e.live_photons_stored, 0u);
+  // Not the blur's doing: the irradiance at the peak keeps most of the light tracer's.
+  EXPECT_GT(e.live_peak_irradiance, 0.8 * e.reference_peak_irradiance);
+}
+
+TEST(Caustics, LiveLightTracerIsDeterministicForASeed) {
+  CausticScene s;
+  const reference::CausticReceiver r = causticReceiver(s);
+  reflect::CausticReceiverGrid grid;
+  grid.centre = r.centre;
+  grid.half_size = r.half_size;
+  grid.height = r.height;
+  grid.resolution = 64;
+  reflect::CausticTracerSettings settings;
+  settings.photons = 20000;
+  const reference::PointLight light = causticLight(s);
+  const auto a = reflect::tracePointCaustics(glassScene(), light.position, light.power, grid, settings);
+  const auto b = reflect::tracePointCaustics(glassScene(), light.position, light.power, grid, settings);
+  EXPECT_GT(a.stored, 0u);
+  EXPECT_EQ(a.stored, b.stored);
+  EXPECT_EQ(cv::norm(a.irradiance, b.irradiance, cv::NORM_INF), 0.0);
 }
 
 TEST(Caustics, PeakLiesOnTheSymmetryAxis) {

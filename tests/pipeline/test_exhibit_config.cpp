@@ -47,6 +47,26 @@ class ExhibitConfigTest : public ::testing::Test {
   fs::path dir_;
 };
 
+TEST_F(ExhibitConfigTest, PlinthIsOptionalAndItsFieldsChecked) {
+  EXPECT_FALSE(parseExhibitConfig(exhibit("  relic: vase\n  panorama: hall.hdr\n")).plinth);
+  const ExhibitConfig config =
+      parseExhibitConfig(exhibit("  relic: vase\n  panorama: hall.hdr\n  plinth: {half_width: 0.2, height: "
+                                 "0.5, gap: 0.01, albedo: [0.5, 0.6, 0.7]}\n"));
+  ASSERT_TRUE(config.plinth);
+  EXPECT_FLOAT_EQ(config.plinth->half_width, 0.2f);
+  EXPECT_FLOAT_EQ(config.plinth->height, 0.5f);
+  EXPECT_FLOAT_EQ(config.plinth->gap, 0.01f);
+  EXPECT_FLOAT_EQ(config.plinth->albedo.z, 0.7f);
+  const std::string base = "  relic: vase\n  panorama: hall.hdr\n  plinth: ";
+  EXPECT_EQ(failingField(base + "{half_width: 0}\n"), "exhibit.plinth.half_width");
+  EXPECT_EQ(failingField(base + "{height: -1}\n"), "exhibit.plinth.height");
+  EXPECT_EQ(failingField(base + "{gap: 2}\n"), "exhibit.plinth.gap");
+  EXPECT_EQ(failingField(base + "{albedo: [0.5, 1.5, 0.5]}\n"), "exhibit.plinth.albedo");
+  EXPECT_EQ(failingField(base + "{albedo: [0.5, 0.5]}\n"), "exhibit.plinth.albedo");
+  EXPECT_EQ(failingField(base + "{colour: 0.5}\n"), "exhibit.plinth.colour");
+  EXPECT_EQ(failingField(base + "0.3\n"), "exhibit.plinth");
+}
+
 TEST_F(ExhibitConfigTest, FilesAreNamedBesideTheConfigurationWithoutBeingOpened) {
   const ExhibitConfig config = parseExhibitConfig(
       exhibit("  relic: relics/amphora.glb\n  fit_relic: true\n  panorama: /srv/hall.exr\n"

@@ -4,7 +4,8 @@
 // the disc of one sphere radius round the light tracer's peak. The closed forms beside them:
 // the peak lies where the line from the light through the sphere's centre meets the plane (the
 // scene is symmetric about it), and a ball lens focuses paraxial light at n R / (2 (n - 1))
-// from its centre. The same scene with an opaque sphere runs no caustic work.
+// from its centre. The same scene with an opaque sphere runs no caustic work. Beside them the live
+// light tracer the pyramid views use (reflect/caustic_tracer.hpp), measured the same way.
 #pragma once
 
 #include <cstdint>
@@ -31,6 +32,8 @@ struct CausticEvaluationOptions {
   float kernel_radius_over_radius = 0.04f;    // the photon map's kernel, in sphere radii
   std::uint64_t seed = 1;                     // the light tracer uses seed + 1
   bool opaque = false;                        // the sphere opaque (metal) instead of glass
+  // The live light tracer's photons (reflect/caustic_tracer.hpp, seed + 2); 0: not run.
+  std::uint64_t live_photons = 1u << 20;
 };
 
 // A glass (or, opaque, a mirror-metal) sphere mesh of the scene, wound counter-clockwise seen
@@ -58,6 +61,17 @@ struct CausticEvaluation {
   double peakErrorOverRadius(float radius) const { return glm::length(peak - reference_peak) / radius; }
   double powerError() const {
     return reference_power > 0 ? std::abs(power - reference_power) / reference_power : 1.0;
+  }
+  // The live light tracer's estimate on the same grid, measured as the photon map's.
+  reference::ReceiverImage live;
+  vec2 live_peak{0.0f};
+  double live_power = 0, live_peak_irradiance = 0, live_ms = 0;
+  std::uint64_t live_photons_stored = 0;
+  double livePeakErrorOverRadius(float radius) const {
+    return glm::length(live_peak - reference_peak) / radius;
+  }
+  double livePowerError() const {
+    return reference_power > 0 ? std::abs(live_power - reference_power) / reference_power : 1.0;
   }
 };
 

@@ -6,11 +6,13 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "holo/core/camera_model.hpp"
 #include "holo/core/mesh.hpp"
+#include "holo/core/plinth.hpp"
 #include "holo/depthfilter/foreground_cloud.hpp"
 #include "holo/reflect/environment.hpp"
 #include "holo/reflect/frame_renderer.hpp"
@@ -57,6 +59,10 @@ struct ReflectionScene {
   depthfilter::ForegroundCloud foreground;  // the visitors as the depth cameras see them
   std::vector<reflect::ForegroundCameraImage> foreground_cameras;  // their colour and mask, per camera
   float floor_y = -1.0f;
+  // A virtual plinth under the relic (the scene file's `plinth:`): the truth traces it as a
+  // Lambert surface of the relic's (gt), ours draws it (TracerSettings::plinth); the other
+  // methods leave it out.
+  std::optional<PlinthSettings> plinth;
 };
 
 // Throws InputError naming the option ("--hall", a scene or relic file's field) for bad input.

@@ -13,6 +13,8 @@
 //     camera_exposure: 1.0        # the cameras' exposure: radiance = linear(sRGB) / exposure
 //     background_frames: 30       # first frames of every camera that only teach the background
 //     fps: 30                     # the cameras' frame rate (timing of the MP4, eye smoothing)
+//     plinth:                     # optional: a virtual plinth under the relic (core/plinth.hpp)
+//       half_width: 0.12          # metres; height, gap (metres) and albedo as there
 //
 // Or a playlist: `relics:` instead of `relic:`, the relics shown in turn (docs/kiosk.md):
 //
@@ -48,6 +50,7 @@
 #include <vector>
 
 #include "holo/core/config.hpp"
+#include "holo/core/plinth.hpp"
 
 namespace holo::pipeline {
 
@@ -79,11 +82,12 @@ struct ExhibitConfig {
   // Resolved like relic_file; never empty for the single relic; for a playlist empty when the
   // section names none (each entry then needs its own, or the installation's hall serves).
   std::filesystem::path panorama_file;
-  std::optional<float> hall_radius_m;  // in [0.5, 1000] metres; absent: the hall at infinity
-  float base_half_width_m = 0.0f;      // in [0, 2] metres, > 0 only with hall_radius_m; 0: no base
-  float camera_exposure = 1.0f;        // positive and finite
-  int background_frames = 30;          // in 0..10000
-  double fps = 30.0;                   // Hz, in (0, 1000]
+  std::optional<float> hall_radius_m;    // in [0.5, 1000] metres; absent: the hall at infinity
+  float base_half_width_m = 0.0f;        // in [0, 2] metres, > 0 only with hall_radius_m; 0: no base
+  float camera_exposure = 1.0f;          // positive and finite
+  int background_frames = 30;            // in 0..10000
+  double fps = 30.0;                     // Hz, in (0, 1000]
+  std::optional<PlinthSettings> plinth;  // exhibit.plinth; absent: none (every relic of a playlist)
   // The playlist, in its order, without the entries that did not parse; empty for the single
   // relic form. With a playlist, builtin_relic / relic_file / fit_relic are its first entry's.
   std::vector<RelicEntryConfig> relics;

@@ -43,6 +43,7 @@
 #include "holo/core/camera_model.hpp"
 #include "holo/core/config.hpp"
 #include "holo/core/mesh.hpp"
+#include "holo/core/plinth.hpp"
 #include "holo/core/rgbd_frame.hpp"
 #include "holo/depthfilter/cross_camera_fill.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
@@ -106,8 +107,9 @@ struct Installation {
   depthfilter::TemporalDepthFilterConfig depth_filter;
   // The cameras filling each other's holes: the cross_camera* fields of the same section.
   depthfilter::CrossCameraFillConfig cross_camera_fill;
-  Model relic;       // world frame, standing on the base
-  cv::Mat panorama;  // CV_32FC3 linear BGR, equirectangular
+  Model relic;                           // world frame, standing on the base
+  std::optional<PlinthSettings> plinth;  // exhibit.plinth: a virtual plinth drawn under the relic
+  cv::Mat panorama;                      // CV_32FC3 linear BGR, equirectangular
   float panorama_yaw_rad = 0.0f;
   // Where the panorama's pixels are. Simulated: simulated::museumPanoramaProxy. Configured:
   // centre = its capture point (pyramid.yml's panorama_position), radius = exhibit.hall_radius,

@@ -26,6 +26,9 @@
 // TracerSettings::visitor_light_distance of a relic whose diffuse or widest lobes the walk does
 // not light: the visitors' shadow and light on them, with the voxel grid it reads; with no visitor
 // that near the frame does none of its work.
+// Plinth runs where a plinth is configured; Caustics only where it is and the relic is
+// transmissive (a plinth always lies below the relic): an opaque relic or no plinth traces no
+// photon.
 #pragma once
 
 #include <string>
@@ -50,6 +53,8 @@ enum class Pass {
   RefractedForeground,    // the visitors seen through the relic: a walk per transmitted exit ray
   Composition,            // psi_d * w + psi_s * (1 - w)
   VisitorLight,  // the visitors' shadow and light on the diffuse and widest lobes (visitor_light.hpp)
+  Caustics,      // the transmissive relic's caustic on the plinth (caustic_tracer.hpp), when relit
+  Plinth,        // the virtual plinth: its top's light when relit, and its pixels in each view
   ToneMap,       // exposure, tone mapping, sRGB (the last: pipeline's kPassCount counts on it)
 };
 
@@ -101,6 +106,11 @@ struct EffectInputs {
   // Every relic triangle lies in a supporting plane of the relic (RenderScene::relicIsConvex):
   // a ray leaving its surface outwards cannot meet it again.
   bool relic_convex = false;
+  // A plinth is configured (TracerSettings::plinth) and the caustic on it is on
+  // (TracerEvaluationKnobs::plinth_caustic). The caustic needs a transmissive relic (with
+  // refraction on) above it: relic_transmissive.
+  bool plinth = false;
+  bool plinth_caustic = true;
 };
 
 struct EffectPlan {
@@ -112,6 +122,7 @@ struct EffectPlan {
   // The static shading casts the interreflection's rays (static_shading.hpp); false for a convex
   // relic or with the effect off. A part of the StaticReflections pass, timed with it.
   bool interreflection = false;
+  std::string plinth_reason;  // why Plinth and Caustics run or not
   bool has(Pass pass) const;
   // "HitPoints,StaticReflections,ToneMap (no foreground points; opaque relic, no clearcoat,
   // convex relic: no interreflection; no visitor near enough to light the relic)"

@@ -23,6 +23,9 @@
 // points and the composition of the pixels some foreground reached, written over a copy of the
 // static image. While the view and the foreground stay still, the rough interreflection accumulates
 // one more sample set a frame (ProgressiveRefinement, reflect/src/progressive_accumulation.hpp).
+// With a plinth configured (TracerSettings::plinth) every view shows it under the relic, lit by the
+// hall and shadowed by the relic, with a transmissive relic's caustic on it (caustic_tracer.hpp),
+// its light recomputed only when the panorama or the relic's turn changes (on the frame thread).
 // Units: metres, linear radiance; images CV_32FC3 linear BGR (HDR) and CV_8UC3 sRGB BGR.
 #pragma once
 
@@ -33,6 +36,7 @@
 #include "holo/core/camera_model.hpp"
 #include "holo/core/math.hpp"
 #include "holo/depthfilter/foreground_cloud.hpp"
+#include "holo/reflect/caustic_tracer.hpp"
 #include "holo/reflect/effect_plan.hpp"
 #include "holo/reflect/foreground_camera_image.hpp"
 #include "holo/reflect/foreground_pyramid.hpp"
@@ -46,6 +50,8 @@
 #include "holo/reflect/voxel_grid.hpp"
 
 namespace holo::reflect {
+
+class PlinthLight;
 
 class FrameRenderer {
  public:
@@ -69,6 +75,8 @@ class FrameRenderer {
   // The visitors' light of the last frame that planned it; null for a relic with no diffuse or
   // very rough surface, or before such a frame.
   const VisitorLight* visitorLight() const { return visitor_light_.get(); }
+  // The plinth's caustic of the last relighting (empty without a plinth or a transmissive relic).
+  const CausticImage* plinthCaustic() const;
   const TracerSettings& settings() const { return settings_; }
   // Fixes the exposure (> 0) or makes it automatic (<= 0) from the next frame on.
   void setExposure(float exposure);
@@ -107,6 +115,12 @@ class FrameRenderer {
   bool lobe_filter_ = false;  // the plan's AxisAlignedFilter: some material samples its rough lobe
   std::string lobe_filter_reason_;
   std::vector<std::unique_ptr<ViewCache>> caches_;  // per view slot
+  // The plinth's light (TracerSettings::plinth), relit when the IBL's panorama or relic turn
+  // changes; null without a plinth.
+  std::unique_ptr<PlinthLight> plinth_light_;
+  std::uint64_t plinth_source_ = 0;
+  float plinth_turn_ = 0.0f;
+  bool plinth_lit_ = false;
 };
 
 }  // namespace holo::reflect

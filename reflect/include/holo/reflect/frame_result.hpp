@@ -39,6 +39,7 @@ struct ViewCounters {
   bool refinement_reset = false;
   // Samples whose light the visitors changed (VisitorLight; 0 when the plan left it off).
   std::uint64_t visitor_lit_samples = 0;
+  std::uint64_t plinth_pixels = 0;  // Plinth: pixels where the plinth is seen
   // Pixels whose rough-lobe interreflection the axis-aligned filter smoothed, and the weights it
   // took (AxisAlignedFilter; 0 when the static shading was reused or the plan left it off).
   std::uint64_t filtered_pixels = 0, filter_taps = 0;
@@ -64,6 +65,9 @@ struct FrameResult {
   std::vector<ViewImages> views;
   // VisitorLight's build this frame: voxel splats and covered texels over its probes (0 without it).
   std::uint64_t visitor_light_splats = 0, visitor_light_texels = 0;
+  // Plinth and Caustics, on the frames that relight the plinth (its first, a new panorama or relic
+  // turn): the shadow rays of its top and the caustic's photons launched and landed on it.
+  std::uint64_t plinth_shadow_rays = 0, caustic_photons_traced = 0, caustic_photons_stored = 0;
 };
 
 }  // namespace holo::reflect

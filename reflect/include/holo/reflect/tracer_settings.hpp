@@ -8,6 +8,9 @@
 // Units: metres, linear radiance, perceptual roughness in [0, 1] (a threshold above 1: never).
 #pragma once
 
+#include <optional>
+
+#include "holo/core/plinth.hpp"
 #include "holo/reflect/voxel_grid.hpp"
 
 namespace holo::reflect {
@@ -58,6 +61,13 @@ struct TracerEvaluationKnobs {
   // where the effect plan wants them; false: those are lit by the empty hall. Default true;
   // false measures what the visitors' light adds.
   bool visitor_light = true;
+  // The transmissive relic's caustic on the plinth (caustic_tracer.hpp) where the effect plan
+  // wants it; false: the plinth takes the relic's full shadow. Default true; false measures what
+  // the caustic adds.
+  bool plinth_caustic = true;
+  // The relic's shadow on the plinth; false: the plinth takes the hall's unshadowed irradiance.
+  // Default true; false measures what the shadow adds.
+  bool plinth_shadow = true;
 };
 
 struct TracerSettings {
@@ -183,6 +193,16 @@ struct TracerSettings {
   float refraction_supersample_contrast = 32.0f;
   // The voxel grid the walk traverses (voxel_grid.hpp).
   VoxelGridSettings grid;
+  // A virtual plinth under the relic (core/plinth.hpp), drawn in every view, lit by the hall and
+  // shadowed by the relic; absent: none. Its top's light map has plinth_map_resolution texels a
+  // side (8..1024) with plinth_shadow_rays rays each (1..4096, squared to strata); a transmissive
+  // relic's caustic on it takes caustic_photons photons (1..1e9) binned on caustic_resolution
+  // cells a side (8..2048).
+  std::optional<PlinthSettings> plinth;
+  int plinth_map_resolution = 64;
+  int plinth_shadow_rays = 64;
+  std::uint64_t caustic_photons = 1u << 20;
+  int caustic_resolution = 128;
   // The departures for measuring the tracer; the live product leaves them at their defaults.
   TracerEvaluationKnobs evaluation;
   // Throws InputError naming the field (an evaluation knob by its own name).

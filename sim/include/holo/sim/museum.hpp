@@ -17,11 +17,13 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "holo/core/camera_model.hpp"
 #include "holo/core/mesh.hpp"
+#include "holo/core/plinth.hpp"
 #include "holo/core/rgbd_frame.hpp"
 #include "holo/sim/halls.hpp"
 #include "holo/sim/sensor_noise.hpp"
@@ -49,6 +51,9 @@ struct SceneDescription {
   CameraSettings camera;
   SensorNoise noise = sensorProfile(SensorProfile::structured_light);
   vec3 panorama_position{0.0f, 0.35f, 0.0f};
+  // A virtual plinth under the relic (core/plinth.hpp), for the renderers only: the simulated
+  // hall and cameras do not see it. Scene key plinth; absent: none.
+  std::optional<PlinthSettings> plinth;
 };
 
 // A built-in name ("museum", "room", "gallery", "atrium", "window", "empty", ...) or a YAML file. Throws
