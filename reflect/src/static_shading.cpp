@@ -172,8 +172,8 @@ std::uint64_t StaticShading::finishDeferred(
     const std::function<void(std::size_t, std::size_t, const LobeBounce&)>& pool) const {
   const RayScene& relic = scene_.relicOnly();
   deferred.hits.resize(deferred.rays.size());
-  // Mirror rays off a smooth surface and a point's lobe strata leave neighbouring points in
-  // nearby directions, but a curved relic fans them out: measured faster with the incoherent flag.
+  // A block's mirror rays and a point's lobe strata start close together, but a curved relic fans
+  // their directions out, so they are not flagged coherent (that flag is for primary rays).
   relic.intersectPackets(deferred.rays, deferred.hits, RayCoherence::Incoherent);
   std::uint64_t rays = deferred.rays.size();
   for (const DeferredRays::Mirror& mirror : deferred.mirrors) {
