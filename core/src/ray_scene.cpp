@@ -171,14 +171,15 @@ RayHit RayScene::intersect(const Ray& ray, float tmin, float tmax, PartialHits p
   return hit;
 }
 
-void RayScene::intersectCoherent(std::span<const Ray> rays, std::span<RayHit> hits, float tmin, float tmax,
-                                 PartialHits partial) const {
+void RayScene::intersectPackets(std::span<const Ray> rays, std::span<RayHit> hits, RayCoherence coherence,
+                                float tmin, float tmax, PartialHits partial) const {
   if (rays.size() != hits.size())
-    throw Error("RayScene::intersectCoherent: " + std::to_string(rays.size()) + " rays for " +
+    throw Error("RayScene::intersectPackets: " + std::to_string(rays.size()) + " rays for " +
                 std::to_string(hits.size()) + " hits");
   QueryContext context;
   rtcInitIntersectContext(&context.embree);
-  context.embree.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  context.embree.flags = coherence == RayCoherence::Coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT
+                                                             : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
   context.partial = partial;
   for (std::size_t first = 0; first < rays.size(); first += kPacketSize) {
     const int n = static_cast<int>(std::min<std::size_t>(kPacketSize, rays.size() - first));

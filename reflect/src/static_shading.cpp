@@ -141,43 +141,94 @@ SplitSumShading StaticShading::shadeAt(const SurfacePoint& surface, const vec3& 
   return parts;
 }
 
-std::optional<LobeBounce> StaticShading::shadeHit(const HitPoint& hp, const LobeShare& share,
-                                                  SplitSumShading& shading, WalkRay& walk_ray,
-                                                  std::uint64_t& rays) const {
+void StaticShading::DeferredRays::clear() {
+  rays.clear();
+  hits.clear();
+  mirrors.clear();
+  strata.clear();
+  lobes.clear();
+  samples_casting = 0;
+}
+
+void StaticShading::shadeHit(const HitPoint& hp, std::size_t pixel, std::size_t i, const LobeShare& share,
+                             SplitSumShading& shading, WalkRay& walk_ray, DeferredRays& deferred) const {
   shading = shadeAt(surfaceOf(hp), hp.to_viewer);
   walk_ray = {hp.position, hp.normal, hp.reflected, hp.material.roughness, false};
   if (hp.alpha < 1.0f) compositeBehind(hp, share, shading);
-  if (!settings_.relic_interreflection) return std::nullopt;
+  if (!settings_.relic_interreflection) return;
   if (tracesLobe(hp.material.roughness)) {
-    const LobeBounce bounce = traceLobeBounce(hp, share, rays);
-    if (settings_.evaluation.rough_interreflection_interleaved) return bounce;
-    addLobeBounce(bounce, textureOcclusion(surfaceOf(hp)), settings_.evaluation.lobe_visibility, shading);
-    return std::nullopt;
+    deferLobeBounce(hp, pixel, i, share, deferred);
+    return;
   }
-  if (!hp.mirror_may_meet_relic) return std::nullopt;  // a ray it need not cast: it would miss
+  if (!hp.mirror_may_meet_relic) return;  // a ray it need not cast: it would miss
+  deferred.mirrors.push_back({i, share, std::uint32_t(deferred.rays.size())});
+  deferred.rays.push_back({hp.position + hp.normal * settings_.ray_offset, hp.reflected});
+  ++deferred.samples_casting;
+}
+
+std::uint64_t StaticShading::finishDeferred(
+    const HitPointBuffer& hits, DeferredRays& deferred, std::vector<SplitSumShading>& shading,
+    std::vector<WalkRay>& walk_rays,
+    const std::function<void(std::size_t, std::size_t, const LobeBounce&)>& pool) const {
   const RayScene& relic = scene_.relicOnly();
-  const Ray ray{hp.position + hp.normal * settings_.ray_offset, hp.reflected};
-  const RayHit hit = relic.intersect(ray);
-  ++rays;
-  if (!hit.hit()) return std::nullopt;
-  const SurfacePoint surface =
-      resolveSurface(scene_, relic, ray, hit, share.cone_width + hit.t * share.spread);
-  const vec3 position = surface.position;
-  const vec3 normal = surface.normal;
-  const vec3 reflected = glm::reflect(ray.direction, normal);
-  if (!isFinite(position) || !isFinite(normal) || !isFinite(reflected)) return std::nullopt;
-  const SurfaceMaterial& material = surface.material;
-  const SplitSumShading second = shadeAt(surface, -ray.direction);
-  // L = diffuse_1 + s_1 L_2 and L_2 = diffuse_2 + s_2 (psi_d w + env_2 (1 - w)): the composition's
-  // form with scale s_1 s_2 and environment env_2.
-  shading.diffuse += shading.specular_scale * second.diffuse;
-  shading.specular_scale *= second.specular_scale;
-  shading.environment = second.environment;
-  // The two lobes widen each other: GGX alphas (roughness^2) add in quadrature.
-  const float a1 = hp.material.roughness * hp.material.roughness,
-              a2 = material.roughness * material.roughness;
-  walk_ray = {position, normal, reflected, std::sqrt(std::sqrt(a1 * a1 + a2 * a2)), true};
-  return std::nullopt;
+  deferred.hits.resize(deferred.rays.size());
+  // A block's mirror rays and a point's lobe strata start close together, but a curved relic fans
+  // their directions out, so they are not flagged coherent (that flag is for primary rays).
+  relic.intersectPackets(deferred.rays, deferred.hits, RayCoherence::Incoherent);
+  std::uint64_t rays = deferred.rays.size();
+  for (const DeferredRays::Mirror& mirror : deferred.mirrors) {
+    const HitPoint& hp = hits.hits[mirror.sample];
+    const Ray& ray = deferred.rays[mirror.ray];
+    const RayHit& hit = deferred.hits[mirror.ray];
+    if (!hit.hit()) continue;
+    const SurfacePoint surface =
+        resolveSurface(scene_, relic, ray, hit, mirror.share.cone_width + hit.t * mirror.share.spread);
+    const vec3 position = surface.position;
+    const vec3 normal = surface.normal;
+    const vec3 reflected = glm::reflect(ray.direction, normal);
+    if (!isFinite(position) || !isFinite(normal) || !isFinite(reflected)) continue;
+    const SurfaceMaterial& material = surface.material;
+    const SplitSumShading second = shadeAt(surface, -ray.direction);
+    // L = diffuse_1 + s_1 L_2 and L_2 = diffuse_2 + s_2 (psi_d w + env_2 (1 - w)): the composition's
+    // form with scale s_1 s_2 and environment env_2.
+    SplitSumShading& first = shading[mirror.sample];
+    first.diffuse += first.specular_scale * second.diffuse;
+    first.specular_scale *= second.specular_scale;
+    first.environment = second.environment;
+    // The two lobes widen each other: GGX alphas (roughness^2) add in quadrature.
+    const float a1 = hp.material.roughness * hp.material.roughness,
+                a2 = material.roughness * material.roughness;
+    walk_rays[mirror.sample] = {position, normal, reflected, std::sqrt(std::sqrt(a1 * a1 + a2 * a2)), true};
+  }
+  for (DeferredRays::Lobe& lobe : deferred.lobes) {
+    LobeBounce& bounce = lobe.bounce;
+    const LobeShare& share = lobe.share;
+    for (std::size_t k = lobe.first_stratum; k < lobe.first_stratum + lobe.strata; ++k) {
+      const DeferredRays::Stratum& stratum = deferred.strata[k];
+      // A stratum the supporting planes prove a miss counts as one: it sees the hall.
+      if (stratum.ray < 0 || !deferred.hits[std::size_t(stratum.ray)].hit()) {
+        if (isFinite(stratum.hall)) bounce.open += stratum.hall;
+        continue;
+      }
+      const Ray& ray = deferred.rays[std::size_t(stratum.ray)];
+      const RayHit& hit = deferred.hits[std::size_t(stratum.ray)];
+      const SurfacePoint surface =
+          resolveSurface(scene_, relic, ray, hit, share.cone_width + hit.t * share.spread);
+      if (!isFinite(surface.normal)) continue;
+      const SplitSumShading second = shadeAt(surface, -ray.direction);
+      bounce.diffuse += second.diffuse;
+      bounce.specular += second.specular_scale * secondEnvironment(surface, ray, hit, second, share, rays);
+      bounce.met += 1.0f;
+      bounce.nearest = std::min(bounce.nearest, hit.t);
+    }
+    if (settings_.evaluation.rough_interreflection_interleaved) {
+      pool(lobe.pixel, lobe.sample, bounce);
+      continue;
+    }
+    addLobeBounce(bounce, textureOcclusion(surfaceOf(hits.hits[lobe.sample])),
+                  settings_.evaluation.lobe_visibility, shading[lobe.sample]);
+  }
+  return rays;
 }
 
 void StaticShading::compositeBehind(const HitPoint& hp, const LobeShare& share,
@@ -219,47 +270,38 @@ vec3 StaticShading::secondEnvironment(const SurfacePoint& surface, const Ray& ra
   return isFinite(seen) ? seen : second.environment;
 }
 
-LobeBounce StaticShading::traceLobeBounce(const HitPoint& hp, const LobeShare& share,
-                                          std::uint64_t& rays) const {
-  LobeBounce bounce;
+void StaticShading::deferLobeBounce(const HitPoint& hp, std::size_t pixel, std::size_t i,
+                                    const LobeShare& share, DeferredRays& deferred) const {
+  DeferredRays::Lobe lobe{pixel, i, share, LobeBounce{}, deferred.strata.size(), 0};
   const Frame frame(hp.normal);
   const vec3 wo = frame.toLocal(hp.to_viewer);
-  if (!(wo.z > 0.0f)) return bounce;
+  if (!(wo.z > 0.0f)) {
+    deferred.lobes.push_back(lobe);
+    return;
+  }
   const float alpha = std::max(hp.material.roughness * hp.material.roughness, 1e-3f);
-  const RayScene& relic = scene_.relicOnly();
   const int strata = settings_.rough_interreflection_grid * settings_.rough_interreflection_grid;
+  const std::size_t first_ray = deferred.rays.size();
   forEachLobeStratum(
       settings_.rough_interreflection_grid, settings_.evaluation.rough_interreflection_interleaved,
       share.pixel_class, share.sample, share.samples, share.stratum_offset, [&](const vec2& u) {
         const vec3 h = ggx::sampleVisibleNormal(wo, alpha, u);
         const vec3 l = glm::reflect(-hp.to_viewer, frame.toWorld(h));
         if (!(glm::dot(l, hp.normal) > 0.0f)) return;
-        bounce.above += 1.0f;
+        lobe.bounce.above += 1.0f;
         const vec3 hall = ibl_.seenFrom(hp.position, l, stratumRoughness(wo, h, alpha, strata));
-        if (isFinite(hall)) bounce.hall += hall;
-        // A stratum the supporting planes prove a miss counts as one: it sees the hall.
+        if (isFinite(hall)) lobe.bounce.hall += hall;
+        ++lobe.strata;
         if (hp.location.located() &&
             !scene_.mayMeetRelicAgain(hp.location.mesh, hp.location.triangle, hp.location.front, l)) {
-          if (isFinite(hall)) bounce.open += hall;
+          deferred.strata.push_back({hall, -1});
           return;
         }
-        const Ray ray{hp.position + hp.normal * settings_.ray_offset, l};
-        const RayHit hit = relic.intersect(ray);
-        ++rays;
-        if (!hit.hit()) {
-          if (isFinite(hall)) bounce.open += hall;
-          return;
-        }
-        const SurfacePoint surface =
-            resolveSurface(scene_, relic, ray, hit, share.cone_width + hit.t * share.spread);
-        if (!isFinite(surface.normal)) return;
-        const SplitSumShading second = shadeAt(surface, -ray.direction);
-        bounce.diffuse += second.diffuse;
-        bounce.specular += second.specular_scale * secondEnvironment(surface, ray, hit, second, share, rays);
-        bounce.met += 1.0f;
-        bounce.nearest = std::min(bounce.nearest, hit.t);
+        deferred.strata.push_back({hall, std::int64_t(deferred.rays.size())});
+        deferred.rays.push_back({hp.position + hp.normal * settings_.ray_offset, l});
       });
-  return bounce;
+  if (deferred.rays.size() > first_ray) ++deferred.samples_casting;
+  deferred.lobes.push_back(lobe);
 }
 
 LobeBounce StaticShading::poolLobeBounces(const std::vector<PixelBounce>& bounces, int width, int height,
@@ -291,9 +333,12 @@ std::uint64_t StaticShading::reshadeLobes(const HitPointBuffer& hits, const Came
   const int w = hits.width;
   const float spread = 1.0f / view.intrinsics().fx;
   std::atomic<std::uint64_t> reshaded{0};
+  tbb::enumerable_thread_specific<DeferredRays> deferred_rays;
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, pixels.size(), 256),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       std::uint64_t count = 0;
+                      DeferredRays& deferred = deferred_rays.local();
+                      deferred.clear();
                       for (std::size_t k = r.begin(); k < r.end(); ++k) {
                         const std::size_t p = pixels[k];
                         const std::size_t first = hits.firstSample(p);
@@ -305,13 +350,14 @@ std::uint64_t StaticShading::reshadeLobes(const HitPointBuffer& hits, const Came
                           if (!hits.valid[i] || !tracesLobe(hits.hits[i].material.roughness)) continue;
                           share.cone_width = glm::length(hits.hits[i].position - view.position()) * spread;
                           share.stratum_offset = offset(p, share.sample);
-                          std::uint64_t rays = 0;
-                          const std::optional<LobeBounce> bounce =
-                              shadeHit(hits.hits[i], share, shading[i], walk_rays[i], rays);
+                          shadeHit(hits.hits[i], p, i, share, shading[i], walk_rays[i], deferred);
                           ++count;
-                          if (bounce) accumulated[p].samples.add(*bounce, 1.0f);
                         }
                       }
+                      finishDeferred(hits, deferred, shading, walk_rays,
+                                     [&](std::size_t p, std::size_t, const LobeBounce& bounce) {
+                                       accumulated[p].samples.add(bounce, 1.0f);
+                                     });
                       reshaded += count;
                     });
   // Pooled and filtered as shade() does, from the accumulated sums.
@@ -354,35 +400,38 @@ StaticCounts StaticShading::shade(const HitPointBuffer& hits, const CameraModel&
   if (pool_bounces) bounces.assign(hits.pixelCount(), PixelBounce{});
   const float spread = 1.0f / view.intrinsics().fx;  // radians per pixel: the footprint's growth
   tbb::enumerable_thread_specific<StaticCounts> counts;
-  tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
-      [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t k = r.begin(); k < r.end(); ++k) {
-          const std::size_t p = hits.covered[k];
-          const std::size_t first = hits.firstSample(p);
-          const int x = int(p % std::size_t(w)), y = int(p / std::size_t(w));
-          LobeShare share{(x & 1) + 2 * (y & 1), 0, hits.sampleCount(p)};
-          StaticCounts& local = counts.local();
-          share.spread = spread;
-          for (share.sample = 0; share.sample < share.samples; ++share.sample) {
-            const std::size_t i = first + std::size_t(share.sample);
-            if (!hits.valid[i]) continue;
-            ++local.shaded_samples;
-            if (visibility_ && visibility_->covers(hits.hits[i].location)) ++local.occluded_samples;
-            share.cone_width = glm::length(hits.hits[i].position - view.position()) * spread;
-            std::uint64_t rays = 0;
-            const std::optional<LobeBounce> bounce =
-                shadeHit(hits.hits[i], share, shading[i], walk_rays[i], rays);
-            local.interreflection_rays += rays;
-            local.interreflected_samples += rays > 0 ? 1 : 0;
-            if (!bounce) continue;
-            PixelBounce& pixel = bounces[p];
-            if (!pixel.rough)
-              pixel = {true, hits.hits[i].position, hits.hits[i].normal, hits.hits[i].material.roughness, {}};
-            pixel.samples.add(*bounce, 1.0f);
-          }
-        }
-      });
+  tbb::enumerable_thread_specific<DeferredRays> deferred_rays;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256), [&](const tbb::
+                                                                                          blocked_range<
+                                                                                              std::size_t>&
+                                                                                              r) {
+    StaticCounts& local = counts.local();
+    DeferredRays& deferred = deferred_rays.local();
+    deferred.clear();
+    for (std::size_t k = r.begin(); k < r.end(); ++k) {
+      const std::size_t p = hits.covered[k];
+      const std::size_t first = hits.firstSample(p);
+      const int x = int(p % std::size_t(w)), y = int(p / std::size_t(w));
+      LobeShare share{(x & 1) + 2 * (y & 1), 0, hits.sampleCount(p)};
+      share.spread = spread;
+      for (share.sample = 0; share.sample < share.samples; ++share.sample) {
+        const std::size_t i = first + std::size_t(share.sample);
+        if (!hits.valid[i]) continue;
+        ++local.shaded_samples;
+        if (visibility_ && visibility_->covers(hits.hits[i].location)) ++local.occluded_samples;
+        share.cone_width = glm::length(hits.hits[i].position - view.position()) * spread;
+        shadeHit(hits.hits[i], p, i, share, shading[i], walk_rays[i], deferred);
+      }
+    }
+    local.interreflection_rays += finishDeferred(
+        hits, deferred, shading, walk_rays, [&](std::size_t p, std::size_t i, const LobeBounce& bounce) {
+          PixelBounce& pixel = bounces[p];
+          if (!pixel.rough)
+            pixel = {true, hits.hits[i].position, hits.hits[i].normal, hits.hits[i].material.roughness, {}};
+          pixel.samples.add(bounce, 1.0f);
+        });
+    local.interreflected_samples += deferred.samples_casting;
+  });
   std::vector<LobeBounce> pooled;
   if (pool_bounces) {
     pooled.resize(hits.pixelCount());

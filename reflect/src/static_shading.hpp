@@ -33,7 +33,6 @@
 #include <array>
 #include <cstdint>
 #include <functional>
-#include <optional>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -114,15 +113,51 @@ class StaticShading {
     float cone_width = 0.0f, spread = 0.0f;
     vec2 stratum_offset{0.5f};
   };
-  // One hit point: its shading and walk ray. For a material read from the rough map with
-  // interleaved strata, its share of the lobe's interreflection, left for the pixel pooling.
-  // `rays` counts the interreflection rays cast.
-  std::optional<LobeBounce> shadeHit(const HitPoint& hp, const LobeShare& share, SplitSumShading& shading,
-                                     WalkRay& walk_ray, std::uint64_t& rays) const;
-
+  // The relic rays a block of samples leaves to be cast together in packets, and where each one's
+  // hit goes: a sample's mirror ray, or its lobe's strata in the order it traces them (a stratum
+  // the supporting planes prove a miss casts none), so that the sums come out as one ray at a
+  // time gives them.
+  struct DeferredRays {
+    struct Mirror {
+      std::size_t sample;
+      LobeShare share;
+      std::uint32_t ray;
+    };
+    struct Stratum {
+      vec3 hall;         // the hall's prefiltered radiance along it
+      std::int64_t ray;  // -1: not cast (the planes prove a miss)
+    };
+    struct Lobe {
+      std::size_t pixel, sample;
+      LobeShare share;
+      LobeBounce bounce;  // above and hall summed; the rest is summed from the hits
+      std::size_t first_stratum, strata;
+    };
+    std::vector<Ray> rays;
+    std::vector<RayHit> hits;
+    std::vector<Mirror> mirrors;
+    std::vector<Stratum> strata;
+    std::vector<Lobe> lobes;
+    std::uint64_t samples_casting = 0;  // samples that deferred at least one ray
+    void clear();
+  };
+  // One hit point (sample `i` of pixel `pixel`): its shading and walk ray; its interreflection
+  // rays are deferred to `deferred` (finishDeferred casts them and completes the shading).
+  void shadeHit(const HitPoint& hp, std::size_t pixel, std::size_t i, const LobeShare& share,
+                SplitSumShading& shading, WalkRay& walk_ray, DeferredRays& deferred) const;
+  // Casts the deferred rays in packets and completes each deferred sample's shading and walk ray
+  // (of hits.hits[sample]). For a material read from the rough map with interleaved strata, its
+  // share of the lobe's interreflection is handed to `pool(pixel, sample, bounce)` for the pixel pooling
+  // instead. Returns the rays cast (mirror, strata and the lobe's second bounces).
+  std::uint64_t finishDeferred(
+      const HitPointBuffer& hits, DeferredRays& deferred, std::vector<SplitSumShading>& shading,
+      std::vector<WalkRay>& walk_rays,
+      const std::function<void(std::size_t, std::size_t, const LobeBounce&)>& pool) const;
   // BLEND: the hit point's shading composited over the static shading of what is behind it.
   void compositeBehind(const HitPoint& hp, const LobeShare& share, SplitSumShading& shading) const;
-  LobeBounce traceLobeBounce(const HitPoint& hp, const LobeShare& share, std::uint64_t& rays) const;
+  // The lobe's strata of one hit point: their hall sums and rays, deferred.
+  void deferLobeBounce(const HitPoint& hp, std::size_t pixel, std::size_t i, const LobeShare& share,
+                       DeferredRays& deferred) const;
   // What a lobe sample's second point (`surface`, met by `ray` at `hit`, shaded `second`)
   // reflects: the hall, or where its mirror ray meets the relic again, that third point's shading.
   vec3 secondEnvironment(const SurfacePoint& surface, const Ray& ray, const RayHit& hit,

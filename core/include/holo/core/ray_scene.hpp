@@ -30,6 +30,12 @@ struct RayHit {
 //  * Solid: the ray stops (the caller composites what is behind itself).
 enum class PartialHits { Stochastic, Solid };
 
+// What a batch of rays cast together is like (Embree's intersect-context flags): Coherent for rays
+// with nearby origins and directions that traverse the scene alike (a view's primary rays over a
+// tile), traced as packets; Incoherent for rays that scatter (reflections off a curved surface),
+// which Embree traces one ray at a time inside the packet.
+enum class RayCoherence { Coherent, Incoherent };
+
 // A geometry's opacity at a candidate hit, in [0, 1] (e.g. a cut-out texel reads 0).
 using HitOpacity = std::function<float(const Ray& ray, const RayHit& hit)>;
 
@@ -53,12 +59,18 @@ class RayScene {
                    PartialHits partial = PartialHits::Stochastic) const;
   bool occluded(const Ray& ray, float tmin = 0.0f, float tmax = 1e30f) const;  // Stochastic
   // hits[i] = intersect(rays[i], tmin, tmax, partial) for every i (rays.size() == hits.size()),
-  // cast kPacketSize at a time as coherent packets (Embree's rtcIntersect8 with the coherent
-  // flag): for rays with nearby origins and directions, such as a view's primary rays over a
-  // tile, the fastest way Embree 3 casts them. The same hit as one ray at a time, bit for bit
-  // in t and the barycentrics up to Embree's packet kernels' round-off (a few ulps).
+  // cast kPacketSize at a time as packets (Embree's rtcIntersect8) with `coherence`'s flag. The
+  // same hit as one ray at a time, bit for bit in t and the barycentrics up to Embree's packet
+  // kernels' round-off (a few ulps).
+  void intersectPackets(std::span<const Ray> rays, std::span<RayHit> hits, RayCoherence coherence,
+                        float tmin = 0.0f, float tmax = 1e30f,
+                        PartialHits partial = PartialHits::Stochastic) const;
+  // intersectPackets of coherent rays: for a view's primary rays over a tile, the fastest way
+  // Embree 3 casts them.
   void intersectCoherent(std::span<const Ray> rays, std::span<RayHit> hits, float tmin = 0.0f,
-                         float tmax = 1e30f, PartialHits partial = PartialHits::Stochastic) const;
+                         float tmax = 1e30f, PartialHits partial = PartialHits::Stochastic) const {
+    intersectPackets(rays, hits, RayCoherence::Coherent, tmin, tmax, partial);
+  }
   static constexpr int kPacketSize = 8;
 
   const TriangleMesh& mesh(std::uint32_t geometry) const { return meshes_.at(geometry); }
