@@ -128,6 +128,9 @@ EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
   in.internal_depth = internal_depth_;
   in.internal_residual = internal_residual_;
   in.internal_depth_source = settings_.refraction_depth > 0 ? "set" : "measured";
+  in.sun_light_enabled = settings_.evaluation.sun_light;
+  in.panorama_sun = ibl_.sun().found;
+  in.panorama_sun_description = ibl_.sun().describe();
   in.self_occlusion = visibility_ != nullptr;
   in.self_occlusion_reason = self_occlusion_reason_;
   in.progressive_refinement = refines_;
@@ -212,11 +215,12 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
     });
   }
   if (result.plan.has(Pass::SelfOcclusion) &&
-      (!lit_ || lit_source_ != ibl_.sourceHash() || lit_turn_ != ibl_.relicTurn())) {
+      (!lit_ || lit_source_ != ibl_.sourceHash() || lit_turn_ != ibl_.relicTurn() ||
+       lighting_.without_sun != (result.plan.sun_light && ibl_.sun().found))) {
     PassTimer t(result.frame_timings, Pass::SelfOcclusion);
     // A turning relic is lit from the transfer alone: filtering every stratum again at every
     // turn step would cost a still relic's first frame every frame.
-    lighting_ = visibility_->lit(ibl_, ibl_.relicTurn() == 0.0f);
+    lighting_ = visibility_->lit(ibl_, ibl_.relicTurn() == 0.0f, result.plan.sun_light);
     lit_source_ = ibl_.sourceHash();
     lit_turn_ = ibl_.relicTurn();
     lit_ = true;
@@ -292,6 +296,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       cache.zero_weight = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
       TracerSettings planned = settings_;
       planned.relic_interreflection = plan.interreflection;
+      planned.evaluation.sun_light = plan.sun_light;
       const AxisAlignedFilter filter;
       FilterCounts filtered;
       const StaticCounts counts =
@@ -303,6 +308,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       out.shaded_samples = counts.shaded_samples;
       out.interreflected_samples = counts.interreflected_samples;
       out.interreflection_rays = counts.interreflection_rays;
+      out.sun_rays = counts.sun_rays;
       out.filtered_pixels = filtered.pixels;
       out.filter_taps = filtered.taps;
       // The filter runs inside the static shading; its time is its own pass's, not the shading's.
@@ -330,8 +336,10 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
   } else if (plan.has(Pass::ProgressiveRefinement)) {
     PassTimer t(out.timings, Pass::ProgressiveRefinement);
     const AxisAlignedFilter filter;
+    TracerSettings planned = settings_;
+    planned.evaluation.sun_light = plan.sun_light;
     const RefinementStep step = cache.progress.advance(
-        StaticShading(scene_, ibl_, settings_, rough_map_.get(),
+        StaticShading(scene_, ibl_, planned, rough_map_.get(),
                       plan.has(Pass::SelfOcclusion) ? visibility_.get() : nullptr, &lighting_),
         cache.hits, cache.camera, foreground, std::uint32_t(settings_.refinement_sets), cache.shading,
         cache.walk_rays, cache.bounces, cache.hdr, plan.has(Pass::AxisAlignedFilter) ? &filter : nullptr);

@@ -19,6 +19,11 @@
 // its rough lobe for it (progressive_accumulation.hpp in reflect/src): a still view adds a sample
 // set a frame, its cost at most the static pass's on the rough samples, nothing once converged or
 // while the foreground keeps changing.
+// The sun light (a part of StaticReflections, like the interreflection) runs where the panorama
+// has a sun (panorama_sun.hpp: a small region holding much of its light) and some relic material
+// is lit diffusely: the sun taken out of the 9-coefficient diffuse light and applied as a
+// directional light with a shadow ray against the relic; a panorama without a sun, or a relic with
+// nothing diffuse (glass, metal), casts none of its rays.
 // VisitorLight (visitor_light.hpp) runs where a foreground point comes within
 // TracerSettings::visitor_light_distance of a relic whose diffuse or widest lobes the walk does
 // not light: the visitors' shadow and light on them, with the voxel grid it reads; with no visitor
@@ -98,6 +103,11 @@ struct EffectInputs {
   // Every relic triangle lies in a supporting plane of the relic (RenderScene::relicIsConvex):
   // a ray leaving its surface outwards cannot meet it again.
   bool relic_convex = false;
+  // The user's switch for the sun light (TracerEvaluationKnobs::sun_light), whether the panorama
+  // has a sun and what was found (PanoramaSun::describe).
+  bool sun_light_enabled = true;
+  bool panorama_sun = false;
+  std::string panorama_sun_description;
 };
 
 struct EffectPlan {
@@ -109,6 +119,9 @@ struct EffectPlan {
   // The static shading casts the interreflection's rays (static_shading.hpp); false for a convex
   // relic or with the effect off. A part of the StaticReflections pass, timed with it.
   bool interreflection = false;
+  // The static shading lights the relic's diffuse surfaces with the panorama's sun as a
+  // directional light with a shadow ray (static_shading.hpp); a part of StaticReflections.
+  bool sun_light = false;
   bool has(Pass pass) const;
   // "HitPoints,StaticReflections,ToneMap (no foreground points; opaque relic, no clearcoat,
   // convex relic: no interreflection; no visitor near enough to light the relic)"

@@ -46,12 +46,16 @@ class RelicVisibility {
   // The irradiance of every vertex side under one environment (lit()).
   struct Lighting {
     std::vector<std::array<std::vector<vec3>, 2>> irradiance;  // per mesh, side, vertex
+    bool without_sun = false;  // the panorama's sun left out of the open strata (lit())
   };
   // Lights every vertex side with `ibl` (its relic turn included). `filtered`: a prefiltered
   // lookup per open stratum plus the interreflection transfer; else the whole transfer T under
   // the radiance coefficients alone (9 products a vertex, cheap enough for every frame of a
   // turning relic; the shadows' detail of the 9 coefficients only).
-  Lighting lit(const PrefilteredIbl& ibl, bool filtered = true) const;
+  // `without_sun`: the ibl's sun (panorama_sun.hpp) left out of what the open strata see (its
+  // point-light lobe taken off each filtered lookup; its SH off the transfer's direct part), for a
+  // renderer that adds it with a shadow ray; its light passed on by the relic's own surfaces stays.
+  Lighting lit(const PrefilteredIbl& ibl, bool filtered = true, bool without_sun = false) const;
 
   // Whether `at` has a transfer (a located point on a side that was computed).
   bool covers(const SurfaceLocation& at) const;
