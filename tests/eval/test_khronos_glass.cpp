@@ -100,8 +100,12 @@ double meanCodes(const cv::Mat& ours_hdr, const cv::Mat& truth_hdr, const cv::Ma
 
 struct KhronosCase {
   std::string model;
-  double ci_bar;  // sRGB codes at CI size (measured 16.6, 18.3, 4.4, 11.9; with the textures read at
+  double ci_bar;  // sRGB codes at CI size (measured 16.6, 18.3, 4.7, 6.6; with the textures read at
                   // the entry only 32.5, 34.1, 5.7, 11.9)
+  // The park's sun lights this model's diffuse surfaces: with the sun light switched off (the sun
+  // in the 9 coefficients) it must be at least this many times further from the truth (measured
+  // 11.9 against 6.6 at CI size: 1.8x).
+  double sun_light_gain = 0.0;
 };
 
 void PrintTo(const KhronosCase& c, std::ostream* os) {
@@ -137,6 +141,9 @@ TEST_P(KhronosGlass, OursHoldsToThePathTracerOverTheRelic) {
         meanCodes(ours, truth, glass), cv::countNonZero(glass), meanCodes(ours, truth, opaque),
         cv::countNonZero(opaque), without_sun_light);
     EXPECT_LT(codes, fullEvaluation() ? 8.0 : c.ci_bar) << panorama;
+    if (c.sun_light_gain > 0.0 && panorama == "hdri/rooitou_park_1k.hdr") {  // the one with a sun
+      EXPECT_GT(without_sun_light, c.sun_light_gain * codes) << "the sun light switched off, " << panorama;
+    }
   }
 }
 
@@ -144,7 +151,7 @@ INSTANTIATE_TEST_SUITE_P(Models, KhronosGlass,
                          ::testing::Values(KhronosCase{"khronos_glass_hurricane_candle_holder.glb", 17.5},
                                            KhronosCase{"khronos_transmission_roughness_test.glb", 21.0},
                                            KhronosCase{"khronos_attenuation_test.glb", 5.5},
-                                           KhronosCase{"khronos_clearcoat_wicker.glb", 13.5}));
+                                           KhronosCase{"khronos_clearcoat_wicker.glb", 9.0, 1.4}));
 
 // The candle inside the hurricane glass: the pixels whose view ray meets the glass first and the
 // candle behind it (the relic without its glass). Ours must show the candle there as the truth
