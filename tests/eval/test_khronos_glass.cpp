@@ -277,9 +277,9 @@ TEST(KhronosWicker, WhatTheSunDoes) {
     std::printf("wicker, %s: %.2f sRGB codes, mean ours/truth %.3f\n", variants[v].c_str(), codes.back(),
                 ours_sum / truth_sum);
   }
-  EXPECT_LT(codes[2], 0.5 * codes[8]);  // the sun in the 9 coefficients is the cause
+  EXPECT_LT(codes[2], 0.5 * codes[8]);   // the sun in the 9 coefficients is the cause
   EXPECT_LT(codes[0], 0.75 * codes[8]);  // the sun light takes it out (0.60 at 256^2)
-  EXPECT_GT(codes[3], 0.8 * codes[0]);  // the clearcoat is not
+  EXPECT_GT(codes[3], 0.8 * codes[0]);   // the clearcoat is not
 }
 
 }  // namespace
