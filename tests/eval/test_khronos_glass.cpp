@@ -100,11 +100,11 @@ double meanCodes(const cv::Mat& ours_hdr, const cv::Mat& truth_hdr, const cv::Ma
 
 struct KhronosCase {
   std::string model;
-  double ci_bar;  // sRGB codes at CI size (measured 16.6, 18.3, 4.7, 6.6; with the textures read at
+  double ci_bar;  // sRGB codes at CI size (measured 16.5, 12.7, 4.7, 6.6; with the textures read at
                   // the entry only 32.5, 34.1, 5.7, 11.9)
   // The park's sun lights this model's diffuse surfaces: with the sun light switched off (the sun
   // in the 9 coefficients) it must be at least this many times further from the truth (measured
-  // 11.9 against 6.6 at CI size: 1.8x).
+  // at CI size: the grid 18.3 against 12.7, 1.43x; the wicker 11.9 against 6.6, 1.8x).
   double sun_light_gain = 0.0;
 };
 
@@ -149,7 +149,7 @@ TEST_P(KhronosGlass, OursHoldsToThePathTracerOverTheRelic) {
 
 INSTANTIATE_TEST_SUITE_P(Models, KhronosGlass,
                          ::testing::Values(KhronosCase{"khronos_glass_hurricane_candle_holder.glb", 17.5},
-                                           KhronosCase{"khronos_transmission_roughness_test.glb", 21.0},
+                                           KhronosCase{"khronos_transmission_roughness_test.glb", 16.0, 1.25},
                                            KhronosCase{"khronos_attenuation_test.glb", 5.5},
                                            KhronosCase{"khronos_clearcoat_wicker.glb", 9.0, 1.4}));
 
