@@ -135,6 +135,11 @@ EffectPlan planEffects(const EffectInputs& in) {
   plan.material_reason += !in.interreflection ? ", interreflection off"
                           : in.relic_convex   ? ", convex relic: no interreflection"
                                               : ", interreflection where the relic can see itself";
+  plan.sun_light = in.sun_light_enabled && in.panorama_sun && in.relic_lit_diffusely;
+  plan.material_reason += !in.sun_light_enabled     ? ", sun light off"
+                          : !in.panorama_sun        ? ", " + in.panorama_sun_description + ": no sun light"
+                          : !in.relic_lit_diffusely ? ", nothing diffuse: no sun light"
+                                                    : ", sun light (" + in.panorama_sun_description + ")";
   if (foreground) plan.passes = {Pass::VoxelGrid, Pass::Pyramids};
   if (!foreground && visitor_light) plan.passes = {Pass::VoxelGrid};
   if (foreground && in.relic_rough) plan.passes.push_back(Pass::RoughForegroundMap);

@@ -139,6 +139,9 @@ EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
   in.internal_depth = internal_depth_;
   in.internal_residual = internal_residual_;
   in.internal_depth_source = settings_.refraction_depth > 0 ? "set" : "measured";
+  in.sun_light_enabled = settings_.evaluation.sun_light;
+  in.panorama_sun = ibl_.sun().found;
+  in.panorama_sun_description = ibl_.sun().describe();
   in.self_occlusion = visibility_ != nullptr;
   in.self_occlusion_reason = self_occlusion_reason_;
   if (visibility_ && lit_) {  // the displayed change under this light decides
@@ -205,11 +208,15 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
                                   const std::vector<CameraModel>& views) {
   FrameResult result;
   // The visibility lit before the plan: whether it shows (effect_min_codes) depends on the light.
-  if (visibility_ && (!lit_ || lit_source_ != ibl_.sourceHash() || lit_turn_ != ibl_.relicTurn())) {
+  // Without the sun where the plan will light the relic with it (EffectPlan::sun_light: the
+  // visibility is only built for a relic lit diffusely).
+  const bool sun_as_light = settings_.evaluation.sun_light && ibl_.sun().found && relic_lit_diffusely_;
+  if (visibility_ && (!lit_ || lit_source_ != ibl_.sourceHash() || lit_turn_ != ibl_.relicTurn() ||
+                      lighting_.without_sun != sun_as_light)) {
     PassTimer t(result.frame_timings, Pass::SelfOcclusion);
     // A turning relic is lit from the transfer alone: filtering every stratum again at every
     // turn step would cost a still relic's first frame every frame.
-    lighting_ = visibility_->lit(ibl_, ibl_.relicTurn() == 0.0f);
+    lighting_ = visibility_->lit(ibl_, ibl_.relicTurn() == 0.0f, sun_as_light);
     self_occlusion_codes_ = visibility_->largestDisplayedChange(lighting_, ibl_, settings_.exposure);
     lit_source_ = ibl_.sourceHash();
     lit_turn_ = ibl_.relicTurn();
@@ -343,6 +350,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       cache.zero_weight = cv::Mat(h, w, CV_32FC1, cv::Scalar(0));
       TracerSettings planned = settings_;
       planned.relic_interreflection = plan.interreflection;
+      planned.evaluation.sun_light = plan.sun_light;
       const AxisAlignedFilter filter;
       FilterCounts filtered;
       const StaticCounts counts =
@@ -354,6 +362,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       out.shaded_samples = counts.shaded_samples;
       out.interreflected_samples = counts.interreflected_samples;
       out.interreflection_rays = counts.interreflection_rays;
+      out.sun_rays = counts.sun_rays;
       out.filtered_pixels = filtered.pixels;
       out.filter_taps = filtered.taps;
       // The filter runs inside the static shading; its time is its own pass's, not the shading's.
@@ -389,8 +398,10 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
   } else if (plan.has(Pass::ProgressiveRefinement)) {
     PassTimer t(out.timings, Pass::ProgressiveRefinement);
     const AxisAlignedFilter filter;
+    TracerSettings planned = settings_;
+    planned.evaluation.sun_light = plan.sun_light;
     const RefinementStep step = cache.progress.advance(
-        StaticShading(scene_, ibl_, settings_, rough_map_.get(),
+        StaticShading(scene_, ibl_, planned, rough_map_.get(),
                       plan.has(Pass::SelfOcclusion) ? visibility_.get() : nullptr, &lighting_),
         cache.hits, cache.camera, foreground, std::uint32_t(settings_.refinement_sets), cache.shading,
         cache.walk_rays, cache.bounces, cache.hdr, plan.has(Pass::AxisAlignedFilter) ? &filter : nullptr);

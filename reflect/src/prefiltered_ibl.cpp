@@ -59,7 +59,13 @@ OctahedralMap resamplePanorama(const cv::Mat& pano, float yaw, int size) {
 }  // namespace
 
 PrefilteredIbl::PrefilteredIbl(const Environment& env, PrefilterOptions options)
-    : sh_(env), proxy_(env.proxy()), source_hash_(env.contentHash()) {
+    : sh_(env),
+      sun_(findPanoramaSun(env, options.sun)),
+      proxy_(env.proxy()),
+      source_hash_(env.contentHash()) {
+  std::array<vec3, 9> sunless = sh_.coefficients();
+  for (std::size_t i = 0; i < sunless.size(); ++i) sunless[i] -= sun_.radiance_sh[i];
+  sunless_sh_ = IrradianceSH(sunless);
   const int levels = std::max(2, options.levels);
   int base = options.base_size;
   if (base <= 0) base = std::clamp(floorPow2(std::max(1, env.panorama().cols / 4)), 16, 1024);

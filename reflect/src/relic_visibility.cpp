@@ -160,8 +160,11 @@ Ray RelicVisibility::ray(const VertexSide& v, int k) const {
           frame.toWorld(vec3(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(1.0f - u1, 0.0f))))};
 }
 
-RelicVisibility::Lighting RelicVisibility::lit(const PrefilteredIbl& ibl, bool filtered) const {
+RelicVisibility::Lighting RelicVisibility::lit(const PrefilteredIbl& ibl, bool filtered,
+                                               bool without_sun) const {
   Lighting lighting;
+  lighting.without_sun = without_sun && ibl.sun().found;
+  const std::array<vec3, 9> sun = ibl.relicFrameSunRadiance();
   lighting.irradiance.resize(transfers_.size());
   for (std::size_t m = 0; m < transfers_.size(); ++m)
     for (int s = 0; s < 2; ++s)
@@ -176,6 +179,8 @@ RelicVisibility::Lighting RelicVisibility::lit(const PrefilteredIbl& ibl, bool f
           const Transfer& t = transfers_[v.mesh][v.side][v.vertex];
           vec3 e(0.0f);
           for (int i = 0; i < 9; ++i) e += (filtered ? t.bounce[i] : t.whole[i]) * radiance[i];
+          if (lighting.without_sun && !filtered)
+            for (int i = 0; i < 9; ++i) e -= (t.whole[i] - t.bounce[i]) * sun[i];
           const vec3 normal = (v.side == 0 ? 1.0f : -1.0f) * normals_[v.mesh][v.vertex];
           for (int k = 0; filtered && k < n; ++k) {
             if (!(t.open_strata[std::size_t(k / 64)] >> (k % 64) & 1u)) continue;
@@ -186,7 +191,11 @@ RelicVisibility::Lighting RelicVisibility::lit(const PrefilteredIbl& ibl, bool f
             // one stratum or the next.
             const float cosine = std::max(glm::dot(ray.direction, normal), 1e-3f);
             const float alpha = std::sqrt(kStratumOverlap * kPi / (float(n) * cosine) / (4.0f * kPi));
-            e += kPi / float(n) * ibl.seenFrom(ray.origin, ray.direction, std::min(std::sqrt(alpha), 1.0f));
+            const float roughness = std::min(std::sqrt(alpha), 1.0f);
+            vec3 seen = ibl.seenFrom(ray.origin, ray.direction, roughness);
+            if (lighting.without_sun)
+              seen = glm::max(seen - ibl.sunSeenFrom(ray.origin, ray.direction, roughness), vec3(0.0f));
+            e += kPi / float(n) * seen;
           }
           lighting.irradiance[v.mesh][v.side][v.vertex] = isFinite(e) ? glm::max(e, vec3(0.0f)) : vec3(0.0f);
         }
@@ -226,7 +235,9 @@ float RelicVisibility::largestDisplayedChange(const Lighting& lighting, const Pr
     const vec3 normal = (v.side == 0 ? 1.0f : -1.0f) * normals_[v.mesh][v.vertex];
     if (!(glm::length(normal) > 0.5f)) continue;
     const vec3 lit = toneMapCodes(albedo[v.mesh] * lighting.irradiance[v.mesh][v.side][v.vertex], exposure);
-    const vec3 open = toneMapCodes(albedo[v.mesh] * ibl.irradiance(normal), exposure);
+    const vec3 open = toneMapCodes(
+        albedo[v.mesh] * (lighting.without_sun ? ibl.irradianceWithoutSun(normal) : ibl.irradiance(normal)),
+        exposure);
     largest = std::max(largest, maxComponent(glm::abs(lit - open)));
   }
   return largest;

@@ -100,6 +100,7 @@ void StaticCounts::add(const StaticCounts& other) {
   occluded_samples += other.occluded_samples;
   interreflected_samples += other.interreflected_samples;
   interreflection_rays += other.interreflection_rays;
+  sun_rays += other.sun_rays;
 }
 
 StaticShading::StaticShading(const RenderScene& scene, const PrefilteredIbl& ibl,
@@ -117,6 +118,7 @@ StaticShading::StaticShading(const RenderScene& scene, const PrefilteredIbl& ibl
     lobe_materials_ = tracesLobe(material->roughness);
   else if (scene_.relic().materials.empty())
     lobe_materials_ = tracesLobe(Material{}.roughness);
+  if (settings_.evaluation.sun_light && ibl_.sun().found) sun_.emplace(scene_, ibl_, settings_);
 }
 
 bool StaticShading::tracesLobe(float roughness) const {
@@ -130,8 +132,24 @@ float StaticShading::textureOcclusion(const SurfacePoint& surface) const {
 }
 
 SplitSumShading StaticShading::shadeAt(const SurfacePoint& surface, const vec3& wo) const {
-  if (!visibility_ || !visibility_->covers(surface.location)) return shadeSurface(ibl_, surface, wo);
-  const vec3 irradiance = visibility_->irradiance(*lighting_, surface.location);
+  const bool covered = visibility_ && visibility_->covers(surface.location);
+  if (!covered && !sun_) return shadeSurface(ibl_, surface, wo);
+  // The visibility's lighting holds the sun unless it was lit without it.
+  const bool sun_apart = sun_ && (!covered || lighting_->without_sun);
+  vec3 irradiance = covered     ? visibility_->irradiance(*lighting_, surface.location)
+                    : sun_apart ? ibl_.irradianceWithoutSun(surface.normal)
+                                : ibl_.irradiance(surface.normal);
+  if (sun_apart) {
+    const SurfaceMaterial& m = surface.material;
+    // Only a diffuse part shows the sun's shadow: elsewhere the irradiance is not read.
+    const bool diffuse =
+        (1.0f - m.metallic) * (1.0f - m.transmission) > 0.0f && maxComponent(m.base_colour) > 0.0f;
+    std::uint32_t rays = 0;
+    irradiance +=
+        diffuse ? sun_->irradiance(surface, wo, rays)
+                : ibl_.sun().power * std::max(glm::dot(surface.normal, ibl_.relicFrameSunDirection()), 0.0f);
+    if (rays > 0) sun_rays_.local() += rays;
+  }
   SplitSumShading parts = ibl_.shadeParts(surface.material, surface.normal, wo,
                                           glm::reflect(-wo, surface.normal), surface.position, &irradiance);
   // The texture's occlusion beyond what the vertices' visibility already holds.
@@ -465,6 +483,7 @@ StaticCounts StaticShading::shade(const HitPointBuffer& hits, const CameraModel&
                     });
   StaticCounts total;
   for (const StaticCounts& local : counts) total.add(local);
+  for (const std::uint64_t rays : sun_rays_) total.sun_rays += rays;
   return total;
 }
 

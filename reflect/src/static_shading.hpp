@@ -11,6 +11,11 @@
 // then counts only where it is darker than the vertices' open share (its factor occlusion / openness, at most
 // 1), so the two never darken twice.
 //
+// The sun: with TracerEvaluationKnobs::sun_light set (the effect plan's SunLight) and a sun in
+// the panorama, a surface with a diffuse part is lit by the panorama without its sun (the SH
+// irradiance, or the visibility's lighting where it was lit without the sun) plus the sun as a
+// directional light with a shadow ray (sun_light.hpp).
+//
 // Interreflection: a material below rough_interreflection_roughness (and not read from the rough
 // map) follows its mirror ray; where that meets the relic, the point's environment becomes the
 // second point's (its specular scale multiplied in, its diffuse added) and the walk starts there.
@@ -35,6 +40,7 @@
 #include <functional>
 #include <vector>
 
+#include <tbb/enumerable_thread_specific.h>
 #include <opencv2/core.hpp>
 
 #include "holo/core/camera_model.hpp"
@@ -45,6 +51,7 @@
 #include "holo/reflect/rough_foreground_map.hpp"
 #include "holo/reflect/tracer_settings.hpp"
 #include "lobe_bounce.hpp"
+#include "sun_light.hpp"
 #include "walk_ray.hpp"
 
 namespace holo::reflect {
@@ -59,6 +66,7 @@ struct StaticCounts {
   // Those that cast at least one interreflection ray, and the rays (mirror, lobe strata and the
   // lobe's second bounces) cast against the relic.
   std::uint64_t interreflected_samples = 0, interreflection_rays = 0;
+  std::uint64_t sun_rays = 0;  // the sun light's shadow rays (sun_light.hpp; 0 with it off)
   void add(const StaticCounts& other);
 };
 
@@ -179,6 +187,8 @@ class StaticShading {
   const RoughForegroundMap* rough_map_;
   const RelicVisibility* visibility_;
   const RelicVisibility::Lighting* lighting_;
+  std::optional<SunLight> sun_;
+  mutable tbb::enumerable_thread_specific<std::uint64_t> sun_rays_;
   bool lobe_materials_ = false;  // some relic material traces its lobe (tracesLobe)
 };
 

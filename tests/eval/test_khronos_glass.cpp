@@ -56,10 +56,11 @@ ReflectionScene khronosScene(const std::string& model, const std::string& panora
 }
 
 cv::Mat renderView(const std::string& method, const ReflectionScene& scene, const CameraModel& camera,
-                   int spp) {
+                   int spp, bool sun_light = true) {
   MethodSettings settings;
   settings.spp = spp;
   settings.with_visitors = false;
+  settings.tracer.evaluation.sun_light = sun_light;
   return renderMethod(method, scene, camera, settings).image;
 }
 
@@ -99,8 +100,12 @@ double meanCodes(const cv::Mat& ours_hdr, const cv::Mat& truth_hdr, const cv::Ma
 
 struct KhronosCase {
   std::string model;
-  double ci_bar;  // sRGB codes at CI size (measured 16.6, 18.3, 4.4, 11.9; with the textures read at
+  double ci_bar;  // sRGB codes at CI size (measured 16.5, 12.7, 4.7, 6.6; with the textures read at
                   // the entry only 32.5, 34.1, 5.7, 11.9)
+  // The park's sun lights this model's diffuse surfaces: with the sun light switched off (the sun
+  // in the 9 coefficients) it must be at least this many times further from the truth (measured
+  // at CI size: the grid 18.3 against 12.7, 1.43x; the wicker 11.9 against 6.6, 1.8x).
+  double sun_light_gain = 0.0;
 };
 
 void PrintTo(const KhronosCase& c, std::ostream* os) {
@@ -125,23 +130,28 @@ TEST_P(KhronosGlass, OursHoldsToThePathTracerOverTheRelic) {
     const cv::Mat truth = renderView("gt", scene, camera, size.gt_spp);
     const cv::Mat ours = renderView("ours", scene, camera, 1);
     const double codes = meanCodes(ours, truth, mask);
+    // The panorama's sun left in the 9-coefficient diffuse light, for the figure's comparison.
+    const double without_sun_light = meanCodes(renderView("ours", scene, camera, 1, false), truth, mask);
     // Apart, for the figure: the pixels whose first hit is glass and the opaque ones.
     const cv::Mat opaque = mask & ~glass;
     std::printf(
         "%s under %s, %d^2, truth %d spp: ours %.2f sRGB codes from the truth over %d relic pixels "
-        "(%.2f over its %d glass pixels, %.2f over its %d opaque ones)\n",
+        "(%.2f over its %d glass pixels, %.2f over its %d opaque ones; %.2f without the sun light)\n",
         c.model.c_str(), panorama.c_str(), size.pixels, size.gt_spp, codes, cv::countNonZero(mask),
         meanCodes(ours, truth, glass), cv::countNonZero(glass), meanCodes(ours, truth, opaque),
-        cv::countNonZero(opaque));
+        cv::countNonZero(opaque), without_sun_light);
     EXPECT_LT(codes, fullEvaluation() ? 8.0 : c.ci_bar) << panorama;
+    if (c.sun_light_gain > 0.0 && panorama == "hdri/rooitou_park_1k.hdr") {  // the one with a sun
+      EXPECT_GT(without_sun_light, c.sun_light_gain * codes) << "the sun light switched off, " << panorama;
+    }
   }
 }
 
 INSTANTIATE_TEST_SUITE_P(Models, KhronosGlass,
                          ::testing::Values(KhronosCase{"khronos_glass_hurricane_candle_holder.glb", 17.5},
-                                           KhronosCase{"khronos_transmission_roughness_test.glb", 21.0},
+                                           KhronosCase{"khronos_transmission_roughness_test.glb", 16.0, 1.25},
                                            KhronosCase{"khronos_attenuation_test.glb", 5.5},
-                                           KhronosCase{"khronos_clearcoat_wicker.glb", 13.5}));
+                                           KhronosCase{"khronos_clearcoat_wicker.glb", 9.0, 1.4}));
 
 // The candle inside the hurricane glass: the pixels whose view ray meets the glass first and the
 // candle behind it (the relic without its glass). Ours must show the candle there as the truth
@@ -201,7 +211,7 @@ TEST(KhronosGlassCandle, TheCandleIsSeenThroughTheGlassAsInTheTruth) {
 
 // Why the clearcoat wicker departs from its truth under the park's sun (opt-in, HOLO_FULL_EVAL=1;
 // docs/materials.md): the model as it is, then one thing taken away from both renderers or from
-// ours alone, 128^2 under rooitou park, truth 256 spp.
+// ours alone (the last: the sun light switched off), 128^2 under rooitou park, truth 256 spp.
 TEST(KhronosWicker, WhatTheSunDoes) {
   if (!fullEvaluation()) GTEST_SKIP() << "HOLO_FULL_EVAL=1 renders the wicker's figures";
   const std::string model = "khronos_clearcoat_wicker.glb", panorama = "hdri/rooitou_park_1k.hdr";
@@ -231,13 +241,15 @@ TEST(KhronosWicker, WhatTheSunDoes) {
                                              "the sun alone",
                                              "the sun alone, diffuse only",
                                              "the sun alone, diffuse only, no normal map",
-                                             "the sun alone, diffuse only, no occlusion texture"};
+                                             "the sun alone, diffuse only, no occlusion texture",
+                                             "no sun light in ours (the sun in the 9 coefficients)"};
   std::vector<double> codes;
   for (std::size_t v = 0; v < variants.size(); ++v) {
     ReflectionScene scene = khronosScene(model, panorama);
     MethodSettings ours;
     ours.with_visitors = false;
     if (v == 1) ours.tracer.evaluation.self_occlusion = false;
+    if (v == 8) ours.tracer.evaluation.sun_light = false;
     if (v == 2) keep(scene.panorama, false);
     if (v == 3)
       for (Material& m : scene.relic.materials) m.clearcoat = 0.0f;
@@ -265,8 +277,9 @@ TEST(KhronosWicker, WhatTheSunDoes) {
     std::printf("wicker, %s: %.2f sRGB codes, mean ours/truth %.3f\n", variants[v].c_str(), codes.back(),
                 ours_sum / truth_sum);
   }
-  EXPECT_LT(codes[2], 0.5 * codes[0]);  // the sun is the cause
-  EXPECT_GT(codes[3], 0.8 * codes[0]);  // the clearcoat is not
+  EXPECT_LT(codes[2], 0.5 * codes[8]);   // the sun in the 9 coefficients is the cause
+  EXPECT_LT(codes[0], 0.75 * codes[8]);  // the sun light takes it out (0.60 at 256^2)
+  EXPECT_GT(codes[3], 0.8 * codes[0]);   // the clearcoat is not
 }
 
 }  // namespace

@@ -53,3 +53,10 @@ if(TARGET holo::relics)
     DEPS holo::reflect holo::relics holo_test_support)
   target_include_directories(test_interreflection_plan PRIVATE ${PROJECT_SOURCE_DIR}/reflect/src)
 endif()
+# The panorama's sun as a directional light: the closed-form crescent and the counters (needs the
+# built-in relics and the simulated halls).
+if(TARGET holo::relics AND TARGET holo::sim)
+  holo_test(test_sun_light
+    SOURCES test_sun_light.cpp
+    DEPS holo::reflect holo::relics holo::sim holo_test_support)
+endif()

@@ -22,6 +22,11 @@
 // its rough lobe for it (progressive_accumulation.hpp in reflect/src): a still view adds a sample
 // set a frame, its cost at most the static pass's on the rough samples, nothing once converged or
 // while the foreground keeps changing.
+// The sun light (a part of StaticReflections, like the interreflection) runs where the panorama
+// has a sun (panorama_sun.hpp: a small region holding much of its light) and some relic material
+// is lit diffusely: the sun taken out of the 9-coefficient diffuse light and applied as a
+// directional light with a shadow ray against the relic; a panorama without a sun, or a relic with
+// nothing diffuse (glass, metal), casts none of its rays.
 // VisitorLight (visitor_light.hpp) runs where a foreground point comes within
 // TracerSettings::visitor_light_distance of a relic whose diffuse or widest lobes the walk does
 // not light: the visitors' shadow and light on them, with the voxel grid it reads; with no visitor
@@ -111,6 +116,11 @@ struct EffectInputs {
   // refraction on) above it: relic_transmissive.
   bool plinth = false;
   bool plinth_caustic = true;
+  // The user's switch for the sun light (TracerEvaluationKnobs::sun_light), whether the panorama
+  // has a sun and what was found (PanoramaSun::describe).
+  bool sun_light_enabled = true;
+  bool panorama_sun = false;
+  std::string panorama_sun_description;
 };
 
 struct EffectPlan {
@@ -123,6 +133,9 @@ struct EffectPlan {
   // relic or with the effect off. A part of the StaticReflections pass, timed with it.
   bool interreflection = false;
   std::string plinth_reason;  // why Plinth and Caustics run or not
+  // The static shading lights the relic's diffuse surfaces with the panorama's sun as a
+  // directional light with a shadow ray (static_shading.hpp); a part of StaticReflections.
+  bool sun_light = false;
   bool has(Pass pass) const;
   // "HitPoints,StaticReflections,ToneMap (no foreground points; opaque relic, no clearcoat,
   // convex relic: no interreflection; no visitor near enough to light the relic)"

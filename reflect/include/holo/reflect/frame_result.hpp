@@ -46,6 +46,7 @@ struct ViewCounters {
   // Samples shaded, those that cast an interreflection ray and the rays they cast (0 when the
   // static shading was reused; no ray on a convex relic: the plan leaves the effect off).
   std::uint64_t shaded_samples = 0, interreflected_samples = 0, interreflection_rays = 0;
+  std::uint64_t sun_rays = 0;  // the sun light's shadow rays (the static pass's; 0 with it off)
 };
 
 // One view's images, with its counters.

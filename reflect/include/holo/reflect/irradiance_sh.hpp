@@ -15,6 +15,8 @@ class IrradianceSH {
  public:
   IrradianceSH() = default;
   explicit IrradianceSH(const Environment& environment);
+  // From radiance coefficients L_lm (RGB), e.g. an environment's less a light taken out of it.
+  explicit IrradianceSH(const std::array<vec3, 9>& radiance) : c_(radiance) {}
   // Irradiance E(n) = integral of L(w) max(0, n.w) dw (RGB, clamped at 0); a white Lambert
   // surface reflects E / pi.
   vec3 irradiance(const vec3& normal) const;

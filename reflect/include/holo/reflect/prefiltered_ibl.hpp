@@ -11,6 +11,8 @@
 //    within 2% mean relative error for roughness 0.1..1 on the shared interior and hard-sun
 //    panoramas.
 //  * diffuse: irradiance from 9 spherical harmonics (irradiance_sh.hpp);
+//  * the panorama's sun (panorama_sun.hpp), found when the maps are built, and the diffuse light
+//    without it, for a renderer that lights the relic with the sun as a directional light;
 //  * the split-sum DFG table (dfg_table.hpp) for the specular scale and bias.
 // Units: radiance in, radiance out. Build cost is measured in tests/reflect/bench_reflect.cpp.
 #pragma once
@@ -22,6 +24,7 @@
 #include "holo/reflect/environment.hpp"
 #include "holo/reflect/irradiance_sh.hpp"
 #include "holo/reflect/octahedral_map.hpp"
+#include "holo/reflect/panorama_sun.hpp"
 
 namespace holo::reflect {
 
@@ -31,6 +34,7 @@ struct PrefilterOptions {
   int texel_density = 20;      // a level of roughness r is max(48, ceil(texel_density / r)) wide
   float min_roughness = 0.1f;  // roughness of level 1 (below it lookups blend with the mirror)
   float tail_ratio = 1.5f;     // LobeQuadratureOptions::tail_ratio (accuracy against time)
+  SunSearchSettings sun{};     // how the panorama's sun is found
 };
 
 // The split-sum shading in parts, so a renderer can put the foreground's radiance in place of
@@ -59,6 +63,29 @@ class PrefilteredIbl {
   // The diffuse light's radiance coefficients (irradiance_sh.hpp) in the relic's frame: those of
   // the hall's, turned with the relic (setRelicTurn).
   std::array<vec3, 9> relicFrameRadiance() const { return sh_.turnedAboutY(turn_cos_, turn_sin_); }
+  // The panorama's sun (found or not; its direction in the hall's frame).
+  const PanoramaSun& sun() const { return sun_; }
+  // Towards the sun in the relic's frame (unit; the hall's turned back with the relic).
+  vec3 relicFrameSunDirection() const {
+    const vec3& d = sun_.direction;
+    return turn_angle_ == 0.0f
+               ? d
+               : vec3(turn_cos_ * d.x - turn_sin_ * d.z, d.y, turn_sin_ * d.x + turn_cos_ * d.z);
+  }
+  // The sun's radiance coefficients (PanoramaSun::radiance_sh) in the relic's frame.
+  std::array<vec3, 9> relicFrameSunRadiance() const {
+    return IrradianceSH(sun_.radiance_sh).turnedAboutY(turn_cos_, turn_sin_);
+  }
+  // irradiance() without the sun's excess (all of it when no sun was found).
+  vec3 irradianceWithoutSun(const vec3& normal) const {
+    return sunless_sh_.irradiance(turnDirection(normal));
+  }
+  // The sun's part of seenFrom(origin, direction, roughness), the sun taken as a point
+  // (PanoramaSun::lobe); zero without a sun.
+  vec3 sunSeenFrom(const vec3& origin, const vec3& direction, float roughness) const {
+    if (!sun_.found) return vec3(0.0f);
+    return sun_.lobe(proxy_.lookupDirection(turnPoint(origin), turnDirection(direction)), roughness);
+  }
   // Radiance leaving a surface at `position` (world, metres) towards `wo` (split-sum specular +
   // SH diffuse). The specular lookup goes through the environment's PanoramaProxy: the lobe's
   // centre direction from `position` is turned into the panorama direction it meets (parallax
@@ -92,6 +119,8 @@ class PrefilteredIbl {
   std::vector<OctahedralMap> levels_;
   std::vector<float> level_roughness_;
   IrradianceSH sh_;
+  PanoramaSun sun_;
+  IrradianceSH sunless_sh_;
   vec3 turnPoint(const vec3& p) const {
     return turn_angle_ == 0.0f ? p : turn_pivot_ + turnDirection(p - turn_pivot_);
   }

@@ -46,16 +46,21 @@ class RelicVisibility {
   // The irradiance of every vertex side under one environment (lit()).
   struct Lighting {
     std::vector<std::array<std::vector<vec3>, 2>> irradiance;  // per mesh, side, vertex
+    bool without_sun = false;  // the panorama's sun left out of the open strata (lit())
   };
   // Lights every vertex side with `ibl` (its relic turn included). `filtered`: a prefiltered
   // lookup per open stratum plus the interreflection transfer; else the whole transfer T under
   // the radiance coefficients alone (9 products a vertex, cheap enough for every frame of a
   // turning relic; the shadows' detail of the 9 coefficients only).
-  Lighting lit(const PrefilteredIbl& ibl, bool filtered = true) const;
+  // `without_sun`: the ibl's sun (panorama_sun.hpp) left out of what the open strata see (its
+  // point-light lobe taken off each filtered lookup; its SH off the transfer's direct part), for a
+  // renderer that adds it with a shadow ray; its light passed on by the relic's own surfaces stays.
+  Lighting lit(const PrefilteredIbl& ibl, bool filtered = true, bool without_sun = false) const;
   // What `lighting` changes on the display, in sRGB codes: over every vertex side, the largest
   // channel's difference between its diffuse radiance (the material's diffuse albedo / pi, its
   // factors alone: a texture only darkens) under lighting and under the unoccluded irradiance
-  // (ibl.irradiance of its normal), each tone-mapped at `exposure` (tone_map.hpp; <= 0: the one
+  // (ibl.irradiance of its normal; irradianceWithoutSun where lighting is without the sun, whose
+  // shadow the sun light casts), each tone-mapped at `exposure` (tone_map.hpp; <= 0: the one
   // autoExposure would choose for the relic's vertices so lit). The gloss a display adds over
   // the diffuse only lessens a difference, so this bounds it from above.
   float largestDisplayedChange(const Lighting& lighting, const PrefilteredIbl& ibl, float exposure) const;

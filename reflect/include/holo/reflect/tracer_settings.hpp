@@ -57,6 +57,11 @@ struct TracerEvaluationKnobs {
   // light (static_shading.hpp); false: by the open samples' count alone, the hall's light as if
   // spread evenly over the lobe. Default true; false measures what weighting by the light adds.
   bool lobe_visibility = true;
+  // The panorama's sun as a directional light with a shadow ray on the relic's diffuse surfaces
+  // (sun_light.hpp in reflect/src) where the effect plan wants it (a sun found in the panorama);
+  // false: the sun stays in the 9-coefficient diffuse light. Default true; false measures what the
+  // sun light adds.
+  bool sun_light = true;
   // The visitors' shadow and light on the relic's diffuse and widest lobes (visitor_light.hpp)
   // where the effect plan wants them; false: those are lit by the empty hall. Default true;
   // false measures what the visitors' light adds.

@@ -1,0 +1,23 @@
+// What the relic passes of light travelling straight through it (internal): a shadow ray's path,
+// not bent. Each entry into a transmissive material passes (1 - F)(1 - metallic) transmission
+// base_colour of the light and each exit from a volume 1 - F (as the path tracer's glass: tinted
+// where the light enters), each volume segment its Beer-Lambert share; an opaque part stops it.
+// Used by what stands inside the glass (inside_glass.hpp) and the sun's shadow (sun_light.hpp).
+#pragma once
+
+#include <cstdint>
+
+#include "holo/reflect/render_scene.hpp"
+#include "holo/reflect/tracer_settings.hpp"
+
+namespace holo::reflect {
+
+// RGB in [0, 1] of the light arriving at `origin` from unit `direction`; `rays` counts the
+// Embree rays (at most kMaxRelicCrossings).
+vec3 passedThroughRelic(const RenderScene& scene, const TracerSettings& settings, const vec3& origin,
+                        const vec3& direction, std::uint32_t& rays);
+
+// Interfaces a light ray crosses before it is counted as stopped (glass walls come in pairs).
+inline constexpr int kMaxRelicCrossings = 8;
+
+}  // namespace holo::reflect
