@@ -32,6 +32,7 @@ struct Options {
   std::vector<int> compared_levels = eval::SimulatedDepthOptions{}.compared_levels;
   bool mask_persistence = eval::SimulatedDepthOptions{}.mask_persistence;
   bool cross_camera = eval::SimulatedDepthOptions{}.cross_camera;
+  bool keep_attached_limbs = eval::SimulatedDepthOptions{}.keep_attached_limbs;
   std::string json;
   std::string images;
   std::string recording;
@@ -73,7 +74,7 @@ int run(const Options& o) {
                      std::to_string(o.levels));
   const eval::SimulatedDepthEvaluation e = eval::evaluateSimulatedDepth(
       {o.scene, o.visitor_model, o.frames, o.width, o.height, o.learning_frames, o.levels, o.compared_levels,
-       !o.images.empty(), o.mask_persistence, o.cross_camera});
+       !o.images.empty(), o.mask_persistence, o.cross_camera, o.keep_attached_limbs});
   std::cout << e.report.dump(2) << "\n";
   std::cerr << eval::depthMetricsTable(e.rows);
   if (!o.json.empty()) writeFileAtomically(o.json, e.report.dump(2) + "\n");
@@ -99,6 +100,10 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--mask-persistence", o->mask_persistence,
                      "Keep foreground the pixels without depth whose precursor was foreground and whose "
                      "colour still matches it (false: the mask without it)")
+          ->capture_default_str();
+      sub.add_option("--keep-attached-limbs", o->keep_attached_limbs,
+                     "The mask's opening keeps the thin limbs joined to a body (false: the opening "
+                     "removes them)")
           ->capture_default_str();
       sub.add_option("--cross-camera", o->cross_camera,
                      "The cameras fill each other's holes with their measured depth of the same visitor, "

@@ -68,6 +68,7 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
   config.filter.learning_frames = o.learning_frames;
   config.filter.levels = o.levels;
   config.persistence.enabled = o.mask_persistence;
+  config.mask.keep_attached_limbs = o.keep_attached_limbs;
   for (int levels : o.compared_levels) {
     depthfilter::TemporalDepthFilterConfig variant = config.filter;
     variant.levels = levels;
@@ -142,6 +143,7 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
       {"learning_frames", o.learning_frames},
       {"levels", o.levels},
       {"mask_persistence", o.mask_persistence},
+      {"keep_attached_limbs", o.keep_attached_limbs},
       {"cross_camera", o.cross_camera},
       {"cross_camera_filled_per_camera_frame",
        camera_frames > 0 ? double(filled) / double(camera_frames) : 0.0},
