@@ -37,6 +37,7 @@ struct Options {
   bool round_trip_check = eval::SimulatedDepthOptions{}.round_trip_check;
   bool reflection_flicker = eval::SimulatedDepthOptions{}.reflection_flicker;
   int view_size = eval::SimulatedDepthOptions{}.view_size;
+  bool keep_attached_limbs = eval::SimulatedDepthOptions{}.keep_attached_limbs;
   std::string json;
   std::string images;
   std::string recording;
@@ -78,10 +79,10 @@ int run(const Options& o) {
   if (o.levels < 1 || o.levels > max_levels)
     throw InputError("", "--levels", "l_max in [1, " + std::to_string(max_levels) + "]",
                      std::to_string(o.levels));
-  const eval::SimulatedDepthEvaluation e =
-      eval::evaluateSimulatedDepth({o.scene, o.visitor_model, o.frames, o.width, o.height, o.learning_frames,
-                                    o.levels, o.compared_levels, !o.images.empty(), o.mask_persistence,
-                                    o.cross_camera, o.round_trip_check, o.reflection_flicker, o.view_size});
+  const eval::SimulatedDepthEvaluation e = eval::evaluateSimulatedDepth(
+      {o.scene, o.visitor_model, o.frames, o.width, o.height, o.learning_frames, o.levels, o.compared_levels,
+       !o.images.empty(), o.mask_persistence, o.cross_camera, o.round_trip_check, o.reflection_flicker,
+       o.view_size, o.keep_attached_limbs});
   std::cout << e.report.dump(2) << "\n";
   std::cerr << eval::depthMetricsTable(e.rows);
   if (!e.flicker_rows.empty()) std::cerr << "\n" << eval::reflectionFlickerTable(e.flicker_rows);
@@ -110,6 +111,10 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--mask-persistence", o->mask_persistence,
                      "Keep foreground the pixels without depth whose precursor was foreground and whose "
                      "colour still matches it (false: the mask without it)")
+          ->capture_default_str();
+      sub.add_option("--keep-attached-limbs", o->keep_attached_limbs,
+                     "The mask's opening keeps the thin limbs joined to a body (false: the opening "
+                     "removes them)")
           ->capture_default_str();
       sub.add_option("--cross-camera", o->cross_camera,
                      "The cameras fill each other's holes with their measured depth of the same visitor, "

@@ -19,11 +19,26 @@ int intInRange(const ConfigNode& section, const std::string& key, int fallback, 
 }  // namespace
 
 TemporalDepthFilterConfig parseDepthFilterConfig(const ConfigNode& section) {
-  section.rejectUnknownKeys(
-      {"levels", "learning_frames", "min_support", "motion_window", "edge_radius", "fill_trust_frames",
-       "fill_radius", "fill_colour_max", "fill_colour_margin", "surface_tolerance_m", "surface_tolerance_z2",
-       "cross_camera", "cross_camera_tolerance_m", "cross_camera_tolerance_z2",
-       "cross_camera_visibility_radius_px", "cross_camera_max_splat_px", "cross_camera_confirm_measured"});
+  section.rejectUnknownKeys({"levels",
+                             "learning_frames",
+                             "min_support",
+                             "motion_window",
+                             "edge_radius",
+                             "fill_trust_frames",
+                             "fill_radius",
+                             "fill_colour_max",
+                             "fill_colour_margin",
+                             "surface_tolerance_m",
+                             "surface_tolerance_z2",
+                             "cross_camera",
+                             "cross_camera_tolerance_m",
+                             "cross_camera_tolerance_z2",
+                             "cross_camera_visibility_radius_px",
+                             "cross_camera_max_splat_px",
+                             "cross_camera_confirm_measured",
+                             "mask_open_radius",
+                             "mask_close_radius",
+                             "mask_keep_attached_limbs"});
   TemporalDepthFilterConfig c;
   c.levels = intInRange(section, "levels", c.levels, 1, TemporalDepthFilterConfig::kMaxLevels);
   c.learning_frames = intInRange(section, "learning_frames", c.learning_frames, 0, 100000);
@@ -52,6 +67,14 @@ CrossCameraFillConfig parseCrossCameraFillConfig(const ConfigNode& section) {
       intInRange(section, "cross_camera_visibility_radius_px", c.visibility_radius_px, 0, 8);
   c.max_splat_px = intInRange(section, "cross_camera_max_splat_px", c.max_splat_px, 1, 8);
   c.confirm_measured = section.get("cross_camera_confirm_measured", c.confirm_measured);
+  return c;
+}
+
+ForegroundMaskConfig parseForegroundMaskConfig(const ConfigNode& section) {
+  ForegroundMaskConfig c;
+  c.open_radius = intInRange(section, "mask_open_radius", c.open_radius, 0, 8);
+  c.close_radius = intInRange(section, "mask_close_radius", c.close_radius, 0, 8);
+  c.keep_attached_limbs = section.get("mask_keep_attached_limbs", c.keep_attached_limbs);
   return c;
 }
 

@@ -72,6 +72,27 @@ void ForegroundMasker::learnBackground(const RgbdFrame& frame) {
   ++background_frames_;
 }
 
+// Morphological reconstruction of the opened mask inside the unopened one: every 8-connected
+// region of the unopened mask that kept at least one pixel through the opening comes back whole.
+// An isolated speck loses all its pixels to the opening and stays away; a limb one or two pixels
+// wide, joined to a body that survives, returns with it.
+void ForegroundMasker::reconstructInside(cv::Mat& opened) {
+  const int regions = cv::connectedComponents(unopened_, region_labels_, 8, CV_32S);
+  kept_region_.assign(std::size_t(regions), 0);
+  for (int y = 0; y < opened.rows; ++y) {
+    const std::uint8_t* o = opened.ptr<std::uint8_t>(y);
+    const int* label = region_labels_.ptr<int>(y);
+    for (int x = 0; x < opened.cols; ++x)
+      if (o[x]) kept_region_[std::size_t(label[x])] = 255;
+  }
+  kept_region_[0] = 0;  // the background's label
+  for (int y = 0; y < opened.rows; ++y) {
+    std::uint8_t* o = opened.ptr<std::uint8_t>(y);
+    const int* label = region_labels_.ptr<int>(y);
+    for (int x = 0; x < opened.cols; ++x) o[x] = kept_region_[std::size_t(label[x])];
+  }
+}
+
 cv::Mat ForegroundMasker::apply(const RgbdFrame& frame) {
   checkSize(frame);
   cv::Mat colour_mask;
@@ -112,7 +133,11 @@ cv::Mat ForegroundMasker::apply(const RgbdFrame& frame) {
   if (reach > 0 && !box.empty()) {
     cv::Mat roi = mask(cv::Rect(box.x - reach, box.y - reach, box.width + 2 * reach, box.height + 2 * reach) &
                        cv::Rect(0, 0, mask.cols, mask.rows));
-    if (config_.open_radius > 0) cv::morphologyEx(roi, roi, cv::MORPH_OPEN, disc(config_.open_radius));
+    if (config_.open_radius > 0) {
+      if (config_.keep_attached_limbs) roi.copyTo(unopened_);
+      cv::morphologyEx(roi, roi, cv::MORPH_OPEN, disc(config_.open_radius));
+      if (config_.keep_attached_limbs) reconstructInside(roi);
+    }
     if (config_.close_radius > 0) cv::morphologyEx(roi, roi, cv::MORPH_CLOSE, disc(config_.close_radius));
   }
   if (!config_.static_foreground.empty()) mask.setTo(255, config_.static_foreground);

@@ -180,6 +180,7 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
   config.filter.levels = o.levels;
   config.persistence.enabled = o.mask_persistence;
   config.flow.round_trip_check = o.round_trip_check;
+  config.mask.keep_attached_limbs = o.keep_attached_limbs;
   for (int levels : o.compared_levels) {
     depthfilter::TemporalDepthFilterConfig variant = config.filter;
     variant.levels = levels;
@@ -275,6 +276,7 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
       {"learning_frames", o.learning_frames},
       {"levels", o.levels},
       {"mask_persistence", o.mask_persistence},
+      {"keep_attached_limbs", o.keep_attached_limbs},
       {"cross_camera", o.cross_camera},
       {"round_trip_check", o.round_trip_check},
       {"cross_camera_filled_per_camera_frame",

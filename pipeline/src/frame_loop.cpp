@@ -64,6 +64,7 @@ FrameLoop::FrameLoop(FrameLoopOptions options, Installation installation,
         config.colour_gains = installation.colour_gains;
         config.filter = installation.depth_filter;
         config.cross_camera = installation.cross_camera_fill;
+        config.mask = installation.foreground_mask;
         return depthfilter::ForegroundPipeline(installation.cameras, config);
       }()),
       camera_exposure_(installation.camera_exposure),

@@ -248,6 +248,7 @@ Installation loadInstallation(const ConfigNode& root, const InstallationOptions&
   if (const std::optional<ConfigNode> section = root.find("depthfilter")) {
     installation.depth_filter = depthfilter::parseDepthFilterConfig(*section);
     installation.cross_camera_fill = depthfilter::parseCrossCameraFillConfig(*section);
+    installation.foreground_mask = depthfilter::parseForegroundMaskConfig(*section);
   }
 
   // The pyramid file: where the panorama's directions point in the world.

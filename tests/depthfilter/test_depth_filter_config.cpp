@@ -16,6 +16,7 @@ namespace {
 TemporalDepthFilterConfig parsed(const std::string& body) {
   const ConfigNode section = ConfigNode::parse("depthfilter:\n" + body, "museum.yaml")["depthfilter"];
   parseCrossCameraFillConfig(section);
+  parseForegroundMaskConfig(section);
   return parseDepthFilterConfig(section);
 }
 
@@ -44,6 +45,16 @@ TEST(DepthFilterConfig, CrossCameraFieldsReachTheStepAndOthersKeepTheirDefaults)
   EXPECT_EQ(parsed("  cross_camera_visibility_radius_px: 3\n").levels, TemporalDepthFilterConfig{}.levels);
 }
 
+TEST(DepthFilterConfig, MaskFieldsReachTheMaskAndOthersKeepTheirDefaults) {
+  const ForegroundMaskConfig c = parseForegroundMaskConfig(
+      ConfigNode::parse("depthfilter:\n  mask_open_radius: 2\n  mask_keep_attached_limbs: false\n",
+                        "museum.yaml")["depthfilter"]);
+  EXPECT_EQ(c.open_radius, 2);
+  EXPECT_FALSE(c.keep_attached_limbs);
+  EXPECT_EQ(c.close_radius, ForegroundMaskConfig{}.close_radius);
+  EXPECT_TRUE(ForegroundMaskConfig{}.keep_attached_limbs);
+}
+
 TEST(DepthFilterConfig, PullPushIsOnByDefault) {
   EXPECT_GE(TemporalDepthFilterConfig{}.levels, 3);
   EXPECT_GE(parsed("  learning_frames: 10\n").levels, 3);
@@ -64,6 +75,9 @@ TEST(DepthFilterConfig, BadValuesAreRefusedNamingTheFieldAndTheRange) {
       {"  cross_camera_max_splat_px: 0\n", "depthfilter.cross_camera_max_splat_px"},
       {"  cross_camera_visibility_radius_px: 9\n", "depthfilter.cross_camera_visibility_radius_px"},
       {"  cross_camera_tolerance_m: 0\n", "depthfilter.cross_camera_tolerance_m"},
+      {"  mask_open_radius: -1\n", "depthfilter.mask_open_radius"},
+      {"  mask_close_radius: 9\n", "depthfilter.mask_close_radius"},
+      {"  mask_keep_attached_limbs: 2\n", "depthfilter.mask_keep_attached_limbs"},
   };
   for (const auto& [yaml, field] : cases) {
     try {

@@ -113,5 +113,37 @@ TEST(ForegroundMask, HardInputsStayBounded) {
   EXPECT_THROW(masker.apply(small), Error);
 }
 
+// A body 2 m away before a wall at 3 m, with an arm one pixel wide joined to it and a 2x2 speck
+// of depth noise apart from it. The opening removes both; keep_attached_limbs brings back the arm
+// (its region kept the body's pixels) and not the speck (its region kept none).
+TEST(ForegroundMask, ThinLimbJoinedToABodyReturnsAndASpeckDoesNot) {
+  const cv::Size size(160, 120);
+  const auto frame = [&](bool visitor) {
+    RgbdFrame f;
+    f.colour = cv::Mat(size, CV_8UC3, cv::Scalar(128, 128, 128));
+    f.depth = cv::Mat(size, CV_32FC1, cv::Scalar(3.0f));
+    if (visitor) {
+      f.depth(cv::Rect(60, 30, 20, 60)).setTo(2.0f);  // body
+      f.depth(cv::Rect(80, 50, 25, 1)).setTo(2.0f);   // arm, one pixel wide
+      f.depth(cv::Rect(20, 20, 2, 2)).setTo(2.0f);    // speck
+    }
+    return f;
+  };
+  const cv::Rect arm(80, 50, 25, 1), speck(20, 20, 2, 2);
+  const auto masked = [&](bool keep) {
+    ForegroundMaskConfig config;
+    config.keep_attached_limbs = keep;
+    ForegroundMasker masker(config);
+    for (int t = 0; t < 5; ++t) masker.learnBackground(frame(false));
+    return masker.apply(frame(true));
+  };
+  const cv::Mat with = masked(true), without = masked(false);
+  EXPECT_EQ(cv::countNonZero(with(arm)), arm.area());
+  EXPECT_EQ(cv::countNonZero(with(speck)), 0);
+  EXPECT_LT(cv::countNonZero(without(arm)), arm.area() / 2);
+  EXPECT_EQ(cv::countNonZero(without(speck)), 0);
+  EXPECT_EQ(cv::countNonZero(with(cv::Rect(60, 30, 20, 60))), 20 * 60);
+}
+
 }  // namespace
 }  // namespace holo::depthfilter

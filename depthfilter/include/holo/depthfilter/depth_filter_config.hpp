@@ -1,6 +1,7 @@
 // The `depthfilter:` section of a configuration document: the temporal depth filter's settings
 // (TemporalDepthFilterConfig, temporal_depth_filter.hpp, with the meaning and unit of each) and
-// the cross-camera fill's (CrossCameraFillConfig, cross_camera_fill.hpp).
+// the cross-camera fill's (CrossCameraFillConfig, cross_camera_fill.hpp) and the foreground
+// mask's clean-up (ForegroundMaskConfig, foreground_mask.hpp).
 // Every field is optional and keeps its default when absent:
 //
 //   depthfilter:
@@ -21,6 +22,9 @@
 //     cross_camera_visibility_radius_px: 2    # px, 0..8
 //     cross_camera_max_splat_px: 3            # px, 1..8
 //     cross_camera_confirm_measured: true     # agreeing measured depth joins the mask
+//     mask_open_radius: 1                     # px, 0..8 (0: no opening)
+//     mask_close_radius: 2                    # px, 0..8 (0: no closing)
+//     mask_keep_attached_limbs: true          # regions that keep a pixel through the opening return whole
 //
 // An unknown field, a value of the wrong type or out of its range is a holo::InputError naming
 // the file, the field (depthfilter.levels) and the range.
@@ -28,6 +32,7 @@
 
 #include "holo/core/config.hpp"
 #include "holo/depthfilter/cross_camera_fill.hpp"
+#include "holo/depthfilter/foreground_mask.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
 
 namespace holo::depthfilter {
@@ -36,5 +41,7 @@ namespace holo::depthfilter {
 TemporalDepthFilterConfig parseDepthFilterConfig(const ConfigNode& section);
 // The cross_camera* fields of the same section.
 CrossCameraFillConfig parseCrossCameraFillConfig(const ConfigNode& section);
+// The mask_* fields of the same section; the rest of ForegroundMaskConfig keeps its defaults.
+ForegroundMaskConfig parseForegroundMaskConfig(const ConfigNode& section);
 
 }  // namespace holo::depthfilter

@@ -10,11 +10,14 @@
 //     background's depth never counts, and a visitor whose colour matches the wall still does;
 //   * otherwise (no depth here or no background depth learned): MOG2's colour decision, with
 //     MOG2's shadow label counted as background.
-// The result is cleaned by a morphological opening and closing. Output: CV_8UC1, 255 = foreground.
+// The result is cleaned by a morphological opening (undone on regions that keep a pixel through
+// it, keep_attached_limbs) and a closing. Output: CV_8UC1, 255 = foreground.
 #pragma once
 
+#include <cstdint>
 #include <opencv2/core.hpp>
 #include <opencv2/video/background_segm.hpp>
+#include <vector>
 
 #include "holo/core/rgbd_frame.hpp"
 
@@ -30,7 +33,10 @@ struct ForegroundMaskConfig {
   float depth_margin_z2 = 0.0075f;         // grows with z^2 like depth-sensor noise, 1/metres
   float background_depth_rate = 0.02f;     // live exponential update of background depth
   int open_radius = 1;                     // pixels; removes isolated noise
-  int close_radius = 2;                    // pixels; closes small gaps inside a visitor
+  // After the opening, every connected region of the unopened mask that kept a pixel through it
+  // comes back whole: specks still go, thin limbs joined to a body return.
+  bool keep_attached_limbs = true;
+  int close_radius = 2;  // pixels; closes small gaps inside a visitor
   // MOG2 runs on the colour frame downscaled by this factor (area average) and its labels are
   // scaled back (nearest). Colour decides only where depth is missing, so half resolution costs
   // little there and saves 3/4 of MOG2's time (docs/depthfilter.md, "Speed"). 1 = full size.
@@ -58,6 +64,7 @@ class ForegroundMasker {
  private:
   void checkSize(const RgbdFrame& frame);
   const cv::Mat& colourForModel(const cv::Mat& colour);  // the frame MOG2 sees
+  void reconstructInside(cv::Mat& opened);               // keep_attached_limbs
 
   ForegroundMaskConfig config_;
   cv::Ptr<cv::BackgroundSubtractorMOG2> mog2_;
@@ -65,6 +72,8 @@ class ForegroundMasker {
   cv::Mat background_depth_count_;  // CV_32FC1, samples in the mean while learning
   int background_frames_ = 0;
   cv::Mat small_colour_, colour_labels_;  // scratch, reused across frames
+  cv::Mat unopened_, region_labels_;      // scratch of keep_attached_limbs
+  std::vector<std::uint8_t> kept_region_;
 };
 
 }  // namespace holo::depthfilter

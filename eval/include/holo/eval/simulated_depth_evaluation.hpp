@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "holo/depthfilter/cross_camera_fill.hpp"
+#include "holo/depthfilter/foreground_mask.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
 #include "holo/eval/depth_evaluation.hpp"
 #include "holo/eval/reflection_flicker.hpp"
@@ -45,10 +46,12 @@ struct SimulatedDepthOptions {
   // flicker scored (false: the depth metrics alone).
   bool reflection_flicker = true;
   int view_size = 0;  // of the face views the flicker is measured on; 0: the live loop's
+  // The mask's opening keeps the thin limbs joined to a body (false: its contribution).
+  bool keep_attached_limbs = depthfilter::ForegroundMaskConfig{}.keep_attached_limbs;
 };
 
 struct SimulatedDepthEvaluation {
-  // scene, frames, learning_frames, levels, mask_persistence, cross_camera (and the
+  // scene, frames, learning_frames, levels, mask_persistence, keep_attached_limbs, cross_camera (and the
   // cross-camera step's filled and confirmed pixels per camera frame), cameras, width, height, methods (each
   // method's metrics, the compared l_max among them), bars (the verdicts for ours and the adversary),
   // truth_depth_change_cm2.
