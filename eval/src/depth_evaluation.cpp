@@ -2,10 +2,10 @@
 
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 
 #include "holo/core/error.hpp"
+#include "table_number.hpp"
 
 namespace holo::eval {
 
@@ -164,23 +164,17 @@ void DepthScorer::merge(const DepthScorer& o) {
 }
 
 std::string depthMetricsTable(std::span<const std::pair<std::string, DepthMethodMetrics>> rows) {
-  const auto number = [](double v, const char* format) {
-    if (!std::isfinite(v)) return std::string("n/a");
-    char text[32];
-    std::snprintf(text, sizeof text, format, v);
-    return std::string(text);
-  };
   std::string table =
       "| method | temporal MSE' (cm^2) | depth RMSE (cm) | coverage | hole pairs | raw holes filled | ghosts "
       "| "
       "depth change (cm^2) | ms/frame |\n"
       "|---|---|---|---|---|---|---|---|---|\n";
   for (const auto& [name, m] : rows)
-    table += "| " + name + " | " + number(m.temporal_mse_cm2, "%.2f") + " | " +
-             number(m.depth_rmse_cm, "%.2f") + " | " + number(m.coverage, "%.3f") + " | " +
-             number(m.hole_pair_ratio, "%.3f") + " | " + number(m.raw_holes_filled, "%.3f") + " | " +
-             number(m.ghost_ratio, "%.4f") + " | " + number(m.depth_change_cm2, "%.1f") + " | " +
-             number(m.ms_per_frame, "%.1f") + " |\n";
+    table += "| " + name + " | " + tableNumber(m.temporal_mse_cm2, "%.2f") + " | " +
+             tableNumber(m.depth_rmse_cm, "%.2f") + " | " + tableNumber(m.coverage, "%.3f") + " | " +
+             tableNumber(m.hole_pair_ratio, "%.3f") + " | " + tableNumber(m.raw_holes_filled, "%.3f") +
+             " | " + tableNumber(m.ghost_ratio, "%.4f") + " | " + tableNumber(m.depth_change_cm2, "%.1f") +
+             " | " + tableNumber(m.ms_per_frame, "%.1f") + " |\n";
   return table;
 }
 

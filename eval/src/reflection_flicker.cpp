@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include "holo/core/error.hpp"
+#include "table_number.hpp"
 
 namespace holo::eval {
 namespace {
@@ -111,19 +111,13 @@ ReflectionFlickerMetrics ReflectionFlickerScorer::metrics() const {
 }
 
 std::string reflectionFlickerTable(std::span<const std::pair<std::string, ReflectionFlickerMetrics>> rows) {
-  const auto number = [](double v, const char* format) {
-    if (!std::isfinite(v)) return std::string("n/a");
-    char text[32];
-    std::snprintf(text, sizeof text, format, v);
-    return std::string(text);
-  };
   std::string table =
       "| fed to the renderer | flicker (levels^2) | temporal | missing | missing share | displayed change |\n"
       "|---|---|---|---|---|---|\n";
   for (const auto& [name, m] : rows)
-    table += "| " + name + " | " + number(m.flicker, "%.2f") + " | " + number(m.temporal, "%.2f") + " | " +
-             number(m.missing, "%.2f") + " | " + number(m.missing_share, "%.3f") + " | " +
-             number(m.displayed_change, "%.2f") + " |\n";
+    table += "| " + name + " | " + tableNumber(m.flicker, "%.2f") + " | " + tableNumber(m.temporal, "%.2f") +
+             " | " + tableNumber(m.missing, "%.2f") + " | " + tableNumber(m.missing_share, "%.3f") + " | " +
+             tableNumber(m.displayed_change, "%.2f") + " |\n";
   return table;
 }
 
