@@ -341,6 +341,17 @@ LobeBounce StaticShading::poolLobeBounces(const std::vector<PixelBounce>& bounce
   return sum;
 }
 
+// Pixel p's share of the lobe strata: its class in the 2x2 interleaving, its sample count and
+// the footprint's growth (radians per pixel); the sample, cone and offset are set per sample.
+StaticShading::LobeShare StaticShading::pixelLobeShare(const HitPointBuffer& hits, std::size_t p,
+                                                       float spread) {
+  const std::size_t w = std::size_t(hits.width);
+  const int x = int(p % w), y = int(p / w);
+  LobeShare share{(x & 1) + 2 * (y & 1), 0, hits.sampleCount(p)};
+  share.spread = spread;
+  return share;
+}
+
 std::uint64_t StaticShading::reshadeLobes(const HitPointBuffer& hits, const CameraModel& view,
                                           const std::vector<std::uint32_t>& pixels,
                                           const StratumOffset& offset, std::vector<SplitSumShading>& shading,
@@ -360,9 +371,7 @@ std::uint64_t StaticShading::reshadeLobes(const HitPointBuffer& hits, const Came
                       for (std::size_t k = r.begin(); k < r.end(); ++k) {
                         const std::size_t p = pixels[k];
                         const std::size_t first = hits.firstSample(p);
-                        const int x = int(p % std::size_t(w)), y = int(p / std::size_t(w));
-                        LobeShare share{(x & 1) + 2 * (y & 1), 0, hits.sampleCount(p)};
-                        share.spread = spread;
+                        LobeShare share = pixelLobeShare(hits, p, spread);
                         for (share.sample = 0; share.sample < share.samples; ++share.sample) {
                           const std::size_t i = first + std::size_t(share.sample);
                           if (!hits.valid[i] || !tracesLobe(hits.hits[i].material.roughness)) continue;
@@ -429,9 +438,7 @@ StaticCounts StaticShading::shade(const HitPointBuffer& hits, const CameraModel&
     for (std::size_t k = r.begin(); k < r.end(); ++k) {
       const std::size_t p = hits.covered[k];
       const std::size_t first = hits.firstSample(p);
-      const int x = int(p % std::size_t(w)), y = int(p / std::size_t(w));
-      LobeShare share{(x & 1) + 2 * (y & 1), 0, hits.sampleCount(p)};
-      share.spread = spread;
+      LobeShare share = pixelLobeShare(hits, p, spread);
       for (share.sample = 0; share.sample < share.samples; ++share.sample) {
         const std::size_t i = first + std::size_t(share.sample);
         if (!hits.valid[i]) continue;

@@ -121,6 +121,7 @@ class StaticShading {
     float cone_width = 0.0f, spread = 0.0f;
     vec2 stratum_offset{0.5f};
   };
+  static LobeShare pixelLobeShare(const HitPointBuffer& hits, std::size_t p, float spread);
   // The relic rays a block of samples leaves to be cast together in packets, and where each one's
   // hit goes: a sample's mirror ray, or its lobe's strata in the order it traces them (a stratum
   // the supporting planes prove a miss casts none), so that the sums come out as one ray at a
