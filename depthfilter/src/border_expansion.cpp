@@ -14,9 +14,12 @@ bool validDepth(float d) {
 }
 
 cv::Mat blurredMask(const cv::Mat& mask, int levels) {
-  cv::Mat level;
-  mask.convertTo(level, CV_32FC1, 1.0 / 255.0);
-  cv::threshold(level, level, 0.0, 1.0, cv::THRESH_BINARY);  // any non-zero value is foreground
+  cv::Mat level(mask.size(), CV_32FC1);
+  for (int y = 0; y < mask.rows; ++y) {
+    const std::uint8_t* __restrict m = mask.ptr<std::uint8_t>(y);
+    float* __restrict l = level.ptr<float>(y);
+    for (int x = 0; x < mask.cols; ++x) l[x] = m[x] != 0 ? 1.0f : 0.0f;  // any non-zero value is foreground
+  }
   for (int l = 0; l < levels && level.cols > 1 && level.rows > 1; ++l) cv::pyrDown(level, level);
   cv::Mat full;
   cv::resize(level, full, mask.size(), 0, 0, cv::INTER_LINEAR);
@@ -58,10 +61,10 @@ BorderLayer expandBorder(const cv::Mat& mask, const cv::Mat& depth, const Border
   if (mask.type() != CV_8UC1 || depth.type() != CV_32FC1 || mask.size() != depth.size())
     throw Error("expandBorder: expected a CV_8UC1 mask and CV_32FC1 depth of one size");
   BorderLayer layer{cv::Mat::zeros(mask.size(), CV_32FC1), cv::Mat::zeros(mask.size(), CV_32FC1)};
-  if (config.levels <= 0 || mask.empty() || cv::countNonZero(mask) == 0) return layer;
-
-  // Everything below works on the border box.
+  if (config.levels <= 0 || mask.empty()) return layer;
+  // Everything below works on the border box (empty when the mask is).
   const cv::Rect roi = borderBox(mask, config);
+  if (roi.empty()) return layer;
   const cv::Mat mask_roi = mask(roi), depth_roi = depth(roi);
 
   // Foreground pixels with a valid depth: the sources of border depth.

@@ -100,13 +100,4 @@ void PrecursorFlow::reset() {
   previous_size_ = {};
 }
 
-float precursorConfidence(const cv::Vec3b& pixel, const cv::Vec3b& precursor) {
-  float sum = 0.0f;
-  for (int c = 0; c < 3; ++c) {
-    const float diff = float(pixel[c]) - float(precursor[c]);
-    sum += diff * diff;
-  }
-  return std::sqrt(sum);
-}
-
 }  // namespace holo::depthfilter

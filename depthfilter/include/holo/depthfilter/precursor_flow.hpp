@@ -6,6 +6,8 @@
 // non-finite vector as "no precursor").
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <opencv2/core.hpp>
 #include <opencv2/video/tracking.hpp>
 
@@ -60,7 +62,26 @@ class PrecursorFlow {
 };
 
 // Confidence alpha of Equation 1: the RGB distance between a pixel and its precursor, in 8-bit
-// sRGB steps, in [0, sqrt(3) * 255]. Smaller means a more reliable precursor.
-float precursorConfidence(const cv::Vec3b& pixel, const cv::Vec3b& precursor);
+// sRGB steps, in [0, sqrt(3) * 255]. Smaller means a more reliable precursor. Inline: the filter
+// calls it once per foreground pixel.
+inline float precursorConfidence(const cv::Vec3b& pixel, const cv::Vec3b& precursor) {
+  float sum = 0.0f;
+  for (int c = 0; c < 3; ++c) {
+    const float diff = float(pixel[c]) - float(precursor[c]);
+    sum += diff * diff;
+  }
+  return std::sqrt(sum);
+}
+
+// The whole pixel nearest to coordinate `v` (halves away from zero, as std::lround) for a finite
+// `v`; coordinates beyond +-2^24 px, far outside any frame, come back as +-2^24. Inline and without
+// errno, unlike std::lround: every foreground pixel rounds its precursor.
+inline int nearestPixel(float v) {
+  constexpr float kFar = 16777216.0f;
+  v = std::min(std::max(v, -kFar), kFar);
+  const int toward_zero = static_cast<int>(v);
+  const float rest = v - static_cast<float>(toward_zero);  // exact: |v| <= 2^24
+  return toward_zero + (rest >= 0.5f) - (rest <= -0.5f);
+}
 
 }  // namespace holo::depthfilter
