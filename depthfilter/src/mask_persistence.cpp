@@ -23,6 +23,14 @@ void MaskPersistence::reset() {
   previous_colour_.release();
 }
 
+cv::Rect MaskPersistence::searchBox(const cv::Size& size) const {
+  if (!config_.enabled || previous_mask_.size() != size || previous_box_.empty()) return {};
+  const int reach = config_.max_motion_px;
+  return cv::Rect(previous_box_.x - reach, previous_box_.y - reach, previous_box_.width + 2 * reach,
+                  previous_box_.height + 2 * reach) &
+         cv::Rect(0, 0, size.width, size.height);
+}
+
 void MaskPersistence::extend(cv::Mat& mask, const RgbdFrame& frame, const cv::Mat& flow) {
   const cv::Size size = frame.depth.size();
   if (mask.type() != CV_8UC1 || mask.size() != size || frame.depth.type() != CV_32FC1 ||
@@ -33,10 +41,7 @@ void MaskPersistence::extend(cv::Mat& mask, const RgbdFrame& frame, const cv::Ma
     throw Error("MaskPersistence: expected a CV_32FC2 flow of the frame's size");
   if (has_previous) {
     const int colour_max = int(config_.colour_max);
-    const int reach = config_.max_motion_px;
-    const cv::Rect box = cv::Rect(previous_box_.x - reach, previous_box_.y - reach,
-                                  previous_box_.width + 2 * reach, previous_box_.height + 2 * reach) &
-                         cv::Rect(0, 0, size.width, size.height);
+    const cv::Rect box = searchBox(size);
     for (int y = box.y; y < box.y + box.height; ++y) {
       const float* d = frame.depth.ptr<float>(y);
       const cv::Vec2f* f = flow.ptr<cv::Vec2f>(y);

@@ -42,22 +42,32 @@ class PrecursorFlow {
   // image is kept instead of being made again from its colour; zero flow on the first frame, after
   // reset() or when the size changed.
   cv::Mat next(const cv::Mat& current_bgr);
+  // The same, exact only inside `needed` (the values compute() gives there) and 0 elsewhere: with
+  // a downscale only those pixels are brought to full size, and nothing is computed when it is
+  // empty (for users that read the flow near the foreground only).
+  cv::Mat next(const cv::Mat& current_bgr, const cv::Rect& needed);
   void reset();  // the next frame is a first frame
 
  private:
   // The grey image the flow is computed on (downscaled), into `out`.
   void flowImage(const cv::Mat& bgr, cv::Mat& out);
-  // The flow between two flow images of a full-size frame `size`.
-  cv::Mat flowBetween(const cv::Mat& current, const cv::Mat& previous, const cv::Size& size);
+  // The flow between two flow images of a full-size frame `size`, exact inside `needed` (see next()).
+  cv::Mat flowBetween(const cv::Mat& current, const cv::Mat& previous, const cv::Size& size,
+                      const cv::Rect& needed);
+  cv::Mat nextFlow(const cv::Mat& current_bgr, const cv::Rect& needed);
+  // The downscaled flow brought to full size (bilinear) inside `needed` only, into `flow` (0
+  // elsewhere), each pixel equal to a whole-frame cv::resize's.
+  void upsampleInside(const cv::Rect& needed, cv::Mat& flow);
 
-  // NaN where the forward flow does not bring the precursor back (round_trip_check).
-  void rejectRoundTripFailures(const cv::Mat& current, const cv::Mat& previous, cv::Mat& flow);
+  // NaN where the forward flow does not bring the precursor back (round_trip_check), inside `needed`.
+  void rejectRoundTripFailures(const cv::Mat& current, const cv::Mat& previous, const cv::Rect& needed,
+                               cv::Mat& flow);
 
   cv::Ptr<cv::DISOpticalFlow> dis_;
   int downscale_ = 1;
   bool round_trip_check_ = false;
   float round_trip_max_px_ = 2.0f;
-  cv::Mat grey_, current_image_, previous_image_, small_flow_, forward_flow_;  // scratch
+  cv::Mat grey_, current_image_, previous_image_, small_flow_, forward_flow_, upsampled_block_;  // scratch
   cv::Size previous_size_;  // of the frame previous_image_ was made from; empty: none (next())
 };
 
