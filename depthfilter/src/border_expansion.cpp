@@ -67,16 +67,18 @@ BorderLayer expandBorder(const cv::Mat& mask, const cv::Mat& depth, const Border
   if (roi.empty()) return layer;
   const cv::Mat mask_roi = mask(roi), depth_roi = depth(roi);
 
-  // Foreground pixels with a valid depth: the sources of border depth.
-  cv::Mat sources(roi.size(), CV_8UC1);
+  // Foreground pixels with a valid depth, the sources of border depth, are 0 here (as
+  // distanceTransform wants them), every other pixel 255.
+  cv::Mat not_sources(roi.size(), CV_8UC1);
   int source_count = 0;
   for (int y = 0; y < roi.height; ++y) {
     const std::uint8_t* m = mask_roi.ptr<std::uint8_t>(y);
     const float* d = depth_roi.ptr<float>(y);
-    std::uint8_t* s = sources.ptr<std::uint8_t>(y);
+    std::uint8_t* s = not_sources.ptr<std::uint8_t>(y);
     for (int x = 0; x < roi.width; ++x) {
-      s[x] = m[x] != 0 && validDepth(d[x]) ? 255 : 0;
-      source_count += s[x] != 0;
+      const bool source = m[x] != 0 && validDepth(d[x]);
+      s[x] = source ? 0 : 255;
+      source_count += source;
     }
   }
   if (source_count == 0) return layer;
@@ -91,15 +93,15 @@ BorderLayer expandBorder(const cv::Mat& mask, const cv::Mat& depth, const Border
   } else {
     // distanceTransform labels every pixel with the nearest zero pixel of its input, so the input
     // is zero exactly on the depth sources.
-    cv::Mat not_sources = sources == 0, distance;
+    cv::Mat distance;
     cv::distanceTransform(not_sources, distance, nearest_labels, cv::DIST_L2, cv::DIST_MASK_5,
                           cv::DIST_LABEL_PIXEL);
     label_pixel.resize(std::size_t(source_count) + 1);
     for (int y = 0; y < roi.height; ++y) {
-      const std::uint8_t* s = sources.ptr<std::uint8_t>(y);
+      const std::uint8_t* s = not_sources.ptr<std::uint8_t>(y);
       const int* label = nearest_labels.ptr<int>(y);
       for (int x = 0; x < roi.width; ++x)
-        if (s[x] != 0) label_pixel[std::size_t(label[x])] = {x, y};
+        if (s[x] == 0) label_pixel[std::size_t(label[x])] = {x, y};
     }
   }
 

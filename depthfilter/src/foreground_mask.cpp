@@ -109,18 +109,21 @@ void ForegroundMasker::reconstructInside(cv::Mat& opened) {
 
 cv::Mat ForegroundMasker::apply(const RgbdFrame& frame) {
   checkSize(frame);
-  cv::Mat colour_mask;
   mog2_->apply(colourForModel(frame.colour), colour_labels_, config_.learning_rate_live);
-  if (colour_labels_.size() == frame.colour.size()) {
-    colour_mask = colour_labels_;
-  } else {
+  const cv::Mat* colour_decision = &colour_labels_;
+  if (colour_labels_.size() != frame.colour.size()) {
     // Nearest upsampling turns each small foreground pixel into a block that overhangs the
     // visitor's outline by up to downscale - 1 px; those overhangs, where the sensor has no
     // depth, were ghosts. Shrinking the upsampled foreground by that much removes them.
-    cv::resize(colour_labels_ == 255, colour_mask, frame.colour.size(), 0, 0, cv::INTER_NEAREST);
+    cv::compare(colour_labels_, 255, small_colour_foreground_, cv::CMP_EQ);
+    cv::resize(small_colour_foreground_, upsampled_colour_foreground_, frame.colour.size(), 0, 0,
+               cv::INTER_NEAREST);
     const int side = 2 * (config_.colour_model_downscale - 1) + 1;
-    cv::erode(colour_mask, colour_mask, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)));
+    cv::erode(upsampled_colour_foreground_, colour_foreground_,
+              cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)));
+    colour_decision = &colour_foreground_;
   }
+  const cv::Mat& colour_mask = *colour_decision;
 
   // Both per-pixel loops are branch-free selects (the branches were unpredictable along a
   // visitor's outline and cost more than the arithmetic).
