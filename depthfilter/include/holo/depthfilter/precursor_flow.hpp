@@ -42,9 +42,10 @@ class PrecursorFlow {
   // image is kept instead of being made again from its colour; zero flow on the first frame, after
   // reset() or when the size changed.
   cv::Mat next(const cv::Mat& current_bgr);
-  // The same, exact only inside `needed` (the values compute() gives there) and 0 elsewhere: with
-  // a downscale only those pixels are brought to full size, and nothing is computed when it is
-  // empty (for users that read the flow near the foreground only).
+  // The same flow, guaranteed only inside `needed` (the values compute() gives there), for users
+  // that read it near the foreground only: with the default downscale 2 and even frame sides only
+  // those pixels are brought to full size and the rest is 0; otherwise the whole frame is computed.
+  // Nothing is computed (all 0) when `needed` is empty.
   cv::Mat next(const cv::Mat& current_bgr, const cv::Rect& needed);
   void reset();  // the next frame is a first frame
 
