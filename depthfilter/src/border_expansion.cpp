@@ -14,9 +14,12 @@ bool validDepth(float d) {
 }
 
 cv::Mat blurredMask(const cv::Mat& mask, int levels) {
-  cv::Mat level;
-  mask.convertTo(level, CV_32FC1, 1.0 / 255.0);
-  cv::threshold(level, level, 0.0, 1.0, cv::THRESH_BINARY);  // any non-zero value is foreground
+  cv::Mat level(mask.size(), CV_32FC1);
+  for (int y = 0; y < mask.rows; ++y) {
+    const std::uint8_t* __restrict m = mask.ptr<std::uint8_t>(y);
+    float* __restrict l = level.ptr<float>(y);
+    for (int x = 0; x < mask.cols; ++x) l[x] = m[x] != 0 ? 1.0f : 0.0f;  // any non-zero value is foreground
+  }
   for (int l = 0; l < levels && level.cols > 1 && level.rows > 1; ++l) cv::pyrDown(level, level);
   cv::Mat full;
   cv::resize(level, full, mask.size(), 0, 0, cv::INTER_LINEAR);
@@ -58,22 +61,24 @@ BorderLayer expandBorder(const cv::Mat& mask, const cv::Mat& depth, const Border
   if (mask.type() != CV_8UC1 || depth.type() != CV_32FC1 || mask.size() != depth.size())
     throw Error("expandBorder: expected a CV_8UC1 mask and CV_32FC1 depth of one size");
   BorderLayer layer{cv::Mat::zeros(mask.size(), CV_32FC1), cv::Mat::zeros(mask.size(), CV_32FC1)};
-  if (config.levels <= 0 || mask.empty() || cv::countNonZero(mask) == 0) return layer;
-
-  // Everything below works on the border box.
+  if (config.levels <= 0 || mask.empty()) return layer;
+  // Everything below works on the border box (empty when the mask is).
   const cv::Rect roi = borderBox(mask, config);
+  if (roi.empty()) return layer;
   const cv::Mat mask_roi = mask(roi), depth_roi = depth(roi);
 
-  // Foreground pixels with a valid depth: the sources of border depth.
-  cv::Mat sources(roi.size(), CV_8UC1);
+  // Foreground pixels with a valid depth, the sources of border depth, are 0 here (as
+  // distanceTransform wants them), every other pixel 255.
+  cv::Mat not_sources(roi.size(), CV_8UC1);
   int source_count = 0;
   for (int y = 0; y < roi.height; ++y) {
     const std::uint8_t* m = mask_roi.ptr<std::uint8_t>(y);
     const float* d = depth_roi.ptr<float>(y);
-    std::uint8_t* s = sources.ptr<std::uint8_t>(y);
+    std::uint8_t* s = not_sources.ptr<std::uint8_t>(y);
     for (int x = 0; x < roi.width; ++x) {
-      s[x] = m[x] != 0 && validDepth(d[x]) ? 255 : 0;
-      source_count += s[x] != 0;
+      const bool source = m[x] != 0 && validDepth(d[x]);
+      s[x] = source ? 0 : 255;
+      source_count += source;
     }
   }
   if (source_count == 0) return layer;
@@ -88,15 +93,15 @@ BorderLayer expandBorder(const cv::Mat& mask, const cv::Mat& depth, const Border
   } else {
     // distanceTransform labels every pixel with the nearest zero pixel of its input, so the input
     // is zero exactly on the depth sources.
-    cv::Mat not_sources = sources == 0, distance;
+    cv::Mat distance;
     cv::distanceTransform(not_sources, distance, nearest_labels, cv::DIST_L2, cv::DIST_MASK_5,
                           cv::DIST_LABEL_PIXEL);
     label_pixel.resize(std::size_t(source_count) + 1);
     for (int y = 0; y < roi.height; ++y) {
-      const std::uint8_t* s = sources.ptr<std::uint8_t>(y);
+      const std::uint8_t* s = not_sources.ptr<std::uint8_t>(y);
       const int* label = nearest_labels.ptr<int>(y);
       for (int x = 0; x < roi.width; ++x)
-        if (s[x] != 0) label_pixel[std::size_t(label[x])] = {x, y};
+        if (s[x] == 0) label_pixel[std::size_t(label[x])] = {x, y};
     }
   }
 

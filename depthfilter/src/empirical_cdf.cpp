@@ -22,22 +22,14 @@ void EmpiricalCdf::add(float value) {
   dirty_ = true;
 }
 
-float EmpiricalCdf::cdf(float value) const {
-  if (total_ == 0 || std::isnan(value) || value <= 0.0f) return 0.0f;
-  if (value >= max_value_) return 1.0f;
-  if (dirty_) {
-    std::int64_t running = 0;
-    for (std::size_t i = 0; i < counts_.size(); ++i) {
-      cumulative_[i] = float(double(running) / double(total_));
-      running += counts_[i];
-    }
-    cumulative_.back() = 1.0f;
-    dirty_ = false;
+void EmpiricalCdf::rebuildCumulative() const {
+  std::int64_t running = 0;
+  for (std::size_t i = 0; i < counts_.size(); ++i) {
+    cumulative_[i] = float(double(running) / double(total_));
+    running += counts_[i];
   }
-  const float position = value / max_value_ * float(bins());
-  const int bin = std::min(bins() - 1, static_cast<int>(position));
-  const float t = position - float(bin);
-  return cumulative_[bin] + t * (cumulative_[bin + 1] - cumulative_[bin]);
+  cumulative_.back() = 1.0f;
+  dirty_ = false;
 }
 
 }  // namespace holo::depthfilter

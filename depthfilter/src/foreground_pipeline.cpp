@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 
 #include "holo/core/error.hpp"
 #include "holo/core/image.hpp"
@@ -164,7 +165,11 @@ ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> frames) {
     CameraForeground& result = stage.result;
     result.present = true;
     result.mask = stage.masker.apply(frame);
-    result.flow = stage.flow.next(frame.colour);  // from the frame before, kept by the flow
+    // From the frame before, kept by the flow; needed only where the persistence may add to the
+    // mask and on the mask's box, the only pixels where the persistence and the filter read it.
+    const cv::Rect flow_needed =
+        cv::boundingRect(result.mask) | stage.persistence.searchBox(frame.colour.size());
+    result.flow = stage.flow.next(frame.colour, flow_needed);
     stage.persistence.extend(result.mask, frame, result.flow);
   };
   // Per camera: the filter on the depth the other cameras completed, the border, the points.

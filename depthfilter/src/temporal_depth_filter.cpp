@@ -75,23 +75,56 @@ void supportedDepth(const cv::Mat& depth, const cv::Mat& mask, const cv::Rect& r
     for (int x = roi.x; x < roi.x + roi.width; ++x) c[x] = sanitisedDepth(in[x]);
   }
   out.create(depth.size(), CV_32FC1);
-  out(roi).setTo(0.0f);
+  // The support of the pixel at x of row `rows[1]`, counting only the neighbours that exist.
+  const auto support_at_edge = [&](const float* const rows[3], int x, float d, float tolerance) {
+    int support = 0;
+    for (int r = 0; r < 3; ++r) {
+      if (rows[r] == nullptr) continue;
+      for (int nx = std::max(0, x - 1); nx <= std::min(width - 1, x + 1); ++nx)
+        support += (r != 1 || nx != x) && std::abs(rows[r][nx] - d) <= tolerance;
+    }
+    return support;
+  };
+  const float tolerance_m = config.surface_tolerance_m, tolerance_z2 = config.surface_tolerance_z2;
+  const int min_support = config.min_support;
   for (int y = roi.y; y < roi.y + roi.height; ++y) {
     const std::uint8_t* m = mask.ptr<std::uint8_t>(y);
     const float* rows[3] = {y > 0 ? clean.ptr<float>(y - 1) : nullptr, clean.ptr<float>(y),
                             y + 1 < height ? clean.ptr<float>(y + 1) : nullptr};
     float* o = out.ptr<float>(y);
-    for (int x = roi.x; x < roi.x + roi.width; ++x) {
+    const int x_end = roi.x + roi.width;
+    // Pixels with all 8 neighbours inside the image: every pixel of the row is decided without
+    // branches (the compiler vectorises it), the mask and a measurement selecting the result.
+    const bool inner_row = rows[0] != nullptr && rows[2] != nullptr;
+    const int inner_begin = inner_row ? std::max(roi.x, 1) : x_end;
+    const int inner_end = inner_row ? std::min(x_end, width - 1) : x_end;
+    for (int x = roi.x; x < std::min(inner_begin, x_end); ++x) {
       const float d = rows[1][x];
-      if (m[x] == 0 || d <= 0.0f) continue;
-      const float tolerance = config.surfaceTolerance(d);
-      int support = 0;
-      for (int r = 0; r < 3; ++r) {
-        if (rows[r] == nullptr) continue;
-        for (int nx = std::max(0, x - 1); nx <= std::min(width - 1, x + 1); ++nx)
-          support += (r != 1 || nx != x) && std::abs(rows[r][nx] - d) <= tolerance;
+      const bool keep =
+          m[x] != 0 && d > 0.0f && support_at_edge(rows, x, d, config.surfaceTolerance(d)) >= min_support;
+      o[x] = keep ? d : 0.0f;
+    }
+    if (inner_begin < inner_end) {
+      const float* __restrict up = rows[0];
+      const float* __restrict mid = rows[1];
+      const float* __restrict down = rows[2];
+      float* __restrict o_row = o;
+      for (int x = inner_begin; x < inner_end; ++x) {
+        const float d = mid[x];
+        const float tolerance = tolerance_m + tolerance_z2 * d * d;
+        const int support = (std::abs(up[x - 1] - d) <= tolerance) + (std::abs(up[x] - d) <= tolerance) +
+                            (std::abs(up[x + 1] - d) <= tolerance) + (std::abs(mid[x - 1] - d) <= tolerance) +
+                            (std::abs(mid[x + 1] - d) <= tolerance) +
+                            (std::abs(down[x - 1] - d) <= tolerance) + (std::abs(down[x] - d) <= tolerance) +
+                            (std::abs(down[x + 1] - d) <= tolerance);
+        o_row[x] = (m[x] != 0) & (d > 0.0f) & (support >= min_support) ? d : 0.0f;
       }
-      if (support >= config.min_support) o[x] = d;
+    }
+    for (int x = std::max(inner_end, inner_begin); x < x_end; ++x) {
+      const float d = rows[1][x];
+      const bool keep =
+          m[x] != 0 && d > 0.0f && support_at_edge(rows, x, d, config.surfaceTolerance(d)) >= min_support;
+      o[x] = keep ? d : 0.0f;
     }
   }
 }
@@ -397,13 +430,11 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
   cv::Mat& pre_age = scratch.pre_age;
   cv::Mat& motion = scratch.motion;  // d - d_pre where both exist
   cv::Mat& motion_weight = scratch.motion_weight;
-  for (cv::Mat* m : {&pre_depth, &alphas, &motion, &motion_weight}) {
-    m->create(height, width, CV_32FC1);
-    (*m)(roi).setTo(0.0f);
-  }
+  for (cv::Mat* m : {&pre_depth, &alphas, &motion, &motion_weight}) m->create(height, width, CV_32FC1);
   pre_age.create(height, width, CV_8UC1);
-  pre_age(roi).setTo(kNoDepth);
-  for (int y = roi.y; has_previous && y < roi.y + roi.height; ++y) {
+  // One pass writes every pixel of the box: the precursor's values where there is one, else the
+  // values of "none" (0 and kNoDepth).
+  for (int y = roi.y; y < roi.y + roi.height; ++y) {
     const float* depth = measured.ptr<float>(y);
     const std::uint8_t* mask = in.mask.ptr<std::uint8_t>(y);
     const cv::Vec3b* colour = in.colour.ptr<cv::Vec3b>(y);
@@ -414,9 +445,11 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
     float* motion_row = motion.ptr<float>(y);
     float* motion_weight_row = motion_weight.ptr<float>(y);
     for (int x = roi.x; x < roi.x + roi.width; ++x) {
-      if (mask[x] == 0 || !std::isfinite(flow[x][0]) || !std::isfinite(flow[x][1])) continue;
-      const int px = static_cast<int>(std::lround(float(x) + flow[x][0]));
-      const int py = static_cast<int>(std::lround(float(y) + flow[x][1]));
+      pre_row[x] = alpha_row[x] = motion_row[x] = motion_weight_row[x] = 0.0f;
+      pre_age_row[x] = kNoDepth;
+      if (!has_previous || mask[x] == 0 || !std::isfinite(flow[x][0]) || !std::isfinite(flow[x][1])) continue;
+      const int px = nearestPixel(float(x) + flow[x][0]);
+      const int py = nearestPixel(float(y) + flow[x][1]);
       if (px < 0 || py < 0 || px >= width || py >= height || previous_mask_.ptr<std::uint8_t>(py)[px] == 0)
         continue;
       const float d_pre = previous_depth_.ptr<float>(py)[px];
@@ -448,16 +481,13 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
   base.width = width;
   base.height = height;
   base.pairs.resize(std::size_t(width) * std::size_t(height));
-  for (int y = roi.y; y < roi.y + roi.height; ++y) {
-    const auto row = base.pairs.begin() + std::ptrdiff_t(y) * width;
-    std::fill(row + roi.x, row + roi.x + roi.width, Pair{});
-  }
   cv::Mat output = cv::Mat::zeros(height, width, CV_32FC1);
   // Frames since each output depth was last measured (0: measured in this frame); while
-  // learning, every passed-through depth counts as measured.
+  // learning, every passed-through depth counts as measured. Read only on the mask, so only the
+  // box is set.
   cv::Mat& age = scratch.age;
   age.create(height, width, CV_8UC1);
-  age.setTo(learn ? 0 : kNoDepth);
+  age(roi).setTo(learn ? 0 : kNoDepth);
   for (int y = roi.y; y < roi.y + roi.height; ++y) {
     const float* depth = measured.ptr<float>(y);
     const std::uint8_t* mask = in.mask.ptr<std::uint8_t>(y);
@@ -466,7 +496,10 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
     const float* motion_row = motion.ptr<float>(y);
     const float* motion_weight_row = motion_weight.ptr<float>(y);
     const cv::Vec3b* colour_row = in.colour.ptr<cv::Vec3b>(y);
+    Pair* pair_row = &base.pairs[std::size_t(y) * std::size_t(width)];
     for (int x = roi.x; x < roi.x + roi.width; ++x) {
+      Pair& pair = pair_row[x];
+      pair = Pair{};  // no pair unless set below
       if (mask[x] == 0) continue;
       const float d = depth[x];
       float d_pre = pre_row[x];
@@ -487,7 +520,6 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
       // A pixel without a measurement gets no pair and is filled by the push from the current
       // frame's neighbours; carrying d_pre instead would freeze a hole at a stale depth
       // (docs/depthfilter.md, "Holes").
-      Pair& pair = base.at(x, y);
       if (has_pre) {
         const float p_diff = pdf_depth_diff_.cdf(diff);  // line 19
         const float confidence = pdf_alpha_.cdf(alpha);
@@ -580,9 +612,20 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
     }
   }
 
-  in.colour.copyTo(previous_colour_);
-  output.copyTo(previous_depth_);
-  in.mask.copyTo(previous_mask_);
+  // The next frame reads the previous colour, depth and age only where the previous mask is
+  // foreground, which lies inside the box: only the box is kept (the mask is kept whole).
+  previous_colour_.create(height, width, CV_8UC3);
+  previous_depth_.create(height, width, CV_32FC1);
+  if (previous_mask_.size() != in.mask.size())
+    previous_mask_ = cv::Mat::zeros(height, width, CV_8UC1);
+  else if (!previous_roi_.empty())
+    previous_mask_(previous_roi_).setTo(0);
+  if (!roi.empty()) {
+    in.colour(roi).copyTo(previous_colour_(roi));
+    output(roi).copyTo(previous_depth_(roi));
+    in.mask(roi).copyTo(previous_mask_(roi));
+  }
+  previous_roi_ = roi;
   std::swap(previous_age_, age);
   ++frame_;
   return output;

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
@@ -149,6 +150,43 @@ TEST(PrecursorFlow, NextGivesTheFlowComputeGivesFromTheFrameBefore) {
   cv::Mat smaller;
   cv::resize(colours[2], smaller, cv::Size(colours[2].cols / 2, colours[2].rows / 2));
   EXPECT_EQ(cv::countNonZero(kept.next(smaller).reshape(1)), 0);
+}
+
+// next() with a region brings only that region to full size: bit for bit the whole frame's flow
+// inside it (blocks touching the frame's edges, odd and even corners, a single pixel, with the
+// round-trip check), 0 outside it, and all 0 for an empty region.
+TEST(PrecursorFlow, NextInsideARegionEqualsTheWholeFrameThereAndZeroElsewhere) {
+  test::SyntheticScene scene;
+  std::vector<cv::Mat> colours;
+  for (int t = 0; t < 3; ++t) colours.push_back(scene.render(t, 3).frame.colour);
+  const std::vector<cv::Rect> regions{{0, 0, 320, 180},  {37, 21, 101, 77}, {0, 50, 91, 130},
+                                      {200, 0, 120, 61}, {151, 88, 1, 1},   {-20, 170, 400, 40}};
+  for (const bool check : {false, true}) {
+    for (const cv::Rect& region : regions) {
+      PrecursorFlowConfig config;
+      config.round_trip_check = check;
+      PrecursorFlow whole(config), part(config);
+      for (std::size_t t = 0; t < colours.size(); ++t) {
+        const cv::Mat full = whole.next(colours[t]);
+        const cv::Mat inside = part.next(colours[t], region);
+        const cv::Rect r = region & cv::Rect(0, 0, full.cols, full.rows);
+        cv::Mat outside_mask(full.size(), CV_8UC1, cv::Scalar(255));
+        outside_mask(r).setTo(0);
+        // NaN (rejected by the check) compares unequal to itself: compare the bits.
+        EXPECT_EQ(std::memcmp(full(r).clone().data, inside(r).clone().data, r.area() * sizeof(cv::Vec2f)), 0)
+            << region << " frame " << t << " check " << check;
+        cv::Mat outside;
+        inside.copyTo(outside, outside_mask);
+        EXPECT_EQ(cv::countNonZero(outside.reshape(1)), 0) << region;
+        if (t > 0 && r.area() > 1) {
+          EXPECT_GT(cv::countNonZero(full(r).reshape(1) != 0), 0) << region;  // a flow to compare
+        }
+      }
+    }
+  }
+  PrecursorFlow flow;
+  flow.next(colours[0]);
+  EXPECT_EQ(cv::countNonZero(flow.next(colours[1], cv::Rect()).reshape(1)), 0);
 }
 
 }  // namespace

@@ -68,11 +68,14 @@ class ForegroundMasker {
 
   ForegroundMaskConfig config_;
   cv::Ptr<cv::BackgroundSubtractorMOG2> mog2_;
-  cv::Mat background_depth_;        // CV_32FC1, running mean of valid background depth
-  cv::Mat background_depth_count_;  // CV_32FC1, samples in the mean while learning
+  cv::Mat background_depth_;          // CV_32FC1, running mean of valid background depth
+  cv::Mat updated_background_depth_;  // scratch: the live update is written here, then swapped
+  cv::Mat background_depth_count_;    // CV_32FC1, samples in the mean while learning
   int background_frames_ = 0;
   cv::Mat small_colour_, colour_labels_;  // scratch, reused across frames
-  cv::Mat unopened_, region_labels_;      // scratch of keep_attached_limbs
+  // Scratch of a downscaled colour model: its foreground (255), at full size, shrunk.
+  cv::Mat small_colour_foreground_, upsampled_colour_foreground_, colour_foreground_;
+  cv::Mat unopened_, region_labels_;  // scratch of keep_attached_limbs
   std::vector<std::uint8_t> kept_region_;
 };
 

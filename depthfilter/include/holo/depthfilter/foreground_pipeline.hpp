@@ -45,7 +45,8 @@ struct ForegroundPipelineConfig {
 // What one camera produced in the last frame (for the reflection stage's pyramids and for tests).
 struct CameraForeground {
   cv::Mat mask;          // CV_8UC1, 255 = foreground
-  cv::Mat flow;          // CV_32FC2, current -> previous
+  cv::Mat flow;          // CV_32FC2, current -> previous, guaranteed on the mask's box and the
+                         // persistence's search box only (nothing reads it elsewhere; see next())
   cv::Mat depth;         // CV_32FC1 filtered foreground depth, 0 elsewhere
   BorderLayer border;    // expanded border
   bool present = false;  // false when the camera's frame was missing

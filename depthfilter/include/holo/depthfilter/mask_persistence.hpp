@@ -41,6 +41,10 @@ class MaskPersistence {
   void extend(cv::Mat& mask, const RgbdFrame& frame, const cv::Mat& flow);
   // Forgets the previous frame (a camera dropped out).
   void reset();
+  // The pixels the next extend() on a frame of `size` may add to the mask, and so the only ones
+  // where it reads the flow: the previous mask's box grown by max_motion_px (empty when switched
+  // off, without a previous frame of that size, or when its mask was empty).
+  cv::Rect searchBox(const cv::Size& size) const;
 
   const MaskPersistenceConfig& config() const { return config_; }
 

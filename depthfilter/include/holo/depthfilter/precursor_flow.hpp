@@ -6,6 +6,8 @@
 // non-finite vector as "no precursor").
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <opencv2/core.hpp>
 #include <opencv2/video/tracking.hpp>
 
@@ -40,27 +42,57 @@ class PrecursorFlow {
   // image is kept instead of being made again from its colour; zero flow on the first frame, after
   // reset() or when the size changed.
   cv::Mat next(const cv::Mat& current_bgr);
+  // The same flow, guaranteed only inside `needed` (the values compute() gives there), for users
+  // that read it near the foreground only: with the default downscale 2 and even frame sides only
+  // those pixels are brought to full size and the rest is 0; otherwise the whole frame is computed.
+  // Nothing is computed (all 0) when `needed` is empty.
+  cv::Mat next(const cv::Mat& current_bgr, const cv::Rect& needed);
   void reset();  // the next frame is a first frame
 
  private:
   // The grey image the flow is computed on (downscaled), into `out`.
   void flowImage(const cv::Mat& bgr, cv::Mat& out);
-  // The flow between two flow images of a full-size frame `size`.
-  cv::Mat flowBetween(const cv::Mat& current, const cv::Mat& previous, const cv::Size& size);
+  // The flow between two flow images of a full-size frame `size`, exact inside `needed` (see next()).
+  cv::Mat flowBetween(const cv::Mat& current, const cv::Mat& previous, const cv::Size& size,
+                      const cv::Rect& needed);
+  cv::Mat nextFlow(const cv::Mat& current_bgr, const cv::Rect& needed);
+  // The downscaled flow brought to full size (bilinear) inside `needed` only, into `flow` (0
+  // elsewhere), each pixel equal to a whole-frame cv::resize's.
+  void upsampleInside(const cv::Rect& needed, cv::Mat& flow);
 
-  // NaN where the forward flow does not bring the precursor back (round_trip_check).
-  void rejectRoundTripFailures(const cv::Mat& current, const cv::Mat& previous, cv::Mat& flow);
+  // NaN where the forward flow does not bring the precursor back (round_trip_check), inside `needed`.
+  void rejectRoundTripFailures(const cv::Mat& current, const cv::Mat& previous, const cv::Rect& needed,
+                               cv::Mat& flow);
 
   cv::Ptr<cv::DISOpticalFlow> dis_;
   int downscale_ = 1;
   bool round_trip_check_ = false;
   float round_trip_max_px_ = 2.0f;
-  cv::Mat grey_, current_image_, previous_image_, small_flow_, forward_flow_;  // scratch
+  cv::Mat grey_, current_image_, previous_image_, small_flow_, forward_flow_, upsampled_block_;  // scratch
   cv::Size previous_size_;  // of the frame previous_image_ was made from; empty: none (next())
 };
 
 // Confidence alpha of Equation 1: the RGB distance between a pixel and its precursor, in 8-bit
-// sRGB steps, in [0, sqrt(3) * 255]. Smaller means a more reliable precursor.
-float precursorConfidence(const cv::Vec3b& pixel, const cv::Vec3b& precursor);
+// sRGB steps, in [0, sqrt(3) * 255]. Smaller means a more reliable precursor. Inline: the filter
+// calls it once per foreground pixel.
+inline float precursorConfidence(const cv::Vec3b& pixel, const cv::Vec3b& precursor) {
+  float sum = 0.0f;
+  for (int c = 0; c < 3; ++c) {
+    const float diff = float(pixel[c]) - float(precursor[c]);
+    sum += diff * diff;
+  }
+  return std::sqrt(sum);
+}
+
+// The whole pixel nearest to coordinate `v` (halves away from zero, as std::lround) for a finite
+// `v`; coordinates beyond +-2^24 px, far outside any frame, come back as +-2^24. Inline and without
+// errno, unlike std::lround: every foreground pixel rounds its precursor.
+inline int nearestPixel(float v) {
+  constexpr float kFar = 16777216.0f;
+  v = std::min(std::max(v, -kFar), kFar);
+  const int toward_zero = static_cast<int>(v);
+  const float rest = v - static_cast<float>(toward_zero);  // exact: |v| <= 2^24
+  return toward_zero + (rest >= 0.5f) - (rest <= -0.5f);
+}
 
 }  // namespace holo::depthfilter

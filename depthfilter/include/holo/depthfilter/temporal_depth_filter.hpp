@@ -127,6 +127,9 @@ class TemporalDepthFilter {
   cv::Mat previous_depth_;  // filtered output of the previous frame
   cv::Mat previous_mask_;
   cv::Mat previous_age_;  // CV_8UC1 frames since each previous output depth was measured, 255 = none
+  // The previous frame's work box: previous_mask_ is 0 outside it, and previous_colour_,
+  // previous_depth_ and previous_age_ hold that frame's values inside it only.
+  cv::Rect previous_roi_;
   // Per-frame working images, kept so that a frame allocates (and page-faults) almost nothing.
   struct Scratch;
   std::unique_ptr<Scratch> scratch_ptr_;
