@@ -1,6 +1,7 @@
 #include "holo/ar/live_composite.hpp"
 
 #include <chrono>
+#include <ctime>
 #include <opencv2/imgproc.hpp>
 
 #include "holo/core/error.hpp"
@@ -80,6 +81,7 @@ void LiveComposite::restart(const RgbdFrame& frame) {
 
 LiveCompositeFrame LiveComposite::add(const RgbdFrame& frame) {
   const auto start = std::chrono::steady_clock::now();
+  const std::clock_t cpu_start = std::clock();
   requireArCameraInputs(index_, camera_, frame);
   LiveCompositeFrame out;
   const cv::Mat luma = blurredLuma(frame.colour, settings_.still);
@@ -108,6 +110,7 @@ LiveCompositeFrame LiveComposite::add(const RgbdFrame& frame) {
   out.samples = samples_;
   out.relic_pixels = cv::countNonZero(coverage > 0.0f);
   out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  out.cpu_ms = 1000.0 * static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
   return out;
 }
 

@@ -51,6 +51,7 @@ struct LiveCompositeFrame {
   int relic_pixels = 0;   // pixels whose samples met the relic
   std::int64_t rays = 0;  // cast for this frame
   double ms = 0.0;        // wall-clock time add() took (the change test, the pass, the filter)
+  double cpu_ms = 0.0;    // CPU time of the process's threads while add() ran (all cores together)
 };
 
 class LiveComposite {
