@@ -88,7 +88,7 @@ int runArCamera(RunOptions options) {
   }
   const int frames = options.frames > 0 ? options.frames : (options.headless ? 30 : 0);
   std::vector<double> grab_ms, composite_ms, composite_cpu_ms;
-  int resets = 0, last_samples = 0, relic_pixels = 0;
+  int resets = 0, last_samples = 0, relic_pixels = 0, traced_pixels = 0;
   using Clock = std::chrono::steady_clock;
   const auto ms = [](Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); };
   for (int n = 0; frames == 0 || n < frames; ++n) {
@@ -102,6 +102,7 @@ int runArCamera(RunOptions options) {
     resets += frame->reset ? 1 : 0;
     last_samples = frame->samples;
     relic_pixels = frame->relic_pixels;
+    traced_pixels = frame->traced_pixels;
     if (video) {
       video->write(frame->image);
       if (options.png_every > 0 && n % options.png_every == 0)
@@ -116,12 +117,12 @@ int runArCamera(RunOptions options) {
   const double composite = median(composite_ms);
   const std::string report = fmt::format(
       "ar camera: {}\ninstallation: {}\nsize: {}x{}\nframes: {}\nsamples per frame: {}\n"
-      "accumulations started: {}\nsamples at the end: {}\nrelic pixels: {}{}\n"
+      "accumulations started: {}\nsamples at the end: {}\nrelic pixels: {}{}\ntraced pixels: {}\n"
       "composite ms (median): {:.1f}\ncomposite fps: {:.1f}\n"
       "composite CPU ms (median, all threads): {:.1f}\ngrab ms (median, {}): {:.1f}\n",
       options.ar_camera, installation.name, size.width, size.height, composite_ms.size(), options.ar_spp,
       resets, last_samples, relic_pixels,
-      relic_pixels == 0 ? " (the relic is outside this camera's view)" : "", composite,
+      relic_pixels == 0 ? " (the relic is outside this camera's view)" : "", traced_pixels, composite,
       composite > 0.0 ? 1000.0 / composite : 0.0, median(composite_cpu_ms),
       installation.simulated_cameras ? "rendering the simulated camera" : "the camera's delivery",
       median(grab_ms));

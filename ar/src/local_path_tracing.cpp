@@ -133,8 +133,9 @@ class Tracer {
     const reflect::EnvironmentSample light = environment.sample(random.uniform2());
     if (light.pdf > 0.0f) {
       const vec3 f = bsdf.eval(wo, light.direction);
-      if (positive(f)) {
-        const Ray shadow{scene_.offsetOrigin(ray, hit, light.direction), light.direction};
+      const Ray shadow{scene_.offsetOrigin(ray, hit, light.direction), light.direction};
+      // A shadow ray that misses the relic's bounding sphere cannot be blocked by it: no change.
+      if (positive(f) && scene_.relicBounds().mayHit(shadow)) {
         ++rays_;
         const RayHit blocker = mixed.intersect(shadow);
         if (blocker.hit() && scene_.isRelic(blocker.geometry)) {
@@ -185,9 +186,11 @@ void checkSettings(const CameraModel& camera, const CompositeSettings& s) {
   if (s.delta_bounces < 1) throw InputError("AR composite", "delta_bounces", "at least 1 level");
 }
 
-// Runs sample(x, y, index, random, coverage) for every pixel sample over oneTBB tiles.
+// Runs sample(x, y, index, random, coverage) for every pixel sample over oneTBB tiles; a pixel
+// outside `region` (CV_8UC1 0; an empty region holds every pixel) is `outside`'s pixel, untraced.
 template <typename PixelSample>
-CompositeImage renderSamples(const CameraModel& camera, const CompositeSettings& s, PixelSample&& sample) {
+CompositeImage renderSamples(const CameraModel& camera, const CompositeSettings& s, const cv::Mat& region,
+                             const cv::Mat& outside, PixelSample&& sample) {
   const int w = camera.width(), h = camera.height();
   CompositeImage out;
   out.radiance = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
@@ -197,6 +200,10 @@ CompositeImage renderSamples(const CameraModel& camera, const CompositeSettings&
     std::int64_t& local_rays = rays.local();
     for (int y = r.rows().begin(); y != r.rows().end(); ++y)
       for (int x = r.cols().begin(); x != r.cols().end(); ++x) {
+        if (!region.empty() && region.at<std::uint8_t>(y, x) == 0) {
+          setRgb(out.radiance, x, y, rgbAt(outside, x, y));
+          continue;
+        }
         glm::dvec3 sum(0.0);
         int on_relic = 0;
         for (int i = 0; i < s.spp; ++i) {
@@ -223,16 +230,19 @@ CompositeImage renderSamples(const CameraModel& camera, const CompositeSettings&
 }  // namespace
 
 CompositeImage renderComposite(const LocalScene& scene, const CameraModel& camera, const cv::Mat& background,
-                               const CompositeSettings& s) {
+                               const CompositeSettings& s, const cv::Mat& region) {
   checkSettings(camera, s);
   if (background.type() != CV_32FC3 || background.cols != camera.width() ||
       background.rows != camera.height())
     throw InputError("AR composite", "background",
                      "the camera's image as linear radiance (CV_32FC3) of the camera's size " +
                          std::to_string(camera.width()) + "x" + std::to_string(camera.height()));
+  if (!region.empty() && (region.type() != CV_8UC1 || region.size() != background.size()))
+    throw InputError("AR composite", "region", "CV_8UC1 of the camera's size (or empty: every pixel)");
   const RayScene& mixed = scene.rays(SceneContent::kMixed);
   return renderSamples(
-      camera, s, [&](int x, int y, const Ray& ray, Random& random, bool& relic, std::int64_t& rays) {
+      camera, s, region, background,
+      [&](int x, int y, const Ray& ray, Random& random, bool& relic, std::int64_t& rays) {
         const Tracer tracer(scene, rays);
         const vec3 seen = rgbAt(background, x, y);
         ++rays;
@@ -256,7 +266,7 @@ CompositeImage renderComposite(const LocalScene& scene, const CameraModel& camer
 CompositeImage renderLocalScene(const LocalScene& scene, SceneContent content, const CameraModel& camera,
                                 const CompositeSettings& s) {
   checkSettings(camera, s);
-  return renderSamples(camera, s,
+  return renderSamples(camera, s, cv::Mat(), cv::Mat(),
                        [&](int, int, const Ray& ray, Random& random, bool& relic, std::int64_t& rays) {
                          return Tracer(scene, rays).along(content, ray, random, s.max_bounces, &relic);
                        });

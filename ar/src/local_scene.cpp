@@ -29,10 +29,35 @@ RelicGlass relicGlass(const Material& m) {
   return g;
 }
 
+RelicBounds boundingSphere(const Model& relic) {
+  Bounds3 box;
+  for (const TriangleMesh& mesh : relic.meshes)
+    for (const vec3& p : mesh.positions) box.extend(p);
+  RelicBounds out;
+  if (box.empty()) return out;
+  out.centre = box.center();
+  out.radius = 0.0f;
+  for (const TriangleMesh& mesh : relic.meshes)
+    for (const vec3& p : mesh.positions) out.radius = std::max(out.radius, glm::length(p - out.centre));
+  out.radius = out.radius * (1.0f + 1e-4f) + 1e-5f;  // round-off: every vertex strictly inside
+  return out;
+}
+
 }  // namespace
+
+bool RelicBounds::mayHit(const Ray& ray) const {
+  if (empty()) return false;
+  const vec3 to_centre = centre - ray.origin;
+  const float along = glm::dot(to_centre, ray.direction);
+  const float distance2 = glm::dot(to_centre, to_centre);
+  if (distance2 <= radius * radius) return true;  // the origin is inside
+  if (along < 0.0f) return false;                 // the sphere is behind the ray
+  return distance2 - along * along <= radius * radius;
+}
 
 LocalScene::LocalScene(RealSurface real, const Model& relic, const reflect::Environment& environment)
     : real_surface_(std::move(real)),
+      relic_bounds_(boundingSphere(relic)),
       mixed_(std::make_unique<RayScene>()),
       real_(std::make_unique<RayScene>()),
       environment_(environment) {
@@ -60,14 +85,18 @@ LocalScene::LocalScene(RealSurface real, const Model& relic, const reflect::Envi
 reflect::Bsdf LocalScene::bsdfAt(SceneContent content, const Ray& ray, const RayHit& hit) const {
   const vec3 normal = rays(content).shadingNormal(hit, ray.direction);
   if (isRelic(hit.geometry)) return reflect::Bsdf(relic_materials_[hit.geometry - 1], normal);
-  const uvec3 tri = real_surface_.mesh.triangles[hit.primitive];
-  const float u = hit.barycentric.x, v = hit.barycentric.y;
   reflect::SurfaceMaterial lambert;
-  lambert.base_colour = (1.0f - u - v) * real_surface_.albedo[tri.x] + u * real_surface_.albedo[tri.y] +
-                        v * real_surface_.albedo[tri.z];
+  lambert.base_colour = realAlbedo(hit);
   lambert.specular = 0.0f;  // a pure Lambert surface (bsdf.hpp)
   lambert.roughness = 1.0f;
   return reflect::Bsdf(lambert, normal);
+}
+
+vec3 LocalScene::realAlbedo(const RayHit& hit) const {
+  const uvec3 tri = real_surface_.mesh.triangles[hit.primitive];
+  const float u = hit.barycentric.x, v = hit.barycentric.y;
+  return (1.0f - u - v) * real_surface_.albedo[tri.x] + u * real_surface_.albedo[tri.y] +
+         v * real_surface_.albedo[tri.z];
 }
 
 const RelicGlass* LocalScene::glassAt(const RayHit& hit) const {

@@ -49,6 +49,7 @@ struct LiveCompositeFrame {
   bool reset = false;     // this frame started a new accumulation (the first frame does)
   double changed = 0.0;   // share of the pixels changed against the accumulation's first frame
   int relic_pixels = 0;   // pixels whose samples met the relic
+  int traced_pixels = 0;  // pixels the pass traces (the change region's)
   std::int64_t rays = 0;  // cast for this frame
   double ms = 0.0;        // wall-clock time add() took (the change test, the pass, the filter)
   double cpu_ms = 0.0;    // CPU time of the process's threads while add() ran (all cores together)
@@ -71,6 +72,8 @@ class LiveComposite {
 
  private:
   void restart(const RgbdFrame& frame);
+  // The box of the pixels the relic may change, widened by two filter radii (empty: none).
+  cv::Rect changeBox() const;
 
   int index_;
   CameraModel camera_;
@@ -79,11 +82,13 @@ class LiveComposite {
   std::unique_ptr<reflect::Environment> environment_;  // the scene keeps a reference to it
   std::unique_ptr<LocalScene> scene_;
   bool relic_changed_ = true;
-  cv::Mat reference_luma_;   // CV_32FC1, blurred, of the accumulation's first frame
-  cv::Mat reference_depth_;  // CV_32FC1
-  cv::Mat background_;       // CV_32FC3 radiance of the accumulation's first frame
-  cv::Mat sum_;              // CV_32FC3: sum over the accumulated samples of the composite
-  cv::Mat coverage_sum_;     // CV_32FC1: sum of the relic's coverage
+  cv::Mat reference_luma_;    // CV_32FC1, blurred, of the accumulation's first frame
+  cv::Mat reference_depth_;   // CV_32FC1
+  cv::Mat reference_colour_;  // CV_8UC3: the image shown outside changeBox()
+  cv::Mat background_;        // CV_32FC3 radiance of the accumulation's first frame
+  cv::Mat region_;            // CV_8UC1: the pixels traced (compositeRegion), empty: all
+  cv::Mat sum_;               // CV_32FC3: sum over the accumulated samples of the composite
+  cv::Mat coverage_sum_;      // CV_32FC1: sum of the relic's coverage
   int samples_ = 0;
 };
 

@@ -35,6 +35,17 @@ struct RealSurface {
 
 enum class SceneContent { kReal, kMixed };
 
+// A sphere holding every vertex of the relic (world frame, metres); radius < 0: no relic.
+struct RelicBounds {
+  vec3 centre{0.0f};
+  float radius = -1.0f;
+
+  bool empty() const { return radius < 0.0f; }
+  // Whether the ray (unit direction) from its origin can meet the sphere: false only where it
+  // certainly misses the relic.
+  bool mayHit(const Ray& ray) const;
+};
+
 // The dielectric part of a transmissive relic material.
 struct RelicGlass {
   float transmission = 0.0f;  // [0, 1]: the share of scatterings that are the interface's
@@ -67,6 +78,9 @@ class LocalScene {
   // An origin for rays leaving the hit: nudged off the surface to the side of `towards`.
   vec3 offsetOrigin(const Ray& ray, const RayHit& hit, const vec3& towards) const;
   const RealSurface& real() const { return real_surface_; }
+  const RelicBounds& relicBounds() const { return relic_bounds_; }
+  // The albedo of the real surface at a hit of rays(kReal) or rays(kMixed) on it.
+  vec3 realAlbedo(const RayHit& hit) const;
 
   static constexpr std::uint32_t kRealGeometry = 0;
 
@@ -74,6 +88,7 @@ class LocalScene {
   RealSurface real_surface_;
   std::vector<reflect::SurfaceMaterial> relic_materials_;  // per relic mesh (geometry id - 1)
   std::vector<RelicGlass> relic_glass_;                    // per relic mesh; transmission 0: opaque
+  RelicBounds relic_bounds_;
   std::unique_ptr<RayScene> mixed_;
   std::unique_ptr<RayScene> real_;
   const reflect::Environment& environment_;

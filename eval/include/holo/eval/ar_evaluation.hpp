@@ -84,6 +84,7 @@ struct ArEvaluation {
   std::optional<ArErrors> glass_opaque;
   cv::Mat glass_opaque_composite;  // CV_32FC3
   int region_pixels = 0, relic_pixels = 0, shadow_pixels = 0;
+  int traced_pixels = 0;  // the pixels delta path tracing traced (ar::changeRegion)
   float exposure = 1.0f;
 };
 
