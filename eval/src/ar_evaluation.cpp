@@ -218,7 +218,7 @@ ArEvaluation evaluateArComposite(const ArEvaluationOptions& o) {
   cv::Mat sum;
   const auto two_pass_start = Clock::now();
   do {
-    const ar::CompositeImage image = ar::renderComposite(scene, camera, background, pass);
+    const ar::CompositeImage image = ar::renderComposite(scene, camera, background, pass, region);
     sum = accumulate(sum, image.radiance);
     out.two_pass.rays += image.rays;
     ++pass.first_sample;
