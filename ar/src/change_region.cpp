@@ -111,7 +111,6 @@ cv::Mat changeRegion(const LocalScene& scene, const CameraModel& camera, const c
   const PanoramaLightBound light = panoramaLightBound(scene.environment());
   const vec3 relic_radiance = light.dim_radiance + light.bright_irradiance / glm::pi<float>();
   const float exposure = s.exposure > 0.0f ? s.exposure : 1.0f;
-  const RayScene& real = scene.rays(SceneContent::kReal);
   // The bright cones with their half angles' cosine and sine (a half angle capped at a quarter turn,
   // whose test already holds every direction towards the sphere's side of the sky).
   struct BrightCone {
@@ -181,10 +180,10 @@ cv::Mat changeRegion(const LocalScene& scene, const CameraModel& camera, const c
         row[x] = 255;
         continue;
       }
-      const RayHit hit = real.intersect(ray);
+      const RayHit hit = scene.intersect(SceneContent::kReal, ray);
       if (!hit.hit()) continue;
       const vec3 p = ray.origin + hit.t * ray.direction;
-      const vec3 n = real.shadingNormal(hit, ray.direction);
+      const vec3 n = scene.shadingNormal(hit, ray.direction);
       if (changes(p, n, scene.realAlbedo(hit), rgbAt(background, x, y))) row[x] = 255;
     }
   });

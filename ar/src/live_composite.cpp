@@ -72,7 +72,8 @@ void LiveComposite::restart(const RgbdFrame& frame) {
   CameraRealScene real =
       realSceneFromCamera(index_, camera_, frame, *environment_, exposure, settings_.view.surface);
   background_ = real.background;
-  scene_ = std::make_unique<LocalScene>(std::move(real.surface), relic_, *environment_);
+  if (relic_changed_ || !relic_geometry_) relic_geometry_ = std::make_shared<const RelicGeometry>(relic_);
+  scene_ = std::make_unique<LocalScene>(std::move(real.surface), relic_geometry_, *environment_);
   region_ = compositeRegion(*scene_, camera_, background_, settings_.view);
   reference_depth_ = frame.depth.clone();
   reference_colour_ = frame.colour.clone();

@@ -79,7 +79,8 @@ class LiveComposite {
   CameraModel camera_;
   LiveCompositeSettings settings_;
   Model relic_;
-  std::unique_ptr<reflect::Environment> environment_;  // the scene keeps a reference to it
+  std::unique_ptr<reflect::Environment> environment_;    // the scene keeps a reference to it
+  std::shared_ptr<const RelicGeometry> relic_geometry_;  // built once per relic
   std::unique_ptr<LocalScene> scene_;
   bool relic_changed_ = true;
   cv::Mat reference_luma_;    // CV_32FC1, blurred, of the accumulation's first frame
