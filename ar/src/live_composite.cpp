@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <ctime>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 
+#include "holo/ar/albedo_estimate.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/image.hpp"
 
@@ -46,7 +48,8 @@ LiveComposite::LiveComposite(int index, CameraModel camera, const cv::Mat& panor
       camera_(std::move(camera)),
       settings_(std::move(settings)),
       relic_(relic),
-      environment_(std::make_unique<reflect::Environment>(panorama, settings_.view.panorama_yaw_rad)) {
+      environment_(std::make_unique<reflect::Environment>(panorama, settings_.view.panorama_yaw_rad)),
+      irradiance_(std::make_unique<reflect::IrradianceSH>(*environment_)) {
   const StillnessSettings& s = settings_.still;
   if (s.blur_radius < 0) throw InputError("AR live view", "blur_radius", "a radius >= 0 pixels");
   if (!(s.colour_codes > 0.0f)) throw InputError("AR live view", "colour_codes", "a threshold > 0 codes");
@@ -69,11 +72,16 @@ void LiveComposite::setRelic(const Model& relic) {
 void LiveComposite::restart(const RgbdFrame& frame) {
   const float exposure = settings_.view.exposure > 0.0f ? settings_.view.exposure : 1.0f;
   scene_.reset();
-  CameraRealScene real =
-      realSceneFromCamera(index_, camera_, frame, *environment_, exposure, settings_.view.surface);
-  background_ = real.background;
+  background_ = srgb8ToLinear(frame.colour) * (1.0f / exposure);
+  DepthSurface surface =
+      depthSurface(frame.depth, camera_, settings_.view.surface, "camera " + std::to_string(index_));
+  RealSurface real;
+  real.albedo = estimateAlbedo(surface, background_, *irradiance_);
+  real.mesh = std::move(surface.mesh);
+  surface_pixels_ = std::move(surface.pixels);
   if (relic_changed_ || !relic_geometry_) relic_geometry_ = std::make_shared<const RelicGeometry>(relic_);
-  scene_ = std::make_unique<LocalScene>(std::move(real.surface), relic_geometry_, *environment_);
+  scene_ = std::make_unique<LocalScene>(std::move(real), relic_geometry_, *environment_);
+  ++surfaces_built_;
   region_ = compositeRegion(*scene_, camera_, background_, settings_.view);
   reference_depth_ = frame.depth.clone();
   reference_colour_ = frame.colour.clone();
@@ -94,6 +102,18 @@ cv::Rect LiveComposite::changeBox() const {
          image;
 }
 
+void LiveComposite::recolour(const RgbdFrame& frame) {
+  const float exposure = settings_.view.exposure > 0.0f ? settings_.view.exposure : 1.0f;
+  background_ = srgb8ToLinear(frame.colour) * (1.0f / exposure);
+  const DepthSurface surface{scene_->real().mesh, surface_pixels_};
+  scene_->setRealAlbedo(estimateAlbedo(surface, background_, *irradiance_));
+  region_ = compositeRegion(*scene_, camera_, background_, settings_.view);
+  reference_colour_ = frame.colour.clone();
+  sum_.setTo(cv::Scalar::all(0));
+  coverage_sum_.setTo(cv::Scalar(0));
+  samples_ = 0;
+}
+
 LiveCompositeFrame LiveComposite::add(const RgbdFrame& frame) {
   const auto start = std::chrono::steady_clock::now();
   const std::clock_t cpu_start = std::clock();
@@ -103,7 +123,15 @@ LiveCompositeFrame LiveComposite::add(const RgbdFrame& frame) {
   out.changed =
       scene_ ? changedShare(reference_luma_, reference_depth_, luma, frame.depth, settings_.still) : 1.0;
   if (!scene_ || relic_changed_ || out.changed > settings_.still.changed_fraction) {
-    restart(frame);
+    // Only the colour changed (the depth still): the depth surface and its ray scene are kept.
+    StillnessSettings depth_only = settings_.still;
+    depth_only.colour_codes = std::numeric_limits<float>::infinity();
+    if (scene_ && !relic_changed_ &&
+        changedShare(reference_luma_, reference_depth_, luma, frame.depth, depth_only) <=
+            settings_.still.changed_fraction)
+      recolour(frame);
+    else
+      restart(frame);
     reference_luma_ = luma;
     out.reset = true;
   }

@@ -129,6 +129,13 @@ vec3 LocalScene::realAlbedo(const RayHit& hit) const {
          v * real_surface_.albedo[tri.z];
 }
 
+void LocalScene::setRealAlbedo(std::vector<vec3> albedo) {
+  if (albedo.size() != real_surface_.mesh.positions.size())
+    throw InputError("AR local scene", "real surface albedo",
+                     "one albedo per vertex of the real surface's mesh");
+  real_surface_.albedo = std::move(albedo);
+}
+
 const RelicGlass* LocalScene::glassAt(const RayHit& hit) const {
   if (!isRelic(hit.geometry)) return nullptr;
   const RelicGlass& glass = relic_->glass(hit.geometry - 1);

@@ -152,6 +152,33 @@ TEST(LiveComposite, AChangedImageResetsInTheNextFrameAndSensorNoiseDoesNot) {
   EXPECT_TRUE(live.add(nearer).reset);
 }
 
+// A change of colour alone (the depth still) keeps the depth surface and its ray scene, and the
+// new accumulation is exactly the one a view started on that frame makes; a depth change builds a
+// new surface.
+TEST(LiveComposite, AColourChangeKeepsTheDepthSurfaceAndGivesTheSameComposite) {
+  Fixture f;
+  LiveComposite live(0, f.view, f.panorama, f.relic, oneSamplePerFrame());
+  for (int n = 0; n < 3; ++n) live.add(f.frame);
+  ASSERT_EQ(live.surfacesBuilt(), 1);
+  RgbdFrame repainted = f.frame;
+  repainted.colour = f.frame.colour.clone();
+  repainted.colour(cv::Rect(0, 0, f.view.width() / 2, f.view.height() / 2)).setTo(cv::Scalar(20, 40, 200));
+  LiveComposite fresh(0, f.view, f.panorama, f.relic, oneSamplePerFrame());
+  for (int n = 0; n < 3; ++n) {
+    const LiveCompositeFrame kept = live.add(repainted);
+    const LiveCompositeFrame made = fresh.add(repainted);
+    EXPECT_EQ(kept.reset, n == 0);
+    EXPECT_EQ(kept.samples, n + 1);
+    EXPECT_EQ(cv::norm(kept.unfiltered, made.unfiltered, cv::NORM_INF), 0.0) << "frame " << n;
+    EXPECT_EQ(cv::norm(kept.image, made.image, cv::NORM_INF), 0.0) << "frame " << n;
+  }
+  EXPECT_EQ(live.surfacesBuilt(), 1);
+  RgbdFrame nearer = repainted;
+  nearer.depth = repainted.depth * 0.9f;
+  EXPECT_TRUE(live.add(nearer).reset);
+  EXPECT_EQ(live.surfacesBuilt(), 2);
+}
+
 TEST(LiveComposite, RefusesACameraWithoutDepthNamingIt) {
   const Fixture f;
   LiveComposite live(3, f.view, f.panorama, f.relic, oneSamplePerFrame());

@@ -9,16 +9,20 @@
 // Still: the camera's image and depth have not changed since the accumulation's first frame
 // (StillnessSettings: the sensor's noise is not a change, a visitor walking into the picture or
 // a moved camera is) and the relic is the same. A frame that is not still starts a new
-// accumulation on itself, so the view follows the change in that frame.
+// accumulation on itself, so the view follows the change in that frame; where only its colour
+// changed (its depth still), the depth surface and its ray scene are kept and only the albedo and
+// the background are made anew.
 // Units: metres, world (pyramid) frame; images as ar_view.hpp.
 #pragma once
 
 #include <cstdint>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "holo/ar/ar_view.hpp"
 #include "holo/ar/local_scene.hpp"
+#include "holo/reflect/irradiance_sh.hpp"
 
 namespace holo::ar {
 
@@ -69,9 +73,13 @@ class LiveComposite {
   // One frame of the camera (refused as requireArCameraInputs refuses it): its composite.
   LiveCompositeFrame add(const RgbdFrame& frame);
   int samples() const { return samples_; }
+  // Depth surfaces (and their ray scenes) built so far: one per accumulation whose depth changed.
+  int surfacesBuilt() const { return surfaces_built_; }
 
  private:
   void restart(const RgbdFrame& frame);
+  // A new accumulation on a frame whose depth is still: the albedo and the background anew.
+  void recolour(const RgbdFrame& frame);
   // The box of the pixels the relic may change, widened by two filter radii (empty: none).
   cv::Rect changeBox() const;
 
@@ -80,7 +88,10 @@ class LiveComposite {
   LiveCompositeSettings settings_;
   Model relic_;
   std::unique_ptr<reflect::Environment> environment_;    // the scene keeps a reference to it
+  std::unique_ptr<reflect::IrradianceSH> irradiance_;    // the panorama's, for the albedo
   std::shared_ptr<const RelicGeometry> relic_geometry_;  // built once per relic
+  std::vector<ivec2> surface_pixels_;                    // the depth surface's vertices' pixels
+  int surfaces_built_ = 0;
   std::unique_ptr<LocalScene> scene_;
   bool relic_changed_ = true;
   cv::Mat reference_luma_;    // CV_32FC1, blurred, of the accumulation's first frame

@@ -107,6 +107,9 @@ class LocalScene {
   const RelicBounds& relicBounds() const { return relic_->bounds(); }
   // The albedo of the real surface at a hit on it.
   vec3 realAlbedo(const RayHit& hit) const;
+  // New albedo for the real surface's vertices (its geometry and ray scenes kept). Throws
+  // InputError when the count does not match the vertices'.
+  void setRealAlbedo(std::vector<vec3> albedo);
 
   static constexpr std::uint32_t kRealGeometry = 0;
 
