@@ -73,6 +73,7 @@ PanoramaLightBound panoramaLightBound(const reflect::Environment& environment) {
                          static_cast<std::size_t>(x * cells_x / w)];
       const vec3 radiance = rgbAt(pano, x, y);
       cell.max = glm::max(cell.max, radiance);
+      out.max_radiance = glm::max(out.max_radiance, radiance);
       cell.integral += radiance * solid_angle;
       total += radiance * solid_angle;
     }
@@ -109,7 +110,9 @@ cv::Mat changeRegion(const LocalScene& scene, const CameraModel& camera, const c
   if (!scene.environment().proxy().infinite() || glm::length(relic.centre - eye) <= relic.radius)
     return cv::Mat(h, w, CV_8UC1, cv::Scalar(255));
   const PanoramaLightBound light = panoramaLightBound(scene.environment());
-  const vec3 relic_radiance = light.dim_radiance + light.bright_irradiance / glm::pi<float>();
+  const vec3 relic_radiance = scene.relicTransmits()
+                                  ? light.max_radiance
+                                  : light.dim_radiance + light.bright_irradiance / glm::pi<float>();
   const float exposure = s.exposure > 0.0f ? s.exposure : 1.0f;
   // The bright cones with their half angles' cosine and sine (a half angle capped at a quarter turn,
   // whose test already holds every direction towards the sphere's side of the sky).

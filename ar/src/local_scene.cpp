@@ -69,6 +69,10 @@ RelicGeometry::RelicGeometry(const Model& relic)
   rays_->commit();
 }
 
+bool RelicGeometry::transmits() const {
+  return std::any_of(glass_.begin(), glass_.end(), [](const RelicGlass& g) { return g.transmission > 0.0f; });
+}
+
 LocalScene::LocalScene(RealSurface real, const Model& relic, const reflect::Environment& environment)
     : LocalScene(std::move(real), std::make_shared<const RelicGeometry>(relic), environment) {}
 

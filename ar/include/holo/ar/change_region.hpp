@@ -11,7 +11,9 @@
 //    sphere's projected solid angle at p) * (L_dim + E_bright / pi), where L_dim bounds the
 //    panorama's radiance outside its bright directions (what the relic may hide) and a relic
 //    that reflects everything it receives sends at most L_dim + E_bright / pi (E_bright the
-//    irradiance of the bright directions at normal incidence) towards p from a convex shape.
+//    irradiance of the bright directions at normal incidence) towards p from a convex shape. A
+//    relic with glass may focus the bright light (a caustic): it may send up to the panorama's
+//    largest radiance (refraction keeps radiance), the bound used for it instead.
 // The region is dilated by one pixel: a sample's jitter and a depth edge's neighbour. The bound
 // is the first level of delta path tracing's (light the relic blocks or adds at p); the change
 // that reaches p only through another real surface's change is not bounded (a second-order
@@ -42,6 +44,7 @@ struct PanoramaLightBound {
   };
   std::vector<Cone> bright;
   vec3 dim_radiance{0.0f};       // the largest radiance outside the bright cells, per channel
+  vec3 max_radiance{0.0f};       // the largest radiance of all, per channel
   vec3 bright_irradiance{0.0f};  // the integral of the bright cells' radiance over solid angle
   static constexpr int kCells = 64;
   static constexpr float kBrightOverMean = 8.0f;

@@ -68,6 +68,7 @@ class RelicGeometry {
   const RelicBounds& bounds() const { return bounds_; }
   const reflect::SurfaceMaterial& material(std::uint32_t mesh) const { return materials_[mesh]; }
   const RelicGlass& glass(std::uint32_t mesh) const { return glass_[mesh]; }
+  bool transmits() const;  // whether any of its materials is glass
 
  private:
   std::unique_ptr<RayScene> rays_;
@@ -105,6 +106,7 @@ class LocalScene {
   vec3 offsetOrigin(const Ray& ray, const RayHit& hit, const vec3& towards) const;
   const RealSurface& real() const { return real_surface_; }
   const RelicBounds& relicBounds() const { return relic_->bounds(); }
+  bool relicTransmits() const { return relic_->transmits(); }
   // The albedo of the real surface at a hit on it.
   vec3 realAlbedo(const RayHit& hit) const;
   // New albedo for the real surface's vertices (its geometry and ray scenes kept). Throws
