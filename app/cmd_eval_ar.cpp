@@ -33,7 +33,8 @@ int run(const Options& o) {
             << "region pixels: " << e.region_pixels << " (relic " << e.relic_pixels << ", shadow and light "
             << e.shadow_pixels << ")\n";
   print("delta path tracing", e.delta.rmse);
-  std::cout << "  spp " << e.delta.spp << "  ms " << e.delta.ms << "  rays " << e.delta.rays << "\n";
+  std::cout << "  spp " << e.delta.spp << "  ms " << e.delta.ms << "  rays " << e.delta.rays
+            << "  traced pixels " << e.traced_pixels << "\n";
   print("two-pass differential", e.two_pass.rmse);
   std::cout << "  spp " << e.two_pass.spp << "  ms " << e.two_pass.ms << "  rays " << e.two_pass.rays << "\n";
   print("delta path tracing, change filtered (the product's composite)", e.filtered.rmse);

@@ -87,8 +87,8 @@ int runArCamera(RunOptions options) {
     window = display::makeWindowPresenter(config);
   }
   const int frames = options.frames > 0 ? options.frames : (options.headless ? 30 : 0);
-  std::vector<double> grab_ms, composite_ms;
-  int resets = 0, last_samples = 0, relic_pixels = 0;
+  std::vector<double> grab_ms, composite_ms, composite_cpu_ms, reset_cpu_ms;
+  int resets = 0, last_samples = 0, relic_pixels = 0, traced_pixels = 0;
   using Clock = std::chrono::steady_clock;
   const auto ms = [](Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); };
   for (int n = 0; frames == 0 || n < frames; ++n) {
@@ -97,10 +97,13 @@ int runArCamera(RunOptions options) {
     if (!frame) break;
     const double total = ms(Clock::now() - t0);
     composite_ms.push_back(frame->ms);
+    composite_cpu_ms.push_back(frame->cpu_ms);
+    if (frame->reset) reset_cpu_ms.push_back(frame->cpu_ms);
     grab_ms.push_back(total - frame->ms);
     resets += frame->reset ? 1 : 0;
     last_samples = frame->samples;
     relic_pixels = frame->relic_pixels;
+    traced_pixels = frame->traced_pixels;
     if (video) {
       video->write(frame->image);
       if (options.png_every > 0 && n % options.png_every == 0)
@@ -115,12 +118,14 @@ int runArCamera(RunOptions options) {
   const double composite = median(composite_ms);
   const std::string report = fmt::format(
       "ar camera: {}\ninstallation: {}\nsize: {}x{}\nframes: {}\nsamples per frame: {}\n"
-      "accumulations started: {}\nsamples at the end: {}\nrelic pixels: {}{}\n"
-      "composite ms (median): {:.1f}\ncomposite fps: {:.1f}\ngrab ms (median, {}): {:.1f}\n",
+      "accumulations started: {}\nsamples at the end: {}\nrelic pixels: {}{}\ntraced pixels: {}\n"
+      "composite ms (median): {:.1f}\ncomposite fps: {:.1f}\n"
+      "composite CPU ms (median, all threads): {:.1f}\n"
+      "first frame of an accumulation CPU ms (median): {:.1f}\ngrab ms (median, {}): {:.1f}\n",
       options.ar_camera, installation.name, size.width, size.height, composite_ms.size(), options.ar_spp,
       resets, last_samples, relic_pixels,
-      relic_pixels == 0 ? " (the relic is outside this camera's view)" : "", composite,
-      composite > 0.0 ? 1000.0 / composite : 0.0,
+      relic_pixels == 0 ? " (the relic is outside this camera's view)" : "", traced_pixels, composite,
+      composite > 0.0 ? 1000.0 / composite : 0.0, median(composite_cpu_ms), median(reset_cpu_ms),
       installation.simulated_cameras ? "rendering the simulated camera" : "the camera's delivery",
       median(grab_ms));
   std::cout << report;

@@ -78,6 +78,14 @@ CameraRealScene realSceneFromCamera(int index, const CameraModel& camera, const 
   return out;
 }
 
+cv::Mat compositeRegion(const LocalScene& scene, const CameraModel& camera, const cv::Mat& background,
+                        const ArViewSettings& settings) {
+  if (!settings.trace_change_region) return cv::Mat();
+  return changeRegion(scene, camera, background,
+                      {.negligible_codes = settings.negligible_codes,
+                       .exposure = settings.exposure > 0.0f ? settings.exposure : 1.0f});
+}
+
 ArView renderArView(int index, const CameraModel& camera, const RgbdFrame& frame, const Model& relic,
                     const cv::Mat& panorama, const ArViewSettings& settings) {
   const reflect::Environment environment(panorama, settings.panorama_yaw_rad);
@@ -86,7 +94,8 @@ ArView renderArView(int index, const CameraModel& camera, const RgbdFrame& frame
   ArView out;
   out.real_vertices = real.surface.mesh.positions.size();
   const LocalScene scene(std::move(real.surface), relic, environment);
-  const CompositeImage composite = renderComposite(scene, camera, real.background, settings.composite);
+  const CompositeImage composite = renderComposite(scene, camera, real.background, settings.composite,
+                                                   compositeRegion(scene, camera, real.background, settings));
   out.radiance = filterChange(composite.radiance, real.background, composite.relic_coverage, frame.depth,
                               settings.filter);
   out.image = linearToSrgb8(out.radiance, exposure);

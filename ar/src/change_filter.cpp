@@ -4,11 +4,11 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "holo/core/error.hpp"
-#include "holo/core/image.hpp"
 
 namespace holo::ar {
 namespace {
@@ -41,25 +41,36 @@ cv::Mat filterChange(const cv::Mat& composite, const cv::Mat& background, const 
   for (int dy = -s.radius; dy <= s.radius; ++dy)
     for (int dx = -s.radius; dx <= s.radius; ++dx)
       weights.push_back(std::exp(-0.5f * static_cast<float>(dx * dx + dy * dy) / (s.sigma * s.sigma)));
-  const auto real = [&](int x, int y) {
-    return relic_coverage.at<float>(y, x) == 0.0f && depth.at<float>(y, x) > 0.0f;
-  };
+  // Real pixels (no sample met the relic, valid depth), 1 or 0.
+  const cv::Mat real = (relic_coverage == 0.0f) & (depth > 0.0f);
+  const int side = 2 * s.radius + 1;
   tbb::parallel_for(0, composite.rows, [&](int y) {
+    const std::uint8_t* real_row = real.ptr<std::uint8_t>(y);
+    const std::uint8_t* near_row = near_change.ptr<std::uint8_t>(y);
+    const float* depth_row = depth.ptr<float>(y);
+    const float* background_row = background.ptr<float>(y);
+    float* out_row = out.ptr<float>(y);
+    const int y0 = std::max(0, y - s.radius), y1 = std::min(composite.rows - 1, y + s.radius);
     for (int x = 0; x < composite.cols; ++x) {
-      if (!real(x, y) || near_change.at<std::uint8_t>(y, x) == 0) continue;
-      const float d = depth.at<float>(y, x);
-      vec3 sum(0.0f);
+      if (real_row[x] == 0 || near_row[x] == 0) continue;
+      const float d = depth_row[x];
+      const float reach = s.max_depth_ratio * d;
+      const int x0 = std::max(0, x - s.radius), x1 = std::min(composite.cols - 1, x + s.radius);
+      float sum[3] = {0.0f, 0.0f, 0.0f};
       float total = 0.0f;
-      std::size_t k = 0;
-      for (int dy = -s.radius; dy <= s.radius; ++dy)
-        for (int dx = -s.radius; dx <= s.radius; ++dx, ++k) {
-          const int nx = x + dx, ny = y + dy;
-          if (nx < 0 || ny < 0 || nx >= composite.cols || ny >= composite.rows || !real(nx, ny)) continue;
-          if (std::abs(depth.at<float>(ny, nx) - d) > s.max_depth_ratio * d) continue;
-          sum += weights[k] * rgbAt(change, nx, ny);
-          total += weights[k];
+      for (int ny = y0; ny <= y1; ++ny) {
+        const std::uint8_t* real_near = real.ptr<std::uint8_t>(ny);
+        const float* depth_near = depth.ptr<float>(ny);
+        const float* change_near = change.ptr<float>(ny);
+        const float* weight =
+            &weights[static_cast<std::size_t>((ny - y + s.radius) * side + (x0 - x + s.radius))];
+        for (int nx = x0; nx <= x1; ++nx, ++weight) {
+          if (real_near[nx] == 0 || std::abs(depth_near[nx] - d) > reach) continue;
+          for (int c = 0; c < 3; ++c) sum[c] += *weight * change_near[3 * nx + c];
+          total += *weight;
         }
-      setRgb(out, x, y, rgbAt(background, x, y) + sum / total);
+      }
+      for (int c = 0; c < 3; ++c) out_row[3 * x + c] = background_row[3 * x + c] + sum[c] / total;
     }
   });
   return out;

@@ -1,8 +1,12 @@
 #include "holo/ar/live_composite.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <ctime>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 
+#include "holo/ar/albedo_estimate.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/image.hpp"
 
@@ -44,7 +48,8 @@ LiveComposite::LiveComposite(int index, CameraModel camera, const cv::Mat& panor
       camera_(std::move(camera)),
       settings_(std::move(settings)),
       relic_(relic),
-      environment_(std::make_unique<reflect::Environment>(panorama, settings_.view.panorama_yaw_rad)) {
+      environment_(std::make_unique<reflect::Environment>(panorama, settings_.view.panorama_yaw_rad)),
+      irradiance_(std::make_unique<reflect::IrradianceSH>(*environment_)) {
   const StillnessSettings& s = settings_.still;
   if (s.blur_radius < 0) throw InputError("AR live view", "blur_radius", "a radius >= 0 pixels");
   if (!(s.colour_codes > 0.0f)) throw InputError("AR live view", "colour_codes", "a threshold > 0 codes");
@@ -67,26 +72,66 @@ void LiveComposite::setRelic(const Model& relic) {
 void LiveComposite::restart(const RgbdFrame& frame) {
   const float exposure = settings_.view.exposure > 0.0f ? settings_.view.exposure : 1.0f;
   scene_.reset();
-  CameraRealScene real =
-      realSceneFromCamera(index_, camera_, frame, *environment_, exposure, settings_.view.surface);
-  background_ = real.background;
-  scene_ = std::make_unique<LocalScene>(std::move(real.surface), relic_, *environment_);
+  background_ = srgb8ToLinear(frame.colour) * (1.0f / exposure);
+  DepthSurface surface =
+      depthSurface(frame.depth, camera_, settings_.view.surface, "camera " + std::to_string(index_));
+  RealSurface real;
+  real.albedo = estimateAlbedo(surface, background_, *irradiance_);
+  real.mesh = std::move(surface.mesh);
+  surface_pixels_ = std::move(surface.pixels);
+  if (relic_changed_ || !relic_geometry_) relic_geometry_ = std::make_shared<const RelicGeometry>(relic_);
+  scene_ = std::make_unique<LocalScene>(std::move(real), relic_geometry_, *environment_);
+  ++surfaces_built_;
+  region_ = compositeRegion(*scene_, camera_, background_, settings_.view);
   reference_depth_ = frame.depth.clone();
+  reference_colour_ = frame.colour.clone();
   sum_ = cv::Mat(background_.size(), CV_32FC3, cv::Scalar::all(0));
   coverage_sum_ = cv::Mat(background_.size(), CV_32FC1, cv::Scalar(0));
   samples_ = 0;
   relic_changed_ = false;
 }
 
+cv::Rect LiveComposite::changeBox() const {
+  const cv::Rect image(0, 0, background_.cols, background_.rows);
+  if (region_.empty()) return image;
+  const cv::Rect bounds = cv::boundingRect(region_);
+  if (bounds.empty()) return bounds;
+  const int margin = 2 * std::max(settings_.view.filter.radius, 0);
+  return cv::Rect(bounds.x - margin, bounds.y - margin, bounds.width + 2 * margin,
+                  bounds.height + 2 * margin) &
+         image;
+}
+
+void LiveComposite::recolour(const RgbdFrame& frame) {
+  const float exposure = settings_.view.exposure > 0.0f ? settings_.view.exposure : 1.0f;
+  background_ = srgb8ToLinear(frame.colour) * (1.0f / exposure);
+  const DepthSurface surface{scene_->real().mesh, surface_pixels_};
+  scene_->setRealAlbedo(estimateAlbedo(surface, background_, *irradiance_));
+  region_ = compositeRegion(*scene_, camera_, background_, settings_.view);
+  reference_colour_ = frame.colour.clone();
+  sum_.setTo(cv::Scalar::all(0));
+  coverage_sum_.setTo(cv::Scalar(0));
+  samples_ = 0;
+}
+
 LiveCompositeFrame LiveComposite::add(const RgbdFrame& frame) {
   const auto start = std::chrono::steady_clock::now();
+  const std::clock_t cpu_start = std::clock();
   requireArCameraInputs(index_, camera_, frame);
   LiveCompositeFrame out;
   const cv::Mat luma = blurredLuma(frame.colour, settings_.still);
   out.changed =
       scene_ ? changedShare(reference_luma_, reference_depth_, luma, frame.depth, settings_.still) : 1.0;
   if (!scene_ || relic_changed_ || out.changed > settings_.still.changed_fraction) {
-    restart(frame);
+    // Only the colour changed (the depth still): the depth surface and its ray scene are kept.
+    StillnessSettings depth_only = settings_.still;
+    depth_only.colour_codes = std::numeric_limits<float>::infinity();
+    if (scene_ && !relic_changed_ &&
+        changedShare(reference_luma_, reference_depth_, luma, frame.depth, depth_only) <=
+            settings_.still.changed_fraction)
+      recolour(frame);
+    else
+      restart(frame);
     reference_luma_ = luma;
     out.reset = true;
   }
@@ -94,20 +139,37 @@ LiveCompositeFrame LiveComposite::add(const RgbdFrame& frame) {
   if (samples_ + spp <= settings_.max_samples) {
     CompositeSettings pass = settings_.view.composite;
     pass.first_sample = samples_;
-    const CompositeImage image = renderComposite(*scene_, camera_, background_, pass);
+    const CompositeImage image = renderComposite(*scene_, camera_, background_, pass, region_);
     cv::scaleAdd(image.radiance, static_cast<double>(spp), sum_, sum_);
     cv::scaleAdd(image.relic_coverage, static_cast<double>(spp), coverage_sum_, coverage_sum_);
     samples_ += spp;
     out.rays = image.rays;
   }
+  // Outside the change region's box, widened by two filter radii (a filtered pixel's whole window
+  // inside), the composite is the background and the image the camera's colour: only the box is
+  // averaged, filtered and encoded.
+  const cv::Rect box = changeBox();
   const double scale = 1.0 / static_cast<double>(samples_);
-  out.unfiltered = sum_ * scale;
-  const cv::Mat coverage = coverage_sum_ * scale;
-  out.radiance = filterChange(out.unfiltered, background_, coverage, reference_depth_, settings_.view.filter);
-  out.image = linearToSrgb8(out.radiance, settings_.view.exposure > 0.0f ? settings_.view.exposure : 1.0f);
+  out.unfiltered = background_.clone();
+  out.radiance = background_.clone();
+  out.image = reference_colour_.clone();
+  const float exposure = settings_.view.exposure > 0.0f ? settings_.view.exposure : 1.0f;
+  if (!box.empty()) {
+    cv::Mat unfiltered = sum_(box) * scale;
+    // The untraced pixels are the background exactly (a sum's round-off is no change to filter).
+    if (!region_.empty()) background_(box).copyTo(unfiltered, region_(box) == 0);
+    unfiltered.copyTo(out.unfiltered(box));
+    const cv::Mat coverage = coverage_sum_(box) * scale;
+    const cv::Mat radiance =
+        filterChange(unfiltered, background_(box), coverage, reference_depth_(box), settings_.view.filter);
+    radiance.copyTo(out.radiance(box));
+    linearToSrgb8(radiance, exposure).copyTo(out.image(box));
+    out.relic_pixels = cv::countNonZero(coverage > 0.0f);
+  }
   out.samples = samples_;
-  out.relic_pixels = cv::countNonZero(coverage > 0.0f);
+  out.traced_pixels = region_.empty() ? static_cast<int>(sum_.total()) : cv::countNonZero(region_);
   out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  out.cpu_ms = 1000.0 * static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
   return out;
 }
 

@@ -31,7 +31,6 @@ class Tracer {
   // opaque lobes and at most kMaxGlassEvents on the relic's glass.
   vec3 fromHit(SceneContent content, Ray ray, RayHit hit, Random& random, int scatterings) const {
     const reflect::Environment& environment = scene_.environment();
-    const RayScene& rays = scene_.rays(content);
     vec3 radiance(0.0f), throughput(1.0f);
     int glass_events = 0;
     for (int k = 0; k < scatterings;) {
@@ -43,7 +42,7 @@ class Tracer {
           const vec3 direction = crossGlass(*glass, ray, hit, u.x, throughput);
           const Ray next{scene_.offsetOrigin(ray, hit, direction), direction};
           ++rays_;
-          const RayHit next_hit = rays.intersect(next);
+          const RayHit next_hit = scene_.intersect(content, next);
           if (!next_hit.hit()) {  // a delta event: no light sample could have found this
             radiance += throughput * environment.radiance(direction);
             break;
@@ -54,7 +53,7 @@ class Tracer {
         }
       }
       ++k;
-      const reflect::Bsdf bsdf = scene_.bsdfAt(content, ray, hit);
+      const reflect::Bsdf bsdf = scene_.bsdfAt(ray, hit);
       const vec3 wo = -ray.direction;
       if (!bsdf.mirror()) {
         const reflect::EnvironmentSample light = environment.sample(random.uniform2());
@@ -62,7 +61,8 @@ class Tracer {
           const vec3 f = bsdf.eval(wo, light.direction);
           if (positive(f)) {
             ++rays_;
-            if (!rays.occluded({scene_.offsetOrigin(ray, hit, light.direction), light.direction})) {
+            if (!scene_.occluded(content,
+                                 {scene_.offsetOrigin(ray, hit, light.direction), light.direction})) {
               const float bsdf_pdf = bsdf.pdf(wo, light.direction);
               radiance += throughput * f * light.radiance / (light.pdf + bsdf_pdf);
             }
@@ -76,7 +76,7 @@ class Tracer {
       throughput *= scattered->weight;
       const Ray next{scene_.offsetOrigin(ray, hit, scattered->wi), scattered->wi};
       ++rays_;
-      const RayHit next_hit = rays.intersect(next);
+      const RayHit next_hit = scene_.intersect(content, next);
       if (!next_hit.hit()) {
         const float weight =
             scattered->delta ? 1.0f : scattered->pdf / (scattered->pdf + environment.pdf(scattered->wi));
@@ -95,8 +95,8 @@ class Tracer {
   // segment inside that ends here.
   vec3 crossGlass(const RelicGlass& glass, const Ray& ray, const RayHit& hit, float u,
                   vec3& throughput) const {
-    const bool front = scene_.frontFace(SceneContent::kMixed, ray, hit);
-    vec3 n = scene_.rays(SceneContent::kMixed).shadingNormal(hit, ray.direction);
+    const bool front = scene_.frontFace(ray, hit);
+    vec3 n = scene_.shadingNormal(hit, ray.direction);
     if (glm::dot(n, ray.direction) > 0.0f) n = -n;
     const float cos_i = std::clamp(-glm::dot(ray.direction, n), 0.0f, 1.0f);
     if (glass.thin_walled) {
@@ -114,7 +114,7 @@ class Tracer {
   // Radiance arriving along `ray` in the scene `content`.
   vec3 along(SceneContent content, const Ray& ray, Random& random, int scatterings, bool* met_relic) const {
     ++rays_;
-    const RayHit hit = scene_.rays(content).intersect(ray);
+    const RayHit hit = scene_.intersect(content, ray);
     if (met_relic) *met_relic = hit.hit() && scene_.isRelic(hit.geometry);
     if (!hit.hit()) return scene_.environment().radiance(ray.direction);
     return fromHit(content, ray, hit, random, scatterings);
@@ -124,22 +124,22 @@ class Tracer {
   // real scene's): `scatterings` left for paths from here, `levels` real levels still traced.
   vec3 delta(const Ray& ray, const RayHit& hit, Random& random, int scatterings, int levels) const {
     const reflect::Environment& environment = scene_.environment();
-    const RayScene& mixed = scene_.rays(SceneContent::kMixed);
-    const RayScene& real = scene_.rays(SceneContent::kReal);
-    const reflect::Bsdf bsdf = scene_.bsdfAt(SceneContent::kMixed, ray, hit);
+    constexpr SceneContent kMixed = SceneContent::kMixed, kReal = SceneContent::kReal;
+    const reflect::Bsdf bsdf = scene_.bsdfAt(ray, hit);
     const vec3 wo = -ray.direction;
     vec3 change(0.0f);
     // The panorama's light the relic blocks, by environment sampling.
     const reflect::EnvironmentSample light = environment.sample(random.uniform2());
     if (light.pdf > 0.0f) {
       const vec3 f = bsdf.eval(wo, light.direction);
-      if (positive(f)) {
-        const Ray shadow{scene_.offsetOrigin(ray, hit, light.direction), light.direction};
+      const Ray shadow{scene_.offsetOrigin(ray, hit, light.direction), light.direction};
+      // A shadow ray that misses the relic's bounding sphere cannot be blocked by it: no change.
+      if (positive(f) && scene_.relicBounds().mayHit(shadow)) {
         ++rays_;
-        const RayHit blocker = mixed.intersect(shadow);
+        const RayHit blocker = scene_.intersect(kMixed, shadow);
         if (blocker.hit() && scene_.isRelic(blocker.geometry)) {
           ++rays_;
-          if (!real.occluded(shadow))
+          if (!scene_.occluded(kReal, shadow))
             change -= f * light.radiance / (light.pdf + bsdf.pdf(wo, light.direction));
         }
       }
@@ -149,14 +149,14 @@ class Tracer {
     if (!scattered || !positive(scattered->weight)) return change;
     const Ray next{scene_.offsetOrigin(ray, hit, scattered->wi), scattered->wi};
     ++rays_;
-    const RayHit next_hit = mixed.intersect(next);
+    const RayHit next_hit = scene_.intersect(kMixed, next);
     if (!next_hit.hit()) return change;  // the panorama, in both scenes
     if (scene_.isRelic(next_hit.geometry)) {
       const vec3 added = scatterings > 1
                              ? fromHit(SceneContent::kMixed, next, next_hit, random, scatterings - 1)
                              : vec3(0.0f);
       ++rays_;
-      const RayHit hidden = real.intersect(next);
+      const RayHit hidden = scene_.intersect(kReal, next);
       vec3 blocked(0.0f);
       if (!hidden.hit()) {
         const float weight =
@@ -185,9 +185,11 @@ void checkSettings(const CameraModel& camera, const CompositeSettings& s) {
   if (s.delta_bounces < 1) throw InputError("AR composite", "delta_bounces", "at least 1 level");
 }
 
-// Runs sample(x, y, index, random, coverage) for every pixel sample over oneTBB tiles.
+// Runs sample(x, y, index, random, coverage) for every pixel sample over oneTBB tiles; a pixel
+// outside `region` (CV_8UC1 0; an empty region holds every pixel) is `outside`'s pixel, untraced.
 template <typename PixelSample>
-CompositeImage renderSamples(const CameraModel& camera, const CompositeSettings& s, PixelSample&& sample) {
+CompositeImage renderSamples(const CameraModel& camera, const CompositeSettings& s, const cv::Mat& region,
+                             const cv::Mat& outside, PixelSample&& sample) {
   const int w = camera.width(), h = camera.height();
   CompositeImage out;
   out.radiance = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
@@ -197,6 +199,10 @@ CompositeImage renderSamples(const CameraModel& camera, const CompositeSettings&
     std::int64_t& local_rays = rays.local();
     for (int y = r.rows().begin(); y != r.rows().end(); ++y)
       for (int x = r.cols().begin(); x != r.cols().end(); ++x) {
+        if (!region.empty() && region.at<std::uint8_t>(y, x) == 0) {
+          setRgb(out.radiance, x, y, rgbAt(outside, x, y));
+          continue;
+        }
         glm::dvec3 sum(0.0);
         int on_relic = 0;
         for (int i = 0; i < s.spp; ++i) {
@@ -223,20 +229,22 @@ CompositeImage renderSamples(const CameraModel& camera, const CompositeSettings&
 }  // namespace
 
 CompositeImage renderComposite(const LocalScene& scene, const CameraModel& camera, const cv::Mat& background,
-                               const CompositeSettings& s) {
+                               const CompositeSettings& s, const cv::Mat& region) {
   checkSettings(camera, s);
   if (background.type() != CV_32FC3 || background.cols != camera.width() ||
       background.rows != camera.height())
     throw InputError("AR composite", "background",
                      "the camera's image as linear radiance (CV_32FC3) of the camera's size " +
                          std::to_string(camera.width()) + "x" + std::to_string(camera.height()));
-  const RayScene& mixed = scene.rays(SceneContent::kMixed);
+  if (!region.empty() && (region.type() != CV_8UC1 || region.size() != background.size()))
+    throw InputError("AR composite", "region", "CV_8UC1 of the camera's size (or empty: every pixel)");
   return renderSamples(
-      camera, s, [&](int x, int y, const Ray& ray, Random& random, bool& relic, std::int64_t& rays) {
+      camera, s, region, background,
+      [&](int x, int y, const Ray& ray, Random& random, bool& relic, std::int64_t& rays) {
         const Tracer tracer(scene, rays);
         const vec3 seen = rgbAt(background, x, y);
         ++rays;
-        const RayHit hit = mixed.intersect(ray);
+        const RayHit hit = scene.intersect(SceneContent::kMixed, ray);
         if (!hit.hit()) return seen;
         if (scene.isRelic(hit.geometry)) {
           relic = true;
@@ -256,7 +264,7 @@ CompositeImage renderComposite(const LocalScene& scene, const CameraModel& camer
 CompositeImage renderLocalScene(const LocalScene& scene, SceneContent content, const CameraModel& camera,
                                 const CompositeSettings& s) {
   checkSettings(camera, s);
-  return renderSamples(camera, s,
+  return renderSamples(camera, s, cv::Mat(), cv::Mat(),
                        [&](int, int, const Ray& ray, Random& random, bool& relic, std::int64_t& rays) {
                          return Tracer(scene, rays).along(content, ray, random, s.max_bounces, &relic);
                        });

@@ -8,6 +8,7 @@
 
 #include "holo/ar/ar_view.hpp"
 #include "holo/ar/change_filter.hpp"
+#include "holo/ar/change_region.hpp"
 #include "holo/ar/local_path_tracing.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/image.hpp"
@@ -200,8 +201,11 @@ ArEvaluation evaluateArComposite(const ArEvaluationOptions& o) {
   delta_settings.max_bounces = o.max_bounces;
   delta_settings.delta_bounces = o.delta_bounces;
   delta_settings.seed = o.seed;
+  const ar::ChangeRegionSettings region_settings{.exposure = out.exposure};
   const auto delta_start = Clock::now();
-  const ar::CompositeImage delta = ar::renderComposite(scene, camera, background, delta_settings);
+  const cv::Mat region = ar::changeRegion(scene, camera, background, region_settings);
+  out.traced_pixels = cv::countNonZero(region);
+  const ar::CompositeImage delta = ar::renderComposite(scene, camera, background, delta_settings, region);
   out.delta.ms = msSince(delta_start);
   out.delta.spp = o.method_spp;
   out.delta.rays = delta.rays;
@@ -214,7 +218,7 @@ ArEvaluation evaluateArComposite(const ArEvaluationOptions& o) {
   cv::Mat sum;
   const auto two_pass_start = Clock::now();
   do {
-    const ar::CompositeImage image = ar::renderComposite(scene, camera, background, pass);
+    const ar::CompositeImage image = ar::renderComposite(scene, camera, background, pass, region);
     sum = accumulate(sum, image.radiance);
     out.two_pass.rays += image.rays;
     ++pass.first_sample;
@@ -245,7 +249,9 @@ ArEvaluation evaluateArComposite(const ArEvaluationOptions& o) {
   if (transmissive) {
     ar::CameraRealScene again = ar::realSceneFromCamera(0, camera, frame, environment, out.exposure, surface);
     const ar::LocalScene opaque_scene(std::move(again.surface), opaque, environment);
-    const ar::CompositeImage image = ar::renderComposite(opaque_scene, camera, background, delta_settings);
+    const ar::CompositeImage image =
+        ar::renderComposite(opaque_scene, camera, background, delta_settings,
+                            ar::changeRegion(opaque_scene, camera, background, region_settings));
     out.glass_opaque_composite =
         ar::filterChange(image.radiance, background, image.relic_coverage, frame.depth, {});
     out.glass_opaque = errors(out.glass_opaque_composite);

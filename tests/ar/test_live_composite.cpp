@@ -3,6 +3,8 @@
 // Counted in frames, never in wall-clock time.
 #include <gtest/gtest.h>
 
+#include <iostream>
+
 #include <vector>
 
 #include "ar_test_scene.hpp"
@@ -76,6 +78,8 @@ std::vector<double> stillErrors(const Fixture& f, const LiveCompositeSettings& s
   for (int n = 0; n < frames; ++n) {
     const LiveCompositeFrame out = live.add(f.frame);
     EXPECT_EQ(out.reset, n == 0);
+    // Encoded over the change's box only, the image is the whole radiance's encoding.
+    EXPECT_EQ(cv::norm(out.image, linearToSrgb8(out.radiance), cv::NORM_INF), 0.0);
     errors.push_back(rmse(filtered ? out.radiance : out.unfiltered, converged));
   }
   return errors;
@@ -93,6 +97,9 @@ TEST(LiveComposite, AStillViewRefinesFrameByFrame) {
   // What is shown (the change filtered) refines too.
   const std::vector<double> shown = stillErrors(f, oneSamplePerFrame(), 16, converged, true);
   EXPECT_LT(shown[15], 0.6 * shown[0]);
+  std::cout << "error at frames 1, 2, 4, 8, 16: " << errors[0] << ", " << errors[1] << ", " << errors[3]
+            << ", " << errors[7] << ", " << errors[15] << "; shown " << shown[0] << " -> " << shown[15]
+            << "\n";
 }
 
 // With the accumulation switched off (one sample is all a view keeps) the 16th still frame is no
@@ -143,6 +150,33 @@ TEST(LiveComposite, AChangedImageResetsInTheNextFrameAndSensorNoiseDoesNot) {
   live.add(nearer);
   live.setRelic(f.relic);
   EXPECT_TRUE(live.add(nearer).reset);
+}
+
+// A change of colour alone (the depth still) keeps the depth surface and its ray scene, and the
+// new accumulation is exactly the one a view started on that frame makes; a depth change builds a
+// new surface.
+TEST(LiveComposite, AColourChangeKeepsTheDepthSurfaceAndGivesTheSameComposite) {
+  Fixture f;
+  LiveComposite live(0, f.view, f.panorama, f.relic, oneSamplePerFrame());
+  for (int n = 0; n < 3; ++n) live.add(f.frame);
+  ASSERT_EQ(live.surfacesBuilt(), 1);
+  RgbdFrame repainted = f.frame;
+  repainted.colour = f.frame.colour.clone();
+  repainted.colour(cv::Rect(0, 0, f.view.width() / 2, f.view.height() / 2)).setTo(cv::Scalar(20, 40, 200));
+  LiveComposite fresh(0, f.view, f.panorama, f.relic, oneSamplePerFrame());
+  for (int n = 0; n < 3; ++n) {
+    const LiveCompositeFrame kept = live.add(repainted);
+    const LiveCompositeFrame made = fresh.add(repainted);
+    EXPECT_EQ(kept.reset, n == 0);
+    EXPECT_EQ(kept.samples, n + 1);
+    EXPECT_EQ(cv::norm(kept.unfiltered, made.unfiltered, cv::NORM_INF), 0.0) << "frame " << n;
+    EXPECT_EQ(cv::norm(kept.image, made.image, cv::NORM_INF), 0.0) << "frame " << n;
+  }
+  EXPECT_EQ(live.surfacesBuilt(), 1);
+  RgbdFrame nearer = repainted;
+  nearer.depth = repainted.depth * 0.9f;
+  EXPECT_TRUE(live.add(nearer).reset);
+  EXPECT_EQ(live.surfacesBuilt(), 2);
 }
 
 TEST(LiveComposite, RefusesACameraWithoutDepthNamingIt) {

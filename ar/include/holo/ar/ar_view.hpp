@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "holo/ar/change_filter.hpp"
+#include "holo/ar/change_region.hpp"
 #include "holo/ar/depth_surface.hpp"
 #include "holo/ar/local_path_tracing.hpp"
 #include "holo/core/camera_model.hpp"
@@ -47,7 +48,15 @@ struct ArViewSettings {
   DepthSurfaceSettings surface;  // centred on the pyramid frame's origin, where the relic stands
   float exposure = 1.0f;         // the camera's: radiance = srgbToLinear(colour) / exposure
   float panorama_yaw_rad = 0.0f;
+  // Trace only the pixels the relic can change (change_region.hpp; its exposure is `exposure`);
+  // false: every pixel.
+  bool trace_change_region = true;
+  float negligible_codes = 0.5f;  // ChangeRegionSettings::negligible_codes
 };
+
+// The region renderComposite traces under `settings` (empty: every pixel).
+cv::Mat compositeRegion(const LocalScene& scene, const CameraModel& camera, const cv::Mat& background,
+                        const ArViewSettings& settings);
 
 struct ArView {
   cv::Mat image;                  // CV_8UC3 sRGB BGR: the composite at the camera's exposure

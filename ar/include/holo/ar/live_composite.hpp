@@ -9,16 +9,20 @@
 // Still: the camera's image and depth have not changed since the accumulation's first frame
 // (StillnessSettings: the sensor's noise is not a change, a visitor walking into the picture or
 // a moved camera is) and the relic is the same. A frame that is not still starts a new
-// accumulation on itself, so the view follows the change in that frame.
+// accumulation on itself, so the view follows the change in that frame; where only its colour
+// changed (its depth still), the depth surface and its ray scene are kept and only the albedo and
+// the background are made anew.
 // Units: metres, world (pyramid) frame; images as ar_view.hpp.
 #pragma once
 
 #include <cstdint>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <vector>
 
 #include "holo/ar/ar_view.hpp"
 #include "holo/ar/local_scene.hpp"
+#include "holo/reflect/irradiance_sh.hpp"
 
 namespace holo::ar {
 
@@ -49,8 +53,10 @@ struct LiveCompositeFrame {
   bool reset = false;     // this frame started a new accumulation (the first frame does)
   double changed = 0.0;   // share of the pixels changed against the accumulation's first frame
   int relic_pixels = 0;   // pixels whose samples met the relic
+  int traced_pixels = 0;  // pixels the pass traces (the change region's)
   std::int64_t rays = 0;  // cast for this frame
   double ms = 0.0;        // wall-clock time add() took (the change test, the pass, the filter)
+  double cpu_ms = 0.0;    // CPU time of the process's threads while add() ran (all cores together)
 };
 
 class LiveComposite {
@@ -67,22 +73,34 @@ class LiveComposite {
   // One frame of the camera (refused as requireArCameraInputs refuses it): its composite.
   LiveCompositeFrame add(const RgbdFrame& frame);
   int samples() const { return samples_; }
+  // Depth surfaces (and their ray scenes) built so far: one per accumulation whose depth changed.
+  int surfacesBuilt() const { return surfaces_built_; }
 
  private:
   void restart(const RgbdFrame& frame);
+  // A new accumulation on a frame whose depth is still: the albedo and the background anew.
+  void recolour(const RgbdFrame& frame);
+  // The box of the pixels the relic may change, widened by two filter radii (empty: none).
+  cv::Rect changeBox() const;
 
   int index_;
   CameraModel camera_;
   LiveCompositeSettings settings_;
   Model relic_;
-  std::unique_ptr<reflect::Environment> environment_;  // the scene keeps a reference to it
+  std::unique_ptr<reflect::Environment> environment_;    // the scene keeps a reference to it
+  std::unique_ptr<reflect::IrradianceSH> irradiance_;    // the panorama's, for the albedo
+  std::shared_ptr<const RelicGeometry> relic_geometry_;  // built once per relic
+  std::vector<ivec2> surface_pixels_;                    // the depth surface's vertices' pixels
+  int surfaces_built_ = 0;
   std::unique_ptr<LocalScene> scene_;
   bool relic_changed_ = true;
-  cv::Mat reference_luma_;   // CV_32FC1, blurred, of the accumulation's first frame
-  cv::Mat reference_depth_;  // CV_32FC1
-  cv::Mat background_;       // CV_32FC3 radiance of the accumulation's first frame
-  cv::Mat sum_;              // CV_32FC3: sum over the accumulated samples of the composite
-  cv::Mat coverage_sum_;     // CV_32FC1: sum of the relic's coverage
+  cv::Mat reference_luma_;    // CV_32FC1, blurred, of the accumulation's first frame
+  cv::Mat reference_depth_;   // CV_32FC1
+  cv::Mat reference_colour_;  // CV_8UC3: the image shown outside changeBox()
+  cv::Mat background_;        // CV_32FC3 radiance of the accumulation's first frame
+  cv::Mat region_;            // CV_8UC1: the pixels traced (compositeRegion), empty: all
+  cv::Mat sum_;               // CV_32FC3: sum over the accumulated samples of the composite
+  cv::Mat coverage_sum_;      // CV_32FC1: sum of the relic's coverage
   int samples_ = 0;
 };
 

@@ -51,8 +51,10 @@ struct CompositeImage {
 };
 
 // `background`: the camera's image as radiance (CV_32FC3 linear BGR, the camera's size).
+// `region` (CV_8UC1 of that size, change_region.hpp): pixels at 0 are the background, untraced,
+// with no relic coverage; empty: every pixel is traced.
 CompositeImage renderComposite(const LocalScene& scene, const CameraModel& camera, const cv::Mat& background,
-                               const CompositeSettings& settings);
+                               const CompositeSettings& settings, const cv::Mat& region = cv::Mat());
 
 // The local scene `content` path traced through the camera (pixels beyond it: the panorama).
 // Two renders with one seed share their random numbers wherever the relic does not intervene.

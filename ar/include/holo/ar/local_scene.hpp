@@ -35,6 +35,17 @@ struct RealSurface {
 
 enum class SceneContent { kReal, kMixed };
 
+// A sphere holding every vertex of the relic (world frame, metres); radius < 0: no relic.
+struct RelicBounds {
+  vec3 centre{0.0f};
+  float radius = -1.0f;
+
+  bool empty() const { return radius < 0.0f; }
+  // Whether the ray (unit direction) from its origin can meet the sphere: false only where it
+  // certainly misses the relic.
+  bool mayHit(const Ray& ray) const;
+};
+
 // The dielectric part of a transmissive relic material.
 struct RelicGlass {
   float transmission = 0.0f;  // [0, 1]: the share of scatterings that are the interface's
@@ -44,37 +55,71 @@ struct RelicGlass {
   bool thin_walled = false;   // thickness 0: no bending, no volume
 };
 
+// The relic's part of a local scene: its meshes' ray scene (the relic alone), materials, glass and
+// bounding sphere. Built once per relic and shared by the local scenes of successive frames, so a
+// new depth surface rebuilds only the real surface's ray scene.
+class RelicGeometry {
+ public:
+  explicit RelicGeometry(const Model& relic);
+  RelicGeometry(const RelicGeometry&) = delete;
+  RelicGeometry& operator=(const RelicGeometry&) = delete;
+
+  const RayScene& rays() const { return *rays_; }  // geometry id: the relic mesh's index
+  const RelicBounds& bounds() const { return bounds_; }
+  const reflect::SurfaceMaterial& material(std::uint32_t mesh) const { return materials_[mesh]; }
+  const RelicGlass& glass(std::uint32_t mesh) const { return glass_[mesh]; }
+  bool transmits() const;  // whether any of its materials is glass
+
+ private:
+  std::unique_ptr<RayScene> rays_;
+  std::vector<reflect::SurfaceMaterial> materials_;  // per relic mesh
+  std::vector<RelicGlass> glass_;                    // per relic mesh; transmission 0: opaque
+  RelicBounds bounds_;
+};
+
 class LocalScene {
  public:
   // The environment must outlive the scene. Throws InputError when the albedo does not match the
   // mesh's vertices.
   LocalScene(RealSurface real, const Model& relic, const reflect::Environment& environment);
+  LocalScene(RealSurface real, std::shared_ptr<const RelicGeometry> relic,
+             const reflect::Environment& environment);
   LocalScene(const LocalScene&) = delete;
   LocalScene& operator=(const LocalScene&) = delete;
 
-  const RayScene& rays(SceneContent content) const {
-    return content == SceneContent::kMixed ? *mixed_ : *real_;
-  }
-  // A geometry id of rays(kMixed) (ids of rays(kReal) are the same for the real surface).
+  // The nearest hit of the scene `content` (kReal: the real surface alone; kMixed: and the relic,
+  // whose meshes have geometry ids 1, 2, ...; the real surface's is kRealGeometry), and whether
+  // anything of it is hit.
+  RayHit intersect(SceneContent content, const Ray& ray) const;
+  bool occluded(SceneContent content, const Ray& ray) const;
+  // The shading normal at a hit, facing against `ray_direction`.
+  vec3 shadingNormal(const RayHit& hit, const vec3& ray_direction) const;
   bool isRelic(std::uint32_t geometry) const { return geometry != kRealGeometry; }
   const reflect::Environment& environment() const { return environment_; }
-  // The BSDF at a hit of rays(content) seen along `direction` (unit, towards the surface).
-  reflect::Bsdf bsdfAt(SceneContent content, const Ray& ray, const RayHit& hit) const;
-  // The glass of a relic hit of rays(kMixed); nullptr for an opaque material.
+  // The BSDF at a hit seen along `ray` (its direction unit, towards the surface).
+  reflect::Bsdf bsdfAt(const Ray& ray, const RayHit& hit) const;
+  // The glass of a relic hit; nullptr for an opaque material.
   const RelicGlass* glassAt(const RayHit& hit) const;
   // Whether a ray meets the hit surface from its glTF front (the winding's side: outside a solid).
-  bool frontFace(SceneContent content, const Ray& ray, const RayHit& hit) const;
+  bool frontFace(const Ray& ray, const RayHit& hit) const;
   // An origin for rays leaving the hit: nudged off the surface to the side of `towards`.
   vec3 offsetOrigin(const Ray& ray, const RayHit& hit, const vec3& towards) const;
   const RealSurface& real() const { return real_surface_; }
+  const RelicBounds& relicBounds() const { return relic_->bounds(); }
+  bool relicTransmits() const { return relic_->transmits(); }
+  // The albedo of the real surface at a hit on it.
+  vec3 realAlbedo(const RayHit& hit) const;
+  // New albedo for the real surface's vertices (its geometry and ray scenes kept). Throws
+  // InputError when the count does not match the vertices'.
+  void setRealAlbedo(std::vector<vec3> albedo);
 
   static constexpr std::uint32_t kRealGeometry = 0;
 
  private:
+  const TriangleMesh& meshOf(const RayHit& hit) const;
+
   RealSurface real_surface_;
-  std::vector<reflect::SurfaceMaterial> relic_materials_;  // per relic mesh (geometry id - 1)
-  std::vector<RelicGlass> relic_glass_;                    // per relic mesh; transmission 0: opaque
-  std::unique_ptr<RayScene> mixed_;
+  std::shared_ptr<const RelicGeometry> relic_;
   std::unique_ptr<RayScene> real_;
   const reflect::Environment& environment_;
 };

@@ -19,7 +19,8 @@
 // over the whole image (where the relic changes nothing, a composite should add nothing).
 // Methods at equal time: delta path tracing at method_spp samples, then the two-pass differential
 // renderer given as many 1-spp passes as fit in the same wall-clock time (at least one), both
-// unfiltered (the comparison of Xu et al.); and the product's composite, delta path tracing with
+// unfiltered (the comparison of Xu et al.) and both tracing only the pixels the relic can change
+// (ar/change_region.hpp, its time counted in delta path tracing's); and the product's composite, delta path tracing with
 // its change filtered (ar/change_filter.hpp), which the adversary (the relic over the camera's
 // image, the real surfaces unchanged) is measured against.
 #pragma once
@@ -84,6 +85,7 @@ struct ArEvaluation {
   std::optional<ArErrors> glass_opaque;
   cv::Mat glass_opaque_composite;  // CV_32FC3
   int region_pixels = 0, relic_pixels = 0, shadow_pixels = 0;
+  int traced_pixels = 0;  // the pixels delta path tracing traced (ar::changeRegion)
   float exposure = 1.0f;
 };
 
