@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <iterator>
 
 #include <tbb/parallel_for.h>
@@ -17,12 +18,22 @@
 #include "progressive_accumulation.hpp"
 #include "refraction_pass.hpp"
 #include "static_shading.hpp"
+#include "wide_lobe_cache.hpp"
 
 namespace holo::reflect {
 
 namespace {
 
 // Some relic surface reflects diffusely (a base colour not all metal nor glass, or textured so).
+// Bins per side of the wide lobes' eye-direction grid (wide_lobe_cache.hpp): 6 x 6 over the
+// hemisphere, about 25 degrees apart, where a lobe at least kGlossyRoughnessLimit rough is over 90
+// degrees wide.
+constexpr int kWideLobeBins = 6;
+
+std::uint64_t hashCombine(std::uint64_t seed, std::uint64_t value) {
+  return seed ^ (value + 0x9e3779b97f4a7c15ull + (seed << 6) + (seed >> 2));
+}
+
 bool relicHasDiffuse(const RenderScene& scene) {
   const auto diffuse = [](float metallic, float transmission) {
     return (1.0f - metallic) * (1.0f - transmission) > 0.0f;
@@ -95,11 +106,18 @@ FrameRenderer::FrameRenderer(const RenderScene& scene, const PrefilteredIbl& ibl
     if (rough.size() > 8) rough.resize(8);  // the map's limit; rougher ones read the nearest
     rough_map_ = std::make_unique<RoughForegroundMap>(settings_.foreground_map_width, rough);
   }
+  if (settings_.evaluation.wide_lobe_cache && settings_.relic_interreflection &&
+      settings_.rough_interreflection_grid > 1) {
+    wide_lobes_ = std::make_unique<WideLobeCache>(scene_, kWideLobeBins);
+    if (!wide_lobes_->active()) wide_lobes_.reset();
+  }
   // The rough lobe's strata are the static shading's one Monte Carlo term: the refinement and the
-  // filter work on them only where some material samples them, interleaved over pixels.
-  const bool samples_lobe = settings_.relic_interreflection &&
-                            settings_.evaluation.rough_interreflection_interleaved &&
-                            StaticShading(scene_, ibl_, settings_, rough_map_.get()).tracesLobes();
+  // filter work on them only where some material samples them, interleaved over pixels (the
+  // wide lobes' cache holds no noise).
+  const bool samples_lobe =
+      settings_.relic_interreflection && settings_.evaluation.rough_interreflection_interleaved &&
+      StaticShading(scene_, ibl_, settings_, rough_map_.get(), nullptr, nullptr, wide_lobes_.get())
+          .tracesLobes();
   const bool layered = relic_transmissive_ || relic_clearcoat_;
   refines_ = settings_.refinement_sets > 1 && samples_lobe && !layered;
   refinement_reason_ =
@@ -194,6 +212,10 @@ struct FrameRenderer::ViewCache {
   cv::Mat hdr, coverage, display, zero_weight;
   float display_exposure = 0.0f;     // the exposure `display` was tone-mapped at; 0: none
   ProgressiveAccumulation progress;  // with ProgressiveRefinement
+  // With VisitorLight: what the static shading fixes of each sample's response to the visitors'
+  // light; stale once the shading changes (a new static pass or a refinement step).
+  VisitorLight::Receivers visitor_receivers;
+  bool receivers_ready = false;
 };
 
 FrameRenderer::~FrameRenderer() = default;
@@ -280,6 +302,20 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
     plinth_lit_ = true;
     for (auto& cache : caches_) cache->ready = false;  // drawn with the old light
   }
+  if (wide_lobes_) {
+    // The entries hold the static shading of the second points: the light, the relic's turn and
+    // what of it the plan runs.
+    float turn = ibl_.relicTurn();
+    std::uint32_t turn_bits = 0;
+    std::memcpy(&turn_bits, &turn, sizeof turn_bits);
+    std::uint64_t key = hashCombine(ibl_.sourceHash(), turn_bits);
+    key = hashCombine(key, (result.plan.has(Pass::SelfOcclusion) ? 1u : 0u) |
+                               (result.plan.sun_light ? 2u : 0u) | (result.plan.interreflection ? 4u : 0u));
+    if (key != wide_lobes_key_) {
+      wide_lobes_->clear();
+      wide_lobes_key_ = key;
+    }
+  }
   while (caches_.size() < views.size()) caches_.push_back(std::make_unique<ViewCache>());
   // Still, for ProgressiveRefinement: what the grid holds is what it held last frame.
   const std::uint64_t foreground =
@@ -355,7 +391,8 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       FilterCounts filtered;
       const StaticCounts counts =
           StaticShading(scene_, ibl_, planned, rough_map_.get(),
-                        plan.has(Pass::SelfOcclusion) ? visibility_.get() : nullptr, &lighting_)
+                        plan.has(Pass::SelfOcclusion) ? visibility_.get() : nullptr, &lighting_,
+                        wide_lobes_.get())
               .shade(cache.hits, view, cache.shading, cache.walk_rays, cache.bounces, cache.hdr,
                      cache.coverage, plan.has(Pass::AxisAlignedFilter) ? &filter : nullptr, &filtered);
       out.occluded_samples = counts.occluded_samples;
@@ -394,6 +431,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     cache.camera = view;
     cache.display_exposure = 0.0f;
     cache.ready = true;
+    cache.receivers_ready = false;
     if (plan.has(Pass::ProgressiveRefinement)) cache.progress.restart(cache.bounces, foreground);
   } else if (plan.has(Pass::ProgressiveRefinement)) {
     PassTimer t(out.timings, Pass::ProgressiveRefinement);
@@ -402,7 +440,8 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     planned.evaluation.sun_light = plan.sun_light;
     const RefinementStep step = cache.progress.advance(
         StaticShading(scene_, ibl_, planned, rough_map_.get(),
-                      plan.has(Pass::SelfOcclusion) ? visibility_.get() : nullptr, &lighting_),
+                      plan.has(Pass::SelfOcclusion) ? visibility_.get() : nullptr, &lighting_,
+                      wide_lobes_.get()),
         cache.hits, cache.camera, foreground, std::uint32_t(settings_.refinement_sets), cache.shading,
         cache.walk_rays, cache.bounces, cache.hdr, plan.has(Pass::AxisAlignedFilter) ? &filter : nullptr);
     // The filter's time is its own pass's, as in the static pass.
@@ -415,6 +454,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     out.refinement_samples = step.samples;
     out.refinement_reset = step.reset;
     if (step.image_changed) cache.display_exposure = 0.0f;
+    if (step.samples > 0 || step.image_changed) cache.receivers_ready = false;
   }
   if (plan.has(Pass::ProgressiveRefinement)) out.accumulated_sets = cache.progress.sets();
   if (fixed_exposure && cache.display_exposure != settings_.exposure) {
@@ -461,7 +501,11 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     PassTimer t(out.timings, Pass::VisitorLight);
     // Over a copy: the static image stays the cache's.
     if (!plan.has(Pass::ForegroundWalk)) out.hdr = cache.hdr.clone();
-    out.visitor_lit_samples = visitor_light_->apply(hits, cache.shading, ibl_, out.hdr);
+    if (!cache.receivers_ready) {
+      cache.visitor_receivers = VisitorLight::receivers(hits, cache.shading, ibl_);
+      cache.receivers_ready = true;
+    }
+    out.visitor_lit_samples = visitor_light_->apply(hits, cache.visitor_receivers, out.hdr);
     if (fixed_exposure)
       out.display =
           toneMapCovered(out.hdr, plan.has(Pass::Plinth) ? cache.shown : hits.covered, settings_.exposure);

@@ -12,6 +12,7 @@
 #include "holo/core/image.hpp"
 #include "holo/reflect/bsdf.hpp"
 #include "holo/reflect/surface_shading.hpp"
+#include "wide_lobe_cache.hpp"
 
 namespace holo::reflect {
 namespace {
@@ -105,25 +106,80 @@ void StaticCounts::add(const StaticCounts& other) {
 
 StaticShading::StaticShading(const RenderScene& scene, const PrefilteredIbl& ibl,
                              const TracerSettings& settings, const RoughForegroundMap* rough_map,
-                             const RelicVisibility* visibility, const RelicVisibility::Lighting* lighting)
+                             const RelicVisibility* visibility, const RelicVisibility::Lighting* lighting,
+                             const WideLobeCache* wide_lobes)
     : scene_(scene),
       ibl_(ibl),
       settings_(settings),
       rough_map_(rough_map),
       visibility_(lighting ? visibility : nullptr),
-      lighting_(lighting) {
-  for (const Material& m : scene_.relic().materials)
-    lobe_materials_ = lobe_materials_ || m.metallic_roughness_texture.used() || tracesLobe(m.roughness);
-  if (const auto& material = scene_.relicMaterialOverride())
-    lobe_materials_ = tracesLobe(material->roughness);
-  else if (scene_.relic().materials.empty())
-    lobe_materials_ = tracesLobe(Material{}.roughness);
+      lighting_(lighting),
+      wide_lobes_(wide_lobes && wide_lobes->active() ? wide_lobes : nullptr) {
+  // A mesh whose lobe the cache holds samples none itself.
+  const Model& relic = scene_.relic();
+  for (std::size_t m = 0; m < relic.meshes.size(); ++m) {
+    const int index = relic.meshes[m].material;
+    if (wide_lobes_ && wide_lobes_->coversMesh(m)) continue;
+    if (const auto& material = scene_.relicMaterialOverride())
+      lobe_materials_ = lobe_materials_ || tracesLobe(material->roughness);
+    else if (index < 0 || std::size_t(index) >= relic.materials.size())
+      lobe_materials_ = lobe_materials_ || tracesLobe(Material{}.roughness);
+    else
+      lobe_materials_ = lobe_materials_ ||
+                        relic.materials[std::size_t(index)].metallic_roughness_texture.used() ||
+                        tracesLobe(relic.materials[std::size_t(index)].roughness);
+  }
   if (settings_.evaluation.sun_light && ibl_.sun().found) sun_.emplace(scene_, ibl_, settings_);
 }
 
 bool StaticShading::tracesLobe(float roughness) const {
   return settings_.rough_interreflection_grid > 1 && (readsRoughMap(rough_map_, settings_, roughness) ||
                                                       roughness >= settings_.rough_interreflection_roughness);
+}
+
+bool StaticShading::readsWideLobe(const HitPoint& hp) const {
+  return wide_lobes_ && tracesLobe(hp.material.roughness) && wide_lobes_->covers(hp.location);
+}
+
+bool StaticShading::samplesLobe(const HitPoint& hp) const {
+  return tracesLobe(hp.material.roughness) && !readsWideLobe(hp);
+}
+
+LobeBounce StaticShading::traceWholeLobe(const vec3& position, const vec3& normal, const vec3& to_viewer,
+                                         float roughness) const {
+  LobeBounce bounce;
+  const Frame frame(normal);
+  const vec3 wo = frame.toLocal(to_viewer);
+  if (!(wo.z > 0.0f)) return bounce;
+  const float alpha = std::max(roughness * roughness, 1e-3f);
+  const int side = settings_.rough_interreflection_grid, strata = side * side;
+  const RayScene& relic = scene_.relicOnly();
+  const LobeShare share;  // the vertex's sharpest texture footprint
+  std::uint64_t rays = 0;
+  forEachLobeStratum(side, false, 0, 0, 1, vec2(0.5f), [&](const vec2& u) {
+    const vec3 h = ggx::sampleVisibleNormal(wo, alpha, u);
+    const vec3 l = glm::reflect(-to_viewer, frame.toWorld(h));
+    if (!(glm::dot(l, normal) > 0.0f)) return;
+    bounce.above += 1.0f;
+    const vec3 hall = ibl_.seenFrom(position, l, stratumRoughness(wo, h, alpha, strata));
+    if (isFinite(hall)) bounce.hall += hall;
+    const Ray ray{position + normal * settings_.ray_offset, l};
+    const RayHit hit = relic.intersect(ray);
+    ++rays;
+    if (!hit.hit()) {
+      if (isFinite(hall)) bounce.open += hall;
+      return;
+    }
+    const SurfacePoint surface = resolveSurface(scene_, relic, ray, hit, 0.0f);
+    if (!isFinite(surface.normal)) return;
+    const SplitSumShading second = shadeAt(surface, -ray.direction);
+    bounce.diffuse += second.diffuse;
+    bounce.specular += second.specular_scale * secondEnvironment(surface, ray, hit, second, share, rays);
+    bounce.met += 1.0f;
+    bounce.nearest = std::min(bounce.nearest, hit.t);
+  });
+  wide_lobe_rays_.local() += rays;
+  return bounce;
 }
 
 float StaticShading::textureOcclusion(const SurfacePoint& surface) const {
@@ -174,6 +230,15 @@ void StaticShading::shadeHit(const HitPoint& hp, std::size_t pixel, std::size_t 
   walk_ray = {hp.position, hp.normal, hp.reflected, hp.material.roughness, false};
   if (hp.alpha < 1.0f) compositeBehind(hp, share, shading);
   if (!settings_.relic_interreflection) return;
+  if (readsWideLobe(hp)) {
+    const float roughness = hp.material.roughness;
+    const LobeBounce bounce = wide_lobes_->lookup(
+        hp.location, hp.to_viewer, [&](const vec3& position, const vec3& normal, const vec3& eye) {
+          return traceWholeLobe(position, normal, eye, roughness);
+        });
+    addLobeBounce(bounce, textureOcclusion(surfaceOf(hp)), settings_.evaluation.lobe_visibility, shading);
+    return;
+  }
   if (tracesLobe(hp.material.roughness)) {
     deferLobeBounce(hp, pixel, i, share, deferred);
     return;
@@ -374,7 +439,7 @@ std::uint64_t StaticShading::reshadeLobes(const HitPointBuffer& hits, const Came
                         LobeShare share = pixelLobeShare(hits, p, spread);
                         for (share.sample = 0; share.sample < share.samples; ++share.sample) {
                           const std::size_t i = first + std::size_t(share.sample);
-                          if (!hits.valid[i] || !tracesLobe(hits.hits[i].material.roughness)) continue;
+                          if (!hits.valid[i] || !samplesLobe(hits.hits[i])) continue;
                           share.cone_width = glm::length(hits.hits[i].position - view.position()) * spread;
                           share.stratum_offset = offset(p, share.sample);
                           shadeHit(hits.hits[i], p, i, share, shading[i], walk_rays[i], deferred);
@@ -404,7 +469,7 @@ std::uint64_t StaticShading::reshadeLobes(const HitPointBuffer& hits, const Came
                         const std::size_t p = pixels[k];
                         const std::size_t first = hits.firstSample(p);
                         for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i)
-                          if (hits.valid[i] && tracesLobe(hits.hits[i].material.roughness))
+                          if (hits.valid[i] && samplesLobe(hits.hits[i]))
                             addLobeBounce(pooled[p], textureOcclusion(surfaceOf(hits.hits[i])),
                                           settings_.evaluation.lobe_visibility, shading[i]);
                         float weight = 0.0f;
@@ -479,7 +544,7 @@ StaticCounts StaticShading::shade(const HitPointBuffer& hits, const CameraModel&
                         if (pool_bounces && bounces[p].rough) {
                           const std::size_t first = hits.firstSample(p);
                           for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i)
-                            if (hits.valid[i] && tracesLobe(hits.hits[i].material.roughness))
+                            if (hits.valid[i] && samplesLobe(hits.hits[i]))
                               addLobeBounce(pooled[p], textureOcclusion(surfaceOf(hits.hits[i])),
                                             settings_.evaluation.lobe_visibility, shading[i]);
                         }
@@ -491,6 +556,10 @@ StaticCounts StaticShading::shade(const HitPointBuffer& hits, const CameraModel&
   StaticCounts total;
   for (const StaticCounts& local : counts) total.add(local);
   for (const std::uint64_t rays : sun_rays_) total.sun_rays += rays;
+  for (std::uint64_t& rays : wide_lobe_rays_) {
+    total.interreflection_rays += rays;
+    rays = 0;
+  }
   return total;
 }
 

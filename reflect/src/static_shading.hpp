@@ -57,6 +57,7 @@
 namespace holo::reflect {
 
 class AxisAlignedFilter;
+class WideLobeCache;
 struct FilterCounts;
 
 // What a shade() call did, for the statistics.
@@ -74,9 +75,12 @@ class StaticShading {
  public:
   // Everything must outlive this; rough_map may be null (no material reads it), visibility null
   // (no self-occlusion), else with its lighting under `ibl` (RelicVisibility::lit).
+  // wide_lobes (may be null): the widest lobes' interreflection read from it (wide_lobe_cache.hpp)
+  // instead of traced per sample, its missing entries traced by this shading.
   StaticShading(const RenderScene& scene, const PrefilteredIbl& ibl, const TracerSettings& settings,
                 const RoughForegroundMap* rough_map, const RelicVisibility* visibility = nullptr,
-                const RelicVisibility::Lighting* lighting = nullptr);
+                const RelicVisibility::Lighting* lighting = nullptr,
+                const WideLobeCache* wide_lobes = nullptr);
 
   // Shades every valid sample of `hits` (traced from `view`) into shading and walk_rays (per
   // entry of hits.hits; others are left as they were) and writes the static image: hdr, CV_32FC3
@@ -107,7 +111,8 @@ class StaticShading {
                              std::vector<PixelBounce>& accumulated, cv::Mat& hdr,
                              const AxisAlignedFilter* filter = nullptr,
                              FilterCounts* filter_counts = nullptr) const;
-  // Some relic material traces its lobe's strata for the interreflection.
+  // Some relic material traces its lobe's strata per sample for the interreflection (not read
+  // from the wide lobes' cache).
   bool tracesLobes() const { return lobe_materials_; }
 
  private:
@@ -173,6 +178,14 @@ class StaticShading {
                          const SplitSumShading& second, const LobeShare& share, std::uint64_t& rays) const;
   // Whether a material this rough traces its lobe's strata for the interreflection.
   bool tracesLobe(float roughness) const;
+  // Whether the hit point traces its lobe's strata itself (tracesLobe, not read from the cache).
+  bool samplesLobe(const HitPoint& hp) const;
+  // Whether the hit point reads its lobe from the wide lobes' cache.
+  bool readsWideLobe(const HitPoint& hp) const;
+  // A wide lobe cache entry: every stratum of the lobe of a material `roughness` rough at
+  // `position` (unit `normal`) for the eye along `to_viewer`, traced at once.
+  LobeBounce traceWholeLobe(const vec3& position, const vec3& normal, const vec3& to_viewer,
+                            float roughness) const;
   // The factor the occlusion texture puts on a surface's reflected light: beyond the visibility's
   // open share where the visibility covers it, the texture's own occlusion elsewhere.
   float textureOcclusion(const SurfacePoint& surface) const;
@@ -188,8 +201,10 @@ class StaticShading {
   const RoughForegroundMap* rough_map_;
   const RelicVisibility* visibility_;
   const RelicVisibility::Lighting* lighting_;
+  const WideLobeCache* wide_lobes_;
   std::optional<SunLight> sun_;
   mutable tbb::enumerable_thread_specific<std::uint64_t> sun_rays_;
+  mutable tbb::enumerable_thread_specific<std::uint64_t> wide_lobe_rays_;  // tracing cache entries
   bool lobe_materials_ = false;  // some relic material traces its lobe (tracesLobe)
 };
 

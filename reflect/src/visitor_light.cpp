@@ -111,17 +111,27 @@ VisitorLight::Coefficients VisitorLight::coefficientsAt(const vec3& position) co
     const float w = ((probe & 1) ? f.x : 1.0f - f.x) * ((probe & 2) ? f.y : 1.0f - f.y) *
                     ((probe & 4) ? f.z : 1.0f - f.z);
     if (w == 0.0f) continue;
-    for (std::size_t i = 0; i < 9; ++i) c[i] += w * coefficients_[std::size_t(probe)][i];
+    // The 27 floats as one run, which the compiler vectorises (each element's sum as before).
+    const float* from = &coefficients_[std::size_t(probe)][0].x;
+    float* to = &c[0].x;
+    for (std::size_t k = 0; k < 27; ++k) to[k] += w * from[k];
   }
   return c;
 }
 
 namespace {
 
-vec3 convolve(const std::array<vec3, 9>& c, const vec3& normal) {
-  const auto y = IrradianceSH::basis(normal);
+// kCosineLobe_i Y_i(direction): the clamped-cosine convolution's weights of the 9 coefficients.
+std::array<float, 9> cosineLobe(const vec3& direction) {
+  const auto y = IrradianceSH::basis(direction);
+  std::array<float, 9> lobe{};
+  for (std::size_t i = 0; i < 9; ++i) lobe[i] = IrradianceSH::kCosineLobe[i] * y[i];
+  return lobe;
+}
+
+vec3 convolve(const std::array<vec3, 9>& c, const std::array<float, 9>& lobe) {
   vec3 e(0.0f);
-  for (std::size_t i = 0; i < 9; ++i) e += IrradianceSH::kCosineLobe[i] * y[i] * c[i];
+  for (std::size_t i = 0; i < 9; ++i) e += lobe[i] * c[i];
   return e;
 }
 
@@ -129,39 +139,71 @@ vec3 convolve(const std::array<vec3, 9>& c, const vec3& normal) {
 
 vec3 VisitorLight::irradianceChange(const vec3& position, const vec3& normal) const {
   if (empty_) return vec3(0.0f);
-  return convolve(coefficientsAt(position), normal);
+  return convolve(coefficientsAt(position), cosineLobe(normal));
 }
 
-std::uint64_t VisitorLight::apply(const HitPointBuffer& hits, const std::vector<SplitSumShading>& shading,
-                                  const PrefilteredIbl& ibl, cv::Mat& hdr) const {
+VisitorLight::Receivers VisitorLight::receivers(const HitPointBuffer& hits,
+                                                const std::vector<SplitSumShading>& shading,
+                                                const PrefilteredIbl& ibl) {
+  Receivers out;
+  out.first.resize(hits.covered.size() + 1, 0);
+  for (std::size_t k = 0; k < hits.covered.size(); ++k) {
+    const std::size_t p = hits.covered[k];
+    std::uint32_t valid = 0;
+    for (std::size_t i = hits.firstSample(p); i < hits.firstSample(p) + std::size_t(hits.sampleCount(p)); ++i)
+      valid += hits.valid[i];
+    out.first[k + 1] = out.first[k] + valid;
+  }
+  out.samples.resize(out.first.back());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                        const std::size_t p = hits.covered[k];
+                        std::size_t s = out.first[k];
+                        const std::size_t first = hits.firstSample(p);
+                        for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i) {
+                          if (!hits.valid[i]) continue;
+                          const HitPoint& hp = hits.hits[i];
+                          Receivers::Sample& sample = out.samples[s++];
+                          sample.index = std::uint32_t(i);
+                          // The diffuse reflectance times the visibility's share of the hall's light,
+                          // per channel.
+                          const vec3 hall = ibl.irradiance(hp.normal);
+                          for (int ch = 0; ch < 3; ++ch)
+                            if (hall[ch] > 1e-6f)
+                              sample.rho[ch] =
+                                  std::clamp(shading[i].diffuse[ch] / hall[ch], 0.0f, 1.0f / kPi);
+                          sample.normal_lobe = cosineLobe(hp.normal);
+                          sample.wide = hp.material.roughness >= kGlossyRoughnessLimit;
+                          if (sample.wide) {
+                            sample.specular_scale = shading[i].specular_scale;
+                            sample.reflected_lobe = cosineLobe(hp.reflected);
+                          }
+                        }
+                      }
+                    });
+  return out;
+}
+
+std::uint64_t VisitorLight::apply(const HitPointBuffer& hits, const Receivers& receivers,
+                                  cv::Mat& hdr) const {
   if (empty_) return 0;
   const std::size_t w = std::size_t(hits.width);
   // One pixel: the mean change over its samples; the probes' light changes over metres, so one
-  // interpolation serves all of them.
-  const auto pixelChange = [&](std::size_t p, std::uint64_t& changed) {
-    const std::size_t first = hits.firstSample(p);
-    const int count = hits.sampleCount(p);
+  // interpolation (at its first valid sample) serves all of them.
+  const auto pixelChange = [&](std::size_t k, std::uint64_t& changed) {
+    const std::uint32_t begin = receivers.first[k], end = receivers.first[k + 1];
+    if (begin == end) return vec3(0.0f);
+    const Coefficients c = coefficientsAt(hits.hits[receivers.samples[begin].index].position);
     vec3 sum(0.0f);
-    Coefficients c{};
-    bool interpolated = false;
-    for (std::size_t i = first; i < first + std::size_t(count); ++i) {
-      if (!hits.valid[i]) continue;
-      const HitPoint& hp = hits.hits[i];
-      const SplitSumShading& sh = shading[i];
-      if (!interpolated) c = coefficientsAt(hp.position);
-      interpolated = true;
-      // The diffuse reflectance times the visibility's share of the hall's light, per channel.
-      const vec3 hall = ibl.irradiance(hp.normal);
-      vec3 rho(0.0f);
-      for (int ch = 0; ch < 3; ++ch)
-        if (hall[ch] > 1e-6f) rho[ch] = std::clamp(sh.diffuse[ch] / hall[ch], 0.0f, 1.0f / kPi);
-      vec3 change = rho * convolve(c, hp.normal);
-      if (hp.material.roughness >= kGlossyRoughnessLimit)
-        change += sh.specular_scale * convolve(c, hp.reflected) / kPi;
+    for (std::uint32_t s = begin; s < end; ++s) {
+      const Receivers::Sample& sample = receivers.samples[s];
+      vec3 change = sample.rho * convolve(c, sample.normal_lobe);
+      if (sample.wide) change += sample.specular_scale * convolve(c, sample.reflected_lobe) / kPi;
       sum += change;
-      ++changed;
     }
-    return sum / float(count);
+    changed += end - begin;
+    return sum / float(hits.sampleCount(hits.covered[k]));
   };
   std::atomic<std::uint64_t> changed{0};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
@@ -170,7 +212,7 @@ std::uint64_t VisitorLight::apply(const HitPointBuffer& hits, const std::vector<
                       for (std::size_t k = r.begin(); k < r.end(); ++k) {
                         const std::size_t p = hits.covered[k];
                         const int x = int(p % w), y = int(p / w);
-                        setRgb(hdr, x, y, glm::max(rgbAt(hdr, x, y) + pixelChange(p, local), vec3(0.0f)));
+                        setRgb(hdr, x, y, glm::max(rgbAt(hdr, x, y) + pixelChange(k, local), vec3(0.0f)));
                       }
                       changed += local;
                     });

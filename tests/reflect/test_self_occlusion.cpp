@@ -291,6 +291,55 @@ TEST(SelfOcclusion, RoughLobeVisibilityWeightedByTheLightBringsTheMetalBowlNeare
   EXPECT_NEAR(with.meanRatio(), 1.0, 0.05);
 }
 
+// The Lambert bowl's lobe (roughness 1) read from the wide lobes' object-space cache instead of
+// traced per sample: as near the truth as the per-sample strata (pooled and filtered). An eye that
+// moves back and forth (a face following a visitor) redoes the view's static shading every frame:
+// once it is back where it was, every entry it reads is kept, so its interreflection casts no ray,
+// where the per-sample strata cast theirs again; and nothing is left to filter or refine.
+TEST(SelfOcclusion, WideLobeCacheKeepsTheLambertBowlNearTruthAndAReturningEyeCastsNoRay) {
+  constexpr int kSize = 40, kSpp = 128;
+  const Environment env(skyPanorama(128, 64));
+  const PrefilteredIbl ibl(env, PrefilterOptions{6, 32, 16});
+  const RenderScene scene(relics::makeRelic("bowl"), {});
+  const CameraModel view = bowlView(scene.relicBounds(), kSize);
+  cv::Mat relic(kSize, kSize, CV_8UC1, cv::Scalar(0));
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) {
+      HitPoint hp;
+      relic.at<std::uint8_t>(y, x) = traceHitPoint(scene, view, vec2(float(x), float(y)), hp) ? 1 : 0;
+    }
+  const cv::Mat truth = reference::renderPathTraced(reference::PathTracer(scene, env), view, kSpp);
+  TracerSettings per_sample = ciSettings();
+  per_sample.evaluation.wide_lobe_cache = false;
+  const RegionError cached = regionError(renderOurs(scene, ibl, view, ciSettings()).hdr, truth, relic);
+  const RegionError sampled = regionError(renderOurs(scene, ibl, view, per_sample).hdr, truth, relic);
+  std::printf("Lambert bowl, %d px: rmse %.4f from the cache, %.4f per sample; mean ours/truth %.3f, %.3f\n",
+              cached.pixels, cached.rmse, sampled.rmse, cached.meanRatio(), sampled.meanRatio());
+  EXPECT_LT(cached.rmse, 1.03 * sampled.rmse);
+  EXPECT_NEAR(cached.meanRatio(), sampled.meanRatio(), 0.01);
+
+  // The eye 1 cm aside, then back: each frame's static shading is redone (no reuse).
+  const vec3 target(0.0f, 0.45f * scene.relicBounds().hi.y, 0.0f);
+  const CameraModel moved = lookAtCamera(view.position() + vec3(0.01f, 0.0f, 0.0f), target,
+                                         framingFovDeg(view.position(), scene.relicBounds()), kSize, kSize);
+  FrameRenderer with_cache(scene, ibl, ciSettings()), without_cache(scene, ibl, per_sample);
+  FrameResult a, b;
+  for (const CameraModel* eye : {&view, &moved, &view}) {
+    a = with_cache.render({}, {}, {*eye});
+    b = without_cache.render({}, {}, {*eye});
+  }
+  const ViewImages& va = a.views.at(0);
+  const ViewImages& vb = b.views.at(0);
+  std::printf("returning eye: %llu interreflection rays with the cache, %llu per sample\n",
+              (unsigned long long)va.interreflection_rays, (unsigned long long)vb.interreflection_rays);
+  ASSERT_FALSE(va.static_reused);
+  ASSERT_GT(vb.interreflection_rays, 200u);
+  EXPECT_EQ(va.interreflection_rays, 0u);
+  EXPECT_FALSE(a.plan.has(Pass::AxisAlignedFilter)) << a.plan.describe();
+  EXPECT_FALSE(a.plan.has(Pass::ProgressiveRefinement)) << a.plan.describe();
+  EXPECT_TRUE(b.plan.has(Pass::AxisAlignedFilter)) << b.plan.describe();
+}
+
 // The figures (opt-in): Lambert and rough metal bowls under two real panoramas, and the kettle's
 // handle and spout, ours against the path tracer with and without the effect.
 TEST(SelfOcclusion, Figures) {

@@ -52,6 +52,7 @@
 namespace holo::reflect {
 
 class PlinthLight;
+class WideLobeCache;
 
 class FrameRenderer {
  public:
@@ -115,6 +116,12 @@ class FrameRenderer {
   bool lobe_filter_ = false;  // the plan's AxisAlignedFilter: some material samples its rough lobe
   std::string lobe_filter_reason_;
   std::vector<std::unique_ptr<ViewCache>> caches_;  // per view slot
+  // The interreflection of the lobes at least kGlossyRoughnessLimit rough, per vertex and eye
+  // direction, shared by the views (TracerSettings::EvaluationKnobs::wide_lobe_cache); null where
+  // no material is that rough or it is off. Its entries hold for the light and plan hashed in
+  // wide_lobes_key_.
+  std::unique_ptr<WideLobeCache> wide_lobes_;
+  std::uint64_t wide_lobes_key_ = 0;
   // The plinth's light (TracerSettings::plinth), relit when the IBL's panorama or relic turn
   // changes; null without a plinth.
   std::unique_ptr<PlinthLight> plinth_light_;

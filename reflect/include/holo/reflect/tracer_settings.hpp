@@ -57,6 +57,13 @@ struct TracerEvaluationKnobs {
   // light (static_shading.hpp); false: by the open samples' count alone, the hall's light as if
   // spread evenly over the lobe. Default true; false measures what weighting by the light adds.
   bool lobe_visibility = true;
+  // The interreflection of lobes at least kGlossyRoughnessLimit rough read from an object-space
+  // cache per vertex and eye direction, shared by every view and frame while the light holds
+  // (wide_lobe_cache.hpp in reflect/src); false: each sample traces its share of the strata, pooled,
+  // filtered and refined as rougher-than-glossy lobes below that limit are. Default true: a view
+  // that moves (a face following an eye) redoes its static shading every frame, and with the cache
+  // that costs lookups instead of rays; false is the per-pixel estimate it is checked against.
+  bool wide_lobe_cache = true;
   // The panorama's sun as a directional light with a shadow ray on the relic's diffuse surfaces
   // (sun_light.hpp in reflect/src) where the effect plan wants it (a sun found in the panorama);
   // false: the sun stays in the 9-coefficient diffuse light. Default true; false measures what the

@@ -47,10 +47,33 @@ class VisitorLight {
   // The irradiance change dE at a point (clamped into the probes' box) for a unit normal.
   vec3 irradianceChange(const vec3& position, const vec3& normal) const;
 
+  // What a view's static shading fixes of each covered pixel's response to the change: per valid
+  // sample its effective diffuse reflectance rho_eff and the clamped-cosine lobe of its normal's
+  // SH basis (kCosineLobe_i Y_i(n)), with a wide lobe's specular scale and reflected direction's
+  // lobe. They depend on the hit points and static shading only, not on the visitors, so a view
+  // whose static shading is reused reuses them (frame_renderer.hpp's view cache) and each frame
+  // pays only for the probes' interpolation and two 9-term sums per sample.
+  struct Receivers {
+    struct Sample {
+      std::uint32_t index;                    // into hits.hits
+      vec3 rho{0.0f};                         // rho_eff per channel
+      std::array<float, 9> normal_lobe{};     // kCosineLobe_i Y_i(n)
+      bool wide = false;                      // the material at least kGlossyRoughnessLimit rough
+      vec3 specular_scale{0.0f};              // with wide
+      std::array<float, 9> reflected_lobe{};  // with wide: kCosineLobe_i Y_i(r)
+    };
+    std::vector<std::uint32_t> first;  // per entry of hits.covered (and one past): its samples
+    std::vector<Sample> samples;
+  };
+  // The receivers of `hits` shaded `shading` under the hall `ibl`; independent of any frame's
+  // visitors (callable before build()).
+  static Receivers receivers(const HitPointBuffer& hits, const std::vector<SplitSumShading>& shading,
+                             const PrefilteredIbl& ibl);
+
   // Adds each covered pixel's mean change over its samples to hdr (view-sized CV_32FC3 linear
-  // BGR, the frame's image so far), clamping the pixel at 0. Returns the samples changed.
-  std::uint64_t apply(const HitPointBuffer& hits, const std::vector<SplitSumShading>& shading,
-                      const PrefilteredIbl& ibl, cv::Mat& hdr) const;
+  // BGR, the frame's image so far), clamping the pixel at 0. `receivers` are receivers() of the
+  // same hits and shading. Returns the samples changed.
+  std::uint64_t apply(const HitPointBuffer& hits, const Receivers& receivers, cv::Mat& hdr) const;
 
   // This frame's counters: voxel splats over all probes, covered texels over all probes.
   std::uint64_t splats() const { return splats_; }
