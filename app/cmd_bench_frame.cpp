@@ -60,6 +60,14 @@ int runBenchFrame(BenchFrameCommand command) {
         "oldest camera frame shown: median {:.1f} ms, p99 {:.1f} ms (bars 50 and 80 ms: {}, {})\n",
         *b.latency_median_ms, *b.latency_p99_ms, *b.latency_median_ms <= 50.0 ? "met" : "not met",
         *b.latency_p99_ms <= 80.0 ? "met" : "not met");
+  if (b.latency_median_ms && b.latency_parts_median_ms && b.median.total > 0) {
+    const LatencyParts& p = *b.latency_parts_median_ms;
+    std::cout << fmt::format(
+        "latency: median {:.2f} frame times; its parts (medians, ms): in the mailbox {:.1f}, foreground "
+        "{:.1f}, waiting for the loop {:.1f}, rendering {:.1f}, presenting {:.1f}\n",
+        *b.latency_median_ms / b.median.total, p.in_mailbox, p.foreground, p.waiting_for_loop, p.rendering,
+        p.presenting);
+  }
   std::cout << fmt::format(
       "frame time: median {:.1f} ms, p99 {:.1f} ms = {:.2f}x the median (bar 1.5x: {})\n", b.median.total,
       b.frame_p99_ms, b.median.total > 0 ? b.frame_p99_ms / b.median.total : 0.0,
@@ -95,6 +103,14 @@ int runBenchFrame(BenchFrameCommand command) {
     j["frame_p99_ms"] = b.frame_p99_ms;
     if (b.latency_median_ms) j["latency_median_ms"] = *b.latency_median_ms;
     if (b.latency_p99_ms) j["latency_p99_ms"] = *b.latency_p99_ms;
+    if (b.latency_median_ms && b.median.total > 0)
+      j["latency_median_frames"] = *b.latency_median_ms / b.median.total;
+    if (const auto& p = b.latency_parts_median_ms)
+      j["latency_parts_median_ms"] = {{"in_mailbox", p->in_mailbox},
+                                      {"foreground", p->foreground},
+                                      {"waiting_for_loop", p->waiting_for_loop},
+                                      {"rendering", p->rendering},
+                                      {"presenting", p->presenting}};
     j["page_faults_per_frame"] = b.page_faults_per_frame;
     if (b.error_vs_reference_codes) j["error_vs_full_aa_codes"] = *b.error_vs_reference_codes;
     if (b.display_digest) j["display_digest"] = fmt::format("{:016x}", *b.display_digest);

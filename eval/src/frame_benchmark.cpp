@@ -230,14 +230,24 @@ FrameBenchmark benchFrame(FrameBenchOptions options) {
   if (options.reference) result.error_vs_reference_codes = median(error_codes);
   if (options.digest) result.display_digest = digest;
   std::vector<double> frame_ms, latency_ms;
+  std::array<std::vector<double>, 5> parts_ms;
   for (const FrameReport& report : reports) {
     frame_ms.push_back(report.times.total);
-    if (const double ms = report.arrivalToPresentMs(); ms >= 0) latency_ms.push_back(ms);
+    if (const double ms = report.arrivalToPresentMs(); ms >= 0) {
+      latency_ms.push_back(ms);
+      const LatencyParts parts = report.latencyParts();
+      const std::array<double, 5> values{parts.in_mailbox, parts.foreground, parts.waiting_for_loop,
+                                         parts.rendering, parts.presenting};
+      for (std::size_t k = 0; k < values.size(); ++k) parts_ms[k].push_back(values[k]);
+    }
   }
   result.frame_p99_ms = percentile(frame_ms, 0.99);
   if (options.loop.live && !latency_ms.empty()) {
     result.latency_median_ms = median(latency_ms);
     result.latency_p99_ms = percentile(latency_ms, 0.99);
+    result.latency_parts_median_ms =
+        LatencyParts{median(parts_ms[0]), median(parts_ms[1]), median(parts_ms[2]), median(parts_ms[3]),
+                     median(parts_ms[4])};
   }
   return result;
 }

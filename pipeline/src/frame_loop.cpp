@@ -169,6 +169,7 @@ std::vector<reflect::ForegroundCameraImage> FrameLoop::cameraImages(const std::v
 
 FrameLoop::ForegroundFrame FrameLoop::runForeground() {
   ForegroundFrame out;
+  out.acquired_at = Clock::now();
   CameraAcquisition::Frames acquired = acquisition_->next();
   out.frames = std::move(acquired.frames);
   out.cameras_ended = acquired.ended;
@@ -182,6 +183,7 @@ FrameLoop::ForegroundFrame FrameLoop::runForeground() {
     foreground_.learnBackground(out.frames);
     if (--relearn_left_ == 0) HOLO_LOG_INFO("background learnt again");
     out.masks.resize(out.frames.size());
+    out.done_at = Clock::now();
     out.foreground_ms = msSince(t0);
     return out;
   }
@@ -193,6 +195,7 @@ FrameLoop::ForegroundFrame FrameLoop::runForeground() {
     const depthfilter::CameraForeground& result = foreground_.lastResult(i);
     if (result.present && !out.frames[i].colour.empty()) out.masks[i] = result.mask.clone();
   }
+  out.done_at = Clock::now();
   out.foreground_ms = msSince(t0);
   return out;
 }
@@ -208,14 +211,19 @@ FrameReport FrameLoop::step() {
   report.times.acquisition = fg.acquisition_ms;
   report.cameras_live = fg.cameras_live;
   report.camera_skew_ms = fg.camera_skew_ms;
-  for (const RgbdFrame& frame : fg.frames)
+  report.acquired_at = fg.acquired_at;
+  report.foreground_done_at = fg.done_at;
+  for (const RgbdFrame& frame : fg.frames) {
     report.camera_arrivals.push_back(frame.colour.empty() ? std::nullopt : std::optional(frame.host_time));
+    report.camera_sequences.push_back(frame.colour.empty() ? std::nullopt : std::optional(frame.sequence));
+  }
   if (fg.cameras_ended && fg.cameras_live == 0) {  // nothing more will come: no frame to render
     report.cameras_ended = true;
     return report;
   }
   // The next frame's acquisition and foreground run on a worker while this one is rendered.
   const auto render_start = Clock::now();
+  report.rendering_started_at = render_start;
   if (options_.overlap) {
     const double wait_ms = options_.live && options_.late_acquisition
                                ? std::max(0.0, 0.9 * last_render_ms_ - last_foreground_ms_)
@@ -239,6 +247,7 @@ FrameReport FrameLoop::step() {
 
   const std::vector<CameraModel> views = trackEyes(report);
   render(fg, views, report);
+  report.rendering_done_at = Clock::now();
   const CameraFrameCounts counts = cameraFrameCounts();
   report.dropped_frames = counts.dropped - dropped_before_;
   dropped_before_ = counts.dropped;

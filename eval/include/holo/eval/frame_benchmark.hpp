@@ -59,6 +59,9 @@ struct FrameBenchmark {
   // 99th percentile. Milliseconds.
   double frame_p99_ms = 0;
   std::optional<double> latency_median_ms, latency_p99_ms;
+  // Live: the median of each part of the latency over the measured frames (pipeline::LatencyParts;
+  // medians of parts need not add up to the median latency).
+  std::optional<pipeline::LatencyParts> latency_parts_median_ms;
   double frameOverFloor() const { return floor_ms > 0 ? median.total / floor_ms : 0.0; }
 };
 

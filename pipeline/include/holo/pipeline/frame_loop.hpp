@@ -194,6 +194,7 @@ class FrameLoop {
     int cameras_live = 0;
     double camera_skew_ms = -1;  // FrameReport::camera_skew_ms
     double acquisition_ms = 0, foreground_ms = 0;
+    Clock::time_point acquired_at, done_at;  // FrameReport's acquired_at, foreground_done_at
   };
   ForegroundFrame runForeground();
   std::vector<reflect::ForegroundCameraImage> cameraImages(const std::vector<RgbdFrame>& frames,
