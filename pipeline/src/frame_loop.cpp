@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <chrono>
 #include <opencv2/imgproc.hpp>
-#include <thread>
 
 #include "camera_acquisition.hpp"
 #include "frame_statistics.hpp"
@@ -205,7 +204,7 @@ FrameReport FrameLoop::step() {
   report.index = index_;
   const auto frame_start = Clock::now();
 
-  // This frame's foreground: computed while the previous frame was rendered (overlap), else now.
+  // This frame's foreground: computed on the worker during the previous frame (overlap), else now.
   ForegroundFrame fg = next_foreground_.valid() ? next_foreground_.get() : runForeground();
   report.times.pipeline_wait = msSince(frame_start);
   report.times.acquisition = fg.acquisition_ms;
@@ -221,19 +220,10 @@ FrameReport FrameLoop::step() {
     report.cameras_ended = true;
     return report;
   }
-  // The next frame's acquisition and foreground run on a worker while this one is rendered.
-  const auto render_start = Clock::now();
-  report.rendering_started_at = render_start;
-  if (options_.overlap) {
-    const double wait_ms = options_.live && options_.late_acquisition
-                               ? std::max(0.0, 0.9 * last_render_ms_ - last_foreground_ms_)
-                               : 0.0;
-    next_foreground_ = std::async(std::launch::async, [this, wait_ms] {
-      if (wait_ms > 0) std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(wait_ms));
-      return runForeground();
-    });
-  }
-  last_foreground_ms_ = fg.foreground_ms;
+  report.rendering_started_at = Clock::now();
+  // Deterministic: the next frame's camera frames are fixed, so its foreground runs while this
+  // frame renders.
+  if (options_.overlap && !options_.live) startNextForeground();
 
   if (keep_camera_images_) {
     camera_colour_.assign(fg.frames.size(), cv::Mat());
@@ -253,11 +243,18 @@ FrameReport FrameLoop::step() {
   dropped_before_ = counts.dropped;
   addViewCounters(last_result_, report);
   fixExposure();
+  // Live: the next frame's camera frames are taken only now, so that they are the newest when a
+  // rendering can start with them (taken earlier they would wait through this rendering); its
+  // foreground runs while this frame is presented (a window waits for the display there).
+  if (options_.overlap && options_.live) startNextForeground();
   present(report);
-  last_render_ms_ = msSince(render_start);
   report.times.total = msSince(frame_start);
   ++index_;
   return report;
+}
+
+void FrameLoop::startNextForeground() {
+  next_foreground_ = std::async(std::launch::async, [this] { return runForeground(); });
 }
 
 std::vector<CameraModel> FrameLoop::trackEyes(FrameReport& report) {

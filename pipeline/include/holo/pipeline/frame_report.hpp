@@ -33,8 +33,9 @@ struct StageTimes {
   double composition = 0;  // composition, tone mapping
   double display = 0;      // eye tracking, quad layout, presentation
   double total = 0;        // the frame's wall time on the loop's thread (the frame period)
-  // Overlap: how long the frame waited for its foreground, computed on the worker while the
-  // previous frame was rendered (about 0 when it was ready); without: acquisition + foreground.
+  // Overlap: how long the frame waited for its foreground, computed on the worker during the
+  // previous frame (deterministic: its rendering and presentation; live: its presentation only;
+  // about 0 when it was ready); without: acquisition + foreground.
   double pipeline_wait = 0;
   // The appliance's own work, one stage after another: foreground, reflections, composition,
   // display (not acquisition, which waits for the cameras).
