@@ -8,10 +8,10 @@
 //
 // Acquisition overlaps processing in both modes (camera_acquisition.hpp in pipeline/src):
 //  * live: one capture thread per camera publishes into a latest-frame mailbox; the foreground
-//    step takes the newest frame of each camera once the previous frame is rendered (never
-//    earlier, so no camera frame waits through another frame's rendering) and never waits for one. A camera
-//    silent for longer than stale_camera_s is dropped from the foreground (the others go on; with none, IBL
-//    only).
+//    step takes the newest frame of each camera once the previous frame is rendered (so no
+//    camera frame waits through another frame's rendering) and never waits for one. A camera
+//    silent for longer than stale_camera_s is dropped from the foreground (the others go on;
+//    with none, IBL only).
 //  * deterministic (headless runs, tests, benchmarks): every camera's next frame is grabbed in
 //    turn on a worker while the current one is processed, so the same scene or recording always
 //    gives the same images. A camera that gives no frame within its silence timeout is missing

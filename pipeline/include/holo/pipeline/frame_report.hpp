@@ -50,7 +50,6 @@ struct LatencyParts {
   double waiting_for_loop = 0;  // its result, until the loop's thread started rendering with it
   double rendering = 0;         // eye tracking, the reflections of the four views, composition
   double presenting = 0;        // handing the views to the presenter
-  double total() const { return in_mailbox + foreground + waiting_for_loop + rendering + presenting; }
 };
 
 struct FrameReport {
