@@ -60,10 +60,22 @@ int runBenchFrame(BenchFrameCommand command) {
         "oldest camera frame shown: median {:.1f} ms, p99 {:.1f} ms (bars 50 and 80 ms: {}, {})\n",
         *b.latency_median_ms, *b.latency_p99_ms, *b.latency_median_ms <= 50.0 ? "met" : "not met",
         *b.latency_p99_ms <= 80.0 ? "met" : "not met");
+  if (b.latency_median_ms && b.latency_parts_median_ms && b.median.total > 0) {
+    const LatencyParts& p = *b.latency_parts_median_ms;
+    std::cout << fmt::format(
+        "latency: median {:.2f} frame times; its parts (medians, ms): in the mailbox {:.1f}, foreground "
+        "{:.1f}, waiting for the loop {:.1f}, rendering {:.1f}, presenting {:.1f}\n",
+        *b.latency_median_ms / b.median.total, p.in_mailbox, p.foreground, p.waiting_for_loop, p.rendering,
+        p.presenting);
+  }
   std::cout << fmt::format(
       "frame time: median {:.1f} ms, p99 {:.1f} ms = {:.2f}x the median (bar 1.5x: {})\n", b.median.total,
       b.frame_p99_ms, b.median.total > 0 ? b.frame_p99_ms / b.median.total : 0.0,
       b.frame_p99_ms <= 1.5 * b.median.total ? "met" : "not met");
+  std::cout << fmt::format(
+      "CPU per frame (all threads): median {:.1f} ms, p99 {:.1f} ms = {:.2f}x the median\n",
+      b.frame_cpu_median_ms, b.frame_cpu_p99_ms,
+      b.frame_cpu_median_ms > 0 ? b.frame_cpu_p99_ms / b.frame_cpu_median_ms : 0.0);
   if (options.preload && !options.loop.live)
     std::cout << fmt::format(
         "camera frames simulated before timing and replayed (setup incl. simulation {:.1f} s); "
@@ -91,10 +103,20 @@ int runBenchFrame(BenchFrameCommand command) {
     j["overlap"] = options.loop.overlap;
     j["busy_cores"] = b.busy_cores;
     j["live"] = options.loop.live;
-    j["late_acquisition"] = options.loop.late_acquisition;
     j["frame_p99_ms"] = b.frame_p99_ms;
+    j["frame_cpu_median_ms"] = b.frame_cpu_median_ms;
+    j["frame_cpu_p99_ms"] = b.frame_cpu_p99_ms;
+    j["frame_cpu_ms"] = b.frame_cpu_ms;
     if (b.latency_median_ms) j["latency_median_ms"] = *b.latency_median_ms;
     if (b.latency_p99_ms) j["latency_p99_ms"] = *b.latency_p99_ms;
+    if (b.latency_median_ms && b.median.total > 0)
+      j["latency_median_frames"] = *b.latency_median_ms / b.median.total;
+    if (const auto& p = b.latency_parts_median_ms)
+      j["latency_parts_median_ms"] = {{"in_mailbox", p->in_mailbox},
+                                      {"foreground", p->foreground},
+                                      {"waiting_for_loop", p->waiting_for_loop},
+                                      {"rendering", p->rendering},
+                                      {"presenting", p->presenting}};
     j["page_faults_per_frame"] = b.page_faults_per_frame;
     if (b.error_vs_reference_codes) j["error_vs_full_aa_codes"] = *b.error_vs_reference_codes;
     if (b.display_digest) j["display_digest"] = fmt::format("{:016x}", *b.display_digest);
@@ -175,9 +197,6 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_flag("--live", options->loop.live,
                    "Cameras at their rate on their own capture threads (a loop of frames simulated before "
                    "the run): drops frames the loop is late for and measures arrival-to-present latency");
-      sub.add_flag("!--no-late-acquisition", options->loop.late_acquisition,
-                   "Live: the worker takes the next frame's camera frames at once instead of as late as "
-                   "its foreground can still finish with the rendering");
       sub.add_flag("!--no-overlap", options->loop.overlap,
                    "Compute each frame's foreground after the previous frame instead of during it");
       sub.add_option("--json", command->json, "Write medians, per-frame times and the floor here");

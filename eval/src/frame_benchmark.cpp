@@ -7,6 +7,7 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <ctime>
 
 #include "holo/core/denormals.hpp"
 #include "holo/core/log.hpp"
@@ -110,6 +111,13 @@ double processCpuSeconds() {
   return seconds(usage.ru_utime) + seconds(usage.ru_stime);
 }
 
+// The CPU time of the process so far, to the nanosecond (getrusage counts in scheduler ticks), ms.
+double processCpuMs() {
+  timespec t{};
+  ::clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return 1e3 * double(t.tv_sec) + 1e-6 * double(t.tv_nsec);
+}
+
 // Minor page faults of the process so far: memory freshly mapped and zeroed by the kernel (large
 // buffers allocated per frame instead of reused).
 long pageFaults() {
@@ -205,8 +213,12 @@ FrameBenchmark benchFrame(FrameBenchOptions options) {
   const double cpu_start = processCpuSeconds();
   const long faults_start = pageFaults();
   const Stopwatch wall;
+  double cpu_before = processCpuMs();
   for (int i = 0; i < options.frames; ++i) {
     reports.push_back(loop.step());
+    const double cpu_after = processCpuMs();
+    result.frame_cpu_ms.push_back(cpu_after - cpu_before);
+    cpu_before = cpu_after;
     views.push_back(loop.faceViews());
     if (options.reference)  // untimed, but it perturbs the overlapped worker's times
       error_codes.push_back(meanAbsCodes(loop.lastResult(), loop.renderReference(reference_settings)));
@@ -230,14 +242,26 @@ FrameBenchmark benchFrame(FrameBenchOptions options) {
   if (options.reference) result.error_vs_reference_codes = median(error_codes);
   if (options.digest) result.display_digest = digest;
   std::vector<double> frame_ms, latency_ms;
+  std::array<std::vector<double>, 5> parts_ms;
   for (const FrameReport& report : reports) {
     frame_ms.push_back(report.times.total);
-    if (const double ms = report.arrivalToPresentMs(); ms >= 0) latency_ms.push_back(ms);
+    if (const double ms = report.arrivalToPresentMs(); ms >= 0) {
+      latency_ms.push_back(ms);
+      const LatencyParts parts = report.latencyParts();
+      const std::array<double, 5> values{parts.in_mailbox, parts.foreground, parts.waiting_for_loop,
+                                         parts.rendering, parts.presenting};
+      for (std::size_t k = 0; k < values.size(); ++k) parts_ms[k].push_back(values[k]);
+    }
   }
   result.frame_p99_ms = percentile(frame_ms, 0.99);
+  result.frame_cpu_median_ms = median(result.frame_cpu_ms);
+  result.frame_cpu_p99_ms = percentile(result.frame_cpu_ms, 0.99);
   if (options.loop.live && !latency_ms.empty()) {
     result.latency_median_ms = median(latency_ms);
     result.latency_p99_ms = percentile(latency_ms, 0.99);
+    result.latency_parts_median_ms =
+        LatencyParts{median(parts_ms[0]), median(parts_ms[1]), median(parts_ms[2]), median(parts_ms[3]),
+                     median(parts_ms[4])};
   }
   return result;
 }

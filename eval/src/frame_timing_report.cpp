@@ -125,6 +125,15 @@ std::string timingJson(const StageTimes& m, const std::vector<FrameReport>& repo
     f["shaded_samples"] = r.shaded_samples;
     f["interreflected_samples"] = r.interreflected_samples;
     f["interreflection_rays"] = r.interreflection_rays;
+    if (const double latency = r.arrivalToPresentMs(); latency >= 0) {
+      const pipeline::LatencyParts parts = r.latencyParts();
+      f["latency_ms"] = {{"total", latency},
+                         {"in_mailbox", parts.in_mailbox},
+                         {"foreground", parts.foreground},
+                         {"waiting_for_loop", parts.waiting_for_loop},
+                         {"rendering", parts.rendering},
+                         {"presenting", parts.presenting}};
+    }
     nlohmann::json passes;
     for (std::size_t p = 0; p < kPassCount; ++p)
       passes[reflect::passName(static_cast<reflect::Pass>(p))] = r.pass_ms[p];

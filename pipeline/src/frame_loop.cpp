@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <chrono>
 #include <opencv2/imgproc.hpp>
-#include <thread>
 
 #include "camera_acquisition.hpp"
 #include "frame_statistics.hpp"
@@ -169,6 +168,7 @@ std::vector<reflect::ForegroundCameraImage> FrameLoop::cameraImages(const std::v
 
 FrameLoop::ForegroundFrame FrameLoop::runForeground() {
   ForegroundFrame out;
+  out.acquired_at = Clock::now();
   CameraAcquisition::Frames acquired = acquisition_->next();
   out.frames = std::move(acquired.frames);
   out.cameras_ended = acquired.ended;
@@ -182,6 +182,7 @@ FrameLoop::ForegroundFrame FrameLoop::runForeground() {
     foreground_.learnBackground(out.frames);
     if (--relearn_left_ == 0) HOLO_LOG_INFO("background learnt again");
     out.masks.resize(out.frames.size());
+    out.done_at = Clock::now();
     out.foreground_ms = msSince(t0);
     return out;
   }
@@ -193,6 +194,7 @@ FrameLoop::ForegroundFrame FrameLoop::runForeground() {
     const depthfilter::CameraForeground& result = foreground_.lastResult(i);
     if (result.present && !out.frames[i].colour.empty()) out.masks[i] = result.mask.clone();
   }
+  out.done_at = Clock::now();
   out.foreground_ms = msSince(t0);
   return out;
 }
@@ -202,30 +204,26 @@ FrameReport FrameLoop::step() {
   report.index = index_;
   const auto frame_start = Clock::now();
 
-  // This frame's foreground: computed while the previous frame was rendered (overlap), else now.
+  // This frame's foreground: computed on the worker during the previous frame (overlap), else now.
   ForegroundFrame fg = next_foreground_.valid() ? next_foreground_.get() : runForeground();
   report.times.pipeline_wait = msSince(frame_start);
   report.times.acquisition = fg.acquisition_ms;
   report.cameras_live = fg.cameras_live;
   report.camera_skew_ms = fg.camera_skew_ms;
-  for (const RgbdFrame& frame : fg.frames)
+  report.acquired_at = fg.acquired_at;
+  report.foreground_done_at = fg.done_at;
+  for (const RgbdFrame& frame : fg.frames) {
     report.camera_arrivals.push_back(frame.colour.empty() ? std::nullopt : std::optional(frame.host_time));
+    report.camera_sequences.push_back(frame.colour.empty() ? std::nullopt : std::optional(frame.sequence));
+  }
   if (fg.cameras_ended && fg.cameras_live == 0) {  // nothing more will come: no frame to render
     report.cameras_ended = true;
     return report;
   }
-  // The next frame's acquisition and foreground run on a worker while this one is rendered.
-  const auto render_start = Clock::now();
-  if (options_.overlap) {
-    const double wait_ms = options_.live && options_.late_acquisition
-                               ? std::max(0.0, 0.9 * last_render_ms_ - last_foreground_ms_)
-                               : 0.0;
-    next_foreground_ = std::async(std::launch::async, [this, wait_ms] {
-      if (wait_ms > 0) std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(wait_ms));
-      return runForeground();
-    });
-  }
-  last_foreground_ms_ = fg.foreground_ms;
+  report.rendering_started_at = Clock::now();
+  // Deterministic: the next frame's camera frames are fixed, so its foreground runs while this
+  // frame renders.
+  if (options_.overlap && !options_.live) startNextForeground();
 
   if (keep_camera_images_) {
     camera_colour_.assign(fg.frames.size(), cv::Mat());
@@ -239,16 +237,24 @@ FrameReport FrameLoop::step() {
 
   const std::vector<CameraModel> views = trackEyes(report);
   render(fg, views, report);
+  report.rendering_done_at = Clock::now();
   const CameraFrameCounts counts = cameraFrameCounts();
   report.dropped_frames = counts.dropped - dropped_before_;
   dropped_before_ = counts.dropped;
   addViewCounters(last_result_, report);
   fixExposure();
+  // Live: the next frame's camera frames are taken only now, so that they are the newest when a
+  // rendering can start with them (taken earlier they would wait through this rendering); its
+  // foreground runs while this frame is presented (a window waits for the display there).
+  if (options_.overlap && options_.live) startNextForeground();
   present(report);
-  last_render_ms_ = msSince(render_start);
   report.times.total = msSince(frame_start);
   ++index_;
   return report;
+}
+
+void FrameLoop::startNextForeground() {
+  next_foreground_ = std::async(std::launch::async, [this] { return runForeground(); });
 }
 
 std::vector<CameraModel> FrameLoop::trackEyes(FrameReport& report) {

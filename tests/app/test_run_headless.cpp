@@ -226,6 +226,21 @@ TEST(BenchFrame, LiveReportsArrivalToPresentLatencyAndFrameTimeSpread) {
   EXPECT_GT(median, 0.0);
   EXPECT_GE(p99, median);
   EXPECT_GE(j.at("frame_p99_ms").get<double>(), j.at("frame_ms").get<double>());
+  EXPECT_GT(j.at("latency_median_frames").get<double>(), 0.0);
+  // Each frame's latency split where it went: the parts are stamps in order, so none is negative,
+  // and they add up to the whole.
+  int split = 0;
+  for (const nlohmann::json& frame : j.at("per_frame")) {
+    const nlohmann::json& latency = frame.at("latency_ms");
+    double parts = 0;
+    for (const char* part : {"in_mailbox", "foreground", "waiting_for_loop", "rendering", "presenting"}) {
+      EXPECT_GE(latency.at(part).get<double>(), 0.0) << part;
+      parts += latency.at(part).get<double>();
+    }
+    EXPECT_NEAR(parts, latency.at("total").get<double>(), 1e-6);
+    ++split;
+  }
+  EXPECT_EQ(split, 4);
 }
 
 // `bench scaling` at toy sizes: a point per swept value with its frame, floor and peak memory, the

@@ -6,7 +6,11 @@
 // (docs/security.md).
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <cstdint>
 #include <memory>
+#include <mutex>
+#include <thread>
 #include <vector>
 
 #include "holo/pipeline/frame_loop.hpp"
@@ -181,6 +185,111 @@ TEST(FrameLoop, LiveCamerasFeedTheOverlappedForegroundWhileFramesRender) {
   EXPECT_LE(counts.unconsumed - counts.dropped, 4);
   EXPECT_GE(counts.dropped, dropped);  // the steps' drops plus those since the last step
   EXPECT_EQ(counts.rejected, 0);
+}
+
+// When a camera's frames had surely reached its mailbox: its capture thread publishes frame k
+// before it asks for frame k + 1, so frame k is there once grab() is entered for the next one.
+struct PublishLog {
+  std::mutex mutex;
+  std::vector<Clock::time_point> grab_entered;  // call j returns frame j
+  // Frames newer than `sequence` that had reached the mailbox before `t`.
+  int newerPublishedBefore(std::uint64_t sequence, Clock::time_point t) {
+    std::lock_guard lock(mutex);
+    int newer = 0;
+    for (std::size_t k = static_cast<std::size_t>(sequence) + 1; k + 1 < grab_entered.size(); ++k)
+      if (grab_entered[k + 1] < t) ++newer;
+    return newer;
+  }
+};
+
+// A camera that costs nothing to produce: the same frame, numbered from 0, one every
+// kCameraPeriod, much faster than the loop renders, so newer frames keep arriving while it works.
+class NumberedCamera final : public capture::CameraSource {
+ public:
+  static constexpr std::chrono::milliseconds kCameraPeriod{2};
+  NumberedCamera(RgbdFrame frame, std::shared_ptr<PublishLog> log)
+      : frame_(std::move(frame)), log_(std::move(log)) {}
+  std::string name() const override { return "numbered"; }
+  std::string serial() const override { return "NUMBERED"; }
+  void open() override {}
+  void start() override {}
+  void stop() override {}
+  capture::GrabResult grab(Nanoseconds) override {
+    {
+      std::lock_guard lock(log_->mutex);
+      log_->grab_entered.push_back(Clock::now());
+    }
+    std::this_thread::sleep_for(kCameraPeriod);
+    capture::GrabResult result;
+    result.status = capture::GrabStatus::Ok;
+    result.frame = frame_;  // frames are values: the pixels are shared, never written
+    result.frame.sequence = next_++;
+    result.frame.host_time = Clock::now();
+    return result;
+  }
+
+ private:
+  RgbdFrame frame_;
+  std::shared_ptr<PublishLog> log_;
+  std::uint64_t next_ = 0;
+};
+
+// Live, a frame's camera frames are the newest ones when its foreground step takes them, and that
+// step takes them only once the frame before has been rendered: counted in camera frames, none
+// that had arrived before the previous frame's rendering ended is newer than the one shown. Taken
+// when the previous frame started rendering (its foreground computed beside that rendering), every
+// frame would show camera frames a whole rendering older than those at hand, and this fails.
+TEST(FrameLoop, LiveFramesTakeTheNewestCameraFramesOnceThePreviousFrameIsRendered) {
+  FrameLoopOptions options = smallOptions();
+  options.live = true;
+  options.overlap = true;
+  options.stale_camera_s = 1e6;
+  Installation installation =
+      simulated::museumInstallation(options.scene, /*paced=*/true, options.panorama_width);
+  std::vector<std::shared_ptr<PublishLog>> logs;
+  for (std::size_t i = 0; i < installation.sources.size(); ++i) {
+    // The empty hall with a box 1 m in front of the camera: a visitor for the foreground.
+    RgbdFrame frame = installation.background[i];
+    frame.colour = frame.colour.clone();
+    frame.depth = frame.depth.clone();
+    const cv::Rect box(frame.colour.cols / 3, frame.colour.rows / 4, frame.colour.cols / 3,
+                       frame.colour.rows / 2);
+    frame.colour(box).setTo(cv::Scalar(40, 60, 200));
+    frame.depth(box).setTo(cv::Scalar(1.0f));
+    logs.push_back(std::make_shared<PublishLog>());
+    installation.sources[i] = std::make_unique<NumberedCamera>(frame, logs.back());
+  }
+  constexpr int kFrames = 6;
+  std::vector<FrameReport> reports;
+  {
+    FrameLoop loop(options, std::move(installation), nullptr);
+    for (int n = 0; n < kFrames; ++n) reports.push_back(loop.step());
+  }  // the capture threads have stopped: the logs are complete
+
+  int shown = 0, newer_during_rendering = 0;
+  for (std::size_t n = 0; n < reports.size(); ++n) {
+    const FrameReport& report = reports[n];
+    ASSERT_EQ(report.camera_sequences.size(), logs.size());
+    EXPECT_LE(report.acquired_at, report.foreground_done_at);
+    EXPECT_LE(report.foreground_done_at, report.rendering_started_at);
+    EXPECT_LE(report.rendering_started_at, report.rendering_done_at);
+    EXPECT_LE(report.rendering_done_at, report.presented_at);
+    for (std::size_t i = 0; i < logs.size(); ++i) {
+      const std::optional<std::uint64_t> sequence = report.camera_sequences[i];
+      if (!sequence) continue;
+      ++shown;
+      EXPECT_EQ(logs[i]->newerPublishedBefore(*sequence, report.acquired_at), 0)
+          << "frame " << n << " camera " << i << ": not the newest when its foreground step took it";
+      if (n > 0) {
+        EXPECT_EQ(logs[i]->newerPublishedBefore(*sequence, reports[n - 1].rendering_done_at), 0)
+            << "frame " << n << " camera " << i << ": taken before the previous frame was rendered";
+      }
+      // The check has teeth: the cameras kept delivering while the frame was made.
+      newer_during_rendering += logs[i]->newerPublishedBefore(*sequence, report.presented_at);
+    }
+  }
+  EXPECT_GE(shown, 4 * (kFrames - 1));
+  EXPECT_GT(newer_during_rendering, 0);
 }
 
 }  // namespace

@@ -58,7 +58,15 @@ struct FrameBenchmark {
   // arrival-to-present latency of the oldest camera frame each shows (FrameReport), median and
   // 99th percentile. Milliseconds.
   double frame_p99_ms = 0;
+  // The process's CPU time from one frame's end to the next's (all its threads: the loop, the
+  // worker, the capture threads), per measured frame, and its median and 99th percentile: the
+  // frame's cost and spread apart from what other processes take of the cores.
+  std::vector<double> frame_cpu_ms;
+  double frame_cpu_median_ms = 0, frame_cpu_p99_ms = 0;
   std::optional<double> latency_median_ms, latency_p99_ms;
+  // Live: the median of each part of the latency over the measured frames (pipeline::LatencyParts;
+  // medians of parts need not add up to the median latency).
+  std::optional<pipeline::LatencyParts> latency_parts_median_ms;
   double frameOverFloor() const { return floor_ms > 0 ? median.total / floor_ms : 0.0; }
 };
 

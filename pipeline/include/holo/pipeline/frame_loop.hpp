@@ -7,9 +7,11 @@
 // frames and then from the first `background_frames` frames of every camera (not rendered).
 //
 // Acquisition overlaps processing in both modes (camera_acquisition.hpp in pipeline/src):
-//  * live: one capture thread per camera publishes into a latest-frame mailbox; the loop takes
-//    the newest frame of each camera and never waits for one. A camera silent for longer than
-//    stale_camera_s is dropped from the foreground (the others go on; with none, IBL only).
+//  * live: one capture thread per camera publishes into a latest-frame mailbox; the foreground
+//    step takes the newest frame of each camera once the previous frame is rendered (so no
+//    camera frame waits through another frame's rendering) and never waits for one. A camera
+//    silent for longer than stale_camera_s is dropped from the foreground (the others go on;
+//    with none, IBL only).
 //  * deterministic (headless runs, tests, benchmarks): every camera's next frame is grabbed in
 //    turn on a worker while the current one is processed, so the same scene or recording always
 //    gives the same images. A camera that gives no frame within its silence timeout is missing
@@ -95,16 +97,13 @@ struct FrameLoopOptions {
   // For benchmarks: real cameras deliver their frames, while simulating four of them costs as
   // much CPU as a frame and would compete with it on 2 cores. About 6.5 MB per frame.
   int preload_frames = 0;
-  // The next frame's acquisition and foreground point cloud run on a worker thread while this
-  // frame's reflections are rendered and presented. Results are the same either way (the
-  // foreground and the rendering each keep their own order); only the time differs.
+  // The next frame's acquisition and foreground point cloud run on a worker thread beside this
+  // frame: deterministic, while its reflections are rendered and presented; live, while it is
+  // presented only (camera frames taken before a rendering ends would wait through it, a whole
+  // rendering of latency: docs/frame_loop.md, "Latency and stutter"). Results are the same
+  // either way (the foreground and the rendering each keep their own order); only the time
+  // differs.
   bool overlap = true;
-  // Live with overlap: the worker takes the next frame's camera frames as late as still lets its
-  // foreground finish with this frame's rendering (it waits the last frame's rendering time less
-  // its foreground time, 10% kept as margin), so a frame shows camera frames about one foreground
-  // step old at its start instead of a whole frame older. Off: at once (the lowest frame time
-  // when the foreground is the longer stage).
-  bool late_acquisition = true;
   reflect::TracerSettings tracer = liveTracerSettings();
   display::EyeTrackerSettings eyes;
 };
@@ -194,8 +193,10 @@ class FrameLoop {
     int cameras_live = 0;
     double camera_skew_ms = -1;  // FrameReport::camera_skew_ms
     double acquisition_ms = 0, foreground_ms = 0;
+    Clock::time_point acquired_at, done_at;  // FrameReport's acquired_at, foreground_done_at
   };
   ForegroundFrame runForeground();
+  void startNextForeground();  // runForeground() on the worker (overlap)
   std::vector<reflect::ForegroundCameraImage> cameraImages(const std::vector<RgbdFrame>& frames,
                                                            const std::vector<cv::Mat>& masks);
   // The stages of step() after the foreground, in order; each adds its times to `report`.
@@ -207,9 +208,6 @@ class FrameLoop {
   mat4 worldToRelic() const;
 
   FrameLoopOptions options_;
-  // Live late acquisition: the last frame's rendering (after its foreground was handed over, to
-  // its presentation) and foreground times, ms.
-  double last_render_ms_ = 0, last_foreground_ms_ = 0;
   int full_view_size_ = 0;  // options_.view_size as constructed; setQuality lowers options_'s
   std::string installation_name_;
   bool simulated_cameras_ = false;

@@ -33,12 +33,23 @@ struct StageTimes {
   double composition = 0;  // composition, tone mapping
   double display = 0;      // eye tracking, quad layout, presentation
   double total = 0;        // the frame's wall time on the loop's thread (the frame period)
-  // Overlap: how long the frame waited for its foreground, computed on the worker while the
-  // previous frame was rendered (about 0 when it was ready); without: acquisition + foreground.
+  // Overlap: how long the frame waited for its foreground, computed on the worker during the
+  // previous frame (deterministic: its rendering and presentation; live: its presentation only;
+  // about 0 when it was ready); without: acquisition + foreground.
   double pipeline_wait = 0;
   // The appliance's own work, one stage after another: foreground, reflections, composition,
   // display (not acquisition, which waits for the cameras).
   double applianceStages() const { return foreground + dynamic + statics + composition + display; }
+};
+
+// Where a frame's arrival-to-present latency went, ms; the parts add up to
+// FrameReport::arrivalToPresentMs().
+struct LatencyParts {
+  double in_mailbox = 0;  // the oldest camera frame shown, from its arrival until the foreground step took it
+  double foreground = 0;  // the foreground step (depth filter, masks, point cloud)
+  double waiting_for_loop = 0;  // its result, until the loop's thread started rendering with it
+  double rendering = 0;         // eye tracking, the reflections of the four views, composition
+  double presenting = 0;        // handing the views to the presenter
 };
 
 struct FrameReport {
@@ -52,16 +63,38 @@ struct FrameReport {
   // When each camera frame this frame was made of reached the host (RgbdFrame::host_time), per
   // camera in the installation's order; nullopt where a camera gave none.
   std::vector<std::optional<Clock::time_point>> camera_arrivals;
+  // Per camera, the source's sequence number (RgbdFrame::sequence) of the frame used; nullopt
+  // where a camera gave none.
+  std::vector<std::optional<std::uint64_t>> camera_sequences;
+  // When the frame's foreground step took its camera frames from the cameras and when it had the
+  // point cloud; when the loop's thread started rendering with that foreground (eye tracking on)
+  // and when the four views were ready.
+  Clock::time_point acquired_at, foreground_done_at, rendering_started_at, rendering_done_at;
   // When the frame was handed to the presenter (without one: when it was ready to be).
   Clock::time_point presented_at;
   // presented_at - the oldest camera arrival, ms: how long the oldest visitor picture this frame
   // shows had waited when it reached the screen (the presenter's own scan-out not included);
   // -1 without a camera frame. Meaningful live (deterministic runs stamp frames when grabbed).
   double arrivalToPresentMs() const {
+    const std::optional<Clock::time_point> oldest = oldestArrival();
+    return oldest ? std::chrono::duration<double, std::milli>(presented_at - *oldest).count() : -1.0;
+  }
+  // arrivalToPresentMs() split at the stamps above; all zero without a camera frame.
+  LatencyParts latencyParts() const {
+    const std::optional<Clock::time_point> oldest = oldestArrival();
+    if (!oldest) return {};
+    auto ms = [](Clock::time_point from, Clock::time_point to) {
+      return std::chrono::duration<double, std::milli>(to - from).count();
+    };
+    return {ms(*oldest, acquired_at), ms(acquired_at, foreground_done_at),
+            ms(foreground_done_at, rendering_started_at), ms(rendering_started_at, rendering_done_at),
+            ms(rendering_done_at, presented_at)};
+  }
+  std::optional<Clock::time_point> oldestArrival() const {
     std::optional<Clock::time_point> oldest;
     for (const auto& arrival : camera_arrivals)
       if (arrival && (!oldest || *arrival < *oldest)) oldest = arrival;
-    return oldest ? std::chrono::duration<double, std::milli>(presented_at - *oldest).count() : -1.0;
+    return oldest;
   }
   std::string plan;  // the effect plan of face 0 ("HitPoints,... (reason)")
   std::array<bool, 4> eyes_tracked{};
