@@ -38,7 +38,9 @@ void CoverageBreakdown::add(const CoverageBreakdownFrame& f) {
       } else if (mask[x] == 0) {
         if (!read)
           ++outside_no_depth_;
-        else if (bg[x] > 0.0f && raw[x] >= bg[x] - (margin_m_ + margin_z2_ * bg[x] * bg[x]))
+        else if (!(bg[x] > 0.0f))
+          ++outside_unknown_background_;
+        else if (raw[x] >= bg[x] - (margin_m_ + margin_z2_ * bg[x] * bg[x]))
           ++outside_within_margin_;
         else
           ++outside_in_front_;
@@ -55,6 +57,7 @@ void CoverageBreakdown::merge(const CoverageBreakdown& o) {
   covered_ += o.covered_;
   outside_within_margin_ += o.outside_within_margin_;
   outside_in_front_ += o.outside_in_front_;
+  outside_unknown_background_ += o.outside_unknown_background_;
   outside_no_depth_ += o.outside_no_depth_;
   for (std::size_t r = 0; r < kReasons; ++r)
     for (std::size_t s = 0; s < 2; ++s) holes_[r][s] += o.holes_[r][s];
@@ -81,6 +84,7 @@ nlohmann::json CoverageBreakdown::toJson() const {
           {"covered", covered()},
           {"outside_mask_within_background_margin", outsideWithinMargin()},
           {"outside_mask_in_front_of_background", outsideInFront()},
+          {"outside_mask_background_depth_unknown", outsideUnknownBackground()},
           {"outside_mask_no_depth", outsideNoDepth()},
           {"holes_inside_mask", this->holes()},
           {"holes_by_reason", holes}};
@@ -99,6 +103,8 @@ std::string CoverageBreakdown::table() const {
   t += "| outside the mask, depth within the background's margin | " + percent(outsideWithinMargin()) +
        " | | |\n";
   t += "| outside the mask, depth in front of the background | " + percent(outsideInFront()) + " | | |\n";
+  t += "| outside the mask, depth where the background's is unknown | " +
+       percent(outsideUnknownBackground()) + " | | |\n";
   t += "| outside the mask, no depth | " + percent(outsideNoDepth()) + " | | |\n";
   t += "| holes inside the mask | " + percent(holes()) + " | | |\n";
   for (std::size_t r = 0; r < kReasons; ++r) {

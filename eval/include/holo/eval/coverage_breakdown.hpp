@@ -1,6 +1,7 @@
 // Where ours' coverage goes: every true visitor pixel of a scored frame classed by what became of
 // it. Covered (ours output a depth); outside the mask (the sensor read it within the background's
-// depth margin, read it clearly in front of the background, or read nothing); or a hole inside the
+// depth margin, clearly in front of the background, where the mask has learned no background
+// depth, or read nothing); or a hole inside the
 // mask, by the filter's reason for leaving it (depthfilter::HoleReason) and whether the sensor
 // read nothing there or read a depth the filter dropped as a flying pixel. Shares are of the true
 // visitor pixels and sum to 1.
@@ -38,6 +39,7 @@ class CoverageBreakdown {
   double covered() const { return share(covered_); }
   double outsideWithinMargin() const { return share(outside_within_margin_); }
   double outsideInFront() const { return share(outside_in_front_); }
+  double outsideUnknownBackground() const { return share(outside_unknown_background_); }
   double outsideNoDepth() const { return share(outside_no_depth_); }
   // Holes inside the mask with `reason`: the sensor read nothing / read a depth the filter dropped.
   double hole(depthfilter::HoleReason reason, bool sensor_read) const;
@@ -51,7 +53,8 @@ class CoverageBreakdown {
   static constexpr std::size_t kReasons = depthfilter::kHoleReasons.size() + 1;  // None included
   float margin_m_, margin_z2_;
   long visitor_pixels_ = 0, covered_ = 0;
-  long outside_within_margin_ = 0, outside_in_front_ = 0, outside_no_depth_ = 0;
+  long outside_within_margin_ = 0, outside_in_front_ = 0, outside_unknown_background_ = 0,
+       outside_no_depth_ = 0;
   std::array<std::array<long, 2>, kReasons> holes_{};  // [reason][sensor read]
 };
 
