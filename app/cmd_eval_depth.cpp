@@ -85,6 +85,7 @@ int run(const Options& o) {
        o.view_size, o.keep_attached_limbs});
   std::cout << e.report.dump(2) << "\n";
   std::cerr << eval::depthMetricsTable(e.rows);
+  std::cerr << "\n" << e.coverage_table;
   if (!e.flicker_rows.empty()) std::cerr << "\n" << eval::reflectionFlickerTable(e.flicker_rows);
   if (!o.json.empty()) writeFileAtomically(o.json, e.report.dump(2) + "\n");
   if (!o.images.empty()) writeFigure(o.images, "depth_methods.png", e.figure);

@@ -38,7 +38,9 @@ TemporalDepthFilterConfig parseDepthFilterConfig(const ConfigNode& section) {
                              "cross_camera_confirm_measured",
                              "mask_open_radius",
                              "mask_close_radius",
-                             "mask_keep_attached_limbs"});
+                             "mask_keep_attached_limbs",
+                             "mask_background_adopt_frames",
+                             "mask_unshrunk_colour_over_unread_background"});
   TemporalDepthFilterConfig c;
   c.levels = intInRange(section, "levels", c.levels, 1, TemporalDepthFilterConfig::kMaxLevels);
   c.learning_frames = intInRange(section, "learning_frames", c.learning_frames, 0, 100000);
@@ -75,6 +77,10 @@ ForegroundMaskConfig parseForegroundMaskConfig(const ConfigNode& section) {
   c.open_radius = intInRange(section, "mask_open_radius", c.open_radius, 0, 8);
   c.close_radius = intInRange(section, "mask_close_radius", c.close_radius, 0, 8);
   c.keep_attached_limbs = section.get("mask_keep_attached_limbs", c.keep_attached_limbs);
+  c.background_adopt_frames = intInRange(section, "mask_background_adopt_frames", c.background_adopt_frames,
+                                         1, ForegroundMaskConfig::kMaxBackgroundAdoptFrames);
+  c.unshrunk_colour_over_unread_background =
+      section.get("mask_unshrunk_colour_over_unread_background", c.unshrunk_colour_over_unread_background);
   return c;
 }
 

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <limits>
 #include <opencv2/imgproc.hpp>
+#include <string>
 
 #include "holo/core/error.hpp"
 
@@ -43,6 +44,10 @@ ForegroundMasker::ForegroundMasker(ForegroundMaskConfig config)
                                                config_.detect_shadows)) {
   if (config_.colour_model_downscale < 1)
     throw Error("ForegroundMasker: colour_model_downscale must be >= 1");
+  if (config_.background_adopt_frames < 1 ||
+      config_.background_adopt_frames > ForegroundMaskConfig::kMaxBackgroundAdoptFrames)
+    throw Error("ForegroundMasker: background_adopt_frames must be in [1, " +
+                std::to_string(ForegroundMaskConfig::kMaxBackgroundAdoptFrames) + "]");
 }
 
 const cv::Mat& ForegroundMasker::colourForModel(const cv::Mat& colour) {
@@ -60,6 +65,8 @@ void ForegroundMasker::checkSize(const RgbdFrame& frame) {
   if (background_depth_.empty()) {
     background_depth_ = cv::Mat::zeros(frame.depth.size(), CV_32FC1);
     background_depth_count_ = cv::Mat::zeros(frame.depth.size(), CV_32FC1);
+    adopt_candidate_ = cv::Mat::zeros(frame.depth.size(), CV_32FC1);
+    adopt_count_ = cv::Mat::zeros(frame.depth.size(), CV_16UC1);
   } else if (frame.depth.size() != background_depth_.size()) {
     throw Error("ForegroundMasker: frame size changed from " + std::to_string(background_depth_.cols) + "x" +
                 std::to_string(background_depth_.rows) + " to " + std::to_string(frame.depth.cols) + "x" +
@@ -124,6 +131,11 @@ cv::Mat ForegroundMasker::apply(const RgbdFrame& frame) {
     colour_decision = &colour_foreground_;
   }
   const cv::Mat& colour_mask = *colour_decision;
+  // Where the empty hall read no depth, a reading now is decided by the colour labels before the
+  // shrink: the shrink removes overhangs where the sensor reads nothing, and here it reads.
+  const bool shrunk = colour_decision == &colour_foreground_;
+  const cv::Mat& unread_colour =
+      config_.unshrunk_colour_over_unread_background && shrunk ? upsampled_colour_foreground_ : colour_mask;
 
   // Both per-pixel loops are branch-free selects (the branches were unpredictable along a
   // visitor's outline and cost more than the arithmetic).
@@ -135,12 +147,15 @@ cv::Mat ForegroundMasker::apply(const RgbdFrame& frame) {
     const float* __restrict d = frame.depth.ptr<float>(y);
     const float* __restrict bg = background_depth_.ptr<float>(y);
     const std::uint8_t* __restrict colour = colour_mask.ptr<std::uint8_t>(y);
+    const std::uint8_t* __restrict colour_unread = unread_colour.ptr<std::uint8_t>(y);
     std::uint8_t* __restrict out = mask.ptr<std::uint8_t>(y);
     for (int x = 0; x < cols; ++x) {
-      const bool by_depth = validDepth(d[x]) & validDepth(bg[x]);
+      const bool read = validDepth(d[x]), known = validDepth(bg[x]);
       const bool nearer = d[x] < bg[x] - (margin_m + margin_z2 * bg[x] * bg[x]);
       const bool by_colour = colour[x] == 255;  // 127 = shadow -> background
-      out[x] = std::uint8_t(((by_depth & nearer) | (!by_depth & by_colour)) * 255);
+      const bool by_unread_colour = colour_unread[x] == 255;
+      out[x] = std::uint8_t(
+          ((read & known & nearer) | (!read & by_colour) | (read & !known & by_unread_colour)) * 255);
     }
   }
   // Opening and closing change nothing farther than 2 * (open + close) radii from the
@@ -161,23 +176,43 @@ cv::Mat ForegroundMasker::apply(const RgbdFrame& frame) {
 
   // Live update of the background depth where the pixel is background and the depth valid; a
   // pixel that sees farther than its background (a door opened) moves there at the same rate.
-  // Written into the second buffer, every pixel, with branch-free selects: the loop vectorises
-  // (updating in place, it stored only the changed pixels, one at a time).
+  // Where the background depth is unknown (the empty hall read nothing), a reading becomes it only
+  // once it has held within the margin for background_adopt_frames readings judged background in
+  // a row: adopted at once, the edge of a visitor that the colour missed became the background,
+  // and the visitor was background there whenever it passed again.
   const float rate = config_.background_depth_rate;
-  updated_background_depth_.create(background_depth_.size(), CV_32FC1);
+  const int adopt_frames = config_.background_adopt_frames;
   for (int y = 0; y < mask.rows; ++y) {
     const float* __restrict d = frame.depth.ptr<float>(y);
-    const float* __restrict bg = background_depth_.ptr<float>(y);
-    float* __restrict out = updated_background_depth_.ptr<float>(y);
+    float* __restrict bg = background_depth_.ptr<float>(y);
+    float* __restrict candidate = adopt_candidate_.ptr<float>(y);
+    std::uint16_t* __restrict count = adopt_count_.ptr<std::uint16_t>(y);
     const std::uint8_t* __restrict m = mask.ptr<std::uint8_t>(y);
     for (int x = 0; x < cols; ++x) {
       const float was = bg[x], now = d[x];
-      const float blended = was + rate * (now - was);
-      const float updated = selectBits(validDepth(was), blended, now);
-      out[x] = selectBits((m[x] == 0) & validDepth(now), updated, was);
+      if (validDepth(was)) {
+        bg[x] = selectBits((m[x] == 0) & validDepth(now), was + rate * (now - was), was);
+        continue;
+      }
+      if (m[x] != 0) {
+        count[x] = 0;  // something stands in front: start again
+        continue;
+      }
+      if (!validDepth(now)) continue;
+      const float c = candidate[x];
+      if (count[x] > 0 && std::abs(now - c) <= margin_m + margin_z2 * c * c) {
+        ++count[x];
+        candidate[x] = c + (now - c) / float(count[x]);
+      } else {
+        count[x] = 1;
+        candidate[x] = now;
+      }
+      if (count[x] >= adopt_frames) {
+        bg[x] = candidate[x];
+        count[x] = 0;
+      }
     }
   }
-  std::swap(background_depth_, updated_background_depth_);
   return mask;
 }
 

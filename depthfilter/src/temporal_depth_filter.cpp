@@ -22,6 +22,7 @@ struct Pair {
   float confidence = 1.0f;
   float weight = 0.0f;          // pull-push weight: the summed reliabilities of the pixels behind it
   bool straddles_edge = false;  // the pulled block held surfaces farther apart than T(z)
+  bool push_declined = false;   // no pair: the push declined it (or every parent it could come from)
   cv::Vec3f colour{};           // BGR, the weighted mean colour of the measured pixels behind it
   bool valid() const { return depth > 0.0f; }
 };
@@ -36,7 +37,7 @@ struct Level {
 }  // namespace pyramid_detail
 
 struct TemporalDepthFilter::Scratch {
-  cv::Mat clean, measured, pre_depth, alphas, pre_age, motion, motion_weight, inner, age;
+  cv::Mat clean, measured, pre_depth, alphas, pre_age, motion, motion_weight, inner, age, hole_reasons;
   std::vector<pyramid_detail::Level> pyramid;
 };
 
@@ -187,9 +188,9 @@ float colourDistance(const cv::Vec3b& a, const cv::Vec3f& b) {
 // `fill_radius` px; the hole's own surface usually has its colour, so a surface of another colour
 // (skin next to a shirt, the wall behind a visitor) does not count. Depth edges drop random
 // pixels each frame, so such a hole was usually measured a frame ago, and the precursor confirms
-// the surface. Returns 0 where no fill is safe.
+// the surface. Returns 0 where no fill is safe, with the reason in `declined`.
 float guidedHoleFill(const cv::Mat& measured, const Level& filtered, const cv::Mat& colour_image, int x,
-                     int y, float pre, const TemporalDepthFilterConfig& config) {
+                     int y, float pre, const TemporalDepthFilterConfig& config, HoleReason& declined) {
   const int r = config.fill_radius;
   const int width = measured.cols, height = measured.rows;
   const cv::Vec3b colour = colour_image.at<cv::Vec3b>(y, x);
@@ -212,7 +213,10 @@ float guidedHoleFill(const cv::Mat& measured, const Level& filtered, const cv::M
     }
   // No measured neighbour has the hole's colour: the hole shows a surface that is not measured
   // nearby (the grazing side of a visitor half hidden behind another); any fill would be wrong.
-  if (n == 0 || best_colour > config.fill_colour_max) return 0.0f;
+  if (n == 0 || best_colour > config.fill_colour_max) {
+    declined = HoleReason::TrustedNoColourMatch;
+    return 0.0f;
+  }
   // The plausible neighbours are those about as alike in colour as the closest one. They must
   // all lie on the surface of the precursor (or, without one, of the closest neighbour): where
   // two surfaces of one colour meet (an arm in front of the torso), the flow's precursor picks
@@ -225,7 +229,10 @@ float guidedHoleFill(const cv::Mat& measured, const Level& filtered, const cv::M
   int count = 0;
   for (int k = 0; k < n; ++k) {
     if (candidates[k].colour > plausible) continue;
-    if (std::abs(candidates[k].depth - surface) > tolerance) return 0.0f;
+    if (std::abs(candidates[k].depth - surface) > tolerance) {
+      declined = HoleReason::TrustedOtherSurface;
+      return 0.0f;
+    }
     sum += candidates[k].depth;
     ++count;
   }
@@ -298,7 +305,8 @@ void pull(const Level& child, const cv::Rect& child_rect, Level& parent, const c
           sum_c += block[k].weight * block[k].confidence;
           sum_colour += block[k].weight * block[k].colour;
         }
-        out = {sum_d / sum_w, sum_c / sum_w, sum_w, child_straddles || other_surface, sum_colour / sum_w};
+        out = {sum_d / sum_w, sum_c / sum_w,     sum_w, child_straddles || other_surface,
+               false,         sum_colour / sum_w};
       }
       parent.at(x, y) = out;
     }
@@ -341,11 +349,15 @@ void push(const Level& parent, const cv::Rect& parent_rect, Level& child, const 
       const float tx = (x & 1) == 0 ? 0.75f : 0.25f;
       float sum_w = 0.0f, sum_d = 0.0f, sum_c = 0.0f, lo = INFINITY, hi = 0.0f;
       cv::Vec3f sum_colour{};
-      bool agrees = true;
+      bool agrees = true, parent_declined = false;
       for (int k = 0; k < 4 && agrees; ++k) {
         const int dx = k & 1, dy = k >> 1;
         const Pair* p = parentAt(px0 + dx, py0 + dy);
-        if (p == nullptr || !p->valid()) continue;
+        if (p == nullptr) continue;
+        if (!p->valid()) {
+          parent_declined = parent_declined || p->push_declined;
+          continue;
+        }
         agrees = !p->straddles_edge;
         const float w = (dx != 0 ? tx : 1.0f - tx) * (dy != 0 ? ty : 1.0f - ty) * p->weight;
         sum_w += w;
@@ -355,8 +367,15 @@ void push(const Level& parent, const cv::Rect& parent_rect, Level& child, const 
         lo = std::min(lo, p->depth);
         hi = std::max(hi, p->depth);
       }
-      if (!agrees || sum_w <= 0.0f || hi - lo > config.surfaceTolerance(lo)) continue;
-      c = {sum_d / sum_w, sum_c / sum_w, sum_w, false, sum_colour / sum_w};
+      if (sum_w <= 0.0f) {
+        c.push_declined = parent_declined;
+        continue;
+      }
+      if (!agrees || hi - lo > config.surfaceTolerance(lo)) {
+        c.push_declined = true;
+        continue;
+      }
+      c = {sum_d / sum_w, sum_c / sum_w, sum_w, false, false, sum_colour / sum_w};
     }
   }
 }
@@ -395,6 +414,10 @@ TemporalDepthFilter::TemporalDepthFilter(TemporalDepthFilterConfig config)
 }
 
 TemporalDepthFilter::~TemporalDepthFilter() = default;
+
+const cv::Mat& TemporalDepthFilter::holeReasons() const {
+  return scratch_ptr_->hole_reasons;
+}
 TemporalDepthFilter::TemporalDepthFilter(TemporalDepthFilter&&) noexcept = default;
 TemporalDepthFilter& TemporalDepthFilter::operator=(TemporalDepthFilter&&) noexcept = default;
 
@@ -523,15 +546,21 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
       if (has_pre) {
         const float p_diff = pdf_depth_diff_.cdf(diff);  // line 19
         const float confidence = pdf_alpha_.cdf(alpha);
-        pair = {(1.0f - p_diff) * d + p_diff * d_pre, confidence, pullWeight(confidence), false,
+        pair = {(1.0f - p_diff) * d + p_diff * d_pre,
+                confidence,
+                pullWeight(confidence),
+                false,
+                false,
                 cv::Vec3f(colour_row[x])};  // lines 18-21
       } else if (d > 0.0f) {
-        pair = {d, 1.0f, pullWeight(1.0f), false,
-                cv::Vec3f(colour_row[x])};  // no usable precursor: the measurement, least confident
+        pair = {
+            d,     1.0f,  pullWeight(1.0f),
+            false, false, cv::Vec3f(colour_row[x])};  // no usable precursor: the measurement, least confident
       }
     }
   }
 
+  if (config_.record_hole_reasons) scratch.hole_reasons = cv::Mat::zeros(height, width, CV_8UC1);
   if (!learn && !roi.empty()) {
     std::vector<cv::Rect> rects{roi};  // the work box at each level
     std::size_t top = 0;
@@ -552,6 +581,7 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
     }
     for (std::size_t l = top; l > 0; --l) push(pyramid[l], rects[l], pyramid[l - 1], rects[l - 1], config_);
     const Level& filtered = pyramid.front();
+    cv::Mat* reasons = config_.record_hole_reasons ? &scratch.hole_reasons : nullptr;
     // Pixels farther than edge_radius inside the mask: a hole there lies within the measured
     // surface around it. Nearer the mask's edge, the surface may continue unmeasured (a body's
     // side turning away at a grazing angle) and a fill needs a trusted precursor.
@@ -584,26 +614,40 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
         const bool trusted = pre > 0.0f && pre_age_row[x] < config_.fill_trust_frames;
         float fill = 0.0f;
         bool used_push = false;
+        HoleReason declined = HoleReason::None;
         if (trusted) {
           // Its surface, from the neighbours of its colour on it. The push's fill is not used
           // here: agreeing with the precursor within T(z) still let it pick the wrong one of two
           // surfaces of one colour near a moving edge (docs/depthfilter.md, "Pull-push").
-          fill = guidedHoleFill(measured, filtered, in.colour, x, y, pre, config_);
-        } else if (inside[x] != 0 && !nearDepthEdge(measured, x, y, config_)) {
+          fill = guidedHoleFill(measured, filtered, in.colour, x, y, pre, config_, declined);
+        } else if (inside[x] == 0) {
+          declined = HoleReason::MaskEdge;
+        } else if (nearDepthEdge(measured, x, y, config_)) {
+          declined = HoleReason::DepthEdge;
+        } else {
           // Inside a surface: the neighbours with the hole's colour within fill_radius, else the
           // push's fill where the measured pixels it comes from have the hole's colour (the
           // pyramid reaches holes wider than fill_radius).
-          fill = guidedHoleFill(measured, filtered, in.colour, x, y, 0.0f, config_);
-          if (fill <= 0.0f && pushed.valid() &&
-              colourDistance(in.colour.ptr<cv::Vec3b>(y)[x], pushed.colour) <=
-                  config_.fill_colour_max + config_.fill_colour_margin) {
-            fill = pushed.depth;
-            used_push = true;
+          fill = guidedHoleFill(measured, filtered, in.colour, x, y, 0.0f, config_, declined);
+          if (fill <= 0.0f) {
+            if (!pushed.valid()) {
+              declined = pushed.push_declined ? HoleReason::PushDisagrees : HoleReason::PushOutOfReach;
+            } else if (colourDistance(in.colour.ptr<cv::Vec3b>(y)[x], pushed.colour) >
+                       config_.fill_colour_max + config_.fill_colour_margin) {
+              declined = HoleReason::PushOtherColour;
+            } else {
+              fill = pushed.depth;
+              used_push = true;
+            }
           }
         }
         // Without a recent measurement of its own, nothing says which surface a hole between
         // two surfaces shows (the trusted precursor does: an edge dropout measured a frame ago).
-        if (fill > 0.0f && !trusted && betweenSurfaces(measured, in.mask, x, y, config_)) fill = 0.0f;
+        if (fill > 0.0f && !trusted && betweenSurfaces(measured, in.mask, x, y, config_)) {
+          fill = 0.0f;
+          declined = HoleReason::BetweenSurfaces;
+        }
+        if (reasons != nullptr && fill <= 0.0f) reasons->ptr<std::uint8_t>(y)[x] = std::uint8_t(declined);
         if (fill > 0.0f) {
           out[x] = fill;
           out_age[x] = used_push ? std::uint8_t(config_.fill_trust_frames) : olderBy1(pre_age_row[x]);

@@ -33,7 +33,8 @@ DepthFilterEvaluation::DepthFilterEvaluation(DepthEvaluationConfig config)
       median_(config.median_window),
       taa_(config.taa_blend),
       adversary_(config.adversary_max_change_m),
-      variant_scorers_(config.ours_variants.size()) {
+      variant_scorers_(config.ours_variants.size()),
+      breakdown_(config.mask) {
   for (const depthfilter::TemporalDepthFilterConfig& variant : config.ours_variants)
     variants_.emplace_back(variant);
 }
@@ -260,6 +261,9 @@ void DepthFilterEvaluation::scoreFrame(const GroundTruthFrame& truth, const cv::
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (score) variant_scorers_[v].add(out, truth, seconds);
   }
+  if (score && !ours_.holeReasons().empty())
+    breakdown_.add({truth.true_foreground, truth.true_depth, frame.depth, masker_.backgroundDepth(),
+                    last_mask_, methods_[std::size_t(DepthMethod::Ours)].last_output, ours_.holeReasons()});
   if (score) {
     cv::Mat true_output = cv::Mat::zeros(frame.depth.size(), CV_32FC1);
     truth.true_depth.copyTo(true_output, truth.true_foreground);
@@ -295,6 +299,13 @@ DepthMethodMetrics DepthFilterEvaluation::combinedTruth(std::span<const DepthFil
   DepthScorer total;
   for (const DepthFilterEvaluation& e : streams) total.merge(e.truth_.scorer);
   return total.metrics();
+}
+
+CoverageBreakdown DepthFilterEvaluation::combinedCoverageBreakdown(
+    std::span<const DepthFilterEvaluation> streams) {
+  CoverageBreakdown total(depthfilter::ForegroundMaskConfig{});
+  for (const DepthFilterEvaluation& e : streams) total.merge(e.breakdown_);
+  return total;
 }
 
 }  // namespace holo::eval

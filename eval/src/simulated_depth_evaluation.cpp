@@ -181,6 +181,7 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
   config.persistence.enabled = o.mask_persistence;
   config.flow.round_trip_check = o.round_trip_check;
   config.mask.keep_attached_limbs = o.keep_attached_limbs;
+  config.filter.record_hole_reasons = true;
   for (int levels : o.compared_levels) {
     depthfilter::TemporalDepthFilterConfig variant = config.filter;
     variant.levels = levels;
@@ -267,28 +268,30 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
     methods[name] = toJson(rows.back().second);
   }
   const auto combined = [&](DepthMethod m) { return rows[std::size_t(m)].second; };
+  const CoverageBreakdown breakdown = DepthFilterEvaluation::combinedCoverageBreakdown(streams);
+  result.coverage_table = breakdown.table();
   for (DepthMethod m : {DepthMethod::Ours, DepthMethod::Adversary})
     bars[depthMethodName(m)] = toJson(checkDepthBars(
         combined(m), combined(DepthMethod::Raw), combined(DepthMethod::Median), combined(DepthMethod::Taa)));
-  result.report = {
-      {"scene", description.name},
-      {"frames", o.frames},
-      {"learning_frames", o.learning_frames},
-      {"levels", o.levels},
-      {"mask_persistence", o.mask_persistence},
-      {"keep_attached_limbs", o.keep_attached_limbs},
-      {"cross_camera", o.cross_camera},
-      {"round_trip_check", o.round_trip_check},
-      {"cross_camera_filled_per_camera_frame",
-       camera_frames > 0 ? double(filled) / double(camera_frames) : 0.0},
-      {"cross_camera_confirmed_per_camera_frame",
-       camera_frames > 0 ? double(confirmed) / double(camera_frames) : 0.0},
-      {"cameras", museum.cameraCount()},
-      {"width", description.camera.width},
-      {"height", description.camera.height},
-      {"methods", methods},
-      {"bars", bars},
-      {"truth_depth_change_cm2", DepthFilterEvaluation::combinedTruth(streams).depth_change_cm2}};
+  result.report = {{"scene", description.name},
+                   {"frames", o.frames},
+                   {"learning_frames", o.learning_frames},
+                   {"levels", o.levels},
+                   {"mask_persistence", o.mask_persistence},
+                   {"keep_attached_limbs", o.keep_attached_limbs},
+                   {"cross_camera", o.cross_camera},
+                   {"round_trip_check", o.round_trip_check},
+                   {"cross_camera_filled_per_camera_frame",
+                    camera_frames > 0 ? double(filled) / double(camera_frames) : 0.0},
+                   {"cross_camera_confirmed_per_camera_frame",
+                    camera_frames > 0 ? double(confirmed) / double(camera_frames) : 0.0},
+                   {"cameras", museum.cameraCount()},
+                   {"width", description.camera.width},
+                   {"height", description.camera.height},
+                   {"methods", methods},
+                   {"bars", bars},
+                   {"truth_depth_change_cm2", DepthFilterEvaluation::combinedTruth(streams).depth_change_cm2},
+                   {"coverage_breakdown", breakdown.toJson()}};
   if (flicker) {
     nlohmann::json flicker_methods, flicker_bars;
     std::vector<std::pair<std::string, ReflectionFlickerMetrics>>& f = result.flicker_rows;

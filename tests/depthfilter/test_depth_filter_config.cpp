@@ -78,6 +78,10 @@ TEST(DepthFilterConfig, BadValuesAreRefusedNamingTheFieldAndTheRange) {
       {"  mask_open_radius: -1\n", "depthfilter.mask_open_radius"},
       {"  mask_close_radius: 9\n", "depthfilter.mask_close_radius"},
       {"  mask_keep_attached_limbs: 2\n", "depthfilter.mask_keep_attached_limbs"},
+      {"  mask_background_adopt_frames: 0\n", "depthfilter.mask_background_adopt_frames"},
+      {"  mask_background_adopt_frames: 1001\n", "depthfilter.mask_background_adopt_frames"},
+      {"  mask_unshrunk_colour_over_unread_background: 3\n",
+       "depthfilter.mask_unshrunk_colour_over_unread_background"},
   };
   for (const auto& [yaml, field] : cases) {
     try {

@@ -3,7 +3,9 @@
 #include <cmath>
 #include <vector>
 
+#include "holo/core/error.hpp"
 #include "holo/eval/acceptance_bars.hpp"
+#include "holo/eval/coverage_breakdown.hpp"
 #include "holo/eval/depth_evaluation.hpp"
 #include "synthetic_rgbd.hpp"
 
@@ -107,6 +109,32 @@ TEST(DepthScorer, LeavingHolesWhereTheDepthMovedBuysLittle) {
   EXPECT_LT(d.coverage, 0.5);
   EXPECT_NEAR(s.depth_rmse_cm, s.sensor_rmse_cm, 1e-9);
   EXPECT_LT(s.coverage, 0.98);
+}
+
+// Six true visitor pixels, one of each class: covered, outside the mask within the background's
+// margin, in front of it, where no background depth is learned, without a reading, and a hole
+// the filter left at the mask's edge; a seventh pixel is no visitor and is not counted.
+TEST(CoverageBreakdown, ClassesEveryTrueVisitorPixelOnce) {
+  const cv::Mat truth_fg = (cv::Mat_<std::uint8_t>(1, 7) << 255, 255, 255, 255, 255, 255, 0);
+  const cv::Mat truth = (cv::Mat_<float>(1, 7) << 2, 2, 2, 2, 2, 2, 0);
+  const cv::Mat sensor = (cv::Mat_<float>(1, 7) << 2, 2.99f, 2, 2, 0, 0, 3);
+  const cv::Mat background = (cv::Mat_<float>(1, 7) << 3, 3, 3, 0, 3, 3, 3);
+  const cv::Mat mask = (cv::Mat_<std::uint8_t>(1, 7) << 255, 0, 0, 0, 0, 255, 0);
+  const cv::Mat output = (cv::Mat_<float>(1, 7) << 2, 0, 0, 0, 0, 0, 0);
+  const cv::Mat reasons =
+      (cv::Mat_<std::uint8_t>(1, 7) << 0, 0, 0, 0, 0, std::uint8_t(depthfilter::HoleReason::MaskEdge), 0);
+  CoverageBreakdown b{depthfilter::ForegroundMaskConfig{}};
+  b.add({truth_fg, truth, sensor, background, mask, output, reasons});
+  EXPECT_EQ(b.visitorPixels(), 6);
+  const double sixth = 1.0 / 6.0;
+  EXPECT_DOUBLE_EQ(b.covered(), sixth);
+  EXPECT_DOUBLE_EQ(b.outsideWithinMargin(), sixth);
+  EXPECT_DOUBLE_EQ(b.outsideInFront(), sixth);
+  EXPECT_DOUBLE_EQ(b.outsideUnknownBackground(), sixth);
+  EXPECT_DOUBLE_EQ(b.outsideNoDepth(), sixth);
+  EXPECT_DOUBLE_EQ(b.hole(depthfilter::HoleReason::MaskEdge, false), sixth);
+  EXPECT_DOUBLE_EQ(b.holes(), sixth);
+  EXPECT_THROW(b.add({truth_fg, truth, sensor, background, mask, output, cv::Mat()}), Error);
 }
 
 TEST(HoleLeavingAdversary, DropsEveryPixelWhoseDepthChangedByMoreThanK) {

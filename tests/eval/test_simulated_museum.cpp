@@ -57,12 +57,18 @@ struct MuseumRun {
     without_limbs_config.ours_variants.clear();
     without_limbs_config.mask.keep_attached_limbs = false;
     without_limbs = std::make_unique<DepthFilterEvaluation>(without_limbs_config);
+    DepthEvaluationConfig without_unread_config = config;
+    without_unread_config.ours_variants.clear();
+    without_unread_config.mask.background_adopt_frames = 1;
+    without_unread_config.mask.unshrunk_colour_over_unread_background = false;
+    without_unread = std::make_unique<DepthFilterEvaluation>(without_unread_config);
     HoleLeavingAdversary drop_changed_raw(config.adversary_max_change_m);
     for (int t = 0; t < 8; ++t) {
       const RgbdFrame background = museum.renderCamera(camera, t, false).frame;
       evaluation->learnBackground(background);
       without_persistence->learnBackground(background);
       without_limbs->learnBackground(background);
+      without_unread->learnBackground(background);
     }
     cv::Mat first;
     for (int t = 0; t < kLearning + kScored; ++t) {
@@ -71,6 +77,7 @@ struct MuseumRun {
       evaluation->addFrame(truth);
       without_persistence->addFrame(truth);
       without_limbs->addFrame(truth);
+      without_unread->addFrame(truth);
       const cv::Mat& m = evaluation->lastMask();
       const cv::Mat raw_dropped = drop_changed_raw.apply(evaluation->lastOutput(DepthMethod::Raw));
       mask.tp += cv::countNonZero(m & f.foreground);
@@ -100,6 +107,8 @@ struct MuseumRun {
   std::unique_ptr<DepthFilterEvaluation> evaluation;
   std::unique_ptr<DepthFilterEvaluation> without_persistence;  // the same frames, the mask not persisting
   std::unique_ptr<DepthFilterEvaluation> without_limbs;  // the same frames, the opening's thin limbs lost
+  // The same frames, an unread background depth adopted at once and decided by the shrunk colour.
+  std::unique_ptr<DepthFilterEvaluation> without_unread;
   DepthScorer frozen, smoothed, raw_adversary;
   MaskScore mask;
   int camera = 0;
@@ -215,9 +224,30 @@ TEST_P(SimulatedMuseum, SwitchingTheAttachedLimbsOffMakesOursWorse) {
   print("ours", ours);
   print("no limbs", off);
   EXPECT_TRUE(depthfilter::ForegroundMaskConfig{}.keep_attached_limbs);
-  EXPECT_GT(ours.coverage, off.coverage + 0.003);
+  // With the unshrunk colour where the background depth is unknown (foreground_mask.hpp) part of
+  // the limbs returns without it too: +0.001 coverage on this camera.
+  EXPECT_GT(ours.coverage, off.coverage + 0.0005);
   EXPECT_LT(ours.temporal_mse_cm2, off.temporal_mse_cm2);
   EXPECT_LT(ours.depth_rmse_cm, off.depth_rmse_cm);
+  EXPECT_LT(ours.ghost_ratio, DepthBars{}.ghosts);
+}
+
+// Where the empty hall read no depth (the floor at a grazing angle), a visitor's edge that the
+// shrunk colour labels missed was adopted as the background at once, and the visitor was
+// background there whenever it passed again. Without the adoption's wait and the unshrunk colour
+// ours covers less.
+TEST_P(SimulatedMuseum, SwitchingTheUnreadBackgroundRulesOffMakesOursWorse) {
+  const MuseumRun& r = run();
+  const DepthMethodMetrics ours = r.metrics(DepthMethod::Ours);
+  const DepthMethodMetrics off = r.without_unread->metrics(DepthMethod::Ours);
+  print("ours", ours);
+  print("no unread", off);
+  EXPECT_EQ(depthfilter::ForegroundMaskConfig{}.background_adopt_frames, 30);
+  EXPECT_TRUE(depthfilter::ForegroundMaskConfig{}.unshrunk_colour_over_unread_background);
+  // This camera sees little floor beyond the sensor's grazing angle: the gain is small here
+  // (+0.002 coverage) and larger on the four cameras of a hall (docs/depthfilter.md).
+  EXPECT_GT(ours.coverage, off.coverage + 0.001);
+  EXPECT_LT(ours.temporal_mse_cm2, off.temporal_mse_cm2);
   EXPECT_LT(ours.ghost_ratio, DepthBars{}.ghosts);
 }
 

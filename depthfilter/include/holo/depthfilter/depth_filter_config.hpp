@@ -25,6 +25,9 @@
 //     mask_open_radius: 1                     # px, 0..8 (0: no opening)
 //     mask_close_radius: 2                    # px, 0..8 (0: no closing)
 //     mask_keep_attached_limbs: true          # regions that keep a pixel through the opening return whole
+//     mask_background_adopt_frames: 30        # readings, 1..1000, before an unknown background depth is
+//     learned mask_unshrunk_colour_over_unread_background: true  # colour before the shrink where only the
+//     hall read nothing
 //
 // An unknown field, a value of the wrong type or out of its range is a holo::InputError naming
 // the file, the field (depthfilter.levels) and the range.

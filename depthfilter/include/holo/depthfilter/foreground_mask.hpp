@@ -9,7 +9,10 @@
 //     ignored there, so a shadow, a reflection or a global brightness change on a surface at the
 //     background's depth never counts, and a visitor whose colour matches the wall still does;
 //   * otherwise (no depth here or no background depth learned): MOG2's colour decision, with
-//     MOG2's shadow label counted as background.
+//     MOG2's shadow label counted as background (where the sensor reads a depth but none was
+//     learned for the background, the colour labels before the downscaled model's shrink).
+// A pixel without a learned background depth adopts a live one only after it has held for
+// background_adopt_frames readings judged background in a row.
 // The result is cleaned by a morphological opening (undone on regions that keep a pixel through
 // it, keep_attached_limbs) and a closing. Output: CV_8UC1, 255 = foreground.
 #pragma once
@@ -32,7 +35,15 @@ struct ForegroundMaskConfig {
   float depth_margin_m = 0.04f;            // constant part of the "clearly in front" margin, metres
   float depth_margin_z2 = 0.0075f;         // grows with z^2 like depth-sensor noise, 1/metres
   float background_depth_rate = 0.02f;     // live exponential update of background depth
-  int open_radius = 1;                     // pixels; removes isolated noise
+  // Where the empty hall read no depth, a live reading becomes the background depth only after
+  // this many readings in a row judged background and within the margin of each other (1: at
+  // once). A visitor's edge that the colour missed, adopted at once, hid the visitor there after.
+  static constexpr int kMaxBackgroundAdoptFrames = 1000;
+  int background_adopt_frames = 30;
+  // Where the sensor reads a depth but the background's is unknown, the colour labels before the
+  // shrink of the downscaled model decide (the shrink removes overhangs only where nothing is read).
+  bool unshrunk_colour_over_unread_background = true;
+  int open_radius = 1;  // pixels; removes isolated noise
   // After the opening, every connected region of the unopened mask that kept a pixel through it
   // comes back whole: specks still go, thin limbs joined to a body return.
   bool keep_attached_limbs = true;
@@ -68,9 +79,11 @@ class ForegroundMasker {
 
   ForegroundMaskConfig config_;
   cv::Ptr<cv::BackgroundSubtractorMOG2> mog2_;
-  cv::Mat background_depth_;          // CV_32FC1, running mean of valid background depth
-  cv::Mat updated_background_depth_;  // scratch: the live update is written here, then swapped
-  cv::Mat background_depth_count_;    // CV_32FC1, samples in the mean while learning
+  cv::Mat background_depth_;        // CV_32FC1, running mean of valid background depth
+  cv::Mat background_depth_count_;  // CV_32FC1, samples in the mean while learning
+  // Where the background depth is unknown: the live reading being adopted (CV_32FC1, the mean of
+  // the run) and the length of its run of background readings (CV_16UC1).
+  cv::Mat adopt_candidate_, adopt_count_;
   int background_frames_ = 0;
   cv::Mat small_colour_, colour_labels_;  // scratch, reused across frames
   // Scratch of a downscaled colour model: its foreground (255), at full size, shrunk.

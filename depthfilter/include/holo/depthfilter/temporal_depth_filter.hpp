@@ -39,6 +39,7 @@
 #include <opencv2/core.hpp>
 
 #include "holo/depthfilter/empirical_cdf.hpp"
+#include "holo/depthfilter/hole_reason.hpp"
 
 namespace holo::depthfilter {
 
@@ -84,6 +85,9 @@ struct TemporalDepthFilterConfig {
   // from a foreground pixel. false runs every pass over the whole frame (the reference that the
   // tests and the benchmark compare with).
   bool mask_box_only = true;
+  // Record why each hole was left (TemporalDepthFilter::holeReasons); a diagnostic for
+  // `eval depth`, off in the product.
+  bool record_hole_reasons = false;
 
   float surfaceTolerance(float depth_m) const {
     return surface_tolerance_m + surface_tolerance_z2 * depth_m * depth_m;
@@ -111,6 +115,10 @@ class TemporalDepthFilter {
   cv::Mat apply(const DepthFilterInput& input);
   // Forgets the previous frame (a camera dropped out); the learned PDFs stay.
   void resetHistory();
+
+  // With TemporalDepthFilterConfig::record_hole_reasons: the last frame's HoleReason per pixel
+  // (CV_8UC1; None where it output a depth, outside the mask and while learning); empty otherwise.
+  const cv::Mat& holeReasons() const;
 
   bool learning() const;
   std::int64_t frame() const { return frame_; }

@@ -44,6 +44,7 @@
 #include "holo/depthfilter/mask_persistence.hpp"
 #include "holo/depthfilter/precursor_flow.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
+#include "holo/eval/coverage_breakdown.hpp"
 #include "holo/eval/depth_baselines.hpp"
 
 namespace holo::eval {
@@ -175,6 +176,10 @@ class DepthFilterEvaluation {
   // filter that does not freeze.
   DepthMethodMetrics truthMetrics() const { return truth_.scorer.metrics(); }
   static DepthMethodMetrics combinedTruth(std::span<const DepthFilterEvaluation> streams);
+  // Where ours' coverage goes over the scored frames (empty unless the filter's config records
+  // its hole reasons, TemporalDepthFilterConfig::record_hole_reasons).
+  const CoverageBreakdown& coverageBreakdown() const { return breakdown_; }
+  static CoverageBreakdown combinedCoverageBreakdown(std::span<const DepthFilterEvaluation> streams);
 
  private:
   struct MethodState {
@@ -195,6 +200,7 @@ class DepthFilterEvaluation {
   cv::Mat last_mask_, last_flow_;
   std::array<MethodState, kDepthMethods.size()> methods_;
   MethodState truth_;
+  CoverageBreakdown breakdown_;
 };
 
 }  // namespace holo::eval

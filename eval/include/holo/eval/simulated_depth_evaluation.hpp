@@ -54,11 +54,13 @@ struct SimulatedDepthEvaluation {
   // scene, frames, learning_frames, levels, mask_persistence, keep_attached_limbs, cross_camera (and the
   // cross-camera step's filled and confirmed pixels per camera frame), cameras, width, height, methods (each
   // method's metrics, the compared l_max among them), bars (the verdicts for ours and the adversary),
-  // truth_depth_change_cm2.
+  // truth_depth_change_cm2, coverage_breakdown (CoverageBreakdown::toJson).
   nlohmann::json report;
   // Each method's pooled metrics, in kDepthMethods' order, then the compared l_max (for
   // depthMetricsTable).
   std::vector<std::pair<std::string, DepthMethodMetrics>> rows;
+  // Where ours' coverage goes (CoverageBreakdown::table; the same in report["coverage_breakdown"]).
+  std::string coverage_table;
   // With SimulatedDepthOptions::figure, a Fig. 9-like picture (BGR) of the last frame of the
   // camera that sees the most visitor pixels: its colour frame, then raw's, the median's, TAA's,
   // ours' and the truth's point clouds seen 0.8 m behind and 0.2 m to the right of the camera.
