@@ -13,7 +13,9 @@
 //    cosine, kCosineLobe_i Y_i(n) minus pi / N Y_i(w) of each occluded one, plus B), iterated
 //    `bounces` times, T(hit) interpolated from the hit triangle's vertices, the albedo the hit's
 //    diffuse one ((1 - metallic)(1 - transmission) base colour (1 - its strongest F0)).
-// The irradiance of a surface point is its triangle's vertices' irradiance, interpolated. A
+// A triangle long against the relic (a backdrop of two triangles) gets a lattice of points with
+// their own transfers, as vertices have (addLattices). The irradiance of a surface point is its
+// triangle's vertices' irradiance (or its lattice cell's points'), interpolated. A
 // convex relic has nothing to occlude: the frame renderer builds none for it (effect_plan.hpp).
 // The rays are a fixed pattern per vertex, its jitter hashed from the vertex, so the result is
 // the same on every run and thread count.
@@ -96,11 +98,23 @@ class RelicVisibility {
     std::array<float, 3> weight;
   };
   Corners corners(const SurfaceLocation& at) const;
+  // A triangle longer than the relic's diagonal / kLatticeStepsPerRelic gets its own lattice of
+  // points (steps segments a side), each with a transfer, so its irradiance varies across it (a
+  // backdrop of two triangles under the relic's shadow); appended after the mesh's vertices.
+  static constexpr float kLatticeStepsPerRelic = 24.0f;
+  static constexpr int kMaxLatticeSteps = 32;
+  struct Lattice {
+    std::uint32_t first = 0;  // the index of its point (0, 0) among the mesh's points
+    int steps = 0;            // 0: the triangle interpolates its own vertices
+  };
+  void addLattices(std::size_t mesh, const Bounds3& relic_box);
 
   const Model* model_;
   int side_ = 8;
   float ray_offset_ = 1e-3f;
-  std::vector<std::vector<vec3>> normals_;  // per mesh, unit vertex normals (0: none)
+  std::vector<std::vector<vec3>> normals_;      // per mesh and point, unit normals (0: none)
+  std::vector<std::vector<vec3>> positions_;    // per mesh: its vertices, then its lattices' points
+  std::vector<std::vector<Lattice>> lattices_;  // per mesh and triangle; empty: none has one
   // Per mesh, per side (0 front, 1 back), per vertex; a side not computed is empty.
   std::vector<std::array<std::vector<Transfer>, 2>> transfers_;
   std::vector<VertexSide> vertex_sides_list_;
