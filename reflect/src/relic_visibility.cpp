@@ -51,11 +51,16 @@ RelicVisibility::RelicVisibility(const RenderScene& scene, const RelicVisibility
     throw InputError(src, "bounces", "0..8", std::to_string(settings.bounces));
   if (!std::isfinite(settings.ray_offset) || settings.ray_offset < 0.0f || settings.ray_offset > 0.1f)
     throw InputError(src, "ray_offset", "0..0.1 metres", std::to_string(settings.ray_offset));
+  if (!std::isfinite(settings.lattice_steps_per_relic) || settings.lattice_steps_per_relic < 0.0f ||
+      settings.lattice_steps_per_relic > 64.0f)
+    throw InputError(src, "lattice_steps_per_relic", "0..64",
+                     std::to_string(settings.lattice_steps_per_relic));
   ray_offset_ = settings.ray_offset;
 
   const Model& model = scene.relic();
   const RayScene& relic = scene.relicOnly();
   const int n = settings.rays_per_vertex;
+  const Bounds3 relic_box = model.bounds();
   transfers_.resize(model.meshes.size());
   normals_.resize(model.meshes.size());
   positions_.resize(model.meshes.size());
@@ -74,7 +79,7 @@ RelicVisibility::RelicVisibility(const RenderScene& scene, const RelicVisibility
       const float len = glm::length(normal);
       normal = len > 1e-12f && std::isfinite(len) ? normal / len : vec3(0.0f);
     }
-    addLattices(m, model.bounds());
+    addLattices(m, relic_box, settings.lattice_steps_per_relic);
     const int material = mesh.material;
     const bool two_sided = material >= 0 && std::size_t(material) < model.materials.size() &&
                            (model.materials[std::size_t(material)].double_sided ||
@@ -251,10 +256,11 @@ bool RelicVisibility::covers(const SurfaceLocation& at) const {
   return !transfers_[at.mesh][at.front ? 0 : 1].empty();
 }
 
-void RelicVisibility::addLattices(std::size_t m, const Bounds3& relic_box) {
+void RelicVisibility::addLattices(std::size_t m, const Bounds3& relic_box, float steps_per_relic) {
   const TriangleMesh& mesh = model_->meshes[m];
   positions_[m] = mesh.positions;
-  const float spacing = glm::length(relic_box.hi - relic_box.lo) / kLatticeStepsPerRelic;
+  if (!(steps_per_relic > 0.0f)) return;
+  const float spacing = glm::length(relic_box.hi - relic_box.lo) / steps_per_relic;
   if (!(spacing > 0.0f) || !std::isfinite(spacing)) return;
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const uvec3 tri = mesh.triangles[t];

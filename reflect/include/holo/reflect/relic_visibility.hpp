@@ -36,6 +36,9 @@ struct RelicVisibilitySettings {
   int rays_per_vertex = 256;  // per vertex and side, a square number 4..256 (side x side strata)
   int bounces = 4;            // diffuse interreflection bounces folded in, 0..8 (0: visibility only)
   float ray_offset = 1e-3f;   // metres a ray starts along the vertex normal, against self-hits
+  // A triangle longer than the relic's diagonal / lattice_steps_per_relic gets a lattice of points
+  // at that spacing (at most 32 segments a side), each with its own transfer; 0: vertices only.
+  float lattice_steps_per_relic = 24.0f;  // 0..64
 };
 
 class RelicVisibility {
@@ -98,16 +101,15 @@ class RelicVisibility {
     std::array<float, 3> weight;
   };
   Corners corners(const SurfaceLocation& at) const;
-  // A triangle longer than the relic's diagonal / kLatticeStepsPerRelic gets its own lattice of
-  // points (steps segments a side), each with a transfer, so its irradiance varies across it (a
-  // backdrop of two triangles under the relic's shadow); appended after the mesh's vertices.
-  static constexpr float kLatticeStepsPerRelic = 24.0f;
+  // The lattice of a triangle longer than settings.lattice_steps_per_relic allows, so its
+  // irradiance varies across it (a backdrop of two triangles under the relic's shadow); its points
+  // are appended after the mesh's vertices.
   static constexpr int kMaxLatticeSteps = 32;
   struct Lattice {
     std::uint32_t first = 0;  // the index of its point (0, 0) among the mesh's points
     int steps = 0;            // 0: the triangle interpolates its own vertices
   };
-  void addLattices(std::size_t mesh, const Bounds3& relic_box);
+  void addLattices(std::size_t mesh, const Bounds3& relic_box, float steps_per_relic);
 
   const Model* model_;
   int side_ = 8;
