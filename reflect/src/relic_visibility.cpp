@@ -117,7 +117,8 @@ RelicVisibility::RelicVisibility(const RenderScene& scene, const RelicVisibility
               const Ray ray = this->ray(job, k);
               const RayHit hit = relic.intersect(ray);
               ++cast;
-              if (!hit.hit()) {
+              // Glass passes the light on (its tint and bending left out) rather than shadowing.
+              if (!hit.hit() || scene.relicGltfMaterial(hit, relic).transmissive()) {
                 out.open_strata[std::size_t(k / 64)] |= std::uint64_t(1) << (k % 64);
                 continue;
               }

@@ -107,11 +107,12 @@ double meanCodes(const cv::Mat& ours_hdr, const cv::Mat& truth_hdr, const cv::Ma
 
 struct KhronosCase {
   std::string model;
-  double ci_bar;  // sRGB codes at CI size (measured 16.5, 12.7, 4.7, 6.6; with the textures read at
+  double ci_bar;  // sRGB codes at CI size (measured 15.3, 9.3, 3.8, 6.6; with the textures read at
                   // the entry only 32.5, 34.1, 5.7, 11.9)
   // The park's sun lights this model's diffuse surfaces: with the sun light switched off (the sun
   // in the 9 coefficients) it must be at least this many times further from the truth (measured
-  // at CI size: the grid 18.3 against 12.7, 1.43x; the wicker 11.9 against 6.6, 1.8x).
+  // at CI size: the wicker 11.9 against 6.6, 1.8x; the grid's floor, whose shadow it was, now has
+  // the visibility's lattice: 9.8 against 9.3).
   double sun_light_gain = 0.0;
 };
 
@@ -155,9 +156,9 @@ TEST_P(KhronosGlass, OursHoldsToThePathTracerOverTheRelic) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Models, KhronosGlass,
-                         ::testing::Values(KhronosCase{"khronos_glass_hurricane_candle_holder.glb", 17.5},
-                                           KhronosCase{"khronos_transmission_roughness_test.glb", 16.0, 1.25},
-                                           KhronosCase{"khronos_attenuation_test.glb", 5.5},
+                         ::testing::Values(KhronosCase{"khronos_glass_hurricane_candle_holder.glb", 16.5},
+                                           KhronosCase{"khronos_transmission_roughness_test.glb", 11.0},
+                                           KhronosCase{"khronos_attenuation_test.glb", 5.0},
                                            KhronosCase{"khronos_clearcoat_wicker.glb", 9.0, 1.4}));
 
 // The candle inside the hurricane glass: the pixels whose view ray meets the glass first and the
@@ -210,9 +211,9 @@ TEST(KhronosGlassCandle, TheCandleIsSeenThroughTheGlassAsInTheTruth) {
       "candle seen through the glass (%d pixels, %d^2): ours %.2f sRGB codes from the truth, "
       "the candle left out %.2f\n",
       pixels, size.pixels, codes, dropped_codes);
-  // Measured at CI size: 18.7 (the truth's own noise there: 8.6), the candle left out 27.4; at
-  // 256^2 15.7 and 24.7. The glass's textures read at the entry only: 40.9 (the candle hidden).
-  EXPECT_LT(codes, fullEvaluation() ? 8.0 : 21.0);
+  // Measured at CI size: 17.3 (the truth's own noise there: 8.6), the candle left out 27.4; at
+  // 256^2 14.2 and 24.7. The glass's textures read at the entry only: 40.9 (the candle hidden).
+  EXPECT_LT(codes, fullEvaluation() ? 8.0 : 19.5);
   EXPECT_GT(dropped_codes, 1.3 * codes);
 }
 
