@@ -32,7 +32,7 @@ InsideGlassShading shadeInsideGlass(const RenderScene& scene, const PrefilteredI
     const vec3 d = frame.toWorld(local);
     const vec3 hall = ibl.seenFrom(surface.position, d, kLightLobeRoughness);
     free += hall;
-    through += hall * passedThroughRelic(scene, settings, surface.position, d, out.rays);
+    through += hall * passedThroughRelic(scene, settings, surface.position, d, out.rays, InterfaceLoss::None);
   }
   vec3 diffuse_scale(0.0f);
   for (int c = 0; c < 3; ++c) diffuse_scale[c] = free[c] > 0.0f ? through[c] / free[c] : 0.0f;

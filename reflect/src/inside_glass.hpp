@@ -4,11 +4,12 @@
 // occlusion and emission, the split-sum IBL), except that the hall's light reaches it through the
 // relic: kLightDirections cosine-spread directions around its normal, and its mirror direction,
 // are followed straight through the relic (a shadow ray's path: not bent), each entry into a
-// transmissive material passing (1 - F)(1 - metallic) transmission base_colour of the light and
-// each exit from a volume 1 - F (as the path tracer's glass: tinted where the light enters), each
-// volume segment its Beer-Lambert share, an opaque part nothing. The diffuse is scaled per RGB
-// channel by the hall-weighted mean of what the directions pass (the hall's radiance along each
-// at a wide lobe), the specular by what the mirror direction passes.
+// transmissive material passing (1 - metallic) transmission base_colour of the light (as the path
+// tracer's glass: tinted where the light enters), each volume segment its Beer-Lambert share, an
+// opaque part nothing; the spread directions without the walls' Fresnel loss (what a wall reflects
+// out of a wide lobe it reflects in: relic_passage.hpp), the mirror direction with it. The diffuse is scaled
+// per RGB channel by the hall-weighted mean of what the directions pass (the hall's radiance along each at a
+// wide lobe), the specular by what the mirror direction passes.
 #pragma once
 
 #include "holo/reflect/prefiltered_ibl.hpp"

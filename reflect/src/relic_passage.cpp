@@ -10,7 +10,7 @@
 namespace holo::reflect {
 
 vec3 passedThroughRelic(const RenderScene& scene, const TracerSettings& settings, const vec3& origin,
-                        const vec3& direction, std::uint32_t& rays) {
+                        const vec3& direction, std::uint32_t& rays, InterfaceLoss loss) {
   const RayScene& relic = scene.relicOnly();
   const float offset = std::max(settings.ray_offset, 1e-5f);
   vec3 passed(1.0f), sigma(0.0f), position = origin;
@@ -27,7 +27,9 @@ vec3 passedThroughRelic(const RenderScene& scene, const TracerSettings& settings
     if (!(share > 0.0f) || !isFinite(s.position)) return vec3(0.0f);
     const float cos_i = std::clamp(std::abs(glm::dot(s.geometric_normal, direction)), 1e-6f, 1.0f);
     const float ior = safeIor(m.ior);
-    const float fresnel = std::min(fresnelDielectric(cos_i, inside ? 1.0f / ior : ior), 1.0f);
+    const float fresnel = loss == InterfaceLoss::Fresnel
+                              ? std::min(fresnelDielectric(cos_i, inside ? 1.0f / ior : ior), 1.0f)
+                              : 0.0f;
     // Entering (or a thin wall) passes the material's share and tint; leaving, the interface alone.
     if (inside)
       passed *= 1.0f - fresnel;

@@ -12,10 +12,17 @@
 
 namespace holo::reflect {
 
+// What a glass interface takes from the light: its Fresnel reflection (light along one direction:
+// the sun's, a mirror direction's), or nothing (light gathered over a wide lobe: a wall reflects
+// into the lobe, from its mirror direction, about as much as it reflects out of it, so an even hall
+// seen through a lossless glass case is as bright inside it as outside; tint and absorption stay).
+enum class InterfaceLoss { Fresnel, None };
+
 // RGB in [0, 1] of the light arriving at `origin` from unit `direction`; `rays` counts the
 // Embree rays (at most kMaxRelicCrossings).
 vec3 passedThroughRelic(const RenderScene& scene, const TracerSettings& settings, const vec3& origin,
-                        const vec3& direction, std::uint32_t& rays);
+                        const vec3& direction, std::uint32_t& rays,
+                        InterfaceLoss loss = InterfaceLoss::Fresnel);
 
 // Interfaces a light ray crosses before it is counted as stopped (glass walls come in pairs).
 inline constexpr int kMaxRelicCrossings = 8;

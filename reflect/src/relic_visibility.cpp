@@ -51,13 +51,20 @@ RelicVisibility::RelicVisibility(const RenderScene& scene, const RelicVisibility
     throw InputError(src, "bounces", "0..8", std::to_string(settings.bounces));
   if (!std::isfinite(settings.ray_offset) || settings.ray_offset < 0.0f || settings.ray_offset > 0.1f)
     throw InputError(src, "ray_offset", "0..0.1 metres", std::to_string(settings.ray_offset));
+  if (!std::isfinite(settings.lattice_steps_per_relic) || settings.lattice_steps_per_relic < 0.0f ||
+      settings.lattice_steps_per_relic > 64.0f)
+    throw InputError(src, "lattice_steps_per_relic", "0..64",
+                     std::to_string(settings.lattice_steps_per_relic));
   ray_offset_ = settings.ray_offset;
 
   const Model& model = scene.relic();
   const RayScene& relic = scene.relicOnly();
   const int n = settings.rays_per_vertex;
+  const Bounds3 relic_box = model.bounds();
   transfers_.resize(model.meshes.size());
   normals_.resize(model.meshes.size());
+  positions_.resize(model.meshes.size());
+  lattices_.resize(model.meshes.size());
   for (std::size_t m = 0; m < model.meshes.size(); ++m) {
     const TriangleMesh& mesh = model.meshes[m];
     if (mesh.triangles.empty()) continue;
@@ -72,13 +79,14 @@ RelicVisibility::RelicVisibility(const RenderScene& scene, const RelicVisibility
       const float len = glm::length(normal);
       normal = len > 1e-12f && std::isfinite(len) ? normal / len : vec3(0.0f);
     }
+    addLattices(m, relic_box, settings.lattice_steps_per_relic);
     const int material = mesh.material;
     const bool two_sided = material >= 0 && std::size_t(material) < model.materials.size() &&
                            (model.materials[std::size_t(material)].double_sided ||
                             model.materials[std::size_t(material)].transmission > 0.0f);
     for (std::uint32_t s = 0; s < (two_sided ? 2u : 1u); ++s) {
-      transfers_[m][s].resize(mesh.positions.size());
-      for (std::uint32_t v = 0; v < mesh.positions.size(); ++v)
+      transfers_[m][s].resize(positions_[m].size());
+      for (std::uint32_t v = 0; v < positions_[m].size(); ++v)
         vertex_sides_list_.push_back({std::uint32_t(m), v, s});
     }
   }
@@ -109,7 +117,8 @@ RelicVisibility::RelicVisibility(const RenderScene& scene, const RelicVisibility
               const Ray ray = this->ray(job, k);
               const RayHit hit = relic.intersect(ray);
               ++cast;
-              if (!hit.hit()) {
+              // Glass passes the light on (its tint and bending left out) rather than shadowing.
+              if (!hit.hit() || scene.relicGltfMaterial(hit, relic).transmissive()) {
                 out.open_strata[std::size_t(k / 64)] |= std::uint64_t(1) << (k % 64);
                 continue;
               }
@@ -123,12 +132,12 @@ RelicVisibility::RelicVisibility(const RenderScene& scene, const RelicVisibility
               const auto& sides = previous[s.location.mesh];
               const auto& values = sides[s.location.front || sides[1].empty() ? 0 : 1];
               if (values.empty()) continue;
-              const uvec3 tri = model.meshes[s.location.mesh].triangles[s.location.triangle];
-              const float u = s.location.barycentric.x, v = s.location.barycentric.y;
+              const Corners c = corners(s.location);
               for (int i = 0; i < 9; ++i)
-                out.bounce[i] += albedo / float(n) *
-                                 ((1.0f - u - v) * values[tri.x].whole[i] + u * values[tri.y].whole[i] +
-                                  v * values[tri.z].whole[i]);
+                out.bounce[i] +=
+                    albedo / float(n) *
+                    (c.weight[0] * values[c.vertex.x].whole[i] + c.weight[1] * values[c.vertex.y].whole[i] +
+                     c.weight[2] * values[c.vertex.z].whole[i]);
             }
             for (int i = 0; i < 9; ++i) out.whole[i] += out.bounce[i];
             out.open = 1.0f - float(occluded) / float(n);
@@ -155,7 +164,7 @@ Ray RelicVisibility::ray(const VertexSide& v, int k) const {
   const float u1 = (float(k % side_) + jx) / float(side_), u2 = (float(k / side_) + jy) / float(side_);
   const float r = std::sqrt(u1), phi = 2.0f * kPi * u2;
   const Frame frame(normal);
-  const vec3 origin = model_->meshes[v.mesh].positions[v.vertex] + ray_offset_ * normal;
+  const vec3 origin = positions_[v.mesh][v.vertex] + ray_offset_ * normal;
   return {origin,
           frame.toWorld(vec3(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(1.0f - u1, 0.0f))))};
 }
@@ -248,9 +257,52 @@ bool RelicVisibility::covers(const SurfaceLocation& at) const {
   return !transfers_[at.mesh][at.front ? 0 : 1].empty();
 }
 
+void RelicVisibility::addLattices(std::size_t m, const Bounds3& relic_box, float steps_per_relic) {
+  const TriangleMesh& mesh = model_->meshes[m];
+  positions_[m] = mesh.positions;
+  if (!(steps_per_relic > 0.0f)) return;
+  const float spacing = glm::length(relic_box.hi - relic_box.lo) / steps_per_relic;
+  if (!(spacing > 0.0f) || !std::isfinite(spacing)) return;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const uvec3 tri = mesh.triangles[t];
+    const vec3 a = mesh.positions[tri.x], b = mesh.positions[tri.y], c = mesh.positions[tri.z];
+    const float longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+    const int steps = std::min(int(std::ceil(longest / spacing)), kMaxLatticeSteps);
+    if (!(steps >= 2)) continue;
+    if (lattices_[m].empty()) lattices_[m].resize(mesh.triangles.size());
+    lattices_[m][t] = {std::uint32_t(positions_[m].size()), steps};
+    const vec3 na = normals_[m][tri.x], nb = normals_[m][tri.y], nc = normals_[m][tri.z];
+    for (int j = 0; j <= steps; ++j)
+      for (int i = 0; i + j <= steps; ++i) {
+        const float u = float(i) / float(steps), v = float(j) / float(steps);
+        positions_[m].push_back((1.0f - u - v) * a + u * b + v * c);
+        const vec3 normal = (1.0f - u - v) * na + u * nb + v * nc;
+        const float len = glm::length(normal);
+        normals_[m].push_back(len > 1e-12f && std::isfinite(len) ? normal / len : vec3(0.0f));
+      }
+  }
+}
+
 RelicVisibility::Corners RelicVisibility::corners(const SurfaceLocation& at) const {
   const float u = at.barycentric.x, v = at.barycentric.y;
-  return {model_->meshes[at.mesh].triangles[at.triangle], {1.0f - u - v, u, v}};
+  const std::vector<Lattice>& lattices = lattices_[at.mesh];
+  if (lattices.empty() || lattices[at.triangle].steps == 0)
+    return {model_->meshes[at.mesh].triangles[at.triangle], {1.0f - u - v, u, v}};
+  // The lattice's cell holding (u, v): point (i, j) at u = i / steps, v = j / steps, row j after
+  // the rows below it (steps + 1 - r points each).
+  const Lattice& lattice = lattices[at.triangle];
+  const int n = lattice.steps;
+  const auto index = [&](int i, int j) {
+    return lattice.first + std::uint32_t(j * (n + 1) - j * (j - 1) / 2 + i);
+  };
+  const float fu = std::clamp(u, 0.0f, 1.0f) * float(n), fv = std::clamp(v, 0.0f, 1.0f) * float(n);
+  const int i = std::clamp(int(fu), 0, n - 1), j = std::clamp(int(fv), 0, n - 1 - i);
+  const float a = fu - float(i), b = fv - float(j);
+  if (a + b <= 1.0f || i + j >= n - 1) {
+    const float wa = std::clamp(a, 0.0f, 1.0f), wb = std::clamp(b, 0.0f, 1.0f - wa);
+    return {uvec3(index(i, j), index(i + 1, j), index(i, j + 1)), {1.0f - wa - wb, wa, wb}};
+  }
+  return {uvec3(index(i + 1, j + 1), index(i, j + 1), index(i + 1, j)), {a + b - 1.0f, 1.0f - a, 1.0f - b}};
 }
 
 vec3 RelicVisibility::irradiance(const Lighting& lighting, const SurfaceLocation& at) const {

@@ -12,6 +12,8 @@
 #include "holo/core/image.hpp"
 #include "holo/reflect/bsdf.hpp"
 #include "holo/reflect/surface_shading.hpp"
+#include "layer_inputs.hpp"
+#include "relic_passage.hpp"
 #include "wide_lobe_cache.hpp"
 
 namespace holo::reflect {
@@ -187,6 +189,22 @@ float StaticShading::textureOcclusion(const SurfacePoint& surface) const {
   return std::min(1.0f, surface.occlusion / std::max(visibility_->openness(surface.location), 1e-3f));
 }
 
+SplitSumShading StaticShading::shadeMet(const SurfacePoint& surface, const Ray& ray,
+                                        std::uint64_t& rays) const {
+  SplitSumShading parts = shadeAt(surface, -ray.direction);
+  const SurfaceMaterial& m = surface.material;
+  const float share = (1.0f - clamp01(m.metallic)) * clamp01(m.transmission);
+  if (!(share > 0.0f)) return parts;
+  std::uint32_t cast = 0;
+  const vec3 passed = passedThroughRelic(scene_, settings_, ray.origin, ray.direction, cast);
+  rays += cast;
+  const vec3 through = passed * ibl_.seenFrom(surface.position, ray.direction, m.roughness);
+  const vec3 reflected_light = parts.diffuse - surface.emission;
+  parts.diffuse =
+      (1.0f - share) * reflected_light + surface.emission + (isFinite(through) ? through : vec3(0.0f));
+  return parts;
+}
+
 SplitSumShading StaticShading::shadeAt(const SurfacePoint& surface, const vec3& wo) const {
   const bool covered = visibility_ && visibility_->covers(surface.location);
   if (!covered && !sun_) return shadeSurface(ibl_, surface, wo);
@@ -271,7 +289,7 @@ std::uint64_t StaticShading::finishDeferred(
     const vec3 reflected = glm::reflect(ray.direction, normal);
     if (!isFinite(position) || !isFinite(normal) || !isFinite(reflected)) continue;
     const SurfaceMaterial& material = surface.material;
-    const SplitSumShading second = shadeAt(surface, -ray.direction);
+    const SplitSumShading second = shadeMet(surface, ray, rays);
     // L = diffuse_1 + s_1 L_2 and L_2 = diffuse_2 + s_2 (psi_d w + env_2 (1 - w)): the composition's
     // form with scale s_1 s_2 and environment env_2.
     SplitSumShading& first = shading[mirror.sample];
@@ -298,7 +316,7 @@ std::uint64_t StaticShading::finishDeferred(
       const SurfacePoint surface =
           resolveSurface(scene_, relic, ray, hit, share.cone_width + hit.t * share.spread);
       if (!isFinite(surface.normal)) continue;
-      const SplitSumShading second = shadeAt(surface, -ray.direction);
+      const SplitSumShading second = shadeMet(surface, ray, rays);
       bounce.diffuse += second.diffuse;
       bounce.specular += second.specular_scale * secondEnvironment(surface, ray, hit, second, share, rays);
       bounce.met += 1.0f;
@@ -348,7 +366,7 @@ vec3 StaticShading::secondEnvironment(const SurfacePoint& surface, const Ray& ra
   const SurfacePoint third_surface =
       resolveSurface(scene_, relic, next, third_hit, share.cone_width + (hit.t + third_hit.t) * share.spread);
   if (!isFinite(third_surface.normal)) return second.environment;
-  const SplitSumShading third = shadeAt(third_surface, -next.direction);
+  const SplitSumShading third = shadeMet(third_surface, next, rays);
   const vec3 seen = third.specular_scale * third.environment + third.diffuse;
   return isFinite(seen) ? seen : second.environment;
 }

@@ -191,6 +191,11 @@ class StaticShading {
   float textureOcclusion(const SurfacePoint& surface) const;
   // surface_shading.hpp's shadeSurface, with the visibility's irradiance where it covers the point.
   SplitSumShading shadeAt(const SurfacePoint& surface, const vec3& wo) const;
+  // A relic surface a secondary ray (a mirror ray, a lobe's stratum) meets, seen from the ray's
+  // origin: shadeAt, where it transmits with the hall seen straight through the relic beyond it
+  // (relic_passage.hpp: tinted, absorbed, stopped by an opaque part) in place of the diffuse
+  // share it transmits. `rays` counts the passage's Embree rays.
+  SplitSumShading shadeMet(const SurfacePoint& surface, const Ray& ray, std::uint64_t& rays) const;
   // The 3x3 tent's sum of the pixel's and its same-surface neighbours' lobe samples.
   LobeBounce poolLobeBounces(const std::vector<PixelBounce>& bounces, int width, int height,
                              const CameraModel& view, int x, int y) const;

@@ -13,7 +13,9 @@
 //    cosine, kCosineLobe_i Y_i(n) minus pi / N Y_i(w) of each occluded one, plus B), iterated
 //    `bounces` times, T(hit) interpolated from the hit triangle's vertices, the albedo the hit's
 //    diffuse one ((1 - metallic)(1 - transmission) base colour (1 - its strongest F0)).
-// The irradiance of a surface point is its triangle's vertices' irradiance, interpolated. A
+// A triangle long against the relic (a backdrop of two triangles) gets a lattice of points with
+// their own transfers, as vertices have (addLattices). The irradiance of a surface point is its
+// triangle's vertices' irradiance (or its lattice cell's points'), interpolated. A
 // convex relic has nothing to occlude: the frame renderer builds none for it (effect_plan.hpp).
 // The rays are a fixed pattern per vertex, its jitter hashed from the vertex, so the result is
 // the same on every run and thread count.
@@ -34,6 +36,9 @@ struct RelicVisibilitySettings {
   int rays_per_vertex = 256;  // per vertex and side, a square number 4..256 (side x side strata)
   int bounces = 4;            // diffuse interreflection bounces folded in, 0..8 (0: visibility only)
   float ray_offset = 1e-3f;   // metres a ray starts along the vertex normal, against self-hits
+  // A triangle longer than the relic's diagonal / lattice_steps_per_relic gets a lattice of points
+  // at that spacing (at most 32 segments a side), each with its own transfer; 0: vertices only.
+  float lattice_steps_per_relic = 24.0f;  // 0..64
 };
 
 class RelicVisibility {
@@ -96,11 +101,22 @@ class RelicVisibility {
     std::array<float, 3> weight;
   };
   Corners corners(const SurfaceLocation& at) const;
+  // The lattice of a triangle longer than settings.lattice_steps_per_relic allows, so its
+  // irradiance varies across it (a backdrop of two triangles under the relic's shadow); its points
+  // are appended after the mesh's vertices.
+  static constexpr int kMaxLatticeSteps = 32;
+  struct Lattice {
+    std::uint32_t first = 0;  // the index of its point (0, 0) among the mesh's points
+    int steps = 0;            // 0: the triangle interpolates its own vertices
+  };
+  void addLattices(std::size_t mesh, const Bounds3& relic_box, float steps_per_relic);
 
   const Model* model_;
   int side_ = 8;
   float ray_offset_ = 1e-3f;
-  std::vector<std::vector<vec3>> normals_;  // per mesh, unit vertex normals (0: none)
+  std::vector<std::vector<vec3>> normals_;      // per mesh and point, unit normals (0: none)
+  std::vector<std::vector<vec3>> positions_;    // per mesh: its vertices, then its lattices' points
+  std::vector<std::vector<Lattice>> lattices_;  // per mesh and triangle; empty: none has one
   // Per mesh, per side (0 front, 1 back), per vertex; a side not computed is empty.
   std::vector<std::array<std::vector<Transfer>, 2>> transfers_;
   std::vector<VertexSide> vertex_sides_list_;
