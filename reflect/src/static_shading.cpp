@@ -174,7 +174,7 @@ LobeBounce StaticShading::traceWholeLobe(const vec3& position, const vec3& norma
     }
     const SurfacePoint surface = resolveSurface(scene_, relic, ray, hit, 0.0f);
     if (!isFinite(surface.normal)) return;
-    const SplitSumShading second = shadeAt(surface, -ray.direction);
+    const SplitSumShading second = shadeMet(surface, ray, rays);
     bounce.diffuse += second.diffuse;
     bounce.specular += second.specular_scale * secondEnvironment(surface, ray, hit, second, share, rays);
     bounce.met += 1.0f;
