@@ -128,6 +128,16 @@ TEST(EffectGates, VisitorsLightOffBelowOneDisplayedCode) {
   EXPECT_NE(shown.plan.visitor_light_reason.find("sRGB codes"), std::string::npos) << shown.plan.describe();
   EXPECT_GT(shown.visitor_light_splats, 0u);
   EXPECT_GT(shown.views.at(0).visitor_lit_samples, 0u);
+  reflect::TracerSettings without = day;
+  without.evaluation.visitor_light = false;
+  reflect::FrameRenderer without_renderer(bowl, *bright, without);
+  const Change in_daylight =
+      change(shown.views.at(0).hdr,
+             without_renderer.render(scene.foreground, scene.foreground_cameras, {view}).views.at(0).hdr,
+             day.exposure);
+  std::printf("in the scene's own light the visitors change a pixel by %.0f%%, %.1f codes\n",
+              double(in_daylight.radiance) * 100.0, double(in_daylight.codes));
+  EXPECT_GT(in_daylight.codes, 1.0f);
 
   const auto dim = hallIbl(kEvening);
   const depthfilter::ForegroundCloud dim_visitors = visitors(kEvening);

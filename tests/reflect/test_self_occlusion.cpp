@@ -366,9 +366,10 @@ TEST(SelfOcclusion, Figures) {
   }
 }
 
-// The metal bowl's suspects (opt-in): its inside's mean against truths of 5 and 16 bounces, and
-// ours with the lobe's strata 8x8 instead of 4x4, the hall share by the open count, and the
-// filter off. HOLO_SUSPECT_SIZE (default 64) and HOLO_SUSPECT_SPP (default 256).
+// The metal bowl's suspects (opt-in): its inside's mean against truths of 5 and 16 bounces (and
+// of 1), and ours with the lobe's strata 2x2, 8x8 and 8x8 at every sample instead of 4x4, the hall share by
+// the open count, the filter off and no interreflection. HOLO_SUSPECT_SIZE (default 64) and HOLO_SUSPECT_SPP
+// (default 256).
 TEST(SelfOcclusion, MetalBowlSuspects) {
   if (!std::getenv("HOLO_FULL_EVAL")) GTEST_SKIP() << "HOLO_FULL_EVAL=1 renders the figures";
   const int size = std::getenv("HOLO_SUSPECT_SIZE") ? std::atoi(std::getenv("HOLO_SUSPECT_SIZE")) : 64;
@@ -392,6 +393,10 @@ TEST(SelfOcclusion, MetalBowlSuspects) {
                 t5.pixels, t5.meanRatio(), t1.meanRatio());
     TracerSettings strata8;
     strata8.rough_interreflection_grid = 8;
+    TracerSettings strata2;
+    strata2.rough_interreflection_grid = 2;
+    TracerSettings strata8_each = strata8;  // every sample traces all 64: 256 per pixel
+    strata8_each.evaluation.rough_interreflection_interleaved = false;
     TracerSettings count;
     count.evaluation.lobe_visibility = false;
     TracerSettings unfiltered;
@@ -401,6 +406,8 @@ TEST(SelfOcclusion, MetalBowlSuspects) {
     for (const auto& [name, settings] :
          std::vector<std::pair<std::string, TracerSettings>>{{"default", {}},
                                                              {"strata 8x8", strata8},
+                                                             {"strata 2x2", strata2},
+                                                             {"strata 8x8 each sample", strata8_each},
                                                              {"hall share by count", count},
                                                              {"filter off", unfiltered},
                                                              {"no interreflection", no_bounce}}) {
