@@ -1,6 +1,7 @@
 #include "holo/reflect/effect_plan.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace holo::reflect {
@@ -122,14 +123,19 @@ EffectPlan planEffects(const EffectInputs& in) {
   if (!in.progressive_refinement_reason.empty())
     plan.material_reason += ", " + in.progressive_refinement_reason;
   const bool visitor_present = in.foreground_points > 0 && !in.foreground_bounds.empty();
-  const bool visitor_light = in.visitor_light_enabled && in.relic_lit_diffusely && visitor_present &&
-                             in.visitor_within_light_distance;
-  plan.visitor_light_reason = !in.visitor_light_enabled ? "visitors' light off"
-                              : !in.relic_lit_diffusely
-                                  ? "no diffuse or wide-lobed relic material: no visitors' light"
-                              : !visitor_present ? "no visitor to light the relic"
-                              : !visitor_light   ? "no visitor near enough to light the relic"
-                                                 : "visitors near the relic's diffuse light";
+  const bool visitor_near = in.visitor_light_enabled && in.relic_lit_diffusely && visitor_present &&
+                            in.visitor_within_light_distance;
+  const bool visitor_light = visitor_near && in.visitor_light_codes >= in.effect_min_codes;
+  char codes[64] = "";
+  if (std::isfinite(in.visitor_light_codes))
+    std::snprintf(codes, sizeof codes, " (at most %.2g sRGB codes)", double(in.visitor_light_codes));
+  plan.visitor_light_reason =
+      !in.visitor_light_enabled ? "visitors' light off"
+      : !in.relic_lit_diffusely ? "no diffuse or wide-lobed relic material: no visitors' light"
+      : !visitor_present        ? "no visitor to light the relic"
+      : !visitor_near           ? "no visitor near enough to light the relic"
+      : !visitor_light          ? std::string("visitors' light not shown") + codes
+                                : std::string("visitors near the relic's diffuse light") + codes;
   if (!in.lobe_filter_reason.empty()) plan.material_reason += ", " + in.lobe_filter_reason;
   plan.interreflection = in.interreflection && !in.relic_convex;
   plan.material_reason += !in.interreflection ? ", interreflection off"

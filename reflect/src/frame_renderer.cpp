@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstring>
 #include <iterator>
+#include <limits>
 
 #include <tbb/parallel_for.h>
 
@@ -13,6 +14,7 @@
 #include "foreground_walk.hpp"
 #include "holo/reflect/tone_map.hpp"
 #include "internal_depth.hpp"
+#include "lobe_spread.hpp"
 #include "pass_timer.hpp"
 #include "plinth_light.hpp"
 #include "progressive_accumulation.hpp"
@@ -56,7 +58,11 @@ FrameRenderer::FrameRenderer(const RenderScene& scene, const PrefilteredIbl& ibl
   if (scene_.relic().materials.empty()) relic_glossy_ = true;  // default material: be safe
   relic_lit_diffusely_ = relicHasDiffuse(scene_) || !relic_glossy_;
   for (const Material& m : scene_.relic().materials)
-    relic_lit_diffusely_ = relic_lit_diffusely_ || m.roughness >= kGlossyRoughnessLimit;
+    relic_wide_lobes_ = relic_wide_lobes_ || m.roughness >= kGlossyRoughnessLimit;
+  if (scene_.relic().materials.empty()) relic_wide_lobes_ = Material{}.roughness >= kGlossyRoughnessLimit;
+  if (const auto& m = scene_.relicMaterialOverride())
+    relic_wide_lobes_ = relic_wide_lobes_ || m->roughness >= kGlossyRoughnessLimit;
+  relic_lit_diffusely_ = relic_lit_diffusely_ || relic_wide_lobes_;
   relic_bounds_ = scene_.relicBounds();
   for (const Material& m : scene_.relic().materials) {
     relic_transmissive_ =
@@ -139,8 +145,29 @@ const CausticImage* FrameRenderer::plinthCaustic() const {
   return plinth_light_ && !plinth_light_->caustic().irradiance.empty() ? &plinth_light_->caustic() : nullptr;
 }
 
+bool FrameRenderer::visitorWithinReach(const depthfilter::ForegroundCloud& cloud) const {
+  if (!settings_.evaluation.visitor_light || !relic_lit_diffusely_) return false;
+  const float reach2 = settings_.visitor_light_distance * settings_.visitor_light_distance;
+  for (const depthfilter::ForegroundPoint& p : cloud.points) {
+    const vec3 gap =
+        glm::max(glm::max(relic_bounds_.lo - p.position, p.position - relic_bounds_.hi), vec3(0.0f));
+    if (glm::dot(gap, gap) <= reach2) return true;
+  }
+  return false;
+}
+
+float FrameRenderer::gateExposure() const {
+  return settings_.exposure > 0.0f ? settings_.exposure : last_exposure_;
+}
+
 EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
                                const std::vector<ForegroundCameraImage>& cameras) const {
+  return planFrame(cloud, cameras, visitorWithinReach(cloud), std::numeric_limits<float>::infinity());
+}
+
+EffectPlan FrameRenderer::planFrame(const depthfilter::ForegroundCloud& cloud,
+                                    const std::vector<ForegroundCameraImage>& cameras, bool visitor_near,
+                                    float visitor_codes) const {
   EffectInputs in;
   in.foreground_enabled = settings_.foreground_enabled;
   in.relic_empty = scene_.relic().triangleCount() == 0;
@@ -170,23 +197,32 @@ EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
         std::string(in.self_occlusion ? "self-occlusion (" : "self-occlusion not shown (") +
         self_occlusion_figures_ + ", at most " + codes + " under this light)";
   }
-  in.progressive_refinement = refines_;
-  in.progressive_refinement_reason = refinement_reason_;
+  // The filter and the refinement change only how the lobe is sampled: they run where its Monte
+  // Carlo spread can show.
+  const float exposure = gateExposure();
+  const float lobe_codes =
+      (refines_ || lobe_filter_) && exposure > 0.0f
+          ? largestCodeChange(lobeSpread(scene_, ibl_, settings_.rough_interreflection_grid), exposure)
+          : std::numeric_limits<float>::infinity();
+  const bool lobe_shows = lobe_codes >= settings_.effect_min_codes;
+  char lobe[64] = "";
+  if (std::isfinite(lobe_codes))
+    std::snprintf(lobe, sizeof lobe, "at most %.2g sRGB codes", double(lobe_codes));
+  in.progressive_refinement = refines_ && lobe_shows;
+  in.progressive_refinement_reason =
+      !refines_ || !std::isfinite(lobe_codes) ? refinement_reason_
+      : lobe_shows                            ? refinement_reason_ + " (their spread " + lobe + ")"
+                   : std::string("progressive refinement: the rough lobes' spread not shown (") + lobe + ")";
   in.visitor_light_enabled = settings_.evaluation.visitor_light;
   in.relic_lit_diffusely = relic_lit_diffusely_;
-  if (in.visitor_light_enabled && in.relic_lit_diffusely) {
-    const float reach2 = settings_.visitor_light_distance * settings_.visitor_light_distance;
-    for (const depthfilter::ForegroundPoint& p : cloud.points) {
-      const vec3 gap =
-          glm::max(glm::max(in.relic_bounds.lo - p.position, p.position - in.relic_bounds.hi), vec3(0.0f));
-      if (glm::dot(gap, gap) <= reach2) {
-        in.visitor_within_light_distance = true;
-        break;
-      }
-    }
-  }
-  in.lobe_filter = lobe_filter_;
-  in.lobe_filter_reason = lobe_filter_reason_;
+  in.visitor_within_light_distance = visitor_near;
+  in.visitor_light_codes = visitor_codes;
+  in.effect_min_codes = settings_.effect_min_codes;
+  in.lobe_filter = lobe_filter_ && lobe_shows;
+  in.lobe_filter_reason =
+      !lobe_filter_ || !std::isfinite(lobe_codes) ? lobe_filter_reason_
+      : lobe_shows                                ? lobe_filter_reason_ + " (its noise " + lobe + ")"
+                   : std::string("axis-aligned filter: the rough lobe's noise not shown (") + lobe + ")";
   in.interreflection = settings_.relic_interreflection;
   in.relic_convex = scene_.relicIsConvex();
   in.plinth = plinth_light_ != nullptr;
@@ -245,10 +281,25 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
     lit_ = true;
     for (auto& cache : caches_) cache->ready = false;  // shaded with the old lighting
   }
-  result.plan = plan(cloud, cameras);
-  if (result.plan.has(Pass::VoxelGrid)) {
+  // The visitors near enough are binned before the plan, which weighs what their voxels can show.
+  const bool visitor_near = visitorWithinReach(cloud);
+  float visitor_codes = std::numeric_limits<float>::infinity();
+  bool binned = false;
+  if (visitor_near) {
     PassTimer t(result.frame_timings, Pass::VoxelGrid);
     grid_.build(cloud);
+    binned = true;
+    if (const float exposure = gateExposure(); exposure > 0.0f)
+      visitor_codes = largestCodeChange(
+          VisitorLight::largestRadianceChange(grid_, relic_bounds_, ibl_.brightest(), relic_wide_lobes_),
+          exposure);
+  }
+  result.plan = planFrame(cloud, cameras, visitor_near, visitor_codes);
+  if (result.plan.has(Pass::VoxelGrid)) {
+    if (!binned) {
+      PassTimer t(result.frame_timings, Pass::VoxelGrid);
+      grid_.build(cloud);
+    }
   } else {
     grid_.clear();
   }
@@ -322,6 +373,10 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
       result.plan.has(Pass::ProgressiveRefinement) ? foregroundSignature(grid_) : 0;
   for (std::size_t v = 0; v < views.size(); ++v)
     result.views.push_back(renderView(result.plan, cameras, views[v], foreground, *caches_[v]));
+  if (settings_.exposure <= 0.0f) {
+    last_exposure_ = 0.0f;
+    for (const ViewImages& view : result.views) last_exposure_ = std::max(last_exposure_, view.exposure);
+  }
   return result;
 }
 

@@ -103,6 +103,10 @@ PrefilteredIbl::PrefilteredIbl(const Environment& env, PrefilterOptions options)
         for (int x = 0; x < size; ++x) out.at(x, y) = integral.integrate(out.texelDirection(x, y), lobe);
     });
   }
+  for (const OctahedralMap& level : levels_)
+    for (int y = 0; y < level.size(); ++y)
+      for (int x = 0; x < level.size(); ++x)
+        if (isFinite(level.at(x, y))) brightest_ = glm::max(brightest_, level.at(x, y));
 }
 
 vec3 PrefilteredIbl::specular(const vec3& direction, float roughness) const {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -72,6 +73,12 @@ vec3 toneMapCodes(const vec3& rgb, float exposure) {
     codes[i] = 255.0f * (v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f);
   }
   return codes;
+}
+
+float largestCodeChange(float radiance, float exposure) {
+  const float exposed = 2.0f * std::abs(radiance) * exposure;
+  if (!std::isfinite(exposed)) return std::numeric_limits<float>::infinity();
+  return 255.0f * linearToSrgb(std::min(exposed, 1.0f));
 }
 
 cv::Mat toneMap(const cv::Mat& hdr, float exposure) {

@@ -101,6 +101,55 @@ void VisitorLight::build(const VoxelGrid& grid, const PrefilteredIbl& ibl, const
   covered_texels_ = covered;
 }
 
+namespace {
+
+// The bands 0-2 clamped-cosine kernel: the irradiance a normal at cosine c from a unit of radiance
+// x solid angle gets, sum over l of A_l (2l + 1) / (4 pi) P_l(c).
+float cosineKernel(float c) {
+  const float a0 = IrradianceSH::kCosineLobe[0], a1 = IrradianceSH::kCosineLobe[1],
+              a2 = IrradianceSH::kCosineLobe[4];
+  return (a0 + 3.0f * a1 * c + 5.0f * a2 * 0.5f * (3.0f * c * c - 1.0f)) / (4.0f * kPi);
+}
+
+// Its integral's magnitude over the sphere, 2 pi int_{-1}^{1} |K(c)| dc: the most irradiance a
+// change of radiance at most 1 in every direction can make (pi in front, a little ringing behind).
+float kernelSphereIntegral() {
+  constexpr int kSteps = 4096;
+  double sum = 0.0;
+  for (int i = 0; i < kSteps; ++i)
+    sum += std::abs(cosineKernel(-1.0f + 2.0f * (float(i) + 0.5f) / float(kSteps)));
+  return float(2.0 * double(kPi) * sum * 2.0 / double(kSteps));
+}
+
+}  // namespace
+
+float VisitorLight::cosinePeak() {
+  return cosineKernel(1.0f);
+}
+
+float VisitorLight::largestRadianceChange(const VoxelGrid& grid, const Bounds3& relic_bounds,
+                                          const vec3& brightest_hall, bool wide_lobes) {
+  if (grid.empty() || relic_bounds.empty()) return 0.0f;
+  const float edge = grid.voxelSize();
+  vec3 integral(0.0f), largest(0.0f);  // of |dL| over the sphere, and its largest value
+  grid.forEachOccupied([&](const glm::ivec3& v, const VoxelSample& s) {
+    const float w = std::clamp(s.weight, 0.0f, 1.0f);
+    if (!(w > 0.0f) || !isFinite(s.radiance)) return;
+    const Bounds3 box = grid.voxelBounds(v);
+    const vec3 centre = 0.5f * (box.lo + box.hi);
+    const vec3 gap = glm::max(glm::max(relic_bounds.lo - centre, centre - relic_bounds.hi), vec3(0.0f));
+    const float d = glm::length(gap);
+    // The disc of angular radius atan(edge / d): 2 pi (1 - cos); a hemisphere where d is 0.
+    const float solid_angle = 2.0f * kPi * (1.0f - d / std::sqrt(d * d + edge * edge));
+    const vec3 change = w * glm::max(glm::max(s.radiance, vec3(0.0f)), brightest_hall);
+    integral += solid_angle * change;
+    largest = glm::max(largest, change);
+  });
+  static const float whole_sphere = kernelSphereIntegral();
+  const vec3 irradiance = glm::min(cosinePeak() * integral, whole_sphere * largest);
+  return maxComponent(irradiance) / kPi * (wide_lobes ? 2.0f : 1.0f);
+}
+
 VisitorLight::Coefficients VisitorLight::coefficientsAt(const vec3& position) const {
   const vec3 extent = box_.hi - box_.lo;
   vec3 f(0.5f);

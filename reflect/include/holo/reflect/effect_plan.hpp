@@ -29,13 +29,19 @@
 // nothing diffuse (glass, metal), casts none of its rays.
 // VisitorLight (visitor_light.hpp) runs where a foreground point comes within
 // TracerSettings::visitor_light_distance of a relic whose diffuse or widest lobes the walk does
-// not light: the visitors' shadow and light on them, with the voxel grid it reads; with no visitor
-// that near the frame does none of its work.
+// not light, and the visitors' voxels can change a displayed pixel by at least effect_min_codes
+// (VisitorLight::largestRadianceChange, every frame, before any splat): the visitors' shadow and
+// light on them, with the voxel grid it reads; with no visitor that near the frame does none of
+// its work, with visitors that dim (or that far) only the binning that measured them.
+// AxisAlignedFilter and ProgressiveRefinement change only how the rough lobe's strata are
+// sampled: they run where the lobe's Monte Carlo spread (lobe_spread.hpp in reflect/src, at the
+// frame's exposure) reaches effect_min_codes.
 // Plinth runs where a plinth is configured; Caustics only where it is and the relic is
 // transmissive (a plinth always lies below the relic): an opaque relic or no plinth traces no
 // photon.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -103,6 +109,12 @@ struct EffectInputs {
   bool visitor_light_enabled = true;
   bool relic_lit_diffusely = false;
   bool visitor_within_light_distance = false;
+  // The most the visitors can change a displayed relic pixel this frame, sRGB codes
+  // (VisitorLight::largestRadianceChange at the frame's exposure); infinite: not measured (no
+  // exposure chosen yet), the distance alone decides. VisitorLight runs only from
+  // effect_min_codes (TracerSettings') up.
+  float visitor_light_codes = std::numeric_limits<float>::infinity();
+  float effect_min_codes = 1.0f;
   // Some relic material samples its rough lobe for the interreflection (interleaved), and the
   // filter is on; why or why not, for the plan's reason.
   bool lobe_filter = false;

@@ -62,6 +62,11 @@ class FrameRenderer {
   FrameRenderer(const FrameRenderer&) = delete;
   FrameRenderer& operator=(const FrameRenderer&) = delete;
 
+  // The plan before the visitors' voxels are binned: VisitorLight wherever one is near enough
+  // (render() also leaves it off where their largest displayed change is below
+  // effect_min_codes). AxisAlignedFilter and ProgressiveRefinement at the exposure fixed in the
+  // settings or, when automatic, the largest a view chose in the last frame (before any frame:
+  // on, as nothing is known).
   EffectPlan plan(const depthfilter::ForegroundCloud& cloud,
                   const std::vector<ForegroundCameraImage>& cameras) const;
   // Renders every view of one frame. A point whose camera index has no image is ignored.
@@ -84,6 +89,15 @@ class FrameRenderer {
 
  private:
   struct ViewCache;
+  // plan(), with whether a visitor is within visitor_light_distance and the visitors' largest
+  // displayed change this frame (infinite: not measured).
+  EffectPlan planFrame(const depthfilter::ForegroundCloud& cloud,
+                       const std::vector<ForegroundCameraImage>& cameras, bool visitor_near,
+                       float visitor_codes) const;
+  bool visitorWithinReach(const depthfilter::ForegroundCloud& cloud) const;
+  // The exposure the gates weigh a change at: the settings' fixed one, else the largest a view
+  // chose in the last frame; 0 before any.
+  float gateExposure() const;
   // foreground: foregroundSignature of this frame's grid (progressive_accumulation.hpp).
   ViewImages renderView(const EffectPlan& plan, const std::vector<ForegroundCameraImage>& cameras,
                         const CameraModel& view, std::uint64_t foreground, ViewCache& cache) const;
@@ -93,6 +107,8 @@ class FrameRenderer {
   TracerSettings settings_;
   bool relic_glossy_ = false;
   bool relic_lit_diffusely_ = false;  // some surface takes the hall's light by a diffuse or a wide lobe
+  bool relic_wide_lobes_ = false;     // some material at least kGlossyRoughnessLimit rough
+  float last_exposure_ = 0.0f;        // the largest exposure a view chose in the last frame
   bool relic_transmissive_ = false, relic_clearcoat_ = false;
   int internal_depth_ = 0;  // with a transmissive relic: settings' or measured
   float internal_residual_ = 0.0f;

@@ -114,6 +114,9 @@ class PrefilteredIbl {
   const OctahedralMap& level(int l) const { return levels_.at(static_cast<std::size_t>(l)); }
   std::uint64_t sourceHash() const { return source_hash_; }
   bool empty() const { return levels_.empty(); }
+  // The largest radiance, per channel, of any level's texel: no lookup (specular, seenFrom, blends
+  // of levels) returns more. What the effect plan bounds a displayed change with.
+  vec3 brightest() const { return brightest_; }
 
  private:
   std::vector<OctahedralMap> levels_;
@@ -131,6 +134,7 @@ class PrefilteredIbl {
   }
 
   PanoramaProxy proxy_;
+  vec3 brightest_{0.0f};
   std::uint64_t source_hash_ = 0;
   float turn_angle_ = 0.0f, turn_cos_ = 1.0f, turn_sin_ = 0.0f;
   vec3 turn_pivot_{0.0f};

@@ -21,6 +21,11 @@ cv::Vec3b toneMapPixel(const vec3& rgb, float exposure);
 // The same, unrounded: the exact sRGB curve's codes in [0, 255], RGB order; for telling whether a
 // change of radiance would move a displayed code at all.
 vec3 toneMapCodes(const vec3& rgb, float exposure);
+// The most a change of at most `radiance` (linear, any channel or channels, either sign) can move a
+// displayed sRGB code at `exposure` (> 0), whatever the pixel it is added to: the hue-keeping
+// Reinhard moves a channel by at most twice the exposed change (its own and through the
+// luminance), and the sRGB curve, concave, moves most from black.
+float largestCodeChange(float radiance, float exposure);
 // CV_32FC3 linear BGR -> CV_8UC3 sRGB BGR, toneMapPixel per pixel.
 cv::Mat toneMap(const cv::Mat& hdr_bgr32f, float exposure);
 // The same at the listed pixels only (y * width + x, each < hdr's pixel count), black elsewhere:

@@ -155,8 +155,10 @@ struct TracerSettings {
   float self_occlusion_min = 1.0f / 255.0f;
   // sRGB codes a plan entry's estimated largest change of the displayed relic must reach for the
   // plan to run it, finite >= 0 (0: wherever it can change anything). SelfOcclusion's estimate:
-  // RelicVisibility::largestDisplayedChange at each panorama's first frame. Default 1: a change
-  // below one code cannot be seen.
+  // RelicVisibility::largestDisplayedChange at each panorama's first frame; VisitorLight's:
+  // VisitorLight::largestRadianceChange every frame; AxisAlignedFilter's and
+  // ProgressiveRefinement's: the rough lobe's Monte Carlo spread (lobe_spread.hpp in reflect/src).
+  // Default 1: a change below one code cannot be seen.
   float effect_min_codes = 1.0f;
   // Metres between the relic's box and the foreground's within which the visitors' shadow and
   // light on the relic's diffuse and widest lobes are computed (VisitorLight), finite >= 0;

@@ -75,6 +75,23 @@ class VisitorLight {
   // same hits and shading. Returns the samples changed.
   std::uint64_t apply(const HitPointBuffer& hits, const Receivers& receivers, cv::Mat& hdr) const;
 
+  // The most the grid's visitors can change a relic pixel this frame (linear radiance, any
+  // channel), without a splat: what the effect plan weighs before build() runs. Each occupied
+  // voxel (mask weight w, radiance L) covers at most the probes' disc, of one voxel edge's angular
+  // radius, seen from the nearest point of the relic's box; there the incoming radiance changes
+  // by |w (L - L_hall)| <= w max(L, L_hall), L_hall at most `brightest_hall` (per channel, the
+  // IBL's brightest()). The clamped-cosine convolution of such a change is at most cosinePeak()
+  // times its integral over the voxels' discs, and at most the kernel's own integral over the
+  // sphere (pi in front of the normal, a little ringing behind) times its largest value; a pixel
+  // takes at most 1/pi of the irradiance change through its diffuse part, as much again through a
+  // lobe at least kGlossyRoughnessLimit rough (`wide_lobes`). One pass over the occupied voxels.
+  static float largestRadianceChange(const VoxelGrid& grid, const Bounds3& relic_bounds,
+                                     const vec3& brightest_hall, bool wide_lobes);
+  // The irradiance the clamped-cosine convolution of bands 0-2 gives a normal from a unit of
+  // radiance x solid angle along it: sum over the bands of A_l (2l + 1) / (4 pi) = 1.0625, its
+  // largest magnitude over all directions.
+  static float cosinePeak();
+
   // This frame's counters: voxel splats over all probes, covered texels over all probes.
   std::uint64_t splats() const { return splats_; }
   std::uint64_t coveredTexels() const { return covered_texels_; }
