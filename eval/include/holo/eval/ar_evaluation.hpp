@@ -20,8 +20,8 @@
 // Methods at equal time: delta path tracing at method_spp samples, then the two-pass differential
 // renderer given as many 1-spp passes as fit in the same wall-clock time (at least one), both
 // unfiltered (the comparison of Xu et al.) and both tracing only the pixels the relic can change
-// (ar/change_region.hpp, its time counted in delta path tracing's); and the product's composite, delta path tracing with
-// its change filtered (ar/change_filter.hpp), which the adversary (the relic over the camera's
+// (ar/change_region.hpp, its time counted in delta path tracing's); and the product's composite, delta path
+// tracing with its change filtered (ar/change_filter.hpp), which the adversary (the relic over the camera's
 // image, the real surfaces unchanged) is measured against.
 #pragma once
 
