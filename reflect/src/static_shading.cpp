@@ -173,15 +173,19 @@ LobeBounce StaticShading::traceWholeLobe(const vec3& position, const vec3& norma
       return;
     }
     const SurfacePoint surface = resolveSurface(scene_, relic, ray, hit, 0.0f);
-    if (!isFinite(surface.normal)) return;
-    const SplitSumShading second = shadeMet(surface, ray, rays);
-    bounce.diffuse += second.diffuse;
-    bounce.specular += second.specular_scale * secondEnvironment(surface, ray, hit, second, share, rays);
-    bounce.met += 1.0f;
-    bounce.nearest = std::min(bounce.nearest, hit.t);
+    if (isFinite(surface.normal)) addMetStratum(bounce, surface, ray, hit, share, rays);
   });
   wide_lobe_rays_.local() += rays;
   return bounce;
+}
+
+void StaticShading::addMetStratum(LobeBounce& bounce, const SurfacePoint& surface, const Ray& ray,
+                                  const RayHit& hit, const LobeShare& share, std::uint64_t& rays) const {
+  const SplitSumShading second = shadeMet(surface, ray, rays);
+  bounce.diffuse += second.diffuse;
+  bounce.specular += second.specular_scale * secondEnvironment(surface, ray, hit, second, share, rays);
+  bounce.met += 1.0f;
+  bounce.nearest = std::min(bounce.nearest, hit.t);
 }
 
 float StaticShading::textureOcclusion(const SurfacePoint& surface) const {
@@ -315,12 +319,7 @@ std::uint64_t StaticShading::finishDeferred(
       const RayHit& hit = deferred.hits[std::size_t(stratum.ray)];
       const SurfacePoint surface =
           resolveSurface(scene_, relic, ray, hit, share.cone_width + hit.t * share.spread);
-      if (!isFinite(surface.normal)) continue;
-      const SplitSumShading second = shadeMet(surface, ray, rays);
-      bounce.diffuse += second.diffuse;
-      bounce.specular += second.specular_scale * secondEnvironment(surface, ray, hit, second, share, rays);
-      bounce.met += 1.0f;
-      bounce.nearest = std::min(bounce.nearest, hit.t);
+      if (isFinite(surface.normal)) addMetStratum(bounce, surface, ray, hit, share, rays);
     }
     if (settings_.evaluation.rough_interreflection_interleaved) {
       pool(lobe.pixel, lobe.sample, bounce);

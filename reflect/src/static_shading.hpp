@@ -196,6 +196,10 @@ class StaticShading {
   // (relic_passage.hpp: tinted, absorbed, stopped by an opaque part) in place of the diffuse
   // share it transmits. `rays` counts the passage's Embree rays.
   SplitSumShading shadeMet(const SurfacePoint& surface, const Ray& ray, std::uint64_t& rays) const;
+  // Adds to `bounce` a lobe stratum's ray that met the relic's `surface` at `hit`: its shading
+  // (shadeMet) and what it reflects (secondEnvironment). `rays` counts the rays these cast.
+  void addMetStratum(LobeBounce& bounce, const SurfacePoint& surface, const Ray& ray, const RayHit& hit,
+                     const LobeShare& share, std::uint64_t& rays) const;
   // The 3x3 tent's sum of the pixel's and its same-surface neighbours' lobe samples.
   LobeBounce poolLobeBounces(const std::vector<PixelBounce>& bounces, int width, int height,
                              const CameraModel& view, int x, int y) const;
