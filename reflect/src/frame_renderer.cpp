@@ -26,7 +26,6 @@ namespace holo::reflect {
 
 namespace {
 
-// Some relic surface reflects diffusely (a base colour not all metal nor glass, or textured so).
 // Bins per side of the wide lobes' eye-direction grid (wide_lobe_cache.hpp): 6 x 6 over the
 // hemisphere, about 25 degrees apart, where a lobe at least kGlossyRoughnessLimit rough is over 90
 // degrees wide.
@@ -36,6 +35,7 @@ std::uint64_t hashCombine(std::uint64_t seed, std::uint64_t value) {
   return seed ^ (value + 0x9e3779b97f4a7c15ull + (seed << 6) + (seed >> 2));
 }
 
+// Some relic surface reflects diffusely (a base colour not all metal nor glass, or textured so).
 bool relicHasDiffuse(const RenderScene& scene) {
   const auto diffuse = [](float metallic, float transmission) {
     return (1.0f - metallic) * (1.0f - transmission) > 0.0f;
