@@ -255,8 +255,13 @@ void KioskLoop::frame(SystemdNotifier& notifier) {
   if (decision.quality_changed)
     HOLO_LOG_WARN("frame time {:.1f} ms (budget {:.1f} ms): quality now '{}'", frame_ms,
                   config_.kiosk.degradation.frame_budget_ms, policy_->qualityName());
-  // Without cameras configured (a stand-in frame source) ibl-only is the plan, not a fault.
-  const bool mode_fault = decision.mode_changed && total > 0;
+  // Without cameras configured (a stand-in frame source) ibl-only is the plan, not a fault. A
+  // further loss while already degraded (a second camera lost a frame after the first) changes
+  // no mode but is reported too: the log then reads 3/4, 2/4 whatever order the losses came in.
+  const bool further_loss = cameras_alive_last_frame_ >= 0 && alive < cameras_alive_last_frame_ &&
+                            decision.mode != RenderMode::Full;
+  cameras_alive_last_frame_ = alive;
+  const bool mode_fault = (decision.mode_changed || further_loss) && total > 0;
   if (mode_fault) HOLO_LOG_WARN("cameras {}/{}: mode now '{}'", alive, total, renderModeName(decision.mode));
 
   if (report.presented) {

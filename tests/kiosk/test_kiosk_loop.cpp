@@ -96,6 +96,30 @@ TEST(KioskLoop, CameraLossAndRecoveryReachTheRequestAndTheHealth) {
   EXPECT_EQ(h.cameras.size(), 4u);
 }
 
+TEST(KioskLoop, ASecondCameraLostAFrameAfterTheFirstIsReportedThoughTheModeStaysPartial) {
+  // Two cameras switched off together are seen lost a frame apart when their last frames were.
+  SignalEvents signals;
+  SystemdNotifier notifier;
+  KioskLoop loop(
+      testConfig(),
+      [&](const FrameRequest& r) {
+        FrameReport report;
+        report.presented = true;
+        report.cameras = cameras(r.index < 10 ? 4 : r.index < 11 ? 3 : r.index < 20 ? 2 : 3);
+        return report;
+      },
+      [] { return testConfig(); });
+  EXPECT_EQ(loop.run(signals, notifier, 30), 0);
+  const HealthStatus h = loop.health();
+  EXPECT_EQ(h.mode, "partial");
+  EXPECT_TRUE(hasError(h, "mode 'partial' with cameras 3/4"));
+  EXPECT_TRUE(hasError(h, "mode 'partial' with cameras 2/4"));
+  // A camera coming back is its own event ("camera N back"), not a mode line.
+  EXPECT_EQ(std::count_if(h.last_errors.begin(), h.last_errors.end(),
+                          [](const std::string& e) { return e.rfind("mode '", 0) == 0; }),
+            2);
+}
+
 TEST(KioskLoop, AThrowingFrameSourceIsReportedNotFatalAndNotRepeatedInTheLog) {
   SignalEvents signals;
   SystemdNotifier notifier;

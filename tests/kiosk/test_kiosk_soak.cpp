@@ -157,10 +157,11 @@ display:
     EXPECT_TRUE(evidence.seen(name + " lost: no frame for")) << name;
     EXPECT_TRUE(evidence.seen(name + " back")) << name;
   }
-  EXPECT_TRUE(evidence.seen("mode 'partial' with cameras 3/4"));
-  EXPECT_TRUE(evidence.seen("mode 'partial' with cameras 2/4"));
-  EXPECT_TRUE(evidence.seen("mode 'ibl-only' with cameras 0/4"));
-  EXPECT_TRUE(evidence.seen("mode 'full' with cameras 4/4"));
+  std::string errors_seen;
+  for (const std::string& e : evidence.errors) errors_seen += "\n  " + e;
+  for (const char* mode : {"mode 'partial' with cameras 3/4", "mode 'partial' with cameras 2/4",
+                           "mode 'ibl-only' with cameras 0/4", "mode 'full' with cameras 4/4"})
+    EXPECT_TRUE(evidence.seen(mode)) << mode << " never reported; seen:" << errors_seen;
   EXPECT_TRUE(evidence.quality_lowered_in_overload) << "overload never lowered the quality";
   EXPECT_TRUE(evidence.seen("quality stepped to")) << "overload not reported";
   EXPECT_TRUE(evidence.seen("frame failed: injected render failure")) << "render errors not reported";

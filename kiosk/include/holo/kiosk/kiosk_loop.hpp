@@ -132,6 +132,7 @@ class KioskLoop {
   bool was_blank_ = false;
   bool health_file_warned_ = false;
   int warmup_frames_left_ = 0;
+  int cameras_alive_last_frame_ = -1;  // -1 before the first frame
 
   mutable std::mutex mutex_;  // guards health_ and last_frame_
   HealthStatus health_;
