@@ -194,8 +194,8 @@ ArEvaluation evaluateArComposite(const ArEvaluationOptions& o) {
   ar::DepthSurfaceSettings surface;
   surface.radius = o.local_radius;
   ar::CameraRealScene real = ar::realSceneFromCamera(0, camera, frame, environment, out.exposure, surface);
-  if (!o.estimate_albedo) std::fill(real.surface.albedo.begin(), real.surface.albedo.end(), vec3(0.5f));
   const cv::Mat background = real.background;
+  if (!o.estimate_albedo) std::fill(real.surface.albedo.begin(), real.surface.albedo.end(), vec3(0.5f));
   const ar::LocalScene scene(std::move(real.surface), museum.relic(), environment);
 
   ar::CompositeSettings delta_settings;
