@@ -252,11 +252,16 @@ CompositeImage renderComposite(const LocalScene& scene, const CameraModel& camer
         }
         if (s.method == DifferentialMethod::kDeltaPathTracing)
           return seen + tracer.delta(ray, hit, random, s.max_bounces, s.delta_bounces);
+        // The real scene's path: from the same random numbers as the mixed scene's (shared
+        // samples), or a render of its own with its own samples. Its primary hit is the mixed
+        // scene's (a real surface the relic does not hide), so it is not cast again.
+        Random without_random = random;
         const vec3 with_relic = tracer.fromHit(SceneContent::kMixed, ray, hit, random, s.max_bounces);
-        // The real scene's render is a render of its own: its own samples.
-        Random apart(~s.seed, static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(camera.width()) + x,
+        if (s.method == DifferentialMethod::kTwoPass)
+          without_random =
+              Random(~s.seed, static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(camera.width()) + x,
                      static_cast<std::uint64_t>(random.next()));
-        const vec3 without = tracer.along(SceneContent::kReal, ray, apart, s.max_bounces, nullptr);
+        const vec3 without = tracer.fromHit(SceneContent::kReal, ray, hit, without_random, s.max_bounces);
         return seen + with_relic - without;
       });
 }

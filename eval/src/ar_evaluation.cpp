@@ -3,8 +3,8 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
+#include <ctime>
 
 #include "holo/ar/ar_view.hpp"
 #include "holo/ar/change_filter.hpp"
@@ -20,10 +20,10 @@
 namespace holo::eval {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+// CPU time of the process's threads (all cores together) since `start`: the machine's other
+// load does not count, and a method's cost is the same whatever the cores.
+double cpuMsSince(std::clock_t start) {
+  return 1000.0 * static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
 }
 
 float luminance(const vec3& c) {
@@ -182,9 +182,11 @@ ArEvaluation evaluateArComposite(const ArEvaluationOptions& o) {
   out.region_pixels = cv::countNonZero(out.region);
   out.shadow = out.region & (truth.relic_coverage == 0.0f);
   out.shadow_pixels = cv::countNonZero(out.shadow);
+  out.relic = out.region & ~out.shadow;
   const cv::Mat everywhere(o.height, o.width, CV_8UC1, cv::Scalar(255));
   const auto errors = [&](const cv::Mat& image) {
     return ArErrors{displayedRmse(image, out.truth, out.region, out.exposure),
+                    displayedRmse(image, out.truth, out.relic, out.exposure),
                     displayedRmse(image, out.truth, out.shadow, out.exposure),
                     displayedRmse(image, out.truth, everywhere, out.exposure)};
   };
@@ -202,37 +204,55 @@ ArEvaluation evaluateArComposite(const ArEvaluationOptions& o) {
   delta_settings.delta_bounces = o.delta_bounces;
   delta_settings.seed = o.seed;
   const ar::ChangeRegionSettings region_settings{.exposure = out.exposure};
-  const auto delta_start = Clock::now();
+  const std::clock_t delta_start = std::clock();
   const cv::Mat region = ar::changeRegion(scene, camera, background, region_settings);
   out.traced_pixels = cv::countNonZero(region);
   const ar::CompositeImage delta = ar::renderComposite(scene, camera, background, delta_settings, region);
-  out.delta.ms = msSince(delta_start);
+  out.delta.ms = cpuMsSince(delta_start);
   out.delta.spp = o.method_spp;
   out.delta.rays = delta.rays;
   out.delta_composite = delta.radiance;
   out.delta.rmse = errors(delta.radiance);
+  cv::Mat relic_alone = delta.radiance.clone();
+  out.truth.copyTo(relic_alone, out.shadow);
+  out.delta_relic_alone = errors(relic_alone);
 
-  ar::CompositeSettings pass = delta_settings;
-  pass.method = ar::DifferentialMethod::kTwoPass;
-  pass.spp = 1;
-  cv::Mat sum;
-  const auto two_pass_start = Clock::now();
-  do {
-    const ar::CompositeImage image = ar::renderComposite(scene, camera, background, pass, region);
-    sum = accumulate(sum, image.radiance);
-    out.two_pass.rays += image.rays;
-    ++pass.first_sample;
-    out.two_pass.ms = msSince(two_pass_start);
-  } while (o.equal_time ? out.two_pass.ms < out.delta.ms : out.two_pass.rays < out.delta.rays);
-  out.two_pass.spp = pass.first_sample;
-  out.two_pass_composite = sum / static_cast<double>(out.two_pass.spp);
-  out.two_pass.rmse = errors(out.two_pass_composite);
+  // A two-pass renderer given passes until it has used at least delta path tracing's CPU time (or
+  // rays): a first pass of one sample per pixel, then passes of as many samples as the rest of
+  // the budget holds at the cost per sample so far (one call each, so the per-pass work outside
+  // the tracing is not charged per sample), then single samples until the budget is spent.
+  const auto twoPass = [&](ar::DifferentialMethod method, cv::Mat& composite) {
+    ArMethodScore score;
+    ar::CompositeSettings pass = delta_settings;
+    pass.method = method;
+    cv::Mat sum;
+    const std::clock_t start = std::clock();
+    const auto spent = [&] { return o.equal_time ? score.ms : static_cast<double>(score.rays); };
+    const double budget = o.equal_time ? out.delta.ms : static_cast<double>(out.delta.rays);
+    do {
+      const double per_sample = std::max(spent() / std::max(pass.first_sample, 1), 1e-9);
+      pass.spp = pass.first_sample == 0
+                     ? 1
+                     : static_cast<int>(std::clamp((budget - spent()) / per_sample, 1.0, 4096.0));
+      const ar::CompositeImage image = ar::renderComposite(scene, camera, background, pass, region);
+      sum = accumulate(sum, image.radiance * static_cast<double>(pass.spp));
+      score.rays += image.rays;
+      pass.first_sample += pass.spp;
+      score.ms = cpuMsSince(start);
+    } while (spent() < budget);
+    score.spp = pass.first_sample;
+    composite = sum / static_cast<double>(score.spp);
+    score.rmse = errors(composite);
+    return score;
+  };
+  out.two_pass = twoPass(ar::DifferentialMethod::kTwoPass, out.two_pass_composite);
+  out.two_pass_shared = twoPass(ar::DifferentialMethod::kTwoPassSharedSamples, out.two_pass_shared_composite);
 
-  const auto filter_start = Clock::now();
+  const std::clock_t filter_start = std::clock();
   out.filtered_composite =
       ar::filterChange(delta.radiance, background, delta.relic_coverage, frame.depth, {});
   out.filtered = out.delta;
-  out.filtered.ms += msSince(filter_start);
+  out.filtered.ms += cpuMsSince(filter_start);
   out.filtered.rmse = errors(out.filtered_composite);
 
   // The adversary: the relic over the camera's image, the real surfaces left as they are.

@@ -1,7 +1,8 @@
 // The AR composite's cost per pixel sample at the cameras' 640x360 (ar_test_scene.hpp: a sphere
-// on a plane under a small sun): delta path tracing, two-pass differential rendering, the change
-// filter, and a still frame of the live view (live_composite.hpp: the change test, one sample per
-// pixel added, the filter). Read medians and ratios from a run by hand.
+// on a plane under a small sun): delta path tracing, two-pass differential rendering (independent
+// and shared samples), the change filter, and a still frame of the live view (live_composite.hpp:
+// the change test, one sample per pixel added, the filter). Read medians and ratios from a run by
+// hand.
 #include <benchmark/benchmark.h>
 
 #include "ar_test_scene.hpp"
@@ -47,6 +48,9 @@ void BM_DeltaPathTracing(benchmark::State& state) {
 void BM_TwoPassDifferential(benchmark::State& state) {
   composite(state, DifferentialMethod::kTwoPass);
 }
+void BM_TwoPassSharedSamples(benchmark::State& state) {
+  composite(state, DifferentialMethod::kTwoPassSharedSamples);
+}
 void BM_ChangeFilter(benchmark::State& state) {
   const Fixture& f = fixture();
   CompositeSettings settings;
@@ -83,6 +87,7 @@ void BM_LiveCompositeStillFrame(benchmark::State& state) {
 }
 BENCHMARK(BM_DeltaPathTracing)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_TwoPassDifferential)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TwoPassSharedSamples)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ChangeFilter)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_LiveCompositeStillFrame)->Unit(benchmark::kMillisecond);
 

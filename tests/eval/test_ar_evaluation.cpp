@@ -56,6 +56,25 @@ TEST(ArEvaluation, DeltaPathTracingBeatsTwoPassWhereTheRelicChangesTheRoom) {
   EXPECT_LT(e.delta.rmse.image, e.two_pass.rmse.image);
 }
 
+// The two-pass renderer with shared samples is the stronger adversary (its two paths cancel where
+// the relic does not intervene); delta path tracing still has the lower error over the changed
+// real pixels and over the region at the same rays. What the relic's pixels alone leave (shaded
+// alike by every method) is most of delta path tracing's error over the region.
+TEST(ArEvaluation, DeltaPathTracingBeatsTwoPassWithSharedSamples) {
+  const ArEvaluation& e = evaluation();
+  EXPECT_GE(e.two_pass_shared.rays, e.delta.rays);
+  EXPECT_LT(e.two_pass_shared.rmse.shadow, e.two_pass.rmse.shadow)
+      << "shared " << e.two_pass_shared.rmse.shadow << ", independent " << e.two_pass.rmse.shadow;
+  EXPECT_LT(e.delta.rmse.shadow, e.two_pass_shared.rmse.shadow)
+      << "delta " << e.delta.rmse.shadow << ", shared " << e.two_pass_shared.rmse.shadow;
+  EXPECT_LT(e.delta.rmse.region, e.two_pass_shared.rmse.region)
+      << "delta " << e.delta.rmse.region << ", shared " << e.two_pass_shared.rmse.region;
+  EXPECT_EQ(e.delta_relic_alone.shadow, 0.0);
+  EXPECT_EQ(e.delta_relic_alone.relic, e.delta.rmse.relic);
+  EXPECT_GT(e.delta_relic_alone.region, 0.5 * e.delta.rmse.region)
+      << "relic alone " << e.delta_relic_alone.region << ", delta " << e.delta.rmse.region;
+}
+
 TEST(ArEvaluation, TheFilteredCompositeBeatsOneWithoutTheShadowAndTheUnfilteredOne) {
   const ArEvaluation& e = evaluation();
   EXPECT_LT(e.filtered.rmse.shadow, 0.85 * e.delta.rmse.shadow)

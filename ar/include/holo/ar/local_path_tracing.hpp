@@ -8,8 +8,12 @@
 //    BSDF-sampled ray that meets a real surface carries that surface's own change (the same
 //    estimator, recursively, `delta_bounces` levels). Where the real scene does not change, no
 //    radiance is traced at all;
-//  * plain differential rendering (Debevec): the mixed and the real scene path traced apart with
-//    independent samples, their difference added.
+//  * plain differential rendering (Debevec): the mixed and the real scene path traced apart, their
+//    difference added; with independent samples (kTwoPass), or with shared samples
+//    (kTwoPassSharedSamples: each pixel sample's real-scene path draws the same random numbers as
+//    its mixed-scene path, so where the relic does not intervene the two paths are one and their
+//    difference is exactly 0, the way one renderer run twice with one seed correlates its two
+//    images; the strongest plain two-pass renderer).
 // Either way a pixel sample that meets the relic first is the mixed scene's path-traced radiance
 // (mask M of Xu et al. Eq. 1); one that meets a real surface is the camera's radiance L_b plus
 // the difference; one that meets nothing (beyond the local scene) is L_b.
@@ -33,7 +37,7 @@
 
 namespace holo::ar {
 
-enum class DifferentialMethod { kDeltaPathTracing, kTwoPass };
+enum class DifferentialMethod { kDeltaPathTracing, kTwoPass, kTwoPassSharedSamples };
 
 struct CompositeSettings {
   DifferentialMethod method = DifferentialMethod::kDeltaPathTracing;

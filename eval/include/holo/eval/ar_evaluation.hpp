@@ -17,12 +17,14 @@
 // the real scene's (its shadow and its light). Whatever a composite leaves out there counts. Also
 // over the shadow part alone (the real pixels of the region, where the two methods differ) and
 // over the whole image (where the relic changes nothing, a composite should add nothing).
-// Methods at equal time: delta path tracing at method_spp samples, then the two-pass differential
-// renderer given as many 1-spp passes as fit in the same wall-clock time (at least one), both
-// unfiltered (the comparison of Xu et al.) and both tracing only the pixels the relic can change
-// (ar/change_region.hpp, its time counted in delta path tracing's); and the product's composite, delta path
-// tracing with its change filtered (ar/change_filter.hpp), which the adversary (the relic over the camera's
-// image, the real surfaces unchanged) is measured against.
+// Methods at equal time: delta path tracing at method_spp samples, then each two-pass differential
+// renderer (independent samples, and shared samples: ar/local_path_tracing.hpp) given as many
+// 1-spp passes as fit in the same CPU time (the process's threads, all cores together, so other
+// load on the machine does not count; at least one pass), all unfiltered (the comparison of Xu et
+// al.), all shading the relic's pixels alike and all tracing only the pixels the relic can change
+// (ar/change_region.hpp, its time counted in delta path tracing's); and the product's composite,
+// delta path tracing with its change filtered (ar/change_filter.hpp), which the adversary (the
+// relic over the camera's image, the real surfaces unchanged) is measured against.
 #pragma once
 
 #include <cstdint>
@@ -55,20 +57,21 @@ struct ArEvaluationOptions {
   // 0.5 everywhere instead (what the estimate is measured against).
   bool estimate_albedo = true;
   std::uint64_t seed = 1;
-  // The two-pass renderer's budget: equal wall-clock time (the evaluation), or, when false, at
-  // least the delta path tracer's count of rays (deterministic, for tests).
+  // The two-pass renderers' budget: equal CPU time (the evaluation), or, when false, at least the
+  // delta path tracer's count of rays (deterministic, for tests).
   bool equal_time = true;
 };
 
 struct ArErrors {
   double region = 0;  // RMSE, 8-bit codes, over the relic and what it changes
+  double relic = 0;   // over the region's relic pixels (those the relic covers in the truth)
   double shadow = 0;  // over the region's real pixels
   double image = 0;   // over the whole image
 };
 
 struct ArMethodScore {
   ArErrors rmse;
-  double ms = 0;
+  double ms = 0;  // CPU time (all threads together)
   int spp = 0;
   std::int64_t rays = 0;
 };
@@ -78,9 +81,15 @@ struct ArEvaluation {
   cv::Mat camera_colour;  // CV_8UC3: the real scene as the camera delivers it
   cv::Mat region;         // CV_8UC1 255 where the error is measured
   cv::Mat shadow;         // CV_8UC1 255 on the region's pixels that see no relic
-  cv::Mat delta_composite, two_pass_composite, filtered_composite, no_shadow_composite;  // CV_32FC3
-  ArMethodScore delta, two_pass, filtered;
+  cv::Mat relic;          // CV_8UC1 255 on the region's pixels that see the relic
+  cv::Mat delta_composite, two_pass_composite, two_pass_shared_composite, filtered_composite,
+      no_shadow_composite;  // CV_32FC3
+  ArMethodScore delta, two_pass, two_pass_shared, filtered;
   ArErrors no_shadow;  // the adversary: the relic pasted over the image, no change
+  // Delta path tracing's composite with the region's real pixels set to the truth: what its relic
+  // pixels alone leave (shaded alike by every method), so two_pass.rmse.region over this region
+  // error is the largest ratio any gain on the real pixels could give.
+  ArErrors delta_relic_alone;
   // A transmissive relic only: the product's composite with the relic's glass opaque.
   std::optional<ArErrors> glass_opaque;
   cv::Mat glass_opaque_composite;  // CV_32FC3
