@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "holo/core/error.hpp"
 #include "holo/reflect/optics.hpp"
 #include "holo/reflect/surface_shading.hpp"
 #include "inside_glass.hpp"
@@ -142,221 +141,138 @@ void followReflected(const RenderScene& scene, const PrefilteredIbl& ibl, const 
   path.resolved += weight * iblSeenFrom(ibl, position, direction, lobeWidth(settings, alpha2));
 }
 
-// One transmitted path between its interface events: event() does the event at the point the path
-// has reached and gives the ray to cast from there; meet() takes where that ray met the relic and
-// says whether the path goes on. The events share the path's running state (throughput, the
-// medium, the lobe's width), so they are one object rather than functions passing it around.
-class TransmissionWalk {
- public:
-  TransmissionWalk(const RenderScene& scene, const PrefilteredIbl& ibl, const TracerSettings& settings,
-                   int depth, const vec3& entry_position, const vec3& entry_normal,
-                   const vec3& entry_direction, const Material& entry, const SurfaceMaterial* entry_textured,
-                   std::vector<glm::dvec3>* alive)
-      : scene_(scene),
-        ibl_(ibl),
-        settings_(settings),
-        depth_(depth),
-        alive_(alive),
-        offset_(std::max(settings.ray_offset, 1e-5f)),
-        position_(entry_position),
-        normal_(entry_normal),
-        geometric_(entry_normal),
-        direction_(entry_direction),
-        m_(entry_textured ? *entry_textured : factorsOf(entry)),
-        branch_budget_(settings.refraction_branch_rays) {}
-
-  // Past `offset` from the interface itself (against meeting it again), so a segment's length is
-  // the distance between the interfaces.
-  float offset() const { return offset_; }
-
-  // The interface event at (position, normal facing the incoming ray, m); returns the ray on.
-  Ray event() {
-    float cos_i = -glm::dot(direction_, normal_);
-    if (!(cos_i > 1e-6f)) {  // a shading normal turned past the ray: the face's own normal
-      normal_ = geometric_;
-      cos_i = std::max(-glm::dot(direction_, normal_), 1e-6f);
-    }
-    const bool first = path_.events == 0;
-    const float ior = safeIor(m_.ior);
-    const bool thin = m_.thin_walled;
-    const float eta = thin || !inside_ ? ior : 1.0f / medium_ior_;
-    const float fresnel = fresnelDielectric(cos_i, eta);
-    const float transmitted = transmittedShare(m_);
-    const vec3 tint = transmissionTint(m_);
-    const float alpha = clamp01(m_.roughness) * clamp01(m_.roughness);
-    const float spread = alpha * std::min(ior - 1.0f, 2.0f) * 0.5f;
-    if (inside_ && !thin && fresnel >= 1.0f) {  // total internal reflection
-      direction_ = glm::reflect(direction_, normal_);
-      alpha2_ += alpha * alpha;
-    } else if (inside_ && !thin) {
-      // Leaving: the light that partly reflects inside is followed where it carries a visible
-      // share and the budget lasts (a crystal's facets send it out elsewhere), else summed as
-      // between parallel walls.
-      const vec3 refracted = refractIncident(direction_, normal_, eta);
-      vec3 back, front;
-      if (branch_budget_ > 0 && luminance(throughput_) * fresnel >= settings_.refraction_branch_weight) {
-        const vec3 behind =
-            iblSeenFrom(ibl_, position_, refracted, lobeWidth(settings_, alpha2_ + spread * spread));
-        followReflected(scene_, ibl_, settings_, position_, glm::reflect(direction_, normal_),
-                        throughput_ * fresnel, alpha2_ + alpha * alpha, sigma_, medium_ior_, behind,
-                        branch_budget_, path_);
-        back = vec3(1.0f - fresnel);
-        front = vec3(0.0f);
-      } else {
-        parallelWalls(fresnel, last_absorption_, back, front);
-      }
-      alpha2_ += spread * spread;
-      path_.reflected += throughput_ * front;
-      throughput_ *= back;
-      direction_ = refracted;
-      inside_ = false;
-    } else {
-      // Entering (or crossing a thin wall): the entry's reflection and diffuse are the caller's.
-      if (!first) {
-        path_.reflected += throughput_ * fresnel;
-        if (transmitted < 1.0f)
-          path_.resolved +=
-              throughput_ * (1.0f - fresnel) * (1.0f - transmitted) * tint * ibl_.irradiance(normal_) / kPi;
-      }
-      const vec3 weight = (1.0f - fresnel) * transmitted * tint;
-      if (first)
-        path_.entry = weight;
-      else
-        throughput_ *= weight;
-      alpha2_ += spread * spread;
-      if (!thin) {
-        direction_ = refractIncident(direction_, normal_, eta);
-        inside_ = true;
-        medium_ior_ = ior;
-        sigma_ = attenuationCoefficient(m_.attenuation_colour, m_.attenuation_distance);
-      }
-    }
-    ++path_.events;
-    if (alive_ && first) (*alive_)[0] += glm::dvec3(path_.entry * throughput_);
-    return Ray{position_, direction_};
-  }
-
-  // Where `ray` (the last event()'s) met the relic, cast from offset(); false once the path is
-  // done (left the relic, met an opaque part, or reached the cap): path() is then complete.
-  bool meet(const Ray& ray, const RayHit& hit) {
-    ++path_.rays;
-    if (!hit.hit()) {
-      leave();
-      return false;
-    }
-    if (inside_) {
-      last_absorption_ = transmittance(sigma_, hit.t);
-      throughput_ *= last_absorption_;
-    }
-    const SurfacePoint surface = meetRelic(scene_, scene_.relicOnly(), ray, hit);
-    if (!isFinite(surface.position) || !isFinite(surface.normal)) {
-      leave();
-      return false;
-    }
-    if (!(transmittedShare(surface.material) > 0.0f)) {
-      // An opaque part inside the glass, whatever the depth: shaded where the path meets it, its
-      // specular lobe the path's exit (the visitors it reflects are walked along it).
-      const InsideGlassShading opaque = shadeInsideGlass(scene_, ibl_, settings_, surface, direction_);
-      path_.rays += opaque.rays;
-      path_.resolved += throughput_ * opaque.shading.diffuse;
-      path_.exited = true;
-      path_.exit_position = surface.position + surface.normal * offset_;
-      path_.exit_direction = glm::reflect(direction_, surface.normal);
-      path_.roughness = clamp01(surface.material.roughness);
-      path_.scale = throughput_ * opaque.shading.specular_scale;
-      path_.environment = opaque.shading.environment;
-      return false;
-    }
-    if (path_.events >= depth_) {  // the cap: what is left goes to the IBL along the last direction
-      path_.resolved += throughput_ * iblSeenFrom(ibl_, position_, direction_, lobe());
-      path_.exit_position = position_ + direction_ * offset_;
-      path_.exit_direction = direction_;
-      path_.roughness = lobe();
-      return false;
-    }
-    position_ = surface.position;
-    geometric_ = surface.geometric_normal;
-    normal_ = surface.normal;
-    m_ = surface.material;
-    if (alive_ && path_.events < int(alive_->size()))
-      (*alive_)[std::size_t(path_.events)] += glm::dvec3(path_.entry * throughput_);
-    return true;
-  }
-
-  // The rest of the path, one ray at a time; then path() is complete.
-  void finish() {
-    const RayScene& relic = scene_.relicOnly();
-    for (;;) {
-      const Ray ray = event();
-      if (!meet(ray, relic.intersect(ray, offset_))) return;
-    }
-  }
-
-  const TransmittedPath& path() const { return path_; }
-
- private:
-  float lobe() const { return lobeWidth(settings_, alpha2_); }
-
-  // The path left the relic along its last ray.
-  void leave() {
-    path_.exited = true;
-    path_.exit_position = position_ + direction_ * offset_;
-    path_.exit_direction = direction_;
-    path_.roughness = lobe();
-    path_.scale = throughput_;
-    path_.environment = iblSeenFrom(ibl_, path_.exit_position, direction_, path_.roughness);
-  }
-
-  const RenderScene& scene_;
-  const PrefilteredIbl& ibl_;
-  const TracerSettings& settings_;
-  int depth_;
-  std::vector<glm::dvec3>* alive_;
-  float offset_;
-  TransmittedPath path_;
-  vec3 throughput_{1.0f}, last_absorption_{1.0f}, sigma_{0.0f};
-  vec3 position_, normal_, geometric_, direction_;
-  SurfaceMaterial m_;  // the material of the interface met, as its textures give it there
-  bool inside_ = false;
-  float medium_ior_ = 1.0f, alpha2_ = 0.0f;
-  int branch_budget_;
-};
-
 }  // namespace
 
+// One loop over the interface events: each event's branch shares the path's running state
+// (throughput, the medium, the lobe's width), which a split would pass around by reference.
 TransmittedPath traceTransmissionPerUnitEntry(const RenderScene& scene, const PrefilteredIbl& ibl,
                                               const TracerSettings& settings, int depth,
                                               const vec3& entry_position, const vec3& entry_normal,
                                               const vec3& entry_direction, const Material& entry,
                                               const SurfaceMaterial* entry_textured,
                                               std::vector<glm::dvec3>* alive) {
-  TransmissionWalk walk(scene, ibl, settings, depth, entry_position, entry_normal, entry_direction, entry,
-                        entry_textured, alive);
-  walk.finish();
-  return walk.path();
-}
-
-void traceTransmissionsPerUnitEntry(const RenderScene& scene, const PrefilteredIbl& ibl,
-                                    const TracerSettings& settings, int depth,
-                                    std::span<const TransmissionEntry> entries,
-                                    std::span<TransmittedPath> paths) {
-  HOLO_ASSERT(entries.size() == paths.size());
-  std::vector<TransmissionWalk> walks;
-  std::vector<Ray> rays;
-  walks.reserve(entries.size());
-  rays.reserve(entries.size());
-  for (const TransmissionEntry& e : entries) {
-    walks.emplace_back(scene, ibl, settings, depth, e.position, e.normal, e.direction, *e.material,
-                       e.textured, nullptr);
-    rays.push_back(walks.back().event());
+  TransmittedPath path;
+  const RayScene& relic = scene.relicOnly();
+  const float offset = std::max(settings.ray_offset, 1e-5f);
+  vec3 throughput(1.0f), last_absorption(1.0f), sigma(0.0f);
+  vec3 position = entry_position, normal = entry_normal, geometric = entry_normal;
+  vec3 direction = entry_direction;
+  // The material of the interface met, as its textures give it there.
+  SurfaceMaterial m = entry_textured ? *entry_textured : factorsOf(entry);
+  bool inside = false;
+  float medium_ior = 1.0f, alpha2 = 0.0f;
+  int branch_budget = settings.refraction_branch_rays;
+  const auto lobe = [&] { return lobeWidth(settings, alpha2); };
+  for (;;) {
+    // One interface event at (position, normal facing the incoming ray, m).
+    float cos_i = -glm::dot(direction, normal);
+    if (!(cos_i > 1e-6f)) {  // a shading normal turned past the ray: the face's own normal
+      normal = geometric;
+      cos_i = std::max(-glm::dot(direction, normal), 1e-6f);
+    }
+    const bool first = path.events == 0;
+    const float ior = safeIor(m.ior);
+    const bool thin = m.thin_walled;
+    const float eta = thin || !inside ? ior : 1.0f / medium_ior;
+    const float fresnel = fresnelDielectric(cos_i, eta);
+    const float transmitted = transmittedShare(m);
+    const vec3 tint = transmissionTint(m);
+    const float alpha = clamp01(m.roughness) * clamp01(m.roughness);
+    const float spread = alpha * std::min(ior - 1.0f, 2.0f) * 0.5f;
+    if (inside && !thin && fresnel >= 1.0f) {  // total internal reflection
+      direction = glm::reflect(direction, normal);
+      alpha2 += alpha * alpha;
+    } else if (inside && !thin) {
+      // Leaving: the light that partly reflects inside is followed where it carries a visible
+      // share and the budget lasts (a crystal's facets send it out elsewhere), else summed as
+      // between parallel walls.
+      const vec3 refracted = refractIncident(direction, normal, eta);
+      vec3 back, front;
+      if (branch_budget > 0 && luminance(throughput) * fresnel >= settings.refraction_branch_weight) {
+        const vec3 behind =
+            iblSeenFrom(ibl, position, refracted, lobeWidth(settings, alpha2 + spread * spread));
+        followReflected(scene, ibl, settings, position, glm::reflect(direction, normal), throughput * fresnel,
+                        alpha2 + alpha * alpha, sigma, medium_ior, behind, branch_budget, path);
+        back = vec3(1.0f - fresnel);
+        front = vec3(0.0f);
+      } else {
+        parallelWalls(fresnel, last_absorption, back, front);
+      }
+      alpha2 += spread * spread;
+      path.reflected += throughput * front;
+      throughput *= back;
+      direction = refracted;
+      inside = false;
+    } else {
+      // Entering (or crossing a thin wall): the entry's reflection and diffuse are the caller's.
+      if (!first) {
+        path.reflected += throughput * fresnel;
+        if (transmitted < 1.0f)
+          path.resolved +=
+              throughput * (1.0f - fresnel) * (1.0f - transmitted) * tint * ibl.irradiance(normal) / kPi;
+      }
+      const vec3 weight = (1.0f - fresnel) * transmitted * tint;
+      if (first)
+        path.entry = weight;
+      else
+        throughput *= weight;
+      alpha2 += spread * spread;
+      if (!thin) {
+        direction = refractIncident(direction, normal, eta);
+        inside = true;
+        medium_ior = ior;
+        sigma = attenuationCoefficient(m.attenuation_colour, m.attenuation_distance);
+      }
+    }
+    ++path.events;
+    if (alive && first) (*alive)[0] += glm::dvec3(path.entry * throughput);
+    // From the interface itself, past `offset` (against meeting it again), so a segment's length
+    // is the distance between the interfaces.
+    const Ray ray{position, direction};
+    const RayHit hit = relic.intersect(ray, offset);
+    ++path.rays;
+    if (!hit.hit()) break;
+    if (inside) {
+      last_absorption = transmittance(sigma, hit.t);
+      throughput *= last_absorption;
+    }
+    const SurfacePoint surface = meetRelic(scene, relic, ray, hit);
+    if (!isFinite(surface.position) || !isFinite(surface.normal)) break;
+    if (!(transmittedShare(surface.material) > 0.0f)) {
+      // An opaque part inside the glass, whatever the depth: shaded where the path meets it, its
+      // specular lobe the path's exit (the visitors it reflects are walked along it).
+      const InsideGlassShading opaque = shadeInsideGlass(scene, ibl, settings, surface, direction);
+      path.rays += opaque.rays;
+      path.resolved += throughput * opaque.shading.diffuse;
+      path.exited = true;
+      path.exit_position = surface.position + surface.normal * offset;
+      path.exit_direction = glm::reflect(direction, surface.normal);
+      path.roughness = clamp01(surface.material.roughness);
+      path.scale = throughput * opaque.shading.specular_scale;
+      path.environment = opaque.shading.environment;
+      return path;
+    }
+    if (path.events >= depth) {  // the cap: what is left goes to the IBL along the last direction
+      path.resolved += throughput * iblSeenFrom(ibl, position, direction, lobe());
+      path.exit_position = position + direction * offset;
+      path.exit_direction = direction;
+      path.roughness = lobe();
+      return path;
+    }
+    position = surface.position;
+    geometric = surface.geometric_normal;
+    normal = surface.normal;
+    m = surface.material;
+    if (alive && path.events < int(alive->size()))
+      (*alive)[std::size_t(path.events)] += glm::dvec3(path.entry * throughput);
   }
-  std::vector<RayHit> hits(rays.size());
-  if (!walks.empty())
-    scene.relicOnly().intersectPackets(rays, hits, RayCoherence::Coherent, walks.front().offset());
-  for (std::size_t k = 0; k < walks.size(); ++k) {
-    if (walks[k].meet(rays[k], hits[k])) walks[k].finish();
-    paths[k] = walks[k].path();
-  }
+  path.exited = true;
+  path.exit_position = position + direction * offset;
+  path.exit_direction = direction;
+  path.roughness = lobe();
+  path.scale = throughput;
+  path.environment = iblSeenFrom(ibl, path.exit_position, direction, path.roughness);
+  return path;
 }
 
 vec3 entryWeight(const vec3& normal, const vec3& direction, const Material& m,

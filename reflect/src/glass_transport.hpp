@@ -39,7 +39,6 @@
 #pragma once
 
 #include <cstdint>
-#include <span>
 #include <vector>
 
 #include "holo/reflect/foreground_camera_image.hpp"
@@ -88,23 +87,6 @@ TransmittedPath traceTransmissionPerUnitEntry(const RenderScene& scene, const Pr
                                               const vec3& normal, const vec3& direction,
                                               const Material& material, const SurfaceMaterial* entry_textured,
                                               std::vector<glm::dvec3>* alive);
-
-// Where a transmitted path starts: traceTransmissionPerUnitEntry's entry arguments.
-struct TransmissionEntry {
-  vec3 position{0.0f}, normal{0.0f, 1.0f, 0.0f}, direction{0.0f, 0.0f, -1.0f};
-  const Material* material = nullptr;         // not null
-  const SurfaceMaterial* textured = nullptr;  // optional, as entry_textured
-};
-
-// paths[k] = traceTransmissionPerUnitEntry of entries[k] (without `alive`) for every k
-// (entries.size() == paths.size()), the first segments (the rays on from the entries) cast
-// together as coherent packets (RayScene::intersectPackets): for neighbouring entries, whose
-// refracted rays start close together and run alike. The rest of each path is cast one ray at a
-// time. The same paths as one at a time up to Embree's packet kernels' round-off.
-void traceTransmissionsPerUnitEntry(const RenderScene& scene, const PrefilteredIbl& ibl,
-                                    const TracerSettings& settings, int depth,
-                                    std::span<const TransmissionEntry> entries,
-                                    std::span<TransmittedPath> paths);
 
 // The weight path.entry of light entering along `direction` at a surface of shading normal
 // `normal` (the first event of traceTransmissionPerUnitEntry).

@@ -115,10 +115,7 @@ std::uint64_t traceAnchors(const RenderScene& scene, const PrefilteredIbl& ibl,
     tbb::parallel_for(
         tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
         [&](const tbb::blocked_range<std::size_t>& r) {
-          // The block's anchors that trace, their paths traced together: neighbouring anchors'
-          // first segments run alike (traceTransmissionsPerUnitEntry).
-          std::vector<TransmissionEntry> entries;
-          std::vector<RefractionAnchor*> traced;
+          std::uint64_t local_rays = 0;
           for (std::size_t k = r.begin(); k < r.end(); ++k) {
             const std::size_t p = hits.covered[k];
             const int x = int(p % std::size_t(hits.width)), y = int(p / std::size_t(hits.width));
@@ -136,15 +133,9 @@ std::uint64_t traceAnchors(const RenderScene& scene, const PrefilteredIbl& ibl,
             a.source = WalkSource{};
             if (round == 1 && blendAnchors(anchors, grid, 2, hp, at, a.unit, a.source) == Blend::Blended)
               continue;
-            entries.push_back({hp.position, hp.normal, -hp.to_viewer, hp.gltf, &hp.material});
-            traced.push_back(&a);
-          }
-          std::vector<TransmittedPath> paths(entries.size());
-          traceTransmissionsPerUnitEntry(scene, ibl, settings, depth, entries, paths);
-          std::uint64_t local_rays = 0;
-          for (std::size_t k = 0; k < traced.size(); ++k) {
-            traced[k]->unit = paths[k];
-            local_rays += paths[k].rays;
+            a.unit = traceTransmissionPerUnitEntry(scene, ibl, settings, depth, hp.position, hp.normal,
+                                                   -hp.to_viewer, *hp.gltf, &hp.material, nullptr);
+            local_rays += a.unit.rays;
           }
           rays += local_rays;
         });

@@ -63,19 +63,8 @@ LayerCounts RefractionPass::shade(const HitPointBuffer& hits, const CameraModel&
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 64),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       LayerCounts local;
-                      BlockPaths block;
-                      block.pixels.resize(r.size());
                       for (std::size_t k = r.begin(); k < r.end(); ++k)
-                        choosePaths(hits, grid, pattern, hits.covered[k], shading, buffers,
-                                    block.pixels[k - r.begin()], block);
-                      // The samples that trace their own path, together: neighbours at a
-                      // silhouette or crease start their first segments alike.
-                      block.traced.resize(block.entries.size());
-                      traceTransmissionsPerUnitEntry(scene_, ibl_, settings_, depth_, block.entries,
-                                                     block.traced);
-                      for (std::size_t k = r.begin(); k < r.end(); ++k)
-                        finishPixel(hits, view, pattern, hits.covered[k], block.pixels[k - r.begin()], block,
-                                    shading, buffers, local);
+                        shadePixel(hits, view, grid, pattern, hits.covered[k], shading, buffers, local);
                       rays += local.refraction_rays;
                       refracted += local.refracted_samples;
                       capped += local.capped_paths;
@@ -85,93 +74,83 @@ LayerCounts RefractionPass::shade(const HitPointBuffer& hits, const CameraModel&
   return {rays.load(), refracted.load(), capped.load(), coated.load(), supersampled.load()};
 }
 
-void RefractionPass::choosePaths(const HitPointBuffer& hits, const AnchorGrid& grid,
-                                 const std::vector<vec2>& pattern, std::size_t p,
-                                 std::vector<SplitSumShading>& shading, LayerBuffers& buffers,
-                                 PixelPaths& pixel, BlockPaths& block) const {
-  const vec2 centre(float(p % std::size_t(hits.width)), float(p / std::size_t(hits.width)));
+void RefractionPass::shadePixel(const HitPointBuffer& hits, const CameraModel& view, const AnchorGrid& grid,
+                                const std::vector<vec2>& pattern, std::size_t p,
+                                std::vector<SplitSumShading>& shading, LayerBuffers& buffers,
+                                LayerCounts& counts) const {
+  TransmittedPath paths[4];
+  bool transmits[4] = {false, false, false, false};
+  counts.refraction_rays += tracePixelPaths(hits, grid, pattern, p, shading, buffers, paths, transmits);
   const std::size_t first = hits.firstSample(p);
   const int count = hits.sampleCount(p);
-  // The first sub-sample that traces its own path shares it with the pixel's others on the same
-  // surface (refraction_stride > 1): its hit point, and where its path will be in block.traced.
-  const HitPoint* owner = nullptr;
-  std::int32_t owner_entry = -1;
-  WalkSource owner_source;
-  for (int s = 0; s < count; ++s) {
-    const std::size_t i = first + std::size_t(s);
-    if (!hits.valid[i] || hits.hits[i].gltf == nullptr) continue;
-    const HitPoint& hp = hits.hits[i];
-    if (!(refraction_ && hp.gltf->transmission > 0.0f)) continue;
-    pixel.transmits[s] = true;
-    buffers.layers[i] = SampleLayers{};
-    SampleLayers& layer = buffers.layers[i];
-    rescaleReflection(hp, shading[i]);
-    const vec2 at = centre + (i == p ? vec2(0.0f) : pattern[std::size_t(s)]);
-    const Blend blend = grid.stride > 1
-                            ? blendAnchors(buffers.anchors, grid, 1, hp, at, pixel.paths[s], layer.source)
-                            : Blend::EventsDiffer;
-    // Where the anchors meet other events inside, the path changes within the pixel: each
-    // sub-sample traces its own there rather than share one.
-    if (blend == Blend::Blended) {
-      pixel.entry[s] = PixelPaths::kBlended;
-      continue;
-    }
-    if (blend == Blend::NotBlended && owner &&
-        sameSurface(RefractionAnchor{owner->position, owner->normal, owner->gltf, {}, {}}, hp)) {
-      pixel.entry[s] = PixelPaths::kShared - owner_entry;
-      layer.source = owner_source;
-      continue;
-    }
-    pixel.entry[s] = std::int32_t(block.entries.size());
-    if (grid.stride > 1 && i != p && !owner) {
-      owner = &hp;
-      owner_entry = pixel.entry[s];
-      owner_source = WalkSource{};
-      owner_source.shared = std::int32_t(i);
-    }
-    block.entries.push_back({hp.position, hp.normal, -hp.to_viewer, hp.gltf, &hp.material});
-  }
-}
-
-void RefractionPass::finishPixel(const HitPointBuffer& hits, const CameraModel& view,
-                                 const std::vector<vec2>& pattern, std::size_t p, PixelPaths& pixel,
-                                 const BlockPaths& block, std::vector<SplitSumShading>& shading,
-                                 LayerBuffers& buffers, LayerCounts& counts) const {
-  const std::size_t first = hits.firstSample(p);
-  const int count = hits.sampleCount(p);
-  for (int s = 0; s < count; ++s) {
-    if (!pixel.transmits[s]) continue;
-    const HitPoint& hp = hits.hits[first + std::size_t(s)];
-    TransmittedPath& path = pixel.paths[s];
-    const std::int32_t entry = pixel.entry[s];
-    if (entry >= 0) {  // traced its own
-      path = block.traced[std::size_t(entry)];
-      applyEntry(path);
-      counts.refraction_rays += path.rays;
-      continue;
-    }
-    if (entry != PixelPaths::kBlended) path = block.traced[std::size_t(PixelPaths::kShared - entry)];
-    path.entry = entryWeight(hp.normal, -hp.to_viewer, *hp.gltf, &hp.material);
-    applyEntry(path);
-    if (path.exited)
-      path.environment = iblSeenFrom(ibl_, path.exit_position, path.exit_direction, path.roughness);
-  }
-  if (count == 4 && supersampling_.sparkles(pixel.paths, pixel.transmits)) {
+  if (count == 4 && supersampling_.sparkles(paths, transmits)) {
     const vec2 centre(float(p % std::size_t(hits.width)), float(p / std::size_t(hits.width)));
     for (int s = 0; s < count; ++s) {
-      if (!pixel.transmits[s]) continue;
+      if (!transmits[s]) continue;
       const std::size_t i = first + std::size_t(s);
       SupersampledPaths more;
       counts.refraction_rays +=
-          supersampling_.supersample(view, centre, pattern[std::size_t(s)], pixel.paths[s], more);
-      pixel.paths[s] = meanPath(more);
+          supersampling_.supersample(view, centre, pattern[std::size_t(s)], paths[s], more);
+      paths[s] = meanPath(more);
       buffers.layers[i].source = WalkSource{};
       buffers.layers[i].source.supersampled =
           std::int32_t(buffers.supersampled.push_back(more) - buffers.supersampled.begin());
       ++counts.supersampled_samples;
     }
   }
-  writeLayers(hits, p, pixel.paths, pixel.transmits, shading, buffers, counts);
+  writeLayers(hits, p, paths, transmits, shading, buffers, counts);
+}
+
+std::uint64_t RefractionPass::tracePixelPaths(const HitPointBuffer& hits, const AnchorGrid& grid,
+                                              const std::vector<vec2>& pattern, std::size_t p,
+                                              std::vector<SplitSumShading>& shading, LayerBuffers& buffers,
+                                              TransmittedPath (&paths)[4], bool (&transmits)[4]) const {
+  std::uint64_t rays = 0;
+  const vec2 centre(float(p % std::size_t(hits.width)), float(p / std::size_t(hits.width)));
+  const std::size_t first = hits.firstSample(p);
+  const int count = hits.sampleCount(p);
+  // The path of the first sub-sample that traced its own, shared by the pixel's others on
+  // the same surface (refraction_stride > 1); shared_source: where its walk comes from.
+  RefractionAnchor shared;
+  WalkSource shared_source;
+  for (int s = 0; s < count; ++s) {
+    const std::size_t i = first + std::size_t(s);
+    if (!hits.valid[i] || hits.hits[i].gltf == nullptr) continue;
+    const HitPoint& hp = hits.hits[i];
+    if (!(refraction_ && hp.gltf->transmission > 0.0f)) continue;
+    transmits[s] = true;
+    buffers.layers[i] = SampleLayers{};
+    SampleLayers& layer = buffers.layers[i];
+    rescaleReflection(hp, shading[i]);
+    const vec2 at = centre + (i == p ? vec2(0.0f) : pattern[std::size_t(s)]);
+    TransmittedPath& path = paths[s];
+    const Blend blend = grid.stride > 1 ? blendAnchors(buffers.anchors, grid, 1, hp, at, path, layer.source)
+                                        : Blend::EventsDiffer;
+    // Where the anchors meet other events inside, the path changes within the pixel: each
+    // sub-sample traces its own there rather than share one.
+    const bool blended = blend == Blend::Blended ||
+                         (blend == Blend::NotBlended && shared.material && sameSurface(shared, hp) &&
+                          (path = shared.unit, layer.source = shared_source, true));
+    if (blended) {
+      path.entry = entryWeight(hp.normal, -hp.to_viewer, *hp.gltf, &hp.material);
+      applyEntry(path);
+      if (path.exited)
+        path.environment = iblSeenFrom(ibl_, path.exit_position, path.exit_direction, path.roughness);
+    } else {
+      path = traceTransmissionPerUnitEntry(scene_, ibl_, settings_, depth_, hp.position, hp.normal,
+                                           -hp.to_viewer, *hp.gltf, &hp.material, nullptr);
+      if (grid.stride > 1 && i != p && !shared.material) {
+        shared.position = hp.position;
+        shared.normal = hp.normal;
+        shared.material = hp.gltf;
+        shared.unit = path;
+        shared_source.shared = std::int32_t(i);
+      }
+      applyEntry(path);
+      rays += path.rays;
+    }
+  }
+  return rays;
 }
 
 void RefractionPass::writeLayers(const HitPointBuffer& hits, std::size_t p, const TransmittedPath (&paths)[4],

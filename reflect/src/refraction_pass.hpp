@@ -82,33 +82,17 @@ class RefractionPass {
                                 LayerBuffers& buffers) const;
 
  private:
-  // Pixel p's transmissive samples' paths within a block of covered pixels, in two steps around
-  // the block's traced paths: how each gets its path (blended from the anchors, shared with a
-  // sub-sample on the same surface, or traced), then the paths with their entry weights applied.
-  struct PixelPaths {
-    static constexpr std::int32_t kBlended = -1;
-    // entry[s] >= 0: sample s traces its own, block.entries[entry[s]]; kBlended; or
-    // kShared - e (<= kShared): it shares block.traced[e], another sub-sample's.
-    static constexpr std::int32_t kShared = -2;
-    TransmittedPath paths[4];
-    bool transmits[4] = {false, false, false, false};
-    std::int32_t entry[4] = {kBlended, kBlended, kBlended, kBlended};
-  };
-  struct BlockPaths {
-    std::vector<PixelPaths> pixels;
-    std::vector<TransmissionEntry> entries;  // the samples that trace their own
-    std::vector<TransmittedPath> traced;     // their paths, per unit entry
-  };
-  // The first step for pixel p: its reflections rescaled, its blends taken, its own traces listed
-  // in block.entries.
-  void choosePaths(const HitPointBuffer& hits, const AnchorGrid& grid, const std::vector<vec2>& pattern,
-                   std::size_t p, std::vector<SplitSumShading>& shading, LayerBuffers& buffers,
-                   PixelPaths& pixel, BlockPaths& block) const;
-  // The second, once block.traced holds the traced paths: entry weights applied, a sparkling
-  // pixel supersampled, the layers written; adds to `counts`.
-  void finishPixel(const HitPointBuffer& hits, const CameraModel& view, const std::vector<vec2>& pattern,
-                   std::size_t p, PixelPaths& pixel, const BlockPaths& block,
-                   std::vector<SplitSumShading>& shading, LayerBuffers& buffers, LayerCounts& counts) const;
+  // shade() for covered pixel p, adding to `counts`.
+  void shadePixel(const HitPointBuffer& hits, const CameraModel& view, const AnchorGrid& grid,
+                  const std::vector<vec2>& pattern, std::size_t p, std::vector<SplitSumShading>& shading,
+                  LayerBuffers& buffers, LayerCounts& counts) const;
+  // The transmitted path of each of pixel p's transmissive samples (transmits[s]), traced, blended
+  // from the anchors or shared with a sub-sample on the same surface, entry weights applied; their
+  // reflection rescaled. Returns the Embree rays cast.
+  std::uint64_t tracePixelPaths(const HitPointBuffer& hits, const AnchorGrid& grid,
+                                const std::vector<vec2>& pattern, std::size_t p,
+                                std::vector<SplitSumShading>& shading, LayerBuffers& buffers,
+                                TransmittedPath (&paths)[4], bool (&transmits)[4]) const;
   // Writes the layers of pixel p's samples: their transmitted paths and their coats.
   void writeLayers(const HitPointBuffer& hits, std::size_t p, const TransmittedPath (&paths)[4],
                    const bool (&transmits)[4], std::vector<SplitSumShading>& shading, LayerBuffers& buffers,

@@ -735,58 +735,5 @@ TEST(Refraction, LightLeavingTheGlassSeesTheHallWithItsParallax) {
   EXPECT_GT(pixels, 200);
 }
 
-// Paths whose first segments are cast together in packets (traceTransmissionsPerUnitEntry) are
-// those traced one ray at a time: the same events, exits, rays and, up to the packet kernels'
-// round-off, the same light, on a smooth sphere and on a gem whose light leaves through several
-// facets; in view order (coherent rays) and shuffled (packets of rays that run apart).
-TEST(Refraction, PathsWhoseFirstSegmentsArePacketedAreThoseTracedOneAtATime) {
-  const PrefilteredIbl ibl(panorama([](const vec3& d) {
-                             return vec3(0.2f + std::max(d.y, 0.0f), 0.3f + 0.2f * d.z, 0.3f + 0.2f * d.x);
-                           }),
-                           PrefilterOptions{4, 64, 8});
-  for (const Model& model : {glassSphere(1.5f, 0.2f), gem()}) {
-    const RenderScene scene(model, {});
-    const CameraModel view = lookAtCamera(vec3(0.3f, 0.6f, 0.9f), vec3(0.0f, 0.3f, 0.0f), 30.0f, 40, 40);
-    std::vector<TransmissionEntry> entries;
-    std::vector<SurfaceMaterial> materials;
-    materials.reserve(40 * 40);
-    for (int y = 0; y < 40; ++y)
-      for (int x = 0; x < 40; ++x) {
-        const Ray ray = primaryRay(view, vec2(x, y));
-        const RayHit hit = scene.relicOnly().intersect(ray);
-        if (!hit.hit()) continue;
-        const SurfacePoint surface = resolveSurface(scene, scene.relicOnly(), ray, hit, 0.0f);
-        materials.push_back(surface.material);
-        entries.push_back({surface.position, surface.normal, ray.direction,
-                           &scene.relicGltfMaterial(hit, scene.relicOnly()), &materials.back()});
-      }
-    ASSERT_GT(entries.size(), 100u);
-    std::vector<TransmissionEntry> shuffled = entries;
-    for (std::size_t k = 0; k < shuffled.size(); ++k)
-      std::swap(shuffled[k], shuffled[(k * 7919) % shuffled.size()]);
-    for (const std::vector<TransmissionEntry>* order : {&entries, &shuffled}) {
-      std::vector<TransmittedPath> packed(order->size());
-      traceTransmissionsPerUnitEntry(scene, ibl, TracerSettings{}, 16, *order, packed);
-      int several_events = 0;
-      for (std::size_t k = 0; k < order->size(); ++k) {
-        const TransmissionEntry& e = (*order)[k];
-        const TransmittedPath alone =
-            traceTransmissionPerUnitEntry(scene, ibl, TracerSettings{}, 16, e.position, e.normal, e.direction,
-                                          *e.material, e.textured, nullptr);
-        EXPECT_EQ(packed[k].events, alone.events);
-        EXPECT_EQ(packed[k].exited, alone.exited);
-        EXPECT_EQ(packed[k].rays, alone.rays);
-        const vec3 light = alone.scale * alone.environment + alone.resolved;
-        const vec3 packed_light = packed[k].scale * packed[k].environment + packed[k].resolved;
-        EXPECT_LE(glm::length(packed_light - light), 1e-4f * (glm::length(light) + 1e-3f));
-        EXPECT_LE(glm::length(packed[k].reflected - alone.reflected), 1e-4f);
-        EXPECT_GT(glm::dot(packed[k].exit_direction, alone.exit_direction), 0.99999f);
-        several_events += alone.events >= 2 ? 1 : 0;
-      }
-      EXPECT_GT(several_events, 0) << "some path goes on past its packeted first segment";
-    }
-  }
-}
-
 }  // namespace
 }  // namespace holo::reflect
