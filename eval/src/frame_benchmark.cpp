@@ -200,7 +200,7 @@ FrameBenchmark benchFrame(FrameBenchOptions options) {
     progress.update(1);
   }
   std::vector<FrameReport>& reports = result.reports;
-  std::vector<double> floor_ms, single_ray_floor_ms, error_codes;
+  std::vector<double> floor_ms, floor_cpu_ms, single_ray_floor_ms, error_codes;
   std::uint64_t digest = kFnvOffset;
   reflect::TracerSettings reference_settings = options.loop.tracer;
   setAntiAliasing(reference_settings, reflect::AntiAliasing::Full);
@@ -230,7 +230,9 @@ FrameBenchmark benchFrame(FrameBenchOptions options) {
   result.busy_cores = (processCpuSeconds() - cpu_start) / std::max(1e-9, wall.seconds());
   result.page_faults_per_frame = double(pageFaults() - faults_start) / std::max(1, options.frames);
   for (const std::vector<CameraModel>& frame_views : views) {
+    const double floor_cpu_before = processCpuMs();
     floor_ms.push_back(packetFloorMs(loop, frame_views, loop.ibl(), result.floor_relic_pixels));
+    floor_cpu_ms.push_back(processCpuMs() - floor_cpu_before);
     single_ray_floor_ms.push_back(singleRayFloorMs(loop, frame_views, loop.ibl()));
   }
   progress.done();
@@ -238,6 +240,7 @@ FrameBenchmark benchFrame(FrameBenchOptions options) {
   result.passes = medianPasses(reports);
   result.cameras = loop.cameraFrameCounts();
   result.floor_ms = median(floor_ms);
+  result.floor_cpu_ms = median(floor_cpu_ms);
   result.single_ray_floor_ms = median(single_ray_floor_ms);
   if (options.reference) result.error_vs_reference_codes = median(error_codes);
   if (options.digest) result.display_digest = digest;

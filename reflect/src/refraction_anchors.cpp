@@ -142,19 +142,28 @@ std::uint64_t traceAnchors(const RenderScene& scene, const PrefilteredIbl& ibl,
   return rays.load();
 }
 
-std::uint64_t walkAnchors(const std::vector<RefractionAnchor>& anchors, const ForegroundWalk& walk,
-                          std::vector<ForegroundSample>& anchor_fg) {
+AnchorExits anchorExits(const std::vector<RefractionAnchor>& anchors) {
+  AnchorExits exits;
+  for (std::size_t k = 0; k < anchors.size(); ++k) {
+    const RefractionAnchor& a = anchors[k];
+    if (!a.material || !a.unit.exited) continue;
+    (a.source.anchors > 0 ? exits.blended : exits.traced).push_back(std::uint32_t(k));
+  }
+  return exits;
+}
+
+std::uint64_t walkAnchors(const std::vector<RefractionAnchor>& anchors, const AnchorExits& exits,
+                          const ForegroundWalk& walk, std::vector<ForegroundSample>& anchor_fg) {
   std::atomic<std::uint64_t> walked{0};
   anchor_fg.assign(anchors.size(), ForegroundSample{});
-  for (int round = 0; round < 2; ++round)
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, anchors.size(), 256),
+  for (const std::vector<std::uint32_t>* round : {&exits.traced, &exits.blended})
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, round->size(), 256),
                       [&](const tbb::blocked_range<std::size_t>& r) {
                         std::uint64_t local = 0;
-                        for (std::size_t k = r.begin(); k < r.end(); ++k) {
+                        for (std::size_t n = r.begin(); n < r.end(); ++n) {
+                          const std::size_t k = (*round)[n];
                           const RefractionAnchor& a = anchors[k];
-                          if (!a.material || !a.unit.exited || (a.source.anchors > 0) != (round == 1))
-                            continue;
-                          if (round == 1 && blendWalks(anchor_fg, a.source, anchor_fg[k])) continue;
+                          if (a.source.anchors > 0 && blendWalks(anchor_fg, a.source, anchor_fg[k])) continue;
                           walk.walk(a.unit.exit_position, a.unit.exit_direction, a.unit.exit_direction,
                                     a.unit.roughness, anchor_fg[k]);
                           ++local;

@@ -82,11 +82,19 @@ std::uint64_t traceAnchors(const RenderScene& scene, const PrefilteredIbl& ibl,
                            const TracerSettings& settings, int depth, const HitPointBuffer& hits,
                            const AnchorGrid& grid, std::vector<RefractionAnchor>& anchors);
 
-// This frame's walk of each anchor's exit ray into anchor_fg (resized to anchors.size()), in two
-// rounds as they were traced: a blended anchor blends the coarse anchors' walks where these agree.
-// Returns the rays walked.
-std::uint64_t walkAnchors(const std::vector<RefractionAnchor>& anchors, const ForegroundWalk& walk,
-                          std::vector<ForegroundSample>& anchor_fg);
+// The anchors whose paths leave the relic (the exit rays walked every frame), indices into the
+// anchor grid, ascending: those that traced their own path and those that took the coarse
+// anchors' blend. Most of a view's grid is off the relic: the walks visit these alone.
+struct AnchorExits {
+  std::vector<std::uint32_t> traced, blended;
+};
+AnchorExits anchorExits(const std::vector<RefractionAnchor>& anchors);
+
+// This frame's walk of each exiting anchor's exit ray into anchor_fg (resized to anchors.size();
+// the other entries are left empty), in two rounds as they were traced: a blended anchor blends
+// the coarse anchors' walks where these agree. Returns the rays walked.
+std::uint64_t walkAnchors(const std::vector<RefractionAnchor>& anchors, const AnchorExits& exits,
+                          const ForegroundWalk& walk, std::vector<ForegroundSample>& anchor_fg);
 
 // The blend of the anchors' walks a blended sample's path took (premultiplied by the mask, so it
 // composes as the blend of theirs), where they see the same: no visitor, or the same visitor's

@@ -56,6 +56,7 @@ LayerCounts RefractionPass::shade(const HitPointBuffer& hits, const CameraModel&
   // The anchors first (refraction_stride > 1): every sample below reads its neighbours'.
   const AnchorGrid grid = anchorGrid(hits, refraction_ ? settings_.refraction_stride : 1);
   std::atomic<std::uint64_t> rays{traceAnchors(scene_, ibl_, settings_, depth_, hits, grid, buffers.anchors)};
+  buffers.anchor_exits = anchorExits(buffers.anchors);
   std::atomic<std::uint64_t> refracted{0}, capped{0}, coated{0}, supersampled{0};
   const std::vector<vec2> pattern = subsamplePattern(4);
   buffers.supersampled.clear();
@@ -195,7 +196,8 @@ std::uint64_t RefractionPass::walkTransmitted(const HitPointBuffer& hits, const 
                                               LayerBuffers& buffers) const {
   buffers.transmitted_fg.resize(hits.hits.size());
   // The anchors' exit rays first: a blended sample reads the anchors' walks.
-  std::atomic<std::uint64_t> walked{walkAnchors(buffers.anchors, walk, buffers.anchor_fg)};
+  std::atomic<std::uint64_t> walked{
+      walkAnchors(buffers.anchors, buffers.anchor_exits, walk, buffers.anchor_fg)};
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       std::uint64_t local = 0;

@@ -49,6 +49,7 @@ struct LayerBuffers {
   std::vector<std::uint8_t> layered;
   std::vector<ForegroundSample> transmitted_fg;  // per entry, this frame's visitors along the exit rays
   std::vector<RefractionAnchor> anchors;         // the anchor grid, row-major (kept with the static shading)
+  AnchorExits anchor_exits;                      // the anchors whose exit rays are walked
   std::vector<ForegroundSample> anchor_fg;       // per anchor, this frame's walk of its exit ray
   tbb::concurrent_vector<SupersampledPaths> supersampled;  // in no fixed order
 };

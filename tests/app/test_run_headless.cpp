@@ -197,6 +197,11 @@ TEST(BenchFrame, JsonHasTheStagesTheFloorAndTheFrameTime) {
   EXPECT_GT(floor, 0.0);
   EXPECT_GT(frame, 0.0);
   EXPECT_NEAR(j["fps"].get<double>(), 1000.0 / frame, 1e-6 * j["fps"].get<double>() + 1e-9);
+  // The floor's CPU time, and the frame's CPU over it.
+  const double floor_cpu = j["floor_cpu_ms"].get<double>();
+  EXPECT_GT(floor_cpu, 0.0);
+  EXPECT_NEAR(j["frame_cpu_over_floor_cpu"].get<double>(), j["frame_cpu_median_ms"].get<double>() / floor_cpu,
+              1e-9 * j["frame_cpu_over_floor_cpu"].get<double>() + 1e-12);
 }
 
 }  // namespace

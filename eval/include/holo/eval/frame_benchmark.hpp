@@ -48,9 +48,14 @@ struct FrameBenchmark {
   double floor_ms = 0;
   double single_ray_floor_ms = 0;
   std::uint64_t floor_relic_pixels = 0;  // relic pixels of the last floor frame
-  double setup_s = 0;                    // the loop's construction (and preloading), seconds
-  double busy_cores = 0;                 // CPU seconds of the process per wall second of the frames
-  double page_faults_per_frame = 0;      // minor faults: memory freshly mapped per frame
+  // The packet floor's CPU time (all threads; the loop's worker idle), median over the frames:
+  // against frame_cpu_median_ms, the frame's cost over the floor's apart from what other
+  // processes take of the cores (on an idle 2-core machine close to the wall-time ratio, both
+  // keeping the cores busy).
+  double floor_cpu_ms = 0;
+  double setup_s = 0;                // the loop's construction (and preloading), seconds
+  double busy_cores = 0;             // CPU seconds of the process per wall second of the frames
+  double page_faults_per_frame = 0;  // minor faults: memory freshly mapped per frame
   // Mean absolute difference in 8-bit sRGB codes against the reference, median over the frames.
   std::optional<double> error_vs_reference_codes;
   std::optional<std::uint64_t> display_digest;  // with FrameBenchOptions::digest
@@ -68,6 +73,7 @@ struct FrameBenchmark {
   // medians of parts need not add up to the median latency).
   std::optional<pipeline::LatencyParts> latency_parts_median_ms;
   double frameOverFloor() const { return floor_ms > 0 ? median.total / floor_ms : 0.0; }
+  double frameCpuOverFloorCpu() const { return floor_cpu_ms > 0 ? frame_cpu_median_ms / floor_cpu_ms : 0.0; }
 };
 
 // Throws InputError as FrameLoop does for a bad scene or settings.
