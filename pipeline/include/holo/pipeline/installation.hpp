@@ -46,8 +46,8 @@
 #include "holo/core/plinth.hpp"
 #include "holo/core/rgbd_frame.hpp"
 #include "holo/depthfilter/cross_camera_fill.hpp"
-#include "holo/depthfilter/foreground_scale.hpp"
 #include "holo/depthfilter/foreground_mask.hpp"
+#include "holo/depthfilter/foreground_scale.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
 #include "holo/reflect/environment.hpp"
 
