@@ -13,6 +13,7 @@
 #include "command.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/files.hpp"
+#include "holo/depthfilter/foreground_scale.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
 #include "holo/display/frame_output.hpp"
 #include "holo/eval/depth_recording_evaluation.hpp"
@@ -38,6 +39,7 @@ struct Options {
   bool reflection_flicker = eval::SimulatedDepthOptions{}.reflection_flicker;
   int view_size = eval::SimulatedDepthOptions{}.view_size;
   bool keep_attached_limbs = eval::SimulatedDepthOptions{}.keep_attached_limbs;
+  int foreground_scale = eval::SimulatedDepthOptions{}.foreground_scale;
   std::string json;
   std::string images;
   std::string recording;
@@ -76,13 +78,17 @@ int run(const Options& o) {
                        std::to_string(levels));
   if (o.view_size < 0 || o.view_size > 4096)
     throw InputError("", "--view-size", "0 (the live loop's) or 1..4096 pixels", std::to_string(o.view_size));
+  if (o.foreground_scale < 1 || o.foreground_scale > depthfilter::kMaxForegroundScale)
+    throw InputError("", "--foreground-scale",
+                     "an integer in [1, " + std::to_string(depthfilter::kMaxForegroundScale) + "]",
+                     std::to_string(o.foreground_scale));
   if (o.levels < 1 || o.levels > max_levels)
     throw InputError("", "--levels", "l_max in [1, " + std::to_string(max_levels) + "]",
                      std::to_string(o.levels));
   const eval::SimulatedDepthEvaluation e = eval::evaluateSimulatedDepth(
       {o.scene, o.visitor_model, o.frames, o.width, o.height, o.learning_frames, o.levels, o.compared_levels,
        !o.images.empty(), o.mask_persistence, o.cross_camera, o.round_trip_check, o.reflection_flicker,
-       o.view_size, o.keep_attached_limbs});
+       o.view_size, o.keep_attached_limbs, o.foreground_scale});
   std::cout << e.report.dump(2) << "\n";
   std::cerr << eval::depthMetricsTable(e.rows);
   std::cerr << "\n" << e.coverage_table;
@@ -120,6 +126,10 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--cross-camera", o->cross_camera,
                      "The cameras fill each other's holes with their measured depth of the same visitor, "
                      "projected through the poses (false: each camera on its own)")
+          ->capture_default_str();
+      sub.add_option("--foreground-scale", o->foreground_scale,
+                     "Every method on the camera frames reduced by this (1 or 2), scored at the camera's "
+                     "resolution")
           ->capture_default_str();
       sub.add_option("--flow-check", o->round_trip_check,
                      "The precursor flow's forward-backward check: a pixel whose precursor does not map "

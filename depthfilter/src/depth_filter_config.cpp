@@ -40,7 +40,8 @@ TemporalDepthFilterConfig parseDepthFilterConfig(const ConfigNode& section) {
                              "mask_close_radius",
                              "mask_keep_attached_limbs",
                              "mask_background_adopt_frames",
-                             "mask_unshrunk_colour_over_unread_background"});
+                             "mask_unshrunk_colour_over_unread_background",
+                             "foreground_scale"});
   TemporalDepthFilterConfig c;
   c.levels = intInRange(section, "levels", c.levels, 1, TemporalDepthFilterConfig::kMaxLevels);
   c.learning_frames = intInRange(section, "learning_frames", c.learning_frames, 0, 100000);
@@ -82,6 +83,10 @@ ForegroundMaskConfig parseForegroundMaskConfig(const ConfigNode& section) {
   c.unshrunk_colour_over_unread_background =
       section.get("mask_unshrunk_colour_over_unread_background", c.unshrunk_colour_over_unread_background);
   return c;
+}
+
+int parseForegroundScale(const ConfigNode& section) {
+  return intInRange(section, "foreground_scale", kDefaultForegroundScale, 1, kMaxForegroundScale);
 }
 
 }  // namespace holo::depthfilter

@@ -34,7 +34,7 @@ std::array<float, 256> srgbTable() {
 // outputs only on the mask; see borderBox), so only the box is read.
 void appendPoints(const CameraModel& camera, std::uint16_t camera_index, const std::vector<vec3>& directions,
                   const cv::Mat& colour, const CameraForeground& result, const cv::Rect& box,
-                  vec3 gains_over_exposure, std::vector<ForegroundPoint>& out) {
+                  vec3 gains_over_exposure, int scale, std::vector<ForegroundPoint>& out) {
   static const std::array<float, 256> kLinear = srgbTable();
   const mat4& T = camera.T_world_camera();
   for (int y = box.y; y < box.y + box.height; ++y) {
@@ -55,8 +55,8 @@ void appendPoints(const CameraModel& camera, std::uint16_t camera_index, const s
       p.radiance = vec3(kLinear[bgr[x][2]], kLinear[bgr[x][1]], kLinear[bgr[x][0]]) * gains_over_exposure;
       p.weight = std::min(w, 1.0f);
       p.camera = camera_index;
-      p.x = static_cast<std::uint16_t>(x);
-      p.y = static_cast<std::uint16_t>(y);
+      p.x = static_cast<std::uint16_t>(x * scale);
+      p.y = static_cast<std::uint16_t>(y * scale);
       if (!isFinite(p.position) || !isFinite(p.radiance)) continue;
       out.push_back(p);
     }
@@ -69,25 +69,34 @@ vec3 gainsOverExposure(const ForegroundPipelineConfig& config, std::size_t camer
   return gains / config.exposure;
 }
 
-void checkFrame(const RgbdFrame& frame, const CameraModel& camera, std::size_t index) {
+// `camera` is the reduced one: the frame must have its size times the scale.
+void checkFrame(const RgbdFrame& frame, const CameraModel& camera, int scale, std::size_t index) {
   const std::string which = "ForegroundPipeline: camera " + std::to_string(index);
   if (frame.colour.type() != CV_8UC3 || frame.depth.type() != CV_32FC1)
     throw Error(which + ": expected CV_8UC3 colour and CV_32FC1 depth");
-  if (frame.colour.cols != camera.width() || frame.colour.rows != camera.height() ||
-      frame.depth.size() != frame.colour.size())
-    throw Error(which + ": expected " + std::to_string(camera.width()) + "x" +
-                std::to_string(camera.height()) + " frames, got colour " + std::to_string(frame.colour.cols) +
-                "x" + std::to_string(frame.colour.rows) + " and depth " + std::to_string(frame.depth.cols) +
-                "x" + std::to_string(frame.depth.rows));
+  const int width = camera.width() * scale, height = camera.height() * scale;
+  if (frame.colour.cols != width || frame.colour.rows != height || frame.depth.size() != frame.colour.size())
+    throw Error(which + ": expected " + std::to_string(width) + "x" + std::to_string(height) +
+                " frames, got colour " + std::to_string(frame.colour.cols) + "x" +
+                std::to_string(frame.colour.rows) + " and depth " + std::to_string(frame.depth.cols) + "x" +
+                std::to_string(frame.depth.rows));
+}
+
+std::vector<CameraModel> reducedCameras(std::vector<CameraModel> cameras, int scale) {
+  if (cameras.empty()) throw Error("ForegroundPipeline: expected at least one camera");
+  for (CameraModel& camera : cameras) {
+    checkForegroundScale(scale, camera.width(), camera.height());
+    camera = reducedCamera(camera, scale);
+  }
+  return cameras;
 }
 
 }  // namespace
 
 ForegroundPipeline::ForegroundPipeline(std::vector<CameraModel> cameras, ForegroundPipelineConfig config)
-    : cameras_(std::move(cameras)),
-      config_(std::move(config)),
+    : config_(std::move(config)),
+      cameras_(reducedCameras(std::move(cameras), config_.scale)),
       cross_camera_(cameras_, config_.cross_camera) {
-  if (cameras_.empty()) throw Error("ForegroundPipeline: expected at least one camera");
   if (!(config_.exposure > 0.0f) || !std::isfinite(config_.exposure))
     throw Error("ForegroundPipeline: exposure must be positive and finite");
   for (const vec3& gains : config_.colour_gains)
@@ -96,7 +105,18 @@ ForegroundPipeline::ForegroundPipeline(std::vector<CameraModel> cameras, Foregro
   stages_.reserve(cameras_.size());
   for (std::size_t i = 0; i < cameras_.size(); ++i) {
     ForegroundMaskConfig mask_config = config_.mask;
-    if (i < config_.static_foreground.size()) mask_config.static_foreground = config_.static_foreground[i];
+    if (i < config_.static_foreground.size() && !config_.static_foreground[i].empty()) {
+      // A reduced pixel is the pyramid's when any pixel of its block is.
+      const cv::Mat& full = config_.static_foreground[i];
+      if (config_.scale == 1) {
+        mask_config.static_foreground = full;
+      } else {
+        cv::Mat block_share;
+        cv::resize(full, block_share, cv::Size(cameras_[i].width(), cameras_[i].height()), 0.0, 0.0,
+                   cv::INTER_AREA);
+        mask_config.static_foreground = block_share > 0;
+      }
+    }
     stages_.push_back(CameraStage{ForegroundMasker(mask_config),
                                   PrecursorFlow(config_.flow),
                                   MaskPersistence(config_.persistence),
@@ -127,8 +147,8 @@ void ForegroundPipeline::learnBackground(std::span<const RgbdFrame> frames) {
                 " frames, got " + std::to_string(frames.size()));
   for (std::size_t i = 0; i < frames.size(); ++i) {
     if (frames[i].empty()) continue;
-    checkFrame(frames[i], cameras_[i], i);
-    stages_[i].masker.learnBackground(frames[i]);
+    checkFrame(frames[i], cameras_[i], config_.scale, i);
+    stages_[i].masker.learnBackground(reducedFrame(frames[i], config_.scale));
   }
 }
 
@@ -142,12 +162,24 @@ void ForegroundPipeline::forgetBackground() {
   }
 }
 
-ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> frames) {
-  if (frames.size() != cameras_.size())
+ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> camera_frames) {
+  if (camera_frames.size() != cameras_.size())
     throw Error("ForegroundPipeline::process: expected " + std::to_string(cameras_.size()) + " frames, got " +
-                std::to_string(frames.size()));
-  for (std::size_t i = 0; i < frames.size(); ++i)
-    if (!frames[i].empty()) checkFrame(frames[i], cameras_[i], i);
+                std::to_string(camera_frames.size()));
+  for (std::size_t i = 0; i < camera_frames.size(); ++i)
+    if (!camera_frames[i].empty()) checkFrame(camera_frames[i], cameras_[i], config_.scale, i);
+  // The frames at the foreground's resolution (the camera's own at scale 1, not copied).
+  std::vector<RgbdFrame> reduced;
+  if (config_.scale > 1) {
+    reduced.resize(camera_frames.size());
+    const auto reduce = [&](std::size_t i) { reduced[i] = reducedFrame(camera_frames[i], config_.scale); };
+    if (config_.parallel)
+      tbb::parallel_for(std::size_t(0), reduced.size(), reduce);
+    else
+      for (std::size_t i = 0; i < reduced.size(); ++i) reduce(i);
+  }
+  const std::span<const RgbdFrame> frames =
+      config_.scale > 1 ? std::span<const RgbdFrame>(reduced) : camera_frames;
 
   // Per camera: the mask and the flow.
   auto mask_camera = [&](std::size_t i) {
@@ -182,7 +214,8 @@ ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> frames) {
     result.depth = stage.filter.apply({frame.colour, depth[i], result.mask, result.flow});
     result.border = expandBorder(result.mask, result.depth, config_.border);
     appendPoints(cameras_[i], static_cast<std::uint16_t>(i), stage.plane_directions, frame.colour, result,
-                 borderBox(result.mask, config_.border), gainsOverExposure(config_, i), stage.points);
+                 borderBox(result.mask, config_.border), gainsOverExposure(config_, i), config_.scale,
+                 stage.points);
   };
   const auto for_each_camera = [&](const auto& step) {
     if (config_.parallel)

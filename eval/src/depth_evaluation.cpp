@@ -34,13 +34,15 @@ DepthFilterEvaluation::DepthFilterEvaluation(DepthEvaluationConfig config)
       taa_(config.taa_blend),
       adversary_(config.adversary_max_change_m),
       variant_scorers_(config.ours_variants.size()),
+      scale_(config.foreground_scale),
       breakdown_(config.mask) {
+  depthfilter::checkForegroundScale(scale_, 0, 0);  // its range; each frame's size in prepareFrame
   for (const depthfilter::TemporalDepthFilterConfig& variant : config.ours_variants)
     variants_.emplace_back(variant);
 }
 
 void DepthFilterEvaluation::learnBackground(const RgbdFrame& background) {
-  masker_.learnBackground(background);
+  masker_.learnBackground(depthfilter::reducedFrame(background, scale_));
 }
 
 void DepthScorer::add(const cv::Mat& out, const GroundTruthFrame& truth, double seconds) {
@@ -197,32 +199,42 @@ cv::Mat HoleLeavingAdversary::apply(const cv::Mat& depth) {
 
 void DepthFilterEvaluation::addFrame(const GroundTruthFrame& truth) {
   prepareFrame(truth.frame);
-  scoreFrame(truth, truth.frame.depth);
+  scoreFrame(truth, reduced_.depth);
 }
 
 void DepthFilterEvaluation::prepareFrame(const RgbdFrame& frame) {
-  last_mask_ = masker_.apply(frame);
-  last_flow_ = flow_.compute(frame.colour, previous_colour_);
-  persistence_.extend(last_mask_, frame, last_flow_);
-  previous_colour_ = frame.colour.clone();
+  depthfilter::checkForegroundScale(scale_, frame.colour.cols, frame.colour.rows);
+  reduced_ = depthfilter::reducedFrame(frame, scale_);
+  mask_ = masker_.apply(reduced_);
+  last_flow_ = flow_.compute(reduced_.colour, previous_colour_);
+  persistence_.extend(mask_, reduced_, last_flow_);
+  previous_colour_ = reduced_.colour.clone();
+  last_mask_ = depthfilter::expandedToFull(mask_, frame.colour.size());
 }
 
 depthfilter::CrossCameraView DepthFilterEvaluation::crossCameraView(const RgbdFrame& frame) {
-  return {frame.depth, last_mask_, masker_.backgroundDepth()};
+  if (frame.colour.size() != reduced_.colour.size() * scale_)
+    throw Error("DepthFilterEvaluation: crossCameraView needs prepareFrame on the same frame first");
+  return {reduced_.depth, mask_, masker_.backgroundDepth()};
 }
 
 void DepthFilterEvaluation::scoreFrame(const GroundTruthFrame& truth, const cv::Mat& ours_depth) {
   const RgbdFrame& frame = truth.frame;
   if (truth.true_depth.type() != CV_32FC1 || truth.true_depth.size() != frame.depth.size() ||
       truth.true_foreground.type() != CV_8UC1 || truth.true_foreground.size() != frame.depth.size() ||
-      ours_depth.type() != CV_32FC1 || ours_depth.size() != frame.depth.size())
+      ours_depth.type() != CV_32FC1 || ours_depth.size() != reduced_.depth.size())
     throw Error(
-        "DepthFilterEvaluation: expected true depth and our depth CV_32FC1 and true foreground CV_8UC1 of "
-        "the frame's size");
-  if (last_mask_.size() != frame.depth.size())
+        "DepthFilterEvaluation: expected true depth CV_32FC1 and true foreground CV_8UC1 of the frame's "
+        "size, our depth CV_32FC1 of the foreground's");
+  if (mask_.size() * scale_ != frame.depth.size())
     throw Error("DepthFilterEvaluation: scoreFrame needs prepareFrame on the same frame first");
-  const depthfilter::DepthFilterInput input{frame.colour, frame.depth, last_mask_, last_flow_};
-  const depthfilter::DepthFilterInput ours_input{frame.colour, ours_depth, last_mask_, last_flow_};
+  // The cameras' fill may have grown the mask since prepareFrame.
+  last_mask_ = depthfilter::expandedToFull(mask_, frame.depth.size());
+  const depthfilter::DepthFilterInput input{reduced_.colour, reduced_.depth, mask_, last_flow_};
+  const depthfilter::DepthFilterInput ours_input{reduced_.colour, ours_depth, mask_, last_flow_};
+  const auto at_frame_size = [&](const cv::Mat& reduced) {
+    return depthfilter::expandedToFull(reduced, frame.depth.size());
+  };
   const bool score = !ours_.learning();  // decided before this frame, like the filter itself
 
   for (DepthMethod method : kDepthMethods) {
@@ -234,8 +246,8 @@ void DepthFilterEvaluation::scoreFrame(const GroundTruthFrame& truth, const cv::
         out = ours_.apply(ours_input);
         break;
       case DepthMethod::Raw:
-        out = cv::Mat::zeros(frame.depth.size(), CV_32FC1);
-        frame.depth.copyTo(out, last_mask_);
+        out = cv::Mat::zeros(reduced_.depth.size(), CV_32FC1);
+        reduced_.depth.copyTo(out, mask_);
         out.forEach<float>([](float& d, const int*) {
           if (!std::isfinite(d) || d < 0.0f) d = 0.0f;
         });
@@ -252,18 +264,22 @@ void DepthFilterEvaluation::scoreFrame(const GroundTruthFrame& truth, const cv::
         break;
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (method != DepthMethod::Adversary) out = at_frame_size(out);  // the adversary's input already is
     if (score) state.scorer.add(out, truth, seconds);
     state.last_output = out;
   }
   for (std::size_t v = 0; v < variants_.size(); ++v) {
     const auto start = std::chrono::steady_clock::now();
-    const cv::Mat out = variants_[v].apply(ours_input);
+    const cv::Mat reduced_out = variants_[v].apply(ours_input);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const cv::Mat out = at_frame_size(reduced_out);
     if (score) variant_scorers_[v].add(out, truth, seconds);
   }
   if (score && !ours_.holeReasons().empty())
-    breakdown_.add({truth.true_foreground, truth.true_depth, frame.depth, masker_.backgroundDepth(),
-                    last_mask_, methods_[std::size_t(DepthMethod::Ours)].last_output, ours_.holeReasons()});
+    breakdown_.add({truth.true_foreground, truth.true_depth, frame.depth,
+                    at_frame_size(masker_.backgroundDepth()), last_mask_,
+                    methods_[std::size_t(DepthMethod::Ours)].last_output,
+                    at_frame_size(ours_.holeReasons())});
   if (score) {
     cv::Mat true_output = cv::Mat::zeros(frame.depth.size(), CV_32FC1);
     truth.true_depth.copyTo(true_output, truth.true_foreground);

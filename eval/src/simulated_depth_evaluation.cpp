@@ -181,6 +181,7 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
   config.persistence.enabled = o.mask_persistence;
   config.flow.round_trip_check = o.round_trip_check;
   config.mask.keep_attached_limbs = o.keep_attached_limbs;
+  config.foreground_scale = o.foreground_scale;
   config.filter.record_hole_reasons = true;
   for (int levels : o.compared_levels) {
     depthfilter::TemporalDepthFilterConfig variant = config.filter;
@@ -197,7 +198,8 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
       streams[std::size_t(c)].learnBackground(museum.renderCamera(c, t, false).frame);
 
   std::vector<CameraModel> cameras;
-  for (int c = 0; c < museum.cameraCount(); ++c) cameras.push_back(museum.camera(c));
+  for (int c = 0; c < museum.cameraCount(); ++c)
+    cameras.push_back(depthfilter::reducedCamera(museum.camera(c), o.foreground_scale));
   depthfilter::CrossCameraFillConfig cross_config;
   cross_config.enabled = o.cross_camera;
   const depthfilter::CrossCameraFill cross_camera(cameras, cross_config);
@@ -279,6 +281,7 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
                    {"levels", o.levels},
                    {"mask_persistence", o.mask_persistence},
                    {"keep_attached_limbs", o.keep_attached_limbs},
+                   {"foreground_scale", o.foreground_scale},
                    {"cross_camera", o.cross_camera},
                    {"round_trip_check", o.round_trip_check},
                    {"cross_camera_filled_per_camera_frame",

@@ -64,6 +64,7 @@ FrameLoop::FrameLoop(FrameLoopOptions options, Installation installation,
         config.filter = installation.depth_filter;
         config.cross_camera = installation.cross_camera_fill;
         config.mask = installation.foreground_mask;
+        config.scale = installation.foreground_scale;
         return depthfilter::ForegroundPipeline(installation.cameras, config);
       }()),
       camera_exposure_(installation.camera_exposure),
@@ -192,7 +193,11 @@ FrameLoop::ForegroundFrame FrameLoop::runForeground() {
   out.masks.resize(out.frames.size());
   for (std::size_t i = 0; i < out.masks.size(); ++i) {
     const depthfilter::CameraForeground& result = foreground_.lastResult(i);
-    if (result.present && !out.frames[i].colour.empty()) out.masks[i] = result.mask.clone();
+    if (!result.present || out.frames[i].colour.empty()) continue;
+    // The renderer reads the masks at the cameras' resolution, the foreground's may be reduced.
+    const cv::Size camera_size = out.frames[i].colour.size();
+    out.masks[i] = result.mask.size() == camera_size ? result.mask.clone()
+                                                     : depthfilter::expandedToFull(result.mask, camera_size);
   }
   out.done_at = Clock::now();
   out.foreground_ms = msSince(t0);

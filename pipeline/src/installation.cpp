@@ -249,6 +249,7 @@ Installation loadInstallation(const ConfigNode& root, const InstallationOptions&
     installation.depth_filter = depthfilter::parseDepthFilterConfig(*section);
     installation.cross_camera_fill = depthfilter::parseCrossCameraFillConfig(*section);
     installation.foreground_mask = depthfilter::parseForegroundMaskConfig(*section);
+    installation.foreground_scale = depthfilter::parseForegroundScale(*section);
   }
 
   // The pyramid file: where the panorama's directions point in the world.

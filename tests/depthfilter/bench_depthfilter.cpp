@@ -107,15 +107,15 @@ void BM_BorderExpansion(benchmark::State& state) {
 BENCHMARK(BM_BorderExpansion)->Unit(benchmark::kMillisecond);
 
 // The whole per-camera step (mask, flow, mask persistence, filter, border, back-projection) on
-// one core; argument 0 switches the mask's persistence off (its cost), 2 adds the precursor flow's
-// forward-backward check (its cost).
-void BM_PipelineOneCamera(benchmark::State& state) {
+// one core at the foreground's resolution divided by `scale` (ForegroundPipelineConfig::scale).
+void runPipelineOneCamera(benchmark::State& state, int persistence, int scale) {
   const test::SyntheticScene scene = scene640();
   ForegroundPipelineConfig config;
   config.parallel = false;
-  config.persistence.enabled = state.range(0) != 0;
-  config.flow.round_trip_check = state.range(0) == 2;
+  config.persistence.enabled = persistence != 0;
+  config.flow.round_trip_check = persistence == 2;
   config.filter.learning_frames = 4;
+  config.scale = scale;
   ForegroundPipeline pipeline({CameraModel(scene.intrinsics(), mat4(1.0f))}, config);
   test::SyntheticScene empty = scene;
   empty.objects = false;
@@ -128,7 +128,20 @@ void BM_PipelineOneCamera(benchmark::State& state) {
   for (auto _ : state)
     benchmark::DoNotOptimize(pipeline.process({&frames()[t++ % frames().size()].frame, 1}));
 }
+
+// At the default foreground scale; argument 0 switches the mask's persistence off (its cost), 2 adds
+// the precursor flow's forward-backward check (its cost).
+void BM_PipelineOneCamera(benchmark::State& state) {
+  runPipelineOneCamera(state, int(state.range(0)), ForegroundPipelineConfig{}.scale);
+}
 BENCHMARK(BM_PipelineOneCamera)->Arg(1)->Arg(0)->Arg(2)->Unit(benchmark::kMillisecond);
+
+// The default step (persistence on) with the foreground at the camera's resolution divided by the
+// argument (1: 640x360, 2: 320x180).
+void BM_PipelineOneCameraAtScale(benchmark::State& state) {
+  runPipelineOneCamera(state, 1, int(state.range(0)));
+}
+BENCHMARK(BM_PipelineOneCameraAtScale)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 
 // The cameras filling each other (the combining step between the per-camera masks and filters)
 // for four cameras on one core, each seeing the sequence's frame with a sixth of its pixels

@@ -17,6 +17,7 @@ TemporalDepthFilterConfig parsed(const std::string& body) {
   const ConfigNode section = ConfigNode::parse("depthfilter:\n" + body, "museum.yaml")["depthfilter"];
   parseCrossCameraFillConfig(section);
   parseForegroundMaskConfig(section);
+  parseForegroundScale(section);
   return parseDepthFilterConfig(section);
 }
 
@@ -60,6 +61,15 @@ TEST(DepthFilterConfig, PullPushIsOnByDefault) {
   EXPECT_GE(parsed("  learning_frames: 10\n").levels, 3);
 }
 
+TEST(DepthFilterConfig, ForegroundScaleIsReadAndDefaultsToTheProducts) {
+  const auto scale = [](const std::string& body) {
+    return parseForegroundScale(ConfigNode::parse("depthfilter:\n" + body, "museum.yaml")["depthfilter"]);
+  };
+  EXPECT_EQ(scale("  foreground_scale: 2\n"), 2);
+  EXPECT_EQ(scale("  foreground_scale: 1\n"), 1);
+  EXPECT_EQ(scale("  levels: 3\n"), kDefaultForegroundScale);
+}
+
 TEST(DepthFilterConfig, BadValuesAreRefusedNamingTheFieldAndTheRange) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"  levels: 0\n", "depthfilter.levels"},
@@ -80,6 +90,8 @@ TEST(DepthFilterConfig, BadValuesAreRefusedNamingTheFieldAndTheRange) {
       {"  mask_keep_attached_limbs: 2\n", "depthfilter.mask_keep_attached_limbs"},
       {"  mask_background_adopt_frames: 0\n", "depthfilter.mask_background_adopt_frames"},
       {"  mask_background_adopt_frames: 1001\n", "depthfilter.mask_background_adopt_frames"},
+      {"  foreground_scale: 0\n", "depthfilter.foreground_scale"},
+      {"  foreground_scale: 3\n", "depthfilter.foreground_scale"},
       {"  mask_unshrunk_colour_over_unread_background: 3\n",
        "depthfilter.mask_unshrunk_colour_over_unread_background"},
   };

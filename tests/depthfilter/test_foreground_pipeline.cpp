@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 #include <array>
 #include <cmath>
+#include <cstdio>
 
 #include "holo/core/error.hpp"
 #include "holo/core/image.hpp"
@@ -157,6 +158,86 @@ TEST(ForegroundPipeline, HardInputsStayFiniteAndBadInputIsRefused) {
   cv::resize(frames[0].colour, frames[0].colour, cv::Size(100, 50));
   EXPECT_THROW(rig.pipeline.process(frames), Error);
   EXPECT_THROW(ForegroundPipeline({}, {}), Error);
+}
+
+// The foreground at half resolution covers what the camera's own does, in the camera's pixels:
+// the expanded masks keep the true objects' pixels within 3 points of recall, the points lie where
+// the true depth puts their block's centre and keep full-size pixel coordinates, a quarter as many.
+TEST(ForegroundPipeline, HalfScaleCoversTheForegroundInTheCamerasPixels) {
+  ForegroundPipelineConfig half_config = Rig::quickConfig();
+  half_config.scale = 2;
+  Rig full, half(half_config);
+  ForegroundCloud full_cloud, half_cloud;
+  std::array<test::SyntheticFrame, kCameras> truth;
+  std::array<long, 2> covered{}, actual{};
+  for (int t = 0; t < 12; ++t) {
+    truth = full.render(t);
+    full_cloud = full.pipeline.process(Rig::framesOf(truth));
+    half_cloud = half.pipeline.process(Rig::framesOf(truth));
+    if (t < 6) continue;
+    for (int c = 0; c < kCameras; ++c) {
+      const cv::Mat& true_mask = truth[std::size_t(c)].true_mask;
+      const cv::Mat& half_mask = half.pipeline.lastResult(std::size_t(c)).mask;
+      ASSERT_EQ(half_mask.size() * 2, true_mask.size());
+      const cv::Mat masks[2] = {full.pipeline.lastResult(std::size_t(c)).mask,
+                                expandedToFull(half_mask, true_mask.size())};
+      for (int s = 0; s < 2; ++s) {
+        covered[std::size_t(s)] += cv::countNonZero(masks[s] & true_mask);
+        actual[std::size_t(s)] += cv::countNonZero(true_mask);
+      }
+    }
+  }
+  const double full_recall = double(covered[0]) / double(actual[0]);
+  const double half_recall = double(covered[1]) / double(actual[1]);
+  std::printf("true-mask recall: full %.4f half %.4f\n", full_recall, half_recall);
+  EXPECT_GT(full_recall, 0.9);
+  EXPECT_GT(half_recall, full_recall - 0.03) << "full " << full_recall;
+  const std::vector<CameraModel> models = cameras(full.scene);
+  double error_sum = 0.0;
+  long interior = 0;
+  for (const ForegroundPoint& p : half_cloud.points) {
+    ASSERT_LT(p.x, full.scene.width);
+    ASSERT_LT(p.y, full.scene.height);
+    ASSERT_EQ(p.x % 2, 0);
+    ASSERT_EQ(p.y % 2, 0);
+    const test::SyntheticFrame& f = truth[p.camera];
+    if (p.weight < 1.0f || f.true_mask.at<std::uint8_t>(p.y, p.x) == 0) continue;
+    // The block's centre at the depth the reduced frame read (its top-left pixel's).
+    const vec3 expected = models[p.camera].unproject(vec2(float(p.x) + 0.5f, float(p.y) + 0.5f),
+                                                     f.true_depth.at<float>(p.y, p.x));
+    error_sum += glm::length(p.position - expected);
+    ++interior;
+  }
+  ASSERT_GT(interior, 1000);
+  EXPECT_LT(error_sum / double(interior), 0.01);  // mean 3D error below 1 cm
+  const double point_ratio = double(half_cloud.points.size()) / double(full_cloud.points.size());
+  std::printf("half: mean 3D error %.4f m over %ld points, %.3f of full's points\n",
+              error_sum / double(interior), interior, point_ratio);
+  EXPECT_GT(point_ratio, 0.15);
+  EXPECT_LT(point_ratio, 0.45);
+}
+
+TEST(ForegroundPipeline, ForegroundScaleOutOfRangeOrNotDividingTheCameraIsRefused) {
+  const test::SyntheticScene scene;
+  for (int scale : {0, 3}) {
+    ForegroundPipelineConfig config;
+    config.scale = scale;
+    try {
+      ForegroundPipeline pipeline(cameras(scene), config);
+      ADD_FAILURE() << "accepted scale " << scale;
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("foreground scale: expected an integer in [1, 2]"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+  test::SyntheticScene odd = scene;
+  odd.width = 321;
+  ForegroundPipelineConfig config;
+  config.scale = 2;
+  EXPECT_THROW(ForegroundPipeline(cameras(odd), config), Error);
+  config.scale = 1;
+  EXPECT_NO_THROW(ForegroundPipeline(cameras(odd), config));
 }
 
 TEST(ForegroundPipeline, ParallelAndSerialGiveTheSameCloud) {

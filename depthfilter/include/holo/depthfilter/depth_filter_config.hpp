@@ -28,6 +28,8 @@
 //     mask_background_adopt_frames: 30        # readings, 1..1000, before an unknown background depth is
 //     learned mask_unshrunk_colour_over_unread_background: true  # colour before the shrink where only the
 //     hall read nothing
+//     foreground_scale: 1                     # 1..2, the foreground at the camera's size / this
+//                                             (foreground_scale.hpp)
 //
 // An unknown field, a value of the wrong type or out of its range is a holo::InputError naming
 // the file, the field (depthfilter.levels) and the range.
@@ -36,6 +38,7 @@
 #include "holo/core/config.hpp"
 #include "holo/depthfilter/cross_camera_fill.hpp"
 #include "holo/depthfilter/foreground_mask.hpp"
+#include "holo/depthfilter/foreground_scale.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
 
 namespace holo::depthfilter {
@@ -46,5 +49,7 @@ TemporalDepthFilterConfig parseDepthFilterConfig(const ConfigNode& section);
 CrossCameraFillConfig parseCrossCameraFillConfig(const ConfigNode& section);
 // The mask_* fields of the same section; the rest of ForegroundMaskConfig keeps its defaults.
 ForegroundMaskConfig parseForegroundMaskConfig(const ConfigNode& section);
+// The foreground_scale field of the same section (ForegroundPipelineConfig::scale).
+int parseForegroundScale(const ConfigNode& section);
 
 }  // namespace holo::depthfilter

@@ -7,6 +7,9 @@
 // colour linearised, multiplied by the camera's colour gains and divided by the exposure, its source (camera,
 // pixel) kept.
 //
+// With `scale` 2 every per-camera stage runs on the frames reduced to half width and height
+// (foreground_scale.hpp); the points keep the camera's own pixel coordinates.
+//
 // A camera whose frame is missing (empty RgbdFrame) contributes nothing this frame and its
 // filter forgets its history (counted as "Depthfilter/Missing camera frames").
 // Invariant: every point of the cloud is finite, weight in (0, 1], pixel inside its camera.
@@ -21,6 +24,7 @@
 #include "holo/depthfilter/cross_camera_fill.hpp"
 #include "holo/depthfilter/foreground_cloud.hpp"
 #include "holo/depthfilter/foreground_mask.hpp"
+#include "holo/depthfilter/foreground_scale.hpp"
 #include "holo/depthfilter/mask_persistence.hpp"
 #include "holo/depthfilter/precursor_flow.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
@@ -40,9 +44,13 @@ struct ForegroundPipelineConfig {
   // calibration's colour gains); missing entries are 1.
   std::vector<vec3> colour_gains;
   bool parallel = true;  // cameras in parallel with oneTBB
+  // The foreground's resolution: the camera's divided by this, 1..kMaxForegroundScale
+  // (foreground_scale.hpp); every pixel setting above counts the reduced frames' pixels.
+  int scale = kDefaultForegroundScale;
 };
 
-// What one camera produced in the last frame (for the reflection stage's pyramids and for tests).
+// What one camera produced in the last frame (for the reflection stage's pyramids and for tests), at
+// the foreground's resolution (the camera's divided by ForegroundPipelineConfig::scale).
 struct CameraForeground {
   cv::Mat mask;          // CV_8UC1, 255 = foreground
   cv::Mat flow;          // CV_32FC2, current -> previous, guaranteed on the mask's box and the
@@ -55,7 +63,8 @@ struct CameraForeground {
 class ForegroundPipeline {
  public:
   // One CameraModel per camera; frames are matched to cameras by their index in the span.
-  // Throws holo::Error when `cameras` is empty or exposure is not positive.
+  // Throws holo::Error when `cameras` is empty, exposure is not positive or the scale is out of
+  // range or does not divide a camera's size.
   explicit ForegroundPipeline(std::vector<CameraModel> cameras, ForegroundPipelineConfig config = {});
   ~ForegroundPipeline();
   ForegroundPipeline(ForegroundPipeline&&) noexcept;
@@ -76,8 +85,8 @@ class ForegroundPipeline {
 
  private:
   struct CameraStage;
-  std::vector<CameraModel> cameras_;
   ForegroundPipelineConfig config_;
+  std::vector<CameraModel> cameras_;  // as the foreground's frames see them (reducedCamera)
   std::vector<CameraStage> stages_;
   CrossCameraFill cross_camera_;
 };

@@ -41,6 +41,7 @@
 #include "holo/core/rgbd_frame.hpp"
 #include "holo/depthfilter/cross_camera_fill.hpp"
 #include "holo/depthfilter/foreground_mask.hpp"
+#include "holo/depthfilter/foreground_scale.hpp"
 #include "holo/depthfilter/mask_persistence.hpp"
 #include "holo/depthfilter/precursor_flow.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
@@ -139,6 +140,10 @@ struct DepthEvaluationConfig {
   // Ours again with other settings on the same mask and flow (each stage's contribution: l_max 1
   // is ours without the pull-push), scored like the methods; none by default.
   std::vector<depthfilter::TemporalDepthFilterConfig> ours_variants;
+  // Every method runs on the frames reduced by this (depthfilter/foreground_scale.hpp) and its
+  // output is repeated over each reduced pixel's block before it is scored against the truth at
+  // the camera's resolution: a reduced foreground pays for every true visitor pixel it misses.
+  int foreground_scale = depthfilter::kDefaultForegroundScale;
 };
 
 // One camera stream. Not thread-safe; use one per camera.
@@ -154,6 +159,8 @@ class DepthFilterEvaluation {
   // its persistence) and the flow of the frame; then every method on it, ours filtering
   // `ours_depth` (the sensor's depth with other cameras' fills, depthfilter::CrossCameraFill)
   // where the others see the sensor's. The mask they all use is lastMask() as it stands then.
+  // ours_depth and crossCameraView are at the foreground's resolution (the frame's divided by
+  // DepthEvaluationConfig::foreground_scale); the truth, lastMask() and lastOutput() at the frame's.
   void prepareFrame(const RgbdFrame& frame);
   void scoreFrame(const GroundTruthFrame& frame, const cv::Mat& ours_depth);
   // This camera's frame for depthfilter::CrossCameraFill after prepareFrame: its mask is
@@ -196,8 +203,11 @@ class DepthFilterEvaluation {
   HoleLeavingAdversary adversary_;
   std::vector<depthfilter::TemporalDepthFilter> variants_;
   std::vector<DepthScorer> variant_scorers_;
+  int scale_ = 1;
   cv::Mat previous_colour_;
-  cv::Mat last_mask_, last_flow_;
+  RgbdFrame reduced_;         // the frame prepareFrame got, at the foreground's resolution
+  cv::Mat mask_, last_flow_;  // at the foreground's resolution
+  cv::Mat last_mask_;         // mask_ at the frame's resolution
   std::array<MethodState, kDepthMethods.size()> methods_;
   MethodState truth_;
   CoverageBreakdown breakdown_;

@@ -17,6 +17,7 @@
 
 #include "holo/depthfilter/cross_camera_fill.hpp"
 #include "holo/depthfilter/foreground_mask.hpp"
+#include "holo/depthfilter/foreground_scale.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
 #include "holo/eval/depth_evaluation.hpp"
 #include "holo/eval/reflection_flicker.hpp"
@@ -48,13 +49,16 @@ struct SimulatedDepthOptions {
   int view_size = 0;  // of the face views the flicker is measured on; 0: the live loop's
   // The mask's opening keeps the thin limbs joined to a body (false: its contribution).
   bool keep_attached_limbs = depthfilter::ForegroundMaskConfig{}.keep_attached_limbs;
+  // Every method on the frames reduced by this, scored at the camera's resolution
+  // (DepthEvaluationConfig::foreground_scale).
+  int foreground_scale = depthfilter::kDefaultForegroundScale;
 };
 
 struct SimulatedDepthEvaluation {
-  // scene, frames, learning_frames, levels, mask_persistence, keep_attached_limbs, cross_camera (and the
-  // cross-camera step's filled and confirmed pixels per camera frame), cameras, width, height, methods (each
-  // method's metrics, the compared l_max among them), bars (the verdicts for ours and the adversary),
-  // truth_depth_change_cm2, coverage_breakdown (CoverageBreakdown::toJson).
+  // scene, frames, learning_frames, levels, mask_persistence, keep_attached_limbs, foreground_scale,
+  // cross_camera (and the cross-camera step's filled and confirmed pixels per camera frame), cameras, width,
+  // height, methods (each method's metrics, the compared l_max among them), bars (the verdicts for ours and
+  // the adversary), truth_depth_change_cm2, coverage_breakdown (CoverageBreakdown::toJson).
   nlohmann::json report;
   // Each method's pooled metrics, in kDepthMethods' order, then the compared l_max (for
   // depthMetricsTable).

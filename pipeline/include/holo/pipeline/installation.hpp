@@ -47,6 +47,7 @@
 #include "holo/core/rgbd_frame.hpp"
 #include "holo/depthfilter/cross_camera_fill.hpp"
 #include "holo/depthfilter/foreground_mask.hpp"
+#include "holo/depthfilter/foreground_scale.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
 #include "holo/reflect/environment.hpp"
 
@@ -108,6 +109,8 @@ struct Installation {
   depthfilter::TemporalDepthFilterConfig depth_filter;
   // The cameras filling each other's holes: the cross_camera* fields of the same section.
   depthfilter::CrossCameraFillConfig cross_camera_fill;
+  // The foreground's resolution divisor: the foreground_scale field of the same section.
+  int foreground_scale = depthfilter::kDefaultForegroundScale;
   // The foreground mask's clean-up: the mask_* fields of the same section.
   depthfilter::ForegroundMaskConfig foreground_mask;
   Model relic;                           // world frame, standing on the base
