@@ -16,11 +16,12 @@
 // (foregroundSignature). A changed foreground resets the view to set 0 in that frame.
 //
 // Cost: a refining frame shades each rough sample of the view again (one lobe ray, and the
-// second point's mirror ray where it reflects, per sample; no hit points), pools and composes
+// second point's mirror rays where it reflects, up to rough_interreflection_mirror_bounces, per
+// sample; no hit points), pools and composes
 // those pixels: at most the static pass's work on them, which a moved eye's frame does anyway. A
 // reset costs the same once; a view that stays reset (the foreground keeps changing) or has
 // accumulated TracerSettings::refinement_sets sets does no work at all.
-// Sample sets n > 0: every stratum of pixel p's sample s offset by point n - 1 + phi(p, s) of
+// Sample sets n >= 0: every stratum of pixel p's sample s offset by point n + phi(p, s) of
 // Sobol's first two dimensions, digitally shifted (XOR) by a hash of (p, s): deterministic per
 // frame index of the accumulation. Each sample runs through the sequence from a phase phi of its
 // own (0..1023), so that the pixels' errors do not rise and fall together with the sequence's
@@ -41,7 +42,7 @@
 namespace holo::reflect {
 
 // Sample set `set`'s offset within each stratum for sample `sample` of pixel `pixel`, in [0, 1)^2;
-// set 0: a hashed point per sample, independent of the further sets' points.
+// every set, 0 included, a point of the same sequence (below).
 vec2 stratumOffset(std::uint32_t set, std::size_t pixel, int sample);
 
 // What the foreground voxel grid holds (its occupied voxels' kept points: camera, pixel, radiance,
