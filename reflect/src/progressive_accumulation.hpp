@@ -1,13 +1,14 @@
 // Progressive refinement while nothing moves (Kán's thesis, Sec. 4.4, Eq. 4.12) of the live
 // renderer's one Monte Carlo part, the rough interreflection (static_shading.hpp): a material at
 // least rough_interreflection_roughness rough traces its GGX lobe at strata that each sample of a
-// pixel takes a share of, pooled over a 3x3 tent. A moving scene shows sample set 0, the strata's
-// centres, the same in every frame (the thesis' preview mode: the same random parameters each
-// frame keep it temporally coherent). A still view takes sample set n = 1, 2, ... in its following
-// frames, each a new offset within every stratum, and accumulates: the per-pixel sums of the lobe
-// samples over the sets (LobeBounce) grow by one set a frame, and the pixel shows their pooled
-// ratio, which is Eq. 4.12's running mean L_acc = ((n - 1) L_acc + L_o) / n of the interreflected
-// light (exactly so where every set has the same count of samples above the surface).
+// pixel takes a share of, pooled over a 3x3 tent. A moving scene shows sample set 0, a point
+// within each stratum hashed from the pixel and sample, the same in every frame (the thesis'
+// preview mode: the same random parameters each frame keep it temporally coherent; the strata's
+// centres would be a midpoint rule that misses the lobe's tails). A still view takes sample set n = 1, 2, ...
+// in its following frames, each a new offset within every stratum, and accumulates: the per-pixel sums of the
+// lobe samples over the sets (LobeBounce) grow by one set a frame, and the pixel shows their pooled ratio,
+// which is Eq. 4.12's running mean L_acc = ((n - 1) L_acc + L_o) / n of the interreflected light (exactly so
+// where every set has the same count of samples above the surface).
 //
 // Still: the view's static shading was reused (FrameRenderer: the same camera, or within
 // static_reuse_distance; a moved eye, a relic turn or new lighting traces the view again, which
@@ -15,11 +16,12 @@
 // (foregroundSignature). A changed foreground resets the view to set 0 in that frame.
 //
 // Cost: a refining frame shades each rough sample of the view again (one lobe ray, and the
-// second point's mirror ray where it reflects, per sample; no hit points), pools and composes
+// second point's mirror rays where it reflects, up to rough_interreflection_mirror_bounces, per
+// sample; no hit points), pools and composes
 // those pixels: at most the static pass's work on them, which a moved eye's frame does anyway. A
 // reset costs the same once; a view that stays reset (the foreground keeps changing) or has
 // accumulated TracerSettings::refinement_sets sets does no work at all.
-// Sample sets n > 0: every stratum of pixel p's sample s offset by point n - 1 + phi(p, s) of
+// Sample sets n >= 0: every stratum of pixel p's sample s offset by point n + phi(p, s) of
 // Sobol's first two dimensions, digitally shifted (XOR) by a hash of (p, s): deterministic per
 // frame index of the accumulation. Each sample runs through the sequence from a phase phi of its
 // own (0..1023), so that the pixels' errors do not rise and fall together with the sequence's
@@ -40,7 +42,7 @@
 namespace holo::reflect {
 
 // Sample set `set`'s offset within each stratum for sample `sample` of pixel `pixel`, in [0, 1)^2;
-// set 0: the centres (0.5, 0.5).
+// every set, 0 included, a point of the same sequence (below).
 vec2 stratumOffset(std::uint32_t set, std::size_t pixel, int sample);
 
 // What the foreground voxel grid holds (its occupied voxels' kept points: camera, pixel, radiance,

@@ -13,6 +13,7 @@
 #include "holo/reflect/bsdf.hpp"
 #include "holo/reflect/surface_shading.hpp"
 #include "layer_inputs.hpp"
+#include "progressive_accumulation.hpp"
 #include "relic_passage.hpp"
 #include "wide_lobe_cache.hpp"
 
@@ -354,19 +355,37 @@ void StaticShading::compositeBehind(const HitPoint& hp, const LobeShare& share,
 vec3 StaticShading::secondEnvironment(const SurfacePoint& surface, const Ray& ray, const RayHit& hit,
                                       const SplitSumShading& second, const LobeShare& share,
                                       std::uint64_t& rays) const {
-  if (!(maxComponent(second.specular_scale) > 0.0f)) return second.environment;
-  const vec3 reflected = glm::reflect(ray.direction, surface.normal);
-  if (!scene_.mayMeetRelicAgain(hit, reflected)) return second.environment;
+  // L_k = diffuse_k + s_k L_(k+1) along the mirror rays: what each point adds and the product of
+  // the specular scales before it; the last point's hall is read as if its lobe were open.
   const RayScene& relic = scene_.relicOnly();
-  const Ray next{surface.position + surface.normal * settings_.ray_offset, reflected};
-  const RayHit third_hit = relic.intersect(next);
-  ++rays;
-  if (!third_hit.hit()) return second.environment;
-  const SurfacePoint third_surface =
-      resolveSurface(scene_, relic, next, third_hit, share.cone_width + (hit.t + third_hit.t) * share.spread);
-  if (!isFinite(third_surface.normal)) return second.environment;
-  const SplitSumShading third = shadeMet(third_surface, next, rays);
-  const vec3 seen = third.specular_scale * third.environment + third.diffuse;
+  SurfacePoint at = surface;
+  Ray in = ray;
+  RayHit met = hit;
+  SplitSumShading shaded = second;
+  float travelled = hit.t;
+  vec3 added(0.0f), scale(1.0f);
+  for (int bounce = 0; bounce < settings_.rough_interreflection_mirror_bounces; ++bounce) {
+    if (!(maxComponent(shaded.specular_scale) > 0.0f)) break;
+    const vec3 reflected = glm::reflect(in.direction, at.normal);
+    if (!scene_.mayMeetRelicAgain(met, reflected)) break;
+    const Ray next{at.position + at.normal * settings_.ray_offset, reflected};
+    const RayHit next_hit = relic.intersect(next);
+    ++rays;
+    if (!next_hit.hit()) break;
+    travelled += next_hit.t;
+    const SurfacePoint next_surface =
+        resolveSurface(scene_, relic, next, next_hit, share.cone_width + travelled * share.spread);
+    if (!isFinite(next_surface.normal)) break;
+    const SplitSumShading next_shaded = shadeMet(next_surface, next, rays);
+    if (!isFinite(next_shaded.diffuse) || !isFinite(next_shaded.specular_scale)) break;
+    added += scale * next_shaded.diffuse;
+    scale *= next_shaded.specular_scale;
+    at = next_surface;
+    in = next;
+    met = next_hit;
+    shaded = next_shaded;
+  }
+  const vec3 seen = added + scale * shaded.environment;
   return isFinite(seen) ? seen : second.environment;
 }
 
@@ -527,6 +546,8 @@ StaticCounts StaticShading::shade(const HitPointBuffer& hits, const CameraModel&
         ++local.shaded_samples;
         if (visibility_ && visibility_->covers(hits.hits[i].location)) ++local.occluded_samples;
         share.cone_width = glm::length(hits.hits[i].position - view.position()) * spread;
+        if (settings_.evaluation.lobe_strata_jittered)
+          share.stratum_offset = stratumOffset(0, p, share.sample);
         shadeHit(hits.hits[i], p, i, share, shading[i], walk_rays[i], deferred);
       }
     }

@@ -19,11 +19,13 @@
 // Interreflection: a material below rough_interreflection_roughness (and not read from the rough
 // map) follows its mirror ray; where that meets the relic, the point's environment becomes the
 // second point's (its specular scale multiplied in, its diffuse added) and the walk starts there.
-// A rougher one traces its GGX lobe at rough_interreflection_grid^2 strata centres instead: the
+// A rougher one traces its GGX lobe at a point in each of rough_interreflection_grid^2 strata
+// instead (hashed per pixel and sample, or the centres: evaluation.lobe_strata_jittered): the
 // share that meets the relic sees the second points' static shading (a blur of them as wide as
-// the lobe), the rest the hall; a second point that reflects follows its own mirror ray once
-// more, and where that meets the relic again shows the third point's static shading instead of
-// the hall (inside a bowl the light goes round); its walk keeps the first point's mirror ray. The
+// the lobe), the rest the hall; a second point that reflects follows its own mirror ray, and
+// where that meets the relic again shows that point's static shading and what its mirror ray
+// meets in turn, up to rough_interreflection_mirror_bounces points, instead of the hall (inside a
+// bowl the light goes round); its walk keeps the first point's mirror ray. The
 // hall's share is the prefiltered environment of the whole lobe scaled by the share of its light
 // that comes from the open samples' directions (each sample reads the environment prefiltered to
 // its stratum, FIS Section 5.2): the lobe's own visibility, weighted by where the hall's light
@@ -96,7 +98,8 @@ class StaticShading {
                      const AxisAlignedFilter* filter = nullptr, FilterCounts* filter_counts = nullptr) const;
 
   // Where a sample (pixel index, sample within the pixel) takes its lobe's strata: an offset in
-  // [0, 1)^2 within each stratum; shade() takes the centres (0.5, 0.5).
+  // [0, 1)^2 within each stratum; shade() takes sample set 0's (progressive_accumulation.hpp), or
+  // the centres (0.5, 0.5) where lobe_strata_jittered is off.
   using StratumOffset = std::function<vec2(std::size_t pixel, int sample)>;
   // Another sample set of the rough interreflection (progressive_accumulation.hpp), after shade()
   // with the same hits, view and buffers: each valid sample of `pixels` whose material traces its
@@ -173,7 +176,8 @@ class StaticShading {
   void deferLobeBounce(const HitPoint& hp, std::size_t pixel, std::size_t i, const LobeShare& share,
                        DeferredRays& deferred) const;
   // What a lobe sample's second point (`surface`, met by `ray` at `hit`, shaded `second`)
-  // reflects: the hall, or where its mirror ray meets the relic again, that third point's shading.
+  // reflects: the hall, or where its mirror ray meets the relic again, that point's shading and
+  // what it reflects in turn, up to rough_interreflection_mirror_bounces points.
   vec3 secondEnvironment(const SurfacePoint& surface, const Ray& ray, const RayHit& hit,
                          const SplitSumShading& second, const LobeShare& share, std::uint64_t& rays) const;
   // Whether a material this rough traces its lobe's strata for the interreflection.

@@ -54,6 +54,9 @@ void TracerSettings::validate() const {
   if (!std::isfinite(rough_interreflection_roughness) || rough_interreflection_roughness < 0.0f)
     throw InputError(src, "rough_interreflection_roughness", "a roughness >= 0 (> 1: never)",
                      std::to_string(rough_interreflection_roughness));
+  if (rough_interreflection_mirror_bounces < 1 || rough_interreflection_mirror_bounces > 8)
+    throw InputError(src, "rough_interreflection_mirror_bounces", "a count of mirror bounces 1..8",
+                     std::to_string(rough_interreflection_mirror_bounces));
   {
     const int side = int(std::lround(std::sqrt(double(std::max(self_occlusion_rays, 0)))));
     if (side * side != self_occlusion_rays || side < 2 || side > 16)

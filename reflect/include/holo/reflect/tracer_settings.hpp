@@ -57,6 +57,12 @@ struct TracerEvaluationKnobs {
   // light (static_shading.hpp); false: by the open samples' count alone, the hall's light as if
   // spread evenly over the lobe. Default true; false measures what weighting by the light adds.
   bool lobe_visibility = true;
+  // A rough lobe's strata are sampled, in a frame that accumulates none (sample set 0), at a point
+  // within each stratum hashed from the pixel and sample (progressive_accumulation.hpp in
+  // reflect/src), the same in every frame; false: at the strata's centres, a midpoint rule whose
+  // lobe misses its tails (the metal bowl's inside 2-3% too bright at 4x4 strata,
+  // docs/tracer/self_occlusion.md). Default true; false measures what the jitter removes.
+  bool lobe_strata_jittered = true;
   // The interreflection of lobes at least kGlossyRoughnessLimit rough read from an object-space
   // cache per vertex and eye direction, shared by every view and frame while the light holds
   // (wide_lobe_cache.hpp in reflect/src); false: each sample traces its share of the strata, pooled,
@@ -135,9 +141,15 @@ struct TracerSettings {
   // 0.3: a lobe this wide shows a soft glow of the relic's other parts, where the mirror ray
   // would show a sharp image of them.
   float rough_interreflection_roughness = 0.3f;
+  // Mirror bounces a lobe stratum's second point follows over the relic, 1..8: each point met
+  // adds its static shading and passes on what its mirror ray meets, the last one's prefiltered
+  // hall read as if its lobe were open. Default 3: with 1, the third point's unoccluded lobe
+  // leaves the metal bowl's inside 3-4% too bright (its light of three bounces and more 30-45%),
+  // with 3 within 1.5% (docs/tracer/self_occlusion.md); a ray more per point that meets the relic.
+  int rough_interreflection_mirror_bounces = 3;
   // Sample sets of the rough interreflection a still view accumulates, a set a frame
   // (progressive_accumulation.hpp in reflect/src; the plan's ProgressiveRefinement), 1..4096; 1:
-  // off, every frame shows set 0 (the strata's centres). Default 64: the metal bowl's error
+  // off, every frame shows set 0 (lobe_strata_jittered). Default 64: the metal bowl's error
   // against the converged image is then below 3% of its interreflected light
   // (docs/tracer/progressive_refinement.md); later frames cost nothing.
   int refinement_sets = 64;
