@@ -48,6 +48,10 @@ struct SimulatedDepthOptions {
   int view_size = 0;  // of the face views the flicker is measured on; 0: the live loop's
   // The mask's opening keeps the thin limbs joined to a body (false: its contribution).
   bool keep_attached_limbs = depthfilter::ForegroundMaskConfig{}.keep_attached_limbs;
+  // Ours' hole fills at the mask's edge and on a trusted precursor's surface (false: each one's
+  // contribution; depthfilter::TemporalDepthFilterConfig).
+  bool fill_mask_edge = depthfilter::TemporalDepthFilterConfig{}.fill_mask_edge;
+  bool fill_on_precursor_surface = depthfilter::TemporalDepthFilterConfig{}.fill_on_precursor_surface;
 };
 
 struct SimulatedDepthEvaluation {
