@@ -40,6 +40,8 @@ struct Options {
   int view_size = eval::SimulatedDepthOptions{}.view_size;
   bool keep_attached_limbs = eval::SimulatedDepthOptions{}.keep_attached_limbs;
   int foreground_scale = eval::SimulatedDepthOptions{}.foreground_scale;
+  bool fill_mask_edge = eval::SimulatedDepthOptions{}.fill_mask_edge;
+  bool fill_on_precursor_surface = eval::SimulatedDepthOptions{}.fill_on_precursor_surface;
   std::string json;
   std::string images;
   std::string recording;
@@ -88,7 +90,8 @@ int run(const Options& o) {
   const eval::SimulatedDepthEvaluation e = eval::evaluateSimulatedDepth(
       {o.scene, o.visitor_model, o.frames, o.width, o.height, o.learning_frames, o.levels, o.compared_levels,
        !o.images.empty(), o.mask_persistence, o.cross_camera, o.round_trip_check, o.reflection_flicker,
-       o.view_size, o.keep_attached_limbs, o.foreground_scale});
+       o.view_size, o.keep_attached_limbs, o.foreground_scale, o.fill_mask_edge,
+       o.fill_on_precursor_surface});
   std::cout << e.report.dump(2) << "\n";
   std::cerr << eval::depthMetricsTable(e.rows);
   std::cerr << "\n" << e.coverage_table;
@@ -122,6 +125,14 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--keep-attached-limbs", o->keep_attached_limbs,
                      "The mask's opening keeps the thin limbs joined to a body (false: the opening "
                      "removes them)")
+          ->capture_default_str();
+      sub.add_option("--fill-mask-edge", o->fill_mask_edge,
+                     "Ours fills a hole at the mask's edge from the farthest measured neighbour of its "
+                     "colour (false: it stays a hole)")
+          ->capture_default_str();
+      sub.add_option("--fill-on-precursor-surface", o->fill_on_precursor_surface,
+                     "Ours fills a hole whose trusted precursor's colour neighbours span two surfaces from "
+                     "those on the precursor's (false: it stays a hole)")
           ->capture_default_str();
       sub.add_option("--cross-camera", o->cross_camera,
                      "The cameras fill each other's holes with their measured depth of the same visitor, "

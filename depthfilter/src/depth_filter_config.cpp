@@ -25,6 +25,8 @@ TemporalDepthFilterConfig parseDepthFilterConfig(const ConfigNode& section) {
                              "motion_window",
                              "edge_radius",
                              "fill_trust_frames",
+                             "fill_on_precursor_surface",
+                             "fill_mask_edge",
                              "fill_radius",
                              "fill_colour_max",
                              "fill_colour_margin",
@@ -52,6 +54,8 @@ TemporalDepthFilterConfig parseDepthFilterConfig(const ConfigNode& section) {
                                   std::to_string(c.motion_window));
   c.edge_radius = intInRange(section, "edge_radius", c.edge_radius, 0, 8);
   c.fill_trust_frames = intInRange(section, "fill_trust_frames", c.fill_trust_frames, 0, 254);
+  c.fill_on_precursor_surface = section.get("fill_on_precursor_surface", c.fill_on_precursor_surface);
+  c.fill_mask_edge = section.get("fill_mask_edge", c.fill_mask_edge);
   c.fill_radius =
       intInRange(section, "fill_radius", c.fill_radius, 0, TemporalDepthFilterConfig::kMaxFillRadius);
   c.fill_colour_max = section.getInRange("fill_colour_max", c.fill_colour_max, 0.0f, 765.0f);

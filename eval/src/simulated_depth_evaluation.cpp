@@ -183,6 +183,8 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
   config.mask.keep_attached_limbs = o.keep_attached_limbs;
   config.foreground_scale = o.foreground_scale;
   config.filter.record_hole_reasons = true;
+  config.filter.fill_mask_edge = o.fill_mask_edge;
+  config.filter.fill_on_precursor_surface = o.fill_on_precursor_surface;
   for (int levels : o.compared_levels) {
     depthfilter::TemporalDepthFilterConfig variant = config.filter;
     variant.levels = levels;

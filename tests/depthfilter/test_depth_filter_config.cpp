@@ -34,6 +34,13 @@ TEST(DepthFilterConfig, FieldsReachTheFilterAndOthersKeepTheirDefaults) {
   EXPECT_EQ(c.learning_frames, defaults.learning_frames);
   EXPECT_EQ(c.edge_radius, defaults.edge_radius);
   EXPECT_EQ(TemporalDepthFilter(c).config().levels, 5);
+  EXPECT_TRUE(defaults.fill_mask_edge);
+  EXPECT_FALSE(defaults.fill_on_precursor_surface);
+  const TemporalDepthFilterConfig flipped =
+      parsed("  fill_mask_edge: false\n  fill_on_precursor_surface: true\n");
+  EXPECT_FALSE(flipped.fill_mask_edge);
+  EXPECT_TRUE(flipped.fill_on_precursor_surface);
+  EXPECT_EQ(flipped.levels, defaults.levels);
 }
 
 TEST(DepthFilterConfig, CrossCameraFieldsReachTheStepAndOthersKeepTheirDefaults) {
@@ -88,6 +95,8 @@ TEST(DepthFilterConfig, BadValuesAreRefusedNamingTheFieldAndTheRange) {
       {"  mask_open_radius: -1\n", "depthfilter.mask_open_radius"},
       {"  mask_close_radius: 9\n", "depthfilter.mask_close_radius"},
       {"  mask_keep_attached_limbs: 2\n", "depthfilter.mask_keep_attached_limbs"},
+      {"  fill_mask_edge: sometimes\n", "depthfilter.fill_mask_edge"},
+      {"  fill_on_precursor_surface: 2\n", "depthfilter.fill_on_precursor_surface"},
       {"  mask_background_adopt_frames: 0\n", "depthfilter.mask_background_adopt_frames"},
       {"  mask_background_adopt_frames: 1001\n", "depthfilter.mask_background_adopt_frames"},
       {"  foreground_scale: 0\n", "depthfilter.foreground_scale"},

@@ -83,9 +83,10 @@ TEST(TemporalDepthFilter, FrozenOrOversmoothedFiltersFailTheDeformationBar) {
 // in the left surface in every frame; from frame `edge_hole_from` on, pixels of the left
 // surface right at the depth edge have no depth either.
 cv::Mat twoSurfaceHoles(const cv::Vec3b& left_colour, const cv::Vec3b& right_colour, int frames,
-                        int edge_hole_from) {
+                        int edge_hole_from, bool fill_on_precursor_surface = false) {
   TemporalDepthFilterConfig config;
   config.learning_frames = 3;
+  config.fill_on_precursor_surface = fill_on_precursor_surface;
   TemporalDepthFilter filter(config);
   const cv::Size size(64, 48);
   const cv::Mat mask(size, CV_8UC1, cv::Scalar(255));
@@ -118,10 +119,59 @@ TEST(TemporalDepthFilter, FillsABlockAlignedHoleAndAnEdgeHoleOfTheHolesColour) {
 
 TEST(TemporalDepthFilter, EdgeHoleBetweenSurfacesOfOneColourStaysAHole) {
   // Both surfaces grey: either could own the edge hole (an arm in front of the torso), and a
-  // wrong pick flickers, so it stays a hole; the hole inside the left surface is still filled.
+  // wrong pick flickers, so by default it stays a hole; the hole inside the left surface is still
+  // filled. With fill_on_precursor_surface its precursor, measured a frame before on the left
+  // surface, picks that one's neighbours.
   const cv::Mat out = twoSurfaceHoles({128, 128, 128}, {128, 128, 128}, 8, 6);
+  const cv::Mat on = twoSurfaceHoles({128, 128, 128}, {128, 128, 128}, 8, 6, true);
   EXPECT_NEAR(out.at<float>(10, 10), 1.0f, 0.01f);
-  for (int y = 20; y < 24; ++y) EXPECT_EQ(out.at<float>(y, 31), 0.0f) << "edge row " << y;
+  EXPECT_NEAR(on.at<float>(10, 10), 1.0f, 0.01f);
+  for (int y = 20; y < 24; ++y) {
+    EXPECT_EQ(out.at<float>(y, 31), 0.0f) << "edge row " << y;
+    EXPECT_NEAR(on.at<float>(y, 31), 1.0f, 0.01f) << "edge row " << y;
+  }
+}
+
+// A visitor's side turning away at the mask's edge: the mask is the left half (x < 32), its
+// depth 1.0 + 0.004 x m (with noise) and never measured in the last two columns (the grazing
+// angle). The mask overhangs the visitor by one pixel in the upper half: there column 31 shows
+// the hall's colour.
+cv::Mat silhouetteHoles(bool fill_mask_edge) {
+  TemporalDepthFilterConfig config;
+  config.learning_frames = 3;
+  config.fill_mask_edge = fill_mask_edge;
+  TemporalDepthFilter filter(config);
+  const cv::Size size(64, 48);
+  cv::Mat mask = cv::Mat::zeros(size, CV_8UC1);
+  mask(cv::Rect(0, 0, 32, 48)).setTo(255);
+  const cv::Mat flow = cv::Mat::zeros(size, CV_32FC2);
+  cv::Mat colour(size, CV_8UC3, cv::Scalar(200, 60, 30));  // the hall
+  colour(cv::Rect(0, 0, 32, 48)).setTo(cv::Scalar(40, 40, 200));
+  colour(cv::Rect(31, 0, 1, 24)).setTo(cv::Scalar(200, 60, 30));
+  cv::RNG rng(5);
+  cv::Mat out;
+  for (int t = 0; t < 8; ++t) {
+    cv::Mat depth(size, CV_32FC1, cv::Scalar(3.0f)), noise(size, CV_32FC1);
+    for (int x = 0; x < 32; ++x) depth.col(x).setTo(1.0f + 0.004f * float(x));
+    rng.fill(noise, cv::RNG::NORMAL, 0.0, 0.001);
+    depth += noise;
+    depth(cv::Rect(30, 0, 2, 48)).setTo(0.0f);
+    out = filter.apply({colour, depth, mask, flow});
+  }
+  return out;
+}
+
+TEST(TemporalDepthFilter, MaskEdgeHolesTakeTheFarthestNeighbourOfTheirColour) {
+  const cv::Mat with = silhouetteHoles(true), without = silhouetteHoles(false);
+  for (int y = 4; y < 44; ++y) {
+    // Column 30 (truth 1.120 m): behind the mean of its neighbours (1.112 m), as the surface is.
+    EXPECT_GT(with.at<float>(y, 30), 1.1145f) << "row " << y;
+    EXPECT_LT(with.at<float>(y, 30), 1.1215f) << "row " << y;
+    EXPECT_EQ(without.at<float>(y, 30), 0.0f) << "row " << y;
+  }
+  // The overhang shows the hall's colour, which no measured neighbour has: no ghost.
+  for (int y = 0; y < 24; ++y) EXPECT_EQ(with.at<float>(y, 31), 0.0f) << "row " << y;
+  EXPECT_GT(with.at<float>(30, 31), 1.1145f);  // the visitor's own colour below it is filled
 }
 
 // A flat grey surface at 1.2 m with depth noise and an 8x8 hole that is never measured (no

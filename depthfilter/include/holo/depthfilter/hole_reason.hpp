@@ -13,9 +13,11 @@ enum class HoleReason : std::uint8_t {
   None = 0,  // not a hole: an output depth, outside the mask, or a learning frame
   // With a trusted precursor (measured within fill_trust_frames), the colour-guided fill:
   TrustedNoColourMatch,  // no measured neighbour within fill_radius has the hole's colour
-  TrustedOtherSurface,   // the neighbours of its colour do not all lie on the precursor's surface
+  TrustedOtherSurface,   // none of the neighbours of its colour lies on the precursor's surface (or
+                         // they span two and fill_on_precursor_surface is off)
   // Without one:
-  MaskEdge,         // within edge_radius of the mask's edge
+  MaskEdge,         // within edge_radius of the mask's edge: no measured neighbour of its colour on one
+                    // surface (or fill_mask_edge off)
   DepthEdge,        // within edge_radius of measurements spanning a depth edge
   PushDisagrees,    // no guided fill, and the push declined: its parents disagree or straddle an edge
   PushOutOfReach,   // no guided fill, and no pulled pair within the pyramid's reach (l_max)

@@ -22,13 +22,13 @@
 // Only foreground pixels (phi_i) receive output. A hole (a foreground pixel without a
 // measurement) whose precursor was measured within the last `fill_trust_frames` frames takes the
 // surface of its measured neighbours within `fill_radius` that share its colour, if those lie on
-// the precursor's surface (see guidedHoleFill in the source). A hole without such a precursor is
-// filled only away from the mask's edge and from depth edges: from those neighbours (all on one
-// surface) where it has some, else with the push's fill where the mean colour of the measured
-// pixels behind it (carried through the pyramid) is the hole's; but never when the first
-// measurements left, right, above and below it inside the mask span a depth edge: it is a gap
-// between two surfaces (between limbs) and may show a third one. Every other hole stays a hole.
-// The choices where the paper is silent are listed, with reasons, in docs/depthfilter.md.
+// the precursor's surface (see guidedHoleFill in the source). A hole without such a precursor is filled only
+// away from depth edges: from those neighbours (all on one surface) where it has some, else, away from the
+// mask's edge, with the push's fill where the mean colour of the measured pixels behind it (carried through
+// the pyramid) is the hole's; but never when the first measurements left, right, above and below it inside
+// the mask span a depth edge: it is a gap between two surfaces (between limbs) and may show a third one.
+// Every other hole stays a hole. The choices where the paper is silent are listed, with reasons, in
+// docs/depthfilter.md.
 //
 // Units: metres; depth 0 = invalid. Invariant: the output is CV_32FC1, finite, 0 outside phi_i,
 // and every foreground value is either 0 (nothing within reach to fill from) or positive.
@@ -70,12 +70,21 @@ struct TemporalDepthFilterConfig {
   int edge_radius = 2;
   // Hole fill. A hole's precursor is trusted when its depth was measured at most
   // fill_trust_frames - 1 frames before (0 turns trust off). The push fills a hole unless it is
-  // next to a depth edge, its trusted precursor lies on another surface, or (without a trusted
-  // precursor) it is within edge_radius of the mask's edge. Otherwise, with a trusted precursor,
-  // the hole takes the mean of the measured neighbours within `fill_radius` px that lie on the
-  // precursor's surface and whose colour (sum of |B|,|G|,|R| differences) is within
-  // `fill_colour_margin` of the closest one, which must be at most `fill_colour_max`.
+  // next to a depth edge, it has a trusted precursor, or it is within edge_radius of the mask's
+  // edge. Otherwise, with a trusted precursor, the hole takes the mean of the measured neighbours
+  // within `fill_radius` px that lie on the precursor's surface and whose colour (sum of
+  // |B|,|G|,|R| differences) is within `fill_colour_margin` of the closest one, which must be at
+  // most `fill_colour_max`.
   int fill_trust_frames = 3;
+  // A hole with a trusted precursor whose neighbours of its colour lie on two surfaces takes
+  // those on the precursor's surface (false: it stays a hole). Off: 35-41% of such fills lie
+  // farther than T(z) from the truth and they flicker (docs/depthfilter.md "Holes at the mask's
+  // edge and the precursor's surface").
+  bool fill_on_precursor_surface = false;
+  // A hole within edge_radius of the mask's edge without a trusted precursor, away from depth
+  // edges, takes the farthest of its measured neighbours of its colour when they all lie on one
+  // surface (the surface turns away there), never the push's fill (false: it stays a hole).
+  bool fill_mask_edge = true;
   static constexpr int kMaxFillRadius = 4;
   int fill_radius = 3;  // 0..kMaxFillRadius
   float fill_colour_max = 30.0f;
