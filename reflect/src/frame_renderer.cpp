@@ -560,10 +560,12 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       cache.visitor_receivers = VisitorLight::receivers(hits, cache.shading, ibl_);
       cache.receivers_ready = true;
     }
-    out.visitor_lit_samples = visitor_light_->apply(hits, cache.visitor_receivers, out.hdr);
-    if (fixed_exposure)
-      out.display =
-          toneMapCovered(out.hdr, plan.has(Pass::Plinth) ? cache.shown : hits.covered, settings_.exposure);
+    // At a fixed exposure the changed pixels' codes are written over the view's display so far (the
+    // static one, or the composed one), which is the rest of the image tone-mapped already.
+    if (fixed_exposure && out.display.empty()) out.display = cache.display.clone();
+    out.visitor_lit_samples =
+        visitor_light_->apply(cache.visitor_receivers, hits.width, out.hdr,
+                              fixed_exposure ? &out.display : nullptr, settings_.exposure);
   }
   if (fixed_exposure) {
     out.exposure = settings_.exposure;

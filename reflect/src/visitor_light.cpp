@@ -15,6 +15,7 @@
 #include "holo/core/image.hpp"
 #include "holo/reflect/effect_plan.hpp"
 #include "holo/reflect/irradiance_sh.hpp"
+#include "holo/reflect/tone_map.hpp"
 #include "sphere_texels.hpp"
 
 namespace holo::reflect {
@@ -93,7 +94,9 @@ void VisitorLight::build(const VoxelGrid& grid, const PrefilteredIbl& ibl, const
       const auto y = IrradianceSH::basis(direction_[t]);
       for (int i = 0; i < 9; ++i) c[std::size_t(i)] += y[std::size_t(i)] * change;
     }
-    coefficients_[std::size_t(probe)] = c;
+    Response& packed = coefficients_[std::size_t(probe)];
+    for (std::size_t i = 0; i < 9; ++i)
+      for (int ch = 0; ch < 3; ++ch) packed[3 * i + std::size_t(ch)] = c[i][ch];
     splats += local_splats;
     covered += local_covered;
   });
@@ -159,11 +162,9 @@ VisitorLight::Coefficients VisitorLight::coefficientsAt(const vec3& position) co
   for (int probe = 0; probe < kProbes; ++probe) {
     const float w = ((probe & 1) ? f.x : 1.0f - f.x) * ((probe & 2) ? f.y : 1.0f - f.y) *
                     ((probe & 4) ? f.z : 1.0f - f.z);
-    if (w == 0.0f) continue;
-    // The 27 floats as one run, which the compiler vectorises (each element's sum as before).
-    const float* from = &coefficients_[std::size_t(probe)][0].x;
-    float* to = &c[0].x;
-    for (std::size_t k = 0; k < 27; ++k) to[k] += w * from[k];
+    const Response& from = coefficients_[std::size_t(probe)];
+    for (std::size_t i = 0; i < 9; ++i)
+      for (int ch = 0; ch < 3; ++ch) c[i][ch] += w * from[3 * i + std::size_t(ch)];
   }
   return c;
 }
@@ -195,77 +196,93 @@ VisitorLight::Receivers VisitorLight::receivers(const HitPointBuffer& hits,
                                                 const std::vector<SplitSumShading>& shading,
                                                 const PrefilteredIbl& ibl) {
   Receivers out;
-  out.first.resize(hits.covered.size() + 1, 0);
-  for (std::size_t k = 0; k < hits.covered.size(); ++k) {
-    const std::size_t p = hits.covered[k];
-    std::uint32_t valid = 0;
-    for (std::size_t i = hits.firstSample(p); i < hits.firstSample(p) + std::size_t(hits.sampleCount(p)); ++i)
-      valid += hits.valid[i];
-    out.first[k + 1] = out.first[k] + valid;
-  }
-  out.samples.resize(out.first.back());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t k = r.begin(); k < r.end(); ++k) {
-                        const std::size_t p = hits.covered[k];
-                        std::size_t s = out.first[k];
-                        const std::size_t first = hits.firstSample(p);
-                        for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i) {
-                          if (!hits.valid[i]) continue;
-                          const HitPoint& hp = hits.hits[i];
-                          Receivers::Sample& sample = out.samples[s++];
-                          sample.index = std::uint32_t(i);
-                          // The diffuse reflectance times the visibility's share of the hall's light,
-                          // per channel.
-                          const vec3 hall = ibl.irradiance(hp.normal);
-                          for (int ch = 0; ch < 3; ++ch)
-                            if (hall[ch] > 1e-6f)
-                              sample.rho[ch] =
-                                  std::clamp(shading[i].diffuse[ch] / hall[ch], 0.0f, 1.0f / kPi);
-                          sample.normal_lobe = cosineLobe(hp.normal);
-                          sample.wide = hp.material.roughness >= kGlossyRoughnessLimit;
-                          if (sample.wide) {
-                            sample.specular_scale = shading[i].specular_scale;
-                            sample.reflected_lobe = cosineLobe(hp.reflected);
-                          }
-                        }
-                      }
-                    });
+  const std::size_t n = hits.covered.size();
+  out.pixels = hits.covered;
+  out.positions.resize(n);
+  out.responses.resize(n);
+  std::atomic<std::uint64_t> samples{0};
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, n, 256), [&](const tbb::blocked_range<std::size_t>& r) {
+        std::uint64_t local = 0;
+        for (std::size_t k = r.begin(); k < r.end(); ++k) {
+          const std::size_t p = hits.covered[k];
+          const std::size_t first = hits.firstSample(p);
+          const int count = hits.sampleCount(p);
+          Response& response = out.responses[k];
+          response.fill(0.0f);
+          bool positioned = false;
+          for (std::size_t i = first; i < first + std::size_t(count); ++i) {
+            if (!hits.valid[i]) continue;
+            const HitPoint& hp = hits.hits[i];
+            if (!positioned) out.positions[k] = hp.position;
+            positioned = true;
+            ++local;
+            // The diffuse reflectance times the visibility's share of the hall's light, per channel.
+            vec3 rho(0.0f);
+            const vec3 hall = ibl.irradiance(hp.normal);
+            for (int ch = 0; ch < 3; ++ch)
+              if (hall[ch] > 1e-6f) rho[ch] = std::clamp(shading[i].diffuse[ch] / hall[ch], 0.0f, 1.0f / kPi);
+            const auto normal_lobe = IrradianceSH::basis(hp.normal);
+            for (std::size_t c = 0; c < 9; ++c)
+              for (int ch = 0; ch < 3; ++ch)
+                response[3 * c + std::size_t(ch)] += rho[ch] * IrradianceSH::kCosineLobe[c] * normal_lobe[c];
+            if (hp.material.roughness >= kGlossyRoughnessLimit) {
+              const vec3 specular = shading[i].specular_scale / kPi;
+              const auto reflected_lobe = IrradianceSH::basis(hp.reflected);
+              for (std::size_t c = 0; c < 9; ++c)
+                for (int ch = 0; ch < 3; ++ch)
+                  response[3 * c + std::size_t(ch)] +=
+                      specular[ch] * IrradianceSH::kCosineLobe[c] * reflected_lobe[c];
+            }
+          }
+          for (float& v : response) v /= float(count);
+        }
+        samples += local;
+      });
+  out.samples = samples;
   return out;
 }
 
-std::uint64_t VisitorLight::apply(const HitPointBuffer& hits, const Receivers& receivers,
-                                  cv::Mat& hdr) const {
+vec3 VisitorLight::responseChange(const vec3& position, const Response& response) const {
+  const vec3 extent = box_.hi - box_.lo;
+  vec3 f(0.5f);
+  for (int a = 0; a < 3; ++a)
+    if (extent[a] > 0.0f) f[a] = std::clamp((position[a] - box_.lo[a]) / extent[a], 0.0f, 1.0f);
+  std::array<float, kProbes> weight;
+  for (int probe = 0; probe < kProbes; ++probe)
+    weight[std::size_t(probe)] = ((probe & 1) ? f.x : 1.0f - f.x) * ((probe & 2) ? f.y : 1.0f - f.y) *
+                                 ((probe & 4) ? f.z : 1.0f - f.z);
+  // Runs of 28 floats (whole SIMD vectors, the compiler's): the interpolated coefficients times the
+  // response, then summed per channel, the channels repeating every 3 floats (12 = 4 x 3).
+  Response product{};
+  for (std::size_t probe = 0; probe < std::size_t(kProbes); ++probe)
+    for (std::size_t k = 0; k < product.size(); ++k) product[k] += weight[probe] * coefficients_[probe][k];
+  for (std::size_t k = 0; k < product.size(); ++k) product[k] *= response[k];
+  std::array<float, 12> fold{};
+  for (std::size_t k = 0; k < 12; ++k) fold[k] = product[k] + product[12 + k];
+  for (std::size_t k = 0; k < 4; ++k) fold[k] += product[24 + k];
+  vec3 change(0.0f);
+  for (std::size_t k = 0; k < 12; ++k) change[int(k % 3)] += fold[k];
+  return change;
+}
+
+std::uint64_t VisitorLight::apply(const Receivers& receivers, int width, cv::Mat& hdr, cv::Mat* display,
+                                  float exposure) const {
   if (empty_) return 0;
-  const std::size_t w = std::size_t(hits.width);
-  // One pixel: the mean change over its samples; the probes' light changes over metres, so one
-  // interpolation (at its first valid sample) serves all of them.
-  const auto pixelChange = [&](std::size_t k, std::uint64_t& changed) {
-    const std::uint32_t begin = receivers.first[k], end = receivers.first[k + 1];
-    if (begin == end) return vec3(0.0f);
-    const Coefficients c = coefficientsAt(hits.hits[receivers.samples[begin].index].position);
-    vec3 sum(0.0f);
-    for (std::uint32_t s = begin; s < end; ++s) {
-      const Receivers::Sample& sample = receivers.samples[s];
-      vec3 change = sample.rho * convolve(c, sample.normal_lobe);
-      if (sample.wide) change += sample.specular_scale * convolve(c, sample.reflected_lobe) / kPi;
-      sum += change;
-    }
-    changed += end - begin;
-    return sum / float(hits.sampleCount(hits.covered[k]));
-  };
-  std::atomic<std::uint64_t> changed{0};
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
+  const std::size_t w = std::size_t(width);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, receivers.pixels.size(), 256),
                     [&](const tbb::blocked_range<std::size_t>& r) {
-                      std::uint64_t local = 0;
                       for (std::size_t k = r.begin(); k < r.end(); ++k) {
-                        const std::size_t p = hits.covered[k];
+                        const std::size_t p = receivers.pixels[k];
                         const int x = int(p % w), y = int(p / w);
-                        setRgb(hdr, x, y, glm::max(rgbAt(hdr, x, y) + pixelChange(k, local), vec3(0.0f)));
+                        const vec3 changed = glm::max(
+                            rgbAt(hdr, x, y) + responseChange(receivers.positions[k], receivers.responses[k]),
+                            vec3(0.0f));
+                        setRgb(hdr, x, y, changed);
+                        if (display) display->at<cv::Vec3b>(y, x) = toneMapPixel(changed, exposure);
                       }
-                      changed += local;
                     });
-  return changed;
+  return receivers.samples;
 }
 
 }  // namespace holo::reflect

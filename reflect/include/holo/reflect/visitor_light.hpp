@@ -9,10 +9,10 @@
 // radiance and mask weight w. Over the covered texels the change of the incoming radiance,
 // dL = w (L_visitor - L_hall), L_hall the IBL seen from the probe through the hall's proxy, is
 // projected on the 9 real spherical harmonics of bands 0-2 (irradiance_sh.hpp's basis; each
-// texel its exact solid angle). Per sample (apply): the probes' coefficients interpolated
-// trilinearly at the hit point give the irradiance change dE(n) = sum_i kCosineLobe_i c_i Y_i(n)
-// (Ramamoorthi & Hanrahan's clamped-cosine convolution). The diffuse part gains
-// rho_eff dE(n), rho_eff = diffuse / E_hall(n) per channel (at most 1 / pi): the material's
+// texel its exact solid angle). Per pixel (apply): the probes' coefficients interpolated
+// trilinearly at its first valid hit point give each sample's irradiance change
+// dE(n) = sum_i kCosineLobe_i c_i Y_i(n) (Ramamoorthi & Hanrahan's clamped-cosine convolution). The diffuse
+// part gains rho_eff dE(n), rho_eff = diffuse / E_hall(n) per channel (at most 1 / pi): the material's
 // diffuse reflectance times the share of the hall's light the relic's own visibility let through,
 // so the visitors' light is self-occluded as the hall's is. A material at least
 // kGlossyRoughnessLimit rough (no voxel walk reads the visitors for it) also gains
@@ -47,33 +47,35 @@ class VisitorLight {
   // The irradiance change dE at a point (clamped into the probes' box) for a unit normal.
   vec3 irradianceChange(const vec3& position, const vec3& normal) const;
 
-  // What a view's static shading fixes of each covered pixel's response to the change: per valid
-  // sample its effective diffuse reflectance rho_eff and the clamped-cosine lobe of its normal's
-  // SH basis (kCosineLobe_i Y_i(n)), with a wide lobe's specular scale and reflected direction's
-  // lobe. They depend on the hit points and static shading only, not on the visitors, so a view
-  // whose static shading is reused reuses them (frame_renderer.hpp's view cache) and each frame
-  // pays only for the probes' interpolation and two 9-term sums per sample.
+  // What a view's static shading fixes of each covered pixel's response to the change. A pixel's
+  // change is linear in the 9 coefficients interpolated at one point (its first valid sample: the
+  // probes' light changes over metres), so its samples fold into one response per pixel: per
+  // coefficient i and channel, the mean over the pixel's samples of rho_eff kCosineLobe_i Y_i(n),
+  // plus specular_scale kCosineLobe_i Y_i(r) / pi for a material at least kGlossyRoughnessLimit
+  // rough (invalid samples count in the mean as zero, as they do in the pixel). They depend on the
+  // hit points and static shading only, not on the visitors, so a view whose static shading is
+  // reused reuses them (frame_renderer.hpp's view cache) and each frame pays per pixel one
+  // trilinear interpolation of the probes and one 27-term sum.
+  // [3 i + channel] (channels RGB), then one zero: whole SIMD vectors for the per-pixel sums.
+  using Response = std::array<float, 28>;
   struct Receivers {
-    struct Sample {
-      std::uint32_t index;                    // into hits.hits
-      vec3 rho{0.0f};                         // rho_eff per channel
-      std::array<float, 9> normal_lobe{};     // kCosineLobe_i Y_i(n)
-      bool wide = false;                      // the material at least kGlossyRoughnessLimit rough
-      vec3 specular_scale{0.0f};              // with wide
-      std::array<float, 9> reflected_lobe{};  // with wide: kCosineLobe_i Y_i(r)
-    };
-    std::vector<std::uint32_t> first;  // per entry of hits.covered (and one past): its samples
-    std::vector<Sample> samples;
+    std::vector<std::uint32_t> pixels;  // hits.covered's pixels (y * width + x)
+    std::vector<vec3> positions;        // per pixel: where its probes are read
+    std::vector<Response> responses;    // per pixel
+    std::uint64_t samples = 0;          // the valid samples they stand for
   };
   // The receivers of `hits` shaded `shading` under the hall `ibl`; independent of any frame's
   // visitors (callable before build()).
   static Receivers receivers(const HitPointBuffer& hits, const std::vector<SplitSumShading>& shading,
                              const PrefilteredIbl& ibl);
 
-  // Adds each covered pixel's mean change over its samples to hdr (view-sized CV_32FC3 linear
-  // BGR, the frame's image so far), clamping the pixel at 0. `receivers` are receivers() of the
-  // same hits and shading. Returns the samples changed.
-  std::uint64_t apply(const HitPointBuffer& hits, const Receivers& receivers, cv::Mat& hdr) const;
+  // Adds each covered pixel's change to hdr (view-sized CV_32FC3 linear BGR, the frame's image so
+  // far), clamping the pixel at 0. `receivers` are receivers() of the same hits and shading. With
+  // `display` (view-sized CV_8UC3, hdr's tone-mapped image at `exposure`), each changed pixel's
+  // displayed code is written too (toneMapPixel), so nothing else need tone-map the view again.
+  // Returns the samples changed.
+  std::uint64_t apply(const Receivers& receivers, int width, cv::Mat& hdr, cv::Mat* display = nullptr,
+                      float exposure = 0.0f) const;
 
   // The most the grid's visitors can change a relic pixel this frame (linear radiance, any
   // channel), without a splat: what the effect plan weighs before build() runs. Each occupied
@@ -102,12 +104,15 @@ class VisitorLight {
  private:
   using Coefficients = std::array<vec3, 9>;
   Coefficients coefficientsAt(const vec3& position) const;
+  // The change of a pixel of response `response` read at `position`, per channel (RGB).
+  vec3 responseChange(const vec3& position, const Response& response) const;
 
   int width_ = 0, height_ = 0;
   std::vector<vec3> direction_;     // per texel, unit, its centre
   std::vector<float> solid_angle_;  // per texel, sr
   Bounds3 box_;                     // the probes' box
-  std::array<Coefficients, kProbes> coefficients_{};
+  // Per probe its 9 coefficients as [3 i + channel] (channels RGB), then one zero, as Response.
+  std::array<Response, kProbes> coefficients_{};
   bool empty_ = true;
   std::uint64_t splats_ = 0, covered_texels_ = 0;
 };
