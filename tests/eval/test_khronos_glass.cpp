@@ -417,6 +417,23 @@ TEST(KhronosSplit, WhereTheCodesAre) {
             if (variant == "sun-clamped" && l > 50.0f) v *= 50.0f / l;
           }
       };
+    if (variant.rfind("depth-", 0) == 0) settings.tracer.refraction_depth = std::atoi(variant.c_str() + 6);
+    if (variant == "stride-1") settings.tracer.refraction_stride = 1;
+    if (variant == "no-branches") settings.tracer.refraction_branch_rays = 0;
+    if (variant.rfind("sky-only", 0) == 0 || variant == "ground-only")  // the other half black in both
+      edit = [&](ReflectionScene& s) {
+        for (int y = 0; y < s.panorama.rows; ++y)
+          if ((variant != "ground-only") == (y >= s.panorama.rows / 2))
+            s.panorama.row(y).setTo(cv::Scalar(0, 0, 0));
+        if (variant == "sky-only-clamped")
+          for (int y = 0; y < s.panorama.rows; ++y)
+            for (int x = 0; x < s.panorama.cols; ++x) {
+              cv::Vec3f& v = s.panorama.at<cv::Vec3f>(y, x);
+              const float l = 0.0722f * v[0] + 0.7152f * v[1] + 0.2126f * v[2];
+              if (l > 50.0f) v *= 50.0f / l;
+            }
+      };
+    if (variant == "sky-only-depth-32") settings.tracer.refraction_depth = 32;
     if (variant == "no-sun-light") settings.tracer.evaluation.sun_light = false;
     if (variant == "no-self-occlusion") settings.tracer.evaluation.self_occlusion = false;
     if (variant == "no-interreflection") settings.tracer.relic_interreflection = false;
