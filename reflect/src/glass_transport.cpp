@@ -162,10 +162,14 @@ TransmittedPath traceTransmissionPerUnitEntry(const RenderScene& scene, const Pr
   SurfaceMaterial m = entry_textured ? *entry_textured : factorsOf(entry);
   bool inside = false;
   // A later wall's light reflected back out of it (at its entry face, and the share reflected
-  // inside it that leaves through that face again) leaves along that face's mirror direction: the
-  // hall seen there, per unit of light, while the path is inside that wall.
+  // inside it that leaves through that face again) leaves along that face's mirror direction. It
+  // joins the entry's reflection, whose walk brings the visitors it sees, with the difference
+  // between the hall along its own mirror and the entry's (`later_wall_hall`, per unit of light,
+  // while the path is inside that wall): where no visitor is met, the hall of its own direction.
   bool in_later_wall = false;
-  vec3 later_wall_mirror(0.0f);
+  vec3 later_wall_hall(0.0f);
+  const vec3 entry_mirror = glm::reflect(entry_direction, entry_normal);
+  const vec3 entry_hall = iblSeenFrom(ibl, entry_position, entry_mirror, clamp01(m.roughness));
   float medium_ior = 1.0f, alpha2 = 0.0f;
   int branch_budget = settings.refraction_branch_rays;
   const auto lobe = [&] { return lobeWidth(settings, alpha2); };
@@ -205,10 +209,8 @@ TransmittedPath traceTransmissionPerUnitEntry(const RenderScene& scene, const Pr
         parallelWalls(fresnel, last_absorption, back, front);
       }
       alpha2 += spread * spread;
-      if (in_later_wall)
-        path.resolved += throughput * front * later_wall_mirror;
-      else
-        path.reflected += throughput * front;
+      path.reflected += throughput * front;
+      if (in_later_wall) path.resolved += throughput * front * later_wall_hall;
       in_later_wall = false;
       throughput *= back;
       direction = refracted;
@@ -221,11 +223,13 @@ TransmittedPath traceTransmissionPerUnitEntry(const RenderScene& scene, const Pr
         // its way back through the walls it loses no Fresnel share: they reflect about as much
         // light into it as out of it (relic_passage.hpp).
         const vec3 mirror = glm::reflect(direction, normal);
-        later_wall_mirror =
+        later_wall_hall =
             passedThroughRelic(scene, settings, position, mirror, path.rays, InterfaceLoss::None) *
-            iblSeenFrom(ibl, position, mirror, lobe());
+                iblSeenFrom(ibl, position, mirror, lobe()) -
+            entry_hall;
         in_later_wall = !thin;
-        path.resolved += throughput * fresnel * later_wall_mirror;
+        path.reflected += throughput * fresnel;
+        path.resolved += throughput * fresnel * later_wall_hall;
         if (transmitted < 1.0f)
           path.resolved +=
               throughput * (1.0f - fresnel) * (1.0f - transmitted) * tint * ibl.irradiance(normal) / kPi;

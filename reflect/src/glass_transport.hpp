@@ -24,7 +24,9 @@
 //    costs no lookup. A later wall's (F at its entry, and what it sends back out of that face)
 //    leaves along that face's mirror direction, read there through the relic (relic_passage.hpp,
 //    no Fresnel loss): a bowl's back wall seen from inside shows the sky its concave face turns
-//    to; a followed branch's leaves through the face it last reflected from;
+//    to. Where that direction is within ~10 degrees of the entry's mirror, the entry's reflection
+//    (its visitors) stands for it, beyond ~25 degrees none of it, a ramp between. A followed
+//    branch's leaves through the face it last reflected from;
 //  * every interface met reads its material as a hit point does (resolveSurface: its textures,
 //    its mapped normal); an opaque one (no transmitted share: a candle inside a hurricane glass)
 //    ends the path, shaded as a hit point with the hall's light through the relic

@@ -418,8 +418,6 @@ TEST(KhronosSplit, WhereTheCodesAre) {
           }
       };
     if (variant.rfind("depth-", 0) == 0) settings.tracer.refraction_depth = std::atoi(variant.c_str() + 6);
-    if (variant == "stride-1") settings.tracer.refraction_stride = 1;
-    if (variant == "no-branches") settings.tracer.refraction_branch_rays = 0;
     if (variant.rfind("sky-only", 0) == 0 || variant == "ground-only")  // the other half black in both
       edit = [&](ReflectionScene& s) {
         for (int y = 0; y < s.panorama.rows; ++y)
