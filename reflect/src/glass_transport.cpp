@@ -7,7 +7,6 @@
 #include "holo/reflect/surface_shading.hpp"
 #include "inside_glass.hpp"
 #include "layer_inputs.hpp"
-#include "relic_passage.hpp"
 
 namespace holo::reflect {
 namespace {
@@ -161,15 +160,6 @@ TransmittedPath traceTransmissionPerUnitEntry(const RenderScene& scene, const Pr
   // The material of the interface met, as its textures give it there.
   SurfaceMaterial m = entry_textured ? *entry_textured : factorsOf(entry);
   bool inside = false;
-  // A later wall's light reflected back out of it (at its entry face, and the share reflected
-  // inside it that leaves through that face again) leaves along that face's mirror direction. It
-  // joins the entry's reflection, whose walk brings the visitors it sees, with the difference
-  // between the hall along its own mirror and the entry's (`later_wall_hall`, per unit of light,
-  // while the path is inside that wall): where no visitor is met, the hall of its own direction.
-  bool in_later_wall = false;
-  vec3 later_wall_hall(0.0f);
-  const vec3 entry_mirror = glm::reflect(entry_direction, entry_normal);
-  const vec3 entry_hall = iblSeenFrom(ibl, entry_position, entry_mirror, clamp01(m.roughness));
   float medium_ior = 1.0f, alpha2 = 0.0f;
   int branch_budget = settings.refraction_branch_rays;
   const auto lobe = [&] { return lobeWidth(settings, alpha2); };
@@ -210,26 +200,13 @@ TransmittedPath traceTransmissionPerUnitEntry(const RenderScene& scene, const Pr
       }
       alpha2 += spread * spread;
       path.reflected += throughput * front;
-      if (in_later_wall) path.resolved += throughput * front * later_wall_hall;
-      in_later_wall = false;
       throughput *= back;
       direction = refracted;
       inside = false;
     } else {
       // Entering (or crossing a thin wall): the entry's reflection and diffuse are the caller's.
       if (!first) {
-        // Reflected along its own mirror direction: a bowl's back wall, seen through the front
-        // one, sends it where the entry's mirror does not (its concave inside faces the sky). On
-        // its way back through the walls it loses no Fresnel share: they reflect about as much
-        // light into it as out of it (relic_passage.hpp).
-        const vec3 mirror = glm::reflect(direction, normal);
-        later_wall_hall =
-            passedThroughRelic(scene, settings, position, mirror, path.rays, InterfaceLoss::None) *
-                iblSeenFrom(ibl, position, mirror, lobe()) -
-            entry_hall;
-        in_later_wall = !thin;
         path.reflected += throughput * fresnel;
-        path.resolved += throughput * fresnel * later_wall_hall;
         if (transmitted < 1.0f)
           path.resolved +=
               throughput * (1.0f - fresnel) * (1.0f - transmitted) * tint * ibl.irradiance(normal) / kPi;

@@ -19,14 +19,9 @@
 //    walls with the same F and the last segment's absorption a: (1 - F) / (1 - F^2 a^2) leaves
 //    along the refracted ray, F a (1 - F) / (1 - F^2 a^2) leaves back towards the side it came
 //    from. Exact for a slab; everywhere energy is kept, never invented. What the main path sends
-//    back (this, in the wall the path entered first) joins the entry's reflection weight, its hall
-//    and its visitors: between parallel walls it leaves along the entry's mirror direction, and it
-//    costs no lookup. A later wall's (F at its entry, and what it sends back out of that face)
-//    leaves along that face's mirror direction, read there through the relic (relic_passage.hpp,
-//    no Fresnel loss): a bowl's back wall seen from inside shows the sky its concave face turns
-//    to. Where that direction is within ~10 degrees of the entry's mirror, the entry's reflection
-//    (its visitors) stands for it, beyond ~25 degrees none of it, a ramp between. A followed
-//    branch's leaves through the face it last reflected from;
+//    back (this, and F at a later entry) joins the entry's reflection weight, its hall and its
+//    visitors: between parallel walls it leaves along the entry's mirror direction, and it costs
+//    no lookup; a followed branch's leaves through the face it last reflected from;
 //  * every interface met reads its material as a hit point does (resolveSurface: its textures,
 //    its mapped normal); an opaque one (no transmitted share: a candle inside a hurricane glass)
 //    ends the path, shaded as a hit point with the hall's light through the relic
