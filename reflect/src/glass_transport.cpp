@@ -7,6 +7,7 @@
 #include "holo/reflect/surface_shading.hpp"
 #include "inside_glass.hpp"
 #include "layer_inputs.hpp"
+#include "relic_passage.hpp"
 
 namespace holo::reflect {
 namespace {
@@ -206,7 +207,15 @@ TransmittedPath traceTransmissionPerUnitEntry(const RenderScene& scene, const Pr
     } else {
       // Entering (or crossing a thin wall): the entry's reflection and diffuse are the caller's.
       if (!first) {
-        path.reflected += throughput * fresnel;
+        // Reflected along its own mirror direction: a bowl's back wall, seen through the front
+        // one, sends it where the entry's mirror does not (its concave inside faces the sky). On
+        // its way back through the walls it loses no Fresnel share: they reflect about as much
+        // light into it as out of it (relic_passage.hpp).
+        const vec3 mirror = glm::reflect(direction, normal);
+        path.resolved +=
+            throughput * fresnel *
+            passedThroughRelic(scene, settings, position, mirror, path.rays, InterfaceLoss::None) *
+            iblSeenFrom(ibl, position, mirror, lobe());
         if (transmitted < 1.0f)
           path.resolved +=
               throughput * (1.0f - fresnel) * (1.0f - transmitted) * tint * ibl.irradiance(normal) / kPi;

@@ -19,9 +19,12 @@
 //    walls with the same F and the last segment's absorption a: (1 - F) / (1 - F^2 a^2) leaves
 //    along the refracted ray, F a (1 - F) / (1 - F^2 a^2) leaves back towards the side it came
 //    from. Exact for a slab; everywhere energy is kept, never invented. What the main path sends
-//    back (this, and F at a later entry) joins the entry's reflection weight, its hall and its
-//    visitors: between parallel walls it leaves along the entry's mirror direction, and it costs
-//    no lookup; a followed branch's leaves through the face it last reflected from;
+//    back (this, and what a later wall sends back out of its entry face) joins the entry's
+//    reflection weight, its hall and its visitors: between parallel walls it leaves along the
+//    entry's mirror direction, and it costs no lookup; a followed branch's leaves through the face
+//    it last reflected from. F at a later entry leaves along that face's own mirror direction,
+//    read there through the relic (relic_passage.hpp, no Fresnel loss): a bowl's back wall seen
+//    from inside shows the sky its concave face turns to;
 //  * every interface met reads its material as a hit point does (resolveSurface: its textures,
 //    its mapped normal); an opaque one (no transmitted share: a candle inside a hurricane glass)
 //    ends the path, shaded as a hit point with the hall's light through the relic

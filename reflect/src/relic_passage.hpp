@@ -2,7 +2,8 @@
 // not bent. Each entry into a transmissive material passes (1 - F)(1 - metallic) transmission
 // base_colour of the light and each exit from a volume 1 - F (as the path tracer's glass: tinted
 // where the light enters), each volume segment its Beer-Lambert share; an opaque part stops it.
-// Used by what stands inside the glass (inside_glass.hpp) and the sun's shadow (sun_light.hpp).
+// Used by what stands inside the glass (inside_glass.hpp), the sun's shadow (sun_light.hpp) and
+// the light a later glass wall reflects back along its own mirror direction (glass_transport.hpp).
 #pragma once
 
 #include <cstdint>

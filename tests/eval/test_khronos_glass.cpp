@@ -107,7 +107,7 @@ double meanCodes(const cv::Mat& ours_hdr, const cv::Mat& truth_hdr, const cv::Ma
 
 struct KhronosCase {
   std::string model;
-  double ci_bar;  // sRGB codes at CI size (measured 15.3, 9.3, 3.8, 6.6; with the textures read at
+  double ci_bar;  // sRGB codes at CI size (measured 14.5, 9.3, 3.8, 6.6; with the textures read at
                   // the entry only 32.5, 34.1, 5.7, 11.9)
   // The park's sun lights this model's diffuse surfaces: with the sun light switched off (the sun
   // in the 9 coefficients) it must be at least this many times further from the truth (measured
@@ -156,7 +156,7 @@ TEST_P(KhronosGlass, OursHoldsToThePathTracerOverTheRelic) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Models, KhronosGlass,
-                         ::testing::Values(KhronosCase{"khronos_glass_hurricane_candle_holder.glb", 16.5},
+                         ::testing::Values(KhronosCase{"khronos_glass_hurricane_candle_holder.glb", 15.5},
                                            KhronosCase{"khronos_transmission_roughness_test.glb", 11.0},
                                            KhronosCase{"khronos_attenuation_test.glb", 5.0},
                                            KhronosCase{"khronos_clearcoat_wicker.glb", 9.0, 1.4}));
@@ -211,7 +211,7 @@ TEST(KhronosGlassCandle, TheCandleIsSeenThroughTheGlassAsInTheTruth) {
       "candle seen through the glass (%d pixels, %d^2): ours %.2f sRGB codes from the truth, "
       "the candle left out %.2f\n",
       pixels, size.pixels, codes, dropped_codes);
-  // Measured at CI size: 17.3 (the truth's own noise there: 8.6), the candle left out 27.4; at
+  // Measured at CI size: 17.3 (the truth's own noise there: 8.6), the candle left out 25.5; at
   // 256^2 14.2 and 24.7. The glass's textures read at the entry only: 40.9 (the candle hidden).
   EXPECT_LT(codes, fullEvaluation() ? 8.0 : 19.5);
   EXPECT_GT(dropped_codes, 1.3 * codes);
@@ -417,6 +417,21 @@ TEST(KhronosSplit, WhereTheCodesAre) {
             if (variant == "sun-clamped" && l > 50.0f) v *= 50.0f / l;
           }
       };
+    if (variant.rfind("depth-", 0) == 0) settings.tracer.refraction_depth = std::atoi(variant.c_str() + 6);
+    if (variant.rfind("sky-only", 0) == 0 || variant == "ground-only")  // the other half black in both
+      edit = [&](ReflectionScene& s) {
+        for (int y = 0; y < s.panorama.rows; ++y)
+          if ((variant != "ground-only") == (y >= s.panorama.rows / 2))
+            s.panorama.row(y).setTo(cv::Scalar(0, 0, 0));
+        if (variant == "sky-only-clamped")
+          for (int y = 0; y < s.panorama.rows; ++y)
+            for (int x = 0; x < s.panorama.cols; ++x) {
+              cv::Vec3f& v = s.panorama.at<cv::Vec3f>(y, x);
+              const float l = 0.0722f * v[0] + 0.7152f * v[1] + 0.2126f * v[2];
+              if (l > 50.0f) v *= 50.0f / l;
+            }
+      };
+    if (variant == "sky-only-depth-32") settings.tracer.refraction_depth = 32;
     if (variant == "no-sun-light") settings.tracer.evaluation.sun_light = false;
     if (variant == "no-self-occlusion") settings.tracer.evaluation.self_occlusion = false;
     if (variant == "no-interreflection") settings.tracer.relic_interreflection = false;

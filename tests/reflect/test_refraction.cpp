@@ -735,5 +735,42 @@ TEST(Refraction, LightLeavingTheGlassSeesTheHallWithItsParallax) {
   EXPECT_GT(pixels, 200);
 }
 
+// Light reflected where a path enters a second glass wall leaves along that wall's own mirror
+// direction: a bowl's back wall, seen through its front one, shows what its concave inside faces
+// (the sky), not what the entry's mirror sees. A vertical slab in front, a second one behind it
+// tilted 45 degrees whose face sends the view ray's reflection straight up, a sky bright above and
+// black below the horizon: the second face's Fresnel share (computed here from the Fresnel
+// equations) of the light through the first slab reads the zenith. Sent along the entry's mirror,
+// it would read black.
+TEST(Refraction, ASecondWallReflectsAlongItsOwnMirrorDirection) {
+  Material glass;
+  glass.base_colour = vec3(1.0f);
+  glass.transmission = 1.0f;
+  glass.roughness = 0.0f;
+  glass.ior = 1.5f;
+  glass.thickness = 0.04f;
+  Model model = slab(0.02f, glass);
+  const float c = std::sqrt(0.5f);
+  for (TriangleMesh mesh : slab(0.02f, glass).meshes) {
+    for (vec3& p : mesh.positions)  // turned -45 degrees about x (front face normal (0, c, c)), 1 m behind
+      p = vec3(p.x, c * p.y + c * p.z, -c * p.y + c * p.z - 1.0f);
+    model.meshes.push_back(mesh);
+  }
+  const RenderScene scene(model, {});
+  const PrefilteredIbl ibl(panorama([](const vec3& d) { return vec3(std::max(0.0f, d.y)); }),
+                           PrefilterOptions{3, 256, 8});
+  const TransmittedPath path = traceTransmission(scene, ibl, TracerSettings{}, 8, vec3(0.0f, 0.0f, 0.02f),
+                                                 vec3(0, 0, 1), vec3(0, 0, -1), glass);
+  // Fresnel, unpolarised: normal incidence r0; 45 degrees from the s and p amplitudes.
+  const float n = 1.5f, r0 = (n - 1.0f) * (n - 1.0f) / ((n + 1.0f) * (n + 1.0f));
+  const float cos_t = std::sqrt(1.0f - 0.5f / (n * n));
+  const float rs = (c - n * cos_t) / (c + n * cos_t), rp = (n * c - cos_t) / (n * c + cos_t);
+  const float f45 = 0.5f * (rs * rs + rp * rp);
+  // Through the first slab: (1 - r0) in, (1 - r0) / (1 - r0^2) out (its reflections summed).
+  const float through = (1.0f - r0) * (1.0f - r0) / (1.0f - r0 * r0);
+  EXPECT_NEAR(path.resolved.g, through * f45, 0.05f * through * f45);
+  EXPECT_EQ(path.events, 4);
+}
+
 }  // namespace
 }  // namespace holo::reflect
