@@ -2,46 +2,19 @@
 
 #include <bit>
 
+#include "lobe_sample_sets.hpp"
+
 namespace holo::reflect {
-namespace {
-
-std::uint64_t mix(std::uint64_t x) {  // splitmix64's finaliser
-  x ^= x >> 30;
-  x *= 0xbf58476d1ce4e5b9ull;
-  x ^= x >> 27;
-  x *= 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
-}
-
-}  // namespace
-
-vec2 stratumOffset(std::uint32_t set, std::size_t pixel, int sample) {
-  const std::uint64_t h = mix(std::uint64_t(pixel) * 8u + std::uint64_t(sample) + 0x9e3779b97f4a7c15ull);
-  // Sobol's first two dimensions from a point of its own per sample (a (0, 2)-sequence: any 2^k
-  // consecutive points from a multiple of 2^k stratify the square into any 2^k equal boxes),
-  // digitally shifted per sample.
-  std::uint32_t x = 0, y = 0;
-  for (std::uint32_t n = set + std::uint32_t(h >> 54), bit = 1u << 31, v = 1u << 31; n;
-       n >>= 1, bit >>= 1, v ^= v >> 1)
-    if (n & 1u) {
-      x |= bit;
-      y ^= v;
-    }
-  x ^= std::uint32_t(h);
-  y ^= std::uint32_t(h >> 32);
-  return vec2(float(x >> 8) * (1.0f / 16777216.0f), float(y >> 8) * (1.0f / 16777216.0f));
-}
-
 std::uint64_t foregroundSignature(const VoxelGrid& grid) {
   std::uint64_t sum = 0;
   for (std::size_t i = 0; i < grid.occupiedCount(); ++i) {
     const VoxelSample& s = grid.sample(std::int32_t(i));
-    std::uint64_t h = mix((std::uint64_t(s.camera) << 32) | (std::uint64_t(s.x) << 16) | s.y);
+    std::uint64_t h = splitMixFinaliser((std::uint64_t(s.camera) << 32) | (std::uint64_t(s.x) << 16) | s.y);
     for (float f : {s.radiance.x, s.radiance.y, s.radiance.z, s.weight})
-      h = mix(h ^ std::bit_cast<std::uint32_t>(f));
+      h = splitMixFinaliser(h ^ std::bit_cast<std::uint32_t>(f));
     sum += h;  // a sum: the same whatever order the points were binned in
   }
-  return mix(sum ^ std::uint64_t(grid.occupiedCount()));
+  return splitMixFinaliser(sum ^ std::uint64_t(grid.occupiedCount()));
 }
 
 void ProgressiveAccumulation::restart(const std::vector<PixelBounce>& bounces, std::uint64_t foreground) {

@@ -21,11 +21,7 @@
 // those pixels: at most the static pass's work on them, which a moved eye's frame does anyway. A
 // reset costs the same once; a view that stays reset (the foreground keeps changing) or has
 // accumulated TracerSettings::refinement_sets sets does no work at all.
-// Sample sets n >= 0: every stratum of pixel p's sample s offset by point n + phi(p, s) of
-// Sobol's first two dimensions, digitally shifted (XOR) by a hash of (p, s): deterministic per
-// frame index of the accumulation. Each sample runs through the sequence from a phase phi of its
-// own (0..1023), so that the pixels' errors do not rise and fall together with the sequence's
-// stratification, and the shifts keep neighbouring pixels (which the tent pools) from erring alike.
+// Sample sets: lobe_sample_sets.hpp.
 #pragma once
 
 #include <cstdint>
@@ -40,10 +36,6 @@
 #include "static_shading.hpp"
 
 namespace holo::reflect {
-
-// Sample set `set`'s offset within each stratum for sample `sample` of pixel `pixel`, in [0, 1)^2;
-// every set, 0 included, a point of the same sequence (below).
-vec2 stratumOffset(std::uint32_t set, std::size_t pixel, int sample);
 
 // What the foreground voxel grid holds (its occupied voxels' kept points: camera, pixel, radiance,
 // weight), independent of the order they were binned in; equal for two grids holding the same.

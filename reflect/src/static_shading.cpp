@@ -13,7 +13,7 @@
 #include "holo/reflect/bsdf.hpp"
 #include "holo/reflect/surface_shading.hpp"
 #include "layer_inputs.hpp"
-#include "progressive_accumulation.hpp"
+#include "lobe_sample_sets.hpp"
 #include "relic_passage.hpp"
 #include "wide_lobe_cache.hpp"
 
