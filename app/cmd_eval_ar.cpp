@@ -45,6 +45,8 @@ int run(const Options& o) {
   std::cout << "\n";
   print("delta path tracing with the real pixels exact (its relic pixels alone)", e.delta_relic_alone);
   std::cout << "\n";
+  print("the exact local scene path traced at delta's spp (sampling noise alone)", e.exact_scene);
+  std::cout << "\n";
   if (e.glass_opaque) {
     print("the composite with the relic's glass opaque", *e.glass_opaque);
     std::cout << "\n  glass / opaque error over the relic and shadow: "
@@ -116,6 +118,10 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_flag(
           "--no-sensor-noise", [e = &e](std::int64_t n) { e->sensor_noise = n == 0; },
           "The camera's colour and depth without the sensor model's noise");
+      sub.add_flag(
+          "--traced-relic-reflections", [e = &e](std::int64_t n) { e->measured_real_radiance = n == 0; },
+          "The relic's pixels path trace the local scene's model of the real surfaces it reflects, not "
+          "the camera's radiance where the camera sees them");
       sub.add_option(
              "--delta-bounces", e.delta_bounces,
              "Delta path tracing: real-surface levels whose change is traced (1: the primary hit only)")

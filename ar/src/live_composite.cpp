@@ -139,7 +139,8 @@ LiveCompositeFrame LiveComposite::add(const RgbdFrame& frame) {
   if (samples_ + spp <= settings_.max_samples) {
     CompositeSettings pass = settings_.view.composite;
     pass.first_sample = samples_;
-    const CompositeImage image = renderComposite(*scene_, camera_, background_, pass, region_);
+    const CompositeImage image =
+        renderComposite(*scene_, camera_, background_, pass, region_, reference_depth_);
     cv::scaleAdd(image.radiance, static_cast<double>(spp), sum_, sum_);
     cv::scaleAdd(image.relic_coverage, static_cast<double>(spp), coverage_sum_, coverage_sum_);
     samples_ += spp;

@@ -5,6 +5,8 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cmath>
+#include <optional>
 
 #include "holo/core/error.hpp"
 #include "holo/core/image.hpp"
@@ -22,10 +24,42 @@ bool positive(const vec3& v) {
   return v.x > 0.0f || v.y > 0.0f || v.z > 0.0f;
 }
 
-// The path tracing of one scene content, counting its rays.
+// What the camera measured of the real surfaces: its image as radiance and its depth. A real
+// surface point the camera sees (the same side of the surface, its depth within kSeenDepthTolerance
+// of the camera's at its pixel) leaves the camera's radiance at that pixel towards every direction
+// (the local scene is Lambertian).
+struct CameraMeasurement {
+  const CameraModel& camera;
+  const cv::Mat& radiance;  // CV_32FC3 linear BGR
+  const cv::Mat& depth;     // CV_32FC1 camera-frame z, 0 = invalid
+
+  static constexpr float kSeenDepthTolerance = 0.03f;  // relative
+
+  // The radiance the real scene sends from `hit` (met along `ray`) towards anywhere, where the
+  // camera sees that point.
+  std::optional<vec3> radianceAt(const Ray& ray, const RayHit& hit) const {
+    const vec3 p = ray.origin + hit.t * ray.direction;
+    float z = 0.0f;
+    const std::optional<vec2> pixel = camera.project(p, &z);
+    if (!pixel) return std::nullopt;
+    const int x = static_cast<int>(std::lround(pixel->x)), y = static_cast<int>(std::lround(pixel->y));
+    if (x < 0 || y < 0 || x >= depth.cols || y >= depth.rows) return std::nullopt;
+    const float seen = depth.at<float>(y, x);
+    if (!(seen > 0.0f) || std::abs(z - seen) > kSeenDepthTolerance * seen) return std::nullopt;
+    const vec3& n = hit.geometric_normal;
+    if (glm::dot(n, ray.direction) * glm::dot(n, p - camera.position()) <= 0.0f) return std::nullopt;
+    return rgbAt(radiance, x, y);
+  }
+};
+
+// The path tracing of one scene content, counting its rays. With a camera measurement, a path
+// that meets a real surface the camera sees after the relic takes that surface's radiance as the
+// camera's plus its change (delta path tracing there, `delta_levels` levels) instead of tracing it.
 class Tracer {
  public:
-  Tracer(const LocalScene& scene, std::int64_t& rays) : scene_(scene), rays_(rays) {}
+  Tracer(const LocalScene& scene, std::int64_t& rays, const CameraMeasurement* measured = nullptr,
+         int delta_levels = 1)
+      : scene_(scene), rays_(rays), measured_(measured), delta_levels_(delta_levels) {}
 
   // Radiance leaving `hit` back along `ray`, by a path of at most `scatterings` scatterings on
   // opaque lobes and at most kMaxGlassEvents on the relic's glass.
@@ -34,6 +68,15 @@ class Tracer {
     vec3 radiance(0.0f), throughput(1.0f);
     int glass_events = 0;
     for (int k = 0; k < scatterings;) {
+      if (measured_ && !scene_.isRelic(hit.geometry)) {
+        if (const std::optional<vec3> seen = measured_->radianceAt(ray, hit)) {
+          const vec3 change = content == SceneContent::kMixed
+                                  ? delta(ray, hit, random, scatterings - k, delta_levels_)
+                                  : vec3(0.0f);
+          radiance += throughput * (*seen + change);
+          break;
+        }
+      }
       if (const RelicGlass* glass = scene_.glassAt(hit)) {
         random.uniform2();  // keep the sample sequence aligned: no light sampling at a smooth interface
         const vec3 u = random.uniform3();
@@ -175,6 +218,8 @@ class Tracer {
  private:
   const LocalScene& scene_;
   std::int64_t& rays_;
+  const CameraMeasurement* measured_;
+  int delta_levels_;
 };
 
 void checkSettings(const CameraModel& camera, const CompositeSettings& s) {
@@ -229,7 +274,7 @@ CompositeImage renderSamples(const CameraModel& camera, const CompositeSettings&
 }  // namespace
 
 CompositeImage renderComposite(const LocalScene& scene, const CameraModel& camera, const cv::Mat& background,
-                               const CompositeSettings& s, const cv::Mat& region) {
+                               const CompositeSettings& s, const cv::Mat& region, const cv::Mat& depth) {
   checkSettings(camera, s);
   if (background.type() != CV_32FC3 || background.cols != camera.width() ||
       background.rows != camera.height())
@@ -238,6 +283,10 @@ CompositeImage renderComposite(const LocalScene& scene, const CameraModel& camer
                          std::to_string(camera.width()) + "x" + std::to_string(camera.height()));
   if (!region.empty() && (region.type() != CV_8UC1 || region.size() != background.size()))
     throw InputError("AR composite", "region", "CV_8UC1 of the camera's size (or empty: every pixel)");
+  if (!depth.empty() && (depth.type() != CV_32FC1 || depth.size() != background.size()))
+    throw InputError("AR composite", "depth", "CV_32FC1 metres of the camera's size (or empty: none)");
+  const CameraMeasurement measurement{camera, background, depth};
+  const CameraMeasurement* measured = depth.empty() ? nullptr : &measurement;
   return renderSamples(
       camera, s, region, background,
       [&](int x, int y, const Ray& ray, Random& random, bool& relic, std::int64_t& rays) {
@@ -248,7 +297,8 @@ CompositeImage renderComposite(const LocalScene& scene, const CameraModel& camer
         if (!hit.hit()) return seen;
         if (scene.isRelic(hit.geometry)) {
           relic = true;
-          return tracer.fromHit(SceneContent::kMixed, ray, hit, random, s.max_bounces);
+          return Tracer(scene, rays, measured, s.delta_bounces)
+              .fromHit(SceneContent::kMixed, ray, hit, random, s.max_bounces);
         }
         if (s.method == DifferentialMethod::kDeltaPathTracing)
           return seen + tracer.delta(ray, hit, random, s.max_bounces, s.delta_bounces);

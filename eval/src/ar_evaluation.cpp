@@ -191,12 +191,23 @@ ArEvaluation evaluateArComposite(const ArEvaluationOptions& o) {
                     displayedRmse(image, out.truth, everywhere, out.exposure)};
   };
 
+  // The exact local scene path traced at the methods' samples per pixel with seeds of its own:
+  // the sampling noise alone, whatever the local scene.
+  {
+    ar::CompositeSettings exact = truth_settings;
+    exact.spp = o.method_spp;
+    exact.seed = o.seed ^ 0x65786163ull;
+    out.exact_scene =
+        errors(ar::renderLocalScene(truth_scene, ar::SceneContent::kMixed, camera, exact).radiance);
+  }
+
   ar::DepthSurfaceSettings surface;
   surface.radius = o.local_radius;
   ar::CameraRealScene real = ar::realSceneFromCamera(0, camera, frame, environment, out.exposure, surface);
   const cv::Mat background = real.background;
   if (!o.estimate_albedo) std::fill(real.surface.albedo.begin(), real.surface.albedo.end(), vec3(0.5f));
   const ar::LocalScene scene(std::move(real.surface), museum.relic(), environment);
+  const cv::Mat measured_depth = o.measured_real_radiance ? frame.depth : cv::Mat();
 
   ar::CompositeSettings delta_settings;
   delta_settings.spp = o.method_spp;
@@ -207,7 +218,8 @@ ArEvaluation evaluateArComposite(const ArEvaluationOptions& o) {
   const std::clock_t delta_start = std::clock();
   const cv::Mat region = ar::changeRegion(scene, camera, background, region_settings);
   out.traced_pixels = cv::countNonZero(region);
-  const ar::CompositeImage delta = ar::renderComposite(scene, camera, background, delta_settings, region);
+  const ar::CompositeImage delta =
+      ar::renderComposite(scene, camera, background, delta_settings, region, measured_depth);
   out.delta.ms = cpuMsSince(delta_start);
   out.delta.spp = o.method_spp;
   out.delta.rays = delta.rays;
@@ -234,7 +246,8 @@ ArEvaluation evaluateArComposite(const ArEvaluationOptions& o) {
       pass.spp = pass.first_sample == 0
                      ? 1
                      : static_cast<int>(std::clamp((budget - spent()) / per_sample, 1.0, 4096.0));
-      const ar::CompositeImage image = ar::renderComposite(scene, camera, background, pass, region);
+      const ar::CompositeImage image =
+          ar::renderComposite(scene, camera, background, pass, region, measured_depth);
       sum = accumulate(sum, image.radiance * static_cast<double>(pass.spp));
       score.rays += image.rays;
       pass.first_sample += pass.spp;
@@ -269,9 +282,9 @@ ArEvaluation evaluateArComposite(const ArEvaluationOptions& o) {
   if (transmissive) {
     ar::CameraRealScene again = ar::realSceneFromCamera(0, camera, frame, environment, out.exposure, surface);
     const ar::LocalScene opaque_scene(std::move(again.surface), opaque, environment);
-    const ar::CompositeImage image =
-        ar::renderComposite(opaque_scene, camera, background, delta_settings,
-                            ar::changeRegion(opaque_scene, camera, background, region_settings));
+    const ar::CompositeImage image = ar::renderComposite(
+        opaque_scene, camera, background, delta_settings,
+        ar::changeRegion(opaque_scene, camera, background, region_settings), measured_depth);
     out.glass_opaque_composite =
         ar::filterChange(image.radiance, background, image.relic_coverage, frame.depth, {});
     out.glass_opaque = errors(out.glass_opaque_composite);

@@ -57,8 +57,16 @@ struct CompositeImage {
 // `background`: the camera's image as radiance (CV_32FC3 linear BGR, the camera's size).
 // `region` (CV_8UC1 of that size, change_region.hpp): pixels at 0 are the background, untraced,
 // with no relic coverage; empty: every pixel is traced.
+// `depth` (CV_32FC1 metres, camera-frame z, 0 = invalid, the camera's size; empty: none): the
+// camera's depth registered to `background`. With it, a relic pixel's path that meets a real
+// surface the camera sees (its depth within 3% of the camera's at its pixel, the same side) takes
+// that surface's radiance as measured, the background's pixel, plus the relic's change there
+// (delta path tracing, `delta_bounces` levels), instead of path tracing the local scene's model of
+// it: the relic reflects the real room as the camera saw it. Every method shades the relic's
+// pixels this way; the real pixels are where they differ.
 CompositeImage renderComposite(const LocalScene& scene, const CameraModel& camera, const cv::Mat& background,
-                               const CompositeSettings& settings, const cv::Mat& region = cv::Mat());
+                               const CompositeSettings& settings, const cv::Mat& region = cv::Mat(),
+                               const cv::Mat& depth = cv::Mat());
 
 // The local scene `content` path traced through the camera (pixels beyond it: the panorama).
 // Two renders with one seed share their random numbers wherever the relic does not intervene.

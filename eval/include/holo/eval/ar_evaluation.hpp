@@ -56,6 +56,9 @@ struct ArEvaluationOptions {
   // The real surfaces' albedo estimated from the colour (ar/albedo_estimate.hpp); false: a grey of
   // 0.5 everywhere instead (what the estimate is measured against).
   bool estimate_albedo = true;
+  // Every method's relic pixels take a real surface the camera sees at the camera's radiance
+  // (ar::renderComposite's depth); false: the local scene's model of it path traced.
+  bool measured_real_radiance = true;
   std::uint64_t seed = 1;
   // The two-pass renderers' budget: equal CPU time (the evaluation), or, when false, at least the
   // delta path tracer's count of rays (deterministic, for tests).
@@ -90,6 +93,10 @@ struct ArEvaluation {
   // pixels alone leave (shaded alike by every method), so two_pass.rmse.region over this region
   // error is the largest ratio any gain on the real pixels could give.
   ArErrors delta_relic_alone;
+  // The truth's own path tracer on the exact local scene (the hall's surfaces, not the camera's
+  // depth and colour) at delta path tracing's samples per pixel, seeded apart from the truth: the
+  // error that sampling alone leaves at that count, against which the relic's pixels are read.
+  ArErrors exact_scene;
   // A transmissive relic only: the product's composite with the relic's glass opaque.
   std::optional<ArErrors> glass_opaque;
   cv::Mat glass_opaque_composite;  // CV_32FC3
