@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <functional>
 #include <initializer_list>
 #include <optional>
@@ -36,7 +37,22 @@ std::int64_t countNonFinite(const cv::Mat& hdr) {
       std::plus<>());
 }
 
+double cpuClockMs(clockid_t clock) {
+  timespec t{};
+  ::clock_gettime(clock, &t);
+  return 1e3 * double(t.tv_sec) + 1e-6 * double(t.tv_nsec);
+}
+
 }  // namespace
+
+StageCpuClock::StageCpuClock()
+    : thread_start_ms_(cpuClockMs(CLOCK_THREAD_CPUTIME_ID)),
+      process_start_ms_(cpuClockMs(CLOCK_PROCESS_CPUTIME_ID)) {}
+
+StageCpu StageCpuClock::stop() const {
+  return {cpuClockMs(CLOCK_THREAD_CPUTIME_ID) - thread_start_ms_,
+          cpuClockMs(CLOCK_PROCESS_CPUTIME_ID) - process_start_ms_};
+}
 
 CameraArrival cameraArrival(const std::vector<RgbdFrame>& frames) {
   CameraArrival out;
