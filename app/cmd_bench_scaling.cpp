@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <iostream>
+#include <string>
 
 #include "command.hpp"
 #include "holo/eval/scaling_benchmark.hpp"
@@ -21,19 +22,37 @@ int runBenchScaling(const ScalingOptions& options) {
     std::cout << fmt::format("{:<10} {:<34} {:>10.1f} {:>10.1f} {:>8.2f} {:>10.0f}\n", p.sweep, p.label,
                              p.frame_ms, p.floor_ms, p.floor_ms > 0 ? p.frame_ms / p.floor_ms : 0.0,
                              p.peak_mib);
-  if (r.serial_fraction) {
+  if (r.one_thread_ms && r.parts) {
+    const int side = options.threads_view_size;
     std::cout << fmt::format(
-        "threads at {}x{}, every effect on, no overlap: 1 thread {:.1f} ms, 2 threads {:.1f} ms: {:.2f}x "
-        "(parallel efficiency {:.0f}%); serial part {:.0f}% (Amdahl)\n",
-        options.threads_view_size, options.threads_view_size, *r.one_thread_ms, *r.two_thread_ms,
-        *r.one_thread_ms / *r.two_thread_ms, 100.0 * r.efficiency(), 100.0 * *r.serial_fraction);
+        "threads at {}x{}, every effect on, no overlap: wall time 1 thread {:.1f} ms, 2 threads {:.1f} ms: "
+        "{:.2f}x "
+        "(on these cores, with whatever else runs on them)\n",
+        side, side, *r.one_thread_ms, *r.two_thread_ms, r.wallSpeedup());
+    std::cout << fmt::format(
+        "CPU time: 1 thread {:.1f} ms; at 2 threads serial part {:.1f} ms, parallel part {:.1f} ms: on 2 "
+        "free "
+        "cores {:.1f} ms, {:.2f}x one thread\n",
+        *r.one_thread_cpu_ms, r.parts->serial_ms, r.parts->parallel_ms, r.parts->onCores(2),
+        r.expectedSpeedup());
+    std::string by_stage;
+    double stages_serial = 0, stages_parallel = 0;
+    for (const auto& [stage, parts] : r.stage_parts) {
+      by_stage += fmt::format("{} {:.1f} + {:.1f}, ", stage, parts.serial_ms, parts.parallel_ms);
+      stages_serial += parts.serial_ms;
+      stages_parallel += parts.parallel_ms;
+    }
+    if (!r.stage_parts.empty())
+      std::cout << fmt::format("serial + parallel CPU ms by stage: {}between them {:.1f} + {:.1f}\n",
+                               by_stage, r.parts->serial_ms - stages_serial,
+                               r.parts->parallel_ms - stages_parallel);
     if (r.cores_for_30fps)
       std::cout << fmt::format(
-          "cores for 30 fps at {}x{} with every effect on: {} (cores like this machine's)\n",
-          options.threads_view_size, options.threads_view_size, *r.cores_for_30fps);
+          "cores for 30 fps at {}x{} with every effect on: {} (cores like this machine's)\n", side, side,
+          *r.cores_for_30fps);
     else
       std::cout << fmt::format("no core count gives 30 fps at {}x{}: the serial part alone is over 33.3 ms\n",
-                               options.threads_view_size, options.threads_view_size);
+                               side, side);
   }
   std::cout << fmt::format("wrote {} (time_*.svg, memory_*.svg, scaling.json)\n", options.out_dir.string());
   return 0;

@@ -118,6 +118,13 @@ double processCpuMs() {
   return 1e3 * double(t.tv_sec) + 1e-6 * double(t.tv_nsec);
 }
 
+// The CPU time of the calling thread so far, ms.
+double threadCpuMs() {
+  timespec t{};
+  ::clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return 1e3 * double(t.tv_sec) + 1e-6 * double(t.tv_nsec);
+}
+
 // Minor page faults of the process so far: memory freshly mapped and zeroed by the kernel (large
 // buffers allocated per frame instead of reused).
 long pageFaults() {
@@ -215,7 +222,9 @@ FrameBenchmark benchFrame(FrameBenchOptions options) {
   const Stopwatch wall;
   double cpu_before = processCpuMs();
   for (int i = 0; i < options.frames; ++i) {
+    const double thread_cpu_before = threadCpuMs();
     reports.push_back(loop.step());
+    result.loop_thread_cpu_ms.push_back(threadCpuMs() - thread_cpu_before);
     const double cpu_after = processCpuMs();
     result.frame_cpu_ms.push_back(cpu_after - cpu_before);
     cpu_before = cpu_after;

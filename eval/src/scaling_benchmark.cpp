@@ -8,6 +8,8 @@
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <numeric>
+#include <stdexcept>
 
 #include "holo/core/error.hpp"
 #include "holo/core/files.hpp"
@@ -87,6 +89,10 @@ fs::path modelFile(const ScalingOptions& options, const std::string& name) {
   return path;
 }
 
+double mean(const std::vector<double>& values) {
+  return values.empty() ? 0.0 : std::accumulate(values.begin(), values.end(), 0.0) / double(values.size());
+}
+
 struct Point {
   std::string label;
   double x = 0;
@@ -107,12 +113,27 @@ ScalingPoint run(const std::string& sweep, const Point& point) {
   out.frame_ms = b.median.total;
   out.floor_ms = b.floor_ms;
   out.peak_mib = peakMemoryMib();
+  out.frame_cpu_ms = mean(b.frame_cpu_ms);
+  out.loop_thread_cpu_ms = mean(b.loop_thread_cpu_ms);
+  const auto stageMean = [&](pipeline::StageCpu pipeline::FrameReport::*stage) {
+    std::vector<double> loop_thread, process;
+    for (const pipeline::FrameReport& r : b.reports) {
+      loop_thread.push_back((r.*stage).loop_thread_ms);
+      process.push_back((r.*stage).process_ms);
+    }
+    return pipeline::StageCpu{mean(loop_thread), mean(process)};
+  };
+  out.stage_cpu = {{"foreground", stageMean(&pipeline::FrameReport::foreground_cpu)},
+                   {"rendering", stageMean(&pipeline::FrameReport::rendering_cpu)},
+                   {"presenting", stageMean(&pipeline::FrameReport::presenting_cpu)}};
   std::vector<double> points;
   for (const pipeline::FrameReport& r : b.reports) points.push_back(static_cast<double>(r.foreground_points));
   std::sort(points.begin(), points.end());
   out.foreground_points = points.empty() ? 0.0 : points[points.size() / 2];
-  HOLO_LOG_INFO("bench scaling: {} {}: frame {:.1f} ms, floor {:.1f} ms, peak {:.0f} MiB", sweep, point.label,
-                out.frame_ms, out.floor_ms, out.peak_mib);
+  HOLO_LOG_INFO(
+      "bench scaling: {} {}: frame {:.1f} ms ({:.1f} ms CPU, {:.1f} on the loop's thread), floor {:.1f} ms, "
+      "peak {:.0f} MiB",
+      sweep, point.label, out.frame_ms, out.frame_cpu_ms, out.loop_thread_cpu_ms, out.floor_ms, out.peak_mib);
   return out;
 }
 
@@ -163,6 +184,22 @@ void writePlots(const fs::path& dir, const std::string& sweep, const std::vector
 }
 
 }  // namespace
+
+std::optional<int> ThreadParts::coresFor(double budget_ms) const {
+  if (serial_ms >= budget_ms) return std::nullopt;
+  return std::max(1, static_cast<int>(std::ceil(parallel_ms / (budget_ms - serial_ms))));
+}
+
+ThreadParts threadParts(int threads, double loop_thread_cpu_ms, double process_cpu_ms) {
+  if (threads < 2) throw std::invalid_argument("threadParts: needs at least 2 threads");
+  const double n = threads;
+  // Loop thread L = S + P / n, others O = C - L = P (n - 1) / n.
+  const double others = std::max(0.0, process_cpu_ms - loop_thread_cpu_ms);
+  ThreadParts parts;
+  parts.parallel_ms = others * n / (n - 1.0);
+  parts.serial_ms = std::max(0.0, process_cpu_ms - parts.parallel_ms);
+  return parts;
+}
 
 ScalingResult benchScaling(const ScalingOptions& options) {
   for (const std::string& sweep : options.sweeps)
@@ -227,17 +264,19 @@ ScalingResult benchScaling(const ScalingOptions& options) {
       p.bench.loop.view_size = options.threads_view_size;
       p.bench.loop.overlap = false;  // the worker would run beside TBB's limit
       const ScalingPoint point = run("threads", p);
-      if (threads == 1) result.one_thread_ms = point.frame_ms;
-      if (threads == 2) result.two_thread_ms = point.frame_ms;
+      if (threads == 1) {
+        result.one_thread_ms = point.frame_ms;
+        result.one_thread_cpu_ms = point.frame_cpu_ms;
+      }
+      if (threads == 2) {
+        result.two_thread_ms = point.frame_ms;
+        result.parts = threadParts(2, point.loop_thread_cpu_ms, point.frame_cpu_ms);
+        result.cores_for_30fps = result.parts->coresFor(kBudgetMs);
+        for (const auto& [stage, cpu] : point.stage_cpu)
+          result.stage_parts.emplace_back(stage, threadParts(2, cpu.loop_thread_ms, cpu.process_ms));
+      }
       result.points.push_back(point);
     }
-  if (result.one_thread_ms && result.two_thread_ms) {
-    const double t1 = *result.one_thread_ms;
-    const double s = std::clamp(2.0 * *result.two_thread_ms / t1 - 1.0, 0.0, 1.0);
-    result.serial_fraction = s;
-    if (s * t1 < kBudgetMs)
-      result.cores_for_30fps = std::max(1, int(std::ceil((1.0 - s) * t1 / (kBudgetMs - s * t1))));
-  }
 
   nlohmann::json j;
   for (const ScalingPoint& p : result.points)
@@ -247,13 +286,20 @@ ScalingResult benchScaling(const ScalingOptions& options) {
                            {"frame_ms", p.frame_ms},
                            {"floor_ms", p.floor_ms},
                            {"peak_mib", p.peak_mib},
+                           {"frame_cpu_ms", p.frame_cpu_ms},
+                           {"loop_thread_cpu_ms", p.loop_thread_cpu_ms},
                            {"foreground_points", p.foreground_points}});
-  if (result.serial_fraction) {
+  if (result.one_thread_ms && result.parts) {
     j["threads_view_size"] = options.threads_view_size;
     j["one_thread_ms"] = *result.one_thread_ms;
     j["two_thread_ms"] = *result.two_thread_ms;
-    j["parallel_efficiency"] = result.efficiency();
-    j["serial_fraction"] = *result.serial_fraction;
+    j["wall_speedup"] = result.wallSpeedup();
+    j["one_thread_cpu_ms"] = *result.one_thread_cpu_ms;
+    j["serial_cpu_ms"] = result.parts->serial_ms;
+    j["parallel_cpu_ms"] = result.parts->parallel_ms;
+    j["expected_speedup"] = result.expectedSpeedup();
+    for (const auto& [stage, parts] : result.stage_parts)
+      j["stage_parts"][stage] = {{"serial_cpu_ms", parts.serial_ms}, {"parallel_cpu_ms", parts.parallel_ms}};
     j["cores_for_30fps"] =
         result.cores_for_30fps ? nlohmann::json(*result.cores_for_30fps) : nlohmann::json();
   }

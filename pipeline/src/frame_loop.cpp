@@ -169,6 +169,7 @@ std::vector<reflect::ForegroundCameraImage> FrameLoop::cameraImages(const std::v
 
 FrameLoop::ForegroundFrame FrameLoop::runForeground() {
   ForegroundFrame out;
+  const StageCpuClock cpu;
   out.acquired_at = Clock::now();
   CameraAcquisition::Frames acquired = acquisition_->next();
   out.frames = std::move(acquired.frames);
@@ -185,6 +186,7 @@ FrameLoop::ForegroundFrame FrameLoop::runForeground() {
     out.masks.resize(out.frames.size());
     out.done_at = Clock::now();
     out.foreground_ms = msSince(t0);
+    out.cpu = cpu.stop();
     return out;
   }
   out.cloud = foreground_.process(out.frames);
@@ -201,6 +203,7 @@ FrameLoop::ForegroundFrame FrameLoop::runForeground() {
   }
   out.done_at = Clock::now();
   out.foreground_ms = msSince(t0);
+  out.cpu = cpu.stop();
   return out;
 }
 
@@ -217,6 +220,7 @@ FrameReport FrameLoop::step() {
   report.camera_skew_ms = fg.camera_skew_ms;
   report.acquired_at = fg.acquired_at;
   report.foreground_done_at = fg.done_at;
+  report.foreground_cpu = fg.cpu;
   for (const RgbdFrame& frame : fg.frames) {
     report.camera_arrivals.push_back(frame.colour.empty() ? std::nullopt : std::optional(frame.host_time));
     report.camera_sequences.push_back(frame.colour.empty() ? std::nullopt : std::optional(frame.sequence));
@@ -226,6 +230,7 @@ FrameReport FrameLoop::step() {
     return report;
   }
   report.rendering_started_at = Clock::now();
+  const StageCpuClock rendering_cpu;
   // Deterministic: the next frame's camera frames are fixed, so its foreground runs while this
   // frame renders.
   if (options_.overlap && !options_.live) startNextForeground();
@@ -243,6 +248,7 @@ FrameReport FrameLoop::step() {
   const std::vector<CameraModel> views = trackEyes(report);
   render(fg, views, report);
   report.rendering_done_at = Clock::now();
+  report.rendering_cpu = rendering_cpu.stop();
   const CameraFrameCounts counts = cameraFrameCounts();
   report.dropped_frames = counts.dropped - dropped_before_;
   dropped_before_ = counts.dropped;
@@ -252,7 +258,9 @@ FrameReport FrameLoop::step() {
   // rendering can start with them (taken earlier they would wait through this rendering); its
   // foreground runs while this frame is presented (a window waits for the display there).
   if (options_.overlap && options_.live) startNextForeground();
+  const StageCpuClock presenting_cpu;
   present(report);
+  report.presenting_cpu = presenting_cpu.stop();
   report.times.total = msSince(frame_start);
   ++index_;
   return report;

@@ -26,6 +26,17 @@ CameraArrival cameraArrival(const std::vector<RgbdFrame>& frames);
 // into composition.
 void addPassTimes(const reflect::FrameResult& result, FrameReport& report);
 
+// Measures the CPU a stage takes (StageCpu) from construction to stop(), on the constructing
+// thread and in the whole process.
+class StageCpuClock {
+ public:
+  StageCpuClock();
+  StageCpu stop() const;
+
+ private:
+  double thread_start_ms_, process_start_ms_;
+};
+
 // HDR pixels with a NaN or infinite channel over the frame's views.
 std::int64_t nonFinitePixels(const reflect::FrameResult& result);
 

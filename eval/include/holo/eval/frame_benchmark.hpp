@@ -68,6 +68,9 @@ struct FrameBenchmark {
   // frame's cost and spread apart from what other processes take of the cores.
   std::vector<double> frame_cpu_ms;
   double frame_cpu_median_ms = 0, frame_cpu_p99_ms = 0;
+  // The CPU time of the loop's own thread (the one calling step()) per measured frame: its serial
+  // work plus its share of the parallel work (bench scaling splits the two from it).
+  std::vector<double> loop_thread_cpu_ms;
   std::optional<double> latency_median_ms, latency_p99_ms;
   // Live: the median of each part of the latency over the measured frames (pipeline::LatencyParts;
   // medians of parts need not add up to the median latency).

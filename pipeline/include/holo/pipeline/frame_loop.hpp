@@ -194,6 +194,7 @@ class FrameLoop {
     double camera_skew_ms = -1;  // FrameReport::camera_skew_ms
     double acquisition_ms = 0, foreground_ms = 0;
     Clock::time_point acquired_at, done_at;  // FrameReport's acquired_at, foreground_done_at
+    StageCpu cpu;                            // FrameReport::foreground_cpu
   };
   ForegroundFrame runForeground();
   void startNextForeground();  // runForeground() on the worker (overlap)

@@ -52,6 +52,14 @@ struct LatencyParts {
   double presenting = 0;        // handing the views to the presenter
 };
 
+// CPU time spent during one stage of a frame, ms: by the loop's thread (the one running the
+// stage) and by the whole process (every thread). With the foreground not overlapped and no other
+// work in the process, the process's is the stage's own work; the loop thread's share of it tells
+// the stage's serial part from its parallel part (bench scaling).
+struct StageCpu {
+  double loop_thread_ms = 0, process_ms = 0;
+};
+
 struct FrameReport {
   std::int64_t index = 0;
   StageTimes times;
@@ -123,6 +131,9 @@ struct FrameReport {
   // camera images' conversion to linear colour for the pyramids (part of `dynamic`).
   std::array<double, kPassCount> pass_ms{};
   double camera_images_ms = 0;
+  // The CPU of the frame's foreground step (acquired_at to foreground_done_at, on whichever thread
+  // ran it), its rendering (rendering_started_at to rendering_done_at) and its presentation.
+  StageCpu foreground_cpu, rendering_cpu, presenting_cpu;
 };
 
 // Camera frames over the whole run, all cameras. Live: from the mailboxes' counters, and
