@@ -249,7 +249,7 @@ TEST(BenchFrame, LiveReportsArrivalToPresentLatencyAndFrameTimeSpread) {
 }
 
 // `bench scaling` at toy sizes: a point per swept value with its frame, floor and peak memory, the
-// plots naming every point, and the serial part from the 1- and 2-thread frames.
+// plots naming every point, and the serial and parallel CPU parts from the 2-thread frames.
 TEST(BenchScaling, WritesAPointPerValueThePlotsAndTheSerialPart) {
   const fs::path out = holo::test::scratchDir("app_bench_scaling");
   const int rc = runHolopyramid(
@@ -265,9 +265,13 @@ TEST(BenchScaling, WritesAPointPerValueThePlotsAndTheSerialPart) {
     EXPECT_GT(p.at("floor_ms").get<double>(), 0.0) << p;
     EXPECT_GT(p.at("peak_mib").get<double>(), 10.0) << p;
   }
-  const double serial = j.at("serial_fraction").get<double>();
+  const double serial = j.at("serial_cpu_ms").get<double>();
+  const double parallel = j.at("parallel_cpu_ms").get<double>();
   EXPECT_GE(serial, 0.0);
-  EXPECT_LE(serial, 1.0);
+  EXPECT_GE(parallel, 0.0);
+  EXPECT_GT(serial + parallel, 0.0);
+  const double speedup = j.at("expected_speedup").get<double>();
+  EXPECT_GT(speedup, 0.0);
   const std::string pixels = logText(out / "plots" / "time_pixels.svg");
   for (const char* label : {"32x32", "48x48", "packet floor"})
     EXPECT_NE(pixels.find(label), std::string::npos) << label;
