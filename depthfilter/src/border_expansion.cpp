@@ -18,7 +18,8 @@ cv::Mat blurredMask(const cv::Mat& mask, int levels) {
   for (int y = 0; y < mask.rows; ++y) {
     const std::uint8_t* __restrict m = mask.ptr<std::uint8_t>(y);
     float* __restrict l = level.ptr<float>(y);
-    for (int x = 0; x < mask.cols; ++x) l[x] = m[x] != 0 ? 1.0f : 0.0f;  // any non-zero value is foreground
+    // Any non-zero value is foreground; a converted bool rather than ?: keeps the loop vectorised.
+    for (int x = 0; x < mask.cols; ++x) l[x] = float(m[x] != 0);
   }
   for (int l = 0; l < levels && level.cols > 1 && level.rows > 1; ++l) cv::pyrDown(level, level);
   cv::Mat full;

@@ -201,6 +201,7 @@ ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> camera_fr
     // mask and on the mask's box, the only pixels where the persistence and the filter read it.
     const cv::Rect flow_needed =
         cv::boundingRect(result.mask) | stage.persistence.searchBox(frame.colour.size());
+    result.flow.release();  // unshared, the flow's buffer is reused instead of cleared whole
     result.flow = stage.flow.next(frame.colour, flow_needed);
     stage.persistence.extend(result.mask, frame, result.flow);
   };
@@ -211,6 +212,7 @@ ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> camera_fr
     const RgbdFrame& frame = frames[i];
     if (frame.empty()) return;
     CameraForeground& result = stage.result;
+    result.depth.release();  // likewise the filter's output
     result.depth = stage.filter.apply({frame.colour, depth[i], result.mask, result.flow});
     result.border = expandBorder(result.mask, result.depth, config_.border);
     appendPoints(cameras_[i], static_cast<std::uint16_t>(i), stage.plane_directions, frame.colour, result,
