@@ -18,7 +18,8 @@ cv::Mat blurredMask(const cv::Mat& mask, int levels) {
   for (int y = 0; y < mask.rows; ++y) {
     const std::uint8_t* __restrict m = mask.ptr<std::uint8_t>(y);
     float* __restrict l = level.ptr<float>(y);
-    for (int x = 0; x < mask.cols; ++x) l[x] = m[x] != 0 ? 1.0f : 0.0f;  // any non-zero value is foreground
+    // Any non-zero value is foreground; a converted bool rather than ?: keeps the loop vectorised.
+    for (int x = 0; x < mask.cols; ++x) l[x] = float(m[x] != 0);
   }
   for (int l = 0; l < levels && level.cols > 1 && level.rows > 1; ++l) cv::pyrDown(level, level);
   cv::Mat full;
@@ -58,13 +59,21 @@ cv::Rect borderBox(const cv::Mat& mask, const BorderExpansionConfig& config) {
 }
 
 BorderLayer expandBorder(const cv::Mat& mask, const cv::Mat& depth, const BorderExpansionConfig& config) {
+  ReusedZeroImage weight_image, depth_image;
+  return expandBorder(mask, depth, config, weight_image, depth_image);
+}
+
+BorderLayer expandBorder(const cv::Mat& mask, const cv::Mat& depth, const BorderExpansionConfig& config,
+                         ReusedZeroImage& weight_image, ReusedZeroImage& depth_image) {
   if (mask.type() != CV_8UC1 || depth.type() != CV_32FC1 || mask.size() != depth.size())
     throw Error("expandBorder: expected a CV_8UC1 mask and CV_32FC1 depth of one size");
-  BorderLayer layer{cv::Mat::zeros(mask.size(), CV_32FC1), cv::Mat::zeros(mask.size(), CV_32FC1)};
+  BorderLayer layer{weight_image.next(mask.size(), CV_32FC1), depth_image.next(mask.size(), CV_32FC1)};
   if (config.levels <= 0 || mask.empty()) return layer;
-  // Everything below works on the border box (empty when the mask is).
+  // Everything below works on the border box (empty when the mask is), and writes inside it only.
   const cv::Rect roi = borderBox(mask, config);
   if (roi.empty()) return layer;
+  weight_image.written(roi);
+  depth_image.written(roi);
   const cv::Mat mask_roi = mask(roi), depth_roi = depth(roi);
 
   // Foreground pixels with a valid depth, the sources of border depth, are 0 here (as

@@ -185,15 +185,23 @@ cv::Mat ForegroundMasker::apply(const RgbdFrame& frame) {
   for (int y = 0; y < mask.rows; ++y) {
     const float* __restrict d = frame.depth.ptr<float>(y);
     float* __restrict bg = background_depth_.ptr<float>(y);
-    float* __restrict candidate = adopt_candidate_.ptr<float>(y);
-    std::uint16_t* __restrict count = adopt_count_.ptr<std::uint16_t>(y);
     const std::uint8_t* __restrict m = mask.ptr<std::uint8_t>(y);
+    // Where the background depth is known (nearly everywhere), a branch-free select that the
+    // compiler vectorises; it leaves an unknown background as it was, so the adoption below
+    // finds exactly the pixels it was unknown at.
+    std::uint8_t any_unknown = 0;
     for (int x = 0; x < cols; ++x) {
       const float was = bg[x], now = d[x];
-      if (validDepth(was)) {
-        bg[x] = selectBits((m[x] == 0) & validDepth(now), was + rate * (now - was), was);
-        continue;
-      }
+      const bool known = validDepth(was);
+      bg[x] = selectBits(known & (m[x] == 0) & validDepth(now), was + rate * (now - was), was);
+      any_unknown |= std::uint8_t(!known);
+    }
+    if (any_unknown == 0) continue;
+    float* __restrict candidate = adopt_candidate_.ptr<float>(y);
+    std::uint16_t* __restrict count = adopt_count_.ptr<std::uint16_t>(y);
+    for (int x = 0; x < cols; ++x) {
+      if (validDepth(bg[x])) continue;
+      const float now = d[x];
       if (m[x] != 0) {
         count[x] = 0;  // something stands in front: start again
         continue;

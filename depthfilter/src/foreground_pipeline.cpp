@@ -9,6 +9,7 @@
 #include "holo/core/error.hpp"
 #include "holo/core/image.hpp"
 #include "holo/core/stats.hpp"
+#include "holo/depthfilter/reused_zero_image.hpp"
 
 namespace holo::depthfilter {
 
@@ -17,7 +18,8 @@ struct ForegroundPipeline::CameraStage {
   PrecursorFlow flow;
   MaskPersistence persistence;
   TemporalDepthFilter filter;
-  std::vector<vec3> plane_directions;  // z = 1 ray per pixel, row-major
+  ReusedZeroImage border_weight, border_depth;  // the border layer's images
+  std::vector<vec3> plane_directions;           // z = 1 ray per pixel, row-major
   CameraForeground result;
   std::vector<ForegroundPoint> points;
 };
@@ -121,6 +123,8 @@ ForegroundPipeline::ForegroundPipeline(std::vector<CameraModel> cameras, Foregro
                                   PrecursorFlow(config_.flow),
                                   MaskPersistence(config_.persistence),
                                   TemporalDepthFilter(config_.filter),
+                                  {},
+                                  {},
                                   cameras_[i].planeDirectionTable(),
                                   {},
                                   {}});
@@ -201,6 +205,7 @@ ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> camera_fr
     // mask and on the mask's box, the only pixels where the persistence and the filter read it.
     const cv::Rect flow_needed =
         cv::boundingRect(result.mask) | stage.persistence.searchBox(frame.colour.size());
+    result.flow.release();  // unshared, the flow's buffer is reused instead of cleared whole
     result.flow = stage.flow.next(frame.colour, flow_needed);
     stage.persistence.extend(result.mask, frame, result.flow);
   };
@@ -211,8 +216,11 @@ ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> camera_fr
     const RgbdFrame& frame = frames[i];
     if (frame.empty()) return;
     CameraForeground& result = stage.result;
+    result.depth.release();  // likewise the filter's output
     result.depth = stage.filter.apply({frame.colour, depth[i], result.mask, result.flow});
-    result.border = expandBorder(result.mask, result.depth, config_.border);
+    result.border = {};  // unshared, its images are reused too
+    result.border =
+        expandBorder(result.mask, result.depth, config_.border, stage.border_weight, stage.border_depth);
     appendPoints(cameras_[i], static_cast<std::uint16_t>(i), stage.plane_directions, frame.colour, result,
                  borderBox(result.mask, config_.border), gainsOverExposure(config_, i), config_.scale,
                  stage.points);

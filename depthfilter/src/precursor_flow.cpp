@@ -54,12 +54,13 @@ cv::Mat PrecursorFlow::flowBetween(const cv::Mat& current, const cv::Mat& previo
     flow = cv::Mat::zeros(size, CV_32FC2);
     dis_->calc(current, previous, flow);
   } else {
-    small_flow_ = cv::Mat::zeros(current.size(), CV_32FC2);
+    small_flow_ = cv::Mat::zeros(current.size(), CV_32FC2);  // DIS starts from a flow of its size
     dis_->calc(current, previous, small_flow_);
     // Exactly twice the small flow's size: a block resized by 2 matches the whole frame's resize.
     if (downscale_ == 2 && current.size() * 2 == size && inside != frame) {
-      flow = cv::Mat::zeros(size, CV_32FC2);
+      flow = upsampled_flow_.next(size, CV_32FC2);
       upsampleInside(inside, flow);
+      upsampled_flow_.written(inside);  // the scaling and the round-trip check stay inside too
     } else {
       cv::resize(small_flow_, flow, size, 0, 0, cv::INTER_LINEAR);  // writes every pixel
       inside = frame;

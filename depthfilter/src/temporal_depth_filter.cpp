@@ -9,6 +9,7 @@
 
 #include "holo/core/error.hpp"
 #include "holo/depthfilter/precursor_flow.hpp"
+#include "holo/depthfilter/reused_zero_image.hpp"
 
 namespace holo::depthfilter {
 
@@ -39,6 +40,7 @@ struct Level {
 struct TemporalDepthFilter::Scratch {
   cv::Mat clean, measured, pre_depth, alphas, pre_age, motion, motion_weight, inner, age, hole_reasons;
   std::vector<pyramid_detail::Level> pyramid;
+  ReusedZeroImage output;  // the returned depth: non-zero only inside the work box
 };
 
 namespace {
@@ -518,7 +520,8 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
   base.width = width;
   base.height = height;
   base.pairs.resize(std::size_t(width) * std::size_t(height));
-  cv::Mat output = cv::Mat::zeros(height, width, CV_32FC1);
+  cv::Mat output = scratch.output.next(cv::Size(width, height), CV_32FC1);
+  scratch.output.written(roi);  // every pass below writes inside it only
   // Frames since each output depth was last measured (0: measured in this frame); while
   // learning, every passed-through depth counts as measured. Read only on the mask, so only the
   // box is set.

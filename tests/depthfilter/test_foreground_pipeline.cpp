@@ -2,6 +2,8 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <vector>
 
 #include "holo/core/error.hpp"
 #include "holo/core/image.hpp"
@@ -238,6 +240,42 @@ TEST(ForegroundPipeline, ForegroundScaleOutOfRangeOrNotDividingTheCameraIsRefuse
   EXPECT_THROW(ForegroundPipeline(cameras(odd), config), Error);
   config.scale = 1;
   EXPECT_NO_THROW(ForegroundPipeline(cameras(odd), config));
+}
+
+// The flow, the filtered depth and the border layer reuse their buffers from frame to frame when nobody holds
+// the last ones, clearing only the box written before. A pipeline whose every result is kept (so each frame
+// gets fresh zero images) must give the same images bit for bit while the visitor moves, and the kept results
+// must stay as they were.
+TEST(ForegroundPipeline, ReusedOutputBuffersGiveTheSameImagesAndKeptResultsStay) {
+  Rig reused, fresh;
+  std::vector<std::array<cv::Mat, 4>> kept, kept_copies;
+  const auto same = [](const cv::Mat& a, const cv::Mat& b) {
+    if (a.size() != b.size() || a.type() != b.type()) return false;
+    for (int y = 0; y < a.rows; ++y)
+      if (std::memcmp(a.ptr(y), b.ptr(y), a.cols * a.elemSize()) != 0) return false;
+    return true;
+  };
+  int compared = 0;
+  for (int t = 0; t < 12; ++t) {
+    reused.pipeline.process(Rig::framesOf(reused.render(t)));
+    fresh.pipeline.process(Rig::framesOf(fresh.render(t)));
+    for (std::size_t c = 0; c < kCameras; ++c) {
+      const CameraForeground& r = reused.pipeline.lastResult(c);
+      const CameraForeground& f = fresh.pipeline.lastResult(c);
+      ASSERT_TRUE(same(r.depth, f.depth)) << "frame " << t << " camera " << c;
+      ASSERT_TRUE(same(r.flow, f.flow)) << "frame " << t << " camera " << c;
+      ASSERT_TRUE(same(r.border.weight, f.border.weight)) << "frame " << t << " camera " << c;
+      ASSERT_TRUE(same(r.border.depth, f.border.depth)) << "frame " << t << " camera " << c;
+      compared += cv::countNonZero(r.depth) > 0;
+      kept.push_back({f.depth, f.flow, f.border.weight, f.border.depth});
+      kept_copies.push_back(
+          {f.depth.clone(), f.flow.clone(), f.border.weight.clone(), f.border.depth.clone()});
+    }
+  }
+  EXPECT_GT(compared, 20);  // most frames have a filtered foreground to compare
+  for (std::size_t i = 0; i < kept.size(); ++i) {
+    for (std::size_t k = 0; k < 4; ++k) EXPECT_TRUE(same(kept[i][k], kept_copies[i][k])) << i << " " << k;
+  }
 }
 
 TEST(ForegroundPipeline, ParallelAndSerialGiveTheSameCloud) {

@@ -11,6 +11,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "holo/depthfilter/reused_zero_image.hpp"
+
 namespace holo::depthfilter {
 
 enum class BorderDepth { MeanEdge, Nearest };
@@ -29,6 +31,10 @@ struct BorderLayer {
 // mask: CV_8UC1 (non-zero = foreground); depth: CV_32FC1 filtered foreground depth (0 = none).
 // An empty mask or a mask without any valid depth gives an all-zero layer.
 BorderLayer expandBorder(const cv::Mat& mask, const cv::Mat& depth, const BorderExpansionConfig& config);
+// The same layer in images from `weight_image` and `depth_image` (buffers reused from frame to frame
+// when nobody holds the last layer; see ReusedZeroImage).
+BorderLayer expandBorder(const cv::Mat& mask, const cv::Mat& depth, const BorderExpansionConfig& config,
+                         ReusedZeroImage& weight_image, ReusedZeroImage& depth_image);
 
 // The mask's bounding box grown by the blur's reach (clipped to the image; empty for an empty
 // mask): the layer's weight is 0 outside it, and the mask lies inside it.

@@ -11,6 +11,8 @@
 #include <opencv2/core.hpp>
 #include <opencv2/video/tracking.hpp>
 
+#include "holo/depthfilter/reused_zero_image.hpp"
+
 namespace holo::depthfilter {
 
 struct PrecursorFlowConfig {
@@ -69,7 +71,8 @@ class PrecursorFlow {
   bool round_trip_check_ = false;
   float round_trip_max_px_ = 2.0f;
   cv::Mat grey_, current_image_, previous_image_, small_flow_, forward_flow_, upsampled_block_;  // scratch
-  cv::Size previous_size_;  // of the frame previous_image_ was made from; empty: none (next())
+  ReusedZeroImage upsampled_flow_;  // the flow next() returns, zero outside `needed`
+  cv::Size previous_size_;          // of the frame previous_image_ was made from; empty: none (next())
 };
 
 // Confidence alpha of Equation 1: the RGB distance between a pixel and its precursor, in 8-bit
