@@ -361,7 +361,7 @@ TEST(SelfOcclusion, RoughLobeVisibilityWeightedByTheLightBringsTheMetalBowlNeare
       "mirror; rmse %.4f, %.4f, %.4f\n",
       with.pixels, with.meanRatio(), without.meanRatio(), before.meanRatio(), with.rmse, without.rmse,
       before.rmse);
-  EXPECT_LT(with.rmse, 0.85 * without.rmse);  // measured 0.70x
+  EXPECT_LT(with.rmse, 0.85 * without.rmse);  // measured 0.72x
   EXPECT_LT(with.rmse, before.rmse);
   EXPECT_NEAR(with.meanRatio(), 1.0, 0.05);
 
@@ -384,7 +384,7 @@ TEST(SelfOcclusion, RoughLobeVisibilityWeightedByTheLightBringsTheMetalBowlNeare
       with.meanRatio(), at_centres.meanRatio(), once.meanRatio(), both.meanRatio(), with.rmse,
       at_centres.rmse, once.rmse, both.rmse);
   EXPECT_NEAR(with.meanRatio(), 1.0, 0.03);
-  EXPECT_LT(with.rmse, 0.95 * at_centres.rmse);  // measured 0.83x
+  EXPECT_LT(with.rmse, 0.95 * at_centres.rmse);  // measured 0.84x
   EXPECT_LT(with.rmse, 0.95 * both.rmse);        // measured 0.84x
 }
 
