@@ -499,6 +499,33 @@ TEST(SelfOcclusion, Figures) {
           noise, with.mean_truth, clean(with.rmse), clean(without.rmse),
           clean(without.rmse) / clean(with.rmse));
       std::printf("  plan: %s\n", on.frame.plan.describe().c_str());
+      if (relic != "kettle") {
+        // Where the error lies: the bottom (within half the rim's radius), the wall, near the rim
+        // (beyond 0.8 of it); rmse and mean of ours minus the truth.
+        const float rim = 0.5f * b.extent().x;
+        double sq[3] = {0, 0, 0}, bias[3] = {0, 0, 0};
+        int n[3] = {0, 0, 0};
+        for (int y = 0; y < size; ++y)
+          for (int x = 0; x < size; ++x) {
+            HitPoint hp;
+            if (!region.at<std::uint8_t>(y, x) || !traceHitPoint(scene, view, vec2(float(x), float(y)), hp))
+              continue;
+            const float r = glm::length(vec2(hp.position.x, hp.position.z)) / rim;
+            const int k = r < 0.5f ? 0 : r < 0.8f ? 1 : 2;
+            const double d = luminance(rgbAt(on.hdr, x, y)) - luminance(rgbAt(truth, x, y));
+            sq[k] += d * d;
+            bias[k] += d;
+            ++n[k];
+          }
+        std::printf("  where (rmse, mean error):");
+        for (int k = 0; k < 3; ++k)
+          std::printf(" %s %d px %.4f %+.4f",
+                      k == 0   ? "bottom"
+                      : k == 1 ? "wall"
+                               : "rim",
+                      n[k], n[k] ? std::sqrt(sq[k] / n[k]) : 0.0, n[k] ? bias[k] / n[k] : 0.0);
+        std::printf("\n");
+      }
       const float e = autoExposure(truth);
       const std::string stem = (dir / (hdri.substr(0, hdri.find('_')) + "_" + relic)).string();
       cv::imwrite(stem + "_truth.png", toneMap(truth, e));
