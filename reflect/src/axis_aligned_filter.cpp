@@ -52,7 +52,13 @@ FilterCounts AxisAlignedFilter::apply(const std::vector<PixelBounce>& pixels,
   const float per_pixel = 1.0f / view.intrinsics().fx;  // radians per pixel
   for (std::size_t p = 0; p < n; ++p) {
     if (!pixels[p].rough) continue;
-    const float b = bandwidth(pixels[p].roughness, bounces[p].nearest);
+    // z_min of the pixel's own lobe rays (the paper's per-pixel sampling pass), not of the tent's
+    // pooled neighbourhood: the least of its 36 rays' distances is the nearest wall's wherever
+    // any of them grazes it, which narrows the filter over the whole inside of a bowl. Where none
+    // of its own rays met the relic but a neighbour's did (the edge of what the lobe sees), the
+    // pooled z_min keeps the filter from spreading that light across the edge.
+    const float own = pixels[p].samples.nearest;
+    const float b = bandwidth(pixels[p].roughness, std::isfinite(own) ? own : bounces[p].nearest);
     b2[p] = b * b;
     footprint[p] = glm::length(pixels[p].position - view.position()) * per_pixel;
     const float sigma_pixels =

@@ -8,8 +8,9 @@
 // Per pixel, the spatial bandwidth of the interreflected light is B = B_h / z_min (the paper's
 // eq. 18, 1/metres): B_h the BRDF's angular bandlimit, 4.27 + 0.15 m for a Phong lobe of exponent m
 // (the GGX alpha = roughness^2 read as m = 2 / alpha^2 - 2), z_min the nearest hit distance (metres)
-// of the pixel's lobe rays that met the relic. Where none met it, z_min is infinite and B = 0: the
-// term is the same everywhere the filter reaches. The filter is the paper's two separable passes
+// of the pixel's own lobe rays that met the relic, or where none of them did, of the 3x3 tent's.
+// Where none of those met it, z_min is infinite and B = 0: the term is the same everywhere the
+// filter reaches. The filter is the paper's two separable passes
 // along the image's X then Y axis (eqs. 21, 22) with the Gaussian weight exp(-2 B^2 |p - p'|^2) of
 // the world positions (eq. 23, B^2 the mean of the two pixels' squares), over pixels of the same
 // surface only: a neighbour that does not trace the lobe, faces away by more than ~25 degrees, or
@@ -46,7 +47,8 @@ class AxisAlignedFilter {
 
   // Filters `bounces` (per pixel, row-major, width x height: the tent-pooled lobe sums) in place,
   // at the pixels that trace the lobe (pixels[p].rough); the others are left as they were.
-  // pixels[p] gives the position, normal and roughness; `view` the pixel footprint.
+  // pixels[p] gives the position, normal, roughness and its own lobe rays' nearest hit; `view`
+  // the pixel footprint.
   FilterCounts apply(const std::vector<PixelBounce>& pixels, std::vector<LobeBounce>& bounces, int width,
                      int height, const CameraModel& view) const;
 };

@@ -46,10 +46,13 @@ void forEachLobeStratum(int side, bool interleaved, int pixel_class, int sample,
   for (int r = sample; r < count; r += samples) own(r);
 }
 
-// The solid angle of a lobe sample's prefiltered lookup over its stratum's own (as the relic's
-// visibility reads its strata): neighbouring strata overlap, so a small bright light does not
-// flicker between pixels as it falls in one stratum or the next.
-constexpr float kLobeStratumOverlap = 4.0f;
+// The solid angle of a lobe sample's prefiltered lookup over its stratum's own: filtered
+// importance sampling's Omega_s = 1 / (N pdf) with half its bias of one level towards blur. Wider
+// lookups blur the hall seen through the lobe's open share (a window or a sun the rim half hides
+// reads as if it were not hidden: the metal bowl's inside too bright); narrower ones leave each
+// pixel's few strata noisier where the tent and the axis-aligned filter pool them (measured at 1,
+// 2 and 4: docs/tracer/self_occlusion.md).
+constexpr float kLobeStratumOverlap = 2.0f;
 
 // The perceptual roughness whose GGX lobe (4 pi alpha^2 about the reflected direction) covers
 // kLobeStratumOverlap times a stratum of the visible-normal sampling, 1 / (strata pdf), with

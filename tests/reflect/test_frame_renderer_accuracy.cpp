@@ -124,8 +124,8 @@ TEST(FrameRenderer, RoughInterreflectionFollowsThePathTracedLobe) {
       mirror, interleaved, full, mirror_aa1, interleaved_aa1, centres_interleaved, centres_full);
   // The mirror ray is all or nothing; the lobe's share of the dark sphere grades it, and the
   // interleaved strata come close to tracing all of them at a sixteenth of the rays (held at the
-  // centres; at the default sequence points the interleaved error, 4.8e-5, is below the centres'
-  // 5.3e-5, and all 16 per sample, averaging four points a stratum, lower still).
+  // centres; at the default sequence points the interleaved error, 4.0e-5, is below the centres'
+  // 5.4e-5, and all 16 per sample, averaging four points a stratum, lower still).
   EXPECT_LT(full, 0.25 * mirror);
   EXPECT_LT(interleaved, 0.25 * mirror);
   EXPECT_LT(centres_interleaved, 1.2 * centres_full);

@@ -361,7 +361,7 @@ TEST(SelfOcclusion, RoughLobeVisibilityWeightedByTheLightBringsTheMetalBowlNeare
       "mirror; rmse %.4f, %.4f, %.4f\n",
       with.pixels, with.meanRatio(), without.meanRatio(), before.meanRatio(), with.rmse, without.rmse,
       before.rmse);
-  EXPECT_LT(with.rmse, 0.85 * without.rmse);  // measured 0.79x
+  EXPECT_LT(with.rmse, 0.85 * without.rmse);  // measured 0.72x
   EXPECT_LT(with.rmse, before.rmse);
   EXPECT_NEAR(with.meanRatio(), 1.0, 0.05);
 
@@ -384,8 +384,8 @@ TEST(SelfOcclusion, RoughLobeVisibilityWeightedByTheLightBringsTheMetalBowlNeare
       with.meanRatio(), at_centres.meanRatio(), once.meanRatio(), both.meanRatio(), with.rmse,
       at_centres.rmse, once.rmse, both.rmse);
   EXPECT_NEAR(with.meanRatio(), 1.0, 0.03);
-  EXPECT_LT(with.rmse, 0.95 * at_centres.rmse);  // measured 0.88x
-  EXPECT_LT(with.rmse, 0.95 * both.rmse);        // measured 0.89x
+  EXPECT_LT(with.rmse, 0.95 * at_centres.rmse);  // measured 0.84x
+  EXPECT_LT(with.rmse, 0.95 * both.rmse);        // measured 0.84x
 }
 
 // The Lambert bowl's lobe (roughness 1) read from the wide lobes' object-space cache instead of
@@ -499,6 +499,33 @@ TEST(SelfOcclusion, Figures) {
           noise, with.mean_truth, clean(with.rmse), clean(without.rmse),
           clean(without.rmse) / clean(with.rmse));
       std::printf("  plan: %s\n", on.frame.plan.describe().c_str());
+      if (relic != "kettle") {
+        // Where the error lies: the bottom (within half the rim's radius), the wall, near the rim
+        // (beyond 0.8 of it); rmse and mean of ours minus the truth.
+        const float rim = 0.5f * b.extent().x;
+        double sq[3] = {0, 0, 0}, bias[3] = {0, 0, 0};
+        int n[3] = {0, 0, 0};
+        for (int y = 0; y < size; ++y)
+          for (int x = 0; x < size; ++x) {
+            HitPoint hp;
+            if (!region.at<std::uint8_t>(y, x) || !traceHitPoint(scene, view, vec2(float(x), float(y)), hp))
+              continue;
+            const float r = glm::length(vec2(hp.position.x, hp.position.z)) / rim;
+            const int k = r < 0.5f ? 0 : r < 0.8f ? 1 : 2;
+            const double d = luminance(rgbAt(on.hdr, x, y)) - luminance(rgbAt(truth, x, y));
+            sq[k] += d * d;
+            bias[k] += d;
+            ++n[k];
+          }
+        std::printf("  where (rmse, mean error):");
+        for (int k = 0; k < 3; ++k)
+          std::printf(" %s %d px %.4f %+.4f",
+                      k == 0   ? "bottom"
+                      : k == 1 ? "wall"
+                               : "rim",
+                      n[k], n[k] ? std::sqrt(sq[k] / n[k]) : 0.0, n[k] ? bias[k] / n[k] : 0.0);
+        std::printf("\n");
+      }
       const float e = autoExposure(truth);
       const std::string stem = (dir / (hdri.substr(0, hdri.find('_')) + "_" + relic)).string();
       cv::imwrite(stem + "_truth.png", toneMap(truth, e));
