@@ -1,6 +1,7 @@
 // Glass transport (internal): the light transmitted at a hit point of a transmissive relic material
 // (KHR_materials_transmission, _volume, _ior) traced through the relic, for the refraction pass
-// (refraction_pass.hpp) and the internal-depth probe (internal_depth.hpp).
+// (refraction_pass.hpp), the internal-depth probe (internal_depth.hpp) and the glass a secondary
+// ray meets (static_shading.hpp's shadeMet).
 //
 // At a hit point of a transmissive material the light splits by the exact unpolarised Fresnel
 // reflectance F of its IOR (optics.hpp): F goes to the reflection (the specular scale the

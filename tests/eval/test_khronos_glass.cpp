@@ -107,7 +107,7 @@ double meanCodes(const cv::Mat& ours_hdr, const cv::Mat& truth_hdr, const cv::Ma
 
 struct KhronosCase {
   std::string model;
-  double ci_bar;  // sRGB codes at CI size (measured 14.5, 9.3, 3.8, 6.6; with the textures read at
+  double ci_bar;  // sRGB codes at CI size (measured 13.9, 9.0, 3.9, 6.6; with the textures read at
                   // the entry only 32.5, 34.1, 5.7, 11.9)
   // The park's sun lights this model's diffuse surfaces: with the sun light switched off (the sun
   // in the 9 coefficients) it must be at least this many times further from the truth (measured
@@ -156,7 +156,7 @@ TEST_P(KhronosGlass, OursHoldsToThePathTracerOverTheRelic) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Models, KhronosGlass,
-                         ::testing::Values(KhronosCase{"khronos_glass_hurricane_candle_holder.glb", 15.5},
+                         ::testing::Values(KhronosCase{"khronos_glass_hurricane_candle_holder.glb", 15.0},
                                            KhronosCase{"khronos_transmission_roughness_test.glb", 11.0},
                                            KhronosCase{"khronos_attenuation_test.glb", 5.0},
                                            KhronosCase{"khronos_clearcoat_wicker.glb", 9.0, 1.4}));
@@ -211,7 +211,7 @@ TEST(KhronosGlassCandle, TheCandleIsSeenThroughTheGlassAsInTheTruth) {
       "candle seen through the glass (%d pixels, %d^2): ours %.2f sRGB codes from the truth, "
       "the candle left out %.2f\n",
       pixels, size.pixels, codes, dropped_codes);
-  // Measured at CI size: 17.3 (the truth's own noise there: 8.6), the candle left out 25.5; at
+  // Measured at CI size: 17.4 (the truth's own noise there: 8.6), the candle left out 25.5; at
   // 256^2 14.2 and 24.7. The glass's textures read at the entry only: 40.9 (the candle hidden).
   EXPECT_LT(codes, fullEvaluation() ? 8.0 : 19.5);
   EXPECT_GT(dropped_codes, 1.3 * codes);
