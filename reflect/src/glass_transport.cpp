@@ -310,4 +310,17 @@ TransmittedPath traceTransmission(const RenderScene& scene, const PrefilteredIbl
   return path;
 }
 
+vec3 lightThroughGlass(const RenderScene& scene, const PrefilteredIbl& ibl, const TracerSettings& settings,
+                       const SurfacePoint& surface, const vec3& direction, std::uint64_t& rays) {
+  const int depth = settings.refraction_depth > 0 ? settings.refraction_depth : kMaxInternalDepth;
+  const TransmittedPath path = traceTransmission(scene, ibl, settings, depth, surface.position,
+                                                 surface.normal, direction, Material{}, &surface.material);
+  rays += path.rays;
+  vec3 light = path.resolved + path.scale * path.environment;
+  if (luminance(path.reflected) > 0.0f)
+    light += path.reflected * iblSeenFrom(ibl, surface.position, glm::reflect(direction, surface.normal),
+                                          clamp01(surface.material.roughness));
+  return isFinite(light) ? light : vec3(0.0f);
+}
+
 }  // namespace holo::reflect

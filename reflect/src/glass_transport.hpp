@@ -1,6 +1,7 @@
 // Glass transport (internal): the light transmitted at a hit point of a transmissive relic material
 // (KHR_materials_transmission, _volume, _ior) traced through the relic, for the refraction pass
-// (refraction_pass.hpp) and the internal-depth probe (internal_depth.hpp).
+// (refraction_pass.hpp), the internal-depth probe (internal_depth.hpp) and the glass a secondary
+// ray meets (static_shading.hpp's shadeMet).
 //
 // At a hit point of a transmissive material the light splits by the exact unpolarised Fresnel
 // reflectance F of its IOR (optics.hpp): F goes to the reflection (the specular scale the
@@ -48,6 +49,7 @@
 #include "holo/reflect/frame_result.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
 #include "holo/reflect/render_scene.hpp"
+#include "holo/reflect/surface_shading.hpp"
 #include "holo/reflect/tracer_settings.hpp"
 
 namespace holo::reflect {
@@ -98,5 +100,15 @@ vec3 entryWeight(const vec3& normal, const vec3& direction, const Material& m,
 
 // Multiplies path.entry into a path per unit entry's scale, resolved and reflected.
 void applyEntry(TransmittedPath& path);
+
+// The light a ray along `direction` that meets the relic's transmissive `surface` receives through
+// it: the transmitted path traced (bent at each interface, what stands inside shaded as a hit point
+// is, up to settings.refraction_depth events, kMaxInternalDepth where it is measured) with the
+// light it sends back towards the ray's side read along the entry's mirror direction; the entry's
+// own Fresnel reflection is left to the caller. For a lobe's ray that meets glass (a metal foot
+// below a thick glass bottom sees the light that bottom bends and guides, and the candle in it).
+// `rays` gets the Embree rays cast.
+vec3 lightThroughGlass(const RenderScene& scene, const PrefilteredIbl& ibl, const TracerSettings& settings,
+                       const SurfacePoint& surface, const vec3& direction, std::uint64_t& rays);
 
 }  // namespace holo::reflect

@@ -9,12 +9,12 @@
 
 #include "axis_aligned_filter.hpp"
 #include "compose_pass.hpp"
+#include "glass_transport.hpp"
 #include "holo/core/image.hpp"
 #include "holo/reflect/bsdf.hpp"
 #include "holo/reflect/surface_shading.hpp"
 #include "layer_inputs.hpp"
 #include "lobe_sample_sets.hpp"
-#include "relic_passage.hpp"
 #include "wide_lobe_cache.hpp"
 
 namespace holo::reflect {
@@ -203,13 +203,9 @@ SplitSumShading StaticShading::shadeMet(const SurfacePoint& surface, const Ray& 
   const SurfaceMaterial& m = surface.material;
   const float share = (1.0f - clamp01(m.metallic)) * clamp01(m.transmission);
   if (!(share > 0.0f)) return parts;
-  std::uint32_t cast = 0;
-  const vec3 passed = passedThroughRelic(scene_, settings_, ray.origin, ray.direction, cast);
-  rays += cast;
-  const vec3 through = passed * ibl_.seenFrom(surface.position, ray.direction, m.roughness);
+  const vec3 through = lightThroughGlass(scene_, ibl_, settings_, surface, ray.direction, rays);
   const vec3 reflected_light = parts.diffuse - surface.emission;
-  parts.diffuse =
-      (1.0f - share) * reflected_light + surface.emission + (isFinite(through) ? through : vec3(0.0f));
+  parts.diffuse = (1.0f - share) * reflected_light + surface.emission + through;
   return parts;
 }
 

@@ -196,9 +196,9 @@ class StaticShading {
   // surface_shading.hpp's shadeSurface, with the visibility's irradiance where it covers the point.
   SplitSumShading shadeAt(const SurfacePoint& surface, const vec3& wo) const;
   // A relic surface a secondary ray (a mirror ray, a lobe's stratum) meets, seen from the ray's
-  // origin: shadeAt, where it transmits with the hall seen straight through the relic beyond it
-  // (relic_passage.hpp: tinted, absorbed, stopped by an opaque part) in place of the diffuse
-  // share it transmits. `rays` counts the passage's Embree rays.
+  // origin: shadeAt, where it transmits with the light traced through the glass (bent, what
+  // stands inside shaded: glass_transport.hpp's lightThroughGlass) in place of the diffuse share
+  // it transmits. `rays` counts the transmitted path's Embree rays.
   SplitSumShading shadeMet(const SurfacePoint& surface, const Ray& ray, std::uint64_t& rays) const;
   // Adds to `bounce` a lobe stratum's ray that met the relic's `surface` at `hit`: its shading
   // (shadeMet) and what it reflects (secondEnvironment). `rays` counts the rays these cast.

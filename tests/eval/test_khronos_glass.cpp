@@ -8,7 +8,7 @@
 // counts: a second 64-spp truth is 4-7 codes from the first, 8.6 on the candle's pixels), below
 // what it measured with the glass's textures read at the entry only (docs/materials.md).
 // HOLO_FULL_EVAL=1: the 256^2 figure of docs/materials.md, under two real panoramas against a
-// 256-spp truth, the bar of 8 codes (not met on the candle holder and the roughness grid:
+// 256-spp truth, the bar of 8 codes (not met on the candle holder, 10.9 / 8.9:
 // docs/materials.md says why).
 #include <gtest/gtest.h>
 
@@ -107,7 +107,7 @@ double meanCodes(const cv::Mat& ours_hdr, const cv::Mat& truth_hdr, const cv::Ma
 
 struct KhronosCase {
   std::string model;
-  double ci_bar;  // sRGB codes at CI size (measured 14.5, 9.3, 3.8, 6.6; with the textures read at
+  double ci_bar;  // sRGB codes at CI size (measured 13.9, 9.0, 3.9, 6.6; with the textures read at
                   // the entry only 32.5, 34.1, 5.7, 11.9)
   // The park's sun lights this model's diffuse surfaces: with the sun light switched off (the sun
   // in the 9 coefficients) it must be at least this many times further from the truth (measured
@@ -156,7 +156,7 @@ TEST_P(KhronosGlass, OursHoldsToThePathTracerOverTheRelic) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Models, KhronosGlass,
-                         ::testing::Values(KhronosCase{"khronos_glass_hurricane_candle_holder.glb", 15.5},
+                         ::testing::Values(KhronosCase{"khronos_glass_hurricane_candle_holder.glb", 15.0},
                                            KhronosCase{"khronos_transmission_roughness_test.glb", 11.0},
                                            KhronosCase{"khronos_attenuation_test.glb", 5.0},
                                            KhronosCase{"khronos_clearcoat_wicker.glb", 9.0, 1.4}));
@@ -211,7 +211,7 @@ TEST(KhronosGlassCandle, TheCandleIsSeenThroughTheGlassAsInTheTruth) {
       "candle seen through the glass (%d pixels, %d^2): ours %.2f sRGB codes from the truth, "
       "the candle left out %.2f\n",
       pixels, size.pixels, codes, dropped_codes);
-  // Measured at CI size: 17.3 (the truth's own noise there: 8.6), the candle left out 25.5; at
+  // Measured at CI size: 17.4 (the truth's own noise there: 8.6), the candle left out 25.5; at
   // 256^2 14.2 and 24.7. The glass's textures read at the entry only: 40.9 (the candle hidden).
   EXPECT_LT(codes, fullEvaluation() ? 8.0 : 19.5);
   EXPECT_GT(dropped_codes, 1.3 * codes);
@@ -302,7 +302,8 @@ namespace {
 // an opaque part and whether it enters in the lowest 30% of the relic's height), with the mean
 // codes, each channel's signed mean (ours - truth) and both images' linear means per channel.
 void splitCodes(const std::string& model, const std::string& panorama, int pixels, int spp,
-                const std::function<void(ReflectionScene&)>& edit, MethodSettings ours_settings) {
+                const std::function<void(ReflectionScene&)>& edit, MethodSettings ours_settings,
+                const std::string& truth_file) {
   ReflectionScene scene = khronosScene(model, panorama);
   if (edit) edit(scene);
   ViewOptions view;
@@ -314,11 +315,40 @@ void splitCodes(const std::string& model, const std::string& panorama, int pixel
   });
   const reflect::RenderScene relic_scene(scene.relic, {}), inside_scene(inside, {});
   const Bounds3 box = scene.relic.bounds();
-  const cv::Mat truth = renderView("gt", scene, camera, spp);
+  // truth_file (optional): where the truth of this model, panorama, size and scene edit is kept
+  // between runs, so variants that change ours alone render it once.
+  cv::Mat truth;
+  if (!truth_file.empty()) {
+    truth = cv::Mat(pixels, pixels, CV_32FC3);
+    if (std::FILE* f = std::fopen(truth_file.c_str(), "rb")) {
+      if (std::fread(truth.data, truth.elemSize(), truth.total(), f) != truth.total()) truth = cv::Mat();
+      std::fclose(f);
+    } else {
+      truth = cv::Mat();
+    }
+  }
+  if (truth.empty()) {
+    truth = renderView("gt", scene, camera, spp);
+    if (!truth_file.empty())
+      if (std::FILE* f = std::fopen(truth_file.c_str(), "wb")) {
+        std::fwrite(truth.data, truth.elemSize(), truth.total(), f);
+        std::fclose(f);
+      }
+  }
   ours_settings.with_visitors = false;
   const cv::Mat ours = renderMethod("ours", scene, camera, ours_settings).image;
   const float exposure = reflect::autoExposure(truth);
   const cv::Mat a = reflect::toneMap(ours, exposure), b = reflect::toneMap(truth, exposure);
+  // HOLO_KHRONOS_REFERENCE_SPP=N: a second, independent truth (seed 2) of N spp, against which both
+  // ours and the truth are measured too: what of ours' codes is the truth's own noise.
+  cv::Mat reference;
+  if (const char* reference_spp = std::getenv("HOLO_KHRONOS_REFERENCE_SPP")) {
+    MethodSettings settings;
+    settings.spp = std::atoi(reference_spp);
+    settings.with_visitors = false;
+    settings.seed = 2;
+    reference = reflect::toneMap(renderMethod("gt", scene, camera, settings).image, exposure);
+  }
   if (const char* dump = std::getenv("HOLO_KHRONOS_DUMP")) {
     cv::Mat diff(a.size(), CV_8UC3);
     for (int y = 0; y < a.rows; ++y)
@@ -335,6 +365,7 @@ void splitCodes(const std::string& model, const std::string& panorama, int pixel
   struct Sum {
     int n = 0;
     double abs = 0, signed_codes[3] = {}, ours_lin[3] = {}, truth_lin[3] = {};
+    double ours_to_reference = 0, truth_to_reference = 0;
   };
   std::map<std::string, Sum> sums;
   int total = 0;
@@ -365,17 +396,25 @@ void splitCodes(const std::string& model, const std::string& panorama, int pixel
           s.signed_codes[c] += d;
           s.ours_lin[c] += ours.at<cv::Vec3f>(y, x)[c];
           s.truth_lin[c] += truth.at<cv::Vec3f>(y, x)[c];
+          if (reference.empty()) continue;
+          const double r = reference.at<cv::Vec3b>(y, x)[c];
+          s.ours_to_reference += std::abs(double(a.at<cv::Vec3b>(y, x)[c]) - r) / 3.0;
+          s.truth_to_reference += std::abs(double(b.at<cv::Vec3b>(y, x)[c]) - r) / 3.0;
         }
       }
       ++total;
     }
-  for (const auto& [label, s] : sums)
+  for (const auto& [label, s] : sums) {
+    if (!reference.empty())
+      std::printf("  %-58s against the reference truth: ours %6.2f codes, the truth %6.2f\n", label.c_str(),
+                  s.ours_to_reference / s.n, s.truth_to_reference / s.n);
     std::printf(
         "  %-58s %5d px  %6.2f codes (share of the total %5.2f)  signed RGB %+6.1f %+6.1f %+6.1f  "
         "linear ours %.3f %.3f %.3f truth %.3f %.3f %.3f\n",
         label.c_str(), s.n, s.abs / s.n, s.abs / total, s.signed_codes[2] / s.n, s.signed_codes[1] / s.n,
         s.signed_codes[0] / s.n, s.ours_lin[2] / s.n, s.ours_lin[1] / s.n, s.ours_lin[0] / s.n,
         s.truth_lin[2] / s.n, s.truth_lin[1] / s.n, s.truth_lin[0] / s.n);
+  }
 }
 
 TEST(KhronosSplit, WhereTheCodesAre) {
@@ -432,6 +471,7 @@ TEST(KhronosSplit, WhereTheCodesAre) {
             }
       };
     if (variant == "sky-only-depth-32") settings.tracer.refraction_depth = 32;
+    if (variant == "stride-1") settings.tracer.refraction_stride = 1;
     if (variant == "no-sun-light") settings.tracer.evaluation.sun_light = false;
     if (variant == "no-self-occlusion") settings.tracer.evaluation.self_occlusion = false;
     if (variant == "no-interreflection") settings.tracer.relic_interreflection = false;
@@ -469,7 +509,14 @@ TEST(KhronosSplit, WhereTheCodesAre) {
     if (const char* only = std::getenv("HOLO_KHRONOS_PANORAMA");
         only && panorama.find(only) == std::string::npos)
       continue;
-    splitCodes(model, panorama, pixels, 256, edit, settings);
+    const char* truth_spp = std::getenv("HOLO_KHRONOS_TRUTH_SPP");
+    const int spp = truth_spp ? std::atoi(truth_spp) : 256;
+    std::string truth_file;
+    if (const char* cache = std::getenv("HOLO_KHRONOS_TRUTH_CACHE"))
+      truth_file = std::string(cache) + "/" + model + "-" + panorama.substr(5, 6) + "-" +
+                   std::to_string(pixels) + "-" + std::to_string(spp) +
+                   (edit ? "-" + variant : std::string()) + ".f32";
+    splitCodes(model, panorama, pixels, spp, edit, settings, truth_file);
   }
 }
 

@@ -18,6 +18,7 @@
 #include "holo/reflect/view.hpp"
 #include "internal_depth.hpp"
 #include "reflect_test_scenes.hpp"
+#include "relic_passage.hpp"
 
 namespace holo::reflect {
 namespace {
@@ -770,6 +771,42 @@ TEST(Refraction, ASecondWallReflectsAlongItsOwnMirrorDirection) {
   const float through = (1.0f - r0) * (1.0f - r0) / (1.0f - r0 * r0);
   EXPECT_NEAR(path.resolved.g, through * f45, 0.05f * through * f45);
   EXPECT_EQ(path.events, 4);
+}
+
+// What a reflected ray (a metal foot's mirror ray) sees where it meets glass: the light traced
+// through the glass, what stands inside it shaded as a hit point is. A white Lambert ball sealed
+// in a glass slab, under an even hall of radiance 1: the point facing the slab's face has radiance
+// about its albedo (the hall reaches it through the glass, whose walls reflect into its light
+// about as much as out of it), seen through the slab's face with its transmission 1 - r0, plus its
+// own specular share. A straight passage, as a shadow ray's, stops at the ball: black.
+TEST(Refraction, ARayMeetingGlassSeesWhatStandsInsideIt) {
+  Material glass;
+  glass.base_colour = vec3(1.0f);
+  glass.transmission = 1.0f;
+  glass.roughness = 0.0f;
+  glass.ior = 1.5f;
+  glass.thickness = 0.2f;
+  Model model = slab(0.1f, glass);
+  Model inner = test::sphereModel({vec3(0.8f), 0.0f, 1.0f}, 0.04f);
+  inner.meshes[0].material = 1;
+  model.meshes.push_back(inner.meshes[0]);
+  model.materials.push_back(inner.materials[0]);
+  const RenderScene scene(model, {});
+  const PrefilteredIbl ibl(panorama([](const vec3&) { return vec3(1.0f); }), PrefilterOptions{3, 256, 8});
+  const Ray ray{vec3(0.002f, 0.001f, 1.0f), vec3(0.0f, 0.0f, -1.0f)};  // off the slab's diagonals
+  const RayHit hit = scene.relicOnly().intersect(ray);
+  ASSERT_TRUE(hit.hit());
+  const SurfacePoint surface = resolveSurface(scene, scene.relicOnly(), ray, hit, 0.0f);
+  std::uint64_t rays = 0;
+  const vec3 light = lightThroughGlass(scene, ibl, TracerSettings{}, surface, ray.direction, rays);
+  const float n = 1.5f, r0 = (n - 1.0f) * (n - 1.0f) / ((n + 1.0f) * (n + 1.0f));
+  const float expected = (1.0f - r0) * (0.8f + r0);  // the cube's Lambert light and its specular share
+  EXPECT_NEAR(light.g, expected, 0.1f * expected);
+  EXPECT_GT(rays, 2u);
+  std::uint32_t straight_rays = 0;
+  EXPECT_EQ(
+      luminance(passedThroughRelic(scene, TracerSettings{}, surface.position, ray.direction, straight_rays)),
+      0.0f);
 }
 
 }  // namespace
