@@ -14,6 +14,7 @@
 #include "holo/core/error.hpp"
 #include "holo/core/files.hpp"
 #include "holo/depthfilter/foreground_scale.hpp"
+#include "holo/depthfilter/mask_depth_growth.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
 #include "holo/display/frame_output.hpp"
 #include "holo/eval/depth_recording_evaluation.hpp"
@@ -42,6 +43,7 @@ struct Options {
   int foreground_scale = eval::SimulatedDepthOptions{}.foreground_scale;
   bool fill_mask_edge = eval::SimulatedDepthOptions{}.fill_mask_edge;
   bool fill_on_precursor_surface = eval::SimulatedDepthOptions{}.fill_on_precursor_surface;
+  int mask_growth_steps = eval::SimulatedDepthOptions{}.mask_growth_steps;
   std::string json;
   std::string images;
   std::string recording;
@@ -84,14 +86,19 @@ int run(const Options& o) {
     throw InputError("", "--foreground-scale",
                      "an integer in [1, " + std::to_string(depthfilter::kMaxForegroundScale) + "]",
                      std::to_string(o.foreground_scale));
+  if (o.mask_growth_steps < 0 || o.mask_growth_steps > depthfilter::MaskDepthGrowthConfig::kMaxSteps)
+    throw InputError(
+        "", "--mask-growth-steps",
+        "an integer in [0, " + std::to_string(depthfilter::MaskDepthGrowthConfig::kMaxSteps) + "]",
+        std::to_string(o.mask_growth_steps));
   if (o.levels < 1 || o.levels > max_levels)
     throw InputError("", "--levels", "l_max in [1, " + std::to_string(max_levels) + "]",
                      std::to_string(o.levels));
   const eval::SimulatedDepthEvaluation e = eval::evaluateSimulatedDepth(
       {o.scene, o.visitor_model, o.frames, o.width, o.height, o.learning_frames, o.levels, o.compared_levels,
        !o.images.empty(), o.mask_persistence, o.cross_camera, o.round_trip_check, o.reflection_flicker,
-       o.view_size, o.keep_attached_limbs, o.foreground_scale, o.fill_mask_edge,
-       o.fill_on_precursor_surface});
+       o.view_size, o.keep_attached_limbs, o.foreground_scale, o.fill_mask_edge, o.fill_on_precursor_surface,
+       o.mask_growth_steps});
   std::cout << e.report.dump(2) << "\n";
   std::cerr << eval::depthMetricsTable(e.rows);
   std::cerr << "\n" << e.coverage_table;
@@ -133,6 +140,10 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--fill-on-precursor-surface", o->fill_on_precursor_surface,
                      "Ours fills a hole whose trusted precursor's colour neighbours span two surfaces from "
                      "those on the precursor's (false: it stays a hole)")
+          ->capture_default_str();
+      sub.add_option("--mask-growth-steps", o->mask_growth_steps,
+                     "The mask grows by up to this many pixels into readings whose background depth is "
+                     "unknown and that continue its surface (0: it does not)")
           ->capture_default_str();
       sub.add_option("--cross-camera", o->cross_camera,
                      "The cameras fill each other's holes with their measured depth of the same visitor, "

@@ -2,6 +2,8 @@
 
 #include <string>
 
+#include "holo/depthfilter/mask_depth_growth.hpp"
+
 namespace holo::depthfilter {
 namespace {
 
@@ -43,6 +45,7 @@ TemporalDepthFilterConfig parseDepthFilterConfig(const ConfigNode& section) {
                              "mask_keep_attached_limbs",
                              "mask_background_adopt_frames",
                              "mask_unshrunk_colour_over_unread_background",
+                             "mask_unknown_background_growth_steps",
                              "foreground_scale"});
   TemporalDepthFilterConfig c;
   c.levels = intInRange(section, "levels", c.levels, 1, TemporalDepthFilterConfig::kMaxLevels);
@@ -86,6 +89,9 @@ ForegroundMaskConfig parseForegroundMaskConfig(const ConfigNode& section) {
                                          1, ForegroundMaskConfig::kMaxBackgroundAdoptFrames);
   c.unshrunk_colour_over_unread_background =
       section.get("mask_unshrunk_colour_over_unread_background", c.unshrunk_colour_over_unread_background);
+  c.unknown_background_growth_steps =
+      intInRange(section, "mask_unknown_background_growth_steps", c.unknown_background_growth_steps, 0,
+                 MaskDepthGrowthConfig::kMaxSteps);
   return c;
 }
 

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "holo/core/error.hpp"
+#include "holo/depthfilter/mask_depth_growth.hpp"
 
 namespace holo::depthfilter {
 
@@ -172,6 +173,9 @@ cv::Mat ForegroundMasker::apply(const RgbdFrame& frame) {
     }
     if (config_.close_radius > 0) cv::morphologyEx(roi, roi, cv::MORPH_CLOSE, disc(config_.close_radius));
   }
+  growMaskIntoUnknownBackground(mask, frame.depth, background_depth_,
+                                {config_.unknown_background_growth_steps, margin_m, margin_z2},
+                                growth_scratch_);
   if (!config_.static_foreground.empty()) mask.setTo(255, config_.static_foreground);
 
   // Live update of the background depth where the pixel is background and the depth valid; a

@@ -181,6 +181,7 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
   config.persistence.enabled = o.mask_persistence;
   config.flow.round_trip_check = o.round_trip_check;
   config.mask.keep_attached_limbs = o.keep_attached_limbs;
+  config.mask.unknown_background_growth_steps = o.mask_growth_steps;
   config.foreground_scale = o.foreground_scale;
   config.filter.record_hole_reasons = true;
   config.filter.fill_mask_edge = o.fill_mask_edge;
@@ -283,6 +284,7 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
                    {"levels", o.levels},
                    {"mask_persistence", o.mask_persistence},
                    {"keep_attached_limbs", o.keep_attached_limbs},
+                   {"mask_growth_steps", o.mask_growth_steps},
                    {"foreground_scale", o.foreground_scale},
                    {"cross_camera", o.cross_camera},
                    {"round_trip_check", o.round_trip_check},

@@ -4,11 +4,13 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 
 #include "holo/depthfilter/border_expansion.hpp"
 #include "holo/depthfilter/cross_camera_fill.hpp"
 #include "holo/depthfilter/foreground_mask.hpp"
 #include "holo/depthfilter/foreground_pipeline.hpp"
+#include "holo/depthfilter/mask_depth_growth.hpp"
 #include "holo/depthfilter/mask_persistence.hpp"
 #include "holo/depthfilter/precursor_flow.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
@@ -39,13 +41,34 @@ const std::vector<test::SyntheticFrame>& frames() {
   return sequence;
 }
 
+// Arg: the mask's growth into unknown background on (1, the default) or off (0).
 void BM_Mask(benchmark::State& state) {
-  ForegroundMasker masker;
+  ForegroundMaskConfig config;
+  if (state.range(0) == 0) config.unknown_background_growth_steps = 0;
+  ForegroundMasker masker(config);
   for (int t = 0; t < 4; ++t) masker.learnBackground(frames()[std::size_t(t)].frame);
   std::size_t t = 0;
   for (auto _ : state) benchmark::DoNotOptimize(masker.apply(frames()[t++ % frames().size()].frame));
 }
-BENCHMARK(BM_Mask)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Mask)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
+
+// The mask's growth into readings of unknown background depth at its default steps, in its worst
+// case: no background depth known anywhere, the disc's mask eroded by the steps so that every step
+// grows along the disc's surface. Arg 0: growth off (its floor).
+void BM_MaskDepthGrowth(benchmark::State& state) {
+  MaskDepthGrowthConfig config;
+  config.steps = state.range(0) != 0 ? ForegroundMaskConfig{}.unknown_background_growth_steps : 0;
+  const test::SyntheticFrame& f = frames()[3];
+  const cv::Mat unknown = cv::Mat::zeros(f.frame.depth.size(), CV_32FC1);
+  cv::Mat seed, mask, scratch;
+  cv::erode(f.disc_mask, seed, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(33, 33)));
+  for (auto _ : state) {
+    seed.copyTo(mask);
+    growMaskIntoUnknownBackground(mask, f.frame.depth, unknown, config, scratch);
+    benchmark::DoNotOptimize(mask.data);
+  }
+}
+BENCHMARK(BM_MaskDepthGrowth)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
 
 // Args: DIS preset, downscale (the default is ULTRAFAST on half-size frames).
 void BM_Flow(benchmark::State& state) {

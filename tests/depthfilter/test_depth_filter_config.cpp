@@ -55,9 +55,11 @@ TEST(DepthFilterConfig, CrossCameraFieldsReachTheStepAndOthersKeepTheirDefaults)
 
 TEST(DepthFilterConfig, MaskFieldsReachTheMaskAndOthersKeepTheirDefaults) {
   const ForegroundMaskConfig c = parseForegroundMaskConfig(
-      ConfigNode::parse("depthfilter:\n  mask_open_radius: 2\n  mask_keep_attached_limbs: false\n",
+      ConfigNode::parse("depthfilter:\n  mask_open_radius: 2\n  mask_keep_attached_limbs: false\n"
+                        "  mask_unknown_background_growth_steps: 7\n",
                         "museum.yaml")["depthfilter"]);
   EXPECT_EQ(c.open_radius, 2);
+  EXPECT_EQ(c.unknown_background_growth_steps, 7);
   EXPECT_FALSE(c.keep_attached_limbs);
   EXPECT_EQ(c.close_radius, ForegroundMaskConfig{}.close_radius);
   EXPECT_TRUE(ForegroundMaskConfig{}.keep_attached_limbs);
@@ -101,6 +103,8 @@ TEST(DepthFilterConfig, BadValuesAreRefusedNamingTheFieldAndTheRange) {
       {"  mask_background_adopt_frames: 1001\n", "depthfilter.mask_background_adopt_frames"},
       {"  foreground_scale: 0\n", "depthfilter.foreground_scale"},
       {"  foreground_scale: 3\n", "depthfilter.foreground_scale"},
+      {"  mask_unknown_background_growth_steps: -1\n", "depthfilter.mask_unknown_background_growth_steps"},
+      {"  mask_unknown_background_growth_steps: 17\n", "depthfilter.mask_unknown_background_growth_steps"},
       {"  mask_unshrunk_colour_over_unread_background: 3\n",
        "depthfilter.mask_unshrunk_colour_over_unread_background"},
   };

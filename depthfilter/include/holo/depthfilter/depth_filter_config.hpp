@@ -25,9 +25,12 @@
 //     mask_open_radius: 1                     # px, 0..8 (0: no opening)
 //     mask_close_radius: 2                    # px, 0..8 (0: no closing)
 //     mask_keep_attached_limbs: true          # regions that keep a pixel through the opening return whole
-//     mask_background_adopt_frames: 30        # readings, 1..1000, before an unknown background depth is
-//     learned mask_unshrunk_colour_over_unread_background: true  # colour before the shrink where only the
-//     hall read nothing
+//     mask_background_adopt_frames: 30        # readings, 1..1000, before an unknown background
+//                                             # depth is learned
+//     mask_unshrunk_colour_over_unread_background: true  # colour before the shrink where the
+//                                             # empty hall read nothing
+//     mask_unknown_background_growth_steps: 8  # px, 0..16, the mask grows into readings of
+//                                             # unknown background that continue its surface
 //     foreground_scale: 1                     # 1..2, the foreground at the camera's size / this
 //                                             (foreground_scale.hpp)
 //

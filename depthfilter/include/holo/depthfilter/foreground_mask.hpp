@@ -14,7 +14,8 @@
 // A pixel without a learned background depth adopts a live one only after it has held for
 // background_adopt_frames readings judged background in a row.
 // The result is cleaned by a morphological opening (undone on regions that keep a pixel through
-// it, keep_attached_limbs) and a closing. Output: CV_8UC1, 255 = foreground.
+// it, keep_attached_limbs) and a closing, then grown into readings of unknown background depth
+// that continue its surface (unknown_background_growth_steps). Output: CV_8UC1, 255 = foreground.
 #pragma once
 
 #include <cstdint>
@@ -48,6 +49,10 @@ struct ForegroundMaskConfig {
   // comes back whole: specks still go, thin limbs joined to a body return.
   bool keep_attached_limbs = true;
   int close_radius = 2;  // pixels; closes small gaps inside a visitor
+  // After the clean-up, the mask grows by up to this many pixels into readings whose background
+  // depth is unknown and that continue a touching mask pixel's surface within the depth margin
+  // (mask_depth_growth.hpp). 0: off. 8 by measurement on the halls (docs/depthfilter.md).
+  int unknown_background_growth_steps = 8;
   // MOG2 runs on the colour frame downscaled by this factor (area average) and its labels are
   // scaled back (nearest). Colour decides only where depth is missing, so half resolution costs
   // little there and saves 3/4 of MOG2's time (docs/depthfilter.md, "Speed"). 1 = full size.
@@ -89,6 +94,7 @@ class ForegroundMasker {
   // Scratch of a downscaled colour model: its foreground (255), at full size, shrunk.
   cv::Mat small_colour_foreground_, upsampled_colour_foreground_, colour_foreground_;
   cv::Mat unopened_, region_labels_;  // scratch of keep_attached_limbs
+  cv::Mat growth_scratch_;            // scratch of the growth into unknown background
   std::vector<std::uint8_t> kept_region_;
 };
 

@@ -56,10 +56,14 @@ struct SimulatedDepthOptions {
   // contribution; depthfilter::TemporalDepthFilterConfig).
   bool fill_mask_edge = depthfilter::TemporalDepthFilterConfig{}.fill_mask_edge;
   bool fill_on_precursor_surface = depthfilter::TemporalDepthFilterConfig{}.fill_on_precursor_surface;
+  // The mask's growth into readings of unknown background depth, in pixels (0: its contribution;
+  // depthfilter::ForegroundMaskConfig::unknown_background_growth_steps).
+  int mask_growth_steps = depthfilter::ForegroundMaskConfig{}.unknown_background_growth_steps;
 };
 
 struct SimulatedDepthEvaluation {
-  // scene, frames, learning_frames, levels, mask_persistence, keep_attached_limbs, foreground_scale,
+  // scene, frames, learning_frames, levels, mask_persistence, keep_attached_limbs, mask_growth_steps,
+  // foreground_scale,
   // cross_camera (and the cross-camera step's filled and confirmed pixels per camera frame), cameras, width,
   // height, methods (each method's metrics, the compared l_max among them), bars (the verdicts for ours and
   // the adversary), truth_depth_change_cm2, coverage_breakdown (CoverageBreakdown::toJson).
