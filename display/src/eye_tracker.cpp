@@ -99,23 +99,38 @@ std::array<std::vector<vec3>, kFaceCount> headBandPoints(const depthfilter::Fore
     normals[std::size_t(f)] = faceNormal(f);
     tangents[std::size_t(f)] = vec3(normals[std::size_t(f)].z, 0.0f, -normals[std::size_t(f)].x);
   }
+  // Fixed chunks of the cloud in parallel, each keeping its points in cloud order; the chunks'
+  // bands are joined in chunk order, so every band is the one a single pass gives.
+  constexpr std::size_t kChunk = 8192;
+  const std::size_t chunks = (cloud.points.size() + kChunk - 1) / kChunk;
+  std::vector<std::array<std::vector<vec3>, kFaceCount>> chunk_bands(chunks);
+  std::vector<std::int64_t> chunk_non_finite(chunks, 0);
+  tbb::parallel_for(std::size_t(0), chunks, [&](std::size_t c) {
+    std::array<std::vector<vec3>, kFaceCount>& part = chunk_bands[c];
+    const std::size_t first = c * kChunk, last = std::min(first + kChunk, cloud.points.size());
+    for (std::size_t i = first; i < last; ++i) {
+      const vec3& p = cloud.points[i].position;
+      if (!isFinite(p)) {
+        ++chunk_non_finite[c];
+        continue;
+      }
+      if (p.y < y_lo || p.y > y_hi) continue;
+      const float distance = std::hypot(p.x, p.z);
+      if (distance < settings.min_distance || distance > settings.max_distance) continue;
+      for (std::size_t f = 0; f < part.size(); ++f) {
+        const float along = p.x * normals[f].x + p.z * normals[f].z;
+        const float across = p.x * tangents[f].x + p.z * tangents[f].z;
+        // A head whose top is in the sector is measured whole: its points up to head_radius past
+        // the sector's border come along (inSector picks the tops).
+        if (along > 0.0f && along - std::abs(across) >= -kSqrt2 * settings.head_radius) part[f].push_back(p);
+      }
+    }
+  });
   std::int64_t non_finite = 0;
-  for (const depthfilter::ForegroundPoint& point : cloud.points) {
-    const vec3& p = point.position;
-    if (!isFinite(p)) {
-      ++non_finite;
-      continue;
-    }
-    if (p.y < y_lo || p.y > y_hi) continue;
-    const float distance = std::hypot(p.x, p.z);
-    if (distance < settings.min_distance || distance > settings.max_distance) continue;
-    for (std::size_t f = 0; f < bands.size(); ++f) {
-      const float along = p.x * normals[f].x + p.z * normals[f].z;
-      const float across = p.x * tangents[f].x + p.z * tangents[f].z;
-      // A head whose top is in the sector is measured whole: its points up to head_radius past
-      // the sector's border come along (inSector picks the tops).
-      if (along > 0.0f && along - std::abs(across) >= -kSqrt2 * settings.head_radius) bands[f].push_back(p);
-    }
+  for (std::size_t c = 0; c < chunks; ++c) {
+    non_finite += chunk_non_finite[c];
+    for (std::size_t f = 0; f < bands.size(); ++f)
+      bands[f].insert(bands[f].end(), chunk_bands[c][f].begin(), chunk_bands[c][f].end());
   }
   if (non_finite > 0) stats::add("Display/Eye tracker non-finite points ignored", non_finite);
   return bands;

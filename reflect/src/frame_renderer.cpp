@@ -371,8 +371,14 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
   // Still, for ProgressiveRefinement: what the grid holds is what it held last frame.
   const std::uint64_t foreground =
       result.plan.has(Pass::ProgressiveRefinement) ? foregroundSignature(grid_) : 0;
-  for (std::size_t v = 0; v < views.size(); ++v)
-    result.views.push_back(renderView(result.plan, cameras, views[v], foreground, *caches_[v]));
+  // The views in parallel, each into its own cache and image: a view's passes that run on one
+  // thread (hit point spans, copies, tone mapping) overlap with the other views' work. A view reads
+  // only what this frame built above (the wide lobes' cache is filled lock-free with values that do
+  // not depend on who computes them), so every image is the one a loop over the views gives.
+  result.views.resize(views.size());
+  tbb::parallel_for(std::size_t(0), views.size(), [&](std::size_t v) {
+    result.views[v] = renderView(result.plan, cameras, views[v], foreground, *caches_[v]);
+  });
   if (settings_.exposure <= 0.0f) {
     last_exposure_ = 0.0f;
     for (const ViewImages& view : result.views) last_exposure_ = std::max(last_exposure_, view.exposure);

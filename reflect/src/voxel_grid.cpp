@@ -6,6 +6,9 @@
 #include <limits>
 #include <sstream>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "holo/core/error.hpp"
 
 namespace holo::reflect {
@@ -92,19 +95,31 @@ void VoxelGrid::clear() {
 
 void VoxelGrid::build(const depthfilter::ForegroundCloud& cloud) {
   clear();
+  // Each point's voxel depends on that point alone: found in parallel. The binning after it stays
+  // in cloud order, which decides each voxel's slot and the point it keeps.
+  const std::size_t n = cloud.points.size();
+  point_voxel_.resize(n);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i < r.end(); ++i) {
+                        const vec3& position = cloud.points[i].position;
+                        std::int64_t lin = -1;
+                        if (isFinite(position)) {
+                          const glm::ivec3 v = voxelOf(position);
+                          if (contains(v)) lin = linearIndex(v);
+                        }
+                        point_voxel_[i] = lin;
+                      }
+                    });
   std::int64_t last_lin = -1;
   std::int32_t* last_slot = nullptr;
-  for (const depthfilter::ForegroundPoint& p : cloud.points) {
-    if (!isFinite(p.position)) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::int64_t lin = point_voxel_[i];
+    if (lin < 0) {
       ++dropped_;
       continue;
     }
-    const glm::ivec3 v = voxelOf(p.position);
-    if (!contains(v)) {
-      ++dropped_;
-      continue;
-    }
-    const std::int64_t lin = linearIndex(v);
+    const depthfilter::ForegroundPoint& p = cloud.points[i];
     // A camera's neighbouring pixels mostly land in the voxel of the point before: its slot is
     // kept rather than looked up again in the (cache-missing) voxel array.
     std::int32_t& slot = lin == last_lin ? *last_slot : cell_[std::size_t(lin)];
@@ -112,6 +127,7 @@ void VoxelGrid::build(const depthfilter::ForegroundCloud& cloud) {
     last_slot = &slot;
     const float weight = std::isfinite(p.weight) ? std::clamp(p.weight, 0.0f, 1.0f) : 0.0f;
     if (slot < 0) {
+      const glm::ivec3 v = voxelOf(p.position);
       slot = std::int32_t(samples_.size());
       samples_.push_back({p.radiance, weight, p.camera, p.x, p.y, 1});
       sample_voxel_.push_back(lin);

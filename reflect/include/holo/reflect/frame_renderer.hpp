@@ -21,7 +21,9 @@
 // within static_reuse_distance of the one they were traced from (the result is then rendered from
 // the cached camera). A frame then costs only the foreground: the walk over the cached hit
 // points and the composition of the pixels some foreground reached, written over a copy of the
-// static image. While the view and the foreground stay still, the rough interreflection accumulates
+// static image. The views are rendered in parallel, each into its own slot; a view's images do not
+// depend on the others (the same as rendering it alone). While the view and the foreground stay
+// still, the rough interreflection accumulates
 // one more sample set a frame (ProgressiveRefinement, reflect/src/progressive_accumulation.hpp).
 // With a plinth configured (TracerSettings::plinth) every view shows it under the relic, lit by the
 // hall and shadowed by the relic, with a transmissive relic's caustic on it (caustic_tracer.hpp),

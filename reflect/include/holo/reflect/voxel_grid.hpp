@@ -138,6 +138,7 @@ class VoxelGrid {
   std::vector<std::uint32_t> brick_count_;    // per brick: occupied voxels
   std::vector<std::uint8_t> brick_distance_;  // per brick: see brickDistance
   std::vector<int> distance_scratch_;         // computeBrickDistances' working copy, kept
+  std::vector<std::int64_t> point_voxel_;     // build's linear voxel of each point (-1: dropped), kept
   std::vector<std::uint64_t> bits_;           // occupancy bits, brick-major (see bitIndex)
   std::uint64_t brick_volume_ = 0;            // brick_size^3
   std::vector<VoxelSample> samples_;          // occupied voxels, in first-touch order
