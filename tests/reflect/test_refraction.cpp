@@ -40,6 +40,17 @@ Model glassSphere(float ior, float roughness = 0.0f, float thickness = 0.1f,
   return model;
 }
 
+// Clear smooth glass (white, fully transmissive) of index `ior` and glTF thickness `thickness` (m).
+Material clearGlass(float ior, float thickness) {
+  Material glass;
+  glass.base_colour = vec3(1.0f);
+  glass.transmission = 1.0f;
+  glass.roughness = 0.0f;
+  glass.ior = ior;
+  glass.thickness = thickness;
+  return glass;
+}
+
 // A closed box slab: |x|, |y| <= 1, |z| <= half_thickness, flat faces (no vertex normals).
 Model slab(float half_thickness, const Material& material) {
   TriangleMesh mesh;
@@ -125,12 +136,7 @@ TEST(Refraction, AZeroAttenuationComponentAbsorbsItsChannel) {
   EXPECT_GT(short_way.r, 0.99f);
   EXPECT_EQ(attenuationCoefficient(vec3(0.0f), std::numeric_limits<float>::infinity()), vec3(0.0f));
   // Through a slab 0.1 thick: no blue leaves it, nor is any sent back from inside.
-  Material glass;
-  glass.base_colour = vec3(1.0f);
-  glass.transmission = 1.0f;
-  glass.roughness = 0.0f;
-  glass.ior = 1.5f;
-  glass.thickness = 0.1f;
+  Material glass = clearGlass(1.5f, 0.1f);
   glass.attenuation_colour = vec3(0.5f, 1.0f, 0.0f);
   glass.attenuation_distance = 0.1f;
   const RenderScene scene(slab(0.05f, glass), {});
@@ -191,12 +197,7 @@ TEST(Refraction, SlabAtNormalIncidenceTransmitsTheSeriesOfItsReflections) {
   const CameraModel view = lookAtCamera(vec3(0.0f, 0.0f, 3.0f), vec3(0.0f), 2.0f, 9, 9);
   for (float n : {1.0f, 1.5f, 2.42f, 3.0f}) {
     for (float a : {1.0f, 0.5f}) {
-      Material glass;
-      glass.base_colour = vec3(1.0f);
-      glass.transmission = 1.0f;
-      glass.roughness = 0.0f;
-      glass.ior = n;
-      glass.thickness = 0.1f;
+      Material glass = clearGlass(n, 0.1f);
       if (a < 1.0f) {
         glass.attenuation_colour = vec3(a);
         glass.attenuation_distance = 0.1f;  // the slab's thickness: one crossing attenuates by a
@@ -744,12 +745,7 @@ TEST(Refraction, LightLeavingTheGlassSeesTheHallWithItsParallax) {
 // equations) of the light through the first slab reads the zenith. Sent along the entry's mirror,
 // it would read black.
 TEST(Refraction, ASecondWallReflectsAlongItsOwnMirrorDirection) {
-  Material glass;
-  glass.base_colour = vec3(1.0f);
-  glass.transmission = 1.0f;
-  glass.roughness = 0.0f;
-  glass.ior = 1.5f;
-  glass.thickness = 0.04f;
+  Material glass = clearGlass(1.5f, 0.04f);
   Model model = slab(0.02f, glass);
   const float c = std::sqrt(0.5f);
   for (TriangleMesh mesh : slab(0.02f, glass).meshes) {
@@ -780,12 +776,7 @@ TEST(Refraction, ASecondWallReflectsAlongItsOwnMirrorDirection) {
 // about as much as out of it), seen through the slab's face with its transmission 1 - r0, plus its
 // own specular share. A straight passage, as a shadow ray's, stops at the ball: black.
 TEST(Refraction, ARayMeetingGlassSeesWhatStandsInsideIt) {
-  Material glass;
-  glass.base_colour = vec3(1.0f);
-  glass.transmission = 1.0f;
-  glass.roughness = 0.0f;
-  glass.ior = 1.5f;
-  glass.thickness = 0.2f;
+  Material glass = clearGlass(1.5f, 0.2f);
   Model model = slab(0.1f, glass);
   Model inner = test::sphereModel({vec3(0.8f), 0.0f, 1.0f}, 0.04f);
   inner.meshes[0].material = 1;
