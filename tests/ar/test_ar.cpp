@@ -284,20 +284,27 @@ PlaneScore planeScore(const Scene& s, const cv::Mat& image, const CompositeImage
   return score;
 }
 
+// The scene's truth and camera image, delta path tracing at 4 spp and the two-pass renderer with
+// independent samples at its count of rays, each scored over the plane.
+struct EqualRays {
+  Scene s;
+  cv::Mat real = renderLocalScene(s.local, SceneContent::kReal, s.view, settings({}, 256, 7)).radiance;
+  CompositeImage truth = renderLocalScene(s.local, SceneContent::kMixed, s.view, settings({}, 256, 7));
+  CompositeImage delta =
+      renderComposite(s.local, s.view, real, settings(DifferentialMethod::kDeltaPathTracing, 4, 11));
+  PlaneScore d = planeScore(s, delta.radiance, truth, real);
+  PlaneScore independent =
+      planeScore(s, twoPassAtRays(s, real, DifferentialMethod::kTwoPass, delta.rays), truth, real);
+};
+
 // Xu et al.'s point: where the relic changes nothing, delta path tracing adds exactly nothing,
 // and where it does, its error at the same count of rays is far below two renders' difference.
 TEST(ArComposite, DeltaPathTracingBeatsTwoPassAtEqualRays) {
-  const Scene s;
-  const cv::Mat real = renderLocalScene(s.local, SceneContent::kReal, s.view, settings({}, 256, 7)).radiance;
-  const CompositeImage truth = renderLocalScene(s.local, SceneContent::kMixed, s.view, settings({}, 256, 7));
-  const CompositeImage delta =
-      renderComposite(s.local, s.view, real, settings(DifferentialMethod::kDeltaPathTracing, 4, 11));
-  const PlaneScore d = planeScore(s, delta.radiance, truth, real);
-  const PlaneScore t =
-      planeScore(s, twoPassAtRays(s, real, DifferentialMethod::kTwoPass, delta.rays), truth, real);
-  EXPECT_GT(t.error, 2.0 * d.error) << "two-pass " << t.error << ", delta " << d.error;
-  EXPECT_GT(d.untouched, d.pixels / 3);
-  EXPECT_LT(t.untouched, t.pixels / 10);
+  const EqualRays r;
+  EXPECT_GT(r.independent.error, 2.0 * r.d.error)
+      << "two-pass " << r.independent.error << ", delta " << r.d.error;
+  EXPECT_GT(r.d.untouched, r.d.pixels / 3);
+  EXPECT_LT(r.independent.untouched, r.independent.pixels / 10);
 }
 
 // The two-pass renderer with shared samples (the strongest plain differential renderer): a plane
@@ -306,20 +313,14 @@ TEST(ArComposite, DeltaPathTracingBeatsTwoPassAtEqualRays) {
 // is below 0.3x the two-pass renderer's with independent samples (measured 0.09; still above delta path
 // tracing's, 61 against 51: it traces both whole paths where delta path tracing traces the change).
 TEST(ArComposite, TwoPassWithSharedSamplesCancelsWhereTheRelicDoesNotReach) {
-  const Scene s;
-  const cv::Mat real = renderLocalScene(s.local, SceneContent::kReal, s.view, settings({}, 256, 7)).radiance;
-  const CompositeImage truth = renderLocalScene(s.local, SceneContent::kMixed, s.view, settings({}, 256, 7));
-  const CompositeImage delta =
-      renderComposite(s.local, s.view, real, settings(DifferentialMethod::kDeltaPathTracing, 4, 11));
-  const PlaneScore d = planeScore(s, delta.radiance, truth, real);
-  const PlaneScore independent =
-      planeScore(s, twoPassAtRays(s, real, DifferentialMethod::kTwoPass, delta.rays), truth, real);
-  const PlaneScore shared = planeScore(
-      s, twoPassAtRays(s, real, DifferentialMethod::kTwoPassSharedSamples, delta.rays), truth, real);
-  EXPECT_LT(shared.error, 0.3 * independent.error)
-      << "shared " << shared.error << ", independent " << independent.error;
+  const EqualRays r;
+  const PlaneScore shared =
+      planeScore(r.s, twoPassAtRays(r.s, r.real, DifferentialMethod::kTwoPassSharedSamples, r.delta.rays),
+                 r.truth, r.real);
+  EXPECT_LT(shared.error, 0.3 * r.independent.error)
+      << "shared " << shared.error << ", independent " << r.independent.error;
   EXPECT_GT(shared.untouched, shared.pixels / 3);
-  EXPECT_GT(shared.error, d.error) << "shared " << shared.error << ", delta " << d.error;
+  EXPECT_GT(shared.error, r.d.error) << "shared " << shared.error << ", delta " << r.d.error;
 }
 
 TEST(DepthSurface, IsTheSeenPlaneAndDropsSilhouettesAndFarPoints) {

@@ -77,6 +77,21 @@ CameraModel bowlView(const Bounds3& b, int size) {
   return lookAtCamera(eye, target, framingFovDeg(eye, b), size, size);
 }
 
+// The metal bowl's suspects against the defaults: the lobe's strata at their centres, the second
+// point's mirror ray followed once, and both (the earlier defaults).
+struct MetalBowlSuspects {
+  TracerSettings centres, one_bounce, earlier;
+};
+
+MetalBowlSuspects metalBowlSuspects() {
+  MetalBowlSuspects s;
+  s.centres.evaluation.lobe_strata_jittered = false;
+  s.one_bounce.rough_interreflection_mirror_bounces = 1;
+  s.earlier = s.centres;
+  s.earlier.rough_interreflection_mirror_bounces = 1;
+  return s;
+}
+
 struct RegionError {
   double mean_ours = 0, mean_truth = 0, rmse = 0;  // luminance over the region
   int pixels = 0;
@@ -369,12 +384,7 @@ TEST(SelfOcclusion, RoughLobeVisibilityWeightedByTheLightBringsTheMetalBowlNeare
   // second point's mirror ray followed once (the third point's lobe read as if open): each leaves
   // the inside's mean off the truth at full size (docs/tracer/self_occlusion.md); under this sky
   // the centres mainly add per-pixel error (one mirror bounce is within 4% of the default's).
-  TracerSettings centres;
-  centres.evaluation.lobe_strata_jittered = false;
-  TracerSettings one_bounce;
-  one_bounce.rough_interreflection_mirror_bounces = 1;
-  TracerSettings earlier = centres;
-  earlier.rough_interreflection_mirror_bounces = 1;
+  const auto [centres, one_bounce, earlier] = metalBowlSuspects();
   const RegionError at_centres = regionError(renderOurs(scene, ibl, view, centres).hdr, truth, region);
   const RegionError once = regionError(renderOurs(scene, ibl, view, one_bounce).hdr, truth, region);
   const RegionError both = regionError(renderOurs(scene, ibl, view, earlier).hdr, truth, region);
@@ -567,12 +577,7 @@ TEST(SelfOcclusion, MetalBowlSuspects) {
         "%.4f\n",
         hdri.c_str(), cv::countNonZero(region), mean5 / regionError(truth16, truth5, region).mean_ours, mean1,
         mean2 - mean1, mean5 - mean2);
-    TracerSettings centres;
-    centres.evaluation.lobe_strata_jittered = false;
-    TracerSettings one_bounce;
-    one_bounce.rough_interreflection_mirror_bounces = 1;
-    TracerSettings earlier = centres;
-    earlier.rough_interreflection_mirror_bounces = 1;
+    const auto [centres, one_bounce, earlier] = metalBowlSuspects();
     TracerSettings strata8;
     strata8.rough_interreflection_grid = 8;
     TracerSettings strata2;
