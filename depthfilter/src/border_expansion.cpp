@@ -3,15 +3,12 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "depth_validity.hpp"
 #include "holo/core/error.hpp"
 
 namespace holo::depthfilter {
 
 namespace {
-
-bool validDepth(float d) {
-  return std::isfinite(d) && d > 0.0f;
-}
 
 cv::Mat blurredMask(const cv::Mat& mask, int levels) {
   cv::Mat level(mask.size(), CV_32FC1);

@@ -7,18 +7,13 @@
 #include <opencv2/imgproc.hpp>
 #include <string>
 
+#include "depth_validity.hpp"
 #include "holo/core/error.hpp"
 #include "holo/depthfilter/mask_depth_growth.hpp"
 
 namespace holo::depthfilter {
 
 namespace {
-
-// Positive and finite; written as two comparisons (NaN fails both) so the per-pixel loops
-// vectorise.
-bool validDepth(float d) {
-  return (d > 0.0f) & (d <= std::numeric_limits<float>::max());
-}
 
 // c ? a : b by the bits, so that a loop of such selects has no branch and vectorises (GCC turns
 // a float ?: into a jump there).

@@ -6,17 +6,10 @@
 #include <limits>
 #include <opencv2/imgproc.hpp>
 
+#include "depth_validity.hpp"
 #include "holo/core/error.hpp"
 
 namespace holo::depthfilter {
-
-namespace {
-
-bool validDepth(float d) {
-  return (d > 0.0f) & (d <= std::numeric_limits<float>::max());
-}
-
-}  // namespace
 
 void growMaskIntoUnknownBackground(cv::Mat& mask, const cv::Mat& depth, const cv::Mat& background_depth,
                                    const MaskDepthGrowthConfig& config, cv::Mat& scratch) {
