@@ -49,10 +49,9 @@ TEST(FrameLoop, RendersFramesOfTheSimulatedMuseumWithTheRelicOnThem) {
     EXPECT_EQ(report.non_finite_pixels, 0);
     EXPECT_GT(report.relic_pixels, 0u);
     EXPECT_GT(report.times.total, 0.0);
-    // Each stage's CPU: the thread that ran it spent part of what the whole process did (the
-    // thread's clock is read first at the start, hence the nanoseconds' allowance).
-    for (const StageCpu& cpu : {report.foreground_cpu, report.rendering_cpu, report.presenting_cpu})
-      EXPECT_LE(cpu.loop_thread_ms, cpu.process_ms + 1e-3);
+    // The loop thread's CPU is counted for the stages that do work on it. Not compared with the
+    // process's clock: with a process CPU timer armed (a CPU-time limit, as CI sets) the kernel
+    // updates that clock by ticks, so it can read less than the thread's own.
     EXPECT_GT(report.foreground_cpu.loop_thread_ms, 0.0);
     EXPECT_GT(report.rendering_cpu.loop_thread_ms, 0.0);
   }
