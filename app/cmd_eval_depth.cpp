@@ -43,7 +43,6 @@ struct Options {
   int foreground_scale = eval::SimulatedDepthOptions{}.foreground_scale;
   bool fill_mask_edge = eval::SimulatedDepthOptions{}.fill_mask_edge;
   bool fill_on_precursor_surface = eval::SimulatedDepthOptions{}.fill_on_precursor_surface;
-  bool fill_contradicted_precursor = eval::SimulatedDepthOptions{}.fill_contradicted_precursor;
   int mask_growth_steps = eval::SimulatedDepthOptions{}.mask_growth_steps;
   std::string json;
   std::string images;
@@ -95,12 +94,11 @@ int run(const Options& o) {
   if (o.levels < 1 || o.levels > max_levels)
     throw InputError("", "--levels", "l_max in [1, " + std::to_string(max_levels) + "]",
                      std::to_string(o.levels));
-  const eval::SimulatedDepthOptions options(
-      o.scene, o.visitor_model, o.frames, o.width, o.height, o.learning_frames, o.levels, o.compared_levels,
-      !o.images.empty(), o.mask_persistence, o.cross_camera, o.round_trip_check, o.reflection_flicker,
-      o.view_size, o.keep_attached_limbs, o.foreground_scale, o.fill_mask_edge, o.fill_on_precursor_surface,
-      o.mask_growth_steps, o.fill_contradicted_precursor);
-  const eval::SimulatedDepthEvaluation e = eval::evaluateSimulatedDepth(options);
+  const eval::SimulatedDepthEvaluation e = eval::evaluateSimulatedDepth(
+      {o.scene, o.visitor_model, o.frames, o.width, o.height, o.learning_frames, o.levels, o.compared_levels,
+       !o.images.empty(), o.mask_persistence, o.cross_camera, o.round_trip_check, o.reflection_flicker,
+       o.view_size, o.keep_attached_limbs, o.foreground_scale, o.fill_mask_edge, o.fill_on_precursor_surface,
+       o.mask_growth_steps});
   std::cout << e.report.dump(2) << "\n";
   std::cerr << eval::depthMetricsTable(e.rows);
   std::cerr << "\n" << e.coverage_table;
@@ -142,10 +140,6 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--fill-on-precursor-surface", o->fill_on_precursor_surface,
                      "Ours fills a hole whose trusted precursor's colour neighbours span two surfaces from "
                      "those on the precursor's (false: it stays a hole)")
-          ->capture_default_str();
-      sub.add_option("--fill-contradicted-precursor", o->fill_contradicted_precursor,
-                     "Ours fills a hole whose trusted precursor the neighbours of its colour contradict as "
-                     "one without a precursor (false: it stays a hole)")
           ->capture_default_str();
       sub.add_option("--mask-growth-steps", o->mask_growth_steps,
                      "The mask grows by up to this many pixels into readings whose background depth is "

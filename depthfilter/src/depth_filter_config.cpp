@@ -28,7 +28,6 @@ TemporalDepthFilterConfig parseDepthFilterConfig(const ConfigNode& section) {
                              "edge_radius",
                              "fill_trust_frames",
                              "fill_on_precursor_surface",
-                             "fill_contradicted_precursor",
                              "fill_mask_edge",
                              "fill_radius",
                              "fill_colour_max",
@@ -60,7 +59,6 @@ TemporalDepthFilterConfig parseDepthFilterConfig(const ConfigNode& section) {
   c.fill_trust_frames = intInRange(section, "fill_trust_frames", c.fill_trust_frames, 0, 254);
   c.fill_on_precursor_surface = section.get("fill_on_precursor_surface", c.fill_on_precursor_surface);
   c.fill_mask_edge = section.get("fill_mask_edge", c.fill_mask_edge);
-  c.fill_contradicted_precursor = section.get("fill_contradicted_precursor", c.fill_contradicted_precursor);
   c.fill_radius =
       intInRange(section, "fill_radius", c.fill_radius, 0, TemporalDepthFilterConfig::kMaxFillRadius);
   c.fill_colour_max = section.getInRange("fill_colour_max", c.fill_colour_max, 0.0f, 765.0f);

@@ -632,59 +632,48 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
         float fill = 0.0f;
         bool used_push = false;
         HoleReason declined = HoleReason::None;
-        bool precursor_used = trusted;
         if (trusted) {
           // Its surface, from the neighbours of its colour on it. The push's fill is not used
           // here: agreeing with the precursor within T(z) still let it pick the wrong one of two
           // surfaces of one colour near a moving edge (docs/depthfilter.md, "Pull-push").
           fill = guidedHoleFill(measured, filtered, in.colour, x, y, pre, false, config_, declined);
-          // Neighbours of its colour off the precursor's surface contradict the precursor: it
-          // may show what the hole no longer shows (a limb that moved away). The hole is then
-          // judged as one without a precursor, by the rules below.
-          precursor_used = fill > 0.0f || declined != HoleReason::TrustedOtherSurface ||
-                           !config_.fill_contradicted_precursor;
-        }
-        if (!precursor_used) {
-          if (inside[x] == 0 && !config_.fill_mask_edge) {
-            declined = HoleReason::MaskEdge;
-          } else if (nearDepthEdge(measured, x, y, config_)) {
-            declined = HoleReason::DepthEdge;
-          } else if (inside[x] == 0) {
-            // At the mask's edge: only from the measured neighbours of its colour, all on one
-            // surface; they lie inside the mask, on the visitor's side of the edge. Never the
-            // push's fill, whose coarse levels average the body's interior into the edge.
-            fill = guidedHoleFill(measured, filtered, in.colour, x, y, 0.0f, true, config_, declined);
-            if (fill <= 0.0f) declined = HoleReason::MaskEdge;
-          } else {
-            // Inside a surface: the neighbours with the hole's colour within fill_radius, else the
-            // push's fill where the measured pixels it comes from have the hole's colour (the
-            // pyramid reaches holes wider than fill_radius).
-            fill = guidedHoleFill(measured, filtered, in.colour, x, y, 0.0f, false, config_, declined);
-            if (fill <= 0.0f) {
-              if (!pushed.valid()) {
-                declined = pushed.push_declined ? HoleReason::PushDisagrees : HoleReason::PushOutOfReach;
-              } else if (colourDistance(in.colour.ptr<cv::Vec3b>(y)[x], pushed.colour) >
-                         config_.fill_colour_max + config_.fill_colour_margin) {
-                declined = HoleReason::PushOtherColour;
-              } else {
-                fill = pushed.depth;
-                used_push = true;
-              }
+        } else if (inside[x] == 0 && !config_.fill_mask_edge) {
+          declined = HoleReason::MaskEdge;
+        } else if (nearDepthEdge(measured, x, y, config_)) {
+          declined = HoleReason::DepthEdge;
+        } else if (inside[x] == 0) {
+          // At the mask's edge: only from the measured neighbours of its colour, all on one
+          // surface; they lie inside the mask, on the visitor's side of the edge. Never the
+          // push's fill, whose coarse levels average the body's interior into the edge.
+          fill = guidedHoleFill(measured, filtered, in.colour, x, y, 0.0f, true, config_, declined);
+          if (fill <= 0.0f) declined = HoleReason::MaskEdge;
+        } else {
+          // Inside a surface: the neighbours with the hole's colour within fill_radius, else the
+          // push's fill where the measured pixels it comes from have the hole's colour (the
+          // pyramid reaches holes wider than fill_radius).
+          fill = guidedHoleFill(measured, filtered, in.colour, x, y, 0.0f, false, config_, declined);
+          if (fill <= 0.0f) {
+            if (!pushed.valid()) {
+              declined = pushed.push_declined ? HoleReason::PushDisagrees : HoleReason::PushOutOfReach;
+            } else if (colourDistance(in.colour.ptr<cv::Vec3b>(y)[x], pushed.colour) >
+                       config_.fill_colour_max + config_.fill_colour_margin) {
+              declined = HoleReason::PushOtherColour;
+            } else {
+              fill = pushed.depth;
+              used_push = true;
             }
           }
         }
         // Without a recent measurement of its own, nothing says which surface a hole between
         // two surfaces shows (the trusted precursor does: an edge dropout measured a frame ago).
-        if (fill > 0.0f && !precursor_used && betweenSurfaces(measured, in.mask, x, y, config_)) {
+        if (fill > 0.0f && !trusted && betweenSurfaces(measured, in.mask, x, y, config_)) {
           fill = 0.0f;
           declined = HoleReason::BetweenSurfaces;
         }
         if (reasons != nullptr && fill <= 0.0f) reasons->ptr<std::uint8_t>(y)[x] = std::uint8_t(declined);
         if (fill > 0.0f) {
           out[x] = fill;
-          // A fill the precursor did not confirm is not trusted as a precursor in the next frame.
-          out_age[x] = used_push || (trusted && !precursor_used) ? std::uint8_t(config_.fill_trust_frames)
-                                                                 : olderBy1(pre_age_row[x]);
+          out_age[x] = used_push ? std::uint8_t(config_.fill_trust_frames) : olderBy1(pre_age_row[x]);
         }
       }
     }

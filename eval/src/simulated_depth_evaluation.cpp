@@ -186,7 +186,6 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
   config.filter.record_hole_reasons = true;
   config.filter.fill_mask_edge = o.fill_mask_edge;
   config.filter.fill_on_precursor_surface = o.fill_on_precursor_surface;
-  config.filter.fill_contradicted_precursor = o.fill_contradicted_precursor;
   for (int levels : o.compared_levels) {
     depthfilter::TemporalDepthFilterConfig variant = config.filter;
     variant.levels = levels;

@@ -36,12 +36,10 @@ TEST(DepthFilterConfig, FieldsReachTheFilterAndOthersKeepTheirDefaults) {
   EXPECT_EQ(TemporalDepthFilter(c).config().levels, 5);
   EXPECT_TRUE(defaults.fill_mask_edge);
   EXPECT_FALSE(defaults.fill_on_precursor_surface);
-  EXPECT_TRUE(defaults.fill_contradicted_precursor);
-  const TemporalDepthFilterConfig flipped = parsed(
-      "  fill_mask_edge: false\n  fill_on_precursor_surface: true\n  fill_contradicted_precursor: false\n");
+  const TemporalDepthFilterConfig flipped =
+      parsed("  fill_mask_edge: false\n  fill_on_precursor_surface: true\n");
   EXPECT_FALSE(flipped.fill_mask_edge);
   EXPECT_TRUE(flipped.fill_on_precursor_surface);
-  EXPECT_FALSE(flipped.fill_contradicted_precursor);
   EXPECT_EQ(flipped.levels, defaults.levels);
 }
 
@@ -101,7 +99,6 @@ TEST(DepthFilterConfig, BadValuesAreRefusedNamingTheFieldAndTheRange) {
       {"  mask_keep_attached_limbs: 2\n", "depthfilter.mask_keep_attached_limbs"},
       {"  fill_mask_edge: sometimes\n", "depthfilter.fill_mask_edge"},
       {"  fill_on_precursor_surface: 2\n", "depthfilter.fill_on_precursor_surface"},
-      {"  fill_contradicted_precursor: often\n", "depthfilter.fill_contradicted_precursor"},
       {"  mask_background_adopt_frames: 0\n", "depthfilter.mask_background_adopt_frames"},
       {"  mask_background_adopt_frames: 1001\n", "depthfilter.mask_background_adopt_frames"},
       {"  foreground_scale: 0\n", "depthfilter.foreground_scale"},

@@ -81,11 +81,6 @@ struct TemporalDepthFilterConfig {
   // farther than T(z) from the truth and they flicker (docs/depthfilter.md "Holes at the mask's
   // edge and the precursor's surface").
   bool fill_on_precursor_surface = false;
-  // A hole with a trusted precursor whose neighbours of its colour are not all on the
-  // precursor's surface (and that fill_on_precursor_surface does not fill) is judged as a hole
-  // without a trusted precursor: filled, away from depth edges and gaps between surfaces, from
-  // the neighbours of its colour on one surface or the push (false: it stays a hole).
-  bool fill_contradicted_precursor = true;
   // A hole within edge_radius of the mask's edge without a trusted precursor, away from depth
   // edges, takes the farthest of its measured neighbours of its colour when they all lie on one
   // surface (the surface turns away there), never the push's fill (false: it stays a hole).

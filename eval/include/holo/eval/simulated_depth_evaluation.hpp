@@ -59,9 +59,6 @@ struct SimulatedDepthOptions {
   // The mask's growth into readings of unknown background depth, in pixels (0: its contribution;
   // depthfilter::ForegroundMaskConfig::unknown_background_growth_steps).
   int mask_growth_steps = depthfilter::ForegroundMaskConfig{}.unknown_background_growth_steps;
-  // Ours' fill of holes whose trusted precursor is contradicted (false: its contribution;
-  // depthfilter::TemporalDepthFilterConfig::fill_contradicted_precursor).
-  bool fill_contradicted_precursor = depthfilter::TemporalDepthFilterConfig{}.fill_contradicted_precursor;
 };
 
 struct SimulatedDepthEvaluation {
