@@ -337,9 +337,11 @@ void pull(const Level& child, const cv::Rect& child_rect, Level& parent, const c
 // between parents instead of copying the one above keeps a fill from jumping by a block's depth
 // gradient when the block grid slides over a moving body (the flicker of the blocky push). A
 // present pair is blended with its own parent by reliabilities when both lie on one surface.
-// Only the children in `child_rect`; parents outside `parent_rect` count as missing.
+// Only the children in `child_rect`; parents outside `parent_rect` count as missing. With a
+// `needed` mask (CV_8UC1 of the child's size), only the children it marks are pushed; the others
+// are left as they were.
 void push(const Level& parent, const cv::Rect& parent_rect, Level& child, const cv::Rect& child_rect,
-          const TemporalDepthFilterConfig& config) {
+          const TemporalDepthFilterConfig& config, const cv::Mat* needed = nullptr) {
   const auto parentAt = [&](int px, int py) -> const Pair* {
     if (px < parent_rect.x || py < parent_rect.y || px >= parent_rect.x + parent_rect.width ||
         py >= parent_rect.y + parent_rect.height)
@@ -350,7 +352,9 @@ void push(const Level& parent, const cv::Rect& parent_rect, Level& child, const 
     // The two parent rows nearest to the child's centre and the weight of the second.
     const int py0 = (y - 1) >> 1;
     const float ty = (y & 1) == 0 ? 0.75f : 0.25f;
+    const std::uint8_t* needed_row = needed != nullptr ? needed->ptr<std::uint8_t>(y) : nullptr;
     for (int x = child_rect.x; x < child_rect.x + child_rect.width; ++x) {
+      if (needed_row != nullptr && needed_row[x] == 0) continue;
       Pair& c = child.at(x, y);
       if (c.valid()) {
         const Pair* p = parentAt(x / 2, y / 2);
@@ -596,7 +600,10 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
       pull(pyramid[top], child_rect, parent, rects.back(), config_);
       ++top;
     }
-    for (std::size_t l = top; l > 0; --l) push(pyramid[l], rects[l], pyramid[l - 1], rects[l - 1], config_);
+    // The base level is read only on the mask (the final pass below and the hole fill's
+    // measured neighbours), so only its pixels are pushed there.
+    for (std::size_t l = top; l > 0; --l)
+      push(pyramid[l], rects[l], pyramid[l - 1], rects[l - 1], config_, l == 1 ? &in.mask : nullptr);
     const Level& filtered = pyramid.front();
     cv::Mat* reasons = config_.record_hole_reasons ? &scratch.hole_reasons : nullptr;
     // Pixels farther than edge_radius inside the mask: a hole there lies within the measured
