@@ -1,5 +1,6 @@
 #include "holo/depthfilter/border_expansion.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
@@ -10,18 +11,45 @@ namespace holo::depthfilter {
 
 namespace {
 
-cv::Mat blurredMask(const cv::Mat& mask, int levels) {
-  cv::Mat level(mask.size(), CV_32FC1);
-  for (int y = 0; y < mask.rows; ++y) {
-    const std::uint8_t* __restrict m = mask.ptr<std::uint8_t>(y);
+// The mask as 0/1 floats over `region` (a fresh image, so that the pyramid reflects its own
+// border, not the frame's pixels beyond it).
+cv::Mat maskLevel(const cv::Mat& mask, const cv::Rect& region) {
+  cv::Mat level(region.size(), CV_32FC1);
+  for (int y = 0; y < region.height; ++y) {
+    const std::uint8_t* __restrict m = mask.ptr<std::uint8_t>(y + region.y) + region.x;
     float* __restrict l = level.ptr<float>(y);
     // Any non-zero value is foreground; a converted bool rather than ?: keeps the loop vectorised.
-    for (int x = 0; x < mask.cols; ++x) l[x] = float(m[x] != 0);
+    for (int x = 0; x < region.width; ++x) l[x] = float(m[x] != 0);
   }
+  return level;
+}
+
+cv::Mat pyramidTopAtSize(cv::Mat level, int levels, const cv::Size& size) {
   for (int l = 0; l < levels && level.cols > 1 && level.rows > 1; ++l) cv::pyrDown(level, level);
   cv::Mat full;
-  cv::resize(level, full, mask.size(), 0, 0, cv::INTER_LINEAR);
+  cv::resize(level, full, size, 0, 0, cv::INTER_LINEAR);
   return full;
+}
+
+// The blurred mask (the top of a `levels`-deep Gaussian pyramid of the mask brought back to the
+// frame's size) over `needed`, which holds the mask's bounding box `box`. Where the frame's sides
+// are multiples of the pyramid's cell (2^levels px), only a cell-aligned region around `needed` is
+// blurred: the blur spreads the mask less than 3 cells, so the region's border, 6 cells or more
+// from the box, lies where the whole frame's pyramid is 0, and what the region's own border
+// reflection reads there is 0 too; the resize by exactly the cell maps each pixel to the same
+// coarse pixels and weights. The values are the whole frame's, bit for bit.
+cv::Mat blurredMask(const cv::Mat& mask, int levels, const cv::Rect& box, const cv::Rect& needed) {
+  const cv::Rect frame(0, 0, mask.cols, mask.rows);
+  const int cell = 1 << std::min(levels, 10);
+  if (mask.cols % cell != 0 || mask.rows % cell != 0)
+    return pyramidTopAtSize(maskLevel(mask, frame), levels, mask.size())(needed).clone();
+  const int margin = 6 * cell;
+  const int x0 = std::max(0, std::min(needed.x, box.x - margin) / cell * cell);
+  const int y0 = std::max(0, std::min(needed.y, box.y - margin) / cell * cell);
+  const int x1 = std::min(mask.cols, (std::max(needed.br().x, box.br().x + margin) + cell - 1) / cell * cell);
+  const int y1 = std::min(mask.rows, (std::max(needed.br().y, box.br().y + margin) + cell - 1) / cell * cell);
+  const cv::Rect region(x0, y0, x1 - x0, y1 - y0);
+  return pyramidTopAtSize(maskLevel(mask, region), levels, region.size())(needed - region.tl());
 }
 
 // Mean filtered depth over foreground pixels that touch the background (4-neighbourhood).
@@ -89,7 +117,7 @@ BorderLayer expandBorder(const cv::Mat& mask, const cv::Mat& depth, const Border
   }
   if (source_count == 0) return layer;
 
-  const cv::Mat blurred = blurredMask(mask, config.levels);
+  const cv::Mat blurred = blurredMask(mask, config.levels, cv::boundingRect(mask), roi);
   float mean_edge = 0.0f;
   cv::Mat nearest_labels;
   std::vector<cv::Point> label_pixel;
@@ -113,7 +141,7 @@ BorderLayer expandBorder(const cv::Mat& mask, const cv::Mat& depth, const Border
 
   for (int y = 0; y < roi.height; ++y) {
     const std::uint8_t* m = mask_roi.ptr<std::uint8_t>(y);
-    const float* weight = blurred.ptr<float>(y + roi.y) + roi.x;
+    const float* weight = blurred.ptr<float>(y);
     float* out_weight = layer.weight.ptr<float>(y + roi.y) + roi.x;
     float* out_depth = layer.depth.ptr<float>(y + roi.y) + roi.x;
     for (int x = 0; x < roi.width; ++x) {

@@ -278,33 +278,40 @@ float pullWeight(float confidence) {
 // count as missing (they lie outside the work box).
 void pull(const Level& child, const cv::Rect& child_rect, Level& parent, const cv::Rect& parent_rect,
           const TemporalDepthFilterConfig& config) {
+  const int child_x_end = child_rect.x + child_rect.width, child_y_end = child_rect.y + child_rect.height;
   for (int y = parent_rect.y; y < parent_rect.y + parent_rect.height; ++y) {
+    // The two child rows of the parent row (null outside child_rect).
+    const Pair* rows[2];
+    for (int dy = 0; dy < 2; ++dy) {
+      const int cy = 2 * y + dy;
+      rows[dy] = cy >= child_rect.y && cy < child_y_end
+                     ? &child.pairs[std::size_t(cy) * std::size_t(child.width)]
+                     : nullptr;
+    }
+    Pair* parent_row = &parent.pairs[std::size_t(y) * std::size_t(parent.width)];
     for (int x = parent_rect.x; x < parent_rect.x + parent_rect.width; ++x) {
-      Pair block[4];
+      const Pair* block[4];
       int n = 0;
       bool child_straddles = false;
-      for (int dy = 0; dy < 2; ++dy)
-        for (int dx = 0; dx < 2; ++dx) {
-          const int cx = 2 * x + dx, cy = 2 * y + dy;
-          if (cx < child_rect.x || cy < child_rect.y || cx >= child_rect.x + child_rect.width ||
-              cy >= child_rect.y + child_rect.height)
-            continue;
-          const Pair& p = child.pairs[std::size_t(cy) * std::size_t(child.width) + std::size_t(cx)];
-          if (!p.valid()) continue;
-          block[n++] = p;
-          child_straddles = child_straddles || p.straddles_edge;
+      for (const Pair* row : rows) {
+        if (row == nullptr) continue;
+        for (int cx = 2 * x; cx < 2 * x + 2; ++cx) {
+          if (cx < child_rect.x || cx >= child_x_end || !row[cx].valid()) continue;
+          block[n++] = &row[cx];
+          child_straddles = child_straddles || row[cx].straddles_edge;
         }
+      }
       Pair out;
       if (n > 0) {
         float surface = 0.0f, best_support = -1.0f;
         for (int k = 0; k < n; ++k) {
-          const float tolerance = config.surfaceTolerance(block[k].depth);
+          const float tolerance = config.surfaceTolerance(block[k]->depth);
           float support = 0.0f;
           for (int j = 0; j < n; ++j)
-            if (std::abs(block[j].depth - block[k].depth) <= tolerance) support += block[j].weight;
-          if (support > best_support || (support == best_support && block[k].depth < surface)) {
+            if (std::abs(block[j]->depth - block[k]->depth) <= tolerance) support += block[j]->weight;
+          if (support > best_support || (support == best_support && block[k]->depth < surface)) {
             best_support = support;
-            surface = block[k].depth;
+            surface = block[k]->depth;
           }
         }
         const float tolerance = config.surfaceTolerance(surface);
@@ -312,19 +319,20 @@ void pull(const Level& child, const cv::Rect& child_rect, Level& parent, const c
         cv::Vec3f sum_colour{};
         bool other_surface = false;
         for (int k = 0; k < n; ++k) {
-          if (std::abs(block[k].depth - surface) > tolerance) {
+          const Pair& p = *block[k];
+          if (std::abs(p.depth - surface) > tolerance) {
             other_surface = true;
             continue;
           }
-          sum_w += block[k].weight;
-          sum_d += block[k].weight * block[k].depth;
-          sum_c += block[k].weight * block[k].confidence;
-          sum_colour += block[k].weight * block[k].colour;
+          sum_w += p.weight;
+          sum_d += p.weight * p.depth;
+          sum_c += p.weight * p.confidence;
+          sum_colour += p.weight * p.colour;
         }
         out = {sum_d / sum_w, sum_c / sum_w,     sum_w, child_straddles || other_surface,
                false,         sum_colour / sum_w};
       }
-      parent.at(x, y) = out;
+      parent_row[x] = out;
     }
   }
 }
@@ -337,9 +345,11 @@ void pull(const Level& child, const cv::Rect& child_rect, Level& parent, const c
 // between parents instead of copying the one above keeps a fill from jumping by a block's depth
 // gradient when the block grid slides over a moving body (the flicker of the blocky push). A
 // present pair is blended with its own parent by reliabilities when both lie on one surface.
-// Only the children in `child_rect`; parents outside `parent_rect` count as missing.
+// Only the children in `child_rect`; parents outside `parent_rect` count as missing. With a
+// `needed` mask (CV_8UC1 of the child's size), only the children it marks are pushed; the others
+// are left as they were.
 void push(const Level& parent, const cv::Rect& parent_rect, Level& child, const cv::Rect& child_rect,
-          const TemporalDepthFilterConfig& config) {
+          const TemporalDepthFilterConfig& config, const cv::Mat* needed = nullptr) {
   const auto parentAt = [&](int px, int py) -> const Pair* {
     if (px < parent_rect.x || py < parent_rect.y || px >= parent_rect.x + parent_rect.width ||
         py >= parent_rect.y + parent_rect.height)
@@ -350,7 +360,9 @@ void push(const Level& parent, const cv::Rect& parent_rect, Level& child, const 
     // The two parent rows nearest to the child's centre and the weight of the second.
     const int py0 = (y - 1) >> 1;
     const float ty = (y & 1) == 0 ? 0.75f : 0.25f;
+    const std::uint8_t* needed_row = needed != nullptr ? needed->ptr<std::uint8_t>(y) : nullptr;
     for (int x = child_rect.x; x < child_rect.x + child_rect.width; ++x) {
+      if (needed_row != nullptr && needed_row[x] == 0) continue;
       Pair& c = child.at(x, y);
       if (c.valid()) {
         const Pair* p = parentAt(x / 2, y / 2);
@@ -596,7 +608,10 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
       pull(pyramid[top], child_rect, parent, rects.back(), config_);
       ++top;
     }
-    for (std::size_t l = top; l > 0; --l) push(pyramid[l], rects[l], pyramid[l - 1], rects[l - 1], config_);
+    // The base level is read only on the mask (the final pass below and the hole fill's
+    // measured neighbours), so only its pixels are pushed there.
+    for (std::size_t l = top; l > 0; --l)
+      push(pyramid[l], rects[l], pyramid[l - 1], rects[l - 1], config_, l == 1 ? &in.mask : nullptr);
     const Level& filtered = pyramid.front();
     cv::Mat* reasons = config_.record_hole_reasons ? &scratch.hole_reasons : nullptr;
     // Pixels farther than edge_radius inside the mask: a hole there lies within the measured

@@ -90,38 +90,43 @@ TEST(BorderExpansion, DegenerateMasksGiveNoBorder) {
 // expandBorder works only on the mask's bounding box grown by the blur's reach. Against the
 // definition computed over the whole frame (blurred mask from the Gaussian pyramid, weight in
 // (0,1) outside the mask, depth of the nearest foreground pixel with a depth by brute force):
-// same border pixels and weights everywhere, for a mask in the middle and one at a corner. Every
-// border and mask pixel lies in borderBox (the back-projection reads only that).
+// same border pixels and weights, bit for bit, everywhere, for a mask in the middle and ones at
+// corners, on a frame whose sides are multiples of the pyramid's cell (the blur then works on a
+// region around the mask) and on one whose sides are not. Every border and mask pixel lies in
+// borderBox (the back-projection reads only that).
 TEST(BorderExpansion, WorkingOnTheMasksNeighbourhoodMissesNoBorderPixel) {
   EXPECT_TRUE(borderBox(cv::Mat::zeros(120, 200, CV_8UC1), {}).empty());
-  for (const cv::Rect blob : {cv::Rect(90, 60, 30, 40), cv::Rect(0, 0, 12, 9)}) {
-    cv::Mat mask = cv::Mat::zeros(120, 200, CV_8UC1), depth = cv::Mat::zeros(120, 200, CV_32FC1);
-    mask(blob).setTo(255);
-    depth(blob).setTo(1.5f);
-    const BorderExpansionConfig config;
-    const BorderLayer layer = expandBorder(mask, depth, config);
-    const cv::Rect box = borderBox(mask, config);
-    cv::Mat level;
-    mask.convertTo(level, CV_32FC1, 1.0 / 255.0);
-    for (int l = 0; l < config.levels; ++l) cv::pyrDown(level, level);
-    cv::Mat blurred;
-    cv::resize(level, blurred, mask.size(), 0, 0, cv::INTER_LINEAR);
-    long border = 0;
-    for (int y = 0; y < mask.rows; ++y)
-      for (int x = 0; x < mask.cols; ++x) {
-        const float w = blurred.at<float>(y, x);
-        const bool expected = mask.at<std::uint8_t>(y, x) == 0 && w >= config.min_weight && w < 1.0f;
-        border += expected;
-        if (expected || mask.at<std::uint8_t>(y, x) != 0) {
-          ASSERT_TRUE(box.contains({x, y})) << x << "," << y;
+  for (const cv::Size frame : {cv::Size(200, 120), cv::Size(203, 121)})
+    for (const cv::Rect blob :
+         {cv::Rect(90, 60, 30, 40), cv::Rect(0, 0, 12, 9),
+          cv::Rect(frame.width - 20, frame.height - 13, 20, 13), cv::Rect(37, 3, 5, 70)}) {
+      cv::Mat mask = cv::Mat::zeros(frame, CV_8UC1), depth = cv::Mat::zeros(frame, CV_32FC1);
+      mask(blob).setTo(255);
+      depth(blob).setTo(1.5f);
+      const BorderExpansionConfig config;
+      const BorderLayer layer = expandBorder(mask, depth, config);
+      const cv::Rect box = borderBox(mask, config);
+      cv::Mat level;
+      mask.convertTo(level, CV_32FC1, 1.0 / 255.0);
+      for (int l = 0; l < config.levels; ++l) cv::pyrDown(level, level);
+      cv::Mat blurred;
+      cv::resize(level, blurred, mask.size(), 0, 0, cv::INTER_LINEAR);
+      long border = 0;
+      for (int y = 0; y < mask.rows; ++y)
+        for (int x = 0; x < mask.cols; ++x) {
+          const float w = blurred.at<float>(y, x);
+          const bool expected = mask.at<std::uint8_t>(y, x) == 0 && w >= config.min_weight && w < 1.0f;
+          border += expected;
+          if (expected || mask.at<std::uint8_t>(y, x) != 0) {
+            ASSERT_TRUE(box.contains({x, y})) << x << "," << y;
+          }
+          ASSERT_EQ(layer.weight.at<float>(y, x) > 0.0f, expected) << x << "," << y;
+          if (!expected) continue;
+          EXPECT_EQ(layer.weight.at<float>(y, x), w);
+          EXPECT_FLOAT_EQ(layer.depth.at<float>(y, x), 1.5f);
         }
-        ASSERT_EQ(layer.weight.at<float>(y, x) > 0.0f, expected) << x << "," << y;
-        if (!expected) continue;
-        EXPECT_FLOAT_EQ(layer.weight.at<float>(y, x), w);
-        EXPECT_FLOAT_EQ(layer.depth.at<float>(y, x), 1.5f);
-      }
-    EXPECT_GT(border, 2L * (blob.width + blob.height));  // a ring, not a line
-  }
+      EXPECT_GT(border, 2L * (blob.width + blob.height));  // a ring, not a line
+    }
 }
 
 }  // namespace
