@@ -219,9 +219,11 @@ FrameBenchRun::FrameBenchRun(FrameBenchOptions options) : options_(std::move(opt
 FrameBenchRun::~FrameBenchRun() = default;
 
 void FrameBenchRun::measureFrame() {
-  // Overlapped, the worker computing this frame's foreground ran since the last frame's end; else
-  // nothing of the frame runs before step() (and another run's frames may have run since).
-  const double cpu_before = options_.loop.overlap ? cpu_after_last_ : processCpuMs();
+  // Overlapped, live or simulating its cameras during the run, the frame's work (the worker's
+  // foreground, the capture threads) went on since the last frame's end; else nothing of it runs
+  // before step(), and another run's frames may have run since.
+  const bool works_between_frames = options_.loop.overlap || options_.loop.live || !options_.preload;
+  const double cpu_before = works_between_frames ? cpu_after_last_ : processCpuMs();
   const double thread_cpu_before = threadCpuMs();
   result_.reports.push_back(loop_->step());
   result_.loop_thread_cpu_ms.push_back(threadCpuMs() - thread_cpu_before);
@@ -239,6 +241,9 @@ FrameBenchmark FrameBenchRun::finish() {
   const FrameBenchOptions& options = options_;
   FrameLoop& loop = *loop_;
   const std::vector<FrameReport>& reports = result.reports;
+  // The frames ran back to back, as in the product: the worker computing the next frame's
+  // foreground must not compete with a floor measurement (nor get free time during one). The
+  // floor of each frame's views is measured after the frames, with the worker idle.
   loop.waitForWorker();
   // How many cores the frames kept busy on average (both: the stages left none idle).
   result.busy_cores = (processCpuSeconds() - cpu_start_s_) / std::max(1e-9, wall_.seconds());

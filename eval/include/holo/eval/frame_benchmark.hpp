@@ -85,9 +85,10 @@ struct FrameBenchmark {
 // One `bench frame` run taken a frame at a time, so that two runs can alternate their frames in
 // the same minutes (bench scaling's threads sweep): the constructor builds the loop and runs the
 // warm-up, measureFrame() runs and records one measured frame, finish() measures the floors and
-// gives the medians. A frame's process CPU counts from its step() (or, overlapped, from the last
-// frame's end, when the worker began its foreground) to the step's end, so another run's frames
-// between them are not counted. Throws InputError as FrameLoop does for a bad scene or settings.
+// gives the medians. A frame's process CPU counts from its step() to the step's end, so another
+// run's frames between them are not counted; overlapped, live or without preloading (work of the
+// frame runs between steps) from the last frame's end, so such runs must not alternate. Throws
+// InputError as FrameLoop does for a bad scene or settings.
 class FrameBenchRun {
  public:
   explicit FrameBenchRun(FrameBenchOptions options);
