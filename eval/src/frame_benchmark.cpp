@@ -194,65 +194,76 @@ std::uint64_t foldDisplays(const reflect::FrameResult& frame, std::uint64_t hash
 
 }  // namespace
 
-FrameBenchmark benchFrame(FrameBenchOptions options) {
-  FrameBenchmark result;
+FrameBenchRun::FrameBenchRun(FrameBenchOptions options) : options_(std::move(options)) {
   const Stopwatch setup;
-  if (options.preload && !options.loop.live)
-    options.loop.preload_frames = options.warmup + options.frames + 1;  // + the last prefetch
-  FrameLoop loop(options.loop, installation(options), nullptr);
-  result.setup_s = setup.seconds();
-  ProgressReporter progress(options.warmup + options.frames, "bench frame");
-  for (int i = 0; i < options.warmup; ++i) {
-    loop.step();
-    progress.update(1);
+  if (options_.preload && !options_.loop.live)
+    options_.loop.preload_frames = options_.warmup + options_.frames + 1;  // + the last prefetch
+  loop_ = std::make_unique<FrameLoop>(options_.loop, installation(options_), nullptr);
+  result_.setup_s = setup.seconds();
+  progress_ = std::make_unique<ProgressReporter>(options_.warmup + options_.frames, "bench frame");
+  for (int i = 0; i < options_.warmup; ++i) {
+    loop_->step();
+    progress_->update(1);
   }
-  std::vector<FrameReport>& reports = result.reports;
-  std::vector<double> floor_ms, floor_cpu_ms, single_ray_floor_ms, error_codes;
-  std::uint64_t digest = kFnvOffset;
-  reflect::TracerSettings reference_settings = options.loop.tracer;
-  setAntiAliasing(reference_settings, reflect::AntiAliasing::Full);
-  reference_settings.static_reuse_distance = 0.0f;
-  reference_settings.relic_interreflection = true;
-  // The frames run back to back, as in the product: the worker computing the next frame's
+  reference_settings_ = options_.loop.tracer;
+  setAntiAliasing(reference_settings_, reflect::AntiAliasing::Full);
+  reference_settings_.static_reuse_distance = 0.0f;
+  reference_settings_.relic_interreflection = true;
+  digest_ = kFnvOffset;
+  cpu_start_s_ = processCpuSeconds();
+  faults_start_ = pageFaults();
+  wall_.restart();
+  cpu_after_last_ = processCpuMs();
+}
+
+FrameBenchRun::~FrameBenchRun() = default;
+
+void FrameBenchRun::measureFrame() {
+  // Overlapped, live or simulating its cameras during the run, the frame's work (the worker's
+  // foreground, the capture threads) went on since the last frame's end; else nothing of it runs
+  // before step(), and another run's frames may have run since.
+  const bool works_between_frames = options_.loop.overlap || options_.loop.live || !options_.preload;
+  const double cpu_before = works_between_frames ? cpu_after_last_ : processCpuMs();
+  const double thread_cpu_before = threadCpuMs();
+  result_.reports.push_back(loop_->step());
+  result_.loop_thread_cpu_ms.push_back(threadCpuMs() - thread_cpu_before);
+  cpu_after_last_ = processCpuMs();
+  result_.frame_cpu_ms.push_back(cpu_after_last_ - cpu_before);
+  views_.push_back(loop_->faceViews());
+  if (options_.reference)  // untimed, but it perturbs the overlapped worker's times
+    error_codes_.push_back(meanAbsCodes(loop_->lastResult(), loop_->renderReference(reference_settings_)));
+  if (options_.digest) digest_ = foldDisplays(loop_->lastResult(), digest_);
+  progress_->update(1);
+}
+
+FrameBenchmark FrameBenchRun::finish() {
+  FrameBenchmark result = std::move(result_);
+  const FrameBenchOptions& options = options_;
+  FrameLoop& loop = *loop_;
+  const std::vector<FrameReport>& reports = result.reports;
+  // The frames ran back to back, as in the product: the worker computing the next frame's
   // foreground must not compete with a floor measurement (nor get free time during one). The
   // floor of each frame's views is measured after the frames, with the worker idle.
-  std::vector<std::vector<CameraModel>> views;
-  const double cpu_start = processCpuSeconds();
-  const long faults_start = pageFaults();
-  const Stopwatch wall;
-  double cpu_before = processCpuMs();
-  for (int i = 0; i < options.frames; ++i) {
-    const double thread_cpu_before = threadCpuMs();
-    reports.push_back(loop.step());
-    result.loop_thread_cpu_ms.push_back(threadCpuMs() - thread_cpu_before);
-    const double cpu_after = processCpuMs();
-    result.frame_cpu_ms.push_back(cpu_after - cpu_before);
-    cpu_before = cpu_after;
-    views.push_back(loop.faceViews());
-    if (options.reference)  // untimed, but it perturbs the overlapped worker's times
-      error_codes.push_back(meanAbsCodes(loop.lastResult(), loop.renderReference(reference_settings)));
-    if (options.digest) digest = foldDisplays(loop.lastResult(), digest);
-    progress.update(1);
-  }
   loop.waitForWorker();
   // How many cores the frames kept busy on average (both: the stages left none idle).
-  result.busy_cores = (processCpuSeconds() - cpu_start) / std::max(1e-9, wall.seconds());
-  result.page_faults_per_frame = double(pageFaults() - faults_start) / std::max(1, options.frames);
-  for (const std::vector<CameraModel>& frame_views : views) {
+  result.busy_cores = (processCpuSeconds() - cpu_start_s_) / std::max(1e-9, wall_.seconds());
+  result.page_faults_per_frame = double(pageFaults() - faults_start_) / std::max(1, options.frames);
+  std::vector<double> floor_ms, floor_cpu_ms, single_ray_floor_ms;
+  for (const std::vector<CameraModel>& frame_views : views_) {
     const double floor_cpu_before = processCpuMs();
     floor_ms.push_back(packetFloorMs(loop, frame_views, loop.ibl(), result.floor_relic_pixels));
     floor_cpu_ms.push_back(processCpuMs() - floor_cpu_before);
     single_ray_floor_ms.push_back(singleRayFloorMs(loop, frame_views, loop.ibl()));
   }
-  progress.done();
+  progress_->done();
   result.median = medianTimes(reports);
   result.passes = medianPasses(reports);
   result.cameras = loop.cameraFrameCounts();
   result.floor_ms = median(floor_ms);
   result.floor_cpu_ms = median(floor_cpu_ms);
   result.single_ray_floor_ms = median(single_ray_floor_ms);
-  if (options.reference) result.error_vs_reference_codes = median(error_codes);
-  if (options.digest) result.display_digest = digest;
+  if (options.reference) result.error_vs_reference_codes = median(error_codes_);
+  if (options.digest) result.display_digest = digest_;
   std::vector<double> frame_ms, latency_ms;
   std::array<std::vector<double>, 5> parts_ms;
   for (const FrameReport& report : reports) {
@@ -276,6 +287,12 @@ FrameBenchmark benchFrame(FrameBenchOptions options) {
                      median(parts_ms[4])};
   }
   return result;
+}
+
+FrameBenchmark benchFrame(FrameBenchOptions options) {
+  FrameBenchRun run(std::move(options));
+  for (int i = 0; i < run.frames(); ++i) run.measureFrame();
+  return run.finish();
 }
 
 }  // namespace holo::eval

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <numeric>
 #include <stdexcept>
@@ -100,19 +101,22 @@ struct Point {
   int threads = 0;  // 0: TBB's default
 };
 
-ScalingPoint run(const std::string& sweep, const Point& point) {
-  HOLO_LOG_INFO("bench scaling: {} {}", sweep, point.label);
-  resetPeakMemory();
-  std::optional<tbb::global_control> limit;
-  if (point.threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, point.threads);
-  const FrameBenchmark b = benchFrame(point.bench);
+// TBB's limit on worker threads (threads > 0; 0: none) while `limit` lives. One at a time: TBB
+// applies the smallest of the limits alive.
+void limitThreads(std::optional<tbb::global_control>& limit, int threads) {
+  limit.reset();
+  if (threads > 0) limit.emplace(tbb::global_control::max_allowed_parallelism, threads);
+}
+
+ScalingPoint summarise(const std::string& sweep, const Point& point, const FrameBenchmark& b,
+                       double peak_mib) {
   ScalingPoint out;
   out.sweep = sweep;
   out.label = point.label;
   out.x = point.x;
   out.frame_ms = b.median.total;
   out.floor_ms = b.floor_ms;
-  out.peak_mib = peakMemoryMib();
+  out.peak_mib = peak_mib;
   out.frame_cpu_ms = mean(b.frame_cpu_ms);
   out.loop_thread_cpu_ms = mean(b.loop_thread_cpu_ms);
   const auto stageMean = [&](pipeline::StageCpu pipeline::FrameReport::*stage) {
@@ -134,6 +138,45 @@ ScalingPoint run(const std::string& sweep, const Point& point) {
       "bench scaling: {} {}: frame {:.1f} ms ({:.1f} ms CPU, {:.1f} on the loop's thread), floor {:.1f} ms, "
       "peak {:.0f} MiB",
       sweep, point.label, out.frame_ms, out.frame_cpu_ms, out.loop_thread_cpu_ms, out.floor_ms, out.peak_mib);
+  return out;
+}
+
+ScalingPoint run(const std::string& sweep, const Point& point) {
+  HOLO_LOG_INFO("bench scaling: {} {}", sweep, point.label);
+  resetPeakMemory();
+  std::optional<tbb::global_control> limit;
+  limitThreads(limit, point.threads);
+  const FrameBenchmark b = benchFrame(point.bench);
+  return summarise(sweep, point, b, peakMemoryMib());
+}
+
+// The points' frames alternated in one process, one frame of each in turn, the order reversed
+// every frame: the load of a shared machine drifts over minutes, and points run one after the
+// other would each see a different load (as CPU time, too: other processes evict the caches).
+// The peak memory is that of all the points' loops together.
+std::vector<ScalingPoint> runAlternated(const std::string& sweep, const std::vector<Point>& points) {
+  resetPeakMemory();
+  std::optional<tbb::global_control> limit;
+  std::vector<std::unique_ptr<FrameBenchRun>> runs;
+  for (const Point& point : points) {
+    HOLO_LOG_INFO("bench scaling: {} {}", sweep, point.label);
+    limitThreads(limit, point.threads);
+    runs.push_back(std::make_unique<FrameBenchRun>(point.bench));
+  }
+  const int frames = points.empty() ? 0 : runs.front()->frames();
+  for (int i = 0; i < frames; ++i)
+    for (std::size_t k = 0; k < runs.size(); ++k) {
+      const std::size_t r = i % 2 == 0 ? k : runs.size() - 1 - k;
+      limitThreads(limit, points[r].threads);
+      runs[r]->measureFrame();
+    }
+  const double peak_mib = peakMemoryMib();
+  std::vector<ScalingPoint> out;
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    limitThreads(limit, points[r].threads);
+    out.push_back(summarise(sweep, points[r], runs[r]->finish(), peak_mib));
+    runs[r].reset();  // its loop's memory
+  }
   return out;
 }
 
@@ -257,13 +300,17 @@ ScalingResult benchScaling(const ScalingOptions& options) {
       result.points.push_back(point);
       fs::remove(scene);
     }
-  if (wants("threads"))
+  if (wants("threads")) {
+    std::vector<Point> thread_points;
     for (const int threads : options.threads) {
       Point p{fmt::format("{} thread{}", threads, threads > 1 ? "s" : ""), double(threads), defaults,
               threads};
       p.bench.loop.view_size = options.threads_view_size;
       p.bench.loop.overlap = false;  // the worker would run beside TBB's limit
-      const ScalingPoint point = run("threads", p);
+      thread_points.push_back(p);
+    }
+    for (const ScalingPoint& point : runAlternated("threads", thread_points)) {
+      const int threads = static_cast<int>(point.x);
       if (threads == 1) {
         result.one_thread_ms = point.frame_ms;
         result.one_thread_cpu_ms = point.frame_cpu_ms;
@@ -277,6 +324,7 @@ ScalingResult benchScaling(const ScalingOptions& options) {
       }
       result.points.push_back(point);
     }
+  }
 
   nlohmann::json j;
   for (const ScalingPoint& p : result.points)

@@ -7,11 +7,14 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "holo/core/progress.hpp"
+#include "holo/core/stopwatch.hpp"
 #include "holo/pipeline/frame_loop.hpp"
 
 namespace holo::eval {
@@ -79,7 +82,39 @@ struct FrameBenchmark {
   double frameCpuOverFloorCpu() const { return floor_cpu_ms > 0 ? frame_cpu_median_ms / floor_cpu_ms : 0.0; }
 };
 
-// Throws InputError as FrameLoop does for a bad scene or settings.
+// One `bench frame` run taken a frame at a time, so that two runs can alternate their frames in
+// the same minutes (bench scaling's threads sweep): the constructor builds the loop and runs the
+// warm-up, measureFrame() runs and records one measured frame, finish() measures the floors and
+// gives the medians. A frame's process CPU counts from its step() to the step's end, so another
+// run's frames between them are not counted; overlapped, live or without preloading (work of the
+// frame runs between steps) from the last frame's end, so such runs must not alternate. Throws
+// InputError as FrameLoop does for a bad scene or settings.
+class FrameBenchRun {
+ public:
+  explicit FrameBenchRun(FrameBenchOptions options);
+  ~FrameBenchRun();
+  FrameBenchRun(const FrameBenchRun&) = delete;
+  FrameBenchRun& operator=(const FrameBenchRun&) = delete;
+  int frames() const { return options_.frames; }
+  void measureFrame();
+  // Once, after the measured frames.
+  FrameBenchmark finish();
+
+ private:
+  FrameBenchOptions options_;
+  std::unique_ptr<pipeline::FrameLoop> loop_;
+  std::unique_ptr<ProgressReporter> progress_;
+  FrameBenchmark result_;
+  reflect::TracerSettings reference_settings_;
+  std::vector<std::vector<CameraModel>> views_;  // each measured frame's, for its floor
+  std::vector<double> error_codes_;
+  std::uint64_t digest_ = 0;
+  double cpu_start_s_ = 0, cpu_after_last_ = 0;
+  long faults_start_ = 0;
+  Stopwatch wall_;
+};
+
+// All of a run's frames in a row. Throws InputError as FrameLoop does for a bad scene or settings.
 FrameBenchmark benchFrame(FrameBenchOptions options);
 
 }  // namespace holo::eval

@@ -8,8 +8,10 @@
 //    triangle split in 16 (1.1M, the same surface);
 //  * foreground voxels: scenes with `visitors` visitors, x = the median foreground points;
 //  * worker threads: 1 and 2 (TBB's limit, the next frame's foreground not overlapped, so the
-//    limit holds for the whole frame) at threads_view_size.
-// Peak memory is the process's resident high-water mark over the point's run (reset before it).
+//    limit holds for the whole frame) at threads_view_size, a loop per thread count, their frames
+//    alternated in one process (eval::FrameBenchRun) so that every point sees the same load.
+// Peak memory is the process's resident high-water mark over the point's run (reset before it;
+// the threads sweep's: both loops together).
 // The frame's serial and parallel parts are measured in CPU time, which other processes on the
 // cores do not inflate as they do wall time (ThreadParts): the n-thread point's loop thread does
 // the serial work and its share of the parallel work, the other threads the rest. From them,
