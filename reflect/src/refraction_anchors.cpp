@@ -104,6 +104,16 @@ Blend blendAnchors(const std::vector<RefractionAnchor>& anchors, const AnchorGri
   return Blend::Blended;
 }
 
+const RefractionAnchor* anchorTracedAt(const std::vector<RefractionAnchor>& anchors, const AnchorGrid& grid,
+                                       const HitPointBuffer& hits, std::size_t p, std::size_t i) {
+  if (grid.stride <= 1) return nullptr;
+  const int x = int(p % std::size_t(hits.width)), y = int(p / std::size_t(hits.width));
+  if (x % grid.stride != 0 || y % grid.stride != 0 || anchorSample(hits, p) != i) return nullptr;
+  const RefractionAnchor& a =
+      anchors[std::size_t(y / grid.stride) * std::size_t(grid.width) + std::size_t(x / grid.stride)];
+  return a.material && a.source.anchors == 0 ? &a : nullptr;
+}
+
 std::uint64_t traceAnchors(const RenderScene& scene, const PrefilteredIbl& ibl,
                            const TracerSettings& settings, int depth, const HitPointBuffer& hits,
                            const AnchorGrid& grid, std::vector<RefractionAnchor>& anchors) {

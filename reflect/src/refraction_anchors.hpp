@@ -75,6 +75,12 @@ enum class Blend { Blended, NotBlended, EventsDiffer };
 Blend blendAnchors(const std::vector<RefractionAnchor>& anchors, const AnchorGrid& grid, int step,
                    const HitPoint& hp, const vec2& at, TransmittedPath& out, WalkSource& source);
 
+// The anchor whose path was traced from sample i of pixel p (p on the lattice, i the sample
+// traceAnchors took there, the anchor traced rather than blended), or null: where non-null its
+// path per unit of entry is sample i's own, and the sample need not trace it again.
+const RefractionAnchor* anchorTracedAt(const std::vector<RefractionAnchor>& anchors, const AnchorGrid& grid,
+                                       const HitPointBuffer& hits, std::size_t p, std::size_t i);
+
 // Every anchor of `grid` into `anchors` (resized to grid.size()), in two rounds: the coarse
 // lattice's anchors (even grid coordinates) trace their paths; every other anchor takes their blend
 // where they agree as a sample does, else traces its own. Returns the Embree rays cast.

@@ -137,8 +137,12 @@ std::uint64_t RefractionPass::tracePixelPaths(const HitPointBuffer& hits, const 
       if (path.exited)
         path.environment = iblSeenFrom(ibl_, path.exit_position, path.exit_direction, path.roughness);
     } else {
-      path = traceTransmissionPerUnitEntry(scene_, ibl_, settings_, depth_, hp.position, hp.normal,
-                                           -hp.to_viewer, *hp.gltf, &hp.material, nullptr);
+      // The anchor traced at this very sample has its path already (a refined pixel's anchor
+      // sample, which blends its neighbours like any sub-sample and traces where they disagree).
+      const RefractionAnchor* own = anchorTracedAt(buffers.anchors, grid, hits, p, i);
+      path = own ? own->unit
+                 : traceTransmissionPerUnitEntry(scene_, ibl_, settings_, depth_, hp.position, hp.normal,
+                                                 -hp.to_viewer, *hp.gltf, &hp.material, nullptr);
       if (grid.stride > 1 && i != p && !shared.material) {
         shared.position = hp.position;
         shared.normal = hp.normal;
@@ -147,7 +151,7 @@ std::uint64_t RefractionPass::tracePixelPaths(const HitPointBuffer& hits, const 
         shared_source.shared = std::int32_t(i);
       }
       applyEntry(path);
-      rays += path.rays;
+      if (!own) rays += path.rays;
     }
   }
   return rays;

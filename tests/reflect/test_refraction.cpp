@@ -18,6 +18,7 @@
 #include "holo/reflect/view.hpp"
 #include "internal_depth.hpp"
 #include "reflect_test_scenes.hpp"
+#include "refraction_anchors.hpp"
 #include "relic_passage.hpp"
 
 namespace holo::reflect {
@@ -351,6 +352,47 @@ TEST(Refraction, SparsePathsBlendTheAnchorsForAFractionOfTheRays) {
   }
   const ViewImages again = render(2);
   EXPECT_EQ(cv::norm(two.hdr, again.hdr, cv::NORM_INF), 0.0);
+}
+
+// A refined pixel on the anchor lattice: the sub-sample its anchor was traced from takes the
+// anchor's path instead of tracing it again. The path handed over must be that sample's own (the
+// same trace, bit for bit), and no other sample (another sub-sample, an anchor that blended
+// rather than traced) may be handed an anchor's path.
+TEST(Refraction, ARefinedAnchorPixelsSampleTakesThePathItsAnchorTraced) {
+  const PrefilteredIbl ibl(panorama([](const vec3& d) { return vec3(0.5f + 0.5f * std::max(d.y, 0.0f)); }),
+                           PrefilterOptions{4, 64, 8});
+  const RenderScene scene(glassSphere(1.5f), {});
+  const CameraModel view = lookAtCamera(vec3(0.0f, 0.3f, 1.2f), vec3(0.0f, 0.3f, 0.0f), 16.0f, 48, 48);
+  const TracerSettings settings = staticOnly();
+  HitPointBuffer hits;
+  traceHitPoints(scene, view, AntiAliasing::Edges, hits);
+  const AnchorGrid grid = anchorGrid(hits, 2);
+  std::vector<RefractionAnchor> anchors;
+  traceAnchors(scene, ibl, settings, 4, hits, grid, anchors);
+  int handed = 0, refused = 0;
+  for (const std::size_t p : hits.covered) {
+    if (hits.sampleCount(p) != 4) continue;
+    for (std::size_t i = hits.firstSample(p); i < hits.firstSample(p) + 4; ++i) {
+      const RefractionAnchor* own = anchorTracedAt(anchors, grid, hits, p, i);
+      if (!own) {
+        ++refused;
+        continue;
+      }
+      ++handed;
+      ASSERT_TRUE(hits.valid[i]);
+      EXPECT_EQ(own->source.anchors, 0) << "a blended anchor's path is no sample's own";
+      const HitPoint& hp = hits.hits[i];
+      const TransmittedPath fresh = traceTransmissionPerUnitEntry(
+          scene, ibl, settings, 4, hp.position, hp.normal, -hp.to_viewer, *hp.gltf, &hp.material, nullptr);
+      EXPECT_EQ(own->unit.exit_direction, fresh.exit_direction);
+      EXPECT_EQ(own->unit.exit_position, fresh.exit_position);
+      EXPECT_EQ(own->unit.scale, fresh.scale);
+      EXPECT_EQ(own->unit.events, fresh.events);
+      EXPECT_EQ(own->unit.rays, fresh.rays);
+    }
+  }
+  EXPECT_GT(handed, 0) << "the sphere's silhouette has refined pixels on the lattice";
+  EXPECT_GT(refused, 3 * handed) << "at most one sub-sample of a pixel is its anchor's";
 }
 
 // The plan: an opaque relic runs no material pass and traces no refraction ray; glass does, with
