@@ -2,9 +2,9 @@
 // from the pixels with its direction and power; on a Lambert sphere lit from behind and to the
 // side it gives the closed form's crescent (the panorama's irradiance summed pixel by pixel),
 // where the sun left in the 9 coefficients lights the whole face, and so through glass on a part
-// inside it (inside_glass.hpp); a panorama without a sun or a
-// relic with nothing diffuse casts none of its rays (counters). The real panoramas of
-// ../shared/data: the park has a sun, the interior none.
+// inside it (inside_glass.hpp); a panorama without a sun or a relic with nothing diffuse casts
+// none of its rays (counters). The real panoramas of ../shared/data: the park has a sun, the
+// interior none.
 #include <gtest/gtest.h>
 
 #include <cmath>
