@@ -7,6 +7,7 @@
 #include "holo/reflect/optics.hpp"
 #include "layer_inputs.hpp"
 #include "relic_passage.hpp"
+#include "sun_light.hpp"
 
 namespace holo::reflect {
 namespace {
@@ -21,7 +22,10 @@ InsideGlassShading shadeInsideGlass(const RenderScene& scene, const PrefilteredI
                                     const TracerSettings& settings, const SurfacePoint& surface,
                                     const vec3& direction) {
   InsideGlassShading out;
-  out.shading = shadeSurface(ibl, surface, -direction);
+  // With the sun light, the sun is not left in the 9 coefficients (they spread a point-like light
+  // over the whole sphere): the part is lit by the panorama without it, through the relic, plus
+  // the sun along one shadow ray through the relic, as a hit point is.
+  const bool sun_apart = settings.evaluation.sun_light && ibl.sun().found;
   const Frame frame(surface.normal);
   vec3 through(0.0f), free(0.0f);
   for (int k = 0; k < kLightDirections; ++k) {
@@ -30,15 +34,24 @@ InsideGlassShading shadeInsideGlass(const RenderScene& scene, const PrefilteredI
     const float phi = float(k) * 2.39996323f;
     const vec3 local(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0f, 1.0f - r * r)));
     const vec3 d = frame.toWorld(local);
-    const vec3 hall = ibl.seenFrom(surface.position, d, kLightLobeRoughness);
+    vec3 hall = ibl.seenFrom(surface.position, d, kLightLobeRoughness);
+    if (sun_apart)
+      hall = glm::max(hall - ibl.sunSeenFrom(surface.position, d, kLightLobeRoughness), vec3(0.0f));
     free += hall;
     through += hall * passedThroughRelic(scene, settings, surface.position, d, out.rays, InterfaceLoss::None);
   }
-  vec3 diffuse_scale(0.0f);
-  for (int c = 0; c < 3; ++c) diffuse_scale[c] = free[c] > 0.0f ? through[c] / free[c] : 0.0f;
-  // The emission is the part's own: the hall's light through the relic scales the rest.
-  const vec3 reflected_light = out.shading.diffuse - surface.emission;
-  out.shading.diffuse = reflected_light * diffuse_scale + surface.emission;
+  vec3 irradiance = sun_apart ? ibl.irradianceWithoutSun(surface.normal) : ibl.irradiance(surface.normal);
+  for (int c = 0; c < 3; ++c) irradiance[c] *= free[c] > 0.0f ? through[c] / free[c] : 0.0f;
+  const SurfaceMaterial& m = surface.material;
+  const bool diffuse =
+      (1.0f - m.metallic) * (1.0f - m.transmission) > 0.0f && maxComponent(m.base_colour) > 0.0f;
+  if (sun_apart && diffuse)
+    irradiance += SunLight(scene, ibl, settings).irradiance(surface, -direction, out.rays);
+  out.shading = ibl.shadeParts(surface.material, surface.normal, -direction,
+                               glm::reflect(direction, surface.normal), surface.position, &irradiance);
+  // The emission is the part's own: the occlusion and the light through the relic scale the rest.
+  out.shading.specular_scale *= surface.occlusion;
+  out.shading.diffuse = surface.occlusion * out.shading.diffuse + surface.emission;
   out.shading.specular_scale *= passedThroughRelic(scene, settings, surface.position,
                                                    glm::reflect(direction, surface.normal), out.rays);
   return out;

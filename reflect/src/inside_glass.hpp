@@ -7,9 +7,14 @@
 // transmissive material passing (1 - metallic) transmission base_colour of the light (as the path
 // tracer's glass: tinted where the light enters), each volume segment its Beer-Lambert share, an
 // opaque part nothing; the spread directions without the walls' Fresnel loss (what a wall reflects
-// out of a wide lobe it reflects in: relic_passage.hpp), the mirror direction with it. The diffuse is scaled
-// per RGB channel by the hall-weighted mean of what the directions pass (the hall's radiance along each at a
-// wide lobe), the specular by what the mirror direction passes.
+// out of a wide lobe it reflects in: relic_passage.hpp), the mirror direction with it. The diffuse
+// irradiance is scaled per RGB channel by the hall-weighted mean of what the directions pass (the
+// hall's radiance along each at a wide lobe), the specular by what the mirror direction passes.
+// With TracerEvaluationKnobs::sun_light and a sun in the panorama, a diffuse part is lit as a hit
+// point of the static shading is: the panorama without its sun (its irradiance, and the hall that
+// weights the directions) plus the sun as a directional light along one shadow ray through the
+// relic (sun_light.hpp, the walls' Fresnel loss kept: one direction), not the sun spread over the
+// 9 coefficients and the whole hemisphere.
 #pragma once
 
 #include "holo/reflect/prefiltered_ibl.hpp"

@@ -107,12 +107,13 @@ double meanCodes(const cv::Mat& ours_hdr, const cv::Mat& truth_hdr, const cv::Ma
 
 struct KhronosCase {
   std::string model;
-  double ci_bar;  // sRGB codes at CI size (measured 13.9, 9.0, 3.9, 6.6; with the textures read at
+  double ci_bar;  // sRGB codes at CI size (measured 11.7, 9.0, 3.9, 6.6; with the textures read at
                   // the entry only 32.5, 34.1, 5.7, 11.9)
   // The park's sun lights this model's diffuse surfaces: with the sun light switched off (the sun
   // in the 9 coefficients) it must be at least this many times further from the truth (measured
-  // at CI size: the wicker 11.9 against 6.6, 1.8x; the grid's floor, whose shadow it was, now has
-  // the visibility's lattice: 9.8 against 9.3).
+  // at CI size: the wicker 11.9 against 6.6, 1.8x; the candle holder, its candle lit through the
+  // glass, 13.9 against 11.7, 1.2x; the grid's floor, whose shadow it was, now has the
+  // visibility's lattice: 9.8 against 9.3).
   double sun_light_gain = 0.0;
 };
 
@@ -156,7 +157,8 @@ TEST_P(KhronosGlass, OursHoldsToThePathTracerOverTheRelic) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Models, KhronosGlass,
-                         ::testing::Values(KhronosCase{"khronos_glass_hurricane_candle_holder.glb", 15.0},
+                         ::testing::Values(KhronosCase{"khronos_glass_hurricane_candle_holder.glb", 13.0,
+                                                       1.1},
                                            KhronosCase{"khronos_transmission_roughness_test.glb", 11.0},
                                            KhronosCase{"khronos_attenuation_test.glb", 5.0},
                                            KhronosCase{"khronos_clearcoat_wicker.glb", 9.0, 1.4}));
@@ -165,7 +167,7 @@ INSTANTIATE_TEST_SUITE_P(Models, KhronosGlass,
 // candle behind it (the relic without its glass). Ours must show the candle there as the truth
 // does; the adversary that leaves what stands inside out (the relic without the candle, the hall
 // seen through the glass instead) must be measurably further from the truth on the same pixels.
-// The bar at 256^2 (HOLO_FULL_EVAL=1) is the 8 codes, not met (15.7).
+// The bar at 256^2 (HOLO_FULL_EVAL=1) is the 8 codes, not met (8.58).
 TEST(KhronosGlassCandle, TheCandleIsSeenThroughTheGlassAsInTheTruth) {
   const std::string model = "khronos_glass_hurricane_candle_holder.glb";
   HOLO_REQUIRE_SHARED_DATA("models/" + model);
@@ -211,9 +213,10 @@ TEST(KhronosGlassCandle, TheCandleIsSeenThroughTheGlassAsInTheTruth) {
       "candle seen through the glass (%d pixels, %d^2): ours %.2f sRGB codes from the truth, "
       "the candle left out %.2f\n",
       pixels, size.pixels, codes, dropped_codes);
-  // Measured at CI size: 17.4 (the truth's own noise there: 8.6), the candle left out 25.5; at
-  // 256^2 14.2 and 24.7. The glass's textures read at the entry only: 40.9 (the candle hidden).
-  EXPECT_LT(codes, fullEvaluation() ? 8.0 : 19.5);
+  // Measured at CI size: 11.9 (the truth's own noise there: 8.6; 17.4 with the sun in the 9
+  // coefficients inside the glass), the candle left out 25.5; at 256^2 8.6 (14.2 with the sun in
+  // the coefficients) and 24.7. The glass's textures read at the entry only: 40.9 (the candle hidden).
+  EXPECT_LT(codes, fullEvaluation() ? 8.0 : 13.5);
   EXPECT_GT(dropped_codes, 1.3 * codes);
 }
 

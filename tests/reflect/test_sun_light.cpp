@@ -1,9 +1,10 @@
 // The panorama's sun as a directional light (panorama_sun.hpp, reflect/src/sun_light.hpp): found
 // from the pixels with its direction and power; on a Lambert sphere lit from behind and to the
 // side it gives the closed form's crescent (the panorama's irradiance summed pixel by pixel),
-// where the sun left in the 9 coefficients lights the whole face; a panorama without a sun or a
-// relic with nothing diffuse casts none of its rays (counters). The real panoramas of
-// ../shared/data: the park has a sun, the interior none.
+// where the sun left in the 9 coefficients lights the whole face, and so through glass on a part
+// inside it (inside_glass.hpp); a panorama without a sun or a relic with nothing diffuse casts
+// none of its rays (counters). The real panoramas of ../shared/data: the park has a sun, the
+// interior none.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -20,6 +21,8 @@
 #include "holo/reflect/view.hpp"
 #include "holo/relics/relics.hpp"
 #include "holo/sim/museum.hpp"
+#include "inside_glass.hpp"
+#include "reflect_test_scenes.hpp"
 #include "shared_data.hpp"
 
 namespace holo::reflect {
@@ -155,6 +158,55 @@ TEST(SunLight, NoSunOrNothingDiffuseCastsNoRays) {
   EXPECT_FALSE(planned);
   EXPECT_EQ(sunRays(glass, sunny, &planned), 0u);
   EXPECT_FALSE(planned);
+}
+
+// What stands inside the glass (inside_glass.hpp): a Lambert ball sealed in a clear, tinted glass
+// ball of IOR 1 (nothing bent or reflected, so the closed form is the tint times the open ball's)
+// under the sun from behind. With the sun light the part inside shows the crescent through the
+// glass; with the sun in the 9 coefficients it lights the whole face.
+TEST(SunLight, APartInsideGlassShowsTheSunsCrescentThroughIt) {
+  const Environment env(sunPanorama(256, 128, true));
+  const PrefilteredIbl ibl(env, PrefilterOptions{6, 32, 16});
+  ASSERT_TRUE(ibl.sun().found);
+  const vec3 tint(1.0f, 0.7f, 0.4f);
+  const RenderScene part(lambertSphere(), {});
+  const Bounds3 bounds = part.relicBounds();
+  Model model = lambertSphere();
+  Model glass = test::sphereModel({tint, 0.0f, 0.0f, 1.0f}, glm::length(bounds.extent()), bounds.center());
+  glass.materials[0].transmission = 1.0f;
+  glass.materials[0].ior = 1.0f;
+  glass.materials[0].thickness = 0.1f;
+  glass.meshes[0].material = int(model.materials.size());
+  model.meshes.push_back(glass.meshes[0]);
+  model.materials.push_back(glass.materials[0]);
+  const RenderScene scene(model, {});
+  const CameraModel view = frontView(bounds, 24);
+  const auto error = [&](bool sun_light) {
+    TracerSettings settings;
+    settings.evaluation.sun_light = sun_light;
+    double sum = 0.0, truth_sum = 0.0;
+    for (int y = 0; y < view.height(); ++y)
+      for (int x = 0; x < view.width(); ++x) {
+        const Ray ray = primaryRay(view, vec2(float(x), float(y)));
+        const RayHit hit = part.relicOnly().intersect(ray);
+        if (!hit.hit()) continue;
+        const SurfacePoint surface = resolveSurface(part, part.relicOnly(), ray, hit, 0.0f);
+        const vec3 ours = shadeInsideGlass(scene, ibl, settings, surface, ray.direction).shading.diffuse;
+        const vec3 truth = tint * 0.8f / kPi * exactIrradiance(env, surface.normal);
+        for (int c = 0; c < 3; ++c) {
+          sum += std::abs(double(ours[c]) - double(truth[c]));
+          truth_sum += double(truth[c]);
+        }
+      }
+    return sum / truth_sum;
+  };
+  const double with = error(true), without = error(false);
+  std::printf(
+      "Lambert ball inside tinted glass under a sun from behind: %.4f relative error with the sun "
+      "light, %.4f without\n",
+      with, without);
+  EXPECT_LT(with, 0.05);
+  EXPECT_GT(without, 2.0 * with);
 }
 
 // The detection on the real panoramas: the park's sun, no sun in the interior (the others of

@@ -59,4 +59,5 @@ if(TARGET holo::relics AND TARGET holo::sim)
   holo_test(test_sun_light
     SOURCES test_sun_light.cpp
     DEPS holo::reflect holo::relics holo::sim holo_test_support)
+  target_include_directories(test_sun_light PRIVATE ${PROJECT_SOURCE_DIR}/reflect/src)
 endif()
