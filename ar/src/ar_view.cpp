@@ -94,9 +94,11 @@ ArView renderArView(int index, const CameraModel& camera, const RgbdFrame& frame
   ArView out;
   out.real_vertices = real.surface.mesh.positions.size();
   const LocalScene scene(std::move(real.surface), relic, environment);
-  const CompositeImage composite =
-      renderComposite(scene, camera, real.background, settings.composite,
-                      compositeRegion(scene, camera, real.background, settings), frame.depth);
+  const std::optional<RelicCaustic> caustic = traceRelicCaustic(relic, environment, settings.caustic);
+  out.caustic_photons = caustic ? caustic->image().traced : 0;
+  const CompositeImage composite = renderComposite(scene, camera, real.background, settings.composite,
+                                                   compositeRegion(scene, camera, real.background, settings),
+                                                   frame.depth, caustic ? &*caustic : nullptr);
   out.radiance = filterChange(composite.radiance, real.background, composite.relic_coverage, frame.depth,
                               settings.filter);
   out.image = linearToSrgb8(out.radiance, exposure);

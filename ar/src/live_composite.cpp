@@ -79,7 +79,10 @@ void LiveComposite::restart(const RgbdFrame& frame) {
   real.albedo = estimateAlbedo(surface, background_, *irradiance_);
   real.mesh = std::move(surface.mesh);
   surface_pixels_ = std::move(surface.pixels);
-  if (relic_changed_ || !relic_geometry_) relic_geometry_ = std::make_shared<const RelicGeometry>(relic_);
+  if (relic_changed_ || !relic_geometry_) {
+    relic_geometry_ = std::make_shared<const RelicGeometry>(relic_);
+    caustic_ = traceRelicCaustic(relic_, *environment_, settings_.view.caustic);
+  }
   scene_ = std::make_unique<LocalScene>(std::move(real), relic_geometry_, *environment_);
   ++surfaces_built_;
   region_ = compositeRegion(*scene_, camera_, background_, settings_.view);
@@ -139,8 +142,8 @@ LiveCompositeFrame LiveComposite::add(const RgbdFrame& frame) {
   if (samples_ + spp <= settings_.max_samples) {
     CompositeSettings pass = settings_.view.composite;
     pass.first_sample = samples_;
-    const CompositeImage image =
-        renderComposite(*scene_, camera_, background_, pass, region_, reference_depth_);
+    const CompositeImage image = renderComposite(*scene_, camera_, background_, pass, region_,
+                                                 reference_depth_, caustic_ ? &*caustic_ : nullptr);
     cv::scaleAdd(image.radiance, static_cast<double>(spp), sum_, sum_);
     cv::scaleAdd(image.relic_coverage, static_cast<double>(spp), coverage_sum_, coverage_sum_);
     samples_ += spp;
