@@ -85,7 +85,7 @@ void LiveComposite::restart(const RgbdFrame& frame) {
   }
   scene_ = std::make_unique<LocalScene>(std::move(real), relic_geometry_, *environment_);
   ++surfaces_built_;
-  region_ = compositeRegion(*scene_, camera_, background_, settings_.view);
+  region_ = compositeRegion(*scene_, camera_, background_, settings_.view, caustic_ ? &*caustic_ : nullptr);
   reference_depth_ = frame.depth.clone();
   reference_colour_ = frame.colour.clone();
   sum_ = cv::Mat(background_.size(), CV_32FC3, cv::Scalar::all(0));
@@ -110,7 +110,7 @@ void LiveComposite::recolour(const RgbdFrame& frame) {
   background_ = srgb8ToLinear(frame.colour) * (1.0f / exposure);
   const DepthSurface surface{scene_->real().mesh, surface_pixels_};
   scene_->setRealAlbedo(estimateAlbedo(surface, background_, *irradiance_));
-  region_ = compositeRegion(*scene_, camera_, background_, settings_.view);
+  region_ = compositeRegion(*scene_, camera_, background_, settings_.view, caustic_ ? &*caustic_ : nullptr);
   reference_colour_ = frame.colour.clone();
   sum_.setTo(cv::Scalar::all(0));
   coverage_sum_.setTo(cv::Scalar(0));

@@ -35,6 +35,42 @@ vec3 RelicCaustic::irradianceAt(const vec3& p) const {
          fz * ((1.0f - fx) * at(x0, z0 + 1) + fx * at(x0 + 1, z0 + 1));
 }
 
+void addCausticToRegion(const RelicCaustic& caustic, const CameraModel& camera, const cv::Mat& background,
+                        float negligible_codes, float exposure, cv::Mat& region) {
+  if (region.empty()) return;
+  const reflect::CausticReceiverGrid& g = caustic.image().grid;
+  const float cell = g.cellSize();
+  const cv::Rect image(0, 0, region.cols, region.rows);
+  for (int z = 0; z < g.resolution; ++z)
+    for (int x = 0; x < g.resolution; ++x) {
+      const vec3 e = rgbAt(caustic.image().irradiance, x, z);
+      if (!(maxComponent(e) > 0.0f)) continue;
+      const vec2 corner = g.centre - g.half_size + cell * vec2(static_cast<float>(x), static_cast<float>(z));
+      cv::Rect covered;
+      bool seen = true;
+      for (int k = 0; k < 4 && seen; ++k) {
+        const vec3 p(corner.x + cell * static_cast<float>(k & 1), g.height,
+                     corner.y + cell * static_cast<float>(k >> 1));
+        const std::optional<vec2> pixel = camera.project(p);
+        seen = pixel.has_value();
+        if (!seen) break;
+        const cv::Rect at(static_cast<int>(std::floor(pixel->x)) - 1,
+                          static_cast<int>(std::floor(pixel->y)) - 1, 3, 3);
+        covered = k == 0 ? at : (covered | at);
+      }
+      covered &= image;
+      if (!seen || covered.empty()) continue;
+      const cv::Point centre(covered.x + covered.width / 2, covered.y + covered.height / 2);
+      const vec3 b = exposure * rgbAt(background, centre.x, centre.y);
+      const vec3 added = exposure * e * (1.0f / kPi);
+      bool visible = false;
+      for (int c = 0; c < 3; ++c)
+        visible =
+            visible || 255.0f * (linearToSrgb(b[c] + added[c]) - linearToSrgb(b[c])) >= negligible_codes;
+      if (visible) region(covered).setTo(255);
+    }
+}
+
 std::optional<RelicCaustic> traceRelicCaustic(const Model& relic, const reflect::Environment& environment,
                                               const RelicCausticSettings& settings) {
   if (!settings.enabled || !transmits(relic)) return std::nullopt;

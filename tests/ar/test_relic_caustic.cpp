@@ -148,6 +148,12 @@ TEST(RelicCaustic, TheCompositeBrightensWhereTheTruthsCausticFalls) {
   EXPECT_LT(e_without.mean_change, 0.0) << "without the caustic the ball only shadows there";
   EXPECT_LT(e_with.rmse, 0.5 * e_without.rmse);
   EXPECT_LT(e_with.rmse, 0.5 * e_traced.rmse);
+  // The change region holds the caustic's pixels.
+  const cv::Mat region = compositeRegion(s.local, s.view, s.real, ArViewSettings{}, &*caustic);
+  const cv::Mat bound_alone = compositeRegion(s.local, s.view, s.real, ArViewSettings{});
+  std::cout << "caustic pixels outside the change region: " << cv::countNonZero(mask & ~region)
+            << " (without the caustic's cells " << cv::countNonZero(mask & ~bound_alone) << ")\n";
+  EXPECT_EQ(cv::countNonZero(mask & ~region), 0);
   const cv::Point truth_peak = peakOfChange(s.reference.radiance, s), peak = peakOfChange(with, s);
   std::cout << "peak of the change: truth (" << truth_peak.x << ", " << truth_peak.y << "), composite ("
             << peak.x << ", " << peak.y << ")\n";

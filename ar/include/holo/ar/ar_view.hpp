@@ -57,9 +57,10 @@ struct ArViewSettings {
   RelicCausticSettings caustic;
 };
 
-// The region renderComposite traces under `settings` (empty: every pixel).
+// The region renderComposite traces under `settings` (empty: every pixel), with the pixels the
+// relic's caustic may change (none: no caustic).
 cv::Mat compositeRegion(const LocalScene& scene, const CameraModel& camera, const cv::Mat& background,
-                        const ArViewSettings& settings);
+                        const ArViewSettings& settings, const RelicCaustic* caustic = nullptr);
 
 struct ArView {
   cv::Mat image;                  // CV_8UC3 sRGB BGR: the composite at the camera's exposure

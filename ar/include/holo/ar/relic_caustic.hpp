@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <optional>
 
+#include "holo/core/camera_model.hpp"
 #include "holo/core/math.hpp"
 #include "holo/core/mesh.hpp"
 #include "holo/reflect/caustic_tracer.hpp"
@@ -60,6 +61,14 @@ class RelicCaustic {
   float tolerance_;
   float min_cos_;
 };
+
+// Adds to `region` (CV_8UC1 of the camera's size, change_region.hpp; 255 = traced) the pixels
+// the caustic may change: every grid cell whose light, on a white receiver (albedo 1), moves the
+// background's displayed code at the cell's centre by at least `negligible_codes` marks the
+// pixels its projected square covers, dilated by one. An empty region (every pixel traced) is
+// left as it is.
+void addCausticToRegion(const RelicCaustic& caustic, const CameraModel& camera, const cv::Mat& background,
+                        float negligible_codes, float exposure, cv::Mat& region);
 
 // nullopt, tracing nothing, unless `settings.enabled`, the relic transmits and stands on or above
 // the receiver.
