@@ -52,6 +52,15 @@ int run(const Options& o) {
     std::cout << "\n  glass / opaque error over the relic and shadow: "
               << (e.glass_opaque->region > 0 ? e.filtered.rmse.region / e.glass_opaque->region : 0.0) << "\n";
   }
+  std::cout << "caustic photons traced: " << e.caustic_photons << "\n";
+  if (e.without_light_tracer) {
+    print("the composite without the caustic's light tracer (BSDF sampling alone)", *e.without_light_tracer);
+    std::cout << "\n  over the caustic's pixels (" << e.caustic_pixels << "): with the light tracer "
+              << e.caustic_rmse << ", without " << e.caustic_rmse_without_light_tracer << "\n"
+              << "  mean luminance change over the shadow and light: truth " << e.shadow_change_truth
+              << ", with the light tracer " << e.shadow_change << ", without "
+              << e.shadow_change_without_light_tracer << "\n";
+  }
   const auto ratios = [&](const char* name, const eval::ArMethodScore& two_pass) {
     const auto ratio = [](double a, double b) { return b > 0 ? a / b : 0.0; };
     const double region = ratio(two_pass.rmse.region, e.delta.rmse.region);
@@ -80,6 +89,12 @@ int run(const Options& o) {
       cv::Mat glass_strip;  // truth | the product's composite | the same with the glass opaque
       cv::hconcat(std::vector<cv::Mat>{e.truth, e.filtered_composite, e.glass_opaque_composite}, glass_strip);
       eval::writeImagePair(o.out + "/glass_strip.exr", glass_strip, e.exposure);
+    }
+    if (e.without_light_tracer) {
+      cv::Mat caustic_strip;  // truth | the product's composite | without the caustic's light tracer
+      cv::hconcat(std::vector<cv::Mat>{e.truth, e.filtered_composite, e.without_light_tracer_composite},
+                  caustic_strip);
+      eval::writeImagePair(o.out + "/caustic_strip.exr", caustic_strip, e.exposure);
     }
     cv::Mat strip;  // truth | the product's composite | two-pass | without the shadow
     cv::hconcat(
@@ -128,6 +143,10 @@ HOLO_REGISTER_COMMAND(Command{
           ->capture_default_str()
           ->check(CLI::Range(1, 64));
       sub.add_option("--seed", e.seed, "Sampling seed")->capture_default_str();
+      sub.add_option("--lamp", e.lamp_radiance,
+                     "Add a small bright lamp (5 degrees in radius, this radiance) to the hall's panorama, "
+                     "up behind the relic as the camera sees it: a glass relic focuses it into a caustic")
+          ->check(CLI::Range(0.0f, 1e6f));
       sub.add_option("--out", o->out,
                      "Folder for truth, delta, two_pass, two_pass_shared, no_shadow, strip (EXR + PNG); a "
                      "transmissive relic also "

@@ -67,6 +67,8 @@ int renderAr(const RenderOptions& o) {
             << (view.relic_pixels == 0 ? " (the relic is outside this camera's view)" : "") << "\n"
             << "real surface vertices: " << view.real_vertices << "\n"
             << "rays: " << view.rays << "\n"
+            << "caustic photons: " << view.caustic_photons
+            << (view.caustic_photons == 0 ? " (no transmissive relic standing on the base)" : "") << "\n"
             << "out: " << o.out << "\n";
   return 0;
 }

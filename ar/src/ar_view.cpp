@@ -79,11 +79,13 @@ CameraRealScene realSceneFromCamera(int index, const CameraModel& camera, const 
 }
 
 cv::Mat compositeRegion(const LocalScene& scene, const CameraModel& camera, const cv::Mat& background,
-                        const ArViewSettings& settings) {
+                        const ArViewSettings& settings, const RelicCaustic* caustic) {
   if (!settings.trace_change_region) return cv::Mat();
-  return changeRegion(scene, camera, background,
-                      {.negligible_codes = settings.negligible_codes,
-                       .exposure = settings.exposure > 0.0f ? settings.exposure : 1.0f});
+  const float exposure = settings.exposure > 0.0f ? settings.exposure : 1.0f;
+  cv::Mat region = changeRegion(scene, camera, background,
+                                {.negligible_codes = settings.negligible_codes, .exposure = exposure});
+  if (caustic) addCausticToRegion(*caustic, camera, background, settings.negligible_codes, exposure, region);
+  return region;
 }
 
 ArView renderArView(int index, const CameraModel& camera, const RgbdFrame& frame, const Model& relic,
@@ -94,9 +96,12 @@ ArView renderArView(int index, const CameraModel& camera, const RgbdFrame& frame
   ArView out;
   out.real_vertices = real.surface.mesh.positions.size();
   const LocalScene scene(std::move(real.surface), relic, environment);
-  const CompositeImage composite =
-      renderComposite(scene, camera, real.background, settings.composite,
-                      compositeRegion(scene, camera, real.background, settings), frame.depth);
+  const std::optional<RelicCaustic> caustic = traceRelicCaustic(relic, environment, settings.caustic);
+  out.caustic_photons = caustic ? caustic->image().traced : 0;
+  const CompositeImage composite = renderComposite(
+      scene, camera, real.background, settings.composite,
+      compositeRegion(scene, camera, real.background, settings, caustic ? &*caustic : nullptr), frame.depth,
+      caustic ? &*caustic : nullptr);
   out.radiance = filterChange(composite.radiance, real.background, composite.relic_coverage, frame.depth,
                               settings.filter);
   out.image = linearToSrgb8(out.radiance, exposure);

@@ -79,10 +79,13 @@ void LiveComposite::restart(const RgbdFrame& frame) {
   real.albedo = estimateAlbedo(surface, background_, *irradiance_);
   real.mesh = std::move(surface.mesh);
   surface_pixels_ = std::move(surface.pixels);
-  if (relic_changed_ || !relic_geometry_) relic_geometry_ = std::make_shared<const RelicGeometry>(relic_);
+  if (relic_changed_ || !relic_geometry_) {
+    relic_geometry_ = std::make_shared<const RelicGeometry>(relic_);
+    caustic_ = traceRelicCaustic(relic_, *environment_, settings_.view.caustic);
+  }
   scene_ = std::make_unique<LocalScene>(std::move(real), relic_geometry_, *environment_);
   ++surfaces_built_;
-  region_ = compositeRegion(*scene_, camera_, background_, settings_.view);
+  region_ = compositeRegion(*scene_, camera_, background_, settings_.view, caustic_ ? &*caustic_ : nullptr);
   reference_depth_ = frame.depth.clone();
   reference_colour_ = frame.colour.clone();
   sum_ = cv::Mat(background_.size(), CV_32FC3, cv::Scalar::all(0));
@@ -107,7 +110,7 @@ void LiveComposite::recolour(const RgbdFrame& frame) {
   background_ = srgb8ToLinear(frame.colour) * (1.0f / exposure);
   const DepthSurface surface{scene_->real().mesh, surface_pixels_};
   scene_->setRealAlbedo(estimateAlbedo(surface, background_, *irradiance_));
-  region_ = compositeRegion(*scene_, camera_, background_, settings_.view);
+  region_ = compositeRegion(*scene_, camera_, background_, settings_.view, caustic_ ? &*caustic_ : nullptr);
   reference_colour_ = frame.colour.clone();
   sum_.setTo(cv::Scalar::all(0));
   coverage_sum_.setTo(cv::Scalar(0));
@@ -139,8 +142,8 @@ LiveCompositeFrame LiveComposite::add(const RgbdFrame& frame) {
   if (samples_ + spp <= settings_.max_samples) {
     CompositeSettings pass = settings_.view.composite;
     pass.first_sample = samples_;
-    const CompositeImage image =
-        renderComposite(*scene_, camera_, background_, pass, region_, reference_depth_);
+    const CompositeImage image = renderComposite(*scene_, camera_, background_, pass, region_,
+                                                 reference_depth_, caustic_ ? &*caustic_ : nullptr);
     cv::scaleAdd(image.radiance, static_cast<double>(spp), sum_, sum_);
     cv::scaleAdd(image.relic_coverage, static_cast<double>(spp), coverage_sum_, coverage_sum_);
     samples_ += spp;

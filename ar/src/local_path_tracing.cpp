@@ -55,15 +55,19 @@ struct CameraMeasurement {
 // The path tracing of one scene content, counting its rays. With a camera measurement, a path
 // that meets a real surface the camera sees after the relic takes that surface's radiance as the
 // camera's plus its change (delta path tracing there, `delta_levels` levels) instead of tracing it.
+// With a caustic, a real surface's change on the receiver takes the relic's caustic from it.
 class Tracer {
  public:
   Tracer(const LocalScene& scene, std::int64_t& rays, const CameraMeasurement* measured = nullptr,
-         int delta_levels = 1)
-      : scene_(scene), rays_(rays), measured_(measured), delta_levels_(delta_levels) {}
+         int delta_levels = 1, const RelicCaustic* caustic = nullptr)
+      : scene_(scene), rays_(rays), measured_(measured), delta_levels_(delta_levels), caustic_(caustic) {}
 
   // Radiance leaving `hit` back along `ray`, by a path of at most `scatterings` scatterings on
-  // opaque lobes and at most kMaxGlassEvents on the relic's glass.
-  vec3 fromHit(SceneContent content, Ray ray, RayHit hit, Random& random, int scatterings) const {
+  // opaque lobes and at most kMaxGlassEvents on the relic's glass. `caustic_elsewhere`: the light
+  // that reaches the panorama through the glass alone, before any scattering, is left out (the
+  // caustic's light tracer carries it).
+  vec3 fromHit(SceneContent content, Ray ray, RayHit hit, Random& random, int scatterings,
+               bool caustic_elsewhere = false) const {
     const reflect::Environment& environment = scene_.environment();
     vec3 radiance(0.0f), throughput(1.0f);
     int glass_events = 0;
@@ -87,7 +91,7 @@ class Tracer {
           ++rays_;
           const RayHit next_hit = scene_.intersect(content, next);
           if (!next_hit.hit()) {  // a delta event: no light sample could have found this
-            radiance += throughput * environment.radiance(direction);
+            if (!(caustic_elsewhere && k == 0)) radiance += throughput * environment.radiance(direction);
             break;
           }
           ray = next;
@@ -171,6 +175,10 @@ class Tracer {
     const reflect::Bsdf bsdf = scene_.bsdfAt(ray, hit);
     const vec3 wo = -ray.direction;
     vec3 change(0.0f);
+    // The light the relic's glass focuses here, from the caustic's light tracer.
+    const vec3 p = ray.origin + hit.t * ray.direction;
+    const bool caustic_here = caustic_ && caustic_->onReceiver(p, scene_.shadingNormal(hit, ray.direction));
+    if (caustic_here) change += scene_.realAlbedo(hit) * (1.0f / kPi) * caustic_->irradianceAt(p);
     // The panorama's light the relic blocks, by environment sampling.
     const reflect::EnvironmentSample light = environment.sample(random.uniform2());
     if (light.pdf > 0.0f) {
@@ -195,9 +203,9 @@ class Tracer {
     const RayHit next_hit = scene_.intersect(kMixed, next);
     if (!next_hit.hit()) return change;  // the panorama, in both scenes
     if (scene_.isRelic(next_hit.geometry)) {
-      const vec3 added = scatterings > 1
-                             ? fromHit(SceneContent::kMixed, next, next_hit, random, scatterings - 1)
-                             : vec3(0.0f);
+      const vec3 added = scatterings > 1 ? fromHit(SceneContent::kMixed, next, next_hit, random,
+                                                   scatterings - 1, caustic_here)
+                                         : vec3(0.0f);
       ++rays_;
       const RayHit hidden = scene_.intersect(kReal, next);
       vec3 blocked(0.0f);
@@ -220,6 +228,7 @@ class Tracer {
   std::int64_t& rays_;
   const CameraMeasurement* measured_;
   int delta_levels_;
+  const RelicCaustic* caustic_;
 };
 
 void checkSettings(const CameraModel& camera, const CompositeSettings& s) {
@@ -274,7 +283,8 @@ CompositeImage renderSamples(const CameraModel& camera, const CompositeSettings&
 }  // namespace
 
 CompositeImage renderComposite(const LocalScene& scene, const CameraModel& camera, const cv::Mat& background,
-                               const CompositeSettings& s, const cv::Mat& region, const cv::Mat& depth) {
+                               const CompositeSettings& s, const cv::Mat& region, const cv::Mat& depth,
+                               const RelicCaustic* caustic) {
   checkSettings(camera, s);
   if (background.type() != CV_32FC3 || background.cols != camera.width() ||
       background.rows != camera.height())
@@ -290,14 +300,14 @@ CompositeImage renderComposite(const LocalScene& scene, const CameraModel& camer
   return renderSamples(
       camera, s, region, background,
       [&](int x, int y, const Ray& ray, Random& random, bool& relic, std::int64_t& rays) {
-        const Tracer tracer(scene, rays);
+        const Tracer tracer(scene, rays, nullptr, 1, caustic);
         const vec3 seen = rgbAt(background, x, y);
         ++rays;
         const RayHit hit = scene.intersect(SceneContent::kMixed, ray);
         if (!hit.hit()) return seen;
         if (scene.isRelic(hit.geometry)) {
           relic = true;
-          return Tracer(scene, rays, measured, s.delta_bounces)
+          return Tracer(scene, rays, measured, s.delta_bounces, caustic)
               .fromHit(SceneContent::kMixed, ray, hit, random, s.max_bounces);
         }
         if (s.method == DifferentialMethod::kDeltaPathTracing)

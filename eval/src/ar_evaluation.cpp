@@ -10,6 +10,8 @@
 #include "holo/ar/change_filter.hpp"
 #include "holo/ar/change_region.hpp"
 #include "holo/ar/local_path_tracing.hpp"
+#include "holo/ar/relic_caustic.hpp"
+#include "holo/core/equirect.hpp"
 #include "holo/core/error.hpp"
 #include "holo/core/image.hpp"
 #include "holo/core/ray_scene.hpp"
@@ -129,7 +131,18 @@ ArEvaluation evaluateArComposite(const ArEvaluationOptions& o) {
   if (!o.relic.empty()) description.relic = o.relic;
   description.visitors = 0;
   const sim::Museum museum(description);
-  const cv::Mat panorama = museum.renderPanorama(o.panorama_width, o.panorama_width / 2);
+  cv::Mat panorama = museum.renderPanorama(o.panorama_width, o.panorama_width / 2);
+  if (o.lamp_radiance > 0.0f) {
+    const vec3 lamp = glm::normalize(o.lamp_direction);
+    const float cos_radius = std::cos(glm::radians(5.0f));
+    for (int y = 0; y < panorama.rows; ++y)
+      for (int x = 0; x < panorama.cols; ++x) {
+        const vec2 uv((static_cast<float>(x) + 0.5f) / static_cast<float>(panorama.cols),
+                      (static_cast<float>(y) + 0.5f) / static_cast<float>(panorama.rows));
+        if (glm::dot(equirect::uvToDirection(uv), lamp) >= cos_radius)
+          setRgb(panorama, x, y, vec3(o.lamp_radiance));
+      }
+  }
   const reflect::Environment environment(panorama);
 
   const float vfov = glm::radians(o.vfov_deg);
@@ -216,10 +229,18 @@ ArEvaluation evaluateArComposite(const ArEvaluationOptions& o) {
   delta_settings.seed = o.seed;
   const ar::ChangeRegionSettings region_settings{.exposure = out.exposure};
   const std::clock_t delta_start = std::clock();
-  const cv::Mat region = ar::changeRegion(scene, camera, background, region_settings);
+  cv::Mat region = ar::changeRegion(scene, camera, background, region_settings);
+  ar::RelicCausticSettings caustic_settings;
+  caustic_settings.seed = o.seed;
+  const std::optional<ar::RelicCaustic> caustic =
+      ar::traceRelicCaustic(museum.relic(), environment, caustic_settings);
+  out.caustic_photons = caustic ? caustic->image().traced : 0;
+  if (caustic)
+    ar::addCausticToRegion(*caustic, camera, background, region_settings.negligible_codes, out.exposure,
+                           region);
   out.traced_pixels = cv::countNonZero(region);
-  const ar::CompositeImage delta =
-      ar::renderComposite(scene, camera, background, delta_settings, region, measured_depth);
+  const ar::CompositeImage delta = ar::renderComposite(scene, camera, background, delta_settings, region,
+                                                       measured_depth, caustic ? &*caustic : nullptr);
   out.delta.ms = cpuMsSince(delta_start);
   out.delta.spp = o.method_spp;
   out.delta.rays = delta.rays;
@@ -267,6 +288,35 @@ ArEvaluation evaluateArComposite(const ArEvaluationOptions& o) {
   out.filtered = out.delta;
   out.filtered.ms += cpuMsSince(filter_start);
   out.filtered.rmse = errors(out.filtered_composite);
+
+  if (caustic) {
+    out.caustic = cv::Mat::zeros(o.height, o.width, CV_8UC1);
+    for (int y = 0; y < o.height; ++y)
+      for (int x = 0; x < o.width; ++x)
+        if (truth.relic_coverage.at<float>(y, x) == 0.0f &&
+            luminance(rgbAt(truth.radiance, x, y)) > 1.5f * luminance(rgbAt(truth_real.radiance, x, y)))
+          out.caustic.at<std::uint8_t>(y, x) = 255;
+    out.caustic_pixels = cv::countNonZero(out.caustic);
+    const ar::CompositeImage without =
+        ar::renderComposite(scene, camera, background, delta_settings, region, measured_depth);
+    out.without_light_tracer_composite =
+        ar::filterChange(without.radiance, background, without.relic_coverage, frame.depth, {});
+    out.without_light_tracer = errors(out.without_light_tracer_composite);
+    const auto meanChange = [&](const cv::Mat& image) {
+      double sum = 0;
+      for (int y = 0; y < o.height; ++y)
+        for (int x = 0; x < o.width; ++x)
+          if (out.shadow.at<std::uint8_t>(y, x))
+            sum += luminance(rgbAt(image, x, y)) - luminance(rgbAt(truth_real.radiance, x, y));
+      return sum / std::max(1, out.shadow_pixels);
+    };
+    out.shadow_change_truth = meanChange(out.truth);
+    out.shadow_change = meanChange(out.filtered_composite);
+    out.shadow_change_without_light_tracer = meanChange(out.without_light_tracer_composite);
+    out.caustic_rmse = displayedRmse(out.filtered_composite, out.truth, out.caustic, out.exposure);
+    out.caustic_rmse_without_light_tracer =
+        displayedRmse(out.without_light_tracer_composite, out.truth, out.caustic, out.exposure);
+  }
 
   // The adversary: the relic over the camera's image, the real surfaces left as they are.
   out.no_shadow_composite = out.filtered_composite.clone();

@@ -221,13 +221,34 @@ CausticImage tracePointCaustics(const RenderScene& scene, const vec3& light_posi
   });
 }
 
+namespace {
+
+// A photon from the hall direction `towards_light` (unit, pointing away from the relic) of
+// radiance L drawn with density pdf (per steradian): it crosses a disc across the relic's bounding
+// sphere, perpendicular to its travel, carrying L pi r^2 / (pdf N).
+Emitted photonThroughDisc(const BoundingSphere& bound, const vec3& towards_light, const vec3& radiance,
+                          double pdf, double photons, PhotonRandom& random) {
+  const vec3 travel = -glm::normalize(towards_light);
+  vec3 u, v;
+  frameAround(travel, u, v);
+  const vec2 r = random.next2D();
+  const float radius = bound.radius * std::sqrt(r.x), phi = 2.0f * kPi * r.y;
+  const double disc = double(kPi) * double(bound.radius) * double(bound.radius);
+  Emitted out;
+  out.ray = Ray{
+      bound.centre - 2.0f * bound.radius * travel + radius * (std::cos(phi) * u + std::sin(phi) * v), travel};
+  out.flux = radiance * float(disc / (pdf * photons));
+  return out;
+}
+
+}  // namespace
+
 CausticImage traceEnvironmentCaustics(const RenderScene& scene, const PrefilteredIbl& ibl,
                                       const CausticReceiverGrid& grid,
                                       const CausticTracerSettings& settings) {
   const EnvironmentDirections directions(ibl.level(0));
   const BoundingSphere bound = boundingSphereOf(scene.relicBounds());
   const float c = std::cos(ibl.relicTurn()), s = std::sin(ibl.relicTurn());
-  const double disc = double(kPi) * double(bound.radius) * double(bound.radius);
   const double photons = double(std::max<std::uint64_t>(1, settings.photons));
   if (directions.empty()) {
     CausticTracerSettings none = settings;
@@ -240,16 +261,22 @@ CausticImage traceEnvironmentCaustics(const RenderScene& scene, const Prefiltere
     const vec3& hall = pick.direction;
     // The hall direction in the relic's frame: PrefilteredIbl::turnDirection inverted.
     const vec3 towards_light(c * hall.x - s * hall.z, hall.y, s * hall.x + c * hall.z);
-    const double pdf = pick.pdf;
-    const vec3 travel = -glm::normalize(towards_light);
-    vec3 u, v;
-    frameAround(travel, u, v);
-    const vec2 r = random.next2D();
-    const float radius = bound.radius * std::sqrt(r.x), phi = 2.0f * kPi * r.y;
-    out.ray =
-        Ray{bound.centre - 2.0f * bound.radius * travel + radius * (std::cos(phi) * u + std::sin(phi) * v),
-            travel};
-    out.flux = pick.radiance * float(disc / (pdf * photons));
+    out = photonThroughDisc(bound, towards_light, pick.radiance, pick.pdf, photons, random);
+    return true;
+  });
+}
+
+CausticImage traceEnvironmentCaustics(const RenderScene& scene, const Environment& environment,
+                                      const CausticReceiverGrid& grid,
+                                      const CausticTracerSettings& settings) {
+  const BoundingSphere bound = boundingSphereOf(scene.relicBounds());
+  const double photons = double(std::max<std::uint64_t>(1, settings.photons));
+  CausticTracerSettings run = settings;
+  if (environment.black()) run.photons = 0;
+  return traceAndBin(scene, grid, run, [&](std::uint64_t, PhotonRandom& random, Emitted& out) {
+    const EnvironmentSample pick = environment.sample(random.next2D());
+    if (!(pick.pdf > 0.0f)) return false;
+    out = photonThroughDisc(bound, pick.direction, pick.radiance, double(pick.pdf), photons, random);
     return true;
   });
 }

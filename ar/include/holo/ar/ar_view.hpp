@@ -16,6 +16,7 @@
 #include "holo/ar/change_region.hpp"
 #include "holo/ar/depth_surface.hpp"
 #include "holo/ar/local_path_tracing.hpp"
+#include "holo/ar/relic_caustic.hpp"
 #include "holo/core/camera_model.hpp"
 #include "holo/core/mesh.hpp"
 #include "holo/core/rgbd_frame.hpp"
@@ -52,11 +53,14 @@ struct ArViewSettings {
   // false: every pixel.
   bool trace_change_region = true;
   float negligible_codes = 0.5f;  // ChangeRegionSettings::negligible_codes
+  // The caustic of a transmissive relic on the pyramid base (relic_caustic.hpp; enabled: false for none).
+  RelicCausticSettings caustic;
 };
 
-// The region renderComposite traces under `settings` (empty: every pixel).
+// The region renderComposite traces under `settings` (empty: every pixel), with the pixels the
+// relic's caustic may change (none: no caustic).
 cv::Mat compositeRegion(const LocalScene& scene, const CameraModel& camera, const cv::Mat& background,
-                        const ArViewSettings& settings);
+                        const ArViewSettings& settings, const RelicCaustic* caustic = nullptr);
 
 struct ArView {
   cv::Mat image;                  // CV_8UC3 sRGB BGR: the composite at the camera's exposure
@@ -64,6 +68,7 @@ struct ArView {
   int relic_pixels = 0;           // pixels whose samples met the relic (0: out of the camera's view)
   std::size_t real_vertices = 0;  // of the local real surface
   std::int64_t rays = 0;
+  std::uint64_t caustic_photons = 0;  // traced for the relic's caustic (0: an opaque relic, none)
 };
 
 // The composite of camera `index` (after requireArCameraInputs on it); `panorama`: CV_32FC3 linear BGR

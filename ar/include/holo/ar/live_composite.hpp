@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <memory>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <vector>
 
 #include "holo/ar/ar_view.hpp"
@@ -90,6 +91,7 @@ class LiveComposite {
   std::unique_ptr<reflect::Environment> environment_;    // the scene keeps a reference to it
   std::unique_ptr<reflect::IrradianceSH> irradiance_;    // the panorama's, for the albedo
   std::shared_ptr<const RelicGeometry> relic_geometry_;  // built once per relic
+  std::optional<RelicCaustic> caustic_;                  // traced once per relic (none: opaque)
   std::vector<ivec2> surface_pixels_;                    // the depth surface's vertices' pixels
   int surfaces_built_ = 0;
   std::unique_ptr<LocalScene> scene_;

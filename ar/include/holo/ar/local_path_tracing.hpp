@@ -33,6 +33,7 @@
 #include <opencv2/core.hpp>
 
 #include "holo/ar/local_scene.hpp"
+#include "holo/ar/relic_caustic.hpp"
 #include "holo/core/camera_model.hpp"
 
 namespace holo::ar {
@@ -64,9 +65,13 @@ struct CompositeImage {
 // (delta path tracing, `delta_bounces` levels), instead of path tracing the local scene's model of
 // it: the relic reflects the real room as the camera saw it. Every method shades the relic's
 // pixels this way; the real pixels are where they differ.
+// `caustic` (relic_caustic.hpp; nullptr: none): where delta path tracing traces a real surface's
+// change on the receiver (a real pixel's, or one the relic's pixel sees), the caustic's light
+// tracer brings the light the relic's glass focuses there, and BSDF sampling leaves those paths
+// out. The two-pass renderers' real pixels keep their own path-traced caustic.
 CompositeImage renderComposite(const LocalScene& scene, const CameraModel& camera, const cv::Mat& background,
                                const CompositeSettings& settings, const cv::Mat& region = cv::Mat(),
-                               const cv::Mat& depth = cv::Mat());
+                               const cv::Mat& depth = cv::Mat(), const RelicCaustic* caustic = nullptr);
 
 // The local scene `content` path traced through the camera (pixels beyond it: the panorama).
 // Two renders with one seed share their random numbers wherever the relic does not intervene.

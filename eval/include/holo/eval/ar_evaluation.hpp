@@ -60,6 +60,10 @@ struct ArEvaluationOptions {
   // (ar::renderComposite's depth); false: the local scene's model of it path traced.
   bool measured_real_radiance = true;
   std::uint64_t seed = 1;
+  // A small bright lamp added to the hall's panorama (5 degrees in radius, this radiance; 0: none),
+  // towards `lamp_direction` (world, from the relic): what focuses a glass relic's caustic.
+  float lamp_radiance = 0.0f;
+  vec3 lamp_direction{-0.3f, 0.8f, -0.5f};
   // The two-pass renderers' budget: equal CPU time (the evaluation), or, when false, at least the
   // delta path tracer's count of rays (deterministic, for tests).
   bool equal_time = true;
@@ -100,6 +104,19 @@ struct ArEvaluation {
   // A transmissive relic only: the product's composite with the relic's glass opaque.
   std::optional<ArErrors> glass_opaque;
   cv::Mat glass_opaque_composite;  // CV_32FC3
+  // A transmissive relic standing on the base: the relic's caustic (ar/relic_caustic.hpp) is in
+  // delta path tracing's composites; photons traced for it (0: none), and the product's composite
+  // without its light tracer (the caustic left to BSDF sampling alone), the caustic's pixels
+  // (CV_8UC1 255: real pixels the truth shows above 1.5x the camera's image) and the error there.
+  std::uint64_t caustic_photons = 0;
+  std::optional<ArErrors> without_light_tracer;
+  cv::Mat without_light_tracer_composite;  // CV_32FC3
+  cv::Mat caustic;
+  int caustic_pixels = 0;
+  double caustic_rmse = 0, caustic_rmse_without_light_tracer = 0;  // 8-bit codes over `caustic`
+  // The mean change of linear luminance over the region's real pixels (its shadow and light)
+  // against the camera's true image: the truth's, the product's, without the light tracer.
+  double shadow_change_truth = 0, shadow_change = 0, shadow_change_without_light_tracer = 0;
   int region_pixels = 0, relic_pixels = 0, shadow_pixels = 0;
   int traced_pixels = 0;  // the pixels delta path tracing traced (ar::changeRegion)
   float exposure = 1.0f;

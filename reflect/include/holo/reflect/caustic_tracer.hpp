@@ -8,7 +8,9 @@
 //    level in proportion to radiance times texel solid angle (its bright lamps and windows first),
 //    each photon entering a disc across the relic's bounding sphere, perpendicular to its
 //    direction, with flux L(w) pi r^2 / (pdf(w) N). The relic's turn (PrefilteredIbl::relicTurn)
-//    turns the hall about the relic as every other lookup does;
+//    turns the hall about the relic as every other lookup does. Or, for a path tracer that lights
+//    its scene with an Environment (the AR composite), the directions that Environment samples
+//    (its panorama at infinity, per pixel), the same disc and flux;
 //  - a point light (tracePointCaustics, power W per RGB channel, isotropic): photons in the cone
 //    the bounding sphere subtends, each with power (cone share of the sphere) / N.
 // A photon follows the relic as delta scattering on smooth interfaces (roughness is not widened):
@@ -29,6 +31,7 @@
 #include <opencv2/core.hpp>
 
 #include "holo/core/math.hpp"
+#include "holo/reflect/environment.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
 #include "holo/reflect/render_scene.hpp"
 
@@ -61,6 +64,8 @@ struct CausticImage {
 bool relicTransmits(const RenderScene& scene);
 
 CausticImage traceEnvironmentCaustics(const RenderScene& scene, const PrefilteredIbl& ibl,
+                                      const CausticReceiverGrid& grid, const CausticTracerSettings& settings);
+CausticImage traceEnvironmentCaustics(const RenderScene& scene, const Environment& environment,
                                       const CausticReceiverGrid& grid, const CausticTracerSettings& settings);
 CausticImage tracePointCaustics(const RenderScene& scene, const vec3& light_position, const vec3& light_power,
                                 const CausticReceiverGrid& grid, const CausticTracerSettings& settings);
