@@ -6,8 +6,11 @@
 // the same hall dimmed at the exposure the bright hall fixed (a frame loop's evening) it is estimated
 // below a code and does none of its work (counters), while forcing it on (effect_min_codes 0)
 // changes some pixel's radiance by more than a tenth, yet no displayed pixel by a code: so leaving
-// it off there cannot pass by doing nothing. Also: an opaque convex relic's frames do none of the
-// five light effects' work (counters). 24^2 and 32^2 views, a few seconds.
+// it off there cannot pass by doing nothing. The filter's second gate, its own displayed change
+// where it last ran (lobe_filter_gate.hpp), on two scenes of `bench accuracy --effects`: off after
+// the kettle's first frame, on at every frame of the metal bowl, checked again when the eye moves.
+// Also: an opaque convex relic's frames do none of the five light effects' work (counters). 24^2
+// and 32^2 views, a few seconds.
 #include <gtest/gtest.h>
 
 #include <algorithm>
