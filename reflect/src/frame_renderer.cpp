@@ -14,6 +14,7 @@
 #include "foreground_walk.hpp"
 #include "holo/reflect/tone_map.hpp"
 #include "internal_depth.hpp"
+#include "lobe_filter_gate.hpp"
 #include "lobe_spread.hpp"
 #include "pass_timer.hpp"
 #include "plinth_light.hpp"
@@ -162,12 +163,20 @@ float FrameRenderer::gateExposure() const {
 
 EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
                                const std::vector<ForegroundCameraImage>& cameras) const {
-  return planFrame(cloud, cameras, visitorWithinReach(cloud), std::numeric_limits<float>::infinity());
+  return planFrame(cloud, cameras, visitorWithinReach(cloud), std::numeric_limits<float>::infinity(),
+                   std::numeric_limits<float>::infinity());
+}
+
+std::uint64_t FrameRenderer::lightKey() const {
+  float turn = ibl_.relicTurn();
+  std::uint32_t turn_bits = 0;
+  std::memcpy(&turn_bits, &turn, sizeof turn_bits);
+  return hashCombine(ibl_.sourceHash(), turn_bits);
 }
 
 EffectPlan FrameRenderer::planFrame(const depthfilter::ForegroundCloud& cloud,
                                     const std::vector<ForegroundCameraImage>& cameras, bool visitor_near,
-                                    float visitor_codes) const {
+                                    float visitor_codes, float filter_codes) const {
   EffectInputs in;
   in.foreground_enabled = settings_.foreground_enabled;
   in.relic_empty = scene_.relic().triangleCount() == 0;
@@ -218,11 +227,18 @@ EffectPlan FrameRenderer::planFrame(const depthfilter::ForegroundCloud& cloud,
   in.visitor_within_light_distance = visitor_near;
   in.visitor_light_codes = visitor_codes;
   in.effect_min_codes = settings_.effect_min_codes;
-  in.lobe_filter = lobe_filter_ && lobe_shows;
+  // Where its noise can show, the filter's own change where it last ran decides.
+  const bool filter_shows = filter_codes >= settings_.effect_min_codes;
+  char last[64] = "";
+  if (std::isfinite(filter_codes))
+    std::snprintf(last, sizeof last, "%.2g sRGB codes where it last ran", double(filter_codes));
+  in.lobe_filter = lobe_filter_ && lobe_shows && filter_shows;
   in.lobe_filter_reason =
       !lobe_filter_ || !std::isfinite(lobe_codes) ? lobe_filter_reason_
-      : lobe_shows                                ? lobe_filter_reason_ + " (its noise " + lobe + ")"
-                   : std::string("axis-aligned filter: the rough lobe's noise not shown (") + lobe + ")";
+      : !lobe_shows   ? std::string("axis-aligned filter: the rough lobe's noise not shown (") + lobe + ")"
+      : !filter_shows ? std::string("axis-aligned filter not shown (") + last + ")"
+      : std::isfinite(filter_codes) ? lobe_filter_reason_ + " (its noise " + lobe + ", " + last + ")"
+                                    : lobe_filter_reason_ + " (its noise " + lobe + ")";
   in.interreflection = settings_.relic_interreflection;
   in.relic_convex = scene_.relicIsConvex();
   in.plinth = plinth_light_ != nullptr;
@@ -252,6 +268,11 @@ struct FrameRenderer::ViewCache {
   // light; stale once the shading changes (a new static pass or a refinement step).
   VisitorLight::Receivers visitor_receivers;
   bool receivers_ready = false;
+  // Whether the axis-aligned filter shows in this view, and its last static pass's pixels without
+  // and with it (scratch; written where the filter ran).
+  LobeFilterGate filter_gate;
+  std::vector<FilterChange> filter_changes;
+  float shown_exposure = 0.0f;  // the exposure the view was last shown at
 };
 
 FrameRenderer::~FrameRenderer() = default;
@@ -294,7 +315,7 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
           VisitorLight::largestRadianceChange(grid_, relic_bounds_, ibl_.brightest(), relic_wide_lobes_),
           exposure);
   }
-  result.plan = planFrame(cloud, cameras, visitor_near, visitor_codes);
+  result.plan = planFrame(cloud, cameras, visitor_near, visitor_codes, lobeFilterCodes(views));
   if (result.plan.has(Pass::VoxelGrid)) {
     if (!binned) {
       PassTimer t(result.frame_timings, Pass::VoxelGrid);
@@ -356,12 +377,9 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
   if (wide_lobes_) {
     // The entries hold the static shading of the second points: the light, the relic's turn and
     // what of it the plan runs.
-    float turn = ibl_.relicTurn();
-    std::uint32_t turn_bits = 0;
-    std::memcpy(&turn_bits, &turn, sizeof turn_bits);
-    std::uint64_t key = hashCombine(ibl_.sourceHash(), turn_bits);
-    key = hashCombine(key, (result.plan.has(Pass::SelfOcclusion) ? 1u : 0u) |
-                               (result.plan.sun_light ? 2u : 0u) | (result.plan.interreflection ? 4u : 0u));
+    std::uint64_t key = hashCombine(lightKey(), (result.plan.has(Pass::SelfOcclusion) ? 1u : 0u) |
+                                                    (result.plan.sun_light ? 2u : 0u) |
+                                                    (result.plan.interreflection ? 4u : 0u));
     if (key != wide_lobes_key_) {
       wide_lobes_->clear();
       wide_lobes_key_ = key;
@@ -409,6 +427,20 @@ bool reusable(const CameraModel& cached, const CameraModel& wanted, float distan
 
 }  // namespace
 
+float FrameRenderer::lobeFilterCodes(const std::vector<CameraModel>& views) const {
+  if (!lobe_filter_ || caches_.size() < views.size()) return std::numeric_limits<float>::infinity();
+  const std::uint64_t light = lightKey();
+  float codes = 0.0f;
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    const ViewCache& cache = *caches_[v];
+    const float exposure = settings_.exposure > 0.0f ? settings_.exposure : cache.shown_exposure;
+    // A view whose static shading is reused runs no static pass to check the filter in.
+    const bool reused = cache.ready && reusable(cache.camera, views[v], settings_.static_reuse_distance);
+    codes = std::max(codes, cache.filter_gate.codes(views[v].position(), exposure, light, reused));
+  }
+  return codes;
+}
+
 ViewImages FrameRenderer::renderView(const EffectPlan& plan,
                                      const std::vector<ForegroundCameraImage>& cameras,
                                      const CameraModel& view, std::uint64_t foreground,
@@ -455,7 +487,8 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
                         plan.has(Pass::SelfOcclusion) ? visibility_.get() : nullptr, &lighting_,
                         wide_lobes_.get())
               .shade(cache.hits, view, cache.shading, cache.walk_rays, cache.bounces, cache.hdr,
-                     cache.coverage, plan.has(Pass::AxisAlignedFilter) ? &filter : nullptr, &filtered);
+                     cache.coverage, plan.has(Pass::AxisAlignedFilter) ? &filter : nullptr, &filtered,
+                     &cache.filter_changes);
       out.occluded_samples = counts.occluded_samples;
       out.shaded_samples = counts.shaded_samples;
       out.interreflected_samples = counts.interreflected_samples;
@@ -467,6 +500,8 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       if (plan.has(Pass::AxisAlignedFilter)) {
         t.subtract(filtered.ms);
         out.timings.push_back({Pass::AxisAlignedFilter, filtered.ms});
+      } else if (lobe_filter_) {
+        cache.filter_gate.skipped();
       }
     }
     if (layered) {
@@ -581,6 +616,20 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     out.exposure = autoExposure(out.hdr);
     out.display = toneMap(out.hdr, out.exposure);
   }
+  if (!out.static_reused && plan.has(Pass::AxisAlignedFilter)) {
+    // The filter's displayed change at the exposure the view is shown at.
+    float codes = 0.0f;
+    if (cache.filter_changes.size() == hits.pixelCount() && cache.bounces.size() == hits.pixelCount())
+      for (const std::uint32_t p : hits.covered)
+        if (cache.bounces[p].rough) {
+          const FilterChange& c = cache.filter_changes[p];
+          codes = std::max(codes, maxComponent(glm::abs(toneMapCodes(c.filtered, out.exposure) -
+                                                        toneMapCodes(c.unfiltered, out.exposure))));
+        }
+    out.filter_codes = codes;
+    cache.filter_gate.record(codes, view.position(), out.exposure, lightKey());
+  }
+  cache.shown_exposure = out.exposure;
   return out;
 }
 

@@ -14,6 +14,7 @@
 #include "holo/reflect/bsdf.hpp"
 #include "holo/reflect/surface_shading.hpp"
 #include "layer_inputs.hpp"
+#include "lobe_filter_gate.hpp"
 #include "lobe_sample_sets.hpp"
 #include "wide_lobe_cache.hpp"
 
@@ -518,7 +519,8 @@ std::uint64_t StaticShading::reshadeLobes(const HitPointBuffer& hits, const Came
 StaticCounts StaticShading::shade(const HitPointBuffer& hits, const CameraModel& view,
                                   std::vector<SplitSumShading>& shading, std::vector<WalkRay>& walk_rays,
                                   std::vector<PixelBounce>& bounces, cv::Mat& hdr, cv::Mat& coverage,
-                                  const AxisAlignedFilter* filter, FilterCounts* filter_counts) const {
+                                  const AxisAlignedFilter* filter, FilterCounts* filter_counts,
+                                  std::vector<FilterChange>* filter_changes) const {
   const int w = hits.width;
   shading.resize(hits.hits.size());
   walk_rays.resize(hits.hits.size());
@@ -559,7 +561,7 @@ StaticCounts StaticShading::shade(const HitPointBuffer& hits, const CameraModel&
         });
     local.interreflected_samples += deferred.samples_casting;
   });
-  std::vector<LobeBounce> pooled;
+  std::vector<LobeBounce> pooled, unfiltered;
   if (pool_bounces) {
     pooled.resize(hits.pixelCount());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
@@ -571,22 +573,41 @@ StaticCounts StaticShading::shade(const HitPointBuffer& hits, const CameraModel&
                                                         int(p % std::size_t(w)), int(p / std::size_t(w)));
                         }
                       });
+    if (filter && filter_changes) {
+      unfiltered = pooled;
+      filter_changes->resize(hits.pixelCount());
+    }
     if (filter) *filter_counts = filter->apply(bounces, pooled, w, hits.height, view);
   }
+  const bool measure = !unfiltered.empty();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
                     [&](const tbb::blocked_range<std::size_t>& r) {
+                      std::vector<SplitSumShading> saved;
                       for (std::size_t k = r.begin(); k < r.end(); ++k) {
                         const std::size_t p = hits.covered[k];
                         const int x = int(p % std::size_t(w)), y = int(p / std::size_t(w));
-                        if (pool_bounces && bounces[p].rough) {
-                          const std::size_t first = hits.firstSample(p);
-                          for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i)
-                            if (hits.valid[i] && samplesLobe(hits.hits[i]))
-                              addLobeBounce(pooled[p], textureOcclusion(surfaceOf(hits.hits[i])),
-                                            settings_.evaluation.lobe_visibility, shading[i]);
-                        }
                         float weight = 0.0f;
-                        setRgb(hdr, x, y, composePixel(hits, shading, nullptr, p, weight));
+                        const bool rough = pool_bounces && bounces[p].rough;
+                        const std::size_t first = hits.firstSample(p);
+                        const std::size_t last = first + std::size_t(hits.sampleCount(p));
+                        const auto addLobe = [&](const LobeBounce& bounce) {
+                          for (std::size_t i = first; i < last; ++i)
+                            if (hits.valid[i] && samplesLobe(hits.hits[i]))
+                              addLobeBounce(bounce, textureOcclusion(surfaceOf(hits.hits[i])),
+                                            settings_.evaluation.lobe_visibility, shading[i]);
+                        };
+                        if (rough && measure) {
+                          // The pixel without the filter, then its shading as it was.
+                          saved.assign(shading.begin() + std::ptrdiff_t(first),
+                                       shading.begin() + std::ptrdiff_t(last));
+                          addLobe(unfiltered[p]);
+                          (*filter_changes)[p].unfiltered = composePixel(hits, shading, nullptr, p, weight);
+                          std::copy(saved.begin(), saved.end(), shading.begin() + std::ptrdiff_t(first));
+                        }
+                        if (rough) addLobe(pooled[p]);
+                        const vec3 rgb = composePixel(hits, shading, nullptr, p, weight);
+                        if (rough && measure) (*filter_changes)[p].filtered = rgb;
+                        setRgb(hdr, x, y, rgb);
                         coverage.at<float>(y, x) = hits.coverage(x, y);
                       }
                     });

@@ -61,6 +61,7 @@ namespace holo::reflect {
 class AxisAlignedFilter;
 class WideLobeCache;
 struct FilterCounts;
+struct FilterChange;
 
 // What a shade() call did, for the statistics.
 struct StaticCounts {
@@ -89,13 +90,16 @@ class StaticShading {
   // linear BGR, the mean over each pixel's samples of psi_s + diffuse (misses black), and
   // coverage, CV_32FC1; both must be view-sized and zero, only covered pixels are written.
   // `bounces` is scratch, reused across calls. With `filter` (may be null) the rough lobe's pooled
-  // interreflection is filtered and `filter_counts` (then not null) receives its counters. The
-  // interreflection runs where settings.relic_interreflection is on and casts no ray that the
+  // interreflection is filtered and `filter_counts` (then not null) receives its counters; with
+  // `filter_changes` (may be null) too, it is sized to the view's pixels and each filtered pixel's
+  // radiance without and with the filter is written there (the other entries are left as they
+  // were). The interreflection runs where settings.relic_interreflection is on and casts no ray that the
   // relic's supporting planes prove a miss (RenderScene::mayMeetRelicAgain).
   StaticCounts shade(const HitPointBuffer& hits, const CameraModel& view,
                      std::vector<SplitSumShading>& shading, std::vector<WalkRay>& walk_rays,
                      std::vector<PixelBounce>& bounces, cv::Mat& hdr, cv::Mat& coverage,
-                     const AxisAlignedFilter* filter = nullptr, FilterCounts* filter_counts = nullptr) const;
+                     const AxisAlignedFilter* filter = nullptr, FilterCounts* filter_counts = nullptr,
+                     std::vector<FilterChange>* filter_changes = nullptr) const;
 
   // Where a sample (pixel index, sample within the pixel) takes its lobe's strata: an offset in
   // [0, 1)^2 within each stratum; shade() takes sample set 0's (progressive_accumulation.hpp), or

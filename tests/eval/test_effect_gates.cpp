@@ -6,15 +6,21 @@
 // the same hall dimmed at the exposure the bright hall fixed (a frame loop's evening) it is estimated
 // below a code and does none of its work (counters), while forcing it on (effect_min_codes 0)
 // changes some pixel's radiance by more than a tenth, yet no displayed pixel by a code: so leaving
-// it off there cannot pass by doing nothing. Also: an opaque convex relic's frames do none of the
-// five light effects' work (counters). 24^2 and 32^2 views, a few seconds.
+// it off there cannot pass by doing nothing. The filter's second gate, its own displayed change
+// where it last ran (lobe_filter_gate.hpp), on two scenes of `bench accuracy --effects`: off after
+// the kettle's first frame, on at every frame of the metal bowl, checked again when the eye moves.
+// Also: an opaque convex relic's frames do none of the five light effects' work (counters). 24^2
+// and 32^2 views, a few seconds.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstdio>
+#include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "holo/core/camera_model.hpp"
 #include "holo/core/image.hpp"
 #include "holo/eval/methods.hpp"
 #include "holo/eval/reflection_scene.hpp"
@@ -256,6 +262,105 @@ TEST(EffectGates, ProgressiveRefinementOffBelowOneDisplayedCode) {
               double(c.radiance) * 100.0, double(c.codes));
   EXPECT_GT(c.radiance, 0.1f);
   EXPECT_LT(c.codes, 1.0f);
+}
+
+// `camera` moved `metres` along its own x axis.
+CameraModel movedEye(const CameraModel& camera, float metres) {
+  CameraModel moved = camera;
+  mat4 pose = camera.T_world_camera();
+  pose[3] += pose[0] * metres;
+  moved.setPose(pose);
+  return moved;
+}
+
+// A hall of `bench accuracy --effects` with `relic` at 32^2 and its prefiltered hall, built once.
+struct EffectsScene {
+  VisitorScene setup;
+  std::shared_ptr<const reflect::PrefilteredIbl> ibl;
+  reflect::RenderScene relic;
+  EffectsScene(const std::string& hall, const std::string& relic_name)
+      : setup(visitorScene(hall, relic_name, -1, 0.0f, 0.0f, 32)),
+        ibl(staticIbl(setup.scene, MethodSettings{})),
+        relic(setup.scene.relic, {}) {}
+};
+
+const EffectsScene& effectsScene(const std::string& hall, const std::string& relic) {
+  static std::map<std::string, std::unique_ptr<EffectsScene>> scenes;
+  std::unique_ptr<EffectsScene>& scene = scenes[hall + ":" + relic];
+  if (!scene) scene = std::make_unique<EffectsScene>(hall, relic);
+  return *scene;
+}
+
+// Frames of an effects scene, its visitors in, the exposure chosen by each view as the bench's
+// frames do: the filter's own change where it ran decides the next static passes.
+struct FilterFrames {
+  const EffectsScene& scene;
+  reflect::FrameRenderer renderer;
+  FilterFrames(const std::string& hall, const std::string& relic, float effect_min_codes)
+      : scene(effectsScene(hall, relic)), renderer(scene.relic, *scene.ibl, [&] {
+          reflect::TracerSettings s;
+          s.effect_min_codes = effect_min_codes;
+          return s;
+        }()) {}
+  reflect::FrameResult at(const CameraModel& eye) {
+    return renderer.render(scene.setup.scene.foreground, scene.setup.scene.foreground_cameras, {eye});
+  }
+};
+
+// The kettle in the room (as `bench accuracy --effects` frames it): the filter changes no
+// displayed code by one in its first static pass, so the next static passes (the eye 1 mm away)
+// do none of its work, and their image is within a code of the filtered one; the eye 10 cm away
+// (beyond LobeFilterGate::kEyeDistance) checks it again.
+TEST(EffectGates, AxisAlignedFilterOffWhereItsOwnChangeWasBelowOneCode) {
+  FilterFrames kettle("room", "kettle", reflect::TracerSettings{}.effect_min_codes);
+  const CameraModel eye = kettle.scene.setup.camera;
+  const reflect::FrameResult first = kettle.at(movedEye(eye, 0.001f));
+  ASSERT_TRUE(first.plan.has(reflect::Pass::AxisAlignedFilter)) << first.plan.describe();
+  EXPECT_GT(first.views.at(0).filter_taps, 0u);
+  const float first_codes = first.views.at(0).filter_codes;
+  std::printf("the kettle's filter changed a displayed code by at most %.3f\n", double(first_codes));
+  EXPECT_GT(first_codes, 0.0f);
+  EXPECT_LT(first_codes, 1.0f);
+
+  const reflect::FrameResult next = kettle.at(eye);
+  EXPECT_FALSE(next.plan.has(reflect::Pass::AxisAlignedFilter)) << next.plan.describe();
+  EXPECT_NE(next.plan.material_reason.find("axis-aligned filter not shown"), std::string::npos)
+      << next.plan.describe();
+  EXPECT_GT(next.views.at(0).shaded_samples, 0u);  // a static pass ran, without the filter
+  EXPECT_EQ(next.views.at(0).filtered_pixels, 0u);
+  EXPECT_EQ(next.views.at(0).filter_taps, 0u);
+
+  // Left off, the image is the filtered one within a code (forced on: effect_min_codes 0).
+  FilterFrames forced("room", "kettle", 0.0f);
+  forced.at(movedEye(eye, 0.001f));
+  const reflect::FrameResult filtered = forced.at(eye);
+  ASSERT_TRUE(filtered.plan.has(reflect::Pass::AxisAlignedFilter)) << filtered.plan.describe();
+  EXPECT_GT(filtered.views.at(0).filter_taps, 0u);
+  const float exposure = next.views.at(0).exposure;
+  const Change c = change(next.views.at(0).hdr, filtered.views.at(0).hdr, exposure);
+  std::printf("left off: %.3f codes from the filtered image (largest radiance change %.1f%%)\n",
+              double(c.codes), double(c.radiance) * 100.0);
+  EXPECT_GT(c.radiance, 0.0f);  // the filter does change the pixels, by less than a code
+  EXPECT_LT(c.codes, 1.0f);
+
+  const reflect::FrameResult moved = kettle.at(movedEye(eye, 0.1f));
+  EXPECT_TRUE(moved.plan.has(reflect::Pass::AxisAlignedFilter)) << moved.plan.describe();
+  EXPECT_GT(moved.views.at(0).filter_taps, 0u);
+}
+
+// The metal bowl in the gallery (as `bench accuracy --effects` frames it): its filter moves a
+// displayed code by more than one, so every static pass keeps filtering.
+TEST(EffectGates, AxisAlignedFilterStaysOnWhereItsChangeShows) {
+  FilterFrames bowl("gallery", "metal-bowl", reflect::TracerSettings{}.effect_min_codes);
+  const CameraModel eye = bowl.scene.setup.camera;
+  for (const float metres : {0.001f, 0.0f, 0.002f}) {
+    const reflect::FrameResult r = bowl.at(movedEye(eye, metres));
+    EXPECT_TRUE(r.plan.has(reflect::Pass::AxisAlignedFilter)) << r.plan.describe();
+    EXPECT_GT(r.views.at(0).filter_taps, 0u);
+    std::printf("the metal bowl's filter changed a displayed code by at most %.3f\n",
+                double(r.views.at(0).filter_codes));
+    EXPECT_GE(r.views.at(0).filter_codes, 1.0f);
+  }
 }
 
 // An opaque convex relic beside the window scene's visitor, in its own light, three still frames:

@@ -68,7 +68,9 @@ class FrameRenderer {
   // (render() also leaves it off where their largest displayed change is below
   // effect_min_codes). AxisAlignedFilter and ProgressiveRefinement at the exposure fixed in the
   // settings or, when automatic, the largest a view chose in the last frame (before any frame:
-  // on, as nothing is known).
+  // on, as nothing is known); render() also leaves the filter off where its own displayed change,
+  // measured in the views' last static passes with it, was below effect_min_codes
+  // (lobe_filter_gate.hpp).
   EffectPlan plan(const depthfilter::ForegroundCloud& cloud,
                   const std::vector<ForegroundCameraImage>& cameras) const;
   // Renders every view of one frame. A point whose camera index has no image is ignored.
@@ -91,11 +93,17 @@ class FrameRenderer {
 
  private:
   struct ViewCache;
-  // plan(), with whether a visitor is within visitor_light_distance and the visitors' largest
-  // displayed change this frame (infinite: not measured).
+  // plan(), with whether a visitor is within visitor_light_distance, the visitors' largest
+  // displayed change this frame and the axis-aligned filter's at its views' last checks (each
+  // infinite: not measured).
   EffectPlan planFrame(const depthfilter::ForegroundCloud& cloud,
                        const std::vector<ForegroundCameraImage>& cameras, bool visitor_near,
-                       float visitor_codes) const;
+                       float visitor_codes, float filter_codes) const;
+  // The axis-aligned filter's largest displayed change over these views at their last checks;
+  // infinite where a view has none or is due one (lobe_filter_gate.hpp).
+  float lobeFilterCodes(const std::vector<CameraModel>& views) const;
+  // The key of the light the static shading is lit with (the IBL's source and the relic's turn).
+  std::uint64_t lightKey() const;
   bool visitorWithinReach(const depthfilter::ForegroundCloud& cloud) const;
   // The exposure the gates weigh a change at: the settings' fixed one, else the largest a view
   // chose in the last frame; 0 before any.

@@ -43,6 +43,9 @@ struct ViewCounters {
   // Pixels whose rough-lobe interreflection the axis-aligned filter smoothed, and the weights it
   // took (AxisAlignedFilter; 0 when the static shading was reused or the plan left it off).
   std::uint64_t filtered_pixels = 0, filter_taps = 0;
+  // The largest change of a displayed sRGB code (unrounded) the filter made in this view's static
+  // pass (0 when it did not run there): what the plan's gate weighs it with.
+  float filter_codes = 0.0f;
   // Samples shaded, those that cast an interreflection ray and the rays they cast (0 when the
   // static shading was reused; no ray on a convex relic: the plan leaves the effect off).
   std::uint64_t shaded_samples = 0, interreflected_samples = 0, interreflection_rays = 0;
