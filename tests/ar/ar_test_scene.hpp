@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <glm/gtc/constants.hpp>
 
+#include "holo/ar/local_path_tracing.hpp"
 #include "holo/ar/local_scene.hpp"
 #include "holo/core/camera_model.hpp"
 #include "holo/core/equirect.hpp"
@@ -57,6 +59,20 @@ inline CameraModel camera(int width = 48, int height = 32) {
       2.0f * std::atan(std::tan(0.5f * vfov) * static_cast<float>(width) / static_cast<float>(height));
   return CameraModel(Intrinsics::fromFov(width, height, hfov, vfov),
                      lookAtCameraToWorld({0.0f, 0.7f, 0.8f}, {-0.1f, 0.0f, -0.1f}));
+}
+
+// Sampling settings of a composite or a local scene's render: spp samples a pixel, seeded.
+inline CompositeSettings samples(int spp, std::uint64_t seed, DifferentialMethod method = {}) {
+  CompositeSettings s;
+  s.method = method;
+  s.spp = spp;
+  s.seed = seed;
+  return s;
+}
+
+// Rec. 709 luminance of linear RGB.
+inline float luminance(const vec3& c) {
+  return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
 }
 
 }  // namespace holo::ar::test

@@ -24,21 +24,11 @@ namespace holo::ar {
 namespace {
 
 using test::camera;
+using test::luminance;
 using test::plane;
+using test::samples;
 using test::sphereRelic;
 using test::sunnyPanorama;
-
-CompositeSettings settings(DifferentialMethod method, int spp, std::uint64_t seed) {
-  CompositeSettings s;
-  s.method = method;
-  s.spp = spp;
-  s.seed = seed;
-  return s;
-}
-
-float luminance(const vec3& c) {
-  return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
-}
 
 struct Scene {
   cv::Mat panorama = sunnyPanorama();
@@ -75,7 +65,7 @@ TEST(LocalPathTracing, APlaneUnderAUniformSkyReflectsItsAlbedo) {
   const reflect::Environment environment(sky);
   const LocalScene scene(plane(), Model{}, environment);
   const CameraModel view = camera();
-  const CompositeImage image = renderLocalScene(scene, SceneContent::kReal, view, settings({}, 64, 5));
+  const CompositeImage image = renderLocalScene(scene, SceneContent::kReal, view, samples(64, 5));
   double sum = 0;
   int n = 0;
   for (int y = 0; y < image.radiance.rows; ++y)
@@ -103,7 +93,7 @@ TEST(LocalPathTracing, ClearGlassUnderAUniformSkyNeitherLosesNorGainsLight) {
   relic.materials[0].ior = 1.5f;
   const LocalScene glass(RealSurface{}, relic, environment);
   const CameraModel view = camera();
-  const CompositeImage image = renderLocalScene(glass, SceneContent::kMixed, view, settings({}, 4, 3));
+  const CompositeImage image = renderLocalScene(glass, SceneContent::kMixed, view, samples(4, 3));
   double low = 10, high = 0;
   int relic_pixels = 0;
   for (int y = 0; y < view.height(); ++y)
@@ -135,7 +125,7 @@ TEST(LocalPathTracing, AGlassBallTurnsTheSkyOver) {
     relic.materials[0].transmission = transmissive ? 1.0f : 0.0f;
     relic.materials[0].thickness = 0.1f;
     const LocalScene scene(RealSurface{}, relic, environment);
-    const CompositeImage image = renderLocalScene(scene, SceneContent::kMixed, level, settings({}, 16, 3));
+    const CompositeImage image = renderLocalScene(scene, SceneContent::kMixed, level, samples(16, 3));
     const cv::Mat on_relic = image.relic_coverage == 1.0f;
     const int mid = level.height() / 2;
     const cv::Scalar upper = cv::mean(image.radiance.rowRange(0, mid), on_relic.rowRange(0, mid));
@@ -152,10 +142,10 @@ TEST(LocalPathTracing, AGlassBallTurnsTheSkyOver) {
 
 TEST(ArComposite, DeltaPathTracingOnExactInputsGivesTheMixedScene) {
   const Scene s;
-  const cv::Mat real = renderLocalScene(s.local, SceneContent::kReal, s.view, settings({}, 256, 7)).radiance;
-  const CompositeImage truth = renderLocalScene(s.local, SceneContent::kMixed, s.view, settings({}, 256, 7));
+  const cv::Mat real = renderLocalScene(s.local, SceneContent::kReal, s.view, samples(256, 7)).radiance;
+  const CompositeImage truth = renderLocalScene(s.local, SceneContent::kMixed, s.view, samples(256, 7));
   const CompositeImage delta =
-      renderComposite(s.local, s.view, real, settings(DifferentialMethod::kDeltaPathTracing, 256, 3));
+      renderComposite(s.local, s.view, real, samples(256, 3, DifferentialMethod::kDeltaPathTracing));
   const ShadowComparison c = compareInShadow(delta.radiance, truth, real);
   ASSERT_GT(c.pixels, 20) << "the sphere casts a shadow in view";
   ASSERT_LT(c.true_change, 0.0);
@@ -165,10 +155,10 @@ TEST(ArComposite, DeltaPathTracingOnExactInputsGivesTheMixedScene) {
 
 TEST(ArComposite, TwoPassDifferentialRenderingConvergesToTheSameImage) {
   const Scene s;
-  const cv::Mat real = renderLocalScene(s.local, SceneContent::kReal, s.view, settings({}, 256, 7)).radiance;
-  const CompositeImage truth = renderLocalScene(s.local, SceneContent::kMixed, s.view, settings({}, 256, 7));
+  const cv::Mat real = renderLocalScene(s.local, SceneContent::kReal, s.view, samples(256, 7)).radiance;
+  const CompositeImage truth = renderLocalScene(s.local, SceneContent::kMixed, s.view, samples(256, 7));
   const CompositeImage two_pass =
-      renderComposite(s.local, s.view, real, settings(DifferentialMethod::kTwoPass, 256, 3));
+      renderComposite(s.local, s.view, real, samples(256, 3, DifferentialMethod::kTwoPass));
   const ShadowComparison c = compareInShadow(two_pass.radiance, truth, real);
   EXPECT_NEAR(c.composite_change / c.true_change, 1.0, 0.1);
 }
@@ -228,13 +218,13 @@ TEST(ArComposite, TheRelicReflectsTheRealSurfaceAsTheCameraSawIt) {
   mirror.materials[0].metallic = 1.0f;
   mirror.materials[0].roughness = 0.05f;
   const LocalScene exact(plane(), mirror, s.environment);
-  const cv::Mat real = renderLocalScene(exact, SceneContent::kReal, s.view, settings({}, 256, 7)).radiance;
-  const CompositeImage truth = renderLocalScene(exact, SceneContent::kMixed, s.view, settings({}, 256, 7));
+  const cv::Mat real = renderLocalScene(exact, SceneContent::kReal, s.view, samples(256, 7)).radiance;
+  const CompositeImage truth = renderLocalScene(exact, SceneContent::kMixed, s.view, samples(256, 7));
   const cv::Mat depth = depthOfReal(exact, s.view);
   RealSurface dark = plane();
   std::fill(dark.albedo.begin(), dark.albedo.end(), vec3(0.15f));
   const LocalScene wrong(std::move(dark), mirror, s.environment);
-  const CompositeSettings delta = settings(DifferentialMethod::kDeltaPathTracing, 64, 3);
+  const CompositeSettings delta = samples(64, 3, DifferentialMethod::kDeltaPathTracing);
   const RelicScore traced = scoreRelic(renderComposite(wrong, s.view, real, delta), truth);
   const RelicScore measured =
       scoreRelic(renderComposite(wrong, s.view, real, delta, cv::Mat(), depth), truth);
@@ -251,7 +241,7 @@ TEST(ArComposite, TheRelicReflectsTheRealSurfaceAsTheCameraSawIt) {
 }
 
 cv::Mat twoPassAtRays(const Scene& s, const cv::Mat& real, DifferentialMethod method, std::int64_t rays) {
-  CompositeSettings pass = settings(method, 1, 11);
+  CompositeSettings pass = samples(1, 11, method);
   cv::Mat sum(real.size(), CV_32FC3, cv::Scalar::all(0));
   for (std::int64_t cast = 0; cast < rays; ++pass.first_sample) {
     const CompositeImage image = renderComposite(s.local, s.view, real, pass);
@@ -288,10 +278,10 @@ PlaneScore planeScore(const Scene& s, const cv::Mat& image, const CompositeImage
 // independent samples at its count of rays, each scored over the plane.
 struct EqualRays {
   Scene s;
-  cv::Mat real = renderLocalScene(s.local, SceneContent::kReal, s.view, settings({}, 256, 7)).radiance;
-  CompositeImage truth = renderLocalScene(s.local, SceneContent::kMixed, s.view, settings({}, 256, 7));
+  cv::Mat real = renderLocalScene(s.local, SceneContent::kReal, s.view, samples(256, 7)).radiance;
+  CompositeImage truth = renderLocalScene(s.local, SceneContent::kMixed, s.view, samples(256, 7));
   CompositeImage delta =
-      renderComposite(s.local, s.view, real, settings(DifferentialMethod::kDeltaPathTracing, 4, 11));
+      renderComposite(s.local, s.view, real, samples(4, 11, DifferentialMethod::kDeltaPathTracing));
   PlaneScore d = planeScore(s, delta.radiance, truth, real);
   PlaneScore independent =
       planeScore(s, twoPassAtRays(s, real, DifferentialMethod::kTwoPass, delta.rays), truth, real);

@@ -21,6 +21,9 @@
 namespace holo::ar {
 namespace {
 
+using test::luminance;
+using test::samples;
+
 Model glassBall() {
   Model relic = test::sphereRelic();
   relic.meshes[0] = makeSphere(0.12f, 32, 64);
@@ -39,17 +42,6 @@ CameraModel causticCamera() {
   const float fov = glm::radians(40.0f);
   return CameraModel(Intrinsics::fromFov(kSize, kSize, fov, fov),
                      lookAtCameraToWorld({-0.05f, 0.75f, 0.35f}, {-0.12f, 0.0f, 0.0f}));
-}
-
-CompositeSettings samples(int spp, std::uint64_t seed) {
-  CompositeSettings s;
-  s.spp = spp;
-  s.seed = seed;
-  return s;
-}
-
-float lum(const vec3& c) {
-  return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
 }
 
 struct CausticScene {
@@ -72,7 +64,7 @@ cv::Mat causticPixels(const CausticScene& s) {
   for (int y = 0; y < s.real.rows; ++y)
     for (int x = 0; x < s.real.cols; ++x)
       if (s.truth.relic_coverage.at<float>(y, x) == 0.0f &&
-          lum(rgbAt(s.truth.radiance, x, y)) > 1.5f * lum(rgbAt(s.real, x, y)))
+          luminance(rgbAt(s.truth.radiance, x, y)) > 1.5f * luminance(rgbAt(s.real, x, y)))
         mask.at<std::uint8_t>(y, x) = 255;
   return mask;
 }
@@ -86,9 +78,9 @@ CausticError errorOver(const cv::Mat& composite, const CausticScene& s, const cv
   for (int y = 0; y < mask.rows; ++y)
     for (int x = 0; x < mask.cols; ++x)
       if (mask.at<std::uint8_t>(y, x)) {
-        const double c = lum(rgbAt(composite, x, y)), t = lum(rgbAt(s.reference.radiance, x, y));
+        const double c = luminance(rgbAt(composite, x, y)), t = luminance(rgbAt(s.reference.radiance, x, y));
         e.rmse += (c - t) * (c - t);
-        e.mean_change += c - lum(rgbAt(s.real, x, y));
+        e.mean_change += c - luminance(rgbAt(s.real, x, y));
         ++n;
       }
   e.rmse = std::sqrt(e.rmse / std::max(n, 1));
@@ -102,7 +94,7 @@ cv::Point peakOfChange(const cv::Mat& image, const CausticScene& s) {
   for (int y = 0; y < image.rows; ++y)
     for (int x = 0; x < image.cols; ++x)
       if (s.truth.relic_coverage.at<float>(y, x) == 0.0f)
-        change.at<float>(y, x) = lum(rgbAt(image, x, y)) - lum(rgbAt(s.real, x, y));
+        change.at<float>(y, x) = luminance(rgbAt(image, x, y)) - luminance(rgbAt(s.real, x, y));
   cv::Mat box;
   cv::blur(change, box, cv::Size(3, 3));
   cv::Point peak;
