@@ -42,10 +42,7 @@ InsideGlassShading shadeInsideGlass(const RenderScene& scene, const PrefilteredI
   }
   vec3 irradiance = sun_apart ? ibl.irradianceWithoutSun(surface.normal) : ibl.irradiance(surface.normal);
   for (int c = 0; c < 3; ++c) irradiance[c] *= free[c] > 0.0f ? through[c] / free[c] : 0.0f;
-  const SurfaceMaterial& m = surface.material;
-  const bool diffuse =
-      (1.0f - m.metallic) * (1.0f - m.transmission) > 0.0f && maxComponent(m.base_colour) > 0.0f;
-  if (sun_apart && diffuse)
+  if (sun_apart && readsSunIrradiance(surface.material))
     irradiance += SunLight(scene, ibl, settings).irradiance(surface, -direction, out.rays);
   out.shading = ibl.shadeParts(surface.material, surface.normal, -direction,
                                glm::reflect(direction, surface.normal), surface.position, &irradiance);

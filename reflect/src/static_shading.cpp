@@ -219,14 +219,12 @@ SplitSumShading StaticShading::shadeAt(const SurfacePoint& surface, const vec3& 
                     : sun_apart ? ibl_.irradianceWithoutSun(surface.normal)
                                 : ibl_.irradiance(surface.normal);
   if (sun_apart) {
-    const SurfaceMaterial& m = surface.material;
     // Only a diffuse part shows the sun's shadow: elsewhere the irradiance is not read.
-    const bool diffuse =
-        (1.0f - m.metallic) * (1.0f - m.transmission) > 0.0f && maxComponent(m.base_colour) > 0.0f;
     std::uint32_t rays = 0;
     irradiance +=
-        diffuse ? sun_->irradiance(surface, wo, rays)
-                : ibl_.sun().power * std::max(glm::dot(surface.normal, ibl_.relicFrameSunDirection()), 0.0f);
+        readsSunIrradiance(surface.material)
+            ? sun_->irradiance(surface, wo, rays)
+            : ibl_.sun().power * std::max(glm::dot(surface.normal, ibl_.relicFrameSunDirection()), 0.0f);
     if (rays > 0) sun_rays_.local() += rays;
   }
   SplitSumShading parts = ibl_.shadeParts(surface.material, surface.normal, wo,

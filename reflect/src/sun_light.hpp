@@ -31,4 +31,10 @@ class SunLight {
   vec3 power_;
 };
 
+// Whether a surface reads the sun's irradiance (and so shows its shadow): a part with a diffuse
+// base colour; an all-metal or all-glass part reads only its specular terms.
+inline bool readsSunIrradiance(const SurfaceMaterial& m) {
+  return (1.0f - m.metallic) * (1.0f - m.transmission) > 0.0f && maxComponent(m.base_colour) > 0.0f;
+}
+
 }  // namespace holo::reflect
