@@ -32,8 +32,8 @@ int run(const Options& o) {
             << "region pixels: " << e.region_pixels << " (relic " << e.relic_pixels << ", shadow and light "
             << e.shadow_pixels << ")\n";
   print("delta path tracing", e.delta.rmse);
-  std::cout << "  spp " << e.delta.spp << "  ms " << e.delta.ms << "  rays " << e.delta.rays
-            << "  traced pixels " << e.traced_pixels << "\n";
+  std::cout << "  spp " << e.delta.spp << " (relic pixels x" << o.evaluation.relic_spp_factor << ")  ms "
+            << e.delta.ms << "  rays " << e.delta.rays << "  traced pixels " << e.traced_pixels << "\n";
   print("two-pass differential", e.two_pass.rmse);
   std::cout << "  spp " << e.two_pass.spp << "  ms " << e.two_pass.ms << "  rays " << e.two_pass.rays << "\n";
   print("two-pass differential, shared samples", e.two_pass_shared.rmse);
@@ -76,6 +76,15 @@ int run(const Options& o) {
   std::cout << "\n";
   ratios("two-pass", e.two_pass);
   ratios("two-pass, shared samples", e.two_pass_shared);
+  if (o.evaluation.relic_spp_factor > 1) {
+    print("two-pass differential, relic pixels sampled as delta's", e.two_pass_split.rmse);
+    std::cout << "  spp " << e.two_pass_split.spp << "  ms " << e.two_pass_split.ms << "\n";
+    print("two-pass differential, shared samples, relic pixels sampled as delta's",
+          e.two_pass_shared_split.rmse);
+    std::cout << "  spp " << e.two_pass_shared_split.spp << "  ms " << e.two_pass_shared_split.ms << "\n";
+    ratios("two-pass, relic pixels sampled as delta's", e.two_pass_split);
+    ratios("two-pass, shared samples, relic pixels sampled as delta's", e.two_pass_shared_split);
+  }
   if (!o.out.empty()) {
     std::filesystem::create_directories(o.out);
     eval::writeImagePair(o.out + "/truth.exr", e.truth, e.exposure);
@@ -127,6 +136,11 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--spp", e.method_spp, "Delta path tracing's samples per pixel (the time budget)")
           ->capture_default_str()
           ->check(CLI::Range(1, 1 << 16));
+      sub.add_option("--relic-spp-factor", e.relic_spp_factor,
+                     "Delta path tracing's relic pixels take this many times --spp samples (the two-pass "
+                     "renderers are measured both with every pixel alike and with this split)")
+          ->capture_default_str()
+          ->check(CLI::Range(1, 64));
       sub.add_option("--max-bounces", e.max_bounces, "Scatterings per path")
           ->capture_default_str()
           ->check(CLI::Range(1, 64));

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 #include <optional>
 
 #include "holo/core/error.hpp"
@@ -235,15 +236,44 @@ void checkSettings(const CameraModel& camera, const CompositeSettings& s) {
   if (camera.width() <= 0 || camera.height() <= 0)
     throw InputError("AR composite", "camera", "an image size of at least 1x1 pixels");
   if (s.spp < 1) throw InputError("AR composite", "spp", "at least 1 sample per pixel");
+  if (s.relic_spp_factor < 1)
+    throw InputError("AR composite", "relic_spp_factor", "at least 1 (the relic's pixels' samples per spp)");
   if (s.max_bounces < 1) throw InputError("AR composite", "max_bounces", "at least 1 scattering");
   if (s.delta_bounces < 1) throw InputError("AR composite", "delta_bounces", "at least 1 level");
 }
 
+// CV_8UC1 of the camera's size: 255 where the relic is seen (the pixel's centre ray or one of
+// its 8 neighbours' meets the relic first), within `region` (empty: every pixel). One ray per
+// pixel, counted in `rays`; an unbiased choice of where to sample more (the pixel samples
+// themselves do not decide it).
+cv::Mat relicPixels(const LocalScene& scene, const CameraModel& camera, const cv::Mat& region,
+                    std::int64_t& rays) {
+  const int w = camera.width(), h = camera.height();
+  cv::Mat centre_on_relic(h, w, CV_8UC1, cv::Scalar(0));
+  tbb::combinable<std::int64_t> cast([] { return std::int64_t{0}; });
+  tbb::parallel_for(0, h, [&](int y) {
+    std::int64_t& local = cast.local();
+    for (int x = 0; x < w; ++x) {
+      if (!region.empty() && region.at<std::uint8_t>(y, x) == 0) continue;
+      ++local;
+      const RayHit hit =
+          scene.intersect(SceneContent::kMixed, camera.ray({static_cast<float>(x), static_cast<float>(y)}));
+      if (hit.hit() && scene.isRelic(hit.geometry)) centre_on_relic.at<std::uint8_t>(y, x) = 255;
+    }
+  });
+  rays += cast.combine(std::plus<>());
+  cv::Mat seen;
+  cv::dilate(centre_on_relic, seen, cv::Mat::ones(3, 3, CV_8UC1));
+  return seen;
+}
+
 // Runs sample(x, y, index, random, coverage) for every pixel sample over oneTBB tiles; a pixel
 // outside `region` (CV_8UC1 0; an empty region holds every pixel) is `outside`'s pixel, untraced.
+// A pixel in `more` (CV_8UC1 255; empty: none) takes s.relic_spp_factor x s.spp samples.
 template <typename PixelSample>
 CompositeImage renderSamples(const CameraModel& camera, const CompositeSettings& s, const cv::Mat& region,
-                             const cv::Mat& outside, PixelSample&& sample) {
+                             const cv::Mat& outside, const cv::Mat& more, std::int64_t rays_before,
+                             PixelSample&& sample) {
   const int w = camera.width(), h = camera.height();
   CompositeImage out;
   out.radiance = cv::Mat(h, w, CV_32FC3, cv::Scalar::all(0));
@@ -257,10 +287,12 @@ CompositeImage renderSamples(const CameraModel& camera, const CompositeSettings&
           setRgb(out.radiance, x, y, rgbAt(outside, x, y));
           continue;
         }
+        const int factor = !more.empty() && more.at<std::uint8_t>(y, x) ? s.relic_spp_factor : 1;
+        const int samples = factor * s.spp;
         glm::dvec3 sum(0.0);
         int on_relic = 0;
-        for (int i = 0; i < s.spp; ++i) {
-          const int index = s.first_sample + i;
+        for (int i = 0; i < samples; ++i) {
+          const int index = factor * s.first_sample + i;
           Random random(s.seed, static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(w) + x,
                         static_cast<std::uint64_t>(index));
           const vec2 jitter = random.uniform2();
@@ -272,11 +304,11 @@ CompositeImage renderSamples(const CameraModel& camera, const CompositeSettings&
             sum += glm::dvec3(value);
           on_relic += relic ? 1 : 0;
         }
-        setRgb(out.radiance, x, y, vec3(sum / static_cast<double>(s.spp)));
-        out.relic_coverage.at<float>(y, x) = static_cast<float>(on_relic) / static_cast<float>(s.spp);
+        setRgb(out.radiance, x, y, vec3(sum / static_cast<double>(samples)));
+        out.relic_coverage.at<float>(y, x) = static_cast<float>(on_relic) / static_cast<float>(samples);
       }
   });
-  out.rays = rays.combine(std::plus<>());
+  out.rays = rays_before + rays.combine(std::plus<>());
   return out;
 }
 
@@ -297,8 +329,10 @@ CompositeImage renderComposite(const LocalScene& scene, const CameraModel& camer
     throw InputError("AR composite", "depth", "CV_32FC1 metres of the camera's size (or empty: none)");
   const CameraMeasurement measurement{camera, background, depth};
   const CameraMeasurement* measured = depth.empty() ? nullptr : &measurement;
+  std::int64_t pilot_rays = 0;
+  const cv::Mat more = s.relic_spp_factor > 1 ? relicPixels(scene, camera, region, pilot_rays) : cv::Mat();
   return renderSamples(
-      camera, s, region, background,
+      camera, s, region, background, more, pilot_rays,
       [&](int x, int y, const Ray& ray, Random& random, bool& relic, std::int64_t& rays) {
         const Tracer tracer(scene, rays, nullptr, 1, caustic);
         const vec3 seen = rgbAt(background, x, y);
@@ -329,7 +363,9 @@ CompositeImage renderComposite(const LocalScene& scene, const CameraModel& camer
 CompositeImage renderLocalScene(const LocalScene& scene, SceneContent content, const CameraModel& camera,
                                 const CompositeSettings& s) {
   checkSettings(camera, s);
-  return renderSamples(camera, s, cv::Mat(), cv::Mat(),
+  std::int64_t pilot_rays = 0;
+  const cv::Mat more = s.relic_spp_factor > 1 ? relicPixels(scene, camera, cv::Mat(), pilot_rays) : cv::Mat();
+  return renderSamples(camera, s, cv::Mat(), cv::Mat(), more, pilot_rays,
                        [&](int, int, const Ray& ray, Random& random, bool& relic, std::int64_t& rays) {
                          return Tracer(scene, rays).along(content, ray, random, s.max_bounces, &relic);
                        });

@@ -209,6 +209,7 @@ ArEvaluation evaluateArComposite(const ArEvaluationOptions& o) {
   {
     ar::CompositeSettings exact = truth_settings;
     exact.spp = o.method_spp;
+    exact.relic_spp_factor = o.relic_spp_factor;
     exact.seed = o.seed ^ 0x65786163ull;
     out.exact_scene =
         errors(ar::renderLocalScene(truth_scene, ar::SceneContent::kMixed, camera, exact).radiance);
@@ -227,6 +228,7 @@ ArEvaluation evaluateArComposite(const ArEvaluationOptions& o) {
   delta_settings.max_bounces = o.max_bounces;
   delta_settings.delta_bounces = o.delta_bounces;
   delta_settings.seed = o.seed;
+  delta_settings.relic_spp_factor = o.relic_spp_factor;
   const ar::ChangeRegionSettings region_settings{.exposure = out.exposure};
   const std::clock_t delta_start = std::clock();
   cv::Mat region = ar::changeRegion(scene, camera, background, region_settings);
@@ -254,10 +256,11 @@ ArEvaluation evaluateArComposite(const ArEvaluationOptions& o) {
   // rays): a first pass of one sample per pixel, then passes of as many samples as the rest of
   // the budget holds at the cost per sample so far (one call each, so the per-pass work outside
   // the tracing is not charged per sample), then single samples until the budget is spent.
-  const auto twoPass = [&](ar::DifferentialMethod method, cv::Mat& composite) {
+  const auto twoPass = [&](ar::DifferentialMethod method, int relic_spp_factor, cv::Mat& composite) {
     ArMethodScore score;
     ar::CompositeSettings pass = delta_settings;
     pass.method = method;
+    pass.relic_spp_factor = relic_spp_factor;
     cv::Mat sum;
     const std::clock_t start = std::clock();
     const auto spent = [&] { return o.equal_time ? score.ms : static_cast<double>(score.rays); };
@@ -279,8 +282,15 @@ ArEvaluation evaluateArComposite(const ArEvaluationOptions& o) {
     score.rmse = errors(composite);
     return score;
   };
-  out.two_pass = twoPass(ar::DifferentialMethod::kTwoPass, out.two_pass_composite);
-  out.two_pass_shared = twoPass(ar::DifferentialMethod::kTwoPassSharedSamples, out.two_pass_shared_composite);
+  out.two_pass = twoPass(ar::DifferentialMethod::kTwoPass, 1, out.two_pass_composite);
+  out.two_pass_shared =
+      twoPass(ar::DifferentialMethod::kTwoPassSharedSamples, 1, out.two_pass_shared_composite);
+  if (o.relic_spp_factor > 1) {
+    cv::Mat unused;
+    out.two_pass_split = twoPass(ar::DifferentialMethod::kTwoPass, o.relic_spp_factor, unused);
+    out.two_pass_shared_split =
+        twoPass(ar::DifferentialMethod::kTwoPassSharedSamples, o.relic_spp_factor, unused);
+  }
 
   const std::clock_t filter_start = std::clock();
   out.filtered_composite =

@@ -42,7 +42,13 @@ enum class DifferentialMethod { kDeltaPathTracing, kTwoPass, kTwoPassSharedSampl
 
 struct CompositeSettings {
   DifferentialMethod method = DifferentialMethod::kDeltaPathTracing;
-  int spp = 16;           // pixel samples, >= 1
+  int spp = 16;  // pixel samples, >= 1
+  // Pixels where the relic is seen (the centre ray of the pixel or of one of its 8 neighbours
+  // meets the relic first) take relic_spp_factor x spp samples, >= 1: the relic's pixels are the
+  // mixed scene path traced, as noisy under every method, while delta path tracing's change on
+  // the real pixels is quiet; its time is better spent on the relic. Their samples are numbered
+  // from first_sample x relic_spp_factor, so passes continue one sequence there too.
+  int relic_spp_factor = 1;
   int first_sample = 0;   // index of the first sample (a later pass continues the sequence)
   int max_bounces = 3;    // scatterings per path, >= 1
   int delta_bounces = 3;  // delta path tracing: real-surface levels whose change is traced, >= 1

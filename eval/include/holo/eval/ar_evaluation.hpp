@@ -48,7 +48,11 @@ struct ArEvaluationOptions {
   float local_radius = 1.5f;
   int panorama_width = 512;
   int truth_spp = 256;
-  int method_spp = 16;
+  int method_spp = 8;
+  // Delta path tracing's relic pixels take this many times method_spp samples
+  // (ar::CompositeSettings::relic_spp_factor); the plain two-pass renderers sample every pixel
+  // alike, and are measured again with the same split (two_pass_split, two_pass_shared_split).
+  int relic_spp_factor = 4;
   int max_bounces = 3;
   int delta_bounces = 3;  // delta path tracing's real levels (ar::CompositeSettings)
   float region_threshold = 0.02f;
@@ -92,13 +96,16 @@ struct ArEvaluation {
   cv::Mat delta_composite, two_pass_composite, two_pass_shared_composite, filtered_composite,
       no_shadow_composite;  // CV_32FC3
   ArMethodScore delta, two_pass, two_pass_shared, filtered;
+  // The two-pass renderers given delta path tracing's relic_spp_factor too (at equal time).
+  ArMethodScore two_pass_split, two_pass_shared_split;
   ArErrors no_shadow;  // the adversary: the relic pasted over the image, no change
   // Delta path tracing's composite with the region's real pixels set to the truth: what its relic
   // pixels alone leave (shaded alike by every method), so two_pass.rmse.region over this region
   // error is the largest ratio any gain on the real pixels could give.
   ArErrors delta_relic_alone;
   // The truth's own path tracer on the exact local scene (the hall's surfaces, not the camera's
-  // depth and colour) at delta path tracing's samples per pixel, seeded apart from the truth: the
+  // depth and colour) at delta path tracing's samples per pixel (its relic pixels' count there),
+  // seeded apart from the truth: the
   // error that sampling alone leaves at that count, against which the relic's pixels are read.
   ArErrors exact_scene;
   // A transmissive relic only: the product's composite with the relic's glass opaque.
