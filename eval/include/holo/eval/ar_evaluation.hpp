@@ -17,7 +17,8 @@
 // the real scene's (its shadow and its light). Whatever a composite leaves out there counts. Also
 // over the shadow part alone (the real pixels of the region, where the two methods differ) and
 // over the whole image (where the relic changes nothing, a composite should add nothing).
-// Methods at equal time: delta path tracing at method_spp samples, then each two-pass differential
+// Methods at equal time: delta path tracing at method_spp samples (relic_spp_factor times that on
+// the pixels where the relic is seen), then each two-pass differential
 // renderer (independent samples, and shared samples: ar/local_path_tracing.hpp) given as many
 // 1-spp passes as fit in the same CPU time (the process's threads, all cores together, so other
 // load on the machine does not count; at least one pass), all unfiltered (the comparison of Xu et
