@@ -1,22 +1,12 @@
 #include "holo/ar/relic_caustic.hpp"
 
-#include <algorithm>
 #include <cmath>
 
 #include "holo/core/image.hpp"
 #include "holo/reflect/render_scene.hpp"
+#include "holo/reflect/transmissive_relic.hpp"
 
 namespace holo::ar {
-namespace {
-
-bool transmits(const Model& relic) {
-  return std::any_of(relic.materials.begin(), relic.materials.end(), [](const Material& m) {
-    return m.transmission > 0.0f || m.transmission_texture.used();
-  });
-}
-
-}  // namespace
-
 bool RelicCaustic::onReceiver(const vec3& p, const vec3& n) const {
   return std::abs(p.y - image_.grid.height) <= tolerance_ && n.y >= min_cos_;
 }
@@ -73,7 +63,7 @@ void addCausticToRegion(const RelicCaustic& caustic, const CameraModel& camera, 
 
 std::optional<RelicCaustic> traceRelicCaustic(const Model& relic, const reflect::Environment& environment,
                                               const RelicCausticSettings& settings) {
-  if (!settings.enabled || !transmits(relic)) return std::nullopt;
+  if (!settings.enabled || !reflect::modelTransmits(relic)) return std::nullopt;
   const Bounds3 bounds = relic.bounds();
   if (bounds.empty() || bounds.lo.y < settings.receiver_height - RelicCausticSettings::kStandingTolerance)
     return std::nullopt;

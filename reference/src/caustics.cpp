@@ -8,6 +8,7 @@
 #include "holo/core/stats.hpp"
 #include "holo/reference/dielectric.hpp"
 #include "holo/reference/sampler.hpp"
+#include "holo/reflect/caustic_tracer.hpp"
 #include "holo/reflect/optics.hpp"
 #include "holo/reflect/surface_shading.hpp"
 #include "surface_rays.hpp"
@@ -18,16 +19,6 @@ using reflect::RenderScene;
 using reflect::SurfacePoint;
 
 namespace {
-
-bool relicTransmits(const RenderScene& scene) {
-  if (scene.relicMaterialOverride()) return scene.relicMaterialOverride()->transmission > 0.0f;
-  const Model& relic = scene.relic();
-  for (const TriangleMesh& mesh : relic.meshes) {
-    const auto m = static_cast<std::size_t>(mesh.material);
-    if (mesh.material >= 0 && m < relic.materials.size() && relic.materials[m].transmissive()) return true;
-  }
-  return false;
-}
 
 // The bounding sphere of the relic's bounds.
 struct BoundingSphere {
@@ -51,7 +42,7 @@ vec3 toWorld(const vec3& axis, const vec3& local) {
 CausticPlan planCaustics(const RenderScene& scene, const CausticReceiver& receiver, const PointLight& light) {
   const Bounds3 bounds = scene.relicBounds();
   if (bounds.empty()) return {false, "no relic"};
-  if (!relicTransmits(scene)) return {false, "the relic has no transmissive material"};
+  if (!reflect::relicTransmits(scene)) return {false, "the relic has no transmissive material"};
   if (bounds.lo.y <= receiver.height) return {false, "the relic is not above the receiver"};
   if (light.position.y <= receiver.height) return {false, "the light is not above the receiver"};
   if (!(receiver.half_size > 0.0f)) return {false, "the receiver has no extent"};

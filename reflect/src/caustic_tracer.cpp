@@ -13,6 +13,7 @@
 #include "holo/core/stopwatch.hpp"
 #include "holo/reflect/optics.hpp"
 #include "holo/reflect/surface_shading.hpp"
+#include "holo/reflect/transmissive_relic.hpp"
 
 namespace holo::reflect {
 
@@ -189,11 +190,17 @@ CausticImage traceAndBin(const RenderScene& scene, const CausticReceiverGrid& gr
 
 }  // namespace
 
+bool modelTransmits(const Model& model) {
+  for (const TriangleMesh& mesh : model.meshes) {
+    const auto m = static_cast<std::size_t>(mesh.material);
+    if (mesh.material >= 0 && m < model.materials.size() && model.materials[m].transmissive()) return true;
+  }
+  return false;
+}
+
 bool relicTransmits(const RenderScene& scene) {
   if (const auto& m = scene.relicMaterialOverride()) return m->transmission > 0.0f;
-  for (const Material& m : scene.relic().materials)
-    if (m.transmission > 0.0f || m.transmission_texture.used()) return true;
-  return false;
+  return modelTransmits(scene.relic());
 }
 
 CausticImage tracePointCaustics(const RenderScene& scene, const vec3& light_position, const vec3& light_power,
