@@ -254,6 +254,7 @@ ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> camera_fr
     }
     const RgbdFrame& camera_frame = camera_frames[i];
     const int s = config_.scale;
+    const CameraForeground reduced_result = result;
     FullSizeForeground full =
         fullSizeOutline(result.mask, result.depth, stage.masker.backgroundDepth(), camera_frame.depth, s,
                         {stage.masker.config().depth_margin_m, stage.masker.config().depth_margin_z2},
@@ -262,9 +263,24 @@ ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> camera_fr
     result.depth = std::move(full.depth);
     result.border = {expandedOnBox(result.border.weight, box, s, stage.camera_border_weight),
                      expandedOnBox(result.border.depth, box, s, stage.camera_border_depth)};
-    appendPoints(camera_resolution_cameras_[i], static_cast<std::uint16_t>(i), stage.camera_plane_directions,
-                 camera_frame.colour, result, cv::Rect(box.x * s, box.y * s, box.width * s, box.height * s),
-                 gainsOverExposure(config_, i), 1, stage.points);
+    // Points at the resolution each block needs: a repeated block's pixels all carry its one
+    // depth, so its reduced point stands for them; a redrawn block's pixels each their own.
+    const vec3 gains = gainsOverExposure(config_, i);
+    for (int by = box.y; by < box.y + box.height; ++by) {
+      const std::uint8_t* redrawn = full.redrawn.ptr<std::uint8_t>(by);
+      for (int bx = box.x; bx < box.x + box.width;) {
+        int end = bx;
+        while (end < box.x + box.width && (redrawn[end] != 0) == (redrawn[bx] != 0)) ++end;
+        if (redrawn[bx] == 0)
+          appendPoints(cameras_[i], static_cast<std::uint16_t>(i), stage.plane_directions, frame.colour,
+                       reduced_result, cv::Rect(bx, by, end - bx, 1), gains, s, stage.points);
+        else
+          appendPoints(camera_resolution_cameras_[i], static_cast<std::uint16_t>(i),
+                       stage.camera_plane_directions, camera_frame.colour, result,
+                       cv::Rect(bx * s, by * s, (end - bx) * s, s), gains, 1, stage.points);
+        bx = end;
+      }
+    }
   };
   const auto for_each_camera = [&](const auto& step) {
     if (config_.parallel)

@@ -27,7 +27,8 @@ FullSizeForeground fullSizeOutline(const cv::Mat& mask, const cv::Mat& depth, co
         "fullSizeOutline: expected a CV_8UC1 mask, CV_32FC1 depth and background depth of one size and "
         "CV_32FC1 camera depth of that size times the scale");
   FullSizeForeground out{mask_image.next(camera_depth.size(), CV_8UC1),
-                         depth_image.next(camera_depth.size(), CV_32FC1)};
+                         depth_image.next(camera_depth.size(), CV_32FC1),
+                         cv::Mat::zeros(mask.size(), CV_8UC1)};
   const cv::Rect mask_box = cv::boundingRect(mask);
   if (mask_box.empty()) return out;
   const cv::Rect box = cv::Rect(mask_box.x - 1, mask_box.y - 1, mask_box.width + 2, mask_box.height + 2) &
@@ -61,6 +62,7 @@ FullSizeForeground fullSizeOutline(const cv::Mat& mask, const cv::Mat& depth, co
       const bool depth_edge =
           !outline && farthest_depth - nearest_depth >
                           config.depth_margin_m + config.depth_margin_z2 * nearest_depth * nearest_depth;
+      if (outline || depth_edge) out.redrawn.at<std::uint8_t>(by, bx) = 255;
       const std::uint8_t block_mask = foreground ? 255 : 0;
       const float block_depth = d[bx];
       const float bg = background[bx];

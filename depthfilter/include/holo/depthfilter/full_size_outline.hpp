@@ -31,6 +31,9 @@ struct FullSizeOutlineConfig {
 struct FullSizeForeground {
   cv::Mat mask;   // CV_8UC1 at the camera's resolution, 255 = foreground
   cv::Mat depth;  // CV_32FC1 at the camera's resolution, 0 = none
+  // CV_8UC1 at the reduced resolution: 255 where the block was redrawn from the readings (an
+  // outline or depth-edge block), 0 where it is its reduced pixel repeated.
+  cv::Mat redrawn;
 };
 
 // mask: CV_8UC1 reduced (non-zero = foreground); depth: CV_32FC1 reduced filtered depth (0 =
