@@ -2,17 +2,18 @@
 // scale (foreground_scale.hpp): the reduced mask and filtered depth decide the interior, the
 // camera's own depth readings decide the outline.
 //
-// A reduced pixel (block) whose 3x3 neighbourhood of blocks is all foreground or all background
-// is repeated over its block, as expandedToFull does. On an outline block (a neighbour differs),
-// a camera pixel whose valid reading z is not clearly in front of the block's background depth
-// (the mask's own depth test: z >= background - margin(background)) is background; otherwise
-// it is foreground iff some foreground block of the
-// neighbourhood has a filtered depth within margin(z) = depth_margin_m + depth_margin_z2 * z^2 of
-// it (the mask's own "same surface" margin); it takes the nearest such depth, so the output stays
-// the filter's (temporally stable) depth. A pixel without a reading, or whose neighbourhood holds
-// no filtered depth, keeps its block's mask and depth. So a block the reduced mask took whole
-// loses the pixels that read the hall behind the visitor, and a block it left out gains those
-// that read the visitor beside it.
+// A reduced pixel (block) is repeated over its block, as expandedToFull does, unless its 3x3
+// neighbourhood of blocks holds both foreground and background (an outline block) or foreground
+// depths further apart than the margin (a depth-edge block, an arm before the body); margin(z) =
+// depth_margin_m + depth_margin_z2 * z^2, the mask's own. There each camera pixel with a valid
+// reading z is redrawn: it is the hall where z is not clearly in front of the block's learned
+// background (z >= background - margin(background), the mask's depth test); else it takes the
+// nearest neighbouring foreground block's filtered depth within margin(z) (the filter's depth,
+// temporally stable, not the reading); with none within the margin it is background on an
+// outline block and keeps its block's depth on a depth-edge block. A pixel without a reading, or
+// whose neighbourhood holds no filtered depth, keeps its block's mask and depth. So a block the
+// reduced mask took whole loses the pixels that read the hall behind the visitor, a block it left
+// out gains those that read the visitor beside it, and a block across two surfaces splits.
 // Units: metres. Invariant: depth > 0 only where the mask is 255; both 0 outside the reduced
 // mask's box grown by one block.
 #pragma once
