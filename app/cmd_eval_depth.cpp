@@ -41,6 +41,7 @@ struct Options {
   int view_size = eval::SimulatedDepthOptions{}.view_size;
   bool keep_attached_limbs = eval::SimulatedDepthOptions{}.keep_attached_limbs;
   int foreground_scale = eval::SimulatedDepthOptions{}.foreground_scale;
+  bool full_size_outline = eval::SimulatedDepthOptions{}.full_size_outline;
   bool fill_mask_edge = eval::SimulatedDepthOptions{}.fill_mask_edge;
   bool fill_on_precursor_surface = eval::SimulatedDepthOptions{}.fill_on_precursor_surface;
   int mask_growth_steps = eval::SimulatedDepthOptions{}.mask_growth_steps;
@@ -94,11 +95,26 @@ int run(const Options& o) {
   if (o.levels < 1 || o.levels > max_levels)
     throw InputError("", "--levels", "l_max in [1, " + std::to_string(max_levels) + "]",
                      std::to_string(o.levels));
-  const eval::SimulatedDepthEvaluation e = eval::evaluateSimulatedDepth(
-      {o.scene, o.visitor_model, o.frames, o.width, o.height, o.learning_frames, o.levels, o.compared_levels,
-       !o.images.empty(), o.mask_persistence, o.cross_camera, o.round_trip_check, o.reflection_flicker,
-       o.view_size, o.keep_attached_limbs, o.foreground_scale, o.fill_mask_edge, o.fill_on_precursor_surface,
-       o.mask_growth_steps});
+  const eval::SimulatedDepthEvaluation e = eval::evaluateSimulatedDepth({o.scene,
+                                                                         o.visitor_model,
+                                                                         o.frames,
+                                                                         o.width,
+                                                                         o.height,
+                                                                         o.learning_frames,
+                                                                         o.levels,
+                                                                         o.compared_levels,
+                                                                         !o.images.empty(),
+                                                                         o.mask_persistence,
+                                                                         o.cross_camera,
+                                                                         o.round_trip_check,
+                                                                         o.reflection_flicker,
+                                                                         o.view_size,
+                                                                         o.keep_attached_limbs,
+                                                                         o.foreground_scale,
+                                                                         o.full_size_outline,
+                                                                         o.fill_mask_edge,
+                                                                         o.fill_on_precursor_surface,
+                                                                         o.mask_growth_steps});
   std::cout << e.report.dump(2) << "\n";
   std::cerr << eval::depthMetricsTable(e.rows);
   std::cerr << "\n" << e.coverage_table;
@@ -152,6 +168,10 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--foreground-scale", o->foreground_scale,
                      "Every method on the camera frames reduced by this (1 or 2), scored at the camera's "
                      "resolution")
+          ->capture_default_str();
+      sub.add_option("--full-size-outline", o->full_size_outline,
+                     "With --foreground-scale 2, ours' outline decided at the camera's resolution by its own "
+                     "depth readings (false: each reduced pixel repeated over its block)")
           ->capture_default_str();
       sub.add_option("--flow-check", o->round_trip_check,
                      "The precursor flow's forward-backward check: a pixel whose precursor does not map "

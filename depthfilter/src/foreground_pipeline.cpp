@@ -9,6 +9,7 @@
 #include "holo/core/error.hpp"
 #include "holo/core/image.hpp"
 #include "holo/core/stats.hpp"
+#include "holo/depthfilter/full_size_outline.hpp"
 #include "holo/depthfilter/reused_zero_image.hpp"
 
 namespace holo::depthfilter {
@@ -19,7 +20,10 @@ struct ForegroundPipeline::CameraStage {
   MaskPersistence persistence;
   TemporalDepthFilter filter;
   ReusedZeroImage border_weight, border_depth;  // the border layer's images
-  std::vector<vec3> plane_directions;           // z = 1 ray per pixel, row-major
+  // With full_size_outline: the mask, depth and border layer at the camera's resolution.
+  ReusedZeroImage camera_mask, camera_depth, camera_border_weight, camera_border_depth;
+  std::vector<vec3> plane_directions;         // z = 1 ray per pixel, row-major
+  std::vector<vec3> camera_plane_directions;  // the same at the camera's resolution (full_size_outline)
   CameraForeground result;
   std::vector<ForegroundPoint> points;
 };
@@ -84,6 +88,18 @@ void checkFrame(const RgbdFrame& frame, const CameraModel& camera, int scale, st
                 std::to_string(frame.depth.rows));
 }
 
+// `reduced` at `scale` times its size, each pixel of `box` repeated over its block, 0 elsewhere
+// (the border layer is 0 outside borderBox).
+cv::Mat expandedOnBox(const cv::Mat& reduced, const cv::Rect& box, int scale, ReusedZeroImage& image) {
+  cv::Mat out = image.next(reduced.size() * scale, reduced.type());
+  if (box.empty()) return out;
+  const cv::Rect full_box(box.x * scale, box.y * scale, box.width * scale, box.height * scale);
+  image.written(full_box);
+  cv::Mat out_box = out(full_box);
+  cv::resize(reduced(box), out_box, full_box.size(), 0.0, 0.0, cv::INTER_NEAREST);
+  return out;
+}
+
 std::vector<CameraModel> reducedCameras(std::vector<CameraModel> cameras, int scale) {
   if (cameras.empty()) throw Error("ForegroundPipeline: expected at least one camera");
   for (CameraModel& camera : cameras) {
@@ -97,13 +113,15 @@ std::vector<CameraModel> reducedCameras(std::vector<CameraModel> cameras, int sc
 
 ForegroundPipeline::ForegroundPipeline(std::vector<CameraModel> cameras, ForegroundPipelineConfig config)
     : config_(std::move(config)),
-      cameras_(reducedCameras(std::move(cameras), config_.scale)),
+      cameras_(reducedCameras(cameras, config_.scale)),
+      camera_resolution_cameras_(std::move(cameras)),
       cross_camera_(cameras_, config_.cross_camera) {
   if (!(config_.exposure > 0.0f) || !std::isfinite(config_.exposure))
     throw Error("ForegroundPipeline: exposure must be positive and finite");
   for (const vec3& gains : config_.colour_gains)
     if (!(gains.r > 0.0f && gains.g > 0.0f && gains.b > 0.0f) || !isFinite(gains))
       throw Error("ForegroundPipeline: colour gains must be positive and finite");
+  const bool outline_at_camera_resolution = config_.full_size_outline && config_.scale > 1;
   stages_.reserve(cameras_.size());
   for (std::size_t i = 0; i < cameras_.size(); ++i) {
     ForegroundMaskConfig mask_config = config_.mask;
@@ -125,7 +143,14 @@ ForegroundPipeline::ForegroundPipeline(std::vector<CameraModel> cameras, Foregro
                                   TemporalDepthFilter(config_.filter),
                                   {},
                                   {},
+                                  {},
+                                  {},
+                                  {},
+                                  {},
                                   cameras_[i].planeDirectionTable(),
+                                  outline_at_camera_resolution
+                                      ? camera_resolution_cameras_[i].planeDirectionTable()
+                                      : std::vector<vec3>{},
                                   {},
                                   {}});
   }
@@ -221,9 +246,41 @@ ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> camera_fr
     result.border = {};  // unshared, its images are reused too
     result.border =
         expandBorder(result.mask, result.depth, config_.border, stage.border_weight, stage.border_depth);
-    appendPoints(cameras_[i], static_cast<std::uint16_t>(i), stage.plane_directions, frame.colour, result,
-                 borderBox(result.mask, config_.border), gainsOverExposure(config_, i), config_.scale,
-                 stage.points);
+    const cv::Rect box = borderBox(result.mask, config_.border);
+    if (stage.camera_plane_directions.empty()) {
+      appendPoints(cameras_[i], static_cast<std::uint16_t>(i), stage.plane_directions, frame.colour, result,
+                   box, gainsOverExposure(config_, i), config_.scale, stage.points);
+      return;
+    }
+    const RgbdFrame& camera_frame = camera_frames[i];
+    const int s = config_.scale;
+    const CameraForeground reduced_result = result;
+    FullSizeForeground full =
+        fullSizeOutline(result.mask, result.depth, stage.masker.backgroundDepth(), camera_frame.depth, s,
+                        {stage.masker.config().depth_margin_m, stage.masker.config().depth_margin_z2},
+                        stage.camera_mask, stage.camera_depth);
+    result.mask = std::move(full.mask);
+    result.depth = std::move(full.depth);
+    result.border = {expandedOnBox(result.border.weight, box, s, stage.camera_border_weight),
+                     expandedOnBox(result.border.depth, box, s, stage.camera_border_depth)};
+    // Points at the resolution each block needs: a repeated block's pixels all carry its one
+    // depth, so its reduced point stands for them; a redrawn block's pixels each their own.
+    const vec3 gains = gainsOverExposure(config_, i);
+    for (int by = box.y; by < box.y + box.height; ++by) {
+      const std::uint8_t* redrawn = full.redrawn.ptr<std::uint8_t>(by);
+      for (int bx = box.x; bx < box.x + box.width;) {
+        int end = bx;
+        while (end < box.x + box.width && (redrawn[end] != 0) == (redrawn[bx] != 0)) ++end;
+        if (redrawn[bx] == 0)
+          appendPoints(cameras_[i], static_cast<std::uint16_t>(i), stage.plane_directions, frame.colour,
+                       reduced_result, cv::Rect(bx, by, end - bx, 1), gains, s, stage.points);
+        else
+          appendPoints(camera_resolution_cameras_[i], static_cast<std::uint16_t>(i),
+                       stage.camera_plane_directions, camera_frame.colour, result,
+                       cv::Rect(bx * s, by * s, (end - bx) * s, s), gains, 1, stage.points);
+        bx = end;
+      }
+    }
   };
   const auto for_each_camera = [&](const auto& step) {
     if (config_.parallel)

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "holo/core/error.hpp"
+#include "holo/depthfilter/full_size_outline.hpp"
 #include "table_number.hpp"
 
 namespace holo::eval {
@@ -35,6 +36,7 @@ DepthFilterEvaluation::DepthFilterEvaluation(DepthEvaluationConfig config)
       adversary_(config.adversary_max_change_m),
       variant_scorers_(config.ours_variants.size()),
       scale_(config.foreground_scale),
+      full_size_outline_(config.full_size_outline),
       breakdown_(config.mask) {
   depthfilter::checkForegroundScale(scale_, 0, 0);  // its range; each frame's size in prepareFrame
   for (const depthfilter::TemporalDepthFilterConfig& variant : config.ours_variants)
@@ -264,7 +266,12 @@ void DepthFilterEvaluation::scoreFrame(const GroundTruthFrame& truth, const cv::
         break;
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (method != DepthMethod::Adversary) out = at_frame_size(out);  // the adversary's input already is
+    if (method == DepthMethod::Ours && full_size_outline_ && scale_ > 1)
+      out = depthfilter::fullSizeOutline(mask_, out, masker_.backgroundDepth(), frame.depth, scale_,
+                                         {masker_.config().depth_margin_m, masker_.config().depth_margin_z2})
+                .depth;
+    else if (method != DepthMethod::Adversary)
+      out = at_frame_size(out);  // the adversary's input already is
     if (score) state.scorer.add(out, truth, seconds);
     state.last_output = out;
   }

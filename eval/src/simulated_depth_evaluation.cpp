@@ -183,6 +183,7 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
   config.mask.keep_attached_limbs = o.keep_attached_limbs;
   config.mask.unknown_background_growth_steps = o.mask_growth_steps;
   config.foreground_scale = o.foreground_scale;
+  config.full_size_outline = o.full_size_outline;
   config.filter.record_hole_reasons = true;
   config.filter.fill_mask_edge = o.fill_mask_edge;
   config.filter.fill_on_precursor_surface = o.fill_on_precursor_surface;
@@ -286,6 +287,7 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
                    {"keep_attached_limbs", o.keep_attached_limbs},
                    {"mask_growth_steps", o.mask_growth_steps},
                    {"foreground_scale", o.foreground_scale},
+                   {"full_size_outline", o.full_size_outline},
                    {"cross_camera", o.cross_camera},
                    {"round_trip_check", o.round_trip_check},
                    {"cross_camera_filled_per_camera_frame",

@@ -131,7 +131,8 @@ BENCHMARK(BM_BorderExpansion)->Unit(benchmark::kMillisecond);
 
 // The whole per-camera step (mask, flow, mask persistence, filter, border, back-projection) on
 // one core at the foreground's resolution divided by `scale` (ForegroundPipelineConfig::scale).
-void runPipelineOneCamera(benchmark::State& state, int persistence, int scale) {
+void runPipelineOneCamera(benchmark::State& state, int persistence, int scale,
+                          bool full_size_outline = false) {
   const test::SyntheticScene scene = scene640();
   ForegroundPipelineConfig config;
   config.parallel = false;
@@ -139,6 +140,7 @@ void runPipelineOneCamera(benchmark::State& state, int persistence, int scale) {
   config.flow.round_trip_check = persistence == 2;
   config.filter.learning_frames = 4;
   config.scale = scale;
+  config.full_size_outline = full_size_outline;
   ForegroundPipeline pipeline({CameraModel(scene.intrinsics(), mat4(1.0f))}, config);
   test::SyntheticScene empty = scene;
   empty.objects = false;
@@ -165,6 +167,13 @@ void BM_PipelineOneCameraAtScale(benchmark::State& state) {
   runPipelineOneCamera(state, 1, int(state.range(0)));
 }
 BENCHMARK(BM_PipelineOneCameraAtScale)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+
+// The step at half resolution with the outline, depth, border and points at the camera's
+// (ForegroundPipelineConfig::full_size_outline).
+void BM_PipelineOneCameraAtScaleWithFullSizeOutline(benchmark::State& state) {
+  runPipelineOneCamera(state, 1, 2, true);
+}
+BENCHMARK(BM_PipelineOneCameraAtScaleWithFullSizeOutline)->Unit(benchmark::kMillisecond);
 
 // The cameras filling each other (the combining step between the per-camera masks and filters)
 // for four cameras on one core, each seeing the sequence's frame with a sixth of its pixels

@@ -219,6 +219,61 @@ TEST(ForegroundPipeline, HalfScaleCoversTheForegroundInTheCamerasPixels) {
   EXPECT_LT(point_ratio, 0.45);
 }
 
+// The half-resolution foreground with its outline redrawn at the camera's resolution
+// (full_size_outline) against the same foreground repeated over its blocks (the stage off):
+// scored against the true objects in the camera's pixels, it outputs fewer than half the depths
+// off the objects and covers no fewer of their pixels; its points include the camera's odd
+// pixels, and number between the half-resolution and the camera-resolution foreground's.
+TEST(ForegroundPipeline, FullSizeOutlineLeavesFewerDepthsOffTheObjectsThanBlocks) {
+  ForegroundPipelineConfig blocks_config = Rig::quickConfig();
+  blocks_config.scale = 2;
+  ForegroundPipelineConfig outline_config = blocks_config;
+  outline_config.full_size_outline = true;
+  Rig blocks(blocks_config), outline(outline_config), full;
+  std::array<long, 3> off{}, covered{};
+  long actual = 0;
+  ForegroundCloud outline_cloud, full_cloud;
+  for (int t = 0; t < 12; ++t) {
+    const std::array<test::SyntheticFrame, kCameras> truth = blocks.render(t);
+    blocks.pipeline.process(Rig::framesOf(truth));
+    outline_cloud = outline.pipeline.process(Rig::framesOf(truth));
+    full_cloud = full.pipeline.process(Rig::framesOf(truth));
+    if (t < 6) continue;
+    for (int c = 0; c < kCameras; ++c) {
+      const cv::Mat& true_mask = truth[std::size_t(c)].true_mask;
+      const cv::Mat& outline_depth = outline.pipeline.lastResult(std::size_t(c)).depth;
+      ASSERT_EQ(outline_depth.size(), true_mask.size());
+      ASSERT_EQ(outline.pipeline.lastResult(std::size_t(c)).mask.size(), true_mask.size());
+      const cv::Mat depths[3] = {
+          expandedToFull(blocks.pipeline.lastResult(std::size_t(c)).depth, true_mask.size()), outline_depth,
+          full.pipeline.lastResult(std::size_t(c)).depth};
+      for (int s = 0; s < 3; ++s) {
+        const cv::Mat has = depths[s] > 0.0f;
+        off[std::size_t(s)] += cv::countNonZero(has & ~true_mask);
+        covered[std::size_t(s)] += cv::countNonZero(has & true_mask);
+      }
+      actual += cv::countNonZero(true_mask);
+    }
+  }
+  std::printf(
+      "off the objects: blocks %ld outline %ld full %ld; covered: blocks %ld outline %ld full %ld of %ld\n",
+      off[0], off[1], off[2], covered[0], covered[1], covered[2], actual);
+  EXPECT_LT(double(off[1]), 0.5 * double(off[0]));
+  EXPECT_GE(double(covered[1]), 0.99 * double(covered[0]));
+  bool odd_pixel = false;
+  for (const ForegroundPoint& p : outline_cloud.points) {
+    ASSERT_LT(p.x, outline.scene.width);
+    ASSERT_LT(p.y, outline.scene.height);
+    odd_pixel |= (p.x % 2) != 0 || (p.y % 2) != 0;
+  }
+  EXPECT_TRUE(odd_pixel);
+  // A repeated block gives one point, a redrawn block one per pixel: between the two scales.
+  const double point_ratio = double(outline_cloud.points.size()) / double(full_cloud.points.size());
+  std::printf("outline points %.3f of full's\n", point_ratio);
+  EXPECT_GT(point_ratio, 0.3);
+  EXPECT_LT(point_ratio, 0.8);
+}
+
 TEST(ForegroundPipeline, ForegroundScaleOutOfRangeOrNotDividingTheCameraIsRefused) {
   const test::SyntheticScene scene;
   for (int scale : {0, 3}) {

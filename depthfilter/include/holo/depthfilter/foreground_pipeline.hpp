@@ -8,7 +8,9 @@
 // pixel) kept.
 //
 // With `scale` 2 every per-camera stage runs on the frames reduced to half width and height
-// (foreground_scale.hpp); the points keep the camera's own pixel coordinates.
+// (foreground_scale.hpp); the points keep the camera's own pixel coordinates. With
+// full_size_outline the reduced foreground's outline is redrawn from the camera's own depth
+// (full_size_outline.hpp) and its points come from the camera's pixels.
 //
 // A camera whose frame is missing (empty RgbdFrame) contributes nothing this frame and its
 // filter forgets its history (counted as "Depthfilter/Missing camera frames").
@@ -47,10 +49,15 @@ struct ForegroundPipelineConfig {
   // The foreground's resolution: the camera's divided by this, 1..kMaxForegroundScale
   // (foreground_scale.hpp); every pixel setting above counts the reduced frames' pixels.
   int scale = kDefaultForegroundScale;
+  // With a scale above 1: the mask, the depth, the border and the points at the camera's
+  // resolution, the outline decided by the camera's own depth readings (full_size_outline.hpp),
+  // everything else still at the reduced one.
+  bool full_size_outline = false;
 };
 
 // What one camera produced in the last frame (for the reflection stage's pyramids and for tests), at
-// the foreground's resolution (the camera's divided by ForegroundPipelineConfig::scale).
+// the foreground's resolution (the camera's divided by ForegroundPipelineConfig::scale); with
+// ForegroundPipelineConfig::full_size_outline the mask, depth and border at the camera's.
 struct CameraForeground {
   cv::Mat mask;          // CV_8UC1, 255 = foreground
   cv::Mat flow;          // CV_32FC2, current -> previous, guaranteed on the mask's box and the
@@ -86,7 +93,8 @@ class ForegroundPipeline {
  private:
   struct CameraStage;
   ForegroundPipelineConfig config_;
-  std::vector<CameraModel> cameras_;  // as the foreground's frames see them (reducedCamera)
+  std::vector<CameraModel> cameras_;                    // as the foreground's frames see them (reducedCamera)
+  std::vector<CameraModel> camera_resolution_cameras_;  // as given
   std::vector<CameraStage> stages_;
   CrossCameraFill cross_camera_;
 };

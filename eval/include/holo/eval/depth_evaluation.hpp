@@ -144,6 +144,10 @@ struct DepthEvaluationConfig {
   // output is repeated over each reduced pixel's block before it is scored against the truth at
   // the camera's resolution: a reduced foreground pays for every true visitor pixel it misses.
   int foreground_scale = depthfilter::kDefaultForegroundScale;
+  // With a foreground_scale above 1, ours' output at the camera's resolution is its reduced
+  // interior with the outline decided by the camera's own readings (depthfilter/full_size_outline.hpp)
+  // instead of each reduced pixel repeated over its block.
+  bool full_size_outline = false;
 };
 
 // One camera stream. Not thread-safe; use one per camera.
@@ -204,6 +208,7 @@ class DepthFilterEvaluation {
   std::vector<depthfilter::TemporalDepthFilter> variants_;
   std::vector<DepthScorer> variant_scorers_;
   int scale_ = 1;
+  bool full_size_outline_ = false;
   cv::Mat previous_colour_;
   RgbdFrame reduced_;         // the frame prepareFrame got, at the foreground's resolution
   cv::Mat mask_, last_flow_;  // at the foreground's resolution

@@ -52,6 +52,9 @@ struct SimulatedDepthOptions {
   // Every method on the frames reduced by this, scored at the camera's resolution
   // (DepthEvaluationConfig::foreground_scale).
   int foreground_scale = depthfilter::kDefaultForegroundScale;
+  // Ours' outline at the camera's resolution with a reduced foreground
+  // (DepthEvaluationConfig::full_size_outline).
+  bool full_size_outline = false;
   // Ours' hole fills at the mask's edge and on a trusted precursor's surface (false: each one's
   // contribution; depthfilter::TemporalDepthFilterConfig).
   bool fill_mask_edge = depthfilter::TemporalDepthFilterConfig{}.fill_mask_edge;
