@@ -44,6 +44,7 @@ struct Options {
   bool fill_mask_edge = eval::SimulatedDepthOptions{}.fill_mask_edge;
   bool fill_on_precursor_surface = eval::SimulatedDepthOptions{}.fill_on_precursor_surface;
   int mask_growth_steps = eval::SimulatedDepthOptions{}.mask_growth_steps;
+  bool fill_witnessed = eval::SimulatedDepthOptions{}.fill_witnessed;
   std::string json;
   std::string images;
   std::string recording;
@@ -94,11 +95,26 @@ int run(const Options& o) {
   if (o.levels < 1 || o.levels > max_levels)
     throw InputError("", "--levels", "l_max in [1, " + std::to_string(max_levels) + "]",
                      std::to_string(o.levels));
-  const eval::SimulatedDepthEvaluation e = eval::evaluateSimulatedDepth(
-      {o.scene, o.visitor_model, o.frames, o.width, o.height, o.learning_frames, o.levels, o.compared_levels,
-       !o.images.empty(), o.mask_persistence, o.cross_camera, o.round_trip_check, o.reflection_flicker,
-       o.view_size, o.keep_attached_limbs, o.foreground_scale, o.fill_mask_edge, o.fill_on_precursor_surface,
-       o.mask_growth_steps});
+  const eval::SimulatedDepthEvaluation e = eval::evaluateSimulatedDepth({o.scene,
+                                                                         o.visitor_model,
+                                                                         o.frames,
+                                                                         o.width,
+                                                                         o.height,
+                                                                         o.learning_frames,
+                                                                         o.levels,
+                                                                         o.compared_levels,
+                                                                         !o.images.empty(),
+                                                                         o.mask_persistence,
+                                                                         o.cross_camera,
+                                                                         o.round_trip_check,
+                                                                         o.reflection_flicker,
+                                                                         o.view_size,
+                                                                         o.keep_attached_limbs,
+                                                                         o.foreground_scale,
+                                                                         o.fill_mask_edge,
+                                                                         o.fill_on_precursor_surface,
+                                                                         o.mask_growth_steps,
+                                                                         o.fill_witnessed});
   std::cout << e.report.dump(2) << "\n";
   std::cerr << eval::depthMetricsTable(e.rows);
   std::cerr << "\n" << e.coverage_table;
@@ -140,6 +156,10 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--fill-on-precursor-surface", o->fill_on_precursor_surface,
                      "Ours fills a hole whose trusted precursor's colour neighbours span two surfaces from "
                      "those on the precursor's (false: it stays a hole)")
+          ->capture_default_str();
+      sub.add_option("--fill-witnessed", o->fill_witnessed,
+                     "Ours fills a hole beside two surfaces of its colour with the one another camera "
+                     "measured there (false: it stays a hole)")
           ->capture_default_str();
       sub.add_option("--mask-growth-steps", o->mask_growth_steps,
                      "The mask grows by up to this many pixels into readings whose background depth is "

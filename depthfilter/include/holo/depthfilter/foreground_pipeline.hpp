@@ -26,6 +26,7 @@
 #include "holo/depthfilter/foreground_mask.hpp"
 #include "holo/depthfilter/foreground_scale.hpp"
 #include "holo/depthfilter/mask_persistence.hpp"
+#include "holo/depthfilter/other_camera_witness.hpp"
 #include "holo/depthfilter/precursor_flow.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
 
@@ -89,6 +90,7 @@ class ForegroundPipeline {
   std::vector<CameraModel> cameras_;  // as the foreground's frames see them (reducedCamera)
   std::vector<CameraStage> stages_;
   CrossCameraFill cross_camera_;
+  OtherCameraWitnesses witnesses_;  // the other cameras decide the filter's two-surface holes
 };
 
 }  // namespace holo::depthfilter
