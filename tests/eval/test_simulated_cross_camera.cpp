@@ -174,6 +174,7 @@ TEST(SimulatedCrossCamera, SwitchingTheWitnessedFillOffLeavesMoreHoles) {
   EXPECT_EQ(on.scored_frames, long(kScored * cameras.size()));
   EXPECT_GT(on.coverage, off.coverage + 0.001);
   EXPECT_GT(on.raw_holes_filled, off.raw_holes_filled);
+  EXPECT_LT(on.temporal_mse_cm2, off.temporal_mse_cm2);
   EXPECT_LT(on.depth_rmse_cm, off.depth_rmse_cm * 1.05);
   EXPECT_LT(on.ghost_ratio, kCiDepthBars.ghosts);
 }
