@@ -2,8 +2,9 @@
 // camera, in parallel (oneTBB), the foreground mask phi_i, the precursor flow lambda_i and the
 // mask's persistence where the sensor reads nothing; then, across the cameras, each camera's holes
 // on a visitor filled with the depth another camera measured of it (cross_camera_fill.hpp); then
-// per camera again the pull-push temporal depth filter and the border expansion; then every filtered
-// foreground pixel is back-projected into the world (pyramid) frame with that camera's CameraModel, its sRGB
+// per camera again the pull-push temporal depth filter (a hole beside two surfaces of its colour
+// decided by the other cameras' measured depth, other_camera_witness.hpp) and the border
+// expansion; then every filtered foreground pixel is back-projected into the world (pyramid) frame with that camera's CameraModel, its sRGB
 // colour linearised, multiplied by the camera's colour gains and divided by the exposure, its source (camera,
 // pixel) kept.
 //
