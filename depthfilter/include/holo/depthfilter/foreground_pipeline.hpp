@@ -4,9 +4,9 @@
 // on a visitor filled with the depth another camera measured of it (cross_camera_fill.hpp); then
 // per camera again the pull-push temporal depth filter (a hole beside two surfaces of its colour
 // decided by the other cameras' measured depth, other_camera_witness.hpp) and the border
-// expansion; then every filtered foreground pixel is back-projected into the world (pyramid) frame with that camera's CameraModel, its sRGB
-// colour linearised, multiplied by the camera's colour gains and divided by the exposure, its source (camera,
-// pixel) kept.
+// expansion; then every filtered foreground pixel is back-projected into the world (pyramid) frame with that
+// camera's CameraModel, its sRGB colour linearised, multiplied by the camera's colour gains and divided by
+// the exposure, its source (camera, pixel) kept.
 //
 // With `scale` 2 every per-camera stage runs on the frames reduced to half width and height
 // (foreground_scale.hpp); the points keep the camera's own pixel coordinates.
