@@ -45,6 +45,7 @@ struct Options {
   bool fill_mask_edge = eval::SimulatedDepthOptions{}.fill_mask_edge;
   bool fill_on_precursor_surface = eval::SimulatedDepthOptions{}.fill_on_precursor_surface;
   int mask_growth_steps = eval::SimulatedDepthOptions{}.mask_growth_steps;
+  bool fill_witnessed = eval::SimulatedDepthOptions{}.fill_witnessed;
   std::string json;
   std::string images;
   std::string recording;
@@ -114,7 +115,8 @@ int run(const Options& o) {
                                                                          o.full_size_outline,
                                                                          o.fill_mask_edge,
                                                                          o.fill_on_precursor_surface,
-                                                                         o.mask_growth_steps});
+                                                                         o.mask_growth_steps,
+                                                                         o.fill_witnessed});
   std::cout << e.report.dump(2) << "\n";
   std::cerr << eval::depthMetricsTable(e.rows);
   std::cerr << "\n" << e.coverage_table;
@@ -156,6 +158,10 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--fill-on-precursor-surface", o->fill_on_precursor_surface,
                      "Ours fills a hole whose trusted precursor's colour neighbours span two surfaces from "
                      "those on the precursor's (false: it stays a hole)")
+          ->capture_default_str();
+      sub.add_option("--fill-witnessed", o->fill_witnessed,
+                     "Ours fills a hole beside two surfaces of its colour with the one another camera "
+                     "measured there (false: it stays a hole)")
           ->capture_default_str();
       sub.add_option("--mask-growth-steps", o->mask_growth_steps,
                      "The mask grows by up to this many pixels into readings whose background depth is "

@@ -29,6 +29,7 @@ TemporalDepthFilterConfig parseDepthFilterConfig(const ConfigNode& section) {
                              "fill_trust_frames",
                              "fill_on_precursor_surface",
                              "fill_mask_edge",
+                             "fill_witnessed",
                              "fill_radius",
                              "fill_colour_max",
                              "fill_colour_margin",
@@ -59,6 +60,7 @@ TemporalDepthFilterConfig parseDepthFilterConfig(const ConfigNode& section) {
   c.fill_trust_frames = intInRange(section, "fill_trust_frames", c.fill_trust_frames, 0, 254);
   c.fill_on_precursor_surface = section.get("fill_on_precursor_surface", c.fill_on_precursor_surface);
   c.fill_mask_edge = section.get("fill_mask_edge", c.fill_mask_edge);
+  c.fill_witnessed = section.get("fill_witnessed", c.fill_witnessed);
   c.fill_radius =
       intInRange(section, "fill_radius", c.fill_radius, 0, TemporalDepthFilterConfig::kMaxFillRadius);
   c.fill_colour_max = section.getInRange("fill_colour_max", c.fill_colour_max, 0.0f, 765.0f);

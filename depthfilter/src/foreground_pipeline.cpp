@@ -115,7 +115,8 @@ ForegroundPipeline::ForegroundPipeline(std::vector<CameraModel> cameras, Foregro
     : config_(std::move(config)),
       cameras_(reducedCameras(cameras, config_.scale)),
       camera_resolution_cameras_(std::move(cameras)),
-      cross_camera_(cameras_, config_.cross_camera) {
+      cross_camera_(cameras_, config_.cross_camera),
+      witnesses_(cameras_, config_.cross_camera.tolerance_m, config_.cross_camera.tolerance_z2) {
   if (!(config_.exposure > 0.0f) || !std::isfinite(config_.exposure))
     throw Error("ForegroundPipeline: exposure must be positive and finite");
   for (const vec3& gains : config_.colour_gains)
@@ -236,13 +237,15 @@ ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> camera_fr
   };
   // Per camera: the filter on the depth the other cameras completed, the border, the points.
   std::vector<cv::Mat> depth;
+  std::vector<CrossCameraView> views(stages_.size());
   auto filter_camera = [&](std::size_t i) {
     CameraStage& stage = stages_[i];
     const RgbdFrame& frame = frames[i];
     if (frame.empty()) return;
     CameraForeground& result = stage.result;
     result.depth.release();  // likewise the filter's output
-    result.depth = stage.filter.apply({frame.colour, depth[i], result.mask, result.flow});
+    const OtherCameraWitness witness = witnesses_.witnessFor(views, i);
+    result.depth = stage.filter.apply({frame.colour, depth[i], result.mask, result.flow, &witness});
     result.border = {};  // unshared, its images are reused too
     result.border =
         expandBorder(result.mask, result.depth, config_.border, stage.border_weight, stage.border_depth);
@@ -289,7 +292,6 @@ ForegroundCloud ForegroundPipeline::process(std::span<const RgbdFrame> camera_fr
       for (std::size_t i = 0; i < stages_.size(); ++i) step(i);
   };
   for_each_camera(mask_camera);
-  std::vector<CrossCameraView> views(stages_.size());
   for (std::size_t i = 0; i < stages_.size(); ++i)
     views[i] = frames[i].empty() ? CrossCameraView{}
                                  : CrossCameraView{frames[i].depth, stages_[i].result.mask,

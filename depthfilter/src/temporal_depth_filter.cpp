@@ -255,6 +255,50 @@ float guidedHoleFill(const cv::Mat& measured, const Level& filtered, const cv::M
   return at_mask_edge ? farthest : sum / float(count);
 }
 
+// A hole between surfaces of its colour that the rules on this camera's pixels leave: its
+// measured neighbours within fill_radius of about its colour (as guidedHoleFill's) grouped into
+// surfaces (depths within T(z) of the group's nearest), asked nearest first of the witness: the
+// first one seen is the fill, provided every nearer one was seen through; an undecided one ends
+// the search (0: a hole).
+float witnessedHoleFill(const cv::Mat& measured, const Level& filtered, const cv::Mat& colour_image, int x,
+                        int y, const TemporalDepthFilterConfig& config, const SurfaceWitness& witness) {
+  const int r = config.fill_radius;
+  const int width = measured.cols, height = measured.rows;
+  const cv::Vec3b colour = colour_image.at<cv::Vec3b>(y, x);
+  constexpr int kMaxSide = 2 * TemporalDepthFilterConfig::kMaxFillRadius + 1;
+  float depths[kMaxSide * kMaxSide], colours[kMaxSide * kMaxSide];
+  int n = 0;
+  float best_colour = INFINITY;
+  for (int ny = std::max(0, y - r); ny <= std::min(height - 1, y + r); ++ny)
+    for (int nx = std::max(0, x - r); nx <= std::min(width - 1, x + r); ++nx) {
+      if (measured.at<float>(ny, nx) <= 0.0f) continue;
+      const float d = filtered.pairs[std::size_t(ny) * std::size_t(width) + std::size_t(nx)].depth;
+      if (!(d > 0.0f)) continue;
+      depths[n] = d;
+      colours[n] = colourDistance(colour, colour_image.at<cv::Vec3b>(ny, nx));
+      best_colour = std::min(best_colour, colours[n]);
+      ++n;
+    }
+  if (n == 0 || best_colour > config.fill_colour_max) return 0.0f;
+  const float plausible = best_colour + config.fill_colour_margin;
+  int m = 0;
+  for (int k = 0; k < n; ++k)
+    if (colours[k] <= plausible) depths[m++] = depths[k];
+  std::sort(depths, depths + m);
+  for (int first = 0; first < m;) {
+    const float tolerance = config.surfaceTolerance(depths[first]);
+    float sum = 0.0f;
+    int last = first;
+    while (last < m && depths[last] - depths[first] <= tolerance) sum += depths[last++];
+    const float surface = sum / float(last - first);
+    const Sighting sighting = witness.sighting(x, y, surface);
+    if (sighting == Sighting::Seen) return surface;
+    if (sighting != Sighting::Empty) return 0.0f;
+    first = last;
+  }
+  return 0.0f;
+}
+
 // Reliability of a pair: 1 - c (smaller confidence values are more reliable), kept positive so
 // that the least confident measurement still counts.
 float reliability(float confidence) {
@@ -646,6 +690,7 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
         const bool trusted = pre > 0.0f && pre_age_row[x] < config_.fill_trust_frames;
         float fill = 0.0f;
         bool used_push = false;
+        bool witnessed = false;
         HoleReason declined = HoleReason::None;
         if (trusted) {
           // Its surface, from the neighbours of its colour on it. The push's fill is not used
@@ -685,10 +730,20 @@ cv::Mat TemporalDepthFilter::apply(const DepthFilterInput& in) {
           fill = 0.0f;
           declined = HoleReason::BetweenSurfaces;
         }
+        // Two surfaces of its colour (or none it may take) beside it: another camera decides.
+        if (fill <= 0.0f && in.witness != nullptr && config_.fill_witnessed &&
+            (declined == HoleReason::TrustedOtherSurface || declined == HoleReason::DepthEdge ||
+             declined == HoleReason::BetweenSurfaces || declined == HoleReason::MaskEdge)) {
+          fill = witnessedHoleFill(measured, filtered, in.colour, x, y, config_, *in.witness);
+          witnessed = fill > 0.0f;
+        }
         if (reasons != nullptr && fill <= 0.0f) reasons->ptr<std::uint8_t>(y)[x] = std::uint8_t(declined);
         if (fill > 0.0f) {
           out[x] = fill;
-          out_age[x] = used_push ? std::uint8_t(config_.fill_trust_frames) : olderBy1(pre_age_row[x]);
+          // The push's and the witness's fills are no precursor to trust (the witness decides
+          // again next frame).
+          out_age[x] =
+              used_push || witnessed ? std::uint8_t(config_.fill_trust_frames) : olderBy1(pre_age_row[x]);
         }
       }
     }

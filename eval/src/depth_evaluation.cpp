@@ -220,7 +220,8 @@ depthfilter::CrossCameraView DepthFilterEvaluation::crossCameraView(const RgbdFr
   return {reduced_.depth, mask_, masker_.backgroundDepth()};
 }
 
-void DepthFilterEvaluation::scoreFrame(const GroundTruthFrame& truth, const cv::Mat& ours_depth) {
+void DepthFilterEvaluation::scoreFrame(const GroundTruthFrame& truth, const cv::Mat& ours_depth,
+                                       const depthfilter::SurfaceWitness* witness) {
   const RgbdFrame& frame = truth.frame;
   if (truth.true_depth.type() != CV_32FC1 || truth.true_depth.size() != frame.depth.size() ||
       truth.true_foreground.type() != CV_8UC1 || truth.true_foreground.size() != frame.depth.size() ||
@@ -233,7 +234,7 @@ void DepthFilterEvaluation::scoreFrame(const GroundTruthFrame& truth, const cv::
   // The cameras' fill may have grown the mask since prepareFrame.
   last_mask_ = depthfilter::expandedToFull(mask_, frame.depth.size());
   const depthfilter::DepthFilterInput input{reduced_.colour, reduced_.depth, mask_, last_flow_};
-  const depthfilter::DepthFilterInput ours_input{reduced_.colour, ours_depth, mask_, last_flow_};
+  const depthfilter::DepthFilterInput ours_input{reduced_.colour, ours_depth, mask_, last_flow_, witness};
   const auto at_frame_size = [&](const cv::Mat& reduced) {
     return depthfilter::expandedToFull(reduced, frame.depth.size());
   };

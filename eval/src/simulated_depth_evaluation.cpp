@@ -8,6 +8,7 @@
 #include "figure_label.hpp"
 #include "holo/core/progress.hpp"
 #include "holo/depthfilter/cloud_view.hpp"
+#include "holo/depthfilter/other_camera_witness.hpp"
 #include "holo/eval/acceptance_bars.hpp"
 #include "holo/eval/displayed_reflection.hpp"
 #include "holo/pipeline/frame_loop.hpp"
@@ -187,6 +188,7 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
   config.filter.record_hole_reasons = true;
   config.filter.fill_mask_edge = o.fill_mask_edge;
   config.filter.fill_on_precursor_surface = o.fill_on_precursor_surface;
+  config.filter.fill_witnessed = o.fill_witnessed;
   for (int levels : o.compared_levels) {
     depthfilter::TemporalDepthFilterConfig variant = config.filter;
     variant.levels = levels;
@@ -207,6 +209,7 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
   depthfilter::CrossCameraFillConfig cross_config;
   cross_config.enabled = o.cross_camera;
   const depthfilter::CrossCameraFill cross_camera(cameras, cross_config);
+  const depthfilter::OtherCameraWitnesses witnesses(cameras);
   long filled = 0, confirmed = 0, camera_frames = 0;
 
   int figure_camera = 0;
@@ -231,7 +234,9 @@ SimulatedDepthEvaluation evaluateSimulatedDepth(const SimulatedDepthOptions& o) 
     for (int c = 0; c < museum.cameraCount(); ++c, progress.update()) {
       sim::SimulatedFrame& f = frames[std::size_t(c)];
       const bool scored = !streams[std::size_t(c)].learning();
-      streams[std::size_t(c)].scoreFrame({f.frame, f.true_depth, f.foreground}, ours_depth[std::size_t(c)]);
+      const depthfilter::OtherCameraWitness witness = witnesses.witnessFor(views, std::size_t(c));
+      streams[std::size_t(c)].scoreFrame({f.frame, f.true_depth, f.foreground}, ours_depth[std::size_t(c)],
+                                         &witness);
       if (scored) {
         filled += counts[std::size_t(c)].filled;
         confirmed += counts[std::size_t(c)].confirmed;

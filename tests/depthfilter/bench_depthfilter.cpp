@@ -12,6 +12,7 @@
 #include "holo/depthfilter/foreground_pipeline.hpp"
 #include "holo/depthfilter/mask_depth_growth.hpp"
 #include "holo/depthfilter/mask_persistence.hpp"
+#include "holo/depthfilter/other_camera_witness.hpp"
 #include "holo/depthfilter/precursor_flow.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
 #include "synthetic_rgbd.hpp"
@@ -203,5 +204,43 @@ void BM_CrossCameraFill(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_CrossCameraFill)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
+
+// The filter of camera 0 of BM_CrossCameraFill's four cameras (the sequence's frame, a sixth of
+// each camera's rows dropped, 15 degrees apart), with the other three as the witness of its
+// holes between two surfaces (argument 1) or without (0): the witness's cost in the per-camera
+// step, the worst case of every camera's foreground landing in the others' images (each
+// camera sees the same frame: a cost, not an accuracy figure).
+void BM_FilterWithWitness(benchmark::State& state) {
+  const test::SyntheticScene scene = scene640();
+  std::vector<CameraModel> cameras;
+  for (int i = 0; i < 4; ++i) {
+    const float a = 0.26f * float(i);
+    const vec3 eye(2.0f * std::sin(a), 0.0f, 2.0f - 2.0f * std::cos(a));
+    cameras.emplace_back(scene.intrinsics(), lookAtCameraToWorld(eye, vec3(0.0f, 0.0f, 2.0f)));
+  }
+  const OtherCameraWitnesses witnesses(cameras);
+  std::vector<std::vector<CrossCameraView>> frame_views;
+  for (const test::SyntheticFrame& f : frames()) {
+    frame_views.emplace_back();
+    for (int i = 0; i < 4; ++i) {
+      cv::Mat d = f.frame.depth.clone();
+      for (int y = i; y < d.rows; y += 6) d.row(y).setTo(0.0f);
+      frame_views.back().push_back({d, f.true_mask, cv::Mat()});
+    }
+  }
+  TemporalDepthFilterConfig config;
+  config.learning_frames = 4;
+  TemporalDepthFilter filter(config);
+  const cv::Mat flow = cv::Mat::zeros(frames()[0].frame.depth.size(), CV_32FC2);
+  std::size_t t = 0;
+  for (auto _ : state) {
+    const std::size_t i = t++ % frames().size();
+    const test::SyntheticFrame& f = frames()[i];
+    const OtherCameraWitness witness = witnesses.witnessFor(frame_views[i], 0);
+    benchmark::DoNotOptimize(filter.apply({f.frame.colour, frame_views[i][0].depth, f.true_mask, flow,
+                                           state.range(0) != 0 ? &witness : nullptr}));
+  }
+}
+BENCHMARK(BM_FilterWithWitness)->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond);
 
 }  // namespace

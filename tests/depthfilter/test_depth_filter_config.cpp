@@ -35,6 +35,8 @@ TEST(DepthFilterConfig, FieldsReachTheFilterAndOthersKeepTheirDefaults) {
   EXPECT_EQ(c.edge_radius, defaults.edge_radius);
   EXPECT_EQ(TemporalDepthFilter(c).config().levels, 5);
   EXPECT_TRUE(defaults.fill_mask_edge);
+  EXPECT_TRUE(defaults.fill_witnessed);
+  EXPECT_FALSE(parsed("  fill_witnessed: false\n").fill_witnessed);
   EXPECT_FALSE(defaults.fill_on_precursor_surface);
   const TemporalDepthFilterConfig flipped =
       parsed("  fill_mask_edge: false\n  fill_on_precursor_surface: true\n");
@@ -98,6 +100,7 @@ TEST(DepthFilterConfig, BadValuesAreRefusedNamingTheFieldAndTheRange) {
       {"  mask_close_radius: 9\n", "depthfilter.mask_close_radius"},
       {"  mask_keep_attached_limbs: 2\n", "depthfilter.mask_keep_attached_limbs"},
       {"  fill_mask_edge: sometimes\n", "depthfilter.fill_mask_edge"},
+      {"  fill_witnessed: perhaps\n", "depthfilter.fill_witnessed"},
       {"  fill_on_precursor_surface: 2\n", "depthfilter.fill_on_precursor_surface"},
       {"  mask_background_adopt_frames: 0\n", "depthfilter.mask_background_adopt_frames"},
       {"  mask_background_adopt_frames: 1001\n", "depthfilter.mask_background_adopt_frames"},

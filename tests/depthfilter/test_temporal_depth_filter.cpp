@@ -83,7 +83,8 @@ TEST(TemporalDepthFilter, FrozenOrOversmoothedFiltersFailTheDeformationBar) {
 // in the left surface in every frame; from frame `edge_hole_from` on, pixels of the left
 // surface right at the depth edge have no depth either.
 cv::Mat twoSurfaceHoles(const cv::Vec3b& left_colour, const cv::Vec3b& right_colour, int frames,
-                        int edge_hole_from, bool fill_on_precursor_surface = false) {
+                        int edge_hole_from, bool fill_on_precursor_surface = false,
+                        const SurfaceWitness* witness = nullptr) {
   TemporalDepthFilterConfig config;
   config.learning_frames = 3;
   config.fill_on_precursor_surface = fill_on_precursor_surface;
@@ -103,7 +104,7 @@ cv::Mat twoSurfaceHoles(const cv::Vec3b& left_colour, const cv::Vec3b& right_col
     depth += noise;
     depth(cv::Rect(10, 10, 2, 2)).setTo(0.0f);
     if (t >= edge_hole_from) depth(cv::Rect(31, 20, 1, 4)).setTo(0.0f);
-    out = filter.apply({colour, depth, mask, flow});
+    out = filter.apply({colour, depth, mask, flow, witness});
   }
   EXPECT_FALSE(filter.learning());
   return out;
@@ -129,6 +130,34 @@ TEST(TemporalDepthFilter, EdgeHoleBetweenSurfacesOfOneColourStaysAHole) {
   for (int y = 20; y < 24; ++y) {
     EXPECT_EQ(out.at<float>(y, 31), 0.0f) << "edge row " << y;
     EXPECT_NEAR(on.at<float>(y, 31), 1.0f, 0.01f) << "edge row " << y;
+  }
+}
+
+// Another camera as a witness that sees one surface at `seen` m along every pixel's ray, sees
+// through the space in front of it and cannot see behind it.
+class OneSurfaceWitness final : public SurfaceWitness {
+ public:
+  explicit OneSurfaceWitness(float seen) : seen_(seen) {}
+  Sighting sighting(int, int, float depth) const override {
+    if (std::abs(depth - seen_) < 0.05f) return Sighting::Seen;
+    return depth < seen_ ? Sighting::Empty : Sighting::Unknown;
+  }
+
+ private:
+  float seen_;
+};
+
+TEST(TemporalDepthFilter, AWitnessDecidesWhichOfTwoSurfacesOfOneColourAnEdgeHoleShows) {
+  // The grey edge hole of the test above: the other camera sees the far surface through the
+  // space where the near one would be, or the near one; where it sees nothing it stays a hole.
+  const OneSurfaceWitness far(1.5f), near(1.0f), nothing(9.0f);
+  const cv::Mat to_far = twoSurfaceHoles({128, 128, 128}, {128, 128, 128}, 8, 6, false, &far);
+  const cv::Mat to_near = twoSurfaceHoles({128, 128, 128}, {128, 128, 128}, 8, 6, false, &near);
+  const cv::Mat undecided = twoSurfaceHoles({128, 128, 128}, {128, 128, 128}, 8, 6, false, &nothing);
+  for (int y = 20; y < 24; ++y) {
+    EXPECT_NEAR(to_far.at<float>(y, 31), 1.5f, 0.01f) << "edge row " << y;
+    EXPECT_NEAR(to_near.at<float>(y, 31), 1.0f, 0.01f) << "edge row " << y;
+    EXPECT_EQ(undecided.at<float>(y, 31), 0.0f) << "edge row " << y;
   }
 }
 

@@ -2,10 +2,11 @@
 // camera, in parallel (oneTBB), the foreground mask phi_i, the precursor flow lambda_i and the
 // mask's persistence where the sensor reads nothing; then, across the cameras, each camera's holes
 // on a visitor filled with the depth another camera measured of it (cross_camera_fill.hpp); then
-// per camera again the pull-push temporal depth filter and the border expansion; then every filtered
-// foreground pixel is back-projected into the world (pyramid) frame with that camera's CameraModel, its sRGB
-// colour linearised, multiplied by the camera's colour gains and divided by the exposure, its source (camera,
-// pixel) kept.
+// per camera again the pull-push temporal depth filter (a hole beside two surfaces of its colour
+// decided by the other cameras' measured depth, other_camera_witness.hpp) and the border
+// expansion; then every filtered foreground pixel is back-projected into the world (pyramid) frame with that
+// camera's CameraModel, its sRGB colour linearised, multiplied by the camera's colour gains and divided by
+// the exposure, its source (camera, pixel) kept.
 //
 // With `scale` 2 every per-camera stage runs on the frames reduced to half width and height
 // (foreground_scale.hpp); the points keep the camera's own pixel coordinates. With
@@ -28,6 +29,7 @@
 #include "holo/depthfilter/foreground_mask.hpp"
 #include "holo/depthfilter/foreground_scale.hpp"
 #include "holo/depthfilter/mask_persistence.hpp"
+#include "holo/depthfilter/other_camera_witness.hpp"
 #include "holo/depthfilter/precursor_flow.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
 
@@ -97,6 +99,7 @@ class ForegroundPipeline {
   std::vector<CameraModel> camera_resolution_cameras_;  // as given
   std::vector<CameraStage> stages_;
   CrossCameraFill cross_camera_;
+  OtherCameraWitnesses witnesses_;  // the other cameras decide the filter's two-surface holes
 };
 
 }  // namespace holo::depthfilter

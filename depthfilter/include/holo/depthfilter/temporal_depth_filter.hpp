@@ -27,6 +27,10 @@
 // mask's edge, with the push's fill where the mean colour of the measured pixels behind it (carried through
 // the pyramid) is the hole's; but never when the first measurements left, right, above and below it inside
 // the mask span a depth edge: it is a gap between two surfaces (between limbs) and may show a third one.
+// A hole so left (its neighbours of its colour on two surfaces, next to a depth edge, between two surfaces or
+// at the mask's edge) is filled when the frame comes with a SurfaceWitness (the other cameras): the surfaces
+// of its neighbours of its colour are asked nearest first, and the first one the witness sees is taken, as
+// long as every nearer one is seen through (any surface the witness cannot decide ends the search: a hole).
 // Every other hole stays a hole. The choices where the paper is silent are listed, with reasons, in
 // docs/depthfilter.md.
 //
@@ -40,6 +44,7 @@
 
 #include "holo/depthfilter/empirical_cdf.hpp"
 #include "holo/depthfilter/hole_reason.hpp"
+#include "holo/depthfilter/surface_witness.hpp"
 
 namespace holo::depthfilter {
 
@@ -85,6 +90,10 @@ struct TemporalDepthFilterConfig {
   // edges, takes the farthest of its measured neighbours of its colour when they all lie on one
   // surface (the surface turns away there), never the push's fill (false: it stays a hole).
   bool fill_mask_edge = true;
+  // A hole the rules above leave, next to two surfaces of its colour, takes the surface that the
+  // frame's SurfaceWitness (another camera's measured depth) sees there, every nearer one seen
+  // through (false, or no witness: it stays a hole).
+  bool fill_witnessed = true;
   static constexpr int kMaxFillRadius = 4;
   int fill_radius = 3;  // 0..kMaxFillRadius
   float fill_colour_max = 30.0f;
@@ -110,6 +119,9 @@ struct DepthFilterInput {
   cv::Mat depth;
   cv::Mat mask;
   cv::Mat flow;
+  // The other cameras' view of this frame, asked about the holes the filter cannot decide alone;
+  // nullptr: none. Must outlive apply().
+  const SurfaceWitness* witness = nullptr;
 };
 
 class TemporalDepthFilter {

@@ -44,6 +44,7 @@
 #include "holo/depthfilter/foreground_scale.hpp"
 #include "holo/depthfilter/mask_persistence.hpp"
 #include "holo/depthfilter/precursor_flow.hpp"
+#include "holo/depthfilter/surface_witness.hpp"
 #include "holo/depthfilter/temporal_depth_filter.hpp"
 #include "holo/eval/coverage_breakdown.hpp"
 #include "holo/eval/depth_baselines.hpp"
@@ -166,7 +167,10 @@ class DepthFilterEvaluation {
   // ours_depth and crossCameraView are at the foreground's resolution (the frame's divided by
   // DepthEvaluationConfig::foreground_scale); the truth, lastMask() and lastOutput() at the frame's.
   void prepareFrame(const RgbdFrame& frame);
-  void scoreFrame(const GroundTruthFrame& frame, const cv::Mat& ours_depth);
+  // `witness` (the other cameras, depthfilter::OtherCameraWitness) is given to ours and its
+  // variants; nullptr: none.
+  void scoreFrame(const GroundTruthFrame& frame, const cv::Mat& ours_depth,
+                  const depthfilter::SurfaceWitness* witness = nullptr);
   // This camera's frame for depthfilter::CrossCameraFill after prepareFrame: its mask is
   // lastMask() itself (grown in place), its background the masker's learned depth.
   depthfilter::CrossCameraView crossCameraView(const RgbdFrame& frame);

@@ -62,6 +62,9 @@ struct SimulatedDepthOptions {
   // The mask's growth into readings of unknown background depth, in pixels (0: its contribution;
   // depthfilter::ForegroundMaskConfig::unknown_background_growth_steps).
   int mask_growth_steps = depthfilter::ForegroundMaskConfig{}.unknown_background_growth_steps;
+  // Ours' holes between two surfaces of their colour decided by the other cameras' depth
+  // (false: its contribution; depthfilter::TemporalDepthFilterConfig::fill_witnessed).
+  bool fill_witnessed = depthfilter::TemporalDepthFilterConfig{}.fill_witnessed;
 };
 
 struct SimulatedDepthEvaluation {
