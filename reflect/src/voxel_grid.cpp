@@ -52,6 +52,7 @@ VoxelGrid::VoxelGrid(const VoxelGridSettings& settings) : settings_(settings) {
   brick_volume_ = std::uint64_t(b) * b * b;
   bits_.assign(std::size_t((brick_count_.size() * brick_volume_ + 63) / 64), 0u);
   brick_distance_.assign(brick_count_.size(), 255);
+  brick_block_.assign(brick_count_.size(), -1);
   occ_lo_ = dims_;
   occ_hi_ = glm::ivec3(0);
 }
@@ -82,12 +83,14 @@ void VoxelGrid::clear() {
     const int y = int((lin / dims_.x) % dims_.y);
     const int z = int(lin / (std::int64_t(dims_.x) * dims_.y));
     brick_count_[brickLinear({x, y, z})] = 0;
+    brick_block_[brickLinear({x, y, z})] = -1;
     const std::uint64_t bit = bitIndex({x, y, z});
     bits_[bit >> 6] = 0;  // the whole word: every bit in it belongs to a cleared voxel or is 0
   }
   std::fill(brick_distance_.begin(), brick_distance_.end(), std::uint8_t(255));
   samples_.clear();
   sample_voxel_.clear();
+  blocks_used_ = 0;
   occ_lo_ = dims_;
   occ_hi_ = glm::ivec3(0);
   dropped_ = 0;
@@ -131,9 +134,19 @@ void VoxelGrid::build(const depthfilter::ForegroundCloud& cloud) {
       slot = std::int32_t(samples_.size());
       samples_.push_back({p.radiance, weight, p.camera, p.x, p.y, 1});
       sample_voxel_.push_back(lin);
-      ++brick_count_[brickLinear(v)];
+      const std::size_t brick = brickLinear(v);
+      ++brick_count_[brick];
       const std::uint64_t bit = bitIndex(v);
       bits_[bit >> 6] |= std::uint64_t(1) << (bit & 63);
+      std::int32_t& block = brick_block_[brick];
+      if (block < 0) {
+        block = blocks_used_++;
+        const std::size_t needed = std::size_t(blocks_used_) * std::size_t(brick_volume_);
+        if (brick_samples_.size() < needed)
+          brick_samples_.resize(std::max(needed, 2 * brick_samples_.size()));
+      }
+      brick_samples_[std::size_t(std::uint64_t(block) * brick_volume_ + (bit - brick * brick_volume_))] =
+          slot;
       occ_lo_ = glm::min(occ_lo_, v);
       occ_hi_ = glm::max(occ_hi_, v + 1);
       continue;

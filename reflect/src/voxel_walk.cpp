@@ -46,9 +46,16 @@ template <typename Visit>
 bool dda(const GridRay& r, const ivec3& lo, const ivec3& hi, float t0, float t1, std::uint64_t& steps,
          Visit&& visit) {
   const vec3 p = r.o + r.d * t0;
-  // Round-off may put the entry point a hair outside the box: clamp into it. Clamping in float
-  // first keeps far-away points from overflowing int.
-  ivec3 cell = ivec3(glm::clamp(glm::floor(p), vec3(lo), vec3(hi - 1)));
+  // Round-off may put the entry point a hair outside the box: clamp into it. The point is first
+  // clamped to [lo - 1, hi] in float (no int overflow far away), where truncation corrected by one
+  // below zero is the floor (without SSE4.1 floorf is a call or a long sequence); the cell is
+  // clamp(floor(p), lo, hi - 1) as before.
+  ivec3 cell;
+  for (int a = 0; a < 3; ++a) {
+    const float x = std::clamp(p[a], float(lo[a] - 1), float(hi[a]));
+    const int truncated = int(x);
+    cell[a] = std::clamp(float(truncated) > x ? truncated - 1 : truncated, lo[a], hi[a] - 1);
+  }
   ivec3 step(0);
   vec3 t_next(std::numeric_limits<float>::infinity());
   vec3 t_delta(std::numeric_limits<float>::infinity());
@@ -129,10 +136,12 @@ VoxelHit firstOccupiedVoxel(const VoxelGrid& grid, const Ray& ray, float t_max, 
   bool capped = false;
   float t_restart = t0;  // set when an empty brick lets the walk jump
   auto visit_brick = [&](const ivec3& brick, float t_enter) {
-    if (grid.brickCount(brick) == 0) {
+    // The brick distance is 0 exactly where the brick holds an occupied voxel: one byte read
+    // decides both whether to descend and how far the empty space around reaches.
+    const int k = grid.brickDistance(brick);
+    if (k != 0) {
       // Every brick within distance - 1 of this one is empty: jump to where the ray leaves
       // that cube (restarting the brick DDA there) when it saves at least one step.
-      const int k = grid.brickDistance(brick);
       if (k < 2) return false;
       float t_exit = t1;
       for (int a = 0; a < 3; ++a) {
@@ -144,12 +153,21 @@ VoxelHit firstOccupiedVoxel(const VoxelGrid& grid, const Ray& ray, float t_max, 
       t_restart = t_exit;
       return true;
     }
-    const ivec3 lo = glm::max(brick * b, occ_lo);
-    const ivec3 hi = glm::min(brick * b + b, occ_hi);
+    const ivec3 base = brick * b;
+    const ivec3 lo = glm::max(base, occ_lo);
+    const ivec3 hi = glm::min(base + b, occ_hi);
     // Re-clip in voxel units: exact bounds for the fine walk, no drift from the brick level.
     float s0 = t0, s1 = t1;
     if (!clipToBox(r, vec3(lo), vec3(hi), s0, s1)) return false;
-    if (!dda(r, lo, hi, s0, s1, st.voxel_steps, visit_voxel)) {
+    const auto visit_in_brick = [&](const ivec3& v, float t_enter_voxel) {
+      const ivec3 in_brick = v - base;
+      if (!grid.occupiedInBrick(brick, in_brick)) return false;
+      hit.sample = grid.sampleInBrick(brick, in_brick);
+      hit.voxel = v;
+      hit.t = t_enter_voxel;
+      return true;
+    };
+    if (!dda(r, lo, hi, s0, s1, st.voxel_steps, visit_in_brick)) {
       capped = true;
       return true;
     }

@@ -169,6 +169,42 @@ TEST(VoxelGrid, BrickDistancesMatchABruteForceSearchOnRandomOccupancy) {
   }
 }
 
+// The walk reads a voxel through its brick (occupiedInBrick, sampleInBrick's per-brick index
+// blocks); over rebuilds whose bricks come and go (blocks handed out anew each frame) both must
+// agree with the voxel array at every voxel, for brick sizes that divide the grid and that do not.
+TEST(VoxelGrid, BrickLocalReadsAgreeWithTheVoxelArrayOverRebuilds) {
+  for (const int brick_size : {1, 3, 4}) {
+    VoxelGridSettings s;
+    s.bounds = {vec3(0.0f), vec3(1.2f, 0.6f, 0.9f)};
+    s.voxel_size = 0.05f;  // 24 x 12 x 18 voxels
+    s.brick_size = brick_size;
+    VoxelGrid grid(s);
+    std::mt19937 rng{std::uint32_t(brick_size)};
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    for (int round = 0; round < 4; ++round) {
+      ForegroundCloud cloud;
+      const int points = round == 2 ? 1 : 200 + 150 * round;
+      for (int i = 0; i < points; ++i)
+        cloud.points.push_back(point({1.2f * u(rng), 0.6f * u(rng), 0.9f * u(rng)}, u(rng), 0, i));
+      grid.build(cloud);
+      std::size_t occupied = 0;
+      for (int z = 0; z < grid.dims().z; ++z)
+        for (int y = 0; y < grid.dims().y; ++y)
+          for (int x = 0; x < grid.dims().x; ++x) {
+            const glm::ivec3 v(x, y, z), brick = v / brick_size, local = v - brick * brick_size;
+            const bool at_voxel = grid.occupied(v);
+            ASSERT_EQ(grid.occupiedInBrick(brick, local), at_voxel)
+                << "round " << round << " at " << x << "," << y << "," << z;
+            if (!at_voxel) continue;
+            ++occupied;
+            ASSERT_EQ(grid.sampleInBrick(brick, local), grid.sampleIndex(v))
+                << "round " << round << " at " << x << "," << y << "," << z;
+          }
+      EXPECT_EQ(occupied, grid.occupiedCount());
+    }
+  }
+}
+
 TEST(VoxelGrid, RejectsBadSettingsNamingTheField) {
   auto expectError = [](VoxelGridSettings s, const std::string& field) {
     try {

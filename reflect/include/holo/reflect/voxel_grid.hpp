@@ -77,6 +77,19 @@ class VoxelGrid {
     const std::uint64_t bit = bitIndex(v);
     return (bits_[bit >> 6] >> (bit & 63)) & 1u;
   }
+  // For a walk that already knows the voxel's brick: voxel `local` (each coordinate in
+  // [0, brick_size)) of in-range brick `brick`. occupiedInBrick is occupiedBit without its
+  // divisions by the brick size; sampleInBrick, for an occupied voxel only, is sampleIndex read
+  // from the occupied bricks' own index blocks (a few hundred KiB, cache-resident) rather than
+  // the 8 MiB voxel array, whose line a walk's hit would otherwise miss.
+  bool occupiedInBrick(const glm::ivec3& brick, const glm::ivec3& local) const {
+    const std::uint64_t bit = brickIndex(brick) * brick_volume_ + localIndex(local);
+    return (bits_[bit >> 6] >> (bit & 63)) & 1u;
+  }
+  std::int32_t sampleInBrick(const glm::ivec3& brick, const glm::ivec3& local) const {
+    const std::uint64_t block = std::uint64_t(brick_block_[std::size_t(brickIndex(brick))]);
+    return brick_samples_[std::size_t(block * brick_volume_ + localIndex(local))];
+  }
   const VoxelSample& sample(std::int32_t index) const { return samples_[std::size_t(index)]; }
 
   // Occupied voxels in brick b (in-range brick coordinates).
@@ -123,12 +136,16 @@ class VoxelGrid {
  private:
   std::size_t brickLinear(const glm::ivec3& v) const;
   void computeBrickDistances();
-  std::uint64_t bitIndex(const glm::ivec3& v) const {
+  std::uint64_t brickIndex(const glm::ivec3& brick) const {
+    return std::uint64_t((brick.z * brick_dims_.y + brick.y) * brick_dims_.x + brick.x);
+  }
+  std::uint64_t localIndex(const glm::ivec3& local) const {
     const int b = settings_.brick_size;
-    const glm::ivec3 brick = v / b, local = v - brick * b;
-    const std::uint64_t brick_linear =
-        std::uint64_t((brick.z * brick_dims_.y + brick.y) * brick_dims_.x + brick.x);
-    return brick_linear * brick_volume_ + std::uint64_t((local.z * b + local.y) * b + local.x);
+    return std::uint64_t((local.z * b + local.y) * b + local.x);
+  }
+  std::uint64_t bitIndex(const glm::ivec3& v) const {
+    const glm::ivec3 brick = v / settings_.brick_size;
+    return brickIndex(brick) * brick_volume_ + localIndex(v - brick * settings_.brick_size);
   }
 
   VoxelGridSettings settings_;
@@ -140,9 +157,14 @@ class VoxelGrid {
   std::vector<int> distance_scratch_;         // computeBrickDistances' working copy, kept
   std::vector<std::int64_t> point_voxel_;     // build's linear voxel of each point (-1: dropped), kept
   std::vector<std::uint64_t> bits_;           // occupancy bits, brick-major (see bitIndex)
-  std::uint64_t brick_volume_ = 0;            // brick_size^3
-  std::vector<VoxelSample> samples_;          // occupied voxels, in first-touch order
-  std::vector<std::int64_t> sample_voxel_;    // linear voxel index of each sample (for clear)
+  // Per brick: its block in brick_samples_ (-1: empty); per occupied brick, brick_volume_ sample
+  // indices in bitIndex's order within the brick, valid where the voxel's bit is set.
+  std::vector<std::int32_t> brick_block_;
+  std::vector<std::int32_t> brick_samples_;
+  std::int32_t blocks_used_ = 0;
+  std::uint64_t brick_volume_ = 0;          // brick_size^3
+  std::vector<VoxelSample> samples_;        // occupied voxels, in first-touch order
+  std::vector<std::int64_t> sample_voxel_;  // linear voxel index of each sample (for clear)
   glm::ivec3 occ_lo_{0};
   glm::ivec3 occ_hi_{0};
   std::size_t dropped_ = 0;
