@@ -14,7 +14,7 @@
 #include "foreground_walk.hpp"
 #include "holo/reflect/tone_map.hpp"
 #include "internal_depth.hpp"
-#include "lobe_filter_gate.hpp"
+#include "lobe_effect_gate.hpp"
 #include "lobe_spread.hpp"
 #include "pass_timer.hpp"
 #include "plinth_light.hpp"
@@ -164,7 +164,7 @@ float FrameRenderer::gateExposure() const {
 EffectPlan FrameRenderer::plan(const depthfilter::ForegroundCloud& cloud,
                                const std::vector<ForegroundCameraImage>& cameras) const {
   return planFrame(cloud, cameras, visitorWithinReach(cloud), std::numeric_limits<float>::infinity(),
-                   std::numeric_limits<float>::infinity());
+                   std::numeric_limits<float>::infinity(), std::numeric_limits<float>::infinity());
 }
 
 std::uint64_t FrameRenderer::lightKey() const {
@@ -176,7 +176,7 @@ std::uint64_t FrameRenderer::lightKey() const {
 
 EffectPlan FrameRenderer::planFrame(const depthfilter::ForegroundCloud& cloud,
                                     const std::vector<ForegroundCameraImage>& cameras, bool visitor_near,
-                                    float visitor_codes, float filter_codes) const {
+                                    float visitor_codes, float filter_codes, float refinement_codes) const {
   EffectInputs in;
   in.foreground_enabled = settings_.foreground_enabled;
   in.relic_empty = scene_.relic().triangleCount() == 0;
@@ -217,11 +217,18 @@ EffectPlan FrameRenderer::planFrame(const depthfilter::ForegroundCloud& cloud,
   char lobe[64] = "";
   if (std::isfinite(lobe_codes))
     std::snprintf(lobe, sizeof lobe, "at most %.2g sRGB codes", double(lobe_codes));
-  in.progressive_refinement = refines_ && lobe_shows;
+  // Where their spread can show, the refinement's own change where it last ran decides.
+  const bool refinement_shows = refinement_codes >= settings_.effect_min_codes;
+  char refined[64] = "";
+  if (std::isfinite(refinement_codes))
+    std::snprintf(refined, sizeof refined, "%.2g sRGB codes where it last ran", double(refinement_codes));
+  in.progressive_refinement = refines_ && lobe_shows && refinement_shows;
   in.progressive_refinement_reason =
       !refines_ || !std::isfinite(lobe_codes) ? refinement_reason_
-      : lobe_shows                            ? refinement_reason_ + " (their spread " + lobe + ")"
-                   : std::string("progressive refinement: the rough lobes' spread not shown (") + lobe + ")";
+      : !lobe_shows ? std::string("progressive refinement: the rough lobes' spread not shown (") + lobe + ")"
+      : !refinement_shows               ? std::string("progressive refinement not shown (") + refined + ")"
+      : std::isfinite(refinement_codes) ? refinement_reason_ + " (their spread " + lobe + ", " + refined + ")"
+                                        : refinement_reason_ + " (their spread " + lobe + ")";
   in.visitor_light_enabled = settings_.evaluation.visitor_light;
   in.relic_lit_diffusely = relic_lit_diffusely_;
   in.visitor_within_light_distance = visitor_near;
@@ -269,8 +276,9 @@ struct FrameRenderer::ViewCache {
   VisitorLight::Receivers visitor_receivers;
   bool receivers_ready = false;
   // Whether the axis-aligned filter shows in this view, and its last static pass's pixels without
-  // and with it (scratch; written where the filter ran).
-  LobeFilterGate filter_gate;
+  // and with it (scratch; written where the filter ran); whether its refinement shows.
+  LobeEffectGate filter_gate;
+  LobeEffectGate refinement_gate;
   std::vector<FilterChange> filter_changes;
   float shown_exposure = 0.0f;  // the exposure the view was last shown at
 };
@@ -315,7 +323,12 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
           VisitorLight::largestRadianceChange(grid_, relic_bounds_, ibl_.brightest(), relic_wide_lobes_),
           exposure);
   }
-  result.plan = planFrame(cloud, cameras, visitor_near, visitor_codes, lobeFilterCodes(views));
+  const std::vector<float> refinement_codes = refinementCodes(views);
+  const float any_refinement_codes =
+      refinement_codes.empty() ? std::numeric_limits<float>::infinity()
+                               : *std::max_element(refinement_codes.begin(), refinement_codes.end());
+  result.plan =
+      planFrame(cloud, cameras, visitor_near, visitor_codes, lobeFilterCodes(views), any_refinement_codes);
   if (result.plan.has(Pass::VoxelGrid)) {
     if (!binned) {
       PassTimer t(result.frame_timings, Pass::VoxelGrid);
@@ -395,7 +408,9 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
   // not depend on who computes them), so every image is the one a loop over the views gives.
   result.views.resize(views.size());
   tbb::parallel_for(std::size_t(0), views.size(), [&](std::size_t v) {
-    result.views[v] = renderView(result.plan, cameras, views[v], foreground, *caches_[v]);
+    const bool refine =
+        result.plan.has(Pass::ProgressiveRefinement) && refinement_codes[v] >= settings_.effect_min_codes;
+    result.views[v] = renderView(result.plan, cameras, views[v], foreground, refine, *caches_[v]);
   });
   if (settings_.exposure <= 0.0f) {
     last_exposure_ = 0.0f;
@@ -427,23 +442,39 @@ bool reusable(const CameraModel& cached, const CameraModel& wanted, float distan
 
 }  // namespace
 
-float FrameRenderer::lobeFilterCodes(const std::vector<CameraModel>& views) const {
-  if (!lobe_filter_ || caches_.size() < views.size()) return std::numeric_limits<float>::infinity();
+std::vector<float> FrameRenderer::gateCodes(const std::vector<CameraModel>& views,
+                                            LobeEffectGate ViewCache::*gate, bool reuse_keeps_check) const {
+  std::vector<float> codes(views.size(), std::numeric_limits<float>::infinity());
+  if (caches_.size() < views.size()) return codes;
   const std::uint64_t light = lightKey();
-  float codes = 0.0f;
   for (std::size_t v = 0; v < views.size(); ++v) {
     const ViewCache& cache = *caches_[v];
     const float exposure = settings_.exposure > 0.0f ? settings_.exposure : cache.shown_exposure;
-    // A view whose static shading is reused runs no static pass to check the filter in.
-    const bool reused = cache.ready && reusable(cache.camera, views[v], settings_.static_reuse_distance);
-    codes = std::max(codes, cache.filter_gate.codes(views[v].position(), exposure, light, reused));
+    // The filter runs only in a static pass: a view whose static shading is reused keeps its last
+    // check. The refinement runs in the reused (still) frames, so its triggers apply there too.
+    const bool reused =
+        reuse_keeps_check && cache.ready && reusable(cache.camera, views[v], settings_.static_reuse_distance);
+    codes[v] = (cache.*gate).codes(views[v].position(), exposure, light, reused);
   }
   return codes;
 }
 
+float FrameRenderer::lobeFilterCodes(const std::vector<CameraModel>& views) const {
+  if (!lobe_filter_) return std::numeric_limits<float>::infinity();
+  float largest = 0.0f;
+  for (const float codes : gateCodes(views, &ViewCache::filter_gate, true))
+    largest = std::max(largest, codes);
+  return largest;
+}
+
+std::vector<float> FrameRenderer::refinementCodes(const std::vector<CameraModel>& views) const {
+  if (!refines_) return std::vector<float>(views.size(), std::numeric_limits<float>::infinity());
+  return gateCodes(views, &ViewCache::refinement_gate, false);
+}
+
 ViewImages FrameRenderer::renderView(const EffectPlan& plan,
                                      const std::vector<ForegroundCameraImage>& cameras,
-                                     const CameraModel& view, std::uint64_t foreground,
+                                     const CameraModel& view, std::uint64_t foreground, bool refine,
                                      ViewCache& cache) const {
   ViewImages out;
   const int w = view.width(), h = view.height();
@@ -528,8 +559,14 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     cache.display_exposure = 0.0f;
     cache.ready = true;
     cache.receivers_ready = false;
-    if (plan.has(Pass::ProgressiveRefinement)) cache.progress.restart(cache.bounces, foreground);
-  } else if (plan.has(Pass::ProgressiveRefinement)) {
+    if (refine) {
+      cache.progress.restart(cache.bounces, cache.hdr, foreground);
+      cache.refinement_gate.measuring();
+    } else if (refines_) {
+      cache.progress.stop();
+      cache.refinement_gate.skipped();
+    }
+  } else if (refine) {
     PassTimer t(out.timings, Pass::ProgressiveRefinement);
     const AxisAlignedFilter filter;
     TracerSettings planned = settings_;
@@ -552,7 +589,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     if (step.image_changed) cache.display_exposure = 0.0f;
     if (step.samples > 0 || step.image_changed) cache.receivers_ready = false;
   }
-  if (plan.has(Pass::ProgressiveRefinement)) out.accumulated_sets = cache.progress.sets();
+  if (refines_) out.accumulated_sets = cache.progress.sets();
   if (fixed_exposure && cache.display_exposure != settings_.exposure) {
     PassTimer t(out.timings, Pass::ToneMap);
     cache.display = toneMapCovered(cache.hdr, plan.has(Pass::Plinth) ? cache.shown : cache.hits.covered,
@@ -628,6 +665,13 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
         }
     out.filter_codes = codes;
     cache.filter_gate.record(codes, view.position(), out.exposure, lightKey());
+  }
+  if (out.refinement_samples > 0 && !out.refinement_reset &&
+      cache.progress.sets() ==
+          std::min(ProgressiveAccumulation::kMeasuredSets, std::uint32_t(settings_.refinement_sets))) {
+    // The refinement's displayed change at the exposure the view is shown at.
+    out.refinement_codes = cache.progress.largestChange(cache.hdr, out.exposure);
+    cache.refinement_gate.record(out.refinement_codes, view.position(), out.exposure, lightKey());
   }
   cache.shown_exposure = out.exposure;
   return out;

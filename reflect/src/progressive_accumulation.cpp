@@ -1,7 +1,10 @@
 #include "progressive_accumulation.hpp"
 
+#include <algorithm>
 #include <bit>
 
+#include "holo/core/image.hpp"
+#include "holo/reflect/tone_map.hpp"
 #include "lobe_sample_sets.hpp"
 
 namespace holo::reflect {
@@ -17,12 +20,34 @@ std::uint64_t foregroundSignature(const VoxelGrid& grid) {
   return splitMixFinaliser(sum ^ std::uint64_t(grid.occupiedCount()));
 }
 
-void ProgressiveAccumulation::restart(const std::vector<PixelBounce>& bounces, std::uint64_t foreground) {
+void ProgressiveAccumulation::restart(const std::vector<PixelBounce>& bounces, const cv::Mat& hdr,
+                                      std::uint64_t foreground) {
   pixels_.clear();
+  first_.clear();
   for (std::size_t p = 0; p < bounces.size(); ++p)
-    if (bounces[p].rough) pixels_.push_back(std::uint32_t(p));
+    if (bounces[p].rough) {
+      pixels_.push_back(std::uint32_t(p));
+      first_.push_back(rgbAt(hdr, int(p % std::size_t(hdr.cols)), int(p / std::size_t(hdr.cols))));
+    }
   sets_ = 1;
   foreground_ = foreground;
+}
+
+void ProgressiveAccumulation::stop() {
+  pixels_.clear();
+  first_.clear();
+  sets_ = 0;
+}
+
+float ProgressiveAccumulation::largestChange(const cv::Mat& hdr, float exposure) const {
+  float codes = 0.0f;
+  for (std::size_t k = 0; k < pixels_.size(); ++k) {
+    const std::size_t p = pixels_[k];
+    const vec3 now = rgbAt(hdr, int(p % std::size_t(hdr.cols)), int(p / std::size_t(hdr.cols)));
+    codes = std::max(codes,
+                     maxComponent(glm::abs(toneMapCodes(now, exposure) - toneMapCodes(first_[k], exposure))));
+  }
+  return codes;
 }
 
 RefinementStep ProgressiveAccumulation::advance(const StaticShading& shading_pass, const HitPointBuffer& hits,

@@ -21,6 +21,9 @@
 // those pixels: at most the static pass's work on them, which a moved eye's frame does anyway. A
 // reset costs the same once; a view that stays reset (the foreground keeps changing) or has
 // accumulated TracerSettings::refinement_sets sets does no work at all.
+// What it shows: the view's image at set 0 is kept for its rough pixels, and once kMeasuredSets
+// sets are in, the largest change of a displayed code between them is the gate's measure
+// (lobe_effect_gate.hpp): the plan leaves a view's refinement off where it is below a code.
 // Sample sets: lobe_sample_sets.hpp.
 #pragma once
 
@@ -53,9 +56,16 @@ struct RefinementStep {
 // One view's accumulation, kept with its static shading (FrameRenderer's view cache).
 class ProgressiveAccumulation {
  public:
+  // The sets after which what the refinement changed is measured (largestChange): with n sets the
+  // change from set 0 has sqrt(1 - 1/n) of the converged change's spread, 0.94 at 8.
+  static constexpr std::uint32_t kMeasuredSets = 8;
+
   // The view's static pass has just shaded set 0: `bounces` (StaticShading::shade's) holds its
-  // sums; its rough pixels are the ones refined from now on.
-  void restart(const std::vector<PixelBounce>& bounces, std::uint64_t foreground);
+  // sums and `hdr` its image; its rough pixels are the ones refined from now on.
+  void restart(const std::vector<PixelBounce>& bounces, const cv::Mat& hdr, std::uint64_t foreground);
+  // The view's static pass has shaded set 0 without refinement: nothing to refine until the next
+  // restart (advance does no work).
+  void stop();
   // A frame whose static shading was reused: with the same foreground, the next sample set added
   // (until max_sets); with another, back to set 0. shading, walk_rays and bounces are the view's,
   // after shade() and restart(); hdr, the view's static image, is replaced by a new image when
@@ -67,9 +77,13 @@ class ProgressiveAccumulation {
                          std::vector<PixelBounce>& bounces, cv::Mat& hdr,
                          const AxisAlignedFilter* filter = nullptr);
   std::uint32_t sets() const { return sets_; }
+  // The largest change of a displayed sRGB code (unrounded, any channel, at `exposure`) between
+  // set 0's image and `hdr` (the view's accumulated one) over the refined pixels.
+  float largestChange(const cv::Mat& hdr, float exposure) const;
 
  private:
   std::vector<std::uint32_t> pixels_;  // the view's pixels with rough lobe samples
+  std::vector<vec3> first_;            // their radiance (linear RGB) at set 0
   std::uint32_t sets_ = 0;
   std::uint64_t foreground_ = 0;
 };

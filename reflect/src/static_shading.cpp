@@ -14,7 +14,7 @@
 #include "holo/reflect/bsdf.hpp"
 #include "holo/reflect/surface_shading.hpp"
 #include "layer_inputs.hpp"
-#include "lobe_filter_gate.hpp"
+#include "lobe_effect_gate.hpp"
 #include "lobe_sample_sets.hpp"
 #include "wide_lobe_cache.hpp"
 

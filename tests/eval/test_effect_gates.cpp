@@ -7,8 +7,10 @@
 // below a code and does none of its work (counters), while forcing it on (effect_min_codes 0)
 // changes some pixel's radiance by more than a tenth, yet no displayed pixel by a code: so leaving
 // it off there cannot pass by doing nothing. The filter's second gate, its own displayed change
-// where it last ran (lobe_filter_gate.hpp), on two scenes of `bench accuracy --effects`: off after
-// the kettle's first frame, on at every frame of the metal bowl, checked again when the eye moves.
+// where it last ran (lobe_effect_gate.hpp), on two scenes of `bench accuracy --effects`: off after
+// the kettle's first frame, on at every frame of the metal bowl, checked again when the eye moves;
+// progressive refinement's second gate, what its first 8 sets changed: off at the window hall's
+// dusk, on with the gallery's metal bowl, checked again when the exposure rises or the eye moves.
 // Also: an opaque convex relic's frames do none of the five light effects' work (counters). 24^2
 // and 32^2 views, a few seconds.
 #include <gtest/gtest.h>
@@ -18,6 +20,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "holo/core/camera_model.hpp"
@@ -293,10 +296,10 @@ const EffectsScene& effectsScene(const std::string& hall, const std::string& rel
 
 // Frames of an effects scene, its visitors in, the exposure chosen by each view as the bench's
 // frames do: the filter's own change where it ran decides the next static passes.
-struct FilterFrames {
+struct GateFrames {
   const EffectsScene& scene;
   reflect::FrameRenderer renderer;
-  FilterFrames(const std::string& hall, const std::string& relic, float effect_min_codes)
+  GateFrames(const std::string& hall, const std::string& relic, float effect_min_codes)
       : scene(effectsScene(hall, relic)), renderer(scene.relic, *scene.ibl, [&] {
           reflect::TracerSettings s;
           s.effect_min_codes = effect_min_codes;
@@ -310,9 +313,9 @@ struct FilterFrames {
 // The kettle in the room (as `bench accuracy --effects` frames it): the filter changes no
 // displayed code by one in its first static pass, so the next static passes (the eye 1 mm away)
 // do none of its work, and their image is within a code of the filtered one; the eye 10 cm away
-// (beyond LobeFilterGate::kEyeDistance) checks it again.
+// (beyond LobeEffectGate::kEyeDistance) checks it again.
 TEST(EffectGates, AxisAlignedFilterOffWhereItsOwnChangeWasBelowOneCode) {
-  FilterFrames kettle("room", "kettle", reflect::TracerSettings{}.effect_min_codes);
+  GateFrames kettle("room", "kettle", reflect::TracerSettings{}.effect_min_codes);
   const CameraModel eye = kettle.scene.setup.camera;
   const reflect::FrameResult first = kettle.at(movedEye(eye, 0.001f));
   ASSERT_TRUE(first.plan.has(reflect::Pass::AxisAlignedFilter)) << first.plan.describe();
@@ -331,7 +334,7 @@ TEST(EffectGates, AxisAlignedFilterOffWhereItsOwnChangeWasBelowOneCode) {
   EXPECT_EQ(next.views.at(0).filter_taps, 0u);
 
   // Left off, the image is the filtered one within a code (forced on: effect_min_codes 0).
-  FilterFrames forced("room", "kettle", 0.0f);
+  GateFrames forced("room", "kettle", 0.0f);
   forced.at(movedEye(eye, 0.001f));
   const reflect::FrameResult filtered = forced.at(eye);
   ASSERT_TRUE(filtered.plan.has(reflect::Pass::AxisAlignedFilter)) << filtered.plan.describe();
@@ -351,7 +354,7 @@ TEST(EffectGates, AxisAlignedFilterOffWhereItsOwnChangeWasBelowOneCode) {
 // The metal bowl in the gallery (as `bench accuracy --effects` frames it): its filter moves a
 // displayed code by more than one, so every static pass keeps filtering.
 TEST(EffectGates, AxisAlignedFilterStaysOnWhereItsChangeShows) {
-  FilterFrames bowl("gallery", "metal-bowl", reflect::TracerSettings{}.effect_min_codes);
+  GateFrames bowl("gallery", "metal-bowl", reflect::TracerSettings{}.effect_min_codes);
   const CameraModel eye = bowl.scene.setup.camera;
   for (const float metres : {0.001f, 0.0f, 0.002f}) {
     const reflect::FrameResult r = bowl.at(movedEye(eye, metres));
@@ -360,6 +363,103 @@ TEST(EffectGates, AxisAlignedFilterStaysOnWhereItsChangeShows) {
     std::printf("the metal bowl's filter changed a displayed code by at most %.3f\n",
                 double(r.views.at(0).filter_codes));
     EXPECT_GE(r.views.at(0).filter_codes, 1.0f);
+  }
+}
+
+// Still frames of an effects scene at `eye` after a static pass 1 mm away: the last one, and the
+// one in which the view's accumulation reached ProgressiveAccumulation's measured sets (8).
+struct StillFrames {
+  reflect::FrameResult measured, last;
+};
+StillFrames stillFramesAt(GateFrames& frames, const CameraModel& eye, int count) {
+  StillFrames still;
+  frames.at(movedEye(eye, 0.001f));
+  for (int i = 0; i < count; ++i) {
+    still.last = frames.at(eye);
+    if (still.last.views.at(0).refinement_codes > 0.0f) still.measured = still.last;
+  }
+  return still;
+}
+
+// The metal bowl in the window scene's hall dimmed 10,000-fold at the exposure the bright hall fixed
+// (a frame loop's dusk): the lobe's spread bound still says 3 codes, so the plan refines, but what
+// the first 8 sets changed is below a code: the still frames after them do none of the
+// refinement's work, and their image is within a code of the image refined on (effect_min_codes 0),
+// which changed some pixel's radiance by more than a tenth since set 0. A 2x brighter exposure and
+// the eye 10 cm away (beyond LobeEffectGate::kExposureStep, kEyeDistance) check it again.
+TEST(EffectGates, ProgressiveRefinementOffWhereItsOwnChangeWasBelowOneCode) {
+  constexpr float kDusk = 1e-4f;
+  constexpr int kFrames = 12;
+  static const reflect::RenderScene metal(relics::makeRelic("metal-bowl"), {});
+  const auto bright = hallIbl(1.0f);
+  const auto dusk = hallIbl(kDusk);
+  reflect::TracerSettings day;
+  day.exposure = metalExposure(*bright);
+  day.evaluation.axis_aligned_filter = false;  // the accumulation alone
+  reflect::TracerSettings forced_settings = day;
+  forced_settings.effect_min_codes = 0.0f;
+  reflect::FrameRenderer gated(metal, *dusk, day), forced(metal, *dusk, forced_settings);
+  const CameraModel eye = faceView(24);
+  reflect::FrameResult first, measured, off, on;
+  for (int f = 0; f < kFrames; ++f) {
+    const reflect::FrameResult r = gated.render({}, {}, {eye});
+    on = forced.render({}, {}, {eye});
+    if (f == 0) first = r;
+    if (r.views.at(0).refinement_codes > 0.0f) measured = r;
+    off = r;
+  }
+  EXPECT_NE(first.plan.material_reason.find("their spread at most"), std::string::npos)
+      << first.plan.describe();
+  ASSERT_TRUE(measured.plan.has(reflect::Pass::ProgressiveRefinement)) << measured.plan.describe();
+  EXPECT_EQ(measured.views.at(0).accumulated_sets, 8u);
+  const float codes = measured.views.at(0).refinement_codes;
+  EXPECT_LT(codes, 1.0f);
+
+  EXPECT_FALSE(off.plan.has(reflect::Pass::ProgressiveRefinement)) << off.plan.describe();
+  EXPECT_NE(off.plan.material_reason.find("progressive refinement not shown"), std::string::npos)
+      << off.plan.describe();
+  EXPECT_EQ(off.views.at(0).refinement_samples, 0u);
+  EXPECT_EQ(off.views.at(0).accumulated_sets, 8u);  // the image keeps the sets it holds
+
+  ASSERT_TRUE(on.plan.has(reflect::Pass::ProgressiveRefinement)) << on.plan.describe();
+  EXPECT_GT(on.views.at(0).refinement_samples, 0u);
+  EXPECT_EQ(on.views.at(0).accumulated_sets, std::uint32_t(kFrames));
+  const Change refined = change(first.views.at(0).hdr, on.views.at(0).hdr, day.exposure);
+  const Change left = change(off.views.at(0).hdr, on.views.at(0).hdr, day.exposure);
+  std::printf(
+      "dusk: %s\nrefined on: largest radiance change %.0f%% since set 0, %.3f codes; left off: %.3f codes "
+      "from it\n",
+      off.plan.material_reason.c_str(), double(refined.radiance) * 100.0, double(refined.codes),
+      double(left.codes));
+  EXPECT_GT(refined.radiance, 0.1f);
+  EXPECT_LT(refined.codes, 1.0f);
+  EXPECT_LT(left.codes, 1.0f);
+
+  gated.setExposure(day.exposure * 2.0f);
+  const reflect::FrameResult brighter = gated.render({}, {}, {eye});
+  EXPECT_TRUE(brighter.plan.has(reflect::Pass::ProgressiveRefinement)) << brighter.plan.describe();
+  EXPECT_GT(brighter.views.at(0).refinement_samples, 0u);
+  gated.setExposure(day.exposure);
+  const CameraModel moved_eye = movedEye(eye, 0.1f);
+  const reflect::FrameResult moved = gated.render({}, {}, {moved_eye});
+  EXPECT_TRUE(moved.plan.has(reflect::Pass::ProgressiveRefinement)) << moved.plan.describe();
+  EXPECT_EQ(moved.views.at(0).accumulated_sets, 1u);  // restarted at set 0
+  EXPECT_GT(gated.render({}, {}, {moved_eye}).views.at(0).refinement_samples, 0u);
+}
+
+// The room's kettle and the gallery's metal bowl (as `bench accuracy --effects` frames them): their
+// accumulations move a displayed code by more than one, so every still frame keeps refining.
+TEST(EffectGates, ProgressiveRefinementStaysOnWhereItsChangeShows) {
+  for (const auto& [hall, relic] :
+       {std::pair<std::string, std::string>{"room", "kettle"}, {"gallery", "metal-bowl"}}) {
+    GateFrames frames(hall, relic, reflect::TracerSettings{}.effect_min_codes);
+    const StillFrames still = stillFramesAt(frames, frames.scene.setup.camera, 10);
+    std::printf("the %s's %s's refinement changed a displayed code by at most %.3f in 8 sets\n", hall.c_str(),
+                relic.c_str(), double(still.measured.views.at(0).refinement_codes));
+    EXPECT_GE(still.measured.views.at(0).refinement_codes, 1.0f) << relic;
+    EXPECT_TRUE(still.last.plan.has(reflect::Pass::ProgressiveRefinement)) << still.last.plan.describe();
+    EXPECT_GT(still.last.views.at(0).refinement_samples, 0u) << relic;
+    EXPECT_EQ(still.last.views.at(0).accumulated_sets, 10u) << relic;
   }
 }
 

@@ -53,6 +53,7 @@
 
 namespace holo::reflect {
 
+class LobeEffectGate;
 class PlinthLight;
 class WideLobeCache;
 
@@ -69,8 +70,9 @@ class FrameRenderer {
   // effect_min_codes). AxisAlignedFilter and ProgressiveRefinement at the exposure fixed in the
   // settings or, when automatic, the largest a view chose in the last frame (before any frame:
   // on, as nothing is known); render() also leaves the filter off where its own displayed change,
-  // measured in the views' last static passes with it, was below effect_min_codes
-  // (lobe_filter_gate.hpp).
+  // measured in the views' last static passes with it, was below effect_min_codes, and a view's
+  // refinement where what its accumulation changed, measured where it last ran, was
+  // (lobe_effect_gate.hpp).
   EffectPlan plan(const depthfilter::ForegroundCloud& cloud,
                   const std::vector<ForegroundCameraImage>& cameras) const;
   // Renders every view of one frame. A point whose camera index has no image is ignored.
@@ -94,23 +96,31 @@ class FrameRenderer {
  private:
   struct ViewCache;
   // plan(), with whether a visitor is within visitor_light_distance, the visitors' largest
-  // displayed change this frame and the axis-aligned filter's at its views' last checks (each
-  // infinite: not measured).
+  // displayed change this frame, and the axis-aligned filter's and the progressive refinement's at
+  // their views' last checks, the largest over the views (each infinite: not measured).
   EffectPlan planFrame(const depthfilter::ForegroundCloud& cloud,
                        const std::vector<ForegroundCameraImage>& cameras, bool visitor_near,
-                       float visitor_codes, float filter_codes) const;
-  // The axis-aligned filter's largest displayed change over these views at their last checks;
-  // infinite where a view has none or is due one (lobe_filter_gate.hpp).
+                       float visitor_codes, float filter_codes, float refinement_codes) const;
+  // Each view's gate (filter_gate or refinement_gate of its cache) at its last check; infinite
+  // where a view has none or is due one (lobe_effect_gate.hpp). reuse_keeps_check: a view whose
+  // static shading is reused keeps its last check whatever changed (no pass to check in).
+  std::vector<float> gateCodes(const std::vector<CameraModel>& views, LobeEffectGate ViewCache::*gate,
+                               bool reuse_keeps_check) const;
+  // The axis-aligned filter's largest displayed change over these views at their last checks.
   float lobeFilterCodes(const std::vector<CameraModel>& views) const;
+  // Each view's progressive refinement's displayed change at its last check.
+  std::vector<float> refinementCodes(const std::vector<CameraModel>& views) const;
   // The key of the light the static shading is lit with (the IBL's source and the relic's turn).
   std::uint64_t lightKey() const;
   bool visitorWithinReach(const depthfilter::ForegroundCloud& cloud) const;
   // The exposure the gates weigh a change at: the settings' fixed one, else the largest a view
   // chose in the last frame; 0 before any.
   float gateExposure() const;
-  // foreground: foregroundSignature of this frame's grid (progressive_accumulation.hpp).
+  // foreground: foregroundSignature of this frame's grid (progressive_accumulation.hpp); refine:
+  // the plan's ProgressiveRefinement and this view's refinement shows (or is due a check).
   ViewImages renderView(const EffectPlan& plan, const std::vector<ForegroundCameraImage>& cameras,
-                        const CameraModel& view, std::uint64_t foreground, ViewCache& cache) const;
+                        const CameraModel& view, std::uint64_t foreground, bool refine,
+                        ViewCache& cache) const;
 
   const RenderScene& scene_;
   const PrefilteredIbl& ibl_;

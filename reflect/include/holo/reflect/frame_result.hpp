@@ -46,6 +46,10 @@ struct ViewCounters {
   // The largest change of a displayed sRGB code (unrounded) the filter made in this view's static
   // pass (0 when it did not run there): what the plan's gate weighs it with.
   float filter_codes = 0.0f;
+  // The largest change of a displayed sRGB code (unrounded) between the view's set 0 and its
+  // accumulation, measured in the frame it reached ProgressiveAccumulation::kMeasuredSets sets (0
+  // in other frames): what the plan's gate weighs the refinement with.
+  float refinement_codes = 0.0f;
   // Samples shaded, those that cast an interreflection ray and the rays they cast (0 when the
   // static shading was reused; no ray on a convex relic: the plan leaves the effect off).
   std::uint64_t shaded_samples = 0, interreflected_samples = 0, interreflection_rays = 0;
