@@ -19,80 +19,126 @@
 namespace holo::eval {
 namespace {
 
+constexpr int kLearning = 8, kScored = 12;
+
 void print(const char* name, const DepthMethodMetrics& m) {
   std::printf("%s temporal %.3f cm2 rmse %.3f cm coverage %.4f raw holes filled %.4f ghosts %.4f\n", name,
               m.temporal_mse_cm2, m.depth_rmse_cm, m.coverage, m.raw_holes_filled, m.ghost_ratio);
 }
 
-TEST(SimulatedCrossCamera, SwitchingTheCamerasFillingEachOtherOffMakesOursWorse) {
-  constexpr int kLearning = 8, kScored = 12;
-  const std::vector<int> cameras = {1, 2};
-  sim::SceneDescription description = sim::loadScene("atrium");
-  description.camera.width = 320;
-  description.camera.height = 180;
-  const sim::Museum museum(description);
-
-  struct Camera {
-    depthfilter::ForegroundMasker masker;
-    depthfilter::PrecursorFlow flow;
-    depthfilter::MaskPersistence persistence;
-    depthfilter::TemporalDepthFilter helped, alone;
-    DepthScorer helped_score, alone_score;
-    cv::Mat previous_colour;
-  };
-  depthfilter::TemporalDepthFilterConfig filter_config;
-  filter_config.learning_frames = kLearning;
-  std::vector<Camera> streams;
-  std::vector<CameraModel> models;
-  for (int c : cameras) {
-    streams.push_back({depthfilter::ForegroundMasker(), depthfilter::PrecursorFlow(),
-                       depthfilter::MaskPersistence(), depthfilter::TemporalDepthFilter(filter_config),
-                       depthfilter::TemporalDepthFilter(filter_config), DepthScorer(), DepthScorer(),
-                       cv::Mat()});
-    models.push_back(museum.camera(c));
-    for (int t = 0; t < 8; ++t) streams.back().masker.learnBackground(museum.renderCamera(c, t, false).frame);
+// Cameras 1 and 2 of the atrium at CI size, each through its mask, flow and persistence, and our
+// filter twice on the same input: once with the step under test, once without.
+class AtriumCameraPair {
+ public:
+  AtriumCameraPair() : museum_(ciAtrium()) {
+    depthfilter::TemporalDepthFilterConfig filter_config;
+    filter_config.learning_frames = kLearning;
+    for (int c : kCameras) {
+      streams_.push_back({depthfilter::ForegroundMasker(), depthfilter::PrecursorFlow(),
+                          depthfilter::MaskPersistence(), depthfilter::TemporalDepthFilter(filter_config),
+                          depthfilter::TemporalDepthFilter(filter_config), DepthScorer(), DepthScorer(),
+                          cv::Mat()});
+      models_.push_back(museum_.camera(c));
+      for (int t = 0; t < 8; ++t)
+        streams_.back().masker.learnBackground(museum_.renderCamera(c, t, false).frame);
+    }
   }
-  depthfilter::CrossCameraFillConfig step;
-  step.enabled = true;
-  const depthfilter::CrossCameraFill fill(models, step);
-  long filled = 0;
-  for (int t = 0; t < kLearning + kScored; ++t) {
+
+  // One frame of both cameras up to the filter: the simulated frames, each camera's own mask (the
+  // view's may be grown by a cross-camera step), its flow and its view for the cross-camera steps.
+  struct Frame {
     std::vector<sim::SimulatedFrame> frames;
     std::vector<cv::Mat> own_masks, flows;
     std::vector<depthfilter::CrossCameraView> views;
-    for (std::size_t i = 0; i < cameras.size(); ++i) {
-      Camera& s = streams[i];
-      frames.push_back(museum.renderCamera(cameras[i], t));
-      const RgbdFrame& frame = frames.back().frame;
+  };
+  Frame capture(int t) {
+    Frame out;
+    for (std::size_t i = 0; i < streams_.size(); ++i) {
+      Stream& s = streams_[i];
+      out.frames.push_back(museum_.renderCamera(kCameras[i], t));
+      const RgbdFrame& frame = out.frames.back().frame;
       cv::Mat mask = s.masker.apply(frame);
-      flows.push_back(s.flow.compute(frame.colour, s.previous_colour));
-      s.persistence.extend(mask, frame, flows.back());
+      out.flows.push_back(s.flow.compute(frame.colour, s.previous_colour));
+      s.persistence.extend(mask, frame, out.flows.back());
       s.previous_colour = frame.colour.clone();
-      own_masks.push_back(mask.clone());
-      views.push_back({frame.depth, mask, s.masker.backgroundDepth()});
+      out.own_masks.push_back(mask.clone());
+      out.views.push_back({frame.depth, mask, s.masker.backgroundDepth()});
     }
+    return out;
+  }
+
+  // Camera i's filter with and without the step; both scored once past the learning frames.
+  // Returns whether they were scored.
+  bool filter(std::size_t i, const sim::SimulatedFrame& f, const depthfilter::DepthFilterInput& with,
+              const depthfilter::DepthFilterInput& without) {
+    Stream& s = streams_[i];
+    const bool scored = !s.with.learning();
+    const cv::Mat a = s.with.apply(with);
+    const cv::Mat b = s.without.apply(without);
+    if (!scored) return false;
+    s.with_score.add(a, {f.frame, f.true_depth, f.foreground});
+    s.without_score.add(b, {f.frame, f.true_depth, f.foreground});
+    return true;
+  }
+
+  DepthMethodMetrics with() const {
+    DepthScorer all;
+    for (const Stream& s : streams_) all.merge(s.with_score);
+    return all.metrics();
+  }
+  DepthMethodMetrics without() const {
+    DepthScorer all;
+    for (const Stream& s : streams_) all.merge(s.without_score);
+    return all.metrics();
+  }
+  const std::vector<CameraModel>& models() const { return models_; }
+  static constexpr std::size_t kCameraCount = 2;
+
+ private:
+  static constexpr int kCameras[kCameraCount] = {1, 2};
+  static sim::SceneDescription ciAtrium() {
+    sim::SceneDescription description = sim::loadScene("atrium");
+    description.camera.width = 320;
+    description.camera.height = 180;
+    return description;
+  }
+  struct Stream {
+    depthfilter::ForegroundMasker masker;
+    depthfilter::PrecursorFlow flow;
+    depthfilter::MaskPersistence persistence;
+    depthfilter::TemporalDepthFilter with, without;
+    DepthScorer with_score, without_score;
+    cv::Mat previous_colour;
+  };
+  const sim::Museum museum_;
+  std::vector<Stream> streams_;
+  std::vector<CameraModel> models_;
+};
+
+TEST(SimulatedCrossCamera, SwitchingTheCamerasFillingEachOtherOffMakesOursWorse) {
+  AtriumCameraPair pair;
+  depthfilter::CrossCameraFillConfig step;
+  step.enabled = true;
+  const depthfilter::CrossCameraFill fill(pair.models(), step);
+  long filled = 0;
+  for (int t = 0; t < kLearning + kScored; ++t) {
+    AtriumCameraPair::Frame c = pair.capture(t);
     std::vector<depthfilter::CrossCameraCounts> counts;
-    const std::vector<cv::Mat> depth = fill.apply(views, &counts);
-    for (std::size_t i = 0; i < cameras.size(); ++i) {
-      Camera& s = streams[i];
-      const sim::SimulatedFrame& f = frames[i];
-      const bool scored = !s.helped.learning();
-      const cv::Mat helped = s.helped.apply({f.frame.colour, depth[i], views[i].mask, flows[i]});
-      const cv::Mat alone = s.alone.apply({f.frame.colour, f.frame.depth, own_masks[i], flows[i]});
-      if (!scored) continue;
-      filled += counts[i].filled;
-      s.helped_score.add(helped, {f.frame, f.true_depth, f.foreground});
-      s.alone_score.add(alone, {f.frame, f.true_depth, f.foreground});
+    const std::vector<cv::Mat> depth = fill.apply(c.views, &counts);
+    for (std::size_t i = 0; i < AtriumCameraPair::kCameraCount; ++i) {
+      const sim::SimulatedFrame& f = c.frames[i];
+      if (pair.filter(i, f, {f.frame.colour, depth[i], c.views[i].mask, c.flows[i]},
+                      {f.frame.colour, f.frame.depth, c.own_masks[i], c.flows[i]}))
+        filled += counts[i].filled;
     }
   }
-  DepthScorer helped, alone;
-  for (const Camera& s : streams) helped.merge(s.helped_score), alone.merge(s.alone_score);
-  const DepthMethodMetrics on = helped.metrics(), off = alone.metrics();
+  const DepthMethodMetrics on = pair.with(), off = pair.without();
   print("cross-camera on: ", on);
   print("cross-camera off:", off);
-  std::printf("filled %.1f pixels per camera frame\n", double(filled) / double(kScored * cameras.size()));
+  std::printf("filled %.1f pixels per camera frame\n",
+              double(filled) / double(kScored * AtriumCameraPair::kCameraCount));
 
-  EXPECT_EQ(on.scored_frames, long(kScored * cameras.size()));
+  EXPECT_EQ(on.scored_frames, long(kScored * AtriumCameraPair::kCameraCount));
   EXPECT_GT(filled, 10L * kScored);
   EXPECT_GT(on.coverage, off.coverage + 0.001);
   EXPECT_GT(on.raw_holes_filled, off.raw_holes_filled + 0.01);
@@ -110,68 +156,22 @@ TEST(SimulatedCrossCamera, SwitchingTheCamerasFillingEachOtherOffMakesOursWorse)
 // masks, flow and sensor depth, our filter with and without the witness. Without it, those holes
 // (an arm in front of the torso, two legs, the mask's edge) stay holes: ours covers less.
 TEST(SimulatedCrossCamera, SwitchingTheWitnessedFillOffLeavesMoreHoles) {
-  constexpr int kLearning = 8, kScored = 12;
-  const std::vector<int> cameras = {1, 2};
-  sim::SceneDescription description = sim::loadScene("atrium");
-  description.camera.width = 320;
-  description.camera.height = 180;
-  const sim::Museum museum(description);
-
-  struct Camera {
-    depthfilter::ForegroundMasker masker;
-    depthfilter::PrecursorFlow flow;
-    depthfilter::MaskPersistence persistence;
-    depthfilter::TemporalDepthFilter witnessed, alone;
-    DepthScorer witnessed_score, alone_score;
-    cv::Mat previous_colour;
-  };
-  depthfilter::TemporalDepthFilterConfig filter_config;
-  filter_config.learning_frames = kLearning;
-  std::vector<Camera> streams;
-  std::vector<CameraModel> models;
-  for (int c : cameras) {
-    streams.push_back({depthfilter::ForegroundMasker(), depthfilter::PrecursorFlow(),
-                       depthfilter::MaskPersistence(), depthfilter::TemporalDepthFilter(filter_config),
-                       depthfilter::TemporalDepthFilter(filter_config), DepthScorer(), DepthScorer(),
-                       cv::Mat()});
-    models.push_back(museum.camera(c));
-    for (int t = 0; t < 8; ++t) streams.back().masker.learnBackground(museum.renderCamera(c, t, false).frame);
-  }
-  const depthfilter::OtherCameraWitnesses witnesses(models);
+  AtriumCameraPair pair;
+  const depthfilter::OtherCameraWitnesses witnesses(pair.models());
   for (int t = 0; t < kLearning + kScored; ++t) {
-    std::vector<sim::SimulatedFrame> frames;
-    std::vector<cv::Mat> flows;
-    std::vector<depthfilter::CrossCameraView> views;
-    for (std::size_t i = 0; i < cameras.size(); ++i) {
-      Camera& s = streams[i];
-      frames.push_back(museum.renderCamera(cameras[i], t));
-      const RgbdFrame& frame = frames.back().frame;
-      cv::Mat mask = s.masker.apply(frame);
-      flows.push_back(s.flow.compute(frame.colour, s.previous_colour));
-      s.persistence.extend(mask, frame, flows.back());
-      s.previous_colour = frame.colour.clone();
-      views.push_back({frame.depth, mask, s.masker.backgroundDepth()});
-    }
-    for (std::size_t i = 0; i < cameras.size(); ++i) {
-      Camera& s = streams[i];
-      const sim::SimulatedFrame& f = frames[i];
-      const bool scored = !s.witnessed.learning();
-      const depthfilter::OtherCameraWitness witness = witnesses.witnessFor(views, i);
-      const cv::Mat witnessed =
-          s.witnessed.apply({f.frame.colour, f.frame.depth, views[i].mask, flows[i], &witness});
-      const cv::Mat alone = s.alone.apply({f.frame.colour, f.frame.depth, views[i].mask, flows[i]});
-      if (!scored) continue;
-      s.witnessed_score.add(witnessed, {f.frame, f.true_depth, f.foreground});
-      s.alone_score.add(alone, {f.frame, f.true_depth, f.foreground});
+    const AtriumCameraPair::Frame c = pair.capture(t);
+    for (std::size_t i = 0; i < AtriumCameraPair::kCameraCount; ++i) {
+      const sim::SimulatedFrame& f = c.frames[i];
+      const depthfilter::OtherCameraWitness witness = witnesses.witnessFor(c.views, i);
+      pair.filter(i, f, {f.frame.colour, f.frame.depth, c.views[i].mask, c.flows[i], &witness},
+                  {f.frame.colour, f.frame.depth, c.views[i].mask, c.flows[i]});
     }
   }
-  DepthScorer witnessed, alone;
-  for (const Camera& s : streams) witnessed.merge(s.witnessed_score), alone.merge(s.alone_score);
-  const DepthMethodMetrics on = witnessed.metrics(), off = alone.metrics();
+  const DepthMethodMetrics on = pair.with(), off = pair.without();
   print("witnessed fill on: ", on);
   print("witnessed fill off:", off);
 
-  EXPECT_EQ(on.scored_frames, long(kScored * cameras.size()));
+  EXPECT_EQ(on.scored_frames, long(kScored * AtriumCameraPair::kCameraCount));
   EXPECT_GT(on.coverage, off.coverage + 0.001);
   EXPECT_GT(on.raw_holes_filled, off.raw_holes_filled);
   EXPECT_LT(on.temporal_mse_cm2, off.temporal_mse_cm2);
