@@ -69,9 +69,11 @@ kiosk::RenderFrame makeFrameSource(const kiosk::LoadedConfig& config, const Kios
   const display::DisplayConfig display_config = calibratedDisplayConfig(config.root);
   if (options.source == "test-pattern")
     return pipeline::testPatternFrameSource(display_config, options.headless);
-  if (!installation)
+  if (!installation) {
     installation =
         simulated::museumInstallation(options.scene, /*paced=*/true, FrameLoopOptions{}.panorama_width);
+    readDepthFilterSection(config.root, *installation);
+  }
   return pipeline::pipelineFrameSource(display_config, options.headless, std::move(*installation),
                                        options.view_size, {.wait_for_next_relic = false, .control = control});
 }
@@ -100,6 +102,11 @@ int runKiosk(const KioskOptions& options) {
       installation =
           simulated::museumInstallation(options.scene, /*paced=*/true, FrameLoopOptions{}.panorama_width);
       loadPlaylist(root["exhibit"], exhibit, *installation);
+      readDepthFilterSection(root, *installation);
+    } else {
+      // The simulated museum's depth filter settings are checked here, so a bad one falls back.
+      Installation settings;
+      readDepthFilterSection(root, settings);
     }
   };
   const auto load = [&] {

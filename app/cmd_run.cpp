@@ -166,6 +166,8 @@ int runPipeline(RunOptions options) {
                                           options.loop.relic)
           : loadInstallation(*config, {.relearn_background = options.relearn_background,
                                        .simulated_sources = simulated::configuredSources()});
+  // A configuration without cameras may still tune the simulated museum's depth filter.
+  if (options.loop.config.empty() && config) readDepthFilterSection(*config, installation);
   std::unique_ptr<display::QuadViewPresenter> presenter;
   const std::filesystem::path out(options.out);
   if (options.headless) {

@@ -47,7 +47,8 @@ TemporalDepthFilterConfig parseDepthFilterConfig(const ConfigNode& section) {
                              "mask_background_adopt_frames",
                              "mask_unshrunk_colour_over_unread_background",
                              "mask_unknown_background_growth_steps",
-                             "foreground_scale"});
+                             "foreground_scale",
+                             "full_size_outline"});
   TemporalDepthFilterConfig c;
   c.levels = intInRange(section, "levels", c.levels, 1, TemporalDepthFilterConfig::kMaxLevels);
   c.learning_frames = intInRange(section, "learning_frames", c.learning_frames, 0, 100000);
@@ -99,6 +100,14 @@ ForegroundMaskConfig parseForegroundMaskConfig(const ConfigNode& section) {
 
 int parseForegroundScale(const ConfigNode& section) {
   return intInRange(section, "foreground_scale", kDefaultForegroundScale, 1, kMaxForegroundScale);
+}
+
+bool parseFullSizeOutline(const ConfigNode& section, int scale) {
+  const bool full_size_outline = section.get("full_size_outline", false);
+  if (full_size_outline && scale == 1)
+    section["full_size_outline"].fail(
+        "false with foreground_scale 1 (it redraws a reduced foreground's outline)", "true");
+  return full_size_outline;
 }
 
 }  // namespace holo::depthfilter

@@ -65,6 +65,7 @@ FrameLoop::FrameLoop(FrameLoopOptions options, Installation installation,
         config.cross_camera = installation.cross_camera_fill;
         config.mask = installation.foreground_mask;
         config.scale = installation.foreground_scale;
+        config.full_size_outline = installation.foreground_full_size_outline;
         return depthfilter::ForegroundPipeline(installation.cameras, config);
       }()),
       camera_exposure_(installation.camera_exposure),

@@ -228,6 +228,17 @@ std::optional<RgbdFrame> loadCalibratedBackground(const fs::path& dir, std::size
   return frame;
 }
 
+void readDepthFilterSection(const ConfigNode& root, Installation& installation) {
+  const std::optional<ConfigNode> section = root.find("depthfilter");
+  if (!section) return;
+  installation.depth_filter = depthfilter::parseDepthFilterConfig(*section);
+  installation.cross_camera_fill = depthfilter::parseCrossCameraFillConfig(*section);
+  installation.foreground_mask = depthfilter::parseForegroundMaskConfig(*section);
+  installation.foreground_scale = depthfilter::parseForegroundScale(*section);
+  installation.foreground_full_size_outline =
+      depthfilter::parseFullSizeOutline(*section, installation.foreground_scale);
+}
+
 Installation loadInstallation(const ConfigNode& root, const InstallationOptions& installation_options) {
   const capture::CaptureConfig capture = capture::parseCaptureConfig(root["capture"]);
   if (capture.cameras.empty()) root["capture"].fail("at least one camera in capture.cameras");
@@ -245,12 +256,7 @@ Installation loadInstallation(const ConfigNode& root, const InstallationOptions&
   installation.background_frames = exhibit_config.background_frames;
   installation.fps = exhibit_config.fps;
   installation.plinth = exhibit_config.plinth;
-  if (const std::optional<ConfigNode> section = root.find("depthfilter")) {
-    installation.depth_filter = depthfilter::parseDepthFilterConfig(*section);
-    installation.cross_camera_fill = depthfilter::parseCrossCameraFillConfig(*section);
-    installation.foreground_mask = depthfilter::parseForegroundMaskConfig(*section);
-    installation.foreground_scale = depthfilter::parseForegroundScale(*section);
-  }
+  readDepthFilterSection(root, installation);
 
   // The pyramid file: where the panorama's directions point in the world.
   const fs::path pyramid = calib::pyramidCalibrationPath(capture.calibration_dir);

@@ -17,7 +17,7 @@ TemporalDepthFilterConfig parsed(const std::string& body) {
   const ConfigNode section = ConfigNode::parse("depthfilter:\n" + body, "museum.yaml")["depthfilter"];
   parseCrossCameraFillConfig(section);
   parseForegroundMaskConfig(section);
-  parseForegroundScale(section);
+  parseFullSizeOutline(section, parseForegroundScale(section));
   return parseDepthFilterConfig(section);
 }
 
@@ -81,6 +81,16 @@ TEST(DepthFilterConfig, ForegroundScaleIsReadAndDefaultsToTheProducts) {
   EXPECT_EQ(scale("  levels: 3\n"), kDefaultForegroundScale);
 }
 
+TEST(DepthFilterConfig, FullSizeOutlineIsReadWithAReducedForegroundOnly) {
+  const auto outline = [](const std::string& body) {
+    const ConfigNode section = ConfigNode::parse("depthfilter:\n" + body, "museum.yaml")["depthfilter"];
+    return parseFullSizeOutline(section, parseForegroundScale(section));
+  };
+  EXPECT_TRUE(outline("  foreground_scale: 2\n  full_size_outline: true\n"));
+  EXPECT_FALSE(outline("  foreground_scale: 2\n"));
+  EXPECT_FALSE(outline("  levels: 3\n"));
+}
+
 TEST(DepthFilterConfig, BadValuesAreRefusedNamingTheFieldAndTheRange) {
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"  levels: 0\n", "depthfilter.levels"},
@@ -106,6 +116,9 @@ TEST(DepthFilterConfig, BadValuesAreRefusedNamingTheFieldAndTheRange) {
       {"  mask_background_adopt_frames: 1001\n", "depthfilter.mask_background_adopt_frames"},
       {"  foreground_scale: 0\n", "depthfilter.foreground_scale"},
       {"  foreground_scale: 3\n", "depthfilter.foreground_scale"},
+      {"  full_size_outline: yes please\n", "depthfilter.full_size_outline"},
+      {"  foreground_scale: 1\n  full_size_outline: true\n", "depthfilter.full_size_outline"},
+      {"  full_size_outline: true\n", "depthfilter.full_size_outline"},
       {"  mask_unknown_background_growth_steps: -1\n", "depthfilter.mask_unknown_background_growth_steps"},
       {"  mask_unknown_background_growth_steps: 17\n", "depthfilter.mask_unknown_background_growth_steps"},
       {"  mask_unshrunk_colour_over_unread_background: 3\n",

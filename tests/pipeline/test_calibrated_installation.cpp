@@ -270,5 +270,32 @@ TEST_F(CalibratedInstallation, WrongBackgroundOrHallRadiusIsNamed) {
   EXPECT_FALSE(loadCalibratedBackground(broken, 1, {160, 96}));
 }
 
+// The depthfilter: section reaches the installation (as loadInstallation and a run on the
+// simulated museum read it), a document without one leaves the defaults, and a bad value is
+// refused naming the file and the field.
+TEST(DepthFilterSection, TunesTheInstallationAndABadValueIsRefusedNamingTheField) {
+  Installation tuned;
+  readDepthFilterSection(
+      ConfigNode::parse("depthfilter:\n  levels: 4\n  foreground_scale: 2\n  full_size_outline: true\n",
+                        "museum.yaml"),
+      tuned);
+  EXPECT_EQ(tuned.depth_filter.levels, 4);
+  EXPECT_EQ(tuned.foreground_scale, 2);
+  EXPECT_TRUE(tuned.foreground_full_size_outline);
+
+  Installation untouched;
+  readDepthFilterSection(ConfigNode::parse("display:\n  layout: cross\n", "museum.yaml"), untouched);
+  EXPECT_EQ(untouched.foreground_scale, depthfilter::kDefaultForegroundScale);
+  EXPECT_FALSE(untouched.foreground_full_size_outline);
+  try {
+    readDepthFilterSection(ConfigNode::parse("depthfilter:\n  full_size_outline: true\n", "museum.yaml"),
+                           untouched);
+    ADD_FAILURE() << "full_size_outline without a reduced foreground was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "museum.yaml");
+    EXPECT_NE(std::string(e.what()).find("depthfilter.full_size_outline"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace holo::pipeline

@@ -33,6 +33,9 @@
 //                                             # unknown background that continue its surface
 //     foreground_scale: 1                     # 1..2, the foreground at the camera's size / this
 //                                             (foreground_scale.hpp)
+//     full_size_outline: false                # with foreground_scale 2: the outline and depth
+//                                             # edges redrawn at the camera's size
+//                                             # (full_size_outline.hpp); true needs scale 2
 //
 // An unknown field, a value of the wrong type or out of its range is a holo::InputError naming
 // the file, the field (depthfilter.levels) and the range.
@@ -54,5 +57,8 @@ CrossCameraFillConfig parseCrossCameraFillConfig(const ConfigNode& section);
 ForegroundMaskConfig parseForegroundMaskConfig(const ConfigNode& section);
 // The foreground_scale field of the same section (ForegroundPipelineConfig::scale).
 int parseForegroundScale(const ConfigNode& section);
+// The full_size_outline field of the same section (ForegroundPipelineConfig::full_size_outline);
+// true with `scale` 1 is refused (there is no reduced outline to redraw).
+bool parseFullSizeOutline(const ConfigNode& section, int scale);
 
 }  // namespace holo::depthfilter

@@ -111,6 +111,8 @@ struct Installation {
   depthfilter::CrossCameraFillConfig cross_camera_fill;
   // The foreground's resolution divisor: the foreground_scale field of the same section.
   int foreground_scale = depthfilter::kDefaultForegroundScale;
+  // A reduced foreground's outline redrawn at the camera's size: the full_size_outline field.
+  bool foreground_full_size_outline = false;
   // The foreground mask's clean-up: the mask_* fields of the same section.
   depthfilter::ForegroundMaskConfig foreground_mask;
   Model relic;                           // world frame, standing on the base
@@ -146,6 +148,11 @@ Installation loadInstallation(const ConfigNode& root, const InstallationOptions&
 // not a picture of that size and kind.
 std::optional<RgbdFrame> loadCalibratedBackground(const std::filesystem::path& calibration_dir,
                                                   std::size_t index, cv::Size size);
+
+// The document's `depthfilter:` section, when it has one, into `installation`'s depth filter,
+// cross-camera fill, mask and foreground resolution (every field optional; InputError naming the
+// file and field). loadInstallation reads it; so does a run on the simulated museum.
+void readDepthFilterSection(const ConfigNode& root, Installation& installation);
 
 // True when the document has a `capture:` section (then it describes real cameras).
 bool describesCameras(const ConfigNode& root);
