@@ -8,8 +8,8 @@
 // counts: a second 64-spp truth is 4-7 codes from the first, 8.6 on the candle's pixels), below
 // what it measured with the glass's textures read at the entry only (docs/materials.md).
 // HOLO_FULL_EVAL=1: the 256^2 figure of docs/materials.md, under two real panoramas against a
-// 256-spp truth, the bar of 8 codes (not met on the candle holder, 8.66 / 8.92; under
-// St Fagans 7.89 against a 1024-spp truth: docs/materials.md says why).
+// 256-spp truth, the bar of 8 codes (not met on the candle holder, 8.66 / 8.92; against
+// 1024-spp truths 8.43 / 7.89: docs/materials.md says why).
 #include <gtest/gtest.h>
 
 #include <opencv2/imgcodecs.hpp>

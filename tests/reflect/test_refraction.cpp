@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <opencv2/imgproc.hpp>
 
@@ -12,6 +13,7 @@
 #include "holo/core/equirect.hpp"
 #include "holo/core/fibonacci_sphere.hpp"
 #include "holo/core/image.hpp"
+#include "holo/core/shapes.hpp"
 #include "holo/reference/path_tracer.hpp"
 #include "holo/reflect/frame_renderer.hpp"
 #include "holo/reflect/optics.hpp"
@@ -693,6 +695,56 @@ TEST(Refraction, LightReflectedInsideAGemLeavesThroughItsOtherFacets) {
   // the error of every sample tracing (1.43 measured); one path shared by the four, 3.2 times.
   EXPECT_LT(error(TracerSettings{}.refraction_branch_rays, TracerSettings{}.refraction_stride),
             1.6 * followed);
+}
+
+// A clear tumbler with thin walls (2 mm, IOR 1.5, tinted over 5 mm), open at the top, seen from
+// the side under a blue sky over a dark ground: where the view ray crosses a wall obliquely its
+// inner face reflects much of the light back into the wall, which guides it on round the curve and
+// lets it out where it reaches, each exit seeing the sky along its own ray. At the default weight
+// and budget (0.1, 8 rays) ordinary glass keeps the parallel-walls sum, which lets that light out
+// at once; followed further (32 rays, down to 0.01 of the entering light) the glass comes closer
+// to the path tracer (1024 samples per pixel) over the pixels wholly on the relic. This is the
+// cause of the Khronos hurricane glass's missing blue under the park (docs/materials.md); the
+// defaults stay where they are because the glass vase's foreground bar needs the sum
+// (docs/tracer/glass.md), so this holds the cause for the thin-wall rule still to come.
+TEST(Refraction, LightGuidedInsideAThinCurvedWallIsLostByTheParallelWallsSum) {
+  Material glass = clearGlass(1.5f, 0.002f);
+  glass.attenuation_colour = vec3(0.7f, 0.85f, 1.0f);
+  glass.attenuation_distance = 0.005f;
+  constexpr float kRadius = 0.1f, kWall = 0.002f;
+  Model tumbler;
+  tumbler.meshes.push_back(makeLathe({{kRadius - kWall, 0.2f},
+                                      {kRadius, 0.2f},
+                                      {kRadius, 0.4f},
+                                      {kRadius - kWall, 0.4f},
+                                      {kRadius - kWall, 0.2f}},
+                                     96));
+  tumbler.materials.push_back(glass);
+  const RenderScene scene(tumbler, {});
+  const Environment sky = panorama([](const vec3& d) {
+    return d.y > 0.0f ? vec3(0.25f, 0.45f, 1.0f) * (0.4f + 0.6f * d.y) : vec3(0.12f, 0.08f, 0.04f);
+  });
+  const PrefilteredIbl ibl(sky, PrefilterOptions{4, 256, 8});
+  constexpr int kSize = 32;
+  const CameraModel view = lookAtCamera(vec3(0.0f, 0.36f, 0.6f), vec3(0.0f, 0.3f, 0.0f), 24.0f, kSize, kSize);
+  const cv::Mat truth = renderPathTraced(PathTracer(scene, sky), view, 1024);
+  const auto error = [&](int branch_rays, float branch_weight) {
+    TracerSettings settings = staticOnly();
+    settings.refraction_branch_rays = branch_rays;
+    settings.refraction_branch_weight = branch_weight;
+    settings.aa_samples = 4;
+    const ViewImages v = renderOnce(scene, ibl, settings, view);
+    int pixels = 0;
+    const double relative = errorOnTheRelic(scene, view, truth, v.hdr, pixels);
+    EXPECT_GT(pixels, 90);
+    return relative;
+  };
+  const double followed = error(32, 0.01f);
+  const double summed =
+      error(TracerSettings{}.refraction_branch_rays, TracerSettings{}.refraction_branch_weight);
+  std::printf("thin curved wall: %.4f of the truth's mean followed, %.4f summed\n", followed, summed);
+  EXPECT_LT(followed, 0.025);         // 0.0195 measured
+  EXPECT_GT(summed, 1.3 * followed);  // 0.0296 measured: 1.52x
 }
 
 // A diamond under a dim sky strewn with small lamps (about 5 degrees across, up to 80 times the
