@@ -618,6 +618,18 @@ double errorOnTheRelic(const RenderScene& scene, const CameraModel& view, const 
   return truth_sum > 0.0 ? error_sum / truth_sum : 0.0;
 }
 
+// errorOnTheRelic of the live renderer with `settings` at four samples a pixel (the truth averages
+// over the pixel: a facet's or a wall's edges cross many), on at least 90 such pixels.
+double relicErrorAtFourSamples(const RenderScene& scene, const PrefilteredIbl& ibl, const CameraModel& view,
+                               const cv::Mat& truth, TracerSettings settings) {
+  settings.aa_samples = 4;
+  const ViewImages v = renderOnce(scene, ibl, settings, view);
+  int pixels = 0;
+  const double relative = errorOnTheRelic(scene, view, truth, v.hdr, pixels);
+  EXPECT_GT(pixels, 90);
+  return relative;
+}
+
 // A triangular bipyramid: an equilateral girdle of circumradius r at `centre`, apexes h above and
 // below it, flat faces (no vertex normals) wound counter-clockwise seen from outside. No two of its
 // faces are parallel, so light reflected inside at an exit leaves through other faces, as in a
@@ -680,12 +692,7 @@ TEST(Refraction, LightReflectedInsideAGemLeavesThroughItsOtherFacets) {
     TracerSettings settings = staticOnly();
     settings.refraction_branch_rays = branch_rays;
     settings.refraction_stride = stride;
-    settings.aa_samples = 4;  // the truth averages over the pixel: facet edges cross many
-    const ViewImages v = renderOnce(scene, ibl, settings, view);
-    int pixels = 0;
-    const double relative = errorOnTheRelic(scene, view, truth, v.hdr, pixels);
-    EXPECT_GT(pixels, 90);
-    return relative;
+    return relicErrorAtFourSamples(scene, ibl, view, truth, settings);
   };
   const double followed = error(TracerSettings{}.refraction_branch_rays), summed = error(0);
   EXPECT_LT(followed, 0.14);
@@ -732,12 +739,7 @@ TEST(Refraction, LightGuidedInsideAThinCurvedWallIsLostByTheParallelWallsSum) {
     TracerSettings settings = staticOnly();
     settings.refraction_branch_rays = branch_rays;
     settings.refraction_branch_weight = branch_weight;
-    settings.aa_samples = 4;
-    const ViewImages v = renderOnce(scene, ibl, settings, view);
-    int pixels = 0;
-    const double relative = errorOnTheRelic(scene, view, truth, v.hdr, pixels);
-    EXPECT_GT(pixels, 90);
-    return relative;
+    return relicErrorAtFourSamples(scene, ibl, view, truth, settings);
   };
   const double followed = error(32, 0.01f);
   const double summed =
