@@ -166,18 +166,22 @@ TEST(FrameLoop, LiveCamerasFeedTheOverlappedForegroundWhileFramesRender) {
       EXPECT_GT(report.foreground_points, 0u);  // the museum's visitors
     }
     // The frame carries when each camera frame it shows arrived. Each arrived before the frame's
-    // foreground was handed over, so at least the rendering after that separates it from the
+    // foreground step took it, so the whole rendering after that separates it from the
     // presentation: a stamp taken anywhere else (the step's start, the worker's end) would fail.
+    // (Stamps of one clock in their causal order; the pass times are sums over views rendered in
+    // parallel, no bound on a wall interval.)
     ASSERT_EQ(report.camera_arrivals.size(), 4u);
     int arrived = 0;
     for (const auto& arrival : report.camera_arrivals)
       if (arrival) {
         ++arrived;
-        EXPECT_LE(*arrival, report.presented_at);
+        EXPECT_LE(*arrival, report.acquired_at);
       }
     EXPECT_EQ(arrived, report.cameras_live);
     if (arrived > 0) {
-      EXPECT_GE(report.arrivalToPresentMs(), report.times.dynamic + report.times.statics - 1e-3);
+      EXPECT_LE(report.acquired_at, report.rendering_started_at);
+      EXPECT_LE(report.rendering_started_at, report.rendering_done_at);
+      EXPECT_LE(report.rendering_done_at, report.presented_at);
     }
   }
   EXPECT_EQ(frames_with_all, 4);
