@@ -35,9 +35,9 @@ int runBenchFrame(BenchFrameCommand command) {
   std::cout << "\n";
   if (b.error_vs_reference_codes)
     std::cout << fmt::format(
-        "error against the same frames traced fresh with 4 samples per pixel: median {:.3f} sRGB codes "
-        "(mean absolute, 8-bit, four faces)\n",
-        *b.error_vs_reference_codes);
+        "error against the same frames traced fresh with 4 samples per pixel: median {:.3f}, largest {:.3f} "
+        "sRGB codes (mean absolute, 8-bit, four faces)\n",
+        *b.error_vs_reference_codes, *b.error_vs_reference_max_codes);
   {
     std::uint64_t shaded = 0, bounced = 0, rays = 0;
     for (const FrameReport& r : b.reports) {
@@ -121,7 +121,10 @@ int runBenchFrame(BenchFrameCommand command) {
                                       {"rendering", p->rendering},
                                       {"presenting", p->presenting}};
     j["page_faults_per_frame"] = b.page_faults_per_frame;
-    if (b.error_vs_reference_codes) j["error_vs_full_aa_codes"] = *b.error_vs_reference_codes;
+    if (b.error_vs_reference_codes) {
+      j["error_vs_full_aa_codes"] = *b.error_vs_reference_codes;
+      j["error_vs_full_aa_max_codes"] = *b.error_vs_reference_max_codes;
+    }
     if (b.display_digest) j["display_digest"] = fmt::format("{:016x}", *b.display_digest);
     for (const auto& [name, ms] : b.passes) j["passes_ms"][name] = ms;
     j["anti_aliasing"] = command.aa;
@@ -170,6 +173,14 @@ HOLO_REGISTER_COMMAND(Command{
           ->capture_default_str();
       sub.add_option("--static-reuse", options->loop.tracer.static_reuse_distance,
                      "Metres an eye may move before a view's hit points are traced again (0: identical only)")
+          ->capture_default_str();
+      sub.add_option("--static-retraces", options->loop.tracer.static_retraces_per_frame,
+                     "Views whose eye moved that trace again in one frame; the others show their last "
+                     "trace a frame more (0: every one)")
+          ->capture_default_str()
+          ->check(CLI::NonNegativeNumber);
+      sub.add_option("--static-defer", options->loop.tracer.static_defer_distance,
+                     "Metres an eye may move before its view traces again whatever --static-retraces leaves")
           ->capture_default_str();
       sub.add_flag("!--no-interreflection", options->loop.tracer.relic_interreflection,
                    "No bounce where the relic reflects itself (on by default where the relic can see "

@@ -262,7 +262,10 @@ FrameBenchmark FrameBenchRun::finish() {
   result.floor_ms = median(floor_ms);
   result.floor_cpu_ms = median(floor_cpu_ms);
   result.single_ray_floor_ms = median(single_ray_floor_ms);
-  if (options.reference) result.error_vs_reference_codes = median(error_codes_);
+  if (options.reference && !error_codes_.empty()) {
+    result.error_vs_reference_codes = median(error_codes_);
+    result.error_vs_reference_max_codes = *std::max_element(error_codes_.begin(), error_codes_.end());
+  }
   if (options.digest) result.display_digest = digest_;
   std::vector<double> frame_ms, latency_ms;
   std::array<std::vector<double>, 5> parts_ms;

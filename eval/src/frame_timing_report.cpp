@@ -117,6 +117,7 @@ std::string timingJson(const StageTimes& m, const std::vector<FrameReport>& repo
     f["non_finite_pixels"] = r.non_finite_pixels;
     f["dropped_frames"] = r.dropped_frames;
     f["static_reused_views"] = r.static_reused_views;
+    f["static_deferred_views"] = r.static_deferred_views;
     f["refined_pixels"] = r.refined_pixels;
     f["relic_pixels"] = r.relic_pixels;
     f["refraction_rays"] = r.refraction_rays;

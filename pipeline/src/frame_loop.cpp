@@ -25,6 +25,8 @@ reflect::TracerSettings liveTracerSettings() {
   settings.aa_samples = 1;
   settings.edge_aa = true;
   settings.static_reuse_distance = 0.01f;
+  settings.static_retraces_per_frame = 1;
+  settings.static_defer_distance = 0.05f;
   return settings;
 }
 

@@ -107,6 +107,7 @@ void addViewCounters(const reflect::FrameResult& result, FrameReport& report) {
   report.plan = result.plan.describe();
   for (const reflect::ViewImages& view : result.views) {
     report.static_reused_views += view.static_reused ? 1 : 0;
+    report.static_deferred_views += view.static_deferred ? 1 : 0;
     report.refined_pixels += view.refined_pixels;
     report.refraction_rays += view.refraction_rays;
     report.refracted_walks += view.refracted_walks;

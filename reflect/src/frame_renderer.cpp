@@ -20,12 +20,32 @@
 #include "plinth_light.hpp"
 #include "progressive_accumulation.hpp"
 #include "refraction_pass.hpp"
+#include "static_pass_schedule.hpp"
 #include "static_shading.hpp"
 #include "wide_lobe_cache.hpp"
 
 namespace holo::reflect {
 
 namespace {
+
+bool reusable(const CameraModel& cached, const CameraModel& wanted, float distance) {
+  if (cached.width() != wanted.width() || cached.height() != wanted.height()) return false;
+  if (distance <= 0.0f)
+    return cached.T_world_camera() == wanted.T_world_camera() &&
+           cached.intrinsics().fx == wanted.intrinsics().fx &&
+           cached.intrinsics().fy == wanted.intrinsics().fy &&
+           cached.intrinsics().cx == wanted.intrinsics().cx &&
+           cached.intrinsics().cy == wanted.intrinsics().cy &&
+           cached.intrinsics().distortion == wanted.intrinsics().distortion;
+  // A moved eye: the position within `distance`, the optical axis turned by less than a point
+  // half a metre ahead moves, the focal length within 1%.
+  const vec3 axis_a = glm::normalize(vec3(cached.T_world_camera()[2]));
+  const vec3 axis_b = glm::normalize(vec3(wanted.T_world_camera()[2]));
+  return glm::distance(cached.position(), wanted.position()) <= distance &&
+         glm::length(axis_a - axis_b) <= distance / 0.5f &&
+         std::abs(cached.intrinsics().fx - wanted.intrinsics().fx) <= 0.01f * wanted.intrinsics().fx &&
+         std::abs(cached.intrinsics().fy - wanted.intrinsics().fy) <= 0.01f * wanted.intrinsics().fy;
+}
 
 // Bins per side of the wide lobes' eye-direction grid (wide_lobe_cache.hpp): 6 x 6 over the
 // hemisphere, about 25 degrees apart, where a lobe at least kGlossyRoughnessLimit rough is over 90
@@ -281,6 +301,7 @@ struct FrameRenderer::ViewCache {
   LobeEffectGate refinement_gate;
   std::vector<FilterChange> filter_changes;
   float shown_exposure = 0.0f;  // the exposure the view was last shown at
+  int deferred_frames = 0;      // frames in a row its due static passes were left to a later one
 };
 
 FrameRenderer::~FrameRenderer() = default;
@@ -310,6 +331,27 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
     lit_ = true;
     for (auto& cache : caches_) cache->ready = false;  // shaded with the old lighting
   }
+  // Which views trace their static passes this frame: before the plan, whose gates keep a view's
+  // last check where it shows its cache, and again before the views (a new light clears the caches).
+  const auto schedule = [&] {
+    std::vector<ViewReuseState> states(views.size());
+    for (std::size_t v = 0; v < views.size() && v < caches_.size(); ++v) {
+      const ViewCache& cache = *caches_[v];
+      ViewReuseState& state = states[v];
+      state.cache_shown = cache.ready && cache.camera.width() == views[v].width() &&
+                          cache.camera.height() == views[v].height();
+      state.within_reuse =
+          state.cache_shown && reusable(cache.camera, views[v], settings_.static_reuse_distance);
+      state.within_defer =
+          state.cache_shown && reusable(cache.camera, views[v], settings_.static_defer_distance);
+      state.moved = glm::distance(cache.camera.position(), views[v].position());
+      state.waited = cache.deferred_frames;
+    }
+    return scheduleStaticPasses(states, settings_.static_retraces_per_frame);
+  };
+  std::vector<StaticPass> passes = schedule();
+  std::vector<bool> shows_cache(views.size());
+  for (std::size_t v = 0; v < views.size(); ++v) shows_cache[v] = passes[v] != StaticPass::Trace;
   // The visitors near enough are binned before the plan, which weighs what their voxels can show.
   const bool visitor_near = visitorWithinReach(cloud);
   float visitor_codes = std::numeric_limits<float>::infinity();
@@ -327,8 +369,8 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
   const float any_refinement_codes =
       refinement_codes.empty() ? std::numeric_limits<float>::infinity()
                                : *std::max_element(refinement_codes.begin(), refinement_codes.end());
-  result.plan =
-      planFrame(cloud, cameras, visitor_near, visitor_codes, lobeFilterCodes(views), any_refinement_codes);
+  result.plan = planFrame(cloud, cameras, visitor_near, visitor_codes, lobeFilterCodes(views, shows_cache),
+                          any_refinement_codes);
   if (result.plan.has(Pass::VoxelGrid)) {
     if (!binned) {
       PassTimer t(result.frame_timings, Pass::VoxelGrid);
@@ -402,6 +444,9 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
   // Still, for ProgressiveRefinement: what the grid holds is what it held last frame.
   const std::uint64_t foreground =
       result.plan.has(Pass::ProgressiveRefinement) ? foregroundSignature(grid_) : 0;
+  passes = schedule();
+  for (std::size_t v = 0; v < views.size(); ++v)
+    caches_[v]->deferred_frames = passes[v] == StaticPass::Defer ? caches_[v]->deferred_frames + 1 : 0;
   // The views in parallel, each into its own cache and image: a view's passes that run on one
   // thread (hit point spans, copies, tone mapping) overlap with the other views' work. A view reads
   // only what this frame built above (the wide lobes' cache is filled lock-free with values that do
@@ -410,7 +455,8 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
   tbb::parallel_for(std::size_t(0), views.size(), [&](std::size_t v) {
     const bool refine =
         result.plan.has(Pass::ProgressiveRefinement) && refinement_codes[v] >= settings_.effect_min_codes;
-    result.views[v] = renderView(result.plan, cameras, views[v], foreground, refine, *caches_[v]);
+    result.views[v] = renderView(result.plan, cameras, views[v], foreground, refine,
+                                 passes[v] == StaticPass::Defer, *caches_[v]);
   });
   if (settings_.exposure <= 0.0f) {
     last_exposure_ = 0.0f;
@@ -419,31 +465,9 @@ FrameResult FrameRenderer::render(const depthfilter::ForegroundCloud& cloud,
   return result;
 }
 
-namespace {
-
-bool reusable(const CameraModel& cached, const CameraModel& wanted, float distance) {
-  if (cached.width() != wanted.width() || cached.height() != wanted.height()) return false;
-  if (distance <= 0.0f)
-    return cached.T_world_camera() == wanted.T_world_camera() &&
-           cached.intrinsics().fx == wanted.intrinsics().fx &&
-           cached.intrinsics().fy == wanted.intrinsics().fy &&
-           cached.intrinsics().cx == wanted.intrinsics().cx &&
-           cached.intrinsics().cy == wanted.intrinsics().cy &&
-           cached.intrinsics().distortion == wanted.intrinsics().distortion;
-  // A moved eye: the position within `distance`, the optical axis turned by less than a point
-  // half a metre ahead moves, the focal length within 1%.
-  const vec3 axis_a = glm::normalize(vec3(cached.T_world_camera()[2]));
-  const vec3 axis_b = glm::normalize(vec3(wanted.T_world_camera()[2]));
-  return glm::distance(cached.position(), wanted.position()) <= distance &&
-         glm::length(axis_a - axis_b) <= distance / 0.5f &&
-         std::abs(cached.intrinsics().fx - wanted.intrinsics().fx) <= 0.01f * wanted.intrinsics().fx &&
-         std::abs(cached.intrinsics().fy - wanted.intrinsics().fy) <= 0.01f * wanted.intrinsics().fy;
-}
-
-}  // namespace
-
 std::vector<float> FrameRenderer::gateCodes(const std::vector<CameraModel>& views,
-                                            LobeEffectGate ViewCache::*gate, bool reuse_keeps_check) const {
+                                            LobeEffectGate ViewCache::*gate,
+                                            const std::vector<bool>* shows_cache) const {
   std::vector<float> codes(views.size(), std::numeric_limits<float>::infinity());
   if (caches_.size() < views.size()) return codes;
   const std::uint64_t light = lightKey();
@@ -452,30 +476,30 @@ std::vector<float> FrameRenderer::gateCodes(const std::vector<CameraModel>& view
     const float exposure = settings_.exposure > 0.0f ? settings_.exposure : cache.shown_exposure;
     // The filter runs only in a static pass: a view whose static shading is reused keeps its last
     // check. The refinement runs in the reused (still) frames, so its triggers apply there too.
-    const bool reused =
-        reuse_keeps_check && cache.ready && reusable(cache.camera, views[v], settings_.static_reuse_distance);
+    const bool reused = shows_cache && (*shows_cache)[v];
     codes[v] = (cache.*gate).codes(views[v].position(), exposure, light, reused);
   }
   return codes;
 }
 
-float FrameRenderer::lobeFilterCodes(const std::vector<CameraModel>& views) const {
+float FrameRenderer::lobeFilterCodes(const std::vector<CameraModel>& views,
+                                     const std::vector<bool>& shows_cache) const {
   if (!lobe_filter_) return std::numeric_limits<float>::infinity();
   float largest = 0.0f;
-  for (const float codes : gateCodes(views, &ViewCache::filter_gate, true))
+  for (const float codes : gateCodes(views, &ViewCache::filter_gate, &shows_cache))
     largest = std::max(largest, codes);
   return largest;
 }
 
 std::vector<float> FrameRenderer::refinementCodes(const std::vector<CameraModel>& views) const {
   if (!refines_) return std::vector<float>(views.size(), std::numeric_limits<float>::infinity());
-  return gateCodes(views, &ViewCache::refinement_gate, false);
+  return gateCodes(views, &ViewCache::refinement_gate, nullptr);
 }
 
 ViewImages FrameRenderer::renderView(const EffectPlan& plan,
                                      const std::vector<ForegroundCameraImage>& cameras,
                                      const CameraModel& view, std::uint64_t foreground, bool refine,
-                                     ViewCache& cache) const {
+                                     bool deferred, ViewCache& cache) const {
   ViewImages out;
   const int w = view.width(), h = view.height();
   const bool fixed_exposure = settings_.exposure > 0.0f;
@@ -491,7 +515,9 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     return out;
   }
 
-  out.static_reused = cache.ready && reusable(cache.camera, view, settings_.static_reuse_distance);
+  out.static_reused =
+      cache.ready && (deferred || reusable(cache.camera, view, settings_.static_reuse_distance));
+  out.static_deferred = deferred && out.static_reused;
   const bool layered = plan.has(Pass::Refraction) || plan.has(Pass::Clearcoat);
   if (!out.static_reused) {
     {

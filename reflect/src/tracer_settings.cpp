@@ -25,6 +25,15 @@ void TracerSettings::validate() const {
   if (!std::isfinite(static_reuse_distance) || static_reuse_distance < 0.0f)
     throw InputError(src, "static_reuse_distance", "a finite distance >= 0 (metres)",
                      std::to_string(static_reuse_distance));
+  if (static_retraces_per_frame < 0)
+    throw InputError(src, "static_retraces_per_frame", "a count >= 0 (0: no budget)",
+                     std::to_string(static_retraces_per_frame));
+  if (!std::isfinite(static_defer_distance) || static_defer_distance < 0.0f ||
+      (static_retraces_per_frame > 0 && static_defer_distance < static_reuse_distance))
+    throw InputError(src, "static_defer_distance",
+                     "a finite distance >= static_reuse_distance (" + std::to_string(static_reuse_distance) +
+                         " metres) with a retrace budget",
+                     std::to_string(static_defer_distance));
   if (!std::isfinite(evaluation.level_bias) || std::abs(evaluation.level_bias) > float(kMaxPyramidLevels))
     throw InputError(src, "level_bias", "a finite level offset within +-" + std::to_string(kMaxPyramidLevels),
                      std::to_string(evaluation.level_bias));

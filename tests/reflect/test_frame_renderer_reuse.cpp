@@ -1,6 +1,7 @@
 // The frame renderer's savings for the live loop: edge anti-aliasing (four sub-samples only where
 // a pixel's centre differs from a neighbour's) against four everywhere, and the per-view cache of
-// hit points and static shading against rendering from scratch.
+// hit points and static shading against rendering from scratch, and its budget of views traced
+// again per frame (static_pass_schedule.hpp).
 #include <gtest/gtest.h>
 
 #include <opencv2/core.hpp>
@@ -14,6 +15,7 @@
 #include "holo/reflect/tone_map.hpp"
 #include "holo/reflect/view.hpp"
 #include "reflect_test_scenes.hpp"
+#include "static_pass_schedule.hpp"
 
 namespace holo::reflect {
 namespace {
@@ -228,6 +230,91 @@ TEST(FrameRenderer, RejectsBadReuseAndEdgeSettings) {
   EXPECT_THROW(FrameRenderer(s.scene, s.ibl, bad), InputError);
   bad = settings(4, true);
   EXPECT_THROW(FrameRenderer(s.scene, s.ibl, bad), InputError);
+  bad = settings(1, true, 0.01f);
+  bad.static_retraces_per_frame = -1;
+  EXPECT_THROW(FrameRenderer(s.scene, s.ibl, bad), InputError);
+  bad.static_retraces_per_frame = 1;
+  bad.static_defer_distance = 0.005f;  // below the reuse distance: every moved eye would trace
+  EXPECT_THROW(FrameRenderer(s.scene, s.ibl, bad), InputError);
+}
+
+TEST(StaticPassSchedule, TracesTheLongestWaitingFirstAndWhatCannotWaitBeforeTheBudget) {
+  const auto state = [](bool shown, bool reuse, bool defer, float moved, int waited) {
+    ViewReuseState s;
+    s.cache_shown = shown;
+    s.within_reuse = reuse;
+    s.within_defer = defer;
+    s.moved = moved;
+    s.waited = waited;
+    return s;
+  };
+  using P = StaticPass;
+  // Three moved eyes that may wait: the one that waited longest traces, then the one moved farthest.
+  std::vector<ViewReuseState> views = {state(true, false, true, 0.02f, 0), state(true, false, true, 0.01f, 2),
+                                       state(true, false, true, 0.03f, 0), state(true, true, true, 0.0f, 0)};
+  EXPECT_EQ(scheduleStaticPasses(views, 1), (std::vector<P>{P::Defer, P::Trace, P::Defer, P::Reuse}));
+  EXPECT_EQ(scheduleStaticPasses(views, 2), (std::vector<P>{P::Defer, P::Trace, P::Trace, P::Reuse}));
+  // No budget: every moved eye traces.
+  EXPECT_EQ(scheduleStaticPasses(views, 0), (std::vector<P>{P::Trace, P::Trace, P::Trace, P::Reuse}));
+  // A view without a cache to show and an eye beyond the defer distance trace whatever the budget,
+  // and take it from the others.
+  views[0] = state(false, false, false, 0.0f, 0);
+  views[3] = state(true, false, false, 0.2f, 0);
+  EXPECT_EQ(scheduleStaticPasses(views, 1), (std::vector<P>{P::Trace, P::Defer, P::Defer, P::Trace}));
+  EXPECT_EQ(scheduleStaticPasses(views, 3), (std::vector<P>{P::Trace, P::Trace, P::Defer, P::Trace}));
+}
+
+TEST(FrameRenderer, ABudgetOfOneRetraceTracesEveryMovedEyeWithinAsManyFramesAsViews) {
+  const SphereScene s;
+  TracerSettings budget = settings(1, true, 0.01f);
+  budget.static_retraces_per_frame = 1;
+  budget.static_defer_distance = 0.1f;
+  FrameRenderer renderer(s.scene, s.ibl, budget);
+  const std::vector<vec3> eyes = {kEye, vec3(1.2f, 0.3f, 0.0f), vec3(0.0f, 0.5f, -1.2f)};
+  const auto frame = [&](const vec3& offset) {
+    std::vector<CameraModel> views;
+    for (const vec3& eye : eyes) views.push_back(s.view(eye + offset));
+    return renderer.render(s.wall, {s.camera}, views);
+  };
+  // The first frame has nothing cached: every view traces, the budget notwithstanding.
+  for (const ViewImages& v : frame(vec3(0.0f)).views) EXPECT_FALSE(v.static_reused);
+  // Every eye moves 3 cm and then stays: one view a frame traces, the others show their cache
+  // from the eye they were traced from, until each has traced from where its eye now is.
+  const vec3 moved(0.03f, 0.0f, 0.0f);
+  std::vector<int> traced_in(eyes.size(), -1);
+  for (int f = 0; f < 3; ++f) {
+    const FrameResult result = frame(moved);
+    int traced = 0;
+    for (std::size_t v = 0; v < eyes.size(); ++v) {
+      const ViewImages& view = result.views[v];
+      if (!view.static_reused) {
+        ++traced;
+        EXPECT_EQ(traced_in[v], -1) << "view " << v << " traced twice";
+        traced_in[v] = f;
+        EXPECT_EQ(view.camera.position(), eyes[v] + moved);
+      } else {
+        EXPECT_EQ(view.static_deferred, traced_in[v] == -1) << "view " << v << ", frame " << f;
+        EXPECT_EQ(view.camera.position(), traced_in[v] == -1 ? eyes[v] : eyes[v] + moved);
+      }
+    }
+    EXPECT_EQ(traced, 1) << "frame " << f;
+  }
+  for (std::size_t v = 0; v < eyes.size(); ++v) EXPECT_GE(traced_in[v], 0) << "view " << v;
+  // A deferred view shows exactly what a renderer whose reuse distance covers the move shows.
+  FrameRenderer wide(s.scene, s.ibl, settings(1, true, 0.05f));
+  wide.render(s.wall, {s.camera}, {s.view(eyes[0])});
+  FrameRenderer deferring(s.scene, s.ibl, budget);
+  deferring.render(s.wall, {s.camera}, {s.view(eyes[0]), s.view(eyes[1])});
+  const FrameResult both_moved =
+      deferring.render(s.wall, {s.camera}, {s.view(eyes[0] + moved), s.view(eyes[1] + moved * 2.0f)});
+  ASSERT_TRUE(both_moved.views[0].static_deferred) << "the farther moved eye traces first";
+  EXPECT_FALSE(both_moved.views[1].static_reused);
+  const ViewImages reused = wide.render(s.wall, {s.camera}, {s.view(eyes[0] + moved)}).views.at(0);
+  ASSERT_TRUE(reused.static_reused);
+  EXPECT_EQ(cv::norm(both_moved.views[0].display, reused.display, cv::NORM_INF), 0.0);
+  // An eye beyond the defer distance traces whatever the budget.
+  const FrameResult far = frame(vec3(0.3f, 0.0f, 0.0f));
+  for (const ViewImages& v : far.views) EXPECT_FALSE(v.static_reused);
 }
 
 }  // namespace

@@ -61,7 +61,8 @@ struct FrameBenchmark {
   double page_faults_per_frame = 0;  // minor faults: memory freshly mapped per frame
   // Mean absolute difference in 8-bit sRGB codes against the reference, median over the frames.
   std::optional<double> error_vs_reference_codes;
-  std::optional<std::uint64_t> display_digest;  // with FrameBenchOptions::digest
+  std::optional<double> error_vs_reference_max_codes;  // the same, the largest over the frames
+  std::optional<std::uint64_t> display_digest;         // with FrameBenchOptions::digest
   // Over the measured frames: the frame time's 99th percentile (nearest rank) and, live, the
   // arrival-to-present latency of the oldest camera frame each shows (FrameReport), median and
   // 99th percentile. Milliseconds.

@@ -66,8 +66,10 @@ class CameraAcquisition;
 
 // The tracer as the live loop runs it: one sample per pixel plus four at silhouette and crease
 // pixels (instead of four everywhere), each view's static passes reused while its eye moves
-// less than 1 cm, and the interreflection bounce where the relic can see itself (none on a convex
-// relic: effect_plan.hpp). Their (time, error) points: docs/frame_loop.md.
+// less than 1 cm and traced again by one view a frame while the others' eyes have moved less
+// than 5 cm (eyes that move together do not make one frame several times longer), and the
+// interreflection bounce where the relic can see itself (none on a convex relic:
+// effect_plan.hpp). Their (time, error) points: docs/frame_loop.md.
 reflect::TracerSettings liveTracerSettings();
 // The tracer's samples for an anti-aliasing mode (hit_points.hpp).
 void setAntiAliasing(reflect::TracerSettings& tracer, reflect::AntiAliasing mode);

@@ -19,16 +19,18 @@
 // renderer keeps the hit points, their static shading and the static image (psi_s + diffuse, and
 // its tone-mapped form when the exposure is fixed), and reuses them while that view's camera stays
 // within static_reuse_distance of the one they were traced from (the result is then rendered from
-// the cached camera). A frame then costs only the foreground: the walk over the cached hit
-// points and the composition of the pixels some foreground reached, written over a copy of the
-// static image. The views are rendered in parallel, each into its own slot; a view's images do not
-// depend on the others (the same as rendering it alone). While the view and the foreground stay
-// still, the rough interreflection accumulates
-// one more sample set a frame (ProgressiveRefinement, reflect/src/progressive_accumulation.hpp).
-// With a plinth configured (TracerSettings::plinth) every view shows it under the relic, lit by the
-// hall and shadowed by the relic, with a transmissive relic's caustic on it (caustic_tracer.hpp),
-// its light recomputed only when the panorama or the relic's turn changes (on the frame thread).
-// Units: metres, linear radiance; images CV_32FC3 linear BGR (HDR) and CV_8UC3 sRGB BGR.
+// the cached camera). With a budget of static_retraces_per_frame, only that many views whose eye
+// moved beyond it trace again in one frame, the others a frame or more later (their eye within
+// static_defer_distance), so several eyes moving at once do not make one frame several times longer. A frame
+// then costs only the foreground: the walk over the cached hit points and the composition of the pixels some
+// foreground reached, written over a copy of the static image. The views are rendered in parallel, each into
+// its own slot; a view's images do not depend on the others (the same as rendering it alone). While the view
+// and the foreground stay still, the rough interreflection accumulates one more sample set a frame
+// (ProgressiveRefinement, reflect/src/progressive_accumulation.hpp). With a plinth configured
+// (TracerSettings::plinth) every view shows it under the relic, lit by the hall and shadowed by the relic,
+// with a transmissive relic's caustic on it (caustic_tracer.hpp), its light recomputed only when the panorama
+// or the relic's turn changes (on the frame thread). Units: metres, linear radiance; images CV_32FC3 linear
+// BGR (HDR) and CV_8UC3 sRGB BGR.
 #pragma once
 
 #include <memory>
@@ -102,12 +104,13 @@ class FrameRenderer {
                        const std::vector<ForegroundCameraImage>& cameras, bool visitor_near,
                        float visitor_codes, float filter_codes, float refinement_codes) const;
   // Each view's gate (filter_gate or refinement_gate of its cache) at its last check; infinite
-  // where a view has none or is due one (lobe_effect_gate.hpp). reuse_keeps_check: a view whose
-  // static shading is reused keeps its last check whatever changed (no pass to check in).
+  // where a view has none or is due one (lobe_effect_gate.hpp). shows_cache (optional, per view):
+  // a view that shows its cached static shading this frame keeps its last check whatever changed
+  // (no pass to check in).
   std::vector<float> gateCodes(const std::vector<CameraModel>& views, LobeEffectGate ViewCache::*gate,
-                               bool reuse_keeps_check) const;
+                               const std::vector<bool>* shows_cache) const;
   // The axis-aligned filter's largest displayed change over these views at their last checks.
-  float lobeFilterCodes(const std::vector<CameraModel>& views) const;
+  float lobeFilterCodes(const std::vector<CameraModel>& views, const std::vector<bool>& shows_cache) const;
   // Each view's progressive refinement's displayed change at its last check.
   std::vector<float> refinementCodes(const std::vector<CameraModel>& views) const;
   // The key of the light the static shading is lit with (the IBL's source and the relic's turn).
@@ -117,9 +120,11 @@ class FrameRenderer {
   // chose in the last frame; 0 before any.
   float gateExposure() const;
   // foreground: foregroundSignature of this frame's grid (progressive_accumulation.hpp); refine:
-  // the plan's ProgressiveRefinement and this view's refinement shows (or is due a check).
+  // the plan's ProgressiveRefinement and this view's refinement shows (or is due a check);
+  // deferred: the view shows its cached static passes although its eye moved beyond the reuse
+  // distance (TracerSettings::static_retraces_per_frame).
   ViewImages renderView(const EffectPlan& plan, const std::vector<ForegroundCameraImage>& cameras,
-                        const CameraModel& view, std::uint64_t foreground, bool refine,
+                        const CameraModel& view, std::uint64_t foreground, bool refine, bool deferred,
                         ViewCache& cache) const;
 
   const RenderScene& scene_;

@@ -19,8 +19,10 @@ namespace holo::reflect {
 struct ViewCounters {
   std::uint64_t walked_rays = 0, foreground_hits = 0;  // reflected rays walked; those that met the foreground
   bool static_reused = false;                          // hit points and static shading came from the cache
-  std::size_t refined_pixels = 0;                      // pixels with 4 sub-samples
-  std::size_t composed_pixels = 0;                     // pixels some foreground reached, composed this frame
+  bool static_deferred = false;     // among those: its eye had moved beyond the reuse distance, its trace
+                                    // left to a later frame (TracerSettings::static_retraces_per_frame)
+  std::size_t refined_pixels = 0;   // pixels with 4 sub-samples
+  std::size_t composed_pixels = 0;  // pixels some foreground reached, composed this frame
   // Material layers (refraction_pass.hpp): Embree rays of the transmitted paths, the samples that
   // traced one, the paths that reached the depth cap, the supersampled and the clearcoated samples
   // (0 when the static shading was reused); the transmitted exit rays walked for the visitors

@@ -105,6 +105,14 @@ struct TracerSettings {
   // points and static shading are traced again, finite >= 0; default 0, reused only for the
   // identical camera so the image is exact.
   float static_reuse_distance = 0.0f;
+  // Views whose eye moved beyond static_reuse_distance that trace their static passes again in one
+  // frame, >= 0; the others show their cached passes a frame more, the longest waiting tracing
+  // first (reflect/src/static_pass_schedule.hpp): the frame time stays that of one view traced
+  // when several eyes move at once. Default 0: every such view traces in the frame its eye moved.
+  int static_retraces_per_frame = 0;
+  // Metres an eye may move before its view traces again whatever static_retraces_per_frame
+  // leaves, finite, >= static_reuse_distance where static_retraces_per_frame > 0; default 0.
+  float static_defer_distance = 0.0f;
   // Roughness from which a four-sample pixel walks once (the mean of its samples' rays) and
   // composes every sample with that foreground, >= 0; default 0.3: a lobe this rough reads a blur
   // wider than the sub-pixel offsets, below it the four walks anti-alias reflected edges.
