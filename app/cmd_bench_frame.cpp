@@ -171,17 +171,7 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_option("--warmup", options->warmup, "Frames run before measuring")->capture_default_str();
       sub.add_option("--aa", command->aa, "Anti-aliasing: none | edges (4 sub-samples at silhouettes) | full")
           ->capture_default_str();
-      sub.add_option("--static-reuse", options->loop.tracer.static_reuse_distance,
-                     "Metres an eye may move before a view's hit points are traced again (0: identical only)")
-          ->capture_default_str();
-      sub.add_option("--static-retraces", options->loop.tracer.static_retraces_per_frame,
-                     "Views whose eye moved that trace again in one frame; the others show their last "
-                     "trace a frame more (0: every one)")
-          ->capture_default_str()
-          ->check(CLI::NonNegativeNumber);
-      sub.add_option("--static-defer", options->loop.tracer.static_defer_distance,
-                     "Metres an eye may move before its view traces again whatever --static-retraces leaves")
-          ->capture_default_str();
+      addStaticReuseOptions(sub, options->loop.tracer);
       sub.add_flag("!--no-interreflection", options->loop.tracer.relic_interreflection,
                    "No bounce where the relic reflects itself (on by default where the relic can see "
                    "itself; a convex relic casts no ray)");

@@ -11,6 +11,7 @@
 
 #include "holo/calib/auto_calibration.hpp"
 #include "holo/eval/reflection_scene.hpp"
+#include "holo/reflect/tracer_settings.hpp"
 
 namespace holo::app {
 
@@ -45,6 +46,22 @@ inline void addPanoramaAtInfinityFlag(CLI::App& app, bool& at_infinity) {
       "The reflections read the hall's panorama at infinity from its capture point, not through the "
       "hall's proxy (its distance and the pyramid's base: the simulated hall's, or exhibit.hall_radius "
       "and base_half_width; for comparisons with figures taken that way)");
+}
+
+// When the live loop traces a view's static passes again: --static-reuse, --static-retraces,
+// --static-defer, for the commands that run it.
+inline void addStaticReuseOptions(CLI::App& app, reflect::TracerSettings& tracer) {
+  app.add_option("--static-reuse", tracer.static_reuse_distance,
+                 "Metres an eye may move before a view's hit points are traced again (0: identical only)")
+      ->capture_default_str();
+  app.add_option("--static-retraces", tracer.static_retraces_per_frame,
+                 "Views whose eye moved that trace again in one frame; the others show their last trace "
+                 "a frame more (0: every one)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--static-defer", tracer.static_defer_distance,
+                 "Metres an eye may move before its view traces again whatever --static-retraces leaves")
+      ->capture_default_str();
 }
 
 // The options of the evaluation scene and view, shared by `render`, `eval reflections` and the
