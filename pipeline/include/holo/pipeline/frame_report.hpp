@@ -118,8 +118,8 @@ struct FrameReport {
   // and this report is not a frame (nothing was rendered or presented).
   bool cameras_ended = false;
   int static_reused_views = 0;  // views whose hit points and static shading came from the cache
-  int static_deferred_views =
-      0;  // of those, the ones due a trace that the frame's budget left to a later one
+  // Of those, the views due a trace that the frame's budget left to a later frame.
+  int static_deferred_views = 0;
   std::size_t refined_pixels = 0;  // pixels with 4 sub-samples (edge anti-aliasing), all views
   std::size_t relic_pixels = 0;    // pixels with some relic coverage, all views
   // Embree rays through transmissive relic materials, transmitted exit rays walked, and samples

@@ -21,16 +21,17 @@
 // within static_reuse_distance of the one they were traced from (the result is then rendered from
 // the cached camera). With a budget of static_retraces_per_frame, only that many views whose eye
 // moved beyond it trace again in one frame, the others a frame or more later (their eye within
-// static_defer_distance), so several eyes moving at once do not make one frame several times longer. A frame
-// then costs only the foreground: the walk over the cached hit points and the composition of the pixels some
-// foreground reached, written over a copy of the static image. The views are rendered in parallel, each into
-// its own slot; a view's images do not depend on the others (the same as rendering it alone). While the view
-// and the foreground stay still, the rough interreflection accumulates one more sample set a frame
-// (ProgressiveRefinement, reflect/src/progressive_accumulation.hpp). With a plinth configured
-// (TracerSettings::plinth) every view shows it under the relic, lit by the hall and shadowed by the relic,
-// with a transmissive relic's caustic on it (caustic_tracer.hpp), its light recomputed only when the panorama
-// or the relic's turn changes (on the frame thread). Units: metres, linear radiance; images CV_32FC3 linear
-// BGR (HDR) and CV_8UC3 sRGB BGR.
+// static_defer_distance), so several eyes moving at once do not make one frame several times
+// longer. A frame then costs only the foreground: the walk over the cached hit points and the
+// composition of the pixels some foreground reached, written over a copy of the static image. The
+// views are rendered in parallel, each into its own slot; a view's images do not depend on the
+// others (the same as rendering it alone). While the view and the foreground stay still, the rough
+// interreflection accumulates one more sample set a frame (ProgressiveRefinement,
+// reflect/src/progressive_accumulation.hpp). With a plinth configured (TracerSettings::plinth)
+// every view shows it under the relic, lit by the hall and shadowed by the relic, with a
+// transmissive relic's caustic on it (caustic_tracer.hpp), its light recomputed only when the
+// panorama or the relic's turn changes (on the frame thread).
+// Units: metres, linear radiance; images CV_32FC3 linear BGR (HDR) and CV_8UC3 sRGB BGR.
 #pragma once
 
 #include <memory>

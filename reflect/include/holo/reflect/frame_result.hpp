@@ -19,8 +19,9 @@ namespace holo::reflect {
 struct ViewCounters {
   std::uint64_t walked_rays = 0, foreground_hits = 0;  // reflected rays walked; those that met the foreground
   bool static_reused = false;                          // hit points and static shading came from the cache
-  bool static_deferred = false;     // among those: its eye had moved beyond the reuse distance, its trace
-                                    // left to a later frame (TracerSettings::static_retraces_per_frame)
+  // Among those: its eye had moved beyond the reuse distance and its trace was left to a later
+  // frame (TracerSettings::static_retraces_per_frame).
+  bool static_deferred = false;
   std::size_t refined_pixels = 0;   // pixels with 4 sub-samples
   std::size_t composed_pixels = 0;  // pixels some foreground reached, composed this frame
   // Material layers (refraction_pass.hpp): Embree rays of the transmitted paths, the samples that
