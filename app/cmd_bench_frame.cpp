@@ -104,6 +104,7 @@ int runBenchFrame(BenchFrameCommand command) {
     j["relic"] = options.loop.relic;
     j["cameras_preloaded"] = options.preload;
     j["overlap"] = options.loop.overlap;
+    j["fresh_frame_wait_ms"] = options.loop.fresh_frame_wait_ms;
     j["busy_cores"] = b.busy_cores;
     j["live"] = options.loop.live;
     j["frame_p99_ms"] = b.frame_p99_ms;
@@ -201,8 +202,7 @@ HOLO_REGISTER_COMMAND(Command{
       sub.add_flag("--live", options->loop.live,
                    "Cameras at their rate on their own capture threads (a loop of frames simulated before "
                    "the run): drops frames the loop is late for and measures arrival-to-present latency");
-      sub.add_flag("!--no-overlap", options->loop.overlap,
-                   "Compute each frame's foreground after the previous frame instead of during it");
+      addCameraTimingOptions(sub, options->loop);
       sub.add_option("--json", command->json, "Write medians, per-frame times and the floor here");
       return [command] { return runBenchFrame(*command); };
     },

@@ -244,8 +244,7 @@ HOLO_REGISTER_COMMAND(Command{
                    "Static IBL reflections only (the foreground effect off)");
       sub.add_flag("!--no-eye-tracking", options->loop.track_eyes, "Default standing eyes for every face");
       addPanoramaAtInfinityFlag(sub, options->loop.panorama_at_infinity);
-      sub.add_flag("!--no-overlap", options->loop.overlap,
-                   "Compute each frame's foreground after the previous frame instead of during it");
+      addCameraTimingOptions(sub, options->loop);
       sub.add_option("--ar-camera", options->ar_camera,
                      "The live AR check view of camera N (the rig's, then the check cameras; the simulated "
                      "museum's check camera is 4) instead of the pyramid: the relic composited over its "

@@ -11,6 +11,7 @@
 
 #include "holo/calib/auto_calibration.hpp"
 #include "holo/eval/reflection_scene.hpp"
+#include "holo/pipeline/frame_loop.hpp"
 #include "holo/reflect/tracer_settings.hpp"
 
 namespace holo::app {
@@ -62,6 +63,17 @@ inline void addStaticReuseOptions(CLI::App& app, reflect::TracerSettings& tracer
   app.add_option("--static-defer", tracer.static_defer_distance,
                  "Metres an eye may move before its view traces again whatever --static-retraces leaves")
       ->capture_default_str();
+}
+
+// When the live loop takes its camera frames, shared by `run` and `bench frame`.
+inline void addCameraTimingOptions(CLI::App& app, pipeline::FrameLoopOptions& loop) {
+  app.add_flag("!--no-overlap", loop.overlap,
+               "Compute each frame's foreground after the previous frame instead of during it");
+  app.add_option("--fresh-frame-wait", loop.fresh_frame_wait_ms,
+                 "Live: milliseconds the foreground step waits for a camera frame predicted to arrive "
+                 "within them (0: never waits)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1000.0));
 }
 
 // The options of the evaluation scene and view, shared by `render`, `eval reflections` and the

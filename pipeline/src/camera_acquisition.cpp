@@ -11,9 +11,11 @@
 
 namespace holo::pipeline {
 
-CameraAcquisition::CameraAcquisition(Installation& installation, bool live, double stale_camera_s)
+CameraAcquisition::CameraAcquisition(Installation& installation, bool live, double stale_camera_s,
+                                     Clock::duration fresh_frame_wait)
     : live_(live),
       stale_camera_s_(stale_camera_s),
+      fresh_frame_wait_(fresh_frame_wait),
       cameras_(installation.cameras),
       capture_options_(installation.capture_options),
       depth_correction_(installation.depth_correction),
@@ -22,6 +24,7 @@ CameraAcquisition::CameraAcquisition(Installation& installation, bool live, doub
   rejected_.assign(n, std::string());
   if (live_) {
     latest_.resize(n);
+    arrivals_.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
       mailboxes_.push_back(std::make_unique<capture::LatestFrameMailbox>());
       threads_.push_back(std::make_unique<capture::CaptureThread>(std::move(installation.sources[i]),
@@ -89,13 +92,44 @@ std::vector<RgbdFrame> CameraAcquisition::waitLive() {
   return frames;
 }
 
-CameraAcquisition::Grabbed CameraAcquisition::takeLive() {
+void CameraAcquisition::takeNewestLive() {
+  for (std::size_t i = 0; i < latest_.size(); ++i)
+    if (auto fresh = mailboxes_[i]->take()) {
+      latest_[i] = std::move(*fresh);
+      arrivals_[i].observe(latest_[i].sequence, latest_[i].host_time);
+    }
+}
+
+void CameraAcquisition::waitForFramesAboutToArrive() {
+  // A frame's arrival stamp jitters with the capture thread's scheduling by about a millisecond.
+  constexpr Clock::duration kSlack = std::chrono::milliseconds(2);
+  if (fresh_frame_wait_ <= Clock::duration::zero()) return;
+  std::vector<std::optional<Clock::time_point>> due(latest_.size());
+  for (std::size_t i = 0; i < latest_.size(); ++i)
+    if (!threads_[i]->finished()) due[i] = arrivals_[i].nextArrival();
   const auto now = Clock::now();
+  const std::optional<Clock::time_point> deadline = freshFrameDeadline(due, now, fresh_frame_wait_, kSlack);
+  if (!deadline) return;
+  for (std::size_t i = 0; i < latest_.size(); ++i) {
+    if (!due[i] || *due[i] <= now || *due[i] - now > fresh_frame_wait_) continue;
+    const auto left = std::max(Clock::duration::zero(), *deadline - Clock::now());
+    if (auto fresh = mailboxes_[i]->waitAndTake(std::chrono::duration_cast<Nanoseconds>(left))) {
+      latest_[i] = std::move(*fresh);
+      arrivals_[i].observe(latest_[i].sequence, latest_[i].host_time);
+    }
+  }
+}
+
+CameraAcquisition::Grabbed CameraAcquisition::takeLive() {
+  takeNewestLive();
+  waitForFramesAboutToArrive();
+  const auto now = Clock::now();
+  takeNewestLive();  // what arrived while it waited
   Grabbed out;
+  out.taken_at = now;
   out.frames.resize(latest_.size());
   out.ended = true;
   for (std::size_t i = 0; i < latest_.size(); ++i) {
-    if (auto fresh = mailboxes_[i]->take()) latest_[i] = std::move(*fresh);
     const bool stale = latest_[i].colour.empty() ||
                        std::chrono::duration<double>(now - latest_[i].host_time).count() > stale_camera_s_;
     if (!stale) out.frames[i] = latest_[i];  // an empty frame tells the pipeline the camera is missing
@@ -119,6 +153,7 @@ CameraAcquisition::Frames CameraAcquisition::next() {
   }
   Frames out;
   out.wait_ms = msSince(t0);
+  out.taken_at = live_ ? grabbed.taken_at : t0;
   out.frames = std::move(grabbed.frames);
   out.ended = grabbed.ended;
   correctDepth(out.frames);

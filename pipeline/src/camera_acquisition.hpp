@@ -1,7 +1,8 @@
 // The frame loop's cameras (frame_loop.hpp): one frame of every camera per call, fit for the
 // foreground pipeline, in one of two modes.
 //  * live: one capture thread per camera publishes into a latest-frame mailbox; next() takes the
-//    newest frame of each camera and never waits for one. A camera silent for longer than
+//    newest frame of each camera, waiting only for a camera whose next frame is predicted within
+//    `fresh_frame_wait` (arrival_prediction.hpp; 0: never waits). A camera silent for longer than
 //    stale_camera_s is missing (the others go on).
 //  * deterministic: every camera's next frame is grabbed in turn on a worker (the prefetch) while
 //    the caller processes the current one, so the same scene or recording always gives the same
@@ -27,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "arrival_prediction.hpp"
 #include "holo/capture/camera_source.hpp"
 #include "holo/capture/capture_thread.hpp"
 #include "holo/capture/depth_to_colour.hpp"
@@ -45,12 +47,17 @@ class CameraAcquisition {
     std::vector<RgbdFrame> frames;
     bool ended = false;  // every stream has ended: nothing more will come
     double wait_ms = 0;  // how long next() waited for them (the grabbing overlaps processing)
+    // When they were taken: live, the last look into the mailboxes (every frame that had arrived
+    // by then is among them, after any wait for a frame about to arrive); deterministic, when
+    // next() was called.
+    Clock::time_point taken_at;
   };
 
   // Takes the installation's sources (installation.sources is left empty), cameras, capture
   // settings and depth corrections, and starts the capture threads (live) or opens and starts the
   // sources (deterministic). The installation has one source and capture setting per camera.
-  CameraAcquisition(Installation& installation, bool live, double stale_camera_s);
+  CameraAcquisition(Installation& installation, bool live, double stale_camera_s,
+                    Clock::duration fresh_frame_wait = Clock::duration::zero());
   // Stops the capture threads, waits for the prefetch, then stops the sources.
   ~CameraAcquisition();
   CameraAcquisition(const CameraAcquisition&) = delete;
@@ -82,15 +89,19 @@ class CameraAcquisition {
   struct Grabbed {
     std::vector<RgbdFrame> frames;
     bool ended = false;
+    Clock::time_point taken_at;  // live: see Frames::taken_at
   };
   Grabbed grabDeterministic();  // the next frame of every source, in parallel
   RgbdFrame grabFrom(std::size_t camera);
   Grabbed takeLive();                 // each mailbox's newest frame, or the last one while fresh
+  void takeNewestLive();              // into latest_, each taken frame's arrival observed
+  void waitForFramesAboutToArrive();  // the cameras whose next frame is due within fresh_frame_wait_
   std::vector<RgbdFrame> waitLive();  // a fresh frame of every camera (bounded wait)
   void rejectUnusable(std::vector<RgbdFrame>& frames);
 
   bool live_;
   double stale_camera_s_;
+  Clock::duration fresh_frame_wait_;
   std::vector<CameraModel> cameras_;
   std::vector<capture::CaptureOptions> capture_options_;
   std::vector<float> depth_correction_;                                 // per camera
@@ -105,6 +116,7 @@ class CameraAcquisition {
   std::vector<std::unique_ptr<capture::LatestFrameMailbox>> mailboxes_;
   std::vector<std::unique_ptr<capture::CaptureThread>> threads_;
   std::vector<RgbdFrame> latest_;
+  std::vector<ArrivalPredictor> arrivals_;        // per camera, from the frames taken
   std::vector<std::string> rejected_;             // per camera: the last unusable frame's problem
   std::atomic<std::int64_t> rejected_frames_{0};  // frames rejectUnusable replaced, all cameras
 };

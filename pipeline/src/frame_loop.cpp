@@ -83,6 +83,9 @@ FrameLoop::FrameLoop(FrameLoopOptions options, Installation installation,
   full_view_size_ = options_.view_size;
   if (options_.view_size < 16 || options_.view_size > 4096)
     throw InputError("frame loop", "view_size", "16..4096 pixels", std::to_string(options_.view_size));
+  if (!(options_.fresh_frame_wait_ms >= 0.0 && options_.fresh_frame_wait_ms <= 1000.0))
+    throw InputError("frame loop", "fresh_frame_wait_ms", "0..1000 milliseconds",
+                     std::to_string(options_.fresh_frame_wait_ms));
   const std::size_t n = cameras_.size();
   if (installation.sources.size() != n || installation.capture_options.size() != n)
     throw Error("installation " + installation.name + ": one source and capture setting per camera expected");
@@ -96,7 +99,10 @@ FrameLoop::FrameLoop(FrameLoopOptions options, Installation installation,
   for (int f = 0; f < 4; ++f) eyes_[static_cast<std::size_t>(f)] = display::defaultEye(f, options_.eyes);
 
   // The cameras start once everything they feed is built.
-  acquisition_ = std::make_unique<CameraAcquisition>(installation, options_.live, options_.stale_camera_s);
+  acquisition_ = std::make_unique<CameraAcquisition>(
+      installation, options_.live, options_.stale_camera_s,
+      std::chrono::duration_cast<Clock::duration>(
+          std::chrono::duration<double, std::milli>(options_.fresh_frame_wait_ms)));
   learnBackground(installation);
   acquisition_->preload(options_.preload_frames);
   HOLO_LOG_INFO("frame loop ready: {}, {} cameras, {} mode, views {}x{}", installation_name_, n,
@@ -173,8 +179,8 @@ std::vector<reflect::ForegroundCameraImage> FrameLoop::cameraImages(const std::v
 FrameLoop::ForegroundFrame FrameLoop::runForeground() {
   ForegroundFrame out;
   const StageCpuClock cpu;
-  out.acquired_at = Clock::now();
   CameraAcquisition::Frames acquired = acquisition_->next();
+  out.acquired_at = acquired.taken_at;
   out.frames = std::move(acquired.frames);
   out.cameras_ended = acquired.ended;
   out.acquisition_ms = acquired.wait_ms;

@@ -6,13 +6,16 @@
 // (docs/security.md).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <vector>
 
+#include "holo/core/error.hpp"
 #include "holo/pipeline/frame_loop.hpp"
 #include "holo/pipeline/installation.hpp"
 #include "holo/sim/museum.hpp"
@@ -216,8 +219,9 @@ struct PublishLog {
 class NumberedCamera final : public capture::CameraSource {
  public:
   static constexpr std::chrono::milliseconds kCameraPeriod{2};
-  NumberedCamera(RgbdFrame frame, std::shared_ptr<PublishLog> log)
-      : frame_(std::move(frame)), log_(std::move(log)) {}
+  NumberedCamera(RgbdFrame frame, std::shared_ptr<PublishLog> log,
+                 std::chrono::milliseconds period = kCameraPeriod)
+      : frame_(std::move(frame)), log_(std::move(log)), period_(period) {}
   std::string name() const override { return "numbered"; }
   std::string serial() const override { return "NUMBERED"; }
   void open() override {}
@@ -228,7 +232,7 @@ class NumberedCamera final : public capture::CameraSource {
       std::lock_guard lock(log_->mutex);
       log_->grab_entered.push_back(Clock::now());
     }
-    std::this_thread::sleep_for(kCameraPeriod);
+    std::this_thread::sleep_for(period_);
     capture::GrabResult result;
     result.status = capture::GrabStatus::Ok;
     result.frame = frame_;  // frames are values: the pixels are shared, never written
@@ -240,8 +244,29 @@ class NumberedCamera final : public capture::CameraSource {
  private:
   RgbdFrame frame_;
   std::shared_ptr<PublishLog> log_;
+  std::chrono::milliseconds period_;
   std::uint64_t next_ = 0;
 };
+
+// The simulated museum's installation with every camera replaced by a NumberedCamera of `period`
+// showing the empty hall with a box 1 m in front of it (a visitor for the foreground).
+Installation numberedCameraInstallation(const FrameLoopOptions& options, std::chrono::milliseconds period,
+                                        std::vector<std::shared_ptr<PublishLog>>& logs) {
+  Installation installation =
+      simulated::museumInstallation(options.scene, /*paced=*/true, options.panorama_width);
+  for (std::size_t i = 0; i < installation.sources.size(); ++i) {
+    RgbdFrame frame = installation.background[i];
+    frame.colour = frame.colour.clone();
+    frame.depth = frame.depth.clone();
+    const cv::Rect box(frame.colour.cols / 3, frame.colour.rows / 4, frame.colour.cols / 3,
+                       frame.colour.rows / 2);
+    frame.colour(box).setTo(cv::Scalar(40, 60, 200));
+    frame.depth(box).setTo(cv::Scalar(1.0f));
+    logs.push_back(std::make_shared<PublishLog>());
+    installation.sources[i] = std::make_unique<NumberedCamera>(frame, logs.back(), period);
+  }
+  return installation;
+}
 
 // Live, a frame's camera frames are the newest ones when its foreground step takes them, and that
 // step takes them only once the frame before has been rendered: counted in camera frames, none
@@ -253,21 +278,8 @@ TEST(FrameLoop, LiveFramesTakeTheNewestCameraFramesOnceThePreviousFrameIsRendere
   options.live = true;
   options.overlap = true;
   options.stale_camera_s = 1e6;
-  Installation installation =
-      simulated::museumInstallation(options.scene, /*paced=*/true, options.panorama_width);
   std::vector<std::shared_ptr<PublishLog>> logs;
-  for (std::size_t i = 0; i < installation.sources.size(); ++i) {
-    // The empty hall with a box 1 m in front of the camera: a visitor for the foreground.
-    RgbdFrame frame = installation.background[i];
-    frame.colour = frame.colour.clone();
-    frame.depth = frame.depth.clone();
-    const cv::Rect box(frame.colour.cols / 3, frame.colour.rows / 4, frame.colour.cols / 3,
-                       frame.colour.rows / 2);
-    frame.colour(box).setTo(cv::Scalar(40, 60, 200));
-    frame.depth(box).setTo(cv::Scalar(1.0f));
-    logs.push_back(std::make_shared<PublishLog>());
-    installation.sources[i] = std::make_unique<NumberedCamera>(frame, logs.back());
-  }
+  Installation installation = numberedCameraInstallation(options, NumberedCamera::kCameraPeriod, logs);
   constexpr int kFrames = 6;
   std::vector<FrameReport> reports;
   {
@@ -299,6 +311,85 @@ TEST(FrameLoop, LiveFramesTakeTheNewestCameraFramesOnceThePreviousFrameIsRendere
   }
   EXPECT_GE(shown, 4 * (kFrames - 1));
   EXPECT_GT(newer_during_rendering, 0);
+}
+
+struct FreshFrames {
+  int new_frames = 0;  // camera frames shown that the frame before had not shown
+  int compared = 0;
+  double median_frame_ms = 0;
+};
+
+FreshFrames runWithCamerasOf(std::chrono::milliseconds period, double fresh_frame_wait_ms) {
+  FrameLoopOptions options = smallOptions();
+  options.live = true;
+  options.stale_camera_s = 1e6;
+  options.fresh_frame_wait_ms = fresh_frame_wait_ms;
+  std::vector<std::shared_ptr<PublishLog>> logs;
+  Installation installation = numberedCameraInstallation(options, period, logs);
+  // Compared from the frame after every camera's third frame was shown (the arrivals' period is
+  // known from the second), over ten frames.
+  constexpr std::uint64_t kFirstComparedSequence = 3;
+  constexpr int kComparedFrames = 10;
+  std::vector<FrameReport> reports;
+  std::size_t first_compared = 0;
+  {
+    FrameLoop loop(options, std::move(installation), nullptr);
+    const auto seenEnough = [&](const FrameReport& report) {
+      return std::all_of(
+          report.camera_sequences.begin(), report.camera_sequences.end(),
+          [&](const auto& sequence) { return sequence && *sequence >= kFirstComparedSequence; });
+    };
+    while (first_compared == 0 && reports.size() < 1000) {
+      reports.push_back(loop.step());
+      if (seenEnough(reports.back())) first_compared = reports.size();
+    }
+    for (int n = 0; n < kComparedFrames; ++n) reports.push_back(loop.step());
+  }
+  FreshFrames out;
+  std::vector<double> frame_ms;
+  for (std::size_t n = std::max<std::size_t>(first_compared, 1); n < reports.size(); ++n) {
+    frame_ms.push_back(reports[n].times.total);
+    for (std::size_t i = 0; i < logs.size(); ++i) {
+      const auto& now = reports[n].camera_sequences[i];
+      const auto& before = reports[n - 1].camera_sequences[i];
+      if (!now || !before) continue;
+      ++out.compared;
+      if (*now > *before) ++out.new_frames;
+    }
+  }
+  std::sort(frame_ms.begin(), frame_ms.end());
+  out.median_frame_ms = frame_ms[frame_ms.size() / 2];
+  return out;
+}
+
+// Live, the foreground step waits for a camera frame predicted to arrive within
+// fresh_frame_wait_ms instead of showing the one it has: with cameras four times slower than the
+// window, nearly every frame shows camera frames the frame before had not. Without the wait a loop
+// faster than its cameras shows the same camera frames again in most frames (checked where this
+// machine runs the loop in under half a camera period: on a loaded one it may not).
+TEST(FrameLoop, LiveFramesWaitForCameraFramesAboutToArrive) {
+  constexpr std::chrono::milliseconds kSlowCameras{100};
+  const FreshFrames waiting = runWithCamerasOf(kSlowCameras, 400.0);
+  ASSERT_GT(waiting.compared, 0);
+  EXPECT_GE(waiting.new_frames, waiting.compared * 3 / 4)
+      << waiting.new_frames << " of " << waiting.compared << " camera frames new with the wait";
+  const FreshFrames not_waiting = runWithCamerasOf(kSlowCameras, 0.0);
+  ASSERT_GT(not_waiting.compared, 0);
+  if (not_waiting.median_frame_ms < 0.5 * static_cast<double>(kSlowCameras.count())) {
+    EXPECT_LE(not_waiting.new_frames, not_waiting.compared * 3 / 4)
+        << not_waiting.new_frames << " of " << not_waiting.compared << " camera frames new without the wait";
+  }
+}
+
+TEST(FrameLoop, RefusesANegativeFreshFrameWait) {
+  FrameLoopOptions options = smallOptions();
+  options.fresh_frame_wait_ms = -1.0;
+  try {
+    FrameLoop loop(options, simulated::installationFor(options), nullptr);
+    FAIL() << "a negative wait was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("fresh_frame_wait_ms"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -9,7 +9,8 @@
 // Acquisition overlaps processing in both modes (camera_acquisition.hpp in pipeline/src):
 //  * live: one capture thread per camera publishes into a latest-frame mailbox; the foreground
 //    step takes the newest frame of each camera once the previous frame is rendered (so no
-//    camera frame waits through another frame's rendering) and never waits for one. A camera
+//    camera frame waits through another frame's rendering), waiting only for a frame predicted
+//    within fresh_frame_wait_ms. A camera
 //    silent for longer than stale_camera_s is dropped from the foreground (the others go on;
 //    with none, IBL only).
 //  * deterministic (headless runs, tests, benchmarks): every camera's next frame is grabbed in
@@ -93,7 +94,11 @@ struct FrameLoopOptions {
   // installation's proxy (Installation::panorama_proxy): no parallax, for comparisons.
   bool panorama_at_infinity = false;
   double stale_camera_s = 0.5;  // live: a camera silent this long leaves the foreground
-  bool track_eyes = true;       // eyes follow visitors' heads; else default standing eyes
+  // Live: milliseconds the foreground step waits for a camera whose next frame is predicted
+  // within them (its frame shown that much newer, the frame that much later; 0: never waits;
+  // docs/frame_loop.md, "Waiting for a camera frame about to arrive").
+  double fresh_frame_wait_ms = 10.0;
+  bool track_eyes = true;  // eyes follow visitors' heads; else default standing eyes
   // Deterministic mode: grab (simulate) the first N frames of every camera before the first step
   // and replay them from memory (later frames are grabbed while the previous one is processed).
   // For benchmarks: real cameras deliver their frames, while simulating four of them costs as
