@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -18,48 +20,107 @@ namespace {
 constexpr double kFallbackFrameS = 1.0 / 30.0;
 constexpr float kSqrt2 = 1.41421356f;
 
-// Horizontal grid of head_radius cells over the square |x|, |z| <= half_extent (the tracker adds
-// only points within max_distance of the axis), so a head's neighbours lie in the 3x3 cells
-// around it. Points are bucketed by a counting sort once all are added (finish()): a cell's
-// points are contiguous, with no per-cell allocation.
+// Grid of head_radius x head_radius columns (at multiples of head_radius in x and z) over the
+// points added, each cut into slabs of `slab` metres of height, so a head's neighbours lie in the 3x3 columns
+// around it and a read of a height range touches only its slabs: a face whose band has no head tries every
+// candidate top, a thousand reads in a frame, each over a visitor's whole upper body without the slabs.
+// Points are bucketed by a counting sort once all are added (finish()): a cell's points are contiguous, in
+// the order added, with no per-cell allocation.
 class ColumnGrid {
  public:
-  ColumnGrid(float cell, float half_extent)
-      : cell_(cell), offset_(int(std::ceil(half_extent / cell)) + 1), side_(2 * offset_ + 1) {}
+  ColumnGrid(float cell, float slab) : cell_(cell), slab_(slab) {}
   void add(const vec3& p) { added_.push_back(p); }
   void finish() {
-    start_.assign(std::size_t(side_) * std::size_t(side_) + 1, 0);
+    if (!added_.empty()) {
+      vec3 lo = added_.front(), hi = added_.front();
+      for (const vec3& p : added_) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+      }
+      i_min_ = cellIndex(lo.x);
+      k_min_ = cellIndex(lo.z);
+      columns_x_ = cellIndex(hi.x) - i_min_ + 1;
+      columns_z_ = cellIndex(hi.z) - k_min_ + 1;
+      y_min_ = lo.y;
+      slabs_ = 1 + int(std::floor((hi.y - y_min_) / slab_));
+    }
+    start_.assign(std::size_t(columns_x_) * std::size_t(columns_z_) * std::size_t(slabs_) + 1, 0);
     for (const vec3& p : added_) ++start_[cellOf(p) + 1];
     for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
     points_.resize(added_.size());
-    std::vector<std::size_t> next(start_.begin(), start_.end() - 1);
-    for (const vec3& p : added_) points_[next[cellOf(p)]++] = p;
+    std::vector<std::uint32_t> next(start_.begin(), start_.end() - 1);
+    for (std::size_t n = 0; n < added_.size(); ++n)
+      points_[next[cellOf(added_[n])]++] = {added_[n], static_cast<std::uint32_t>(n)};
   }
-  // Points within `radius` horizontally of `top` and `depth` below it.
+  // Calls f(p) for every point within `radius` horizontally of `top` with a height in
+  // [y_lo, y_hi], column by column.
+  template <class F>
+  void forEachIn(const vec3& top, float radius, float y_lo, float y_hi, F&& f) const {
+    forEachColumn(top, [&](int i, int k) {
+      for (const Added& a : read(i, k, y_lo, y_hi))
+        if (inColumn(a.p, top, radius, y_lo, y_hi)) f(a);
+    });
+  }
+  std::size_t count(const vec3& top, float radius, float y_lo, float y_hi) const {
+    std::size_t n = 0;
+    forEachIn(top, radius, y_lo, y_hi, [&](const Added&) { ++n; });
+    return n;
+  }
+  // Points within `radius` horizontally of `top` and `depth` below it, column by column and in
+  // the order they were added within a column (the order the head's sums see).
   std::vector<vec3> column(const vec3& top, float radius, float depth) const {
     std::vector<vec3> out;
-    const int ci = index(top.x), ck = index(top.z);
-    for (int i = std::max(ci - 1, 0); i <= std::min(ci + 1, side_ - 1); ++i)
-      for (int k = std::max(ck - 1, 0); k <= std::min(ck + 1, side_ - 1); ++k) {
-        const std::size_t c = std::size_t(k) * std::size_t(side_) + std::size_t(i);
-        for (std::size_t j = start_[c]; j < start_[c + 1]; ++j) {
-          const vec3& p = points_[j];
-          const float dx = p.x - top.x, dz = p.z - top.z;
-          if (dx * dx + dz * dz <= radius * radius && p.y <= top.y && p.y >= top.y - depth) out.push_back(p);
-        }
-      }
+    std::vector<Added> in_column;
+    const float y_lo = top.y - depth;
+    forEachColumn(top, [&](int i, int k) {
+      in_column.clear();
+      for (const Added& a : read(i, k, y_lo, top.y))
+        if (inColumn(a.p, top, radius, y_lo, top.y)) in_column.push_back(a);
+      std::sort(in_column.begin(), in_column.end(), [](const Added& a, const Added& b) { return a.n < b.n; });
+      for (const Added& a : in_column) out.push_back(a.p);
+    });
     return out;
   }
 
  private:
-  int index(float v) const { return std::clamp(int(std::floor(v / cell_)) + offset_, 0, side_ - 1); }
-  std::size_t cellOf(const vec3& p) const {
-    return std::size_t(index(p.z)) * std::size_t(side_) + std::size_t(index(p.x));
+  struct Added {
+    vec3 p;
+    std::uint32_t n;  // the order it was added in
+  };
+  static bool inColumn(const vec3& p, const vec3& top, float radius, float y_lo, float y_hi) {
+    const float dx = p.x - top.x, dz = p.z - top.z;
+    return dx * dx + dz * dz <= radius * radius && p.y <= y_hi && p.y >= y_lo;
   }
-  float cell_;
-  int offset_, side_;
-  std::vector<vec3> added_, points_;
-  std::vector<std::size_t> start_;  // cell c's points: points_[start_[c], start_[c + 1])
+  template <class F>
+  void forEachColumn(const vec3& top, F&& f) const {
+    const int ci = cellIndex(top.x) - i_min_, ck = cellIndex(top.z) - k_min_;
+    for (int i = std::max(ci - 1, 0); i <= std::min(ci + 1, columns_x_ - 1); ++i)
+      for (int k = std::max(ck - 1, 0); k <= std::min(ck + 1, columns_z_ - 1); ++k) f(i, k);
+  }
+  // Column (i, k)'s points in the slabs that [y_lo, y_hi] reaches, slab by slab: one contiguous
+  // run, as a column's slabs are consecutive cells.
+  std::span<const Added> read(int i, int k, float y_lo, float y_hi) const {
+    if (slabs_ == 0 || y_hi < y_lo) return {};
+    const int first = slabOf(y_lo), last = slabOf(y_hi);
+    const std::size_t column =
+        (std::size_t(k) * std::size_t(columns_x_) + std::size_t(i)) * std::size_t(slabs_);
+    return {points_.data() + start_[column + std::size_t(first)],
+            points_.data() + start_[column + std::size_t(last) + 1]};
+  }
+  int cellIndex(float v) const { return int(std::floor(v / cell_)); }
+  int slabOf(float y) const { return std::clamp(int(std::floor((y - y_min_) / slab_)), 0, slabs_ - 1); }
+  std::size_t cellOf(const vec3& p) const {
+    const std::size_t column =
+        std::size_t(cellIndex(p.z) - k_min_) * std::size_t(columns_x_) + std::size_t(cellIndex(p.x) - i_min_);
+    return column * std::size_t(slabs_) + std::size_t(slabOf(p.y));
+  }
+  float cell_, slab_;
+  int i_min_ = 0, k_min_ = 0, columns_x_ = 0, columns_z_ = 0;  // the columns the points cover
+  float y_min_ = 0.0f;
+  int slabs_ = 0;
+  std::vector<vec3> added_;
+  std::vector<Added> points_;
+  std::vector<std::uint32_t> start_;  // cell c's points: points_[start_[c], start_[c + 1])
 };
 
 float horizontalDistance(const vec3& a, const vec3& b) {
@@ -143,18 +204,19 @@ vec3 acrossTheRays(const vec3& p) {
   return radial > 0.0f ? vec3(p.z / radial, 0.0f, -p.x / radial) : vec3(1.0f, 0.0f, 0.0f);
 }
 
-// The span [lo, hi] across the rays of the surface under `top`: the points of `head` between
-// width_band_top and width_band_bottom below it, sorted across, grown from the top's own position
-// both ways until a gap wider than max_surface_gap (so a raised arm beside the head, or the head
-// beside an arm, is a separate piece). `top` is a head's top if that piece is at least
-// min_head_width wide and the top lies over its middle half; a raised forearm or hand is thinner.
-std::optional<std::pair<float, float>> headSpan(const std::vector<vec3>& head, const vec3& top,
+// The span [lo, hi] across the rays of the surface under `top`: the points of its head (within
+// head_radius of it and head_depth below it) between width_band_top and width_band_bottom below it, sorted
+// across, grown from the top's own position both ways until a gap wider than max_surface_gap (so a raised arm
+// beside the head, or the head beside an arm, is a separate piece). `top` is a head's top if that piece is at
+// least min_head_width wide and the top lies over its middle half; a raised forearm or hand is thinner.
+std::optional<std::pair<float, float>> headSpan(const ColumnGrid& grid, const vec3& top,
                                                 const EyeTrackerSettings& settings) {
   const vec3 across = acrossTheRays(top);
   std::vector<float> slice;
-  for (const vec3& p : head)
-    if (p.y <= top.y - settings.width_band_top && p.y >= top.y - settings.width_band_bottom)
-      slice.push_back(p.x * across.x + p.z * across.z);
+  const float y_lo = std::max(top.y - settings.head_depth, top.y - settings.width_band_bottom);
+  const float y_hi = std::min(top.y, top.y - settings.width_band_top);
+  grid.forEachIn(top, settings.head_radius, y_lo, y_hi,
+                 [&](const auto& a) { slice.push_back(a.p.x * across.x + a.p.z * across.z); });
   if (slice.empty()) return std::nullopt;
   std::sort(slice.begin(), slice.end());
   const float at = top.x * across.x + top.z * across.z;
@@ -180,7 +242,8 @@ bool inSector(const vec3& p, int face) {
 std::optional<vec3> detectEyeAmong(const std::vector<vec3>& band, int face,
                                    const EyeTrackerSettings& settings, const std::optional<vec3>& near) {
   std::vector<vec3> candidates;
-  ColumnGrid grid(settings.head_radius, settings.max_distance);
+  // Slabs of top_band: the thinnest height range a head's test reads.
+  ColumnGrid grid(settings.head_radius, std::max(settings.top_band, 0.01f));
   for (const vec3& p : band) {
     grid.add(p);
     // A head's top must itself be at a plausible head height.
@@ -201,17 +264,22 @@ std::optional<vec3> detectEyeAmong(const std::vector<vec3>& band, int face,
     return candidates[candidates.size() - 1 - i];
   };
 
+  // The head's support is counted before its points are gathered in order (only the head found
+  // needs them): most tops tried are rejected.
+  static auto& thin_tops = stats::counter("Display/Eye tracker thin tops rejected (raised arms)");
   const auto headAt = [&](const vec3& top) -> std::optional<vec3> {
-    std::vector<vec3> head = grid.column(top, settings.head_radius, settings.head_depth);
-    if (static_cast<int>(head.size()) < settings.min_support) return std::nullopt;
-    const auto near_top = std::count_if(head.begin(), head.end(),
-                                        [&](const vec3& p) { return p.y >= top.y - settings.top_band; });
-    if (near_top < settings.min_top_support) return std::nullopt;
-    const auto span = headSpan(head, top, settings);
+    const float head_bottom = top.y - settings.head_depth;
+    if (static_cast<int>(grid.count(top, settings.head_radius, head_bottom, top.y)) < settings.min_support)
+      return std::nullopt;
+    const std::size_t near_top =
+        grid.count(top, settings.head_radius, std::max(head_bottom, top.y - settings.top_band), top.y);
+    if (static_cast<int>(near_top) < settings.min_top_support) return std::nullopt;
+    const auto span = headSpan(grid, top, settings);
     if (!span) {
-      stats::add("Display/Eye tracker thin tops rejected (raised arms)", 1);
+      thin_tops.fetch_add(1, std::memory_order_relaxed);
       return std::nullopt;
     }
+    const std::vector<vec3> head = grid.column(top, settings.head_radius, settings.head_depth);
     // The centroid of the head's own piece: an arm beside it stays out.
     const vec3 across = acrossTheRays(top);
     vec3 sum(0.0f);

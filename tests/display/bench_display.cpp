@@ -89,5 +89,38 @@ void BM_EyeTrackerUpdate(benchmark::State& state) {
 }
 BENCHMARK(BM_EyeTrackerUpdate)->Unit(benchmark::kMillisecond);
 
+// The museum's hard frames: a visitor close to a face, dense (40000 points from the floor to the
+// head) with a raised forearm beside the head reaching 25 cm above it, whose thin top points are
+// tried first; and a face with thin posts only (no head), where every top is tried and rejected.
+void BM_EyeTrackerUpdateCloseVisitorAndNoHead(benchmark::State& state) {
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<float> u(-0.15f, 0.15f);
+  std::uniform_real_distribution<float> thin(-0.03f, 0.03f);
+  std::uniform_real_distribution<float> height(-1.0f, 0.75f);
+  std::uniform_real_distribution<float> arm(0.3f, 1.0f);
+  std::uniform_real_distribution<float> post(-1.0f, 0.6f);
+  depthfilter::ForegroundCloud cloud;
+  const auto add = [&](const vec3& p) {
+    depthfilter::ForegroundPoint point;
+    point.position = p;
+    cloud.points.push_back(point);
+  };
+  const vec3 close = faceNormal(0) * 0.8f;
+  for (int i = 0; i < 40000; ++i) add(close + vec3(u(rng), height(rng), u(rng)));
+  for (int i = 0; i < 3000; ++i) add(close + vec3(0.25f + thin(rng), arm(rng), thin(rng)));
+  for (int k = 0; k < 10; ++k) {
+    const vec3 base = faceNormal(1) * (0.8f + 0.15f * static_cast<float>(k)) +
+                      vec3(0.0f, 0.0f, 0.1f * static_cast<float>(k % 3) - 0.1f);
+    for (int i = 0; i < 1200; ++i) add(base + vec3(thin(rng), post(rng), thin(rng)));
+  }
+  EyeTracker tracker;
+  for (auto _ : state) {
+    cloud.time_s += 1.0 / 30.0;
+    benchmark::DoNotOptimize(tracker.update(cloud).data());
+  }
+  state.counters["points"] = static_cast<double>(cloud.points.size());
+}
+BENCHMARK(BM_EyeTrackerUpdateCloseVisitorAndNoHead)->Unit(benchmark::kMillisecond);
+
 }  // namespace
 }  // namespace holo::display
