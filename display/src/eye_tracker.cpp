@@ -21,11 +21,11 @@ constexpr double kFallbackFrameS = 1.0 / 30.0;
 constexpr float kSqrt2 = 1.41421356f;
 
 // Grid of head_radius x head_radius columns (at multiples of head_radius in x and z) over the
-// points added, each cut into slabs of `slab` metres of height, so a head's neighbours lie in the 3x3 columns
-// around it and a read of a height range touches only its slabs: a face whose band has no head tries every
-// candidate top, a thousand reads in a frame, each over a visitor's whole upper body without the slabs.
-// Points are bucketed by a counting sort once all are added (finish()): a cell's points are contiguous, in
-// the order added, with no per-cell allocation.
+// points added, each cut into slabs of `slab` metres of height, so a head's neighbours lie in the
+// 3x3 columns around it and a read of a height range touches only its slabs: a face whose band
+// has no head tries every candidate top, a thousand reads in a frame, each over a visitor's whole
+// upper body without the slabs. Points are bucketed by a counting sort once all are added
+// (finish()): a cell's points are contiguous, in the order added, with no per-cell allocation.
 class ColumnGrid {
  public:
   ColumnGrid(float cell, float slab) : cell_(cell), slab_(slab) {}
@@ -52,7 +52,7 @@ class ColumnGrid {
     for (std::size_t n = 0; n < added_.size(); ++n)
       points_[next[cellOf(added_[n])]++] = {added_[n], static_cast<std::uint32_t>(n)};
   }
-  // Calls f(p) for every point within `radius` horizontally of `top` with a height in
+  // Calls f(added) for every point within `radius` horizontally of `top` with a height in
   // [y_lo, y_hi], column by column.
   template <class F>
   void forEachIn(const vec3& top, float radius, float y_lo, float y_hi, F&& f) const {
