@@ -1,7 +1,8 @@
 #include "arrival_prediction.hpp"
 
-#include <algorithm>
 #include <chrono>
+
+#include "holo/core/median.hpp"
 
 namespace holo::pipeline {
 
@@ -22,10 +23,7 @@ void ArrivalPredictor::observe(std::uint64_t sequence, Clock::time_point arrival
 
 std::optional<double> ArrivalPredictor::periodSeconds() const {
   if (periods_s_.empty()) return std::nullopt;
-  std::vector<double> sorted(periods_s_.begin(), periods_s_.end());
-  const auto middle = sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2);
-  std::nth_element(sorted.begin(), middle, sorted.end());
-  return *middle;
+  return median(std::vector<double>(periods_s_.begin(), periods_s_.end()));
 }
 
 std::optional<Clock::time_point> ArrivalPredictor::nextArrival() const {
@@ -34,13 +32,17 @@ std::optional<Clock::time_point> ArrivalPredictor::nextArrival() const {
   return last_arrival_ + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(*period));
 }
 
+bool dueWithin(const std::optional<Clock::time_point>& arrival, Clock::time_point now,
+               Clock::duration window) {
+  return arrival && *arrival > now && *arrival - now <= window;
+}
+
 std::optional<Clock::time_point> freshFrameDeadline(
     const std::vector<std::optional<Clock::time_point>>& arrivals, Clock::time_point now,
     Clock::duration window, Clock::duration slack) {
   std::optional<Clock::time_point> latest;
   for (const std::optional<Clock::time_point>& arrival : arrivals)
-    if (arrival && *arrival > now && *arrival - now <= window && (!latest || *arrival > *latest))
-      latest = arrival;
+    if (dueWithin(arrival, now, window) && (!latest || *arrival > *latest)) latest = arrival;
   if (!latest) return std::nullopt;
   return *latest + slack;
 }

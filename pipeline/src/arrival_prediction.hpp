@@ -41,6 +41,11 @@ class ArrivalPredictor {
   std::deque<double> periods_s_;
 };
 
+// Whether a predicted arrival falls within (now, now + window]: a frame about to arrive, not one
+// already late.
+bool dueWithin(const std::optional<Clock::time_point>& arrival, Clock::time_point now,
+               Clock::duration window);
+
 // The moment the foreground step waits until for frames about to arrive: the latest of the
 // predicted arrivals that fall within (now, now + window], plus `slack` for a frame's jitter;
 // none when no camera's next frame is due within the window (or the window is 0).

@@ -111,7 +111,7 @@ void CameraAcquisition::waitForFramesAboutToArrive() {
   const std::optional<Clock::time_point> deadline = freshFrameDeadline(due, now, fresh_frame_wait_, kSlack);
   if (!deadline) return;
   for (std::size_t i = 0; i < latest_.size(); ++i) {
-    if (!due[i] || *due[i] <= now || *due[i] - now > fresh_frame_wait_) continue;
+    if (!dueWithin(due[i], now, fresh_frame_wait_)) continue;
     const auto left = std::max(Clock::duration::zero(), *deadline - Clock::now());
     if (auto fresh = mailboxes_[i]->waitAndTake(std::chrono::duration_cast<Nanoseconds>(left))) {
       latest_[i] = std::move(*fresh);

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "holo/core/error.hpp"
+#include "holo/core/median.hpp"
 #include "holo/pipeline/frame_loop.hpp"
 #include "holo/pipeline/installation.hpp"
 #include "holo/sim/museum.hpp"
@@ -357,8 +358,7 @@ FreshFrames runWithCamerasOf(std::chrono::milliseconds period, double fresh_fram
       if (*now > *before) ++out.new_frames;
     }
   }
-  std::sort(frame_ms.begin(), frame_ms.end());
-  out.median_frame_ms = frame_ms[frame_ms.size() / 2];
+  out.median_frame_ms = median(frame_ms);
   return out;
 }
 
