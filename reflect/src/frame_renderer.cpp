@@ -650,7 +650,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     // static result already).
     PassTimer t(out.timings, Pass::Composition);
     out.hdr = cache.hdr.clone();
-    out.weight = cache.zero_weight.clone();
+    out.weight = cv::Mat::zeros(h, w, CV_32FC1);  // written, not copied: half the memory traffic
     if (fixed_exposure) out.display = cache.display.clone();
     out.composed_pixels =
         composeForeground(hits, cache.shading, cache.fg, fixed_exposure ? settings_.exposure : 0.0f, out.hdr,

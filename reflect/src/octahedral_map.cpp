@@ -56,8 +56,11 @@ vec3 OctahedralMap::texelDirection(int x, int y) const {
 }
 
 vec3 OctahedralMap::bilinear(const vec3& direction) const {
+  return bilinearAt(octahedralEncode(direction));
+}
+
+vec3 OctahedralMap::bilinearAt(const vec2& uv) const {
   if (size_ == 0) return vec3(0.0f);
-  const vec2 uv = octahedralEncode(direction);
   const float fx = uv.x * float(size_) - 0.5f, fy = uv.y * float(size_) - 0.5f;
   const int x0 = static_cast<int>(std::floor(fx)), y0 = static_cast<int>(std::floor(fy));
   const float tx = fx - float(x0), ty = fy - float(y0);

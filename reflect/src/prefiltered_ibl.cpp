@@ -118,9 +118,10 @@ vec3 PrefilteredIbl::specular(const vec3& direction, float roughness) const {
   while (l1 < levelCount() - 1 && level_roughness_[std::size_t(l1)] < r) ++l1;
   const float r0 = level_roughness_[std::size_t(l1 - 1)], r1 = level_roughness_[std::size_t(l1)];
   const float t = std::clamp((r * r - r0 * r0) / std::max(r1 * r1 - r0 * r0, 1e-12f), 0.0f, 1.0f);
-  const vec3 a = levels_[std::size_t(l1 - 1)].bilinear(direction);
+  const vec2 uv = octahedralEncode(direction);
+  const vec3 a = levels_[std::size_t(l1 - 1)].bilinearAt(uv);
   if (t <= 0.0f) return a;
-  const vec3 b = levels_[std::size_t(l1)].bilinear(direction);
+  const vec3 b = levels_[std::size_t(l1)].bilinearAt(uv);
   return (1.0f - t) * a + t * b;
 }
 

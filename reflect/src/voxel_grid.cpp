@@ -47,6 +47,8 @@ VoxelGrid::VoxelGrid(const VoxelGridSettings& settings) : settings_(settings) {
   dims_ = glm::max(glm::ivec3(glm::ceil(settings_.bounds.extent() / settings_.voxel_size)), glm::ivec3(1));
   const int b = settings_.brick_size;
   brick_dims_ = (dims_ + glm::ivec3(b - 1)) / b;
+  inverse_voxel_size_ = 1.0f / settings_.voxel_size;
+  inverse_brick_size_ = 1.0f / float(b);
   cell_.assign(std::size_t(dims_.x) * std::size_t(dims_.y) * std::size_t(dims_.z), -1);
   brick_count_.assign(std::size_t(brick_dims_.x) * brick_dims_.y * brick_dims_.z, 0u);
   brick_volume_ = std::uint64_t(b) * b * b;

@@ -26,6 +26,9 @@ class OctahedralMap {
   const vec3& wrapped(int x, int y) const;
   vec3 texelDirection(int x, int y) const;  // direction through the texel centre
   vec3 bilinear(const vec3& direction) const;
+  // The same lookup at a direction already encoded (octahedralEncode): maps of every size share
+  // the encoding, so a blend of two levels encodes its direction once.
+  vec3 bilinearAt(const vec2& uv) const;
   // Half-resolution 2x2 box average (the next level of a MIP chain); size must be >= 2.
   OctahedralMap downsampled() const;
 

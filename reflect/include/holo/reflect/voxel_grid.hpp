@@ -60,6 +60,9 @@ class VoxelGrid {
   int brickSize() const { return settings_.brick_size; }
   vec3 origin() const { return settings_.bounds.lo; }
   float voxelSize() const { return settings_.voxel_size; }
+  // 1 / voxelSize() and 1 / brickSize(), computed once: every walk scales its ray by them.
+  float inverseVoxelSize() const { return inverse_voxel_size_; }
+  float inverseBrickSize() const { return inverse_brick_size_; }
 
   bool contains(const glm::ivec3& v) const {
     return v.x >= 0 && v.y >= 0 && v.z >= 0 && v.x < dims_.x && v.y < dims_.y && v.z < dims_.z;
@@ -162,6 +165,8 @@ class VoxelGrid {
   std::vector<std::int32_t> brick_block_;
   std::vector<std::int32_t> brick_samples_;
   std::int32_t blocks_used_ = 0;
+  float inverse_voxel_size_ = 0.0f;
+  float inverse_brick_size_ = 0.0f;
   std::uint64_t brick_volume_ = 0;          // brick_size^3
   std::vector<VoxelSample> samples_;        // occupied voxels, in first-touch order
   std::vector<std::int64_t> sample_voxel_;  // linear voxel index of each sample (for clear)
