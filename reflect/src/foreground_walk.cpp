@@ -296,6 +296,11 @@ WalkCounts ForegroundWalk::walkView(const HitPointBuffer& hits, const std::vecto
           const std::size_t first = hits.firstSample(p);
           const std::size_t count = std::size_t(hits.sampleCount(p));
           const bool mixed = scratch.pixel_state[p] == kMixedBounce;
+          if (count == 1 && !mixed) {
+            // One sample: its walk was the pixel's.
+            if (scratch.pixel_state[p] == 2 && hits.valid[first]) fg[first] = scratch.pixel_fg[p];
+            continue;
+          }
           bool rough = !mixed;
           for (std::size_t i = first; i < first + count && rough; ++i)
             rough = !hits.valid[i] || walk_rays[i].roughness >= settings_.walk_per_pixel_roughness;

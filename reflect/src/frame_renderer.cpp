@@ -279,7 +279,7 @@ struct FrameRenderer::ViewCache {
   HitPointBuffer hits;
   std::vector<SplitSumShading> shading;  // per entry of hits.hits
   std::vector<WalkRay> walk_rays;        // per entry of hits.hits
-  std::vector<PixelBounce> bounces;      // StaticShading's scratch
+  ViewBounces bounces;                   // the static shading's rough lobes
   std::vector<ForegroundSample> fg;      // per entry of hits.hits, this frame's walk (scratch)
   WalkScratch walk;
   LayerBuffers layers;  // per entry of hits.hits, with Refraction or Clearcoat
@@ -586,7 +586,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     cache.ready = true;
     cache.receivers_ready = false;
     if (refine) {
-      cache.progress.restart(cache.bounces, cache.hdr, foreground);
+      cache.progress.restart(cache.bounces.pixels, cache.hdr, foreground);
       cache.refinement_gate.measuring();
     } else if (refines_) {
       cache.progress.stop();
@@ -597,12 +597,13 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     const AxisAlignedFilter filter;
     TracerSettings planned = settings_;
     planned.evaluation.sun_light = plan.sun_light;
-    const RefinementStep step = cache.progress.advance(
-        StaticShading(scene_, ibl_, planned, rough_map_.get(),
-                      plan.has(Pass::SelfOcclusion) ? visibility_.get() : nullptr, &lighting_,
-                      wide_lobes_.get()),
-        cache.hits, cache.camera, foreground, std::uint32_t(settings_.refinement_sets), cache.shading,
-        cache.walk_rays, cache.bounces, cache.hdr, plan.has(Pass::AxisAlignedFilter) ? &filter : nullptr);
+    const RefinementStep step =
+        cache.progress.advance(StaticShading(scene_, ibl_, planned, rough_map_.get(),
+                                             plan.has(Pass::SelfOcclusion) ? visibility_.get() : nullptr,
+                                             &lighting_, wide_lobes_.get()),
+                               cache.hits, cache.camera, foreground, std::uint32_t(settings_.refinement_sets),
+                               cache.shading, cache.walk_rays, cache.bounces.pixels, cache.hdr,
+                               plan.has(Pass::AxisAlignedFilter) ? &filter : nullptr);
     // The filter's time is its own pass's, as in the static pass.
     if (step.filtered.ms > 0.0) {
       t.subtract(step.filtered.ms);
@@ -682,9 +683,9 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
   if (!out.static_reused && plan.has(Pass::AxisAlignedFilter)) {
     // The filter's displayed change at the exposure the view is shown at.
     float codes = 0.0f;
-    if (cache.filter_changes.size() == hits.pixelCount() && cache.bounces.size() == hits.pixelCount())
+    if (cache.filter_changes.size() == hits.pixelCount() && cache.bounces.pixels.size() == hits.pixelCount())
       for (const std::uint32_t p : hits.covered)
-        if (cache.bounces[p].rough) {
+        if (cache.bounces.pixels[p].rough) {
           const FilterChange& c = cache.filter_changes[p];
           codes = std::max(codes, maxComponent(glm::abs(toneMapCodes(c.filtered, out.exposure) -
                                                         toneMapCodes(c.unfiltered, out.exposure))));

@@ -4,7 +4,9 @@
 #pragma once
 
 #include <algorithm>
+#include <cstdint>
 #include <limits>
+#include <vector>
 
 #include "holo/core/math.hpp"
 
@@ -37,6 +39,14 @@ struct PixelBounce {
   vec3 position{0.0f}, normal{0.0f};
   float roughness = 0.0f;  // of the first rough sample's material
   LobeBounce samples;
+};
+
+// A view's pixels' lobe samples, kept from one static pass to the next. `pixels` is sized to the
+// view and default everywhere but at `rough`, the pixels the last pass marked rough (in no
+// particular order), so that a pass resets those alone instead of every pixel of the view.
+struct ViewBounces {
+  std::vector<PixelBounce> pixels;
+  std::vector<std::uint32_t> rough;
 };
 
 }  // namespace holo::reflect

@@ -516,7 +516,7 @@ std::uint64_t StaticShading::reshadeLobes(const HitPointBuffer& hits, const Came
 
 StaticCounts StaticShading::shade(const HitPointBuffer& hits, const CameraModel& view,
                                   std::vector<SplitSumShading>& shading, std::vector<WalkRay>& walk_rays,
-                                  std::vector<PixelBounce>& bounces, cv::Mat& hdr, cv::Mat& coverage,
+                                  ViewBounces& bounces, cv::Mat& hdr, cv::Mat& coverage,
                                   const AxisAlignedFilter* filter, FilterCounts* filter_counts,
                                   std::vector<FilterChange>* filter_changes) const {
   const int w = hits.width;
@@ -524,7 +524,17 @@ StaticCounts StaticShading::shade(const HitPointBuffer& hits, const CameraModel&
   walk_rays.resize(hits.hits.size());
   const bool pool_bounces = lobe_materials_ && settings_.relic_interreflection &&
                             settings_.evaluation.rough_interreflection_interleaved;
-  if (pool_bounces) bounces.assign(hits.pixelCount(), PixelBounce{});
+  if (pool_bounces) {
+    // A view's pixels hold ~90 bytes each and a few of them are rough: the last pass's rough
+    // pixels are reset, not the whole view.
+    if (bounces.pixels.size() != hits.pixelCount())
+      bounces.pixels.assign(hits.pixelCount(), PixelBounce{});
+    else
+      for (const std::uint32_t p : bounces.rough) bounces.pixels[p] = PixelBounce{};
+    bounces.rough.clear();
+  }
+  std::vector<PixelBounce>& pixel_bounces = bounces.pixels;
+  tbb::enumerable_thread_specific<std::vector<std::uint32_t>> marked_rough;
   const float spread = 1.0f / view.intrinsics().fx;  // radians per pixel: the footprint's growth
   tbb::enumerable_thread_specific<StaticCounts> counts;
   tbb::enumerable_thread_specific<DeferredRays> deferred_rays;
@@ -552,30 +562,50 @@ StaticCounts StaticShading::shade(const HitPointBuffer& hits, const CameraModel&
     }
     local.interreflection_rays += finishDeferred(
         hits, deferred, shading, walk_rays, [&](std::size_t p, std::size_t i, const LobeBounce& bounce) {
-          PixelBounce& pixel = bounces[p];
-          if (!pixel.rough)
+          PixelBounce& pixel = pixel_bounces[p];
+          if (!pixel.rough) {
             pixel = {true, hits.hits[i].position, hits.hits[i].normal, hits.hits[i].material.roughness, {}};
+            marked_rough.local().push_back(std::uint32_t(p));
+          }
           pixel.samples.add(bounce, 1.0f);
         });
     local.interreflected_samples += deferred.samples_casting;
   });
+  for (const std::vector<std::uint32_t>& marked : marked_rough)
+    bounces.rough.insert(bounces.rough.end(), marked.begin(), marked.end());
+  // Each sample's share of its pixel's pooled lobe (the pixel's and its neighbours' samples).
+  const auto addLobe = [&](std::size_t p, const LobeBounce& bounce) {
+    const std::size_t first = hits.firstSample(p), last = first + std::size_t(hits.sampleCount(p));
+    for (std::size_t i = first; i < last; ++i)
+      if (hits.valid[i] && samplesLobe(hits.hits[i]))
+        addLobeBounce(bounce, textureOcclusion(surfaceOf(hits.hits[i])), settings_.evaluation.lobe_visibility,
+                      shading[i]);
+  };
+  const auto pooledAt = [&](std::size_t p) {
+    return poolLobeBounces(pixel_bounces, w, hits.height, view, int(p % std::size_t(w)),
+                           int(p / std::size_t(w)));
+  };
+  // Unfiltered, a pixel's pooled lobe is added where it is made; the filter reads the pooled lobes
+  // of a pixel's neighbours, so it gets them all in a view-sized image first.
   std::vector<LobeBounce> pooled, unfiltered;
-  if (pool_bounces) {
-    pooled.resize(hits.pixelCount());
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
+  if (pool_bounces && !filter) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, bounces.rough.size(), 256),
                       [&](const tbb::blocked_range<std::size_t>& r) {
-                        for (std::size_t k = r.begin(); k < r.end(); ++k) {
-                          const std::size_t p = hits.covered[k];
-                          if (bounces[p].rough)
-                            pooled[p] = poolLobeBounces(bounces, w, hits.height, view,
-                                                        int(p % std::size_t(w)), int(p / std::size_t(w)));
-                        }
+                        for (std::size_t k = r.begin(); k < r.end(); ++k)
+                          addLobe(bounces.rough[k], pooledAt(bounces.rough[k]));
                       });
-    if (filter && filter_changes) {
+  } else if (pool_bounces) {
+    pooled.resize(hits.pixelCount());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, bounces.rough.size(), 256),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t k = r.begin(); k < r.end(); ++k)
+                          pooled[bounces.rough[k]] = pooledAt(bounces.rough[k]);
+                      });
+    if (filter_changes) {
       unfiltered = pooled;
       filter_changes->resize(hits.pixelCount());
     }
-    if (filter) *filter_counts = filter->apply(bounces, pooled, w, hits.height, view);
+    *filter_counts = filter->apply(pixel_bounces, pooled, w, hits.height, view);
   }
   const bool measure = !unfiltered.empty();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, hits.covered.size(), 256),
@@ -585,24 +615,19 @@ StaticCounts StaticShading::shade(const HitPointBuffer& hits, const CameraModel&
                         const std::size_t p = hits.covered[k];
                         const int x = int(p % std::size_t(w)), y = int(p / std::size_t(w));
                         float weight = 0.0f;
-                        const bool rough = pool_bounces && bounces[p].rough;
-                        const std::size_t first = hits.firstSample(p);
-                        const std::size_t last = first + std::size_t(hits.sampleCount(p));
-                        const auto addLobe = [&](const LobeBounce& bounce) {
-                          for (std::size_t i = first; i < last; ++i)
-                            if (hits.valid[i] && samplesLobe(hits.hits[i]))
-                              addLobeBounce(bounce, textureOcclusion(surfaceOf(hits.hits[i])),
-                                            settings_.evaluation.lobe_visibility, shading[i]);
-                        };
+                        // Filtered: the pooled lobe is added here (unfiltered it already was).
+                        const bool rough = !pooled.empty() && pixel_bounces[p].rough;
                         if (rough && measure) {
                           // The pixel without the filter, then its shading as it was.
+                          const std::size_t first = hits.firstSample(p);
+                          const std::size_t last = first + std::size_t(hits.sampleCount(p));
                           saved.assign(shading.begin() + std::ptrdiff_t(first),
                                        shading.begin() + std::ptrdiff_t(last));
-                          addLobe(unfiltered[p]);
+                          addLobe(p, unfiltered[p]);
                           (*filter_changes)[p].unfiltered = composePixel(hits, shading, nullptr, p, weight);
                           std::copy(saved.begin(), saved.end(), shading.begin() + std::ptrdiff_t(first));
                         }
-                        if (rough) addLobe(pooled[p]);
+                        if (rough) addLobe(p, pooled[p]);
                         const vec3 rgb = composePixel(hits, shading, nullptr, p, weight);
                         if (rough && measure) (*filter_changes)[p].filtered = rgb;
                         setRgb(hdr, x, y, rgb);

@@ -89,7 +89,8 @@ class StaticShading {
   // entry of hits.hits; others are left as they were) and writes the static image: hdr, CV_32FC3
   // linear BGR, the mean over each pixel's samples of psi_s + diffuse (misses black), and
   // coverage, CV_32FC1; both must be view-sized and zero, only covered pixels are written.
-  // `bounces` is scratch, reused across calls. With `filter` (may be null) the rough lobe's pooled
+  // `bounces` is kept across calls (lobe_bounce.hpp); its pixels are what the progressive refinement
+  // and the filter read. With `filter` (may be null) the rough lobe's pooled
   // interreflection is filtered and `filter_counts` (then not null) receives its counters; with
   // `filter_changes` (may be null) too, it is sized to the view's pixels and each filtered pixel's
   // radiance without and with the filter is written there (the other entries are left as they
@@ -97,7 +98,7 @@ class StaticShading {
   // relic's supporting planes prove a miss (RenderScene::mayMeetRelicAgain).
   StaticCounts shade(const HitPointBuffer& hits, const CameraModel& view,
                      std::vector<SplitSumShading>& shading, std::vector<WalkRay>& walk_rays,
-                     std::vector<PixelBounce>& bounces, cv::Mat& hdr, cv::Mat& coverage,
+                     ViewBounces& bounces, cv::Mat& hdr, cv::Mat& coverage,
                      const AxisAlignedFilter* filter = nullptr, FilterCounts* filter_counts = nullptr,
                      std::vector<FilterChange>* filter_changes = nullptr) const;
 
@@ -108,7 +109,7 @@ class StaticShading {
   // Another sample set of the rough interreflection (progressive_accumulation.hpp), after shade()
   // with the same hits, view and buffers: each valid sample of `pixels` whose material traces its
   // lobe is shaded again with its strata at `offset`, its lobe samples added to
-  // accumulated[pixel] (the sums of the sets so far; shade()'s `bounces`); then each of those
+  // accumulated[pixel] (the sums of the sets so far; shade()'s `bounces.pixels`); then each of those
   // pixels pools its neighbours' accumulated sums (filtered with `filter` as shade() does; then
   // filter_counts is not null) and its samples' shading and hdr pixel are written again. The
   // interleaved strata only (rough_interreflection_interleaved). Returns the samples shaded.

@@ -47,7 +47,7 @@ StaticResult shadeStatic(const RenderScene& scene, const PrefilteredIbl& ibl, co
   StaticResult r;
   r.hdr = cv::Mat(hits.height, hits.width, CV_32FC3, cv::Scalar::all(0));
   r.coverage = cv::Mat(hits.height, hits.width, CV_32FC1, cv::Scalar(0));
-  std::vector<PixelBounce> bounces;
+  ViewBounces bounces;
   StaticShading(scene, ibl, settings, nullptr)
       .shade(hits, view, r.shading, r.walk_rays, bounces, r.hdr, r.coverage);
   return r;

@@ -132,5 +132,26 @@ TEST(FrameRenderer, RoughInterreflectionFollowsThePathTracedLobe) {
   EXPECT_LT(interleaved_aa1, 0.25 * mirror_aa1);
 }
 
+TEST(FrameRenderer, ARetracedRoughLobeIsTheOneAFreshRendererTraces) {
+  // A view keeps its pixels' rough-lobe sums from one static pass to the next and resets only the
+  // pixels the last pass marked rough: traced again from an eye beside the first, the image must
+  // be bit for bit a fresh renderer's, with nothing of the first eye's lobes pooled into it.
+  TwoSpheres t(0.6f);
+  const TracerSettings s = test::smallGrid();
+  const CameraModel beside = lookAtCamera(vec3(0.03f, 0.32f, 1.5f), vec3(0.0f, 0.3f, 0.0f), 30.0f, 64, 64);
+  FrameRenderer renderer(t.scene, t.ibl, s);
+  const ViewImages first = renderer.render(ForegroundCloud{}, {}, {t.view}).views.at(0);
+  EXPECT_GT(first.interreflected_samples, 0u);
+  const ViewImages again = renderer.render(ForegroundCloud{}, {}, {beside}).views.at(0);
+  EXPECT_FALSE(again.static_reused);
+  FrameRenderer fresh(t.scene, t.ibl, s);
+  const ViewImages alone = fresh.render(ForegroundCloud{}, {}, {beside}).views.at(0);
+  EXPECT_GT(alone.interreflected_samples, 0u);
+  EXPECT_EQ(cv::norm(again.hdr, alone.hdr, cv::NORM_INF), 0.0);
+  // And back: the first eye again gives the first image.
+  const ViewImages back = renderer.render(ForegroundCloud{}, {}, {t.view}).views.at(0);
+  EXPECT_EQ(cv::norm(back.hdr, first.hdr, cv::NORM_INF), 0.0);
+}
+
 }  // namespace
 }  // namespace holo::reflect

@@ -100,7 +100,7 @@ TEST(InterreflectionPlan, OnlySamplesThatCanSeeTheRelicCastRays) {
       traceHitPoints(scene, view, AntiAliasing::None, hits);
       std::vector<SplitSumShading> shading;
       std::vector<WalkRay> walk_rays;
-      std::vector<PixelBounce> bounces;
+      ViewBounces bounces;
       cv::Mat hdr(view.height(), view.width(), CV_32FC3, cv::Scalar::all(0));
       cv::Mat coverage(view.height(), view.width(), CV_32FC1, cv::Scalar(0));
       TracerSettings planned = settings;
