@@ -1,6 +1,7 @@
 #include "foreground_walk.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 
@@ -18,6 +19,47 @@ namespace {
 // beside the silhouette, within the bilinear read's pixel of it.
 constexpr float kSilhouetteRunVoxels = 3.0f;
 constexpr float kBesideSilhouette = 0.2f;
+
+// The occupied voxels' box grown by a voxel on every side (metres) and a reach beyond the walk's
+// longest: a ray that misses it within [0, reach] misses the exact box that firstOccupiedVoxel
+// clips to by at least a voxel, far beyond round-off, and so meets no voxel. Most of a frame's
+// mirror rays leave the visitors' box at once; testing a block of them together (vectorised)
+// costs a fraction of setting up a walk for each.
+struct CullBox {
+  vec3 lo{0.0f}, hi{-1.0f};  // empty unless some voxel is occupied
+  float reach = 0.0f;
+};
+
+CullBox cullBoxOf(const VoxelGrid& grid, float t_max) {
+  CullBox box;
+  const glm::ivec3 lo = grid.occupiedLo(), hi = grid.occupiedHi();
+  if (grid.empty() || glm::any(glm::greaterThanEqual(lo, hi))) return box;
+  const float size = grid.voxelSize();
+  box.lo = grid.origin() + vec3(lo - 1) * size;
+  box.hi = grid.origin() + vec3(hi + 1) * size;
+  box.reach = t_max * 1.001f + size;
+  return box;
+}
+
+// A block of rays (origins o, unit directions d, structure of arrays) against the box: may[j] is
+// 0 only where ray j cannot meet it. Branch-free; a zero direction component on the box's plane
+// gives NaN, which leaves that axis unconstrained (std::min and std::max return their first
+// argument against NaN), and a non-finite ray is left to the walk, which misses it.
+template <std::size_t N>
+void mayMeetBox(const CullBox& box, std::size_t n, const std::array<std::array<float, N>, 3>& o,
+                const std::array<std::array<float, N>, 3>& d, std::array<std::uint8_t, N>& may) {
+  for (std::size_t j = 0; j < n; ++j) {
+    float t0 = 0.0f, t1 = box.reach;
+    for (int a = 0; a < 3; ++a) {
+      const float inv = 1.0f / d[std::size_t(a)][j];
+      const float ta = (box.lo[a] - o[std::size_t(a)][j]) * inv,
+                  tb = (box.hi[a] - o[std::size_t(a)][j]) * inv;
+      t0 = std::max(t0, std::min(ta, tb));
+      t1 = std::min(t1, std::max(ta, tb));
+    }
+    may[j] = std::uint8_t(!(t0 > t1));
+  }
+}
 
 }  // namespace
 
@@ -240,42 +282,73 @@ WalkCounts ForegroundWalk::walkView(const HitPointBuffer& hits, const std::vecto
   // foreground, kMixedBounce no walk.
   scratch.pixel_fg.resize(pixels);
   scratch.pixel_state.assign(pixels, 0);
+  const CullBox box = cullBoxOf(grid_, settings_.max_reflection_distance);
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, covered.size(), 256), [&](const tbb::blocked_range<std::size_t>& r) {
         std::uint64_t local_walked = 0, local_found = 0;
-        for (std::size_t k = r.begin(); k < r.end(); ++k) {
-          const std::size_t p = covered[k];
-          scratch.pixel_fg[p] = ForegroundSample{};
-          const std::size_t first = hits.firstSample(p);
-          for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i)
-            fg[i] = ForegroundSample{};
-          const std::size_t count = std::size_t(hits.sampleCount(p));
-          vec3 position(0.0f), normal(0.0f), reflected(0.0f);
-          float roughness = 0.0f;
-          int valid = 0, bounced = 0;
-          for (std::size_t i = first; i < first + count; ++i) {
-            if (!hits.valid[i]) continue;
-            const WalkRay& wr = walk_rays[i];
-            position += wr.position;
-            normal += wr.normal;
-            reflected += wr.reflected;
-            roughness += wr.roughness;
-            bounced += wr.bounced;
-            ++valid;
+        // The pixels' rays in blocks: gathered, tested against the box together, then walked where
+        // they may meet it (or where a miss still reads the visitors: rough map, lobe fallback).
+        constexpr std::size_t kBlock = 64;
+        struct PixelRay {
+          std::size_t pixel;
+          vec3 position, normal, reflected;
+          float roughness;
+        };
+        std::array<PixelRay, kBlock> rays;
+        std::array<std::array<float, kBlock>, 3> origins, directions;
+        std::array<std::uint8_t, kBlock> may_meet;
+        for (std::size_t b = r.begin(); b < r.end(); b += kBlock) {
+          std::size_t n = 0;
+          for (std::size_t k = b; k < std::min(r.end(), b + kBlock); ++k) {
+            const std::size_t p = covered[k];
+            scratch.pixel_fg[p] = ForegroundSample{};
+            const std::size_t first = hits.firstSample(p);
+            for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i)
+              fg[i] = ForegroundSample{};
+            const std::size_t count = std::size_t(hits.sampleCount(p));
+            vec3 position(0.0f), normal(0.0f), reflected(0.0f);
+            float roughness = 0.0f;
+            int valid = 0, bounced = 0;
+            for (std::size_t i = first; i < first + count; ++i) {
+              if (!hits.valid[i]) continue;
+              const WalkRay& wr = walk_rays[i];
+              position += wr.position;
+              normal += wr.normal;
+              reflected += wr.reflected;
+              roughness += wr.roughness;
+              bounced += wr.bounced;
+              ++valid;
+            }
+            if (valid == 0) continue;
+            const float inv = 1.0f / float(valid);
+            const float nl = glm::length(normal), rl = glm::length(reflected);
+            scratch.pixel_state[p] = 1;
+            // Opposite sub-samples, or some reflected directly and some off the relic: no
+            // mean ray (the sub-samples walk, pass 2).
+            if (bounced != 0 && bounced != valid) scratch.pixel_state[p] = kMixedBounce;
+            if (!(nl > 1e-6f) || !(rl > 1e-6f) || scratch.pixel_state[p] == kMixedBounce) continue;
+            const PixelRay ray{p, position * inv, normal / nl, reflected / rl, roughness * inv};
+            const vec3 origin = ray.position + ray.normal * settings_.ray_offset;
+            for (std::size_t a = 0; a < 3; ++a) {
+              origins[a][n] = origin[int(a)];
+              directions[a][n] = ray.reflected[int(a)];
+            }
+            rays[n++] = ray;
           }
-          if (valid == 0) continue;
-          const float inv = 1.0f / float(valid);
-          const float nl = glm::length(normal), rl = glm::length(reflected);
-          scratch.pixel_state[p] = 1;
-          // Opposite sub-samples, or some reflected directly and some off the relic: no
-          // mean ray (the sub-samples walk, pass 2).
-          if (bounced != 0 && bounced != valid) scratch.pixel_state[p] = kMixedBounce;
-          if (!(nl > 1e-6f) || !(rl > 1e-6f) || scratch.pixel_state[p] == kMixedBounce) continue;
-          ++local_walked;
-          if (!walk(position * inv, normal / nl, reflected / rl, roughness * inv, scratch.pixel_fg[p]))
-            continue;
-          ++local_found;
-          scratch.pixel_state[p] = 2;
+          mayMeetBox(box, n, origins, directions, may_meet);
+          for (std::size_t j = 0; j < n; ++j) {
+            const PixelRay& ray = rays[j];
+            ++local_walked;
+            // A ray that misses every voxel reads nothing unless it reads the rough map or falls
+            // back to the visitors it passes near (walk()).
+            const bool reads_on_a_miss = readsRoughMap(rough_map_, settings_, ray.roughness) ||
+                                         !(ray.roughness < settings_.lobe_fallback_roughness);
+            if (!may_meet[j] && !reads_on_a_miss) continue;
+            if (!walk(ray.position, ray.normal, ray.reflected, ray.roughness, scratch.pixel_fg[ray.pixel]))
+              continue;
+            ++local_found;
+            scratch.pixel_state[ray.pixel] = 2;
+          }
         }
         walked += local_walked;
         found += local_found;

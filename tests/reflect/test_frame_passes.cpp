@@ -452,6 +452,80 @@ TEST(ForegroundWalkPass, MirrorRaysMeetTheWallInItsColour) {
   EXPECT_EQ(fg[0].weight, 0.0f);
 }
 
+TEST(ForegroundWalkPass, RaysLeftUnwalkedBesideTheVisitorsBoxAreExactlyTheMisses) {
+  // walkView tests its rays against the occupied voxels' box before walking them: every pixel's
+  // result must be the walk's own. Each pixel of the sphere gets an adversarial ray: along an axis
+  // (zero direction components), starting on the planes of the occupied box and of the box grown by
+  // a voxel, grazing their edges, from inside the box, or anywhere; some rough enough that a miss
+  // still reads the visitors it passes near.
+  const MirrorSphere m;
+  const TracerSettings s = test::smallGrid();
+  const test::RedWall wall = test::redWall();
+  VoxelGrid grid(s.grid);
+  grid.build(wall.cloud);
+  const std::vector<ForegroundCameraImage> cameras = {wall.camera};
+  std::vector<ForegroundPyramid> pyramids(1);
+  pyramids[0].build(wall.camera.colour_bgr, wall.camera.mask, s.pyramid_levels);
+  const ForegroundWalk walk(s, grid, pyramids, cameras, nullptr);
+  StaticResult st = shadeStatic(m.scene, m.ibl, s, m.hits, m.view);
+  const float voxel = grid.voxelSize();
+  const vec3 lo = grid.origin() + vec3(grid.occupiedLo()) * voxel;
+  const vec3 hi = grid.origin() + vec3(grid.occupiedHi()) * voxel;
+  const vec3 planes[4] = {lo, hi, lo - vec3(voxel), hi + vec3(voxel)};
+  const vec3 axes[6] = {vec3(1, 0, 0),  vec3(-1, 0, 0), vec3(0, 1, 0),
+                        vec3(0, -1, 0), vec3(0, 0, 1),  vec3(0, 0, -1)};
+  std::uint32_t state = 12345u;
+  const auto uniform = [&] {
+    state = state * 1664525u + 1013904223u;
+    return float(state >> 8) / float(1u << 24);
+  };
+  const vec3 centre = 0.5f * (lo + hi), extent = hi - lo;
+  for (const std::uint32_t p : m.hits.covered) {
+    WalkRay& ray = st.walk_rays[p];
+    const int kind = int(p % 5);
+    vec3 origin = centre + (vec3(uniform(), uniform(), uniform()) - 0.5f) * 3.0f * extent;
+    vec3 direction = glm::normalize(vec3(uniform(), uniform(), uniform()) - 0.5f);
+    if (kind == 0) {  // along an axis, from a point on one of the boxes' planes
+      direction = axes[p % 6];
+      const int a = int(p / 6 % 3);
+      origin[a] = planes[p / 18 % 4][a];
+    } else if (kind == 1) {  // towards a corner or an edge of a box
+      const vec3& plane_lo = planes[p % 2 == 0 ? 0 : 2];
+      const vec3& plane_hi = planes[p % 2 == 0 ? 1 : 3];
+      const vec3 corner(p % 3 == 0 ? plane_lo.x : plane_hi.x, p % 7 < 3 ? plane_lo.y : plane_hi.y,
+                        p % 11 < 5 ? plane_lo.z : plane_hi.z);
+      direction = glm::normalize(corner - origin);
+    } else if (kind == 2) {  // from inside the occupied box
+      origin = lo + vec3(uniform(), uniform(), uniform()) * extent;
+    }
+    // The ray starts ray_offset along the normal; with the normal along the direction the ray is
+    // exactly origin + t direction.
+    ray.normal = direction;
+    ray.reflected = direction;
+    ray.position = origin - direction * s.ray_offset;
+    ray.roughness = p % 4 == 0 ? s.lobe_fallback_roughness : 0.0f;
+    ray.bounced = false;
+  }
+  std::vector<ForegroundSample> fg(m.hits.hits.size());
+  WalkScratch scratch;
+  const WalkCounts counts = walk.walkView(m.hits, st.walk_rays, scratch, fg);
+  EXPECT_EQ(counts.walked, m.hits.covered.size());
+  std::uint64_t met = 0, missed = 0;
+  for (const std::uint32_t p : m.hits.covered) {
+    const WalkRay& ray = st.walk_rays[p];
+    ForegroundSample expected;
+    const bool hit = walk.walk(ray.position * 1.0f, ray.normal / glm::length(ray.normal),
+                               ray.reflected / glm::length(ray.reflected), ray.roughness * 1.0f, expected);
+    (hit ? met : missed) += 1;
+    EXPECT_EQ(fg[p].weight, hit ? expected.weight : 0.0f) << "pixel " << p;
+    EXPECT_EQ(fg[p].radiance, hit ? expected.radiance : vec3(0.0f)) << "pixel " << p;
+  }
+  EXPECT_EQ(met, counts.found);
+  // Both outcomes are well represented.
+  EXPECT_GT(met, m.hits.covered.size() / 20);
+  EXPECT_GT(missed, m.hits.covered.size() / 4);
+}
+
 TEST(CompositionPass, ComposesOnlyWhereTheForegroundReachedAndTonemapsThose) {
   const MirrorSphere m;
   const StaticResult st = shadeStatic(m.scene, m.ibl, test::smallGrid(), m.hits, m.view);
