@@ -42,9 +42,10 @@ CullBox cullBoxOf(const VoxelGrid& grid, float t_max) {
 }
 
 // A block of rays (origins o, unit directions d, structure of arrays) against the box: may[j] is
-// 0 only where ray j cannot meet it. Branch-free; a zero direction component on the box's plane
-// gives NaN, which leaves that axis unconstrained (std::min and std::max return their first
-// argument against NaN), and a non-finite ray is left to the walk, which misses it.
+// 0 only where ray j cannot meet it. Branch-free. A zero direction component gives infinite slab
+// distances, and NaN only for a ray lying in one of the grown box's planes, a voxel outside the
+// exact box, which it never meets; whatever the test says of such a ray, or of a non-finite one
+// (which the walk misses), the result is the walk's.
 template <std::size_t N>
 void mayMeetBox(const CullBox& box, std::size_t n, const std::array<std::array<float, N>, 3>& o,
                 const std::array<std::array<float, N>, 3>& d, std::array<std::uint8_t, N>& may) {
