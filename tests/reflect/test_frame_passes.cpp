@@ -420,16 +420,25 @@ TEST(CameraChoice, TakesTheCameraLookingMostAlongTheRayThatSeesThePoint) {
   EXPECT_FALSE(along(vec3(0.0f), vec3(0.0f, 0.0f, -1.0f)));
 }
 
+// test::redWall() voxelised on the small grid, seen by its camera, and a walk over it.
+struct RedWallWalk {
+  RedWallWalk() {
+    grid.build(wall.cloud);
+    pyramids[0].build(wall.camera.colour_bgr, wall.camera.mask, settings.pyramid_levels);
+  }
+  const TracerSettings settings = test::smallGrid();
+  const test::RedWall wall = test::redWall();
+  VoxelGrid grid{settings.grid};
+  const std::vector<ForegroundCameraImage> cameras = {wall.camera};
+  std::vector<ForegroundPyramid> pyramids = std::vector<ForegroundPyramid>(1);
+  const ForegroundWalk walk{settings, grid, pyramids, cameras, nullptr};
+};
+
 TEST(ForegroundWalkPass, MirrorRaysMeetTheWallInItsColour) {
   const MirrorSphere m;
-  const TracerSettings s = test::smallGrid();
-  const test::RedWall wall = test::redWall();
-  VoxelGrid grid(s.grid);
-  grid.build(wall.cloud);
-  const std::vector<ForegroundCameraImage> cameras = {wall.camera};
-  std::vector<ForegroundPyramid> pyramids(1);
-  pyramids[0].build(wall.camera.colour_bgr, wall.camera.mask, s.pyramid_levels);
-  const ForegroundWalk walk(s, grid, pyramids, cameras, nullptr);
+  const RedWallWalk w;
+  const TracerSettings& s = w.settings;
+  const ForegroundWalk& walk = w.walk;
   // Straight back from the sphere's front: the wall, red.
   ForegroundSample sample;
   ASSERT_TRUE(walk.walk(vec3(0.0f, 0.3f, 0.15f), vec3(0, 0, 1), vec3(0, 0, 1), 0.0f, sample));
@@ -459,14 +468,10 @@ TEST(ForegroundWalkPass, RaysLeftUnwalkedBesideTheVisitorsBoxAreExactlyTheMisses
   // a voxel, grazing their edges, from inside the box, or anywhere; some rough enough that a miss
   // still reads the visitors it passes near.
   const MirrorSphere m;
-  const TracerSettings s = test::smallGrid();
-  const test::RedWall wall = test::redWall();
-  VoxelGrid grid(s.grid);
-  grid.build(wall.cloud);
-  const std::vector<ForegroundCameraImage> cameras = {wall.camera};
-  std::vector<ForegroundPyramid> pyramids(1);
-  pyramids[0].build(wall.camera.colour_bgr, wall.camera.mask, s.pyramid_levels);
-  const ForegroundWalk walk(s, grid, pyramids, cameras, nullptr);
+  const RedWallWalk w;
+  const TracerSettings& s = w.settings;
+  const VoxelGrid& grid = w.grid;
+  const ForegroundWalk& walk = w.walk;
   StaticResult st = shadeStatic(m.scene, m.ibl, s, m.hits, m.view);
   const float voxel = grid.voxelSize();
   const vec3 lo = grid.origin() + vec3(grid.occupiedLo()) * voxel;
