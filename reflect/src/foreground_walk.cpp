@@ -62,6 +62,43 @@ void mayMeetBox(const CullBox& box, std::size_t n, const std::array<std::array<f
   }
 }
 
+// Pixel state of a pixel whose sub-samples reflect partly off the relic itself: no pixel walk.
+constexpr std::uint8_t kMixedBounce = 3;
+
+// A pixel's one walk in pass 1: the mean of its valid samples' rays.
+struct PixelRay {
+  std::size_t pixel;
+  vec3 position, normal, reflected;
+  float roughness;
+};
+
+// Pixel p's mean ray, when it has one to walk. Sets its state: left 0 without a valid sample,
+// kMixedBounce where its samples reflect partly off the relic (they walk one by one, pass 2),
+// else 1 (opposite samples whose means vanish walk nothing).
+std::optional<PixelRay> meanPixelRay(const HitPointBuffer& hits, const std::vector<WalkRay>& walk_rays,
+                                     std::size_t p, std::uint8_t& state) {
+  const std::size_t first = hits.firstSample(p), count = std::size_t(hits.sampleCount(p));
+  vec3 position(0.0f), normal(0.0f), reflected(0.0f);
+  float roughness = 0.0f;
+  int valid = 0, bounced = 0;
+  for (std::size_t i = first; i < first + count; ++i) {
+    if (!hits.valid[i]) continue;
+    const WalkRay& wr = walk_rays[i];
+    position += wr.position;
+    normal += wr.normal;
+    reflected += wr.reflected;
+    roughness += wr.roughness;
+    bounced += wr.bounced;
+    ++valid;
+  }
+  if (valid == 0) return std::nullopt;
+  state = bounced != 0 && bounced != valid ? kMixedBounce : 1;
+  const float inv = 1.0f / float(valid);
+  const float nl = glm::length(normal), rl = glm::length(reflected);
+  if (!(nl > 1e-6f) || !(rl > 1e-6f) || state == kMixedBounce) return std::nullopt;
+  return PixelRay{p, position * inv, normal / nl, reflected / rl, roughness * inv};
+}
+
 }  // namespace
 
 std::optional<float> nearMissT(const VoxelGrid& grid, const Ray& ray, float t_max, float radius_per_m) {
@@ -168,6 +205,10 @@ ForegroundSample ForegroundWalk::readLobe(const ForegroundPyramid& pyramid, cons
   return mixed;
 }
 
+bool ForegroundWalk::missReadsNothing(float roughness) const {
+  return !readsRoughMap(rough_map_, settings_, roughness) && roughness < settings_.lobe_fallback_roughness;
+}
+
 bool ForegroundWalk::walk(const vec3& position, const vec3& normal, const vec3& reflected, float roughness,
                           ForegroundSample& sample) const {
   if (readsRoughMap(rough_map_, settings_, roughness)) {
@@ -177,7 +218,7 @@ bool ForegroundWalk::walk(const vec3& position, const vec3& normal, const vec3& 
   const Ray ray{position + normal * settings_.ray_offset, reflected};
   const VoxelHit vh = firstOccupiedVoxel(grid_, ray, settings_.max_reflection_distance);
   if (!vh.hit()) {
-    if (roughness < settings_.lobe_fallback_roughness) return false;
+    if (missReadsNothing(roughness)) return false;
     const float tan_sigma = std::tan(reflectedLobeSigma(roughness));
     const std::optional<float> t_near =
         nearMissT(grid_, ray, settings_.max_reflection_distance, 2.0f * tan_sigma);
@@ -276,8 +317,6 @@ WalkCounts ForegroundWalk::walkView(const HitPointBuffer& hits, const std::vecto
   std::atomic<std::uint64_t> walked{0}, found{0};
   const std::size_t pixels = hits.pixelCount();
   const std::vector<std::uint32_t>& covered = hits.covered;
-  // Pixel state of a pixel whose sub-samples reflect partly off the relic itself: no pixel walk.
-  constexpr std::uint8_t kMixedBounce = 3;
   // Pass 1: one walk per covered pixel (its centre, or the mean ray of its valid
   // sub-samples). Pixel states: 0 nothing of the relic, 1 its walk missed, 2 it met the
   // foreground, kMixedBounce no walk.
@@ -290,11 +329,6 @@ WalkCounts ForegroundWalk::walkView(const HitPointBuffer& hits, const std::vecto
         // The pixels' rays in blocks: gathered, tested against the box together, then walked where
         // they may meet it (or where a miss still reads the visitors: rough map, lobe fallback).
         constexpr std::size_t kBlock = 64;
-        struct PixelRay {
-          std::size_t pixel;
-          vec3 position, normal, reflected;
-          float roughness;
-        };
         std::array<PixelRay, kBlock> rays;
         std::array<std::array<float, kBlock>, 3> origins, directions;
         std::array<std::uint8_t, kBlock> may_meet;
@@ -306,45 +340,20 @@ WalkCounts ForegroundWalk::walkView(const HitPointBuffer& hits, const std::vecto
             const std::size_t first = hits.firstSample(p);
             for (std::size_t i = first; i < first + std::size_t(hits.sampleCount(p)); ++i)
               fg[i] = ForegroundSample{};
-            const std::size_t count = std::size_t(hits.sampleCount(p));
-            vec3 position(0.0f), normal(0.0f), reflected(0.0f);
-            float roughness = 0.0f;
-            int valid = 0, bounced = 0;
-            for (std::size_t i = first; i < first + count; ++i) {
-              if (!hits.valid[i]) continue;
-              const WalkRay& wr = walk_rays[i];
-              position += wr.position;
-              normal += wr.normal;
-              reflected += wr.reflected;
-              roughness += wr.roughness;
-              bounced += wr.bounced;
-              ++valid;
-            }
-            if (valid == 0) continue;
-            const float inv = 1.0f / float(valid);
-            const float nl = glm::length(normal), rl = glm::length(reflected);
-            scratch.pixel_state[p] = 1;
-            // Opposite sub-samples, or some reflected directly and some off the relic: no
-            // mean ray (the sub-samples walk, pass 2).
-            if (bounced != 0 && bounced != valid) scratch.pixel_state[p] = kMixedBounce;
-            if (!(nl > 1e-6f) || !(rl > 1e-6f) || scratch.pixel_state[p] == kMixedBounce) continue;
-            const PixelRay ray{p, position * inv, normal / nl, reflected / rl, roughness * inv};
-            const vec3 origin = ray.position + ray.normal * settings_.ray_offset;
+            const std::optional<PixelRay> ray = meanPixelRay(hits, walk_rays, p, scratch.pixel_state[p]);
+            if (!ray) continue;
+            const vec3 origin = ray->position + ray->normal * settings_.ray_offset;
             for (std::size_t a = 0; a < 3; ++a) {
               origins[a][n] = origin[int(a)];
-              directions[a][n] = ray.reflected[int(a)];
+              directions[a][n] = ray->reflected[int(a)];
             }
-            rays[n++] = ray;
+            rays[n++] = *ray;
           }
           mayMeetBox(box, n, origins, directions, may_meet);
           for (std::size_t j = 0; j < n; ++j) {
             const PixelRay& ray = rays[j];
             ++local_walked;
-            // A ray that misses every voxel reads nothing unless it reads the rough map or falls
-            // back to the visitors it passes near (walk()).
-            const bool reads_on_a_miss = readsRoughMap(rough_map_, settings_, ray.roughness) ||
-                                         !(ray.roughness < settings_.lobe_fallback_roughness);
-            if (!may_meet[j] && !reads_on_a_miss) continue;
+            if (!may_meet[j] && missReadsNothing(ray.roughness)) continue;
             if (!walk(ray.position, ray.normal, ray.reflected, ray.roughness, scratch.pixel_fg[ray.pixel]))
               continue;
             ++local_found;

@@ -91,6 +91,10 @@ class ForegroundWalk {
   // best covered point of the ray followed on through the occupied voxels, each read in the camera
   // that saw its voxel); false when that camera has no image this frame.
   bool readHit(const Ray& ray, const VoxelHit& hit, float roughness, ForegroundSample& sample) const;
+  // Whether a ray of this roughness that meets no voxel reads nothing either (it reads neither the
+  // rough map nor, falling back, the visitors it passes near): walk() gives up on it at once, and
+  // walkView need not walk it once it is known to miss.
+  bool missReadsNothing(float roughness) const;
   // Where the front read covers part of the lobe only (none: a mirror ray that entered the voxel
   // hull beside the visitor's silhouette): the ray steps out of the voxels it met (a limb) and
   // walks on; a visitor behind (the limb's body, seen by the relic around the limb where the
