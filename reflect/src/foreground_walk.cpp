@@ -22,44 +22,63 @@ constexpr float kBesideSilhouette = 0.2f;
 
 // The occupied voxels' box grown by a voxel on every side (metres) and a reach beyond the walk's
 // longest: a ray that misses it within [0, reach] misses the exact box that firstOccupiedVoxel
-// clips to by at least a voxel, far beyond round-off, and so meets no voxel. Most of a frame's
-// mirror rays leave the visitors' box at once; testing a block of them together (vectorised)
-// costs a fraction of setting up a walk for each.
-struct CullBox {
+// clips to by at least a voxel, far beyond round-off, and so meets no voxel. Likewise the boxes of
+// the grid's occupied groups, each grown by a voxel: every occupied voxel lies in one, so a ray
+// that misses them all meets none; where visitors stand apart they leave out the space between
+// them, which the one box spans. Most of a frame's mirror rays miss them; testing a block of rays
+// together (vectorised) costs a fraction of setting up a walk for each.
+struct CullBoxes {
   vec3 lo{0.0f}, hi{-1.0f};  // empty unless some voxel is occupied
   float reach = 0.0f;
+  std::array<vec3, VoxelGrid::kMaxOccupiedGroups> group_lo{}, group_hi{};
+  std::size_t groups = 0;  // 0 where one group holds every voxel: the box alone
 };
 
-CullBox cullBoxOf(const VoxelGrid& grid, float t_max) {
-  CullBox box;
+CullBoxes cullBoxesOf(const VoxelGrid& grid, float t_max) {
+  CullBoxes boxes;
   const glm::ivec3 lo = grid.occupiedLo(), hi = grid.occupiedHi();
-  if (grid.empty() || glm::any(glm::greaterThanEqual(lo, hi))) return box;
+  if (grid.empty() || glm::any(glm::greaterThanEqual(lo, hi))) return boxes;
   const float size = grid.voxelSize();
-  box.lo = grid.origin() + vec3(lo - 1) * size;
-  box.hi = grid.origin() + vec3(hi + 1) * size;
-  box.reach = t_max * 1.001f + size;
-  return box;
+  boxes.lo = grid.origin() + vec3(lo - 1) * size;
+  boxes.hi = grid.origin() + vec3(hi + 1) * size;
+  boxes.reach = t_max * 1.001f + size;
+  const std::vector<VoxelGrid::VoxelBox>& groups = grid.occupiedGroups();
+  if (groups.size() > 1)
+    for (const VoxelGrid::VoxelBox& g : groups) {
+      boxes.group_lo[boxes.groups] = grid.origin() + vec3(g.lo - 1) * size;
+      boxes.group_hi[boxes.groups] = grid.origin() + vec3(g.hi + 1) * size;
+      ++boxes.groups;
+    }
+  return boxes;
 }
 
-// A block of rays (origins o, unit directions d, structure of arrays) against the box: may[j] is
-// 0 only where ray j cannot meet it. Branch-free. A zero direction component gives infinite slab
-// distances, and NaN only for a ray lying in one of the grown box's planes, a voxel outside the
-// exact box, which it never meets; whatever the test says of such a ray, or of a non-finite one
-// (which the walk misses), the result is the walk's.
+// A block of rays (origins o, unit directions d, structure of arrays) against the boxes: may[j] is
+// 0 only where ray j cannot meet the occupied box or cannot meet any group's. Branch-free. A zero
+// direction component gives infinite slab distances, and NaN only for a ray lying in one of a grown
+// box's planes, a voxel outside the exact one, which it never meets; whatever the test says of
+// such a ray, or of a non-finite one (which the walk misses), the result is the walk's.
 template <std::size_t N>
-void mayMeetBox(const CullBox& box, std::size_t n, const std::array<std::array<float, N>, 3>& o,
-                const std::array<std::array<float, N>, 3>& d, std::array<std::uint8_t, N>& may) {
-  for (std::size_t j = 0; j < n; ++j) {
-    float t0 = 0.0f, t1 = box.reach;
+void mayMeetBoxes(const CullBoxes& boxes, std::size_t n, const std::array<std::array<float, N>, 3>& o,
+                  const std::array<std::array<float, N>, 3>& d, std::array<std::uint8_t, N>& may) {
+  std::array<std::array<float, N>, 3> inv;
+  for (std::size_t a = 0; a < 3; ++a)
+    for (std::size_t j = 0; j < n; ++j) inv[a][j] = 1.0f / d[a][j];
+  const auto meets = [&](const vec3& lo, const vec3& hi, std::size_t j) {
+    float t0 = 0.0f, t1 = boxes.reach;
     for (int a = 0; a < 3; ++a) {
-      const float inv = 1.0f / d[std::size_t(a)][j];
-      const float ta = (box.lo[a] - o[std::size_t(a)][j]) * inv,
-                  tb = (box.hi[a] - o[std::size_t(a)][j]) * inv;
+      const float ta = (lo[a] - o[std::size_t(a)][j]) * inv[std::size_t(a)][j],
+                  tb = (hi[a] - o[std::size_t(a)][j]) * inv[std::size_t(a)][j];
       t0 = std::max(t0, std::min(ta, tb));
       t1 = std::min(t1, std::max(ta, tb));
     }
-    may[j] = std::uint8_t(!(t0 > t1));
-  }
+    return std::uint8_t(!(t0 > t1));
+  };
+  for (std::size_t j = 0; j < n; ++j) may[j] = meets(boxes.lo, boxes.hi, j);
+  if (boxes.groups == 0) return;
+  std::array<std::uint8_t, N> any{};
+  for (std::size_t g = 0; g < boxes.groups; ++g)
+    for (std::size_t j = 0; j < n; ++j) any[j] |= meets(boxes.group_lo[g], boxes.group_hi[g], j);
+  for (std::size_t j = 0; j < n; ++j) may[j] &= any[j];
 }
 
 // Pixel state of a pixel whose sub-samples reflect partly off the relic itself: no pixel walk.
@@ -322,7 +341,7 @@ WalkCounts ForegroundWalk::walkView(const HitPointBuffer& hits, const std::vecto
   // foreground, kMixedBounce no walk.
   scratch.pixel_fg.resize(pixels);
   scratch.pixel_state.assign(pixels, 0);
-  const CullBox box = cullBoxOf(grid_, settings_.max_reflection_distance);
+  const CullBoxes boxes = cullBoxesOf(grid_, settings_.max_reflection_distance);
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, covered.size(), 256), [&](const tbb::blocked_range<std::size_t>& r) {
         std::uint64_t local_walked = 0, local_found = 0;
@@ -349,7 +368,7 @@ WalkCounts ForegroundWalk::walkView(const HitPointBuffer& hits, const std::vecto
             }
             rays[n++] = *ray;
           }
-          mayMeetBox(box, n, origins, directions, may_meet);
+          mayMeetBoxes(boxes, n, origins, directions, may_meet);
           for (std::size_t j = 0; j < n; ++j) {
             const PixelRay& ray = rays[j];
             ++local_walked;

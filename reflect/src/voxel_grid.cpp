@@ -93,6 +93,9 @@ void VoxelGrid::clear() {
   samples_.clear();
   sample_voxel_.clear();
   blocks_used_ = 0;
+  block_brick_.clear();
+  block_bounds_.clear();
+  groups_.clear();
   occ_lo_ = dims_;
   occ_hi_ = glm::ivec3(0);
   dropped_ = 0;
@@ -146,7 +149,12 @@ void VoxelGrid::build(const depthfilter::ForegroundCloud& cloud) {
         const std::size_t needed = std::size_t(blocks_used_) * std::size_t(brick_volume_);
         if (brick_samples_.size() < needed)
           brick_samples_.resize(std::max(needed, 2 * brick_samples_.size()));
+        block_brick_.push_back(v / settings_.brick_size);
+        block_bounds_.push_back({v, v + 1});
       }
+      VoxelBox& bounds = block_bounds_[std::size_t(block)];
+      bounds.lo = glm::min(bounds.lo, v);
+      bounds.hi = glm::max(bounds.hi, v + 1);
       brick_samples_[std::size_t(std::uint64_t(block) * brick_volume_ + (bit - brick * brick_volume_))] =
           slot;
       occ_lo_ = glm::min(occ_lo_, v);
@@ -166,6 +174,83 @@ void VoxelGrid::build(const depthfilter::ForegroundCloud& cloud) {
     }
   }
   computeBrickDistances();
+  groupOccupiedBricks();
+}
+
+namespace {
+
+std::int64_t volume(const VoxelGrid::VoxelBox& b) {
+  const glm::ivec3 e = b.hi - b.lo;
+  return std::int64_t(e.x) * e.y * e.z;
+}
+
+VoxelGrid::VoxelBox unite(const VoxelGrid::VoxelBox& a, const VoxelGrid::VoxelBox& b) {
+  return {glm::min(a.lo, b.lo), glm::max(a.hi, b.hi)};
+}
+
+}  // namespace
+
+// Union-find over the occupied bricks (26-connected) in the order the build first met them, so that
+// the same cloud gives the same groups in the same order. O(occupied bricks).
+void VoxelGrid::groupOccupiedBricks() {
+  const std::size_t blocks = std::size_t(blocks_used_);
+  std::vector<std::int32_t>& parent = block_group_;
+  parent.resize(blocks);
+  for (std::size_t i = 0; i < blocks; ++i) parent[i] = std::int32_t(i);
+  const auto root = [&](std::int32_t i) {
+    while (parent[std::size_t(i)] != i)
+      i = parent[std::size_t(i)] = parent[std::size_t(parent[std::size_t(i)])];
+    return i;
+  };
+  for (std::size_t i = 0; i < blocks; ++i) {
+    const glm::ivec3 b = block_brick_[i];
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const glm::ivec3 n = b + glm::ivec3(dx, dy, dz);
+          if (glm::any(glm::lessThan(n, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(n, brick_dims_)))
+            continue;
+          const std::int32_t other = brick_block_[std::size_t(brickIndex(n))];
+          if (other < 0) continue;
+          const std::int32_t a = root(std::int32_t(i)), c = root(other);
+          if (a != c) parent[std::size_t(std::max(a, c))] = std::min(a, c);
+        }
+  }
+  // Each group's box and occupied voxels, groups in the order of their first block.
+  struct Group {
+    VoxelBox box;
+    std::uint64_t voxels = 0;
+  };
+  std::vector<Group> groups;
+  std::vector<std::int32_t> slot(blocks, -1);
+  for (std::size_t i = 0; i < blocks; ++i) {
+    const std::int32_t r = root(std::int32_t(i));
+    if (slot[std::size_t(r)] < 0) {
+      slot[std::size_t(r)] = std::int32_t(groups.size());
+      groups.push_back({block_bounds_[i], 0});
+    }
+    Group& g = groups[std::size_t(slot[std::size_t(r)])];
+    g.box = unite(g.box, block_bounds_[i]);
+    g.voxels += brick_count_[std::size_t(brickIndex(block_brick_[i]))];
+  }
+  // The largest groups keep their boxes; each other one joins the box that grows least by it.
+  std::stable_sort(groups.begin(), groups.end(),
+                   [](const Group& a, const Group& b) { return a.voxels > b.voxels; });
+  const std::size_t kept = std::min(groups.size(), kMaxOccupiedGroups);
+  groups_.clear();
+  for (std::size_t i = 0; i < kept; ++i) groups_.push_back(groups[i].box);
+  for (std::size_t i = kept; i < groups.size(); ++i) {
+    std::size_t best = 0;
+    std::int64_t best_growth = std::numeric_limits<std::int64_t>::max();
+    for (std::size_t k = 0; k < kept; ++k) {
+      const std::int64_t growth = volume(unite(groups_[k], groups[i].box)) - volume(groups_[k]);
+      if (growth < best_growth) {
+        best_growth = growth;
+        best = k;
+      }
+    }
+    groups_[best] = unite(groups_[best], groups[i].box);
+  }
 }
 
 // Exact Chebyshev (L-infinity, chessboard) distance transform of the brick occupancy by two

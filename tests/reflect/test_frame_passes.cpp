@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <utility>
+#include <vector>
 
 #include "compose_pass.hpp"
 #include "foreground_walk.hpp"
@@ -420,14 +422,15 @@ TEST(CameraChoice, TakesTheCameraLookingMostAlongTheRayThatSeesThePoint) {
   EXPECT_FALSE(along(vec3(0.0f), vec3(0.0f, 0.0f, -1.0f)));
 }
 
-// test::redWall() voxelised on the small grid, seen by its camera, and a walk over it.
+// A red wall (test::redWall() unless given) voxelised on the small grid, seen by its camera, and a
+// walk over it.
 struct RedWallWalk {
-  RedWallWalk() {
+  explicit RedWallWalk(test::RedWall red_wall = test::redWall()) : wall(std::move(red_wall)) {
     grid.build(wall.cloud);
     pyramids[0].build(wall.camera.colour_bgr, wall.camera.mask, settings.pyramid_levels);
   }
   const TracerSettings settings = test::smallGrid();
-  const test::RedWall wall = test::redWall();
+  const test::RedWall wall;
   VoxelGrid grid{settings.grid};
   const std::vector<ForegroundCameraImage> cameras = {wall.camera};
   std::vector<ForegroundPyramid> pyramids = std::vector<ForegroundPyramid>(1);
@@ -461,22 +464,20 @@ TEST(ForegroundWalkPass, MirrorRaysMeetTheWallInItsColour) {
   EXPECT_EQ(fg[0].weight, 0.0f);
 }
 
-TEST(ForegroundWalkPass, RaysLeftUnwalkedBesideTheVisitorsBoxAreExactlyTheMisses) {
-  // walkView tests its rays against the occupied voxels' box before walking them: every pixel's
-  // result must be the walk's own. Each pixel of the sphere gets an adversarial ray: along an axis
-  // (zero direction components), starting on the planes of the occupied box and of the box grown by
-  // a voxel, grazing their edges, from inside the box, or anywhere; some rough enough that a miss
-  // still reads the visitors it passes near.
+// walkView tests its rays against the occupied voxels' box and the boxes of the grid's occupied
+// groups before walking them: every pixel's result must be the walk's own. Each pixel of the sphere
+// gets an adversarial ray: along an axis (zero direction components), starting on the planes of
+// one of those boxes or of the box grown by a voxel, grazing their edges, from inside a box, or
+// anywhere; some rough enough that a miss still reads the visitors it passes near.
+void expectUnwalkedRaysAreTheMisses(const RedWallWalk& w) {
   const MirrorSphere m;
-  const RedWallWalk w;
   const TracerSettings& s = w.settings;
   const VoxelGrid& grid = w.grid;
   const ForegroundWalk& walk = w.walk;
   StaticResult st = shadeStatic(m.scene, m.ibl, s, m.hits, m.view);
   const float voxel = grid.voxelSize();
-  const vec3 lo = grid.origin() + vec3(grid.occupiedLo()) * voxel;
-  const vec3 hi = grid.origin() + vec3(grid.occupiedHi()) * voxel;
-  const vec3 planes[4] = {lo, hi, lo - vec3(voxel), hi + vec3(voxel)};
+  std::vector<VoxelGrid::VoxelBox> boxes = {{grid.occupiedLo(), grid.occupiedHi()}};
+  boxes.insert(boxes.end(), grid.occupiedGroups().begin(), grid.occupiedGroups().end());
   const vec3 axes[6] = {vec3(1, 0, 0),  vec3(-1, 0, 0), vec3(0, 1, 0),
                         vec3(0, -1, 0), vec3(0, 0, 1),  vec3(0, 0, -1)};
   std::uint32_t state = 12345u;
@@ -484,8 +485,11 @@ TEST(ForegroundWalkPass, RaysLeftUnwalkedBesideTheVisitorsBoxAreExactlyTheMisses
     state = state * 1664525u + 1013904223u;
     return float(state >> 8) / float(1u << 24);
   };
-  const vec3 centre = 0.5f * (lo + hi), extent = hi - lo;
   for (const std::uint32_t p : m.hits.covered) {
+    const VoxelGrid::VoxelBox& box = boxes[p / 7 % boxes.size()];
+    const vec3 lo = grid.origin() + vec3(box.lo) * voxel, hi = grid.origin() + vec3(box.hi) * voxel;
+    const vec3 planes[4] = {lo, hi, lo - vec3(voxel), hi + vec3(voxel)};
+    const vec3 centre = 0.5f * (lo + hi), extent = hi - lo;
     WalkRay& ray = st.walk_rays[p];
     const int kind = int(p % 5);
     vec3 origin = centre + (vec3(uniform(), uniform(), uniform()) - 0.5f) * 3.0f * extent;
@@ -500,7 +504,7 @@ TEST(ForegroundWalkPass, RaysLeftUnwalkedBesideTheVisitorsBoxAreExactlyTheMisses
       const vec3 corner(p % 3 == 0 ? plane_lo.x : plane_hi.x, p % 7 < 3 ? plane_lo.y : plane_hi.y,
                         p % 11 < 5 ? plane_lo.z : plane_hi.z);
       direction = glm::normalize(corner - origin);
-    } else if (kind == 2) {  // from inside the occupied box
+    } else if (kind == 2) {  // from inside the box
       origin = lo + vec3(uniform(), uniform(), uniform()) * extent;
     }
     // The ray starts ray_offset along the normal; with the normal along the direction the ray is
@@ -529,6 +533,23 @@ TEST(ForegroundWalkPass, RaysLeftUnwalkedBesideTheVisitorsBoxAreExactlyTheMisses
   // Both outcomes are well represented.
   EXPECT_GT(met, m.hits.covered.size() / 20);
   EXPECT_GT(missed, m.hits.covered.size() / 4);
+}
+
+TEST(ForegroundWalkPass, RaysLeftUnwalkedBesideTheVisitorsBoxAreExactlyTheMisses) {
+  const RedWallWalk w;
+  ASSERT_EQ(w.grid.occupiedGroups().size(), 1u);
+  expectUnwalkedRaysAreTheMisses(w);
+}
+
+TEST(ForegroundWalkPass, RaysLeftUnwalkedBetweenVisitorsStandingApartAreExactlyTheMisses) {
+  // Three pieces of the wall apart (left, right, above the middle), as three visitors: the grid's
+  // groups leave out the space between them, which the one occupied box spans.
+  test::RedWall walls = test::redWall(-0.5f, 0.0f, 21, 41);
+  for (const test::RedWall& more : {test::redWall(0.3f, 0.0f, 21, 41), test::redWall(-0.1f, 0.6f, 21, 11)})
+    walls.cloud.points.insert(walls.cloud.points.end(), more.cloud.points.begin(), more.cloud.points.end());
+  const RedWallWalk w(walls);
+  ASSERT_EQ(w.grid.occupiedGroups().size(), 3u);
+  expectUnwalkedRaysAreTheMisses(w);
 }
 
 TEST(CompositionPass, ComposesOnlyWhereTheForegroundReachedAndTonemapsThose) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <limits>
 #include <random>
+#include <tuple>
 
 #include "holo/core/error.hpp"
 #include "synthetic_foreground.hpp"
@@ -202,6 +203,136 @@ TEST(VoxelGrid, BrickLocalReadsAgreeWithTheVoxelArrayOverRebuilds) {
           }
       EXPECT_EQ(occupied, grid.occupiedCount());
     }
+  }
+}
+
+// The occupied bricks' 26-connected groups by a search over the brick grid, each as the exact
+// bounds of its occupied voxels.
+std::vector<std::pair<glm::ivec3, glm::ivec3>> searchedGroups(const VoxelGrid& grid) {
+  const glm::ivec3 n = grid.brickDims();
+  const int b = grid.brickSize();
+  const auto index = [&](const glm::ivec3& c) { return std::size_t((c.z * n.y + c.y) * n.x + c.x); };
+  std::vector<bool> seen(std::size_t(n.x * n.y * n.z), false);
+  std::vector<std::pair<glm::ivec3, glm::ivec3>> groups;
+  for (int z = 0; z < n.z; ++z)
+    for (int y = 0; y < n.y; ++y)
+      for (int x = 0; x < n.x; ++x) {
+        if (seen[index({x, y, z})] || grid.brickCount({x, y, z}) == 0) continue;
+        glm::ivec3 lo(std::numeric_limits<int>::max()), hi(std::numeric_limits<int>::min());
+        std::vector<glm::ivec3> open = {{x, y, z}};
+        seen[index({x, y, z})] = true;
+        while (!open.empty()) {
+          const glm::ivec3 c = open.back();
+          open.pop_back();
+          for (int v = 0; v < b * b * b; ++v) {
+            const glm::ivec3 voxel = c * b + glm::ivec3(v % b, v / b % b, v / (b * b));
+            if (!grid.occupied(voxel)) continue;
+            lo = glm::min(lo, voxel);
+            hi = glm::max(hi, voxel + 1);
+          }
+          for (int d = 0; d < 27; ++d) {
+            const glm::ivec3 m = c + glm::ivec3(d % 3 - 1, d / 3 % 3 - 1, d / 9 - 1);
+            if (glm::any(glm::lessThan(m, glm::ivec3(0))) || glm::any(glm::greaterThanEqual(m, n))) continue;
+            if (seen[index(m)] || grid.brickCount(m) == 0) continue;
+            seen[index(m)] = true;
+            open.push_back(m);
+          }
+        }
+        groups.push_back({lo, hi});
+      }
+  return groups;
+}
+
+using Boxes = std::vector<std::pair<glm::ivec3, glm::ivec3>>;
+
+Boxes sorted(Boxes groups) {
+  const auto key = [](const std::pair<glm::ivec3, glm::ivec3>& g) {
+    return std::make_tuple(g.first.x, g.first.y, g.first.z, g.second.x, g.second.y, g.second.z);
+  };
+  std::sort(groups.begin(), groups.end(), [&](const auto& a, const auto& b) { return key(a) < key(b); });
+  return groups;
+}
+
+Boxes groupsOf(const VoxelGrid& grid) {
+  Boxes groups;
+  for (const VoxelGrid::VoxelBox& g : grid.occupiedGroups()) groups.push_back({g.lo, g.hi});
+  return groups;
+}
+
+// Every occupied voxel lies in one of the grid's group boxes.
+void expectGroupsHoldEveryVoxel(const VoxelGrid& grid) {
+  std::size_t held = 0;
+  grid.forEachOccupied([&](const glm::ivec3& v, const VoxelSample&) {
+    for (const VoxelGrid::VoxelBox& g : grid.occupiedGroups())
+      if (glm::all(glm::greaterThanEqual(v, g.lo)) && glm::all(glm::lessThan(v, g.hi))) {
+        ++held;
+        return;
+      }
+  });
+  EXPECT_EQ(held, grid.occupiedCount());
+}
+
+// A cluster of points around `centre` (metres), a visitor's worth of voxels.
+void addCluster(ForegroundCloud& cloud, const vec3& centre, float radius, std::mt19937& rng) {
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  for (int i = 0; i < 40; ++i)
+    cloud.points.push_back(point(centre + radius * vec3(u(rng), u(rng), u(rng)), 1.0f, 0, std::uint16_t(i)));
+}
+
+VoxelGridSettings groupSettings() {
+  VoxelGridSettings s;
+  s.bounds = {vec3(0.0f), vec3(1.2f, 0.6f, 0.9f)};
+  s.voxel_size = 0.05f;  // 24 x 12 x 18 voxels, bricks of 3: 8 x 4 x 6
+  s.brick_size = 3;
+  return s;
+}
+
+TEST(VoxelGrid, OccupiedGroupsAreTheExactBoundsOfConnectedBricks) {
+  VoxelGrid grid(groupSettings());
+  // Two visitors at opposite corners: two boxes, the space between them in neither.
+  std::mt19937 rng(11);
+  ForegroundCloud apart;
+  addCluster(apart, vec3(0.15f, 0.15f, 0.15f), 0.08f, rng);
+  addCluster(apart, vec3(1.0f, 0.45f, 0.75f), 0.08f, rng);
+  grid.build(apart);
+  ASSERT_EQ(grid.occupiedGroups().size(), 2u);
+  EXPECT_EQ(sorted(groupsOf(grid)), sorted(searchedGroups(grid)));
+  const glm::ivec3 middle = grid.voxelOf(vec3(0.6f, 0.3f, 0.45f));
+  for (const VoxelGrid::VoxelBox& g : grid.occupiedGroups())
+    EXPECT_FALSE(glm::all(glm::greaterThanEqual(middle, g.lo)) && glm::all(glm::lessThan(middle, g.hi)));
+  // Rebuilds with a few clusters each, up to the kept count: exactly the searched groups.
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (int round = 0; round < 6; ++round) {
+    ForegroundCloud cloud;
+    for (int c = 0; c < 1 + round; ++c)
+      addCluster(cloud, vec3(1.2f * u(rng), 0.6f * u(rng), 0.9f * u(rng)), 0.02f + 0.1f * u(rng), rng);
+    grid.build(cloud);
+    const auto searched = searchedGroups(grid);
+    ASSERT_LE(searched.size(), VoxelGrid::kMaxOccupiedGroups) << "round " << round;
+    EXPECT_EQ(sorted(groupsOf(grid)), sorted(searched)) << "round " << round;
+    expectGroupsHoldEveryVoxel(grid);
+  }
+  grid.build(ForegroundCloud{});
+  EXPECT_TRUE(grid.occupiedGroups().empty());
+}
+
+TEST(VoxelGrid, OccupiedGroupsBeyondTheKeptCountAreMergedAndStillHoldEveryVoxel) {
+  // Points in bricks two apart (none of them neighbours), a random choice of 9 to 24 of them.
+  VoxelGrid grid(groupSettings());
+  std::vector<vec3> apart;
+  for (int z = 0; z < 6; z += 2)
+    for (int y = 0; y < 4; y += 2)
+      for (int x = 0; x < 8; x += 2) apart.push_back((vec3(x, y, z) * 3.0f + 1.5f) * 0.05f);
+  std::mt19937 rng(5);
+  for (int round = 0; round < 4; ++round) {
+    std::shuffle(apart.begin(), apart.end(), rng);
+    ForegroundCloud cloud;
+    for (std::size_t i = 0; i < 9 + 5 * std::size_t(round); ++i)
+      cloud.points.push_back(point(apart[i], 1.0f, 0, std::uint16_t(i)));
+    grid.build(cloud);
+    ASSERT_GT(searchedGroups(grid).size(), VoxelGrid::kMaxOccupiedGroups) << "round " << round;
+    EXPECT_EQ(grid.occupiedGroups().size(), VoxelGrid::kMaxOccupiedGroups) << "round " << round;
+    expectGroupsHoldEveryVoxel(grid);
   }
 }
 

@@ -136,9 +136,23 @@ class VoxelGrid {
   glm::ivec3 occupiedLo() const { return occ_lo_; }
   glm::ivec3 occupiedHi() const { return occ_hi_; }
 
+  // A box of voxels [lo, hi) in voxel coordinates.
+  struct VoxelBox {
+    glm::ivec3 lo{0}, hi{0};
+  };
+  static constexpr std::size_t kMaxOccupiedGroups = 8;
+  // At most kMaxOccupiedGroups boxes that together hold every occupied voxel (none when the grid is
+  // empty), each the exact voxel bounds of a group of occupied bricks: the bricks' 26-connected
+  // groups, the smaller groups beyond that count merged into the larger ones where the box grows
+  // least. Visitors standing apart get boxes apart, where the one occupied box spans the space
+  // between them (around the pyramid, the relic too): a ray that meets none of these boxes meets
+  // no occupied voxel. In a fixed order for a given set of points.
+  const std::vector<VoxelBox>& occupiedGroups() const { return groups_; }
+
  private:
   std::size_t brickLinear(const glm::ivec3& v) const;
   void computeBrickDistances();
+  void groupOccupiedBricks();
   std::uint64_t brickIndex(const glm::ivec3& brick) const {
     return std::uint64_t((brick.z * brick_dims_.y + brick.y) * brick_dims_.x + brick.x);
   }
@@ -165,6 +179,11 @@ class VoxelGrid {
   std::vector<std::int32_t> brick_block_;
   std::vector<std::int32_t> brick_samples_;
   std::int32_t blocks_used_ = 0;
+  // Per occupied brick, in the order of their blocks: the brick and its occupied voxels' bounds.
+  std::vector<glm::ivec3> block_brick_;
+  std::vector<VoxelBox> block_bounds_;
+  std::vector<std::int32_t> block_group_;  // groupOccupiedBricks' union-find parents, kept
+  std::vector<VoxelBox> groups_;
   float inverse_voxel_size_ = 0.0f;
   float inverse_brick_size_ = 0.0f;
   std::uint64_t brick_volume_ = 0;          // brick_size^3
