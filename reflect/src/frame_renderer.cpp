@@ -11,6 +11,7 @@
 
 #include "axis_aligned_filter.hpp"
 #include "compose_pass.hpp"
+#include "composed_images.hpp"
 #include "foreground_walk.hpp"
 #include "holo/reflect/tone_map.hpp"
 #include "internal_depth.hpp"
@@ -289,7 +290,10 @@ struct FrameRenderer::ViewCache {
   // The static result. Never written once handed out: a rebuild allocates new images, so a
   // caller's FrameResult keeps the pixels it was given.
   cv::Mat hdr, coverage, display, zero_weight;
-  float display_exposure = 0.0f;     // the exposure `display` was tone-mapped at; 0: none
+  float display_exposure = 0.0f;  // the exposure `display` was tone-mapped at; 0: none
+  // Changes whenever hdr, display or hits.covered do: what `composed` restores its images from.
+  std::uint64_t static_version = 0;
+  ComposedImages composed;           // with ForegroundWalk: the images handed out, over the static ones
   ProgressiveAccumulation progress;  // with ProgressiveRefinement
   // With VisitorLight: what the static shading fixes of each sample's response to the visitors'
   // light; stale once the shading changes (a new static pass or a refinement step).
@@ -583,6 +587,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     }
     cache.camera = view;
     cache.display_exposure = 0.0f;
+    ++cache.static_version;
     cache.ready = true;
     cache.receivers_ready = false;
     if (refine) {
@@ -615,6 +620,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     out.refinement_reset = step.reset;
     if (step.image_changed) cache.display_exposure = 0.0f;
     if (step.samples > 0 || step.image_changed) cache.receivers_ready = false;
+    ++cache.static_version;
   }
   if (refines_) out.accumulated_sets = cache.progress.sets();
   if (fixed_exposure && cache.display_exposure != settings_.exposure) {
@@ -622,6 +628,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     cache.display = toneMapCovered(cache.hdr, plan.has(Pass::Plinth) ? cache.shown : cache.hits.covered,
                                    settings_.exposure);
     cache.display_exposure = settings_.exposure;
+    ++cache.static_version;
   }
   const HitPointBuffer& hits = cache.hits;
   out.camera = cache.camera;
@@ -647,12 +654,14 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
       out.refracted_walks = RefractionPass(scene_, ibl_, settings_, plan.internal_depth, true, false)
                                 .walkTransmitted(hits, walk, cache.layers);
     }
-    // Over a copy of the static image, only where some foreground was reached (the rest is the
-    // static result already).
+    // Over the static images, only where some foreground was reached (the rest is the static
+    // result already).
     PassTimer t(out.timings, Pass::Composition);
-    out.hdr = cache.hdr.clone();
-    out.weight = cv::Mat::zeros(h, w, CV_32FC1);  // written, not copied: half the memory traffic
-    if (fixed_exposure) out.display = cache.display.clone();
+    const ComposedImages::Images composed = cache.composed.next(
+        cache.hdr, fixed_exposure ? cache.display : cv::Mat(), cache.static_version, hits.covered);
+    out.hdr = composed.hdr;
+    out.weight = composed.weight;
+    out.display = composed.display;
     out.composed_pixels =
         composeForeground(hits, cache.shading, cache.fg, fixed_exposure ? settings_.exposure : 0.0f, out.hdr,
                           out.weight, out.display, layered ? &cache.layers : nullptr);

@@ -4,6 +4,8 @@
 // again per frame (static_pass_schedule.hpp).
 #include <gtest/gtest.h>
 
+#include <vector>
+
 #include <opencv2/core.hpp>
 
 #include <tbb/task_arena.h>
@@ -222,6 +224,58 @@ TEST(FrameRenderer, AMovedEyeRetracesBeyondTheReuseDistance) {
   const ViewImages d = renderer.render(s.wall, {s.camera}, {s.view(moved, 48)}).views.at(0);
   EXPECT_FALSE(d.static_reused);
   EXPECT_EQ(d.display.cols, 48);
+}
+
+TEST(FrameRenderer, ComposedImagesWrittenAgainEqualFreshOnesAndKeptOnesStay) {
+  // A renderer whose caller lets each frame go before the next composes into the images it handed
+  // out before (restoring the covered pixels from the static ones, or copying those whole after a
+  // re-trace); one whose caller keeps every frame gets fresh images each time. Frame after frame
+  // the visitor moves, and the eye moves twice (static images traced again): the two must agree bit
+  // for bit, and the kept frames must not change. At a fixed exposure the static display is
+  // composed over too; at an automatic one the display is tone-mapped from the composed image.
+  const SphereScene s;
+  for (const float exposure : {1.5f, 0.0f}) {
+    SCOPED_TRACE(exposure);
+    TracerSettings tracer = settings(1, true);
+    tracer.exposure = exposure;
+    FrameRenderer written_again(s.scene, s.ibl, tracer);
+    FrameRenderer kept(s.scene, s.ibl, tracer);
+    std::vector<FrameResult> kept_frames;
+    std::vector<cv::Mat> kept_copies;
+    std::size_t buffers_written_again = 0, static_reused = 0;
+    const uchar* last_hdr = nullptr;
+    for (int f = 0; f < 8; ++f) {
+      ForegroundCloud visitor = s.wall;
+      for (ForegroundPoint& p : visitor.points) p.position.x += 0.03f * float(f % 4);
+      const vec3 eye = f < 3 ? kEye : f < 6 ? kEye + vec3(0.1f, 0.0f, 0.0f) : kEye;
+      const CameraModel view = s.view(eye);
+      const FrameResult k = kept.render(visitor, {s.camera}, {view});
+      const FrameResult a = written_again.render(visitor, {s.camera}, {view});
+      const ViewImages& va = a.views.at(0);
+      const ViewImages& vk = k.views.at(0);
+      ASSERT_TRUE(a.plan.has(Pass::ForegroundWalk)) << a.plan.describe();
+      EXPECT_GT(va.composed_pixels, 0u) << "frame " << f;
+      EXPECT_EQ(cv::norm(va.hdr, vk.hdr, cv::NORM_INF), 0.0) << "frame " << f;
+      EXPECT_EQ(cv::norm(va.weight, vk.weight, cv::NORM_INF), 0.0) << "frame " << f;
+      EXPECT_EQ(cv::norm(va.display, vk.display, cv::NORM_INF), 0.0) << "frame " << f;
+      buffers_written_again += va.hdr.data == last_hdr;
+      static_reused += va.static_reused;
+      last_hdr = va.hdr.data;
+      kept_frames.push_back(k);
+      kept_copies.push_back(vk.hdr.clone());
+      kept_copies.push_back(vk.weight.clone());
+      kept_copies.push_back(vk.display.clone());
+    }
+    // Both ways of writing again ran: after a re-trace and over reused static images.
+    EXPECT_GE(static_reused, 4u);
+    EXPECT_GE(buffers_written_again, 6u);
+    for (std::size_t f = 0; f < kept_frames.size(); ++f) {
+      const ViewImages& v = kept_frames[f].views.at(0);
+      EXPECT_EQ(cv::norm(v.hdr, kept_copies[3 * f], cv::NORM_INF), 0.0) << "frame " << f;
+      EXPECT_EQ(cv::norm(v.weight, kept_copies[3 * f + 1], cv::NORM_INF), 0.0) << "frame " << f;
+      EXPECT_EQ(cv::norm(v.display, kept_copies[3 * f + 2], cv::NORM_INF), 0.0) << "frame " << f;
+    }
+  }
 }
 
 TEST(FrameRenderer, RejectsBadReuseAndEdgeSettings) {
