@@ -3,9 +3,12 @@
 namespace holo::reflect {
 namespace {
 
-// Whether a caller still refers to the image's buffer (this object's reference aside).
+// Whether a caller still refers to the image's buffer (this object's reference aside). Read
+// atomically: another thread may be letting its reference go (cv::Mat releases by an atomic
+// decrement). Once the count reads 1 nobody else can take a reference, and the acquire orders that
+// thread's last reads of the pixels before the writes that follow.
 bool held(const cv::Mat& image) {
-  return image.u != nullptr && image.u->refcount > 1;
+  return image.u != nullptr && __atomic_load_n(&image.u->refcount, __ATOMIC_ACQUIRE) > 1;
 }
 
 }  // namespace
