@@ -146,7 +146,7 @@ class VoxelGrid {
   // groups, the smaller groups beyond that count merged into the larger ones where the box grows
   // least. Visitors standing apart get boxes apart, where the one occupied box spans the space
   // between them (around the pyramid, the relic too): a ray that meets none of these boxes meets
-  // no occupied voxel. In a fixed order for a given set of points.
+  // no occupied voxel. The same cloud gives the same boxes in the same order.
   const std::vector<VoxelBox>& occupiedGroups() const { return groups_; }
 
  private:
