@@ -1,11 +1,13 @@
 #include "holo/depthfilter/reused_zero_image.hpp"
 
+#include "holo/core/image_sharing.hpp"
+
 namespace holo::depthfilter {
 
 cv::Mat ReusedZeroImage::next(cv::Size size, int type) {
-  // refcount 1: only image_ refers to the buffer, so no image handed out earlier can see it change.
+  // Only image_ refers to the buffer: no image handed out earlier can see it change.
   const bool reusable = !image_.empty() && image_.size() == size && image_.type() == type &&
-                        image_.u != nullptr && image_.u->refcount == 1;
+                        image_.u != nullptr && !sharedElsewhere(image_);
   if (reusable) {
     image_(written_ & cv::Rect(0, 0, size.width, size.height)).setTo(0);
   } else {

@@ -1,24 +1,16 @@
 #include "composed_images.hpp"
 
+#include "holo/core/image_sharing.hpp"
+
 namespace holo::reflect {
-namespace {
-
-// Whether a caller still refers to the image's buffer (this object's reference aside). Read
-// atomically: another thread may be letting its reference go (cv::Mat releases by an atomic
-// decrement). Once the count reads 1 nobody else can take a reference, and the acquire orders that
-// thread's last reads of the pixels before the writes that follow.
-bool held(const cv::Mat& image) {
-  return image.u != nullptr && __atomic_load_n(&image.u->refcount, __ATOMIC_ACQUIRE) > 1;
-}
-
-}  // namespace
 
 ComposedImages::Images ComposedImages::next(const cv::Mat& static_hdr, const cv::Mat& static_display,
                                             std::uint64_t static_version,
                                             const std::vector<std::uint32_t>& covered) {
   for (Kept& kept : kept_) {
     Images& images = kept.images;
-    if (held(images.hdr) || held(images.weight) || held(images.display)) continue;
+    if (sharedElsewhere(images.hdr) || sharedElsewhere(images.weight) || sharedElsewhere(images.display))
+      continue;
     const bool same_static = !images.hdr.empty() && kept.static_version == static_version &&
                              images.hdr.size() == static_hdr.size() &&
                              images.display.empty() == static_display.empty();
