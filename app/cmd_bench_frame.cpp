@@ -87,14 +87,15 @@ int runBenchFrame(BenchFrameCommand command) {
       "frame / floor: {:.1f}x (against the one-ray floor: {:.1f}x)\n"
       "CPU per frame / CPU of the packet floor ({:.2f} ms): {:.2f}x\n"
       "cores busy during the frames: {:.2f} of {} ({}); {:.0f} page faults per frame\n",
-      options.loop.view_size, options.loop.view_size, b.floor_relic_pixels, b.floor_ms, RayScene::kPacketSize,
-      b.single_ray_floor_ms, b.frameOverFloor(),
+      options.loop.view_size, options.loop.view_size, b.floor_relic_pixels, b.floor_ms,
+      RayScene::nativePacketWidth(), b.single_ray_floor_ms, b.frameOverFloor(),
       b.single_ray_floor_ms > 0 ? b.median.total / b.single_ray_floor_ms : 0.0, b.floor_cpu_ms,
       b.frameCpuOverFloorCpu(), b.busy_cores, std::thread::hardware_concurrency(),
       options.loop.overlap ? "next frame's foreground overlapped" : "no overlap", b.page_faults_per_frame);
   if (!command.json.empty()) {
     nlohmann::json j = nlohmann::json::parse(timingJson(b.median, b.reports, b.cameras));
     j["floor_ms"] = b.floor_ms;
+    j["floor_packet_width"] = RayScene::nativePacketWidth();
     j["frame_over_floor"] = b.frameOverFloor();
     j["floor_cpu_ms"] = b.floor_cpu_ms;
     j["frame_cpu_over_floor_cpu"] = b.frameCpuOverFloorCpu();

@@ -171,6 +171,67 @@ RayHit RayScene::intersect(const Ray& ray, float tmin, float tmax, PartialHits p
   return hit;
 }
 
+namespace {
+
+// Casts rays[first, first + n) as one packet of Width rays (n <= Width) into hits.
+template <int Width, typename Packet>
+void castPacket(RTCScene scene, RTCIntersectContext& context, std::span<const Ray> rays,
+                std::span<RayHit> hits, std::size_t first, int n, float tmin, float tmax) {
+  alignas(64) int valid[Width];
+  alignas(64) Packet packet;
+  for (int i = 0; i < Width; ++i) {
+    const bool used = i < n;
+    valid[i] = used ? -1 : 0;
+    const Ray& ray = rays[first + static_cast<std::size_t>(used ? i : 0)];
+    packet.ray.org_x[i] = ray.origin.x;
+    packet.ray.org_y[i] = ray.origin.y;
+    packet.ray.org_z[i] = ray.origin.z;
+    packet.ray.dir_x[i] = ray.direction.x;
+    packet.ray.dir_y[i] = ray.direction.y;
+    packet.ray.dir_z[i] = ray.direction.z;
+    packet.ray.tnear[i] = tmin;
+    packet.ray.tfar[i] = tmax;
+    packet.ray.time[i] = 0.0f;
+    packet.ray.mask[i] = 0xFFFFFFFFu;
+    packet.ray.id[i] = static_cast<unsigned>(i);
+    packet.ray.flags[i] = 0;
+    packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    packet.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+  }
+  if constexpr (Width == 16)
+    rtcIntersect16(valid, scene, &context, &packet);
+  else
+    rtcIntersect8(valid, scene, &context, &packet);
+  for (int i = 0; i < n; ++i) {
+    RayHit& hit = hits[first + static_cast<std::size_t>(i)];
+    hit = RayHit{};
+    if (packet.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
+    const vec3& direction = rays[first + static_cast<std::size_t>(i)].direction;
+    hit.t = packet.ray.tfar[i];
+    hit.geometry = packet.hit.geomID[i];
+    hit.primitive = packet.hit.primID[i];
+    hit.barycentric = {packet.hit.u[i], packet.hit.v[i]};
+    vec3 ng(packet.hit.Ng_x[i], packet.hit.Ng_y[i], packet.hit.Ng_z[i]);
+    const float len = glm::length(ng);
+    ng = len > 0 ? ng / len : -direction;
+    hit.geometric_normal = glm::dot(ng, direction) > 0 ? -ng : ng;
+  }
+}
+
+}  // namespace
+
+int RayScene::nativePacketWidth() {
+  static const int width =
+      rtcGetDeviceProperty(embreeDevice(), RTC_DEVICE_PROPERTY_NATIVE_RAY16_SUPPORTED) != 0 ? 16 : 8;
+  return width;
+}
+
+void RayScene::setPacketWidth(int width) {
+  if (width != 8 && width != 16)
+    throw Error("RayScene::setPacketWidth: expected 8 or 16 rays, got " + std::to_string(width));
+  packet_width_ = width;
+}
+
 void RayScene::intersectPackets(std::span<const Ray> rays, std::span<RayHit> hits, RayCoherence coherence,
                                 float tmin, float tmax, PartialHits partial) const {
   if (rays.size() != hits.size())
@@ -181,44 +242,13 @@ void RayScene::intersectPackets(std::span<const Ray> rays, std::span<RayHit> hit
   context.embree.flags = coherence == RayCoherence::Coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT
                                                              : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
   context.partial = partial;
-  for (std::size_t first = 0; first < rays.size(); first += kPacketSize) {
-    const int n = static_cast<int>(std::min<std::size_t>(kPacketSize, rays.size() - first));
-    alignas(32) int valid[kPacketSize];
-    alignas(32) RTCRayHit8 packet;
-    for (int i = 0; i < kPacketSize; ++i) {
-      const bool used = i < n;
-      valid[i] = used ? -1 : 0;
-      const Ray& ray = rays[first + static_cast<std::size_t>(used ? i : 0)];
-      packet.ray.org_x[i] = ray.origin.x;
-      packet.ray.org_y[i] = ray.origin.y;
-      packet.ray.org_z[i] = ray.origin.z;
-      packet.ray.dir_x[i] = ray.direction.x;
-      packet.ray.dir_y[i] = ray.direction.y;
-      packet.ray.dir_z[i] = ray.direction.z;
-      packet.ray.tnear[i] = tmin;
-      packet.ray.tfar[i] = tmax;
-      packet.ray.time[i] = 0.0f;
-      packet.ray.mask[i] = 0xFFFFFFFFu;
-      packet.ray.id[i] = static_cast<unsigned>(i);
-      packet.ray.flags[i] = 0;
-      packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-      packet.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
-    }
-    rtcIntersect8(valid, scene_, &context.embree, &packet);
-    for (int i = 0; i < n; ++i) {
-      RayHit& hit = hits[first + static_cast<std::size_t>(i)];
-      hit = RayHit{};
-      if (packet.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
-      const vec3& direction = rays[first + static_cast<std::size_t>(i)].direction;
-      hit.t = packet.ray.tfar[i];
-      hit.geometry = packet.hit.geomID[i];
-      hit.primitive = packet.hit.primID[i];
-      hit.barycentric = {packet.hit.u[i], packet.hit.v[i]};
-      vec3 ng(packet.hit.Ng_x[i], packet.hit.Ng_y[i], packet.hit.Ng_z[i]);
-      const float len = glm::length(ng);
-      ng = len > 0 ? ng / len : -direction;
-      hit.geometric_normal = glm::dot(ng, direction) > 0 ? -ng : ng;
-    }
+  const std::size_t width = static_cast<std::size_t>(packet_width_);
+  for (std::size_t first = 0; first < rays.size(); first += width) {
+    const int n = static_cast<int>(std::min(width, rays.size() - first));
+    if (packet_width_ == 16)
+      castPacket<16, RTCRayHit16>(scene_, context.embree, rays, hits, first, n, tmin, tmax);
+    else
+      castPacket<8, RTCRayHit8>(scene_, context.embree, rays, hits, first, n, tmin, tmax);
   }
 }
 

@@ -65,8 +65,8 @@ TEST(RayScene, HitOpacityPassesCutOutHitsAndStopsPartialOnesByMode) {
 }
 
 // Packets give what single rays give: a fan of rays from one eye over a sphere in front of a
-// half-opaque quad, in a count that is no multiple of the packet size, in both partial modes and
-// with either coherence flag (the fan shuffled for the incoherent one).
+// half-opaque quad, in a count that is no multiple of either packet width, in both partial modes,
+// with either coherence flag (the fan shuffled for the incoherent one) and at both widths.
 TEST(RayScene, PacketsHitWhatSingleRaysHit) {
   RayScene scene;
   scene.addMesh(makeSphere(0.6f, 16, 32));
@@ -80,38 +80,45 @@ TEST(RayScene, PacketsHitWhatSingleRaysHit) {
     for (int x = 0; x < 29; ++x)
       rays.push_back(
           {{0, 0, -3}, glm::normalize(vec3(-0.4f + 0.8f * x / 28.0f, -0.4f + 0.8f * y / 36.0f, 1.0f))});
-  ASSERT_NE(rays.size() % RayScene::kPacketSize, 0u);
+  ASSERT_NE(rays.size() % 8, 0u);
+  ASSERT_NE(rays.size() % 16, 0u);
+  const std::vector<Ray> fan = rays;
   std::vector<Ray> shuffled = rays;
   std::mt19937 rng(7);
   std::shuffle(shuffled.begin(), shuffled.end(), rng);
-  for (const RayCoherence coherence : {RayCoherence::Coherent, RayCoherence::Incoherent})
-    for (const PartialHits partial : {PartialHits::Stochastic, PartialHits::Solid}) {
-      if (coherence == RayCoherence::Incoherent) rays = shuffled;
-      std::vector<RayHit> packed(rays.size());
-      scene.intersectPackets(rays, packed, coherence, 0.0f, 1e30f, partial);
-      int sphere_hits = 0, quad_hits = 0, misses = 0;
-      for (std::size_t i = 0; i < rays.size(); ++i) {
-        const RayHit single = scene.intersect(rays[i], 0.0f, 1e30f, partial);
-        ASSERT_EQ(packed[i].geometry, single.geometry) << "ray " << i;
-        if (!single.hit()) {
-          ++misses;
-          continue;
+  for (const int width : {8, 16})
+    for (const RayCoherence coherence : {RayCoherence::Coherent, RayCoherence::Incoherent})
+      for (const PartialHits partial : {PartialHits::Stochastic, PartialHits::Solid}) {
+        SCOPED_TRACE(width);
+        scene.setPacketWidth(width);
+        rays = coherence == RayCoherence::Incoherent ? shuffled : fan;
+        std::vector<RayHit> packed(rays.size());
+        scene.intersectPackets(rays, packed, coherence, 0.0f, 1e30f, partial);
+        int sphere_hits = 0, quad_hits = 0, misses = 0;
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+          const RayHit single = scene.intersect(rays[i], 0.0f, 1e30f, partial);
+          ASSERT_EQ(packed[i].geometry, single.geometry) << "ray " << i;
+          if (!single.hit()) {
+            ++misses;
+            continue;
+          }
+          (single.geometry == quad_id ? quad_hits : sphere_hits) += 1;
+          EXPECT_EQ(packed[i].primitive, single.primitive) << "ray " << i;
+          EXPECT_NEAR(packed[i].t, single.t, 1e-5f * single.t) << "ray " << i;
+          EXPECT_NEAR(packed[i].barycentric.x, single.barycentric.x, 1e-5f) << "ray " << i;
+          EXPECT_NEAR(packed[i].barycentric.y, single.barycentric.y, 1e-5f) << "ray " << i;
+          EXPECT_GT(glm::dot(packed[i].geometric_normal, single.geometric_normal), 0.9999f) << "ray " << i;
         }
-        (single.geometry == quad_id ? quad_hits : sphere_hits) += 1;
-        EXPECT_EQ(packed[i].primitive, single.primitive) << "ray " << i;
-        EXPECT_NEAR(packed[i].t, single.t, 1e-5f * single.t) << "ray " << i;
-        EXPECT_NEAR(packed[i].barycentric.x, single.barycentric.x, 1e-5f) << "ray " << i;
-        EXPECT_NEAR(packed[i].barycentric.y, single.barycentric.y, 1e-5f) << "ray " << i;
-        EXPECT_GT(glm::dot(packed[i].geometric_normal, single.geometric_normal), 0.9999f) << "ray " << i;
+        EXPECT_GT(sphere_hits, 100);
+        EXPECT_GT(quad_hits, 100);
+        if (partial == PartialHits::Stochastic) {
+          EXPECT_GT(misses, 50);  // rays that passed the quad
+        }
       }
-      EXPECT_GT(sphere_hits, 100);
-      EXPECT_GT(quad_hits, 100);
-      if (partial == PartialHits::Stochastic) {
-        EXPECT_GT(misses, 50);  // rays that passed the quad
-      }
-    }
   std::vector<RayHit> too_few(3);
   EXPECT_THROW(scene.intersectCoherent(rays, too_few), Error);
+  EXPECT_THROW(scene.setPacketWidth(4), Error);
+  EXPECT_EQ(RayScene().packetWidth(), RayScene::nativePacketWidth());
 }
 
 TEST(RayScene, DegenerateTrianglesAreNeverHitAndAxisRaysWork) {
