@@ -1,16 +1,19 @@
-// Speed of the reflection ground truth and of the prefiltered IBL (the bars: IBL build
-// "well under a second" for a 1024x512 panorama on two cores; path-tracer throughput in samples
-// per second). Run: build/tests/reflect/bench_reflect
+// Speed of the reflection ground truth, of the prefiltered IBL (the bars: IBL build "well under a
+// second" for a 1024x512 panorama on two cores; path-tracer throughput in samples per second) and
+// of casting a view's primary rays at the relic. Run: build/tests/reflect/bench_reflect
 #include <benchmark/benchmark.h>
 
 #include <tbb/global_control.h>
 #include <filesystem>
 #include <random>
 
+#include "holo/core/denormals.hpp"
 #include "holo/core/hdr_io.hpp"
+#include "holo/core/ray_scene.hpp"
 #include "holo/reference/path_tracer.hpp"
 #include "holo/reflect/prefiltered_ibl.hpp"
 #include "holo/reflect/view.hpp"
+#include "holo/relics/relics.hpp"
 #include "reflect_test_scenes.hpp"
 #include "shared_data.hpp"
 
@@ -85,6 +88,46 @@ void BM_PathTracerThroughput(benchmark::State& state) {
   state.counters["samples/s"] = benchmark::Counter(double(samples), benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_PathTracerThroughput)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The primary rays of one 540x540 view of the museum's vase from a visitor's eye, on one thread,
+// as `bench frame`'s packet floor casts them (8x8 tiles, flush-to-zero): one at a time (argument
+// 1) or in coherent packets of 8 or 16 rays. The floor and the hit points cast packets of
+// RayScene::nativePacketWidth(), which this shows is the fastest on the CPU at hand.
+void BM_RelicPrimaryRays(benchmark::State& state) {
+  const int width = static_cast<int>(state.range(0));
+  RayScene relic;
+  const Model vase = relics::makeRelic("vase");
+  for (const TriangleMesh& mesh : vase.meshes) relic.addMesh(mesh);
+  relic.commit();
+  if (width > 1) relic.setPacketWidth(width);
+  const Bounds3 box = vase.bounds();
+  const vec3 eye = box.center() + faceDirection(0) * kDefaultEyeDistance + vec3(0.0f, 0.4f, 0.0f);
+  constexpr int kSize = 540, kTile = 8;
+  const CameraModel view = lookAtCamera(eye, box.center(), framingFovDeg(eye, box), kSize, kSize);
+  const FlushDenormals flush;
+  std::array<Ray, kTile * kTile> rays;
+  std::array<RayHit, kTile * kTile> hits;
+  std::int64_t relic_hits = 0;
+  for (auto _ : state) {
+    relic_hits = 0;
+    for (int y0 = 0; y0 < kSize; y0 += kTile)
+      for (int x0 = 0; x0 < kSize; x0 += kTile) {
+        std::size_t n = 0;
+        for (int y = y0; y < std::min(y0 + kTile, kSize); ++y)
+          for (int x = x0; x < std::min(x0 + kTile, kSize); ++x)
+            rays[n++] = primaryRay(view, vec2(float(x) + 0.5f, float(y) + 0.5f));
+        if (width > 1) {
+          relic.intersectCoherent(std::span(rays).first(n), std::span(hits).first(n));
+        } else {
+          for (std::size_t i = 0; i < n; ++i) hits[i] = relic.intersect(rays[i]);
+        }
+        for (std::size_t i = 0; i < n; ++i) relic_hits += hits[i].hit() ? 1 : 0;
+      }
+  }
+  state.counters["relic_pixels"] = double(relic_hits);
+  state.SetItemsProcessed(state.iterations() * kSize * kSize);
+}
+BENCHMARK(BM_RelicPrimaryRays)->Arg(1)->Arg(8)->Arg(16)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace holo::reflect
