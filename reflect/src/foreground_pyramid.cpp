@@ -194,7 +194,9 @@ ForegroundSample ForegroundPyramid::sample(const vec2& pixel, float level) const
   cv::Vec3f c0, c1;
   float w0 = 0.0f, w1 = 0.0f;
   read(l0, c0, w0);
-  read(l1, c1, w1);
+  // At a whole level the next one's share is 0: a finite read times 0 adds nothing, so it is not
+  // read (every level is made of finite values).
+  if (f > 0.0f) read(l1, c1, w1);
   const cv::Vec3f c = c0 * (1.0f - f) + c1 * f;
   const float w = std::clamp(w0 * (1.0f - f) + w1 * f, 0.0f, 1.0f);
   ForegroundSample out;

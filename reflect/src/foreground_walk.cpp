@@ -211,12 +211,19 @@ ForegroundSample ForegroundWalk::readLobe(const ForegroundPyramid& pyramid, cons
   const float sigma = reflectedLobeSigma(roughness);
   ForegroundSample mixed;
   vec3 premultiplied(0.0f);
+  // Components whose level is the previous one's read the same sample (the lobe of a near-mirror
+  // reads level 0 for all of them).
+  float read_level = -1.0f;
+  ForegroundSample s;
   for (const LobeComponent& c : lobe_) {
     const float level = std::clamp(foregroundLevelForLobe(sigma * c.sigma_scale, travel_m, camera_m, focal_px,
                                                           settings_.pyramid_levels) +
                                        settings_.evaluation.level_bias,
                                    0.0f, float(settings_.pyramid_levels - 1));
-    const ForegroundSample s = pyramid.sample(pixel, level);
+    if (level != read_level) {
+      s = pyramid.sample(pixel, level);
+      read_level = level;
+    }
     premultiplied += c.weight * s.weight * s.radiance;
     mixed.weight += c.weight * s.weight;
   }
