@@ -53,8 +53,8 @@ double singleRayFloorMs(const FrameLoop& loop, const std::vector<CameraModel>& v
 
 // The same work the fastest way Embree 3 offers: 8x8 tiles in parallel, each cast as coherent
 // packets of the CPU's native width (RayScene::intersectCoherent: four of 16 with AVX-512, else
-// eight of 8), with flush-to-zero and denormals-are-zero set on the casting threads. Returns milliseconds;
-// `hits`: relic pixels.
+// eight of 8), with flush-to-zero and denormals-are-zero set on the casting threads. Returns
+// milliseconds; `hits`: relic pixels.
 double packetFloorMs(const FrameLoop& loop, const std::vector<CameraModel>& views,
                      const reflect::PrefilteredIbl& ibl, std::uint64_t& hits) {
   constexpr int kTile = 8;

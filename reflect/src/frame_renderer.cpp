@@ -641,6 +641,7 @@ ViewImages FrameRenderer::renderView(const EffectPlan& plan,
     out.weight = cache.zero_weight;
   } else {
     // Scratch sized once; only the covered pixels' entries are written and read.
+    hits.reservePerSample(cache.fg);
     cache.fg.resize(hits.hits.size());
     const ForegroundWalk walk(settings_, grid_, pyramids_, cameras, rough_map_.get());
     {

@@ -222,6 +222,18 @@ void traceHitPoints(const RenderScene& scene, const CameraModel& view, AntiAlias
   const RowSpans traced = candidateSpans(relic, view, relic_bounds);
   const auto begin = [&](int y) { return traced.begin[std::size_t(y)]; };
   const auto end = [&](int y) { return traced.end[std::size_t(y)]; };
+  // The most this trace can hold is every span pixel refined. Reserved with a quarter more, so
+  // that a trace refining more pixels than every earlier one does not move the buffers (and the
+  // per-sample ones that follow their capacity, HitPointBuffer::reservePerSample) to twice their
+  // size: at 540x540 such a move copied and faulted in some 50 MB within one frame. Reserved pages
+  // never written stay virtual.
+  std::size_t span_pixels = 0;
+  for (int y = 0; y < h; ++y) span_pixels += std::size_t(std::max(0, end(y) - begin(y)));
+  const std::size_t most = pixels + 4 * span_pixels;
+  if (buf.hits.capacity() < most) {
+    buf.hits.reserve(most + most / 4);
+    buf.valid.reserve(most + most / 4);
+  }
 
   if (aa == AntiAliasing::Full) {
     for (int y = 0; y < h; ++y)

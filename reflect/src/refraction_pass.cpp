@@ -51,6 +51,8 @@ RefractionPass::RefractionPass(const RenderScene& scene, const PrefilteredIbl& i
 
 LayerCounts RefractionPass::shade(const HitPointBuffer& hits, const CameraModel& view,
                                   std::vector<SplitSumShading>& shading, LayerBuffers& buffers) const {
+  hits.reservePerSample(buffers.layers);
+  hits.reservePerSample(buffers.layered);
   buffers.layers.resize(hits.hits.size());
   buffers.layered.assign(hits.hits.size(), 0);
   // The anchors first (refraction_stride > 1): every sample below reads its neighbours'.
@@ -198,6 +200,7 @@ void RefractionPass::writeLayers(const HitPointBuffer& hits, std::size_t p, cons
 
 std::uint64_t RefractionPass::walkTransmitted(const HitPointBuffer& hits, const ForegroundWalk& walk,
                                               LayerBuffers& buffers) const {
+  hits.reservePerSample(buffers.transmitted_fg);
   buffers.transmitted_fg.resize(hits.hits.size());
   // The anchors' exit rays first: a blended sample reads the anchors' walks.
   std::atomic<std::uint64_t> walked{

@@ -520,6 +520,8 @@ StaticCounts StaticShading::shade(const HitPointBuffer& hits, const CameraModel&
                                   const AxisAlignedFilter* filter, FilterCounts* filter_counts,
                                   std::vector<FilterChange>* filter_changes) const {
   const int w = hits.width;
+  hits.reservePerSample(shading);
+  hits.reservePerSample(walk_rays);
   shading.resize(hits.hits.size());
   walk_rays.resize(hits.hits.size());
   const bool pool_bounces = lobe_materials_ && settings_.relic_interreflection &&

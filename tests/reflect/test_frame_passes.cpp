@@ -96,6 +96,37 @@ Model bowl() {
   return model;
 }
 
+// A trace that refines more pixels than the view's earlier ones (here every traced pixel, where
+// the earlier one refined only the silhouette) fits in what the first reserved: neither the hit
+// points nor the per-sample shading move, so no frame copies and faults them in anew.
+TEST(StaticShadingPass, ATraceRefiningMorePixelsMovesNeitherTheHitsNorTheShading) {
+  const MirrorSphere s;
+  const TracerSettings settings;
+  const StaticShading pass(s.scene, s.ibl, settings, nullptr);
+  HitPointBuffer hits;
+  std::vector<SplitSumShading> shading;
+  std::vector<WalkRay> walk_rays;
+  ViewBounces bounces;
+  cv::Mat hdr(s.view.height(), s.view.width(), CV_32FC3, cv::Scalar::all(0));
+  cv::Mat coverage(s.view.height(), s.view.width(), CV_32FC1, cv::Scalar(0));
+  traceHitPoints(s.scene, s.view, AntiAliasing::Edges, hits, s.scene.relicBounds());
+  pass.shade(hits, s.view, shading, walk_rays, bounces, hdr, coverage);
+  const std::size_t edge_samples = hits.hits.size();
+  const HitPoint* hit_storage = hits.hits.data();
+  const std::uint8_t* valid_storage = hits.valid.data();
+  const SplitSumShading* shading_storage = shading.data();
+  const WalkRay* walk_storage = walk_rays.data();
+
+  traceHitPoints(s.scene, s.view, AntiAliasing::Full, hits, s.scene.relicBounds());
+  pass.shade(hits, s.view, shading, walk_rays, bounces, hdr, coverage);
+  ASSERT_GT(hits.hits.size(), 2 * edge_samples);  // the sphere fills most of the view
+  EXPECT_EQ(hits.hits.data(), hit_storage);
+  EXPECT_EQ(hits.valid.data(), valid_storage);
+  EXPECT_EQ(shading.data(), shading_storage);
+  EXPECT_EQ(walk_rays.data(), walk_storage);
+  EXPECT_EQ(shading.size(), hits.hits.size());
+}
+
 TEST(StaticShadingPass, InterreflectionStartsTheWalkOnTheSecondPoint) {
   // Two mirror spheres side by side, bright (F0 0.9) and dark (0.2): where one's limb mirrors the
   // other, its walk ray starts (bounced) on the other with the second point's reflection.

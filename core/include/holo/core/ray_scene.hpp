@@ -75,11 +75,10 @@ class RayScene {
   // not while queries run) casts the same hits in packets of the other width.
   int packetWidth() const { return packet_width_; }
   void setPacketWidth(int width);  // throws holo::Error unless width is 8 or 16
-  // The widest packet Embree's kernels on this CPU cast natively: 16 with AVX-512 (a coherent
-  // view's primary rays in 16s take 12-22% less CPU than in 8s there), else 8 (on a CPU without
-  // 16-wide kernels Embree splits a packet of 16 itself).
+  // The widest packet Embree's kernels on this CPU cast natively: 16 with AVX-512, where a view's
+  // coherent primary rays take less CPU in 16s than in 8s (docs/frame_loop.md, "Embree packet
+  // tracing"); else 8, since without 16-wide kernels Embree splits a packet of 16 itself.
   static int nativePacketWidth();
-  static constexpr int kMaxPacketWidth = 16;
 
   const TriangleMesh& mesh(std::uint32_t geometry) const { return meshes_.at(geometry); }
   std::size_t meshCount() const { return meshes_.size(); }

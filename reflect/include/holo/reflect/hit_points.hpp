@@ -69,18 +69,26 @@ struct HitPointBuffer {
   std::vector<std::uint32_t> covered;
 
   std::size_t pixelCount() const { return std::size_t(width) * std::size_t(height); }
+  // Gives `per_sample` (an entry per entry of hits) room for as many entries as hits has room for,
+  // so that a later trace with more samples, within what traceHitPoints reserved, moves neither.
+  template <typename T>
+  void reservePerSample(std::vector<T>& per_sample) const {
+    if (per_sample.capacity() < hits.capacity()) per_sample.reserve(hits.capacity());
+  }
   // The samples pixel p (= y * width + x) is the mean of: [firstSample(p), firstSample(p) + sampleCount(p)).
   std::size_t firstSample(std::size_t p) const { return first_sub[p] == kCentreOnly ? p : first_sub[p]; }
   int sampleCount(std::size_t p) const { return first_sub[p] == kCentreOnly ? 1 : 4; }
   float coverage(int x, int y) const;  // [0, 1]
 };
 
-// Traces the view into `out`, reusing its storage (no allocation once it has held a view this
-// size). With the relic's bounds (not empty) and a distortion-free view that has the whole box in
-// front of it, only the pixels inside the box's projected rectangle are traced: the rest cannot
-// hit the relic (a pinhole projects the box into the hull of its projected corners); with every
-// relic vertex in front of the view too, each row is narrowed further to the projected bounding
-// boxes of the relic's triangles on it. The result is the same as tracing every pixel.
+// Traces the view into `out`, reusing its storage: it reserves a quarter more than the most the
+// trace can hold (every traced pixel refined), so a later trace allocates only where the relic
+// covers more of the view.
+// With the relic's bounds (not empty) and a distortion-free view that has the whole box in front
+// of it, only the pixels inside the box's projected rectangle are traced: the rest cannot hit the
+// relic (a pinhole projects the box into the hull of its projected corners); with every relic
+// vertex in front of the view too, each row is narrowed further to the projected bounding boxes
+// of the relic's triangles on it. The result is the same as tracing every pixel.
 void traceHitPoints(const RenderScene& scene, const CameraModel& view, AntiAliasing aa, HitPointBuffer& out,
                     const Bounds3& relic_bounds = {});
 
