@@ -7,10 +7,10 @@
 namespace holo {
 
 // True when a header other than `image` refers to the image's buffer (its reference count exceeds
-// 1). Read atomically: another
-// thread may be letting its reference go (cv::Mat releases by an atomic decrement). Once the
-// count reads 1 nobody else can take a reference, and the acquire orders that thread's last reads
-// of the pixels before the writes that follow. An empty image or one over foreign memory: false.
+// 1). Read atomically: another thread may be letting its reference go (cv::Mat releases by an
+// atomic decrement). Once the count reads 1 nobody else can take a reference, and the acquire
+// orders that thread's last reads of the pixels before the writes that follow. An empty image or
+// one over foreign memory: false.
 inline bool sharedElsewhere(const cv::Mat& image) {
   return image.u != nullptr && __atomic_load_n(&image.u->refcount, __ATOMIC_ACQUIRE) > 1;
 }

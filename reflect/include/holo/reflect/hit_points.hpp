@@ -83,12 +83,12 @@ struct HitPointBuffer {
 
 // Traces the view into `out`, reusing its storage: it reserves a quarter more than the most the
 // trace can hold (every traced pixel refined), so a later trace allocates only where the relic
-// covers more of the view.
-// With the relic's bounds (not empty) and a distortion-free view that has the whole box in front
-// of it, only the pixels inside the box's projected rectangle are traced: the rest cannot hit the
-// relic (a pinhole projects the box into the hull of its projected corners); with every relic
-// vertex in front of the view too, each row is narrowed further to the projected bounding boxes
-// of the relic's triangles on it. The result is the same as tracing every pixel.
+// covers more of the view. With the relic's bounds (not empty) and a distortion-free view that
+// has the whole box in front of it, only the pixels inside the box's projected rectangle are
+// traced: the rest cannot hit the relic (a pinhole projects the box into the hull of its
+// projected corners); with every relic vertex in front of the view too, each row is narrowed
+// further to the projected bounding boxes of the relic's triangles on it. The result is the same
+// as tracing every pixel.
 void traceHitPoints(const RenderScene& scene, const CameraModel& view, AntiAliasing aa, HitPointBuffer& out,
                     const Bounds3& relic_bounds = {});
 
